@@ -1,0 +1,54 @@
+"""The project's error types.
+
+:class:`MotionFileError` is the one error every reader raises for a bad file. It carries
+where the problem is (path, line, column, all 1-based; line and column are ``None`` for
+binary formats) and what was expected, and prints as ``path:line:col: message`` so that
+editors and terminals can jump to it.
+
+:class:`OperationError` is raised by the motion operations (shift root, split, join, ...)
+when asked for something that makes no sense; the motion they were given is never changed.
+"""
+
+from __future__ import annotations
+
+from os import PathLike
+
+
+class MotionFileError(Exception):
+    """A motion or marker file could not be read (or written).
+
+    Attributes
+    ----------
+    path : str, the file as given by the caller.
+    line, column : int or None, 1-based position of the problem.
+    message : str, what was wrong and what was expected there.
+    """
+
+    def __init__(
+        self,
+        path: str | PathLike[str],
+        message: str,
+        line: int | None = None,
+        column: int | None = None,
+    ) -> None:
+        self.path = str(path)
+        self.line = line
+        self.column = column
+        self.message = message
+        super().__init__(self.location() + ": " + message)
+
+    def location(self) -> str:
+        """``path``, ``path:line`` or ``path:line:col``, as much as is known."""
+        parts = [self.path]
+        if self.line is not None:
+            parts.append(str(self.line))
+            if self.column is not None:
+                parts.append(str(self.column))
+        return ":".join(parts)
+
+    def __reduce__(self):  # keep the fields when the error crosses a process boundary
+        return (type(self), (self.path, self.message, self.line, self.column))
+
+
+class OperationError(ValueError):
+    """An operation on a motion was refused; the motion is unchanged."""
