@@ -1,0 +1,47 @@
+"""Motion file formats: read any supported file, write BVH or GMR.
+
+``read_motion`` returns the file's own convention (post-rotation for BVH, pre-rotation for
+GMR); ``load_gmr`` converts to GMR. The suffix picks the format, case-insensitively.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+from core.convert import pre_from_post
+from core.errors import MotionFileError
+from core.formats.bvh import read_bvh, write_bvh
+from core.formats.gmr import read_gmr, write_gmr
+from core.motion import Motion
+
+READERS: dict[str, Callable[..., Motion]] = {".bvh": read_bvh, ".gmr": read_gmr}
+WRITERS: dict[str, Callable[[Motion, Path], None]] = {".bvh": write_bvh, ".gmr": write_gmr}
+
+
+def motion_suffix(path: str | Path) -> str:
+    return Path(path).suffix.lower()
+
+
+def read_motion(path: str | Path, **options) -> Motion:
+    """Read a motion file in its own convention; MotionFileError for unknown formats."""
+    reader = READERS.get(motion_suffix(path))
+    if reader is None:
+        known = ", ".join(sorted(READERS))
+        raise MotionFileError(path, f"unknown motion format '{Path(path).suffix}': expected one of {known}")
+    return reader(path, **options)
+
+
+def load_gmr(path: str | Path, **options) -> Motion:
+    """Read any motion file and return its GMR (pre-rotation) form."""
+    return pre_from_post(read_motion(path, **options))
+
+
+def write_motion(motion: Motion, path: str | Path) -> None:
+    """Write by suffix (.gmr or .bvh), atomically. The motion must already be in the
+    convention of the format (see :func:`core.convert.pre_from_post`)."""
+    writer = WRITERS.get(motion_suffix(path))
+    if writer is None:
+        known = ", ".join(sorted(WRITERS))
+        raise ValueError(f"cannot write '{Path(path).suffix}' files: expected one of {known}")
+    writer(motion, Path(path))

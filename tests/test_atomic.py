@@ -1,0 +1,48 @@
+"""Atomic writes: a failure midway leaves the old file whole and no temporary behind."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from core.atomic import atomic_write_text
+from core.formats.gmr import read_gmr, write_gmr
+from tests.conftest import random_motion
+
+
+def test_failed_write_keeps_the_old_file(tmp_path):
+    target = tmp_path / "motion.gmr"
+    target.write_text("old content\n")
+
+    def chunks():
+        yield "new beginning\n"
+        raise OSError("disk full")
+
+    with pytest.raises(OSError, match="disk full"):
+        atomic_write_text(target, chunks())
+    assert target.read_text() == "old content\n"
+    assert [p.name for p in tmp_path.iterdir()] == ["motion.gmr"]
+
+
+def test_writer_failing_midway_keeps_the_previous_motion(tmp_path, rng, monkeypatch):
+    target = tmp_path / "motion.gmr"
+    first = random_motion(rng, [-1, 0, 1], n_frames=10)
+    write_gmr(first, target)
+    before = target.read_bytes()
+    import core.formats.textmotion as textmotion
+
+    def broken(values, digits):
+        raise MemoryError("simulated failure while formatting frames")
+
+    monkeypatch.setattr(textmotion, "format_frames", broken)
+    with pytest.raises(MemoryError):
+        write_gmr(random_motion(rng, [-1, 0], n_frames=5), target)
+    assert target.read_bytes() == before
+    np.testing.assert_allclose(read_gmr(target).rotations, first.rotations, atol=1e-14)
+    assert len(list(tmp_path.iterdir())) == 1
+
+
+def test_new_file_gets_ordinary_permissions(tmp_path):
+    target = tmp_path / "fresh.gmr"
+    atomic_write_text(target, "x")
+    assert target.stat().st_mode & 0o600 == 0o600
