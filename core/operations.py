@@ -1,0 +1,274 @@
+"""The three GMR operations (paper section 4.1) and their batch forms.
+
+Every function takes a pre-rotation :class:`~core.motion.Motion` and returns a new one;
+the input is never changed. All are vectorised over frames with Python work per joint.
+World positions of every joint are unchanged by all of them. World rotations are unchanged
+by split and join; shift root moves each bone's frame along the path to the new root (in
+GMR a joint's frame is the frame of the bone that ends at it).
+
+Soft links: a split root remembers the joint it was split from (``soft_parents``). Each
+tree holds at most one soft link, the one leading towards the tree it was split from; the
+trees and soft links together always form the original forest, so ``join_all`` can
+restore it. Refusals raise :class:`~core.errors.OperationError` and change nothing.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from core.errors import OperationError
+from core.kinematics import forward_kinematics, joint_world_transform
+from core.motion import RIGID_RELATIVE_TOLERANCE, Motion
+from core.rotations import orthonormalize
+
+
+def _require_pre(motion: Motion, what: str) -> None:
+    if motion.convention != "pre":
+        raise OperationError(f"{what} needs a GMR (pre-rotation) motion; convert it with pre_from_post first")
+
+
+def _transposed(rotations: np.ndarray) -> np.ndarray:
+    return np.swapaxes(rotations, -1, -2)
+
+
+def shift_root(motion: Motion, joint: int | str) -> Motion:
+    """Make ``joint`` the root of its tree by swapping roots along the path (paper 4.1.1).
+
+    For the root 0 and its child 1 on the path, per frame: ``G' = G_0 + R_0 R_1 t_1``,
+    ``R'_1 = R_0``, ``t'_1 = 0``, ``R'_0 = R_1``, ``t'_0 = -t_1``; other children i of 0
+    get ``R'_i = R_1^T R_i`` and children k of 1 get ``R'_k = R_1 R_k``. Rotation orders
+    travel with the rotations they describe.
+    """
+    _require_pre(motion, "shift root")
+    target = motion.joint_index(joint)
+    path = motion.path_from_root(target)
+    if len(path) == 1:
+        return motion
+    parents = motion.parents.copy()
+    offsets = motion.offsets.copy()
+    has_translation = motion.has_translation.copy()
+    orders = list(motion.rotation_orders)
+    rotations = motion.rotations.copy()
+    translations = motion.translations.copy()
+    children = [list(c) for c in motion.children]
+    for old_root, new_root in itertools.pairwise(path):
+        r0 = rotations[:, old_root].copy()
+        r1 = rotations[:, new_root].copy()
+        t1 = translations[:, new_root].copy()
+        for i in children[old_root]:
+            if i != new_root:
+                rotations[:, i] = orthonormalize(_transposed(r1) @ rotations[:, i])
+        for k in children[new_root]:
+            rotations[:, k] = orthonormalize(r1 @ rotations[:, k])
+        translations[:, new_root] = translations[:, old_root] + np.einsum("fab,fb->fa", r0 @ r1, t1)
+        translations[:, old_root] = -t1
+        rotations[:, new_root] = r0
+        rotations[:, old_root] = r1
+        offsets[old_root] = -offsets[new_root]
+        offsets[new_root] = 0.0
+        has_translation[old_root] = has_translation[new_root]
+        has_translation[new_root] = True
+        orders[old_root], orders[new_root] = orders[new_root], orders[old_root]
+        parents[new_root] = -1
+        parents[old_root] = new_root
+        children[old_root].remove(new_root)
+        children[new_root].append(old_root)
+    return motion.replace(
+        parents=parents,
+        offsets=offsets,
+        has_translation=has_translation,
+        rotation_orders=tuple(orders),
+        rotations=rotations,
+        translations=translations,
+    )
+
+
+def _soft_links_after_split(motion: Motion, joint: int) -> np.ndarray:
+    """Soft links after cutting the edge between ``joint`` and its parent.
+
+    Each tree holds at most one soft link, leading towards the tree it was split from. The
+    cut makes two trees: the subtree of ``joint`` and the rest. If the old tree's link is
+    held inside the subtree, the subtree already leads away through it, so the new link
+    goes on the parent, pointing at ``joint``; otherwise it goes on ``joint``, pointing at
+    its parent.
+    """
+    soft = motion.soft_parents.copy()
+    parent = int(motion.parents[joint])
+    tree = motion.tree_roots[joint]
+    holders = np.flatnonzero((soft >= 0) & (motion.tree_roots == tree))
+    if holders.size and int(holders[0]) in set(motion.subtree(joint)):
+        soft[parent] = joint
+    else:
+        soft[joint] = parent
+    return soft
+
+
+def split(motion: Motion, joint: int | str) -> Motion:
+    """Promote ``joint`` to a root holding its world coordinates (paper 4.1.2).
+
+    With ``M_j = [R_s, t_s]`` before the split: ``R'_j = R_s``, ``t'_j = 0``, ``G_j = t_s``
+    (per-frame translation channels); its children are unchanged; a soft link to the old
+    parent is kept for :func:`join`.
+    """
+    _require_pre(motion, "split")
+    j = motion.joint_index(joint)
+    if motion.parents[j] < 0:
+        raise OperationError(f"cannot split '{motion.names[j]}': it is already a root")
+    world_rotation, world_position = joint_world_transform(motion, j)
+    soft = _soft_links_after_split(motion, j)
+    return _with_joint(
+        motion,
+        j,
+        parent=-1,
+        rotation=world_rotation,
+        translation=world_position,
+        offset=np.zeros(3),
+        has_translation=True,
+        soft_parents=soft,
+    )
+
+
+def join(motion: Motion, joint: int | str, *, tolerance: float = RIGID_RELATIVE_TOLERANCE) -> Motion:
+    """Put the split root ``joint`` back under its soft-link parent (paper 4.1.3).
+
+    With ``M_p = [R_p, t_p]`` the soft-link parent's world transform and ``[R_s, t_s]`` the
+    root's: ``R_j = R_p^T R_s`` and ``t_j = R_s^T (t_s - t_p)`` per frame. When ``t_j`` is
+    constant over the frames to ``tolerance`` times the skeleton's size it becomes the
+    static offset; otherwise the joint keeps per-frame translation channels.
+    """
+    _require_pre(motion, "join")
+    j = motion.joint_index(joint)
+    name = motion.names[j]
+    if motion.parents[j] >= 0:
+        raise OperationError(f"cannot join '{name}': it is not a root")
+    if len(motion.roots) == 1:
+        raise OperationError(f"cannot join '{name}': it is the last root of the forest")
+    target = int(motion.soft_parents[j])
+    if target < 0:
+        raise OperationError(f"cannot join '{name}': it has no soft link to a parent (it was never split)")
+    parent_rotation, parent_position = joint_world_transform(motion, target)
+    own_rotation = motion.rotations[:, j]
+    own_position = motion.translations[:, j]
+    rotation = orthonormalize(_transposed(parent_rotation) @ own_rotation)
+    offset_per_frame = np.einsum("fba,fb->fa", own_rotation, own_position - parent_position)
+    if motion.n_frames:
+        mean = offset_per_frame.mean(axis=0)
+        spread = np.abs(offset_per_frame - mean).max()
+    else:
+        mean, spread = motion.offsets[j].copy(), 0.0
+    rigid = spread <= tolerance * motion.size
+    soft = motion.soft_parents.copy()
+    soft[j] = -1
+    return _with_joint(
+        motion,
+        j,
+        parent=target,
+        rotation=rotation,
+        translation=np.broadcast_to(mean, offset_per_frame.shape) if rigid else offset_per_frame,
+        offset=mean,
+        has_translation=not rigid,
+        soft_parents=soft,
+    )
+
+
+def _with_joint(
+    motion: Motion,
+    j: int,
+    *,
+    parent: int,
+    rotation: np.ndarray,
+    translation: np.ndarray,
+    offset: np.ndarray,
+    has_translation: bool,
+    soft_parents: np.ndarray,
+) -> Motion:
+    """A copy of ``motion`` in which joint j has new local data and a new parent."""
+    parents = motion.parents.copy()
+    parents[j] = parent
+    offsets = motion.offsets.copy()
+    offsets[j] = offset
+    flags = motion.has_translation.copy()
+    flags[j] = has_translation
+    rotations = motion.rotations.copy()
+    rotations[:, j] = rotation
+    translations = motion.translations.copy()
+    translations[:, j] = translation
+    return motion.replace(
+        parents=parents,
+        soft_parents=soft_parents,
+        offsets=offsets,
+        has_translation=flags,
+        rotations=rotations,
+        translations=translations,
+    )
+
+
+def split_all(motion: Motion) -> Motion:
+    """Every joint a root with its world coordinates: the fully translational form.
+
+    One forward-kinematics pass for all joints. The soft links are laid out so that
+    :func:`join_all` restores the trees (each joint links to its neighbour towards the
+    root of its original tree).
+    """
+    _require_pre(motion, "split all")
+    if len(motion.roots) == motion.n_joints:
+        return motion
+    positions, world = forward_kinematics(motion)
+    soft = _soft_links_towards(motion, _union_edges(motion))
+    return motion.replace(
+        parents=np.full(motion.n_joints, -1),
+        soft_parents=soft,
+        offsets=np.zeros((motion.n_joints, 3)),
+        has_translation=np.ones(motion.n_joints, bool),
+        rotations=orthonormalize(world),
+        translations=positions,
+    )
+
+
+def _union_edges(motion: Motion) -> list[tuple[int, int]]:
+    """Undirected edges of the original forest: tree edges and soft links."""
+    edges = [(j, int(p)) for j, p in enumerate(motion.parents) if p >= 0]
+    edges += [(j, int(s)) for j, s in enumerate(motion.soft_parents) if s >= 0]
+    return edges
+
+
+def _soft_links_towards(motion: Motion, edges: list[tuple[int, int]]) -> np.ndarray:
+    """Soft links for a forest of single joints: each joint links to its neighbour towards
+    the top of its component (the root of the tree that holds no soft link)."""
+    neighbours: list[list[int]] = [[] for _ in range(motion.n_joints)]
+    for a, b in edges:
+        neighbours[a].append(b)
+        neighbours[b].append(a)
+    holders = {int(motion.tree_roots[j]) for j in np.flatnonzero(motion.soft_parents >= 0)}
+    tops = [int(r) for r in motion.roots if int(r) not in holders]
+    soft = np.full(motion.n_joints, -1, np.int64)
+    seen = np.zeros(motion.n_joints, bool)
+    for top in tops + list(range(motion.n_joints)):
+        if seen[top]:
+            continue
+        seen[top] = True
+        queue = [top]
+        for a in queue:
+            for b in neighbours[a]:
+                if not seen[b]:
+                    seen[b] = True
+                    soft[b] = a
+                    queue.append(b)
+    return soft
+
+
+def join_all(motion: Motion, *, tolerance: float = RIGID_RELATIVE_TOLERANCE) -> Motion:
+    """Join every soft link, re-rooting a tree at its link holder where needed, until no
+    soft link is left (the original trees, each rooted where its top tree is rooted)."""
+    _require_pre(motion, "join all")
+    while True:
+        holders = np.flatnonzero(motion.soft_parents >= 0)
+        if holders.size == 0:
+            return motion
+        root_holders = [int(j) for j in holders if motion.parents[j] < 0]
+        j = root_holders[0] if root_holders else int(holders[0])
+        if motion.parents[j] >= 0:
+            motion = shift_root(motion, j)
+        motion = join(motion, j, tolerance=tolerance)
