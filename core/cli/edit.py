@@ -1,0 +1,47 @@
+"""``gmr edit IN -o OUT [--shift-root J] [--split J] [--join J] ...``: apply the operations
+in the order given, then write ``.gmr`` (or ``.bvh`` when the result is one tree)."""
+
+from __future__ import annotations
+
+import argparse
+
+from core.cli.convert import write_converted
+from core.formats import load_gmr
+from core.operations import join, join_all, shift_root, split, split_all
+
+OPERATIONS = {
+    "shift_root": lambda m, j: shift_root(m, j),
+    "split": lambda m, j: split(m, j),
+    "join": lambda m, j: join(m, j),
+    "split_all": lambda m, _: split_all(m),
+    "join_all": lambda m, _: join_all(m),
+}
+
+
+class _Append(argparse.Action):
+    """Collects (operation, joint) pairs in command-line order."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        steps = list(getattr(namespace, "steps", None) or [])
+        steps.append((self.const, values))
+        namespace.steps = steps
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    parser = sub.add_parser("edit", help="shift root, split and join, in the order given")
+    parser.add_argument("input", help="a .bvh or .gmr file")
+    parser.add_argument("-o", "--output", required=True, help="a .gmr file, or .bvh if the result is one tree")
+    parser.add_argument("--shift-root", metavar="J", action=_Append, const="shift_root", help="make J its tree's root")
+    parser.add_argument("--split", metavar="J", action=_Append, const="split", help="make J a root (soft link kept)")
+    parser.add_argument("--join", metavar="J", action=_Append, const="join", help="join split root J to its parent")
+    parser.add_argument("--split-all", nargs=0, action=_Append, const="split_all", help="make every joint a root")
+    parser.add_argument("--join-all", nargs=0, action=_Append, const="join_all", help="join every soft link")
+    parser.set_defaults(run=run, steps=[])
+
+
+def run(args: argparse.Namespace) -> int:
+    motion = load_gmr(args.input)
+    for operation, joint in args.steps:
+        motion = OPERATIONS[operation](motion, joint)
+    write_converted(motion, args.output)
+    return 0

@@ -1,0 +1,87 @@
+"""``gmr info FILE [--json]``: what a motion file holds."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from core.formats import read_motion
+from core.motion import Motion
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    parser = sub.add_parser("info", help="joints, roots, soft links, frames, frame rate and channels of a file")
+    parser.add_argument("file", help="a .bvh or .gmr file")
+    parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
+    parser.set_defaults(run=run)
+
+
+def channel_names(motion: Motion, j: int) -> list[str]:
+    """The channels joint j has, in the order a writer puts them."""
+    names = ["Xposition", "Yposition", "Zposition"] if motion.has_translation[j] else []
+    return names + [f"{axis}rotation" for axis in motion.rotation_orders[j]]
+
+
+def describe(motion: Motion, path: str) -> dict:
+    """A JSON-ready description of a motion."""
+
+    def name(index: int) -> str | None:
+        return motion.names[index] if index >= 0 else None
+
+    return {
+        "path": path,
+        "format": "BVH" if motion.convention == "post" else "GMR",
+        "convention": f"{motion.convention}-rotation",
+        "frames": motion.n_frames,
+        "frame_time": motion.frame_time,
+        "frame_rate": motion.frame_rate,
+        "duration": motion.n_frames * motion.frame_time,
+        "size": motion.size,
+        "roots": [motion.names[r] for r in motion.roots],
+        "soft_links": {motion.names[j]: motion.names[s] for j, s in enumerate(motion.soft_parents) if s >= 0},
+        "joints": [
+            {
+                "name": motion.names[j],
+                "parent": name(int(motion.parents[j])),
+                "soft_parent": name(int(motion.soft_parents[j])),
+                "offset": [float(v) for v in motion.offsets[j]],
+                "channels": channel_names(motion, j),
+            }
+            for j in range(motion.n_joints)
+        ],
+        "comments": list(motion.comments),
+    }
+
+
+def format_text(info: dict) -> str:
+    joints = info["joints"]
+    roots = info["roots"]
+    links = info["soft_links"]
+    lines = [
+        f"file:       {info['path']}",
+        f"format:     {info['format']} ({info['convention']})",
+        f"frames:     {info['frames']} at {info['frame_rate']:.6g} Hz "
+        f"(frame time {info['frame_time']:.6g} s, {info['duration']:.3f} s)",
+        f"joints:     {len(joints)}",
+        f"roots:      {len(roots)} ({', '.join(roots)})",
+        "soft links: " + (", ".join(f"{a} -> {b}" for a, b in links.items()) if links else "none"),
+        f"size:       {info['size']:.6g} (largest extent of the first frame)",
+    ]
+    lines += [f"comment:    {c}" for c in info["comments"]]
+    width = max(len(j["name"]) for j in joints)
+    lines += ["", f"{'joint':<{width}}  {'parent':<{width}}  channels"]
+    for j in joints:
+        parent = j["parent"] or ("(root)" if j["soft_parent"] is None else f"(root, soft link {j['soft_parent']})")
+        lines.append(f"{j['name']:<{width}}  {parent:<{width}}  {' '.join(j['channels']) or '-'}")
+    return "\n".join(lines)
+
+
+def run(args: argparse.Namespace) -> int:
+    info = describe(read_motion(args.file), args.file)
+    if args.json:
+        json.dump(info, sys.stdout, indent=2)
+        print()
+    else:
+        print(format_text(info))
+    return 0

@@ -1,0 +1,142 @@
+"""The ``gmr`` command line: info, positions, edit, convert, bench, and its error contract."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from core.cli import main
+from core.convert import pre_from_post
+from core.formats import read_motion
+from core.formats.bvh import read_bvh
+from core.kinematics import world_positions
+from core.operations import join, shift_root, split
+from tests.conftest import shared_path
+from tests.test_bvh_reader import SMALL
+
+
+@pytest.fixture
+def small_bvh(tmp_path):
+    path = tmp_path / "small.bvh"
+    path.write_text(SMALL)
+    return path
+
+
+def run(capsys, *argv) -> tuple[int, str, str]:
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_info_text_and_json(capsys, small_bvh):
+    code, out, _ = run(capsys, "info", small_bvh)
+    assert code == 0
+    assert "frames:     2 at 2 Hz" in out and "roots:      1 (Hips)" in out
+    assert "Spine_End" in out and "Xposition Yposition Zposition Zrotation Xrotation Yrotation" in out
+    code, out, _ = run(capsys, "info", small_bvh, "--json")
+    info = json.loads(out)
+    assert info["frames"] == 2 and info["frame_rate"] == 2.0 and info["roots"] == ["Hips"]
+    assert [j["name"] for j in info["joints"]] == ["Hips", "Spine", "Spine_End"]
+    assert info["joints"][1] == {
+        "name": "Spine",
+        "parent": "Hips",
+        "soft_parent": None,
+        "offset": [0.0, 1.0, 0.0],
+        "channels": ["Zrotation", "Xrotation", "Yrotation"],
+    }
+
+
+def test_positions_match_forward_kinematics(capsys, small_bvh, tmp_path):
+    out = tmp_path / "p.npz"
+    code, _, _ = run(capsys, "positions", small_bvh, "-o", out)
+    assert code == 0
+    data = np.load(out)
+    assert list(data["names"]) == ["Hips", "Spine", "Spine_End"]
+    np.testing.assert_array_equal(data["positions"], world_positions(read_bvh(small_bvh)))
+
+
+def test_edit_applies_operations_in_the_order_given(capsys, tmp_path):
+    source = shared_path("cmu/subject01/01_01.bvh")
+    out = tmp_path / "edited.gmr"
+    code, _, _ = run(
+        capsys,
+        "edit",
+        source,
+        "-o",
+        out,
+        "--split",
+        "LeftArm",
+        "--shift-root",
+        "Head",
+        "--join",
+        "LeftArm",
+        "--split",
+        "RightFoot",
+    )
+    assert code == 0
+    expected = split(
+        join(shift_root(split(pre_from_post(read_bvh(source)), "LeftArm"), "Head"), "LeftArm"), "RightFoot"
+    )
+    edited = read_motion(out)
+    assert sorted(edited.names[r] for r in edited.roots) == ["Head", "RightFoot"]
+    index = [edited.names.index(n) for n in expected.names]
+    original = world_positions(read_bvh(source))
+    assert np.abs(world_positions(edited)[:, index] - original).max() <= 1e-9 * expected.size
+
+
+def test_edit_to_bvh_when_one_tree_and_refusal_when_a_forest(capsys, tmp_path):
+    source = shared_path("cmu/subject01/01_01.bvh")
+    code, out, _ = run(capsys, "edit", source, "-o", tmp_path / "e.bvh", "--shift-root", "LeftFoot")
+    assert code == 0 and "dummy joints" in out
+    edited = read_bvh(tmp_path / "e.bvh")
+    assert edited.names[0] == "LeftFoot"
+    code, _, err = run(capsys, "edit", source, "-o", tmp_path / "f.bvh", "--split", "LeftArm")
+    assert code == 2 and "2 trees" in err and not (tmp_path / "f.bvh").exists()
+
+
+def test_convert_bvh_to_gmr_and_back(capsys, small_bvh, tmp_path):
+    gmr, bvh = tmp_path / "s.gmr", tmp_path / "s.bvh"
+    assert run(capsys, "convert", small_bvh, gmr)[0] == 0
+    assert gmr.read_text().startswith("GMR 1\n")
+    assert run(capsys, "convert", gmr, bvh)[0] == 0
+    np.testing.assert_allclose(world_positions(read_bvh(bvh)), world_positions(read_bvh(small_bvh)), atol=1e-12)
+
+
+def test_bad_file_is_one_line_and_exit_code_2(capsys, small_bvh):
+    small_bvh.write_text(SMALL.replace("4 5 6", "4 5 x"))
+    code, out, err = run(capsys, "info", small_bvh)
+    assert code == 2 and out == ""
+    assert err == f"{small_bvh}:20:5: frame 2, value 3: expected a number, found 'x'\n"
+
+
+def test_refused_operation_is_one_line_and_exit_code_2(capsys, small_bvh, tmp_path):
+    code, _, err = run(capsys, "edit", small_bvh, "-o", tmp_path / "o.gmr", "--join", "Spine")
+    assert code == 2 and err == "gmr: error: cannot join 'Spine': it is not a root\n"
+
+
+def test_unknown_format_and_missing_file(capsys, tmp_path):
+    code, _, err = run(capsys, "info", tmp_path / "motion.xyz")
+    assert code == 2 and "unknown motion format '.xyz'" in err
+    code, _, err = run(capsys, "info", tmp_path / "missing.bvh")
+    assert code == 2 and "cannot read the file" in err
+
+
+def test_installed_command_prints_no_traceback(small_bvh):
+    small_bvh.write_text(SMALL.replace("Frames: 2", "Frames: 9"))
+    result = subprocess.run([sys.executable, "-m", "core.cli", "info", str(small_bvh)], capture_output=True, text=True)
+    assert result.returncode == 2
+    expected = f"{small_bvh}:21:1: the file ends after 2 frames, but 'Frames:' on line 17 promised 9"
+    assert result.stderr.strip() == expected
+    assert "Traceback" not in result.stderr
+
+
+def test_bench_prints_side_by_side_figures(capsys):
+    shared_path("cmu/subject01/01_01.bvh")
+    code, out, _ = run(capsys, "bench", "--frames", "3000", "--repeat", "1")
+    assert code == 0
+    for label in ("BVH parse", "numpy.loadtxt", "post-rotation FK", "pre-rotation FK", "copy of the"):
+        assert label in out
