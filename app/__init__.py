@@ -1,0 +1,1 @@
+"""GMR Studio, the desktop app (PyQt6 + pyvistaqt). All math comes from :mod:`core`."""

@@ -1,0 +1,34 @@
+"""The code base is ruff-clean (the same check as the editor's)."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def ruff() -> list[str]:
+    found = shutil.which("ruff", path=str(Path(sys.executable).parent)) or shutil.which("ruff")
+    if not found:
+        pytest.fail("ruff is not installed: install the project's test extra")
+    return [found]
+
+
+def test_ruff_check_is_clean():
+    result = subprocess.run([*ruff(), "check", str(ROOT)], capture_output=True, text=True, cwd=ROOT)
+    assert result.returncode == 0, result.stdout + result.stderr
+
+
+def test_core_gui_ban_is_active(tmp_path):
+    probe = ROOT / "core" / "_ruff_probe_tmp.py"
+    probe.write_text("import pyvista\n")
+    try:
+        result = subprocess.run([*ruff(), "check", str(probe)], capture_output=True, text=True, cwd=ROOT)
+    finally:
+        probe.unlink()
+    assert result.returncode == 1 and "TID251" in result.stdout
