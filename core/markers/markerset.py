@@ -1,0 +1,167 @@
+"""A set of labelled 3D markers over time, frames first, gaps as NaN.
+
+================  =================  ==================================================
+field             shape / type       meaning
+================  =================  ==================================================
+labels            tuple of M str     marker names, subject prefix removed
+positions         (F, M, 3) float64  positions in ``units``; NaN where the marker is
+                                     missing (a gap), all three coordinates together
+rate              float              frames per second
+units             str                length unit of ``positions``: "mm", "cm", "m", "in"
+subjects          tuple of M str     the subject prefix split off each label
+                                     (``Daphnee:ASISr`` -> "Daphnee"), "" if none
+first_frame       int                the file's number for frame 0
+source            str                the file read, for messages
+notes             tuple of str       what the reader noticed but tolerated
+================  =================  ==================================================
+
+Axes are the file's. Conversions return new marker sets: :meth:`MarkerSet.in_units`,
+:meth:`MarkerSet.transformed` (any rotation/permutation, scale and offset, e.g. Z-up to
+Y-up), :meth:`MarkerSet.resampled` (another frame rate).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from functools import cached_property
+
+import numpy as np
+
+from core.errors import OperationError
+
+#: metres per unit
+UNIT_SCALE = {"mm": 1e-3, "cm": 1e-2, "m": 1.0, "in": 0.0254, "ft": 0.3048}
+
+#: rotations taking one up axis to another (column vectors): Z-up (x, y, z) -> Y-up (x, z, -y)
+Z_UP_TO_Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
+Y_UP_TO_Z_UP = Z_UP_TO_Y_UP.T
+
+
+def split_subject(label: str) -> tuple[str, str]:
+    """``"Daphnee:ASISr"`` -> ``("Daphnee", "ASISr")``; ``"LASI"`` -> ``("", "LASI")``."""
+    subject, sep, name = label.rpartition(":")
+    return (subject, name) if sep and name else ("", label)
+
+
+@dataclasses.dataclass(frozen=True, eq=False, kw_only=True)
+class MarkerSet:
+    """Marker trajectories; see the module docstring for the fields."""
+
+    labels: tuple[str, ...]
+    positions: np.ndarray
+    rate: float
+    units: str
+    subjects: tuple[str, ...] = ()
+    first_frame: int = 1
+    source: str = ""
+    notes: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        labels = tuple(str(label) for label in self.labels)
+        positions = np.asarray(self.positions, dtype=np.float64)
+        if positions.ndim != 3 or positions.shape[1:] != (len(labels), 3):
+            raise ValueError(f"positions must have shape (F, {len(labels)}, 3), not {positions.shape}")
+        subjects = tuple(self.subjects) or ("",) * len(labels)
+        if len(subjects) != len(labels):
+            raise ValueError("subjects must give one prefix per label")
+        rate = float(self.rate)
+        if not np.isfinite(rate) or rate <= 0:
+            raise ValueError(f"the frame rate must be a positive number, not {rate}")
+        if self.units not in UNIT_SCALE:
+            raise ValueError(f"unknown length unit {self.units!r}: expected one of {', '.join(UNIT_SCALE)}")
+        # a marker is missing as a whole: a NaN in any coordinate makes the sample a gap
+        gaps = ~np.isfinite(positions).all(axis=2)
+        if gaps.any() and np.isfinite(positions[gaps]).any():
+            positions = positions.copy()
+            positions[gaps] = np.nan
+        view = positions.view()
+        view.flags.writeable = False
+        set_field = object.__setattr__
+        set_field(self, "labels", labels)
+        set_field(self, "positions", view)
+        set_field(self, "subjects", subjects)
+        set_field(self, "rate", rate)
+        set_field(self, "notes", tuple(self.notes))
+
+    @property
+    def n_frames(self) -> int:
+        return self.positions.shape[0]
+
+    @property
+    def n_markers(self) -> int:
+        return self.positions.shape[1]
+
+    @property
+    def frame_time(self) -> float:
+        return 1.0 / self.rate
+
+    @property
+    def times(self) -> np.ndarray:
+        """(F,) seconds from the first frame."""
+        return np.arange(self.n_frames) / self.rate
+
+    @cached_property
+    def present(self) -> np.ndarray:
+        """(F, M) bool: the marker was seen in that frame."""
+        return np.isfinite(self.positions[..., 0])
+
+    def index(self, label: str) -> int:
+        """Index of a marker, by bare label or ``subject:label``; OperationError if absent."""
+        subject, bare = split_subject(label)
+        for m, (s, name) in enumerate(zip(self.subjects, self.labels)):
+            if name == bare and (not subject or subject == s):
+                return m
+        raise OperationError(f"no marker {label!r} in {self.source or 'the marker set'}")
+
+    def replace(self, **changes) -> MarkerSet:
+        return dataclasses.replace(self, **changes)
+
+    def select(self, labels: list[str]) -> MarkerSet:
+        """Only the named markers, in the order given."""
+        index = [self.index(label) for label in labels]
+        return self.replace(
+            labels=[self.labels[m] for m in index],
+            subjects=[self.subjects[m] for m in index],
+            positions=self.positions[:, index],
+        )
+
+    def frame_slice(self, frames: slice) -> MarkerSet:
+        start = range(self.n_frames)[frames].start if self.n_frames else 0
+        return self.replace(positions=self.positions[frames], first_frame=self.first_frame + start)
+
+    def in_units(self, units: str) -> MarkerSet:
+        """The same markers measured in other units (mm, cm, m, in, ft)."""
+        if units not in UNIT_SCALE:
+            raise ValueError(f"unknown length unit {units!r}: expected one of {', '.join(UNIT_SCALE)}")
+        factor = UNIT_SCALE[self.units] / UNIT_SCALE[units]
+        return self.replace(positions=self.positions * factor, units=units)
+
+    def transformed(
+        self, rotation: np.ndarray | None = None, scale: float = 1.0, offset=(0.0, 0.0, 0.0), units: str | None = None
+    ) -> MarkerSet:
+        """``p' = scale * rotation @ p + offset`` for every sample (gaps stay gaps).
+
+        ``rotation`` (3, 3) may be any rotation or axis permutation (e.g.
+        :data:`Z_UP_TO_Y_UP`); ``units`` names the unit of the result (default: unchanged).
+        """
+        matrix = np.eye(3) if rotation is None else np.asarray(rotation, dtype=np.float64)
+        positions = scale * np.einsum("ab,fmb->fma", matrix, self.positions) + np.asarray(offset, dtype=np.float64)
+        return self.replace(positions=positions, units=units or self.units)
+
+    def resampled(self, rate: float) -> MarkerSet:
+        """Linear interpolation in time to another rate; a sample between a gap and a good
+        sample is a gap."""
+        if rate <= 0:
+            raise ValueError("the frame rate must be positive")
+        if self.n_frames < 2 or rate == self.rate:
+            return self.replace(rate=rate) if self.n_frames < 2 else self
+        duration = (self.n_frames - 1) / self.rate
+        times = np.arange(int(np.floor(duration * rate + 1e-9)) + 1) / rate
+        position = times * self.rate
+        lower = np.minimum(np.floor(position).astype(np.int64), self.n_frames - 2)
+        weight = (position - lower)[:, None, None]
+        before, after = self.positions[lower], self.positions[lower + 1]
+        exact = weight[:, 0, 0] == 0
+        out = (1 - weight) * before + weight * after  # NaN spreads: a gap on either side is a gap
+        out[exact] = before[exact]
+        return self.replace(positions=out, rate=rate)

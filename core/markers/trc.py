@@ -1,0 +1,190 @@
+"""TRC marker files (OpenSim / Motion Analysis "Track Row Column"), tab- or comma-separated.
+
+Layout: a ``PathFileType`` line, a line of keys (DataRate, CameraRate, NumFrames, NumMarkers,
+Units, ...) and one of their values, a line ``Frame# Time label ...`` (each label followed
+by two empty fields), a line ``X1 Y1 Z1 X2 ...``, then one row per frame. Empty fields are
+gaps. Rows beyond ``NumFrames``, or fewer of them, are read as they are and noted (real
+files disagree with their header); everything else that is wrong raises
+:class:`~core.errors.MotionFileError` with the line and column.
+"""
+
+from __future__ import annotations
+
+import io
+import re
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from core.atomic import atomic_write_text
+from core.errors import MotionFileError
+from core.formats.hierarchy import normalise_newlines
+from core.markers.markerset import UNIT_SCALE, MarkerSet, split_subject
+
+_NUMBER = re.compile(rb"\s*[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?\s*\Z")
+_UNIT_ALIASES = {"mm": "mm", "millimeters": "mm", "cm": "cm", "m": "m", "meters": "m", "in": "in", "inches": "in"}
+
+
+def read_trc(path: str | Path, data: bytes | None = None) -> MarkerSet:
+    """Read a TRC file into a :class:`MarkerSet` (``data``: the bytes, if in hand)."""
+    where = str(path)
+    if data is None:
+        try:
+            data = Path(path).read_bytes()
+        except OSError as exc:
+            raise MotionFileError(where, f"cannot read the file: {exc.strerror or exc}") from None
+    lines = normalise_newlines(data).split(b"\n")
+
+    def fail(message: str, line: int, column: int | None = 1) -> MotionFileError:
+        return MotionFileError(where, message, line, column)
+
+    if len(lines) < 5:
+        raise fail("unexpected end of file: a TRC header has five lines", len(lines))
+    first = _text(lines[0], where, 1)
+    if not first.startswith("PathFileType"):
+        raise fail("expected 'PathFileType' on the first line of a TRC file", 1)
+    delimiter = "\t" if "\t" in first else ","
+    keys = [k.strip() for k in _text(lines[1], where, 2).split(delimiter)]
+    values = [v.strip() for v in _text(lines[2], where, 3).split(delimiter)]
+    header = {k: v for k, v in zip(keys, values) if k}
+    for key in ("NumMarkers", "Units"):
+        if key not in header:
+            raise fail(f"the header has no {key}", 2)
+    rate_text = header.get("DataRate") or header.get("CameraRate")
+    if rate_text is None:
+        raise fail("the header has no DataRate", 2)
+    column = keys.index("DataRate" if "DataRate" in header else "CameraRate")
+    try:
+        rate = float(rate_text)
+    except ValueError:
+        rate = -1.0
+    if not np.isfinite(rate) or rate <= 0:
+        raise fail(f"expected a positive DataRate, found '{rate_text}'", 3, _field_column(values, column, delimiter))
+    units = _UNIT_ALIASES.get(header["Units"].lower())
+    if units is None:
+        raise fail(
+            f"unknown Units '{header['Units']}': expected one of {', '.join(UNIT_SCALE)}",
+            3,
+            _field_column(values, keys.index("Units"), delimiter),
+        )
+    if not header["NumMarkers"].isdigit():
+        raise fail(f"expected a whole NumMarkers, found '{header['NumMarkers']}'", 3)
+    n_markers = int(header["NumMarkers"])
+    names = _text(lines[3], where, 4).split(delimiter)
+    if names[:2] != ["Frame#", "Time"]:
+        raise fail("expected 'Frame#' and 'Time' to start the fourth line", 4)
+    full_labels = [n.strip() for n in names[2:] if n.strip()]
+    if len(full_labels) != n_markers:
+        raise fail(f"NumMarkers says {n_markers}, but the fourth line names {len(full_labels)} markers", 4)
+    split = [split_subject(label) for label in full_labels]
+    positions, first_frame, rows = _read_rows(lines, 5, 2 + 3 * n_markers, delimiter, where)
+    notes = []
+    claimed = header.get("NumFrames", "")
+    if claimed.isdigit() and int(claimed) != rows:
+        notes.append(f"the header says NumFrames {claimed}; the file holds {rows} frames")
+    return MarkerSet(
+        labels=[name for _, name in split],
+        subjects=[subject for subject, _ in split],
+        positions=positions.reshape(rows, n_markers, 3),
+        rate=rate,
+        units=units,
+        first_frame=first_frame,
+        source=where,
+        notes=notes,
+    )
+
+
+def _text(line: bytes, path: str, number: int) -> str:
+    try:
+        return line.decode("utf-8").rstrip()
+    except UnicodeDecodeError as exc:
+        raise MotionFileError(path, "bytes that are not UTF-8 text", number, exc.start + 1) from None
+
+
+def _field_column(fields: list[str], index: int, delimiter: str) -> int:
+    return sum(len(f) + len(delimiter) for f in fields[:index]) + 1
+
+
+def _read_rows(
+    lines: list[bytes], start: int, n_columns: int, delimiter: str, path: str
+) -> tuple[np.ndarray, int, int]:
+    """(F, n_columns - 2) values of the data rows (gaps NaN), the first frame number, F."""
+    sep = delimiter.encode()
+    rows: list[bytes] = []
+    numbers: list[int] = []  # 1-based line number of each row
+    for index in range(start, len(lines)):
+        line = lines[index]
+        if not line.strip(b" \t,"):
+            continue
+        fields = line.split(sep)
+        if len(fields) > n_columns:
+            if any(f.strip() for f in fields[n_columns:]):
+                column = len(sep.join(fields[:n_columns])) + len(sep) + 1
+                raise MotionFileError(
+                    path,
+                    f"a row has {len(fields)} fields, expected {n_columns} (Frame#, Time, X Y Z per marker)",
+                    index + 1,
+                    column,
+                )
+            fields = fields[:n_columns]
+        elif len(fields) < n_columns:
+            fields += [b""] * (n_columns - len(fields))
+        rows.append(sep.join(f if f.strip() else b"nan" for f in fields))
+        numbers.append(index + 1)
+    if not rows:
+        return np.zeros((0, n_columns - 2)), 1, 0
+    block = b"\n".join(rows)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            table = np.loadtxt(io.BytesIO(block), delimiter=delimiter, dtype=np.float64, comments=None, ndmin=2)
+    except ValueError:
+        table = None
+    if table is None or table.shape != (len(rows), n_columns) or np.isinf(table).any():
+        _raise_bad_value(rows, numbers, sep, path)
+    frame_numbers = table[:, 0]
+    if np.isnan(frame_numbers).any():
+        bad = int(np.flatnonzero(np.isnan(frame_numbers))[0])
+        raise MotionFileError(path, "a row has no frame number", numbers[bad], 1)
+    return table[:, 2:], int(frame_numbers[0]), len(rows)
+
+
+def _raise_bad_value(rows: list[bytes], numbers: list[int], sep: bytes, path: str) -> None:
+    for row, number in zip(rows, numbers):
+        column = 1
+        for field in row.split(sep):
+            if field != b"nan" and not _NUMBER.match(field):
+                found = field.decode("utf-8", "replace").strip()
+                raise MotionFileError(path, f"expected a number, found '{found}'", number, column)
+            if field != b"nan" and not np.isfinite(float(field)):
+                raise MotionFileError(path, f"'{field.decode().strip()}' is too large for a float", number, column)
+            column += len(field.decode("utf-8", "replace")) + len(sep)
+    raise MotionFileError(path, "the marker rows could not be read", numbers[0], 1)  # pragma: no cover
+
+
+def trc_text(markers: MarkerSet, digits: int = 10) -> str:
+    """The marker set as tab-separated TRC text (gaps as empty fields)."""
+    n_frames, n_markers = markers.n_frames, markers.n_markers
+    labels = [f"{s}:{label}" if s else label for s, label in zip(markers.subjects, markers.labels)]
+    rate = f"{markers.rate:g}"
+    lines = [
+        f"PathFileType\t4\t(X/Y/Z)\t{Path(markers.source).name or 'markers.trc'}",
+        "DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\tOrigDataRate\tOrigDataStartFrame\tOrigNumFrames",
+        f"{rate}\t{rate}\t{n_frames}\t{n_markers}\t{markers.units}\t{rate}\t{markers.first_frame}\t{n_frames}",
+        "Frame#\tTime\t" + "\t".join(f"{label}\t\t" for label in labels).rstrip("\t"),
+        "\t\t" + "\t".join(f"X{m}\tY{m}\tZ{m}" for m in range(1, n_markers + 1)),
+        "",
+    ]
+    body = []
+    for f in range(n_frames):
+        cells = [str(markers.first_frame + f), f"{f / markers.rate:.{digits}g}"]
+        for value in markers.positions[f].reshape(-1):
+            cells.append("" if np.isnan(value) else f"{value:.{digits}g}")
+        body.append("\t".join(cells))
+    return "\n".join(lines + body) + "\n"
+
+
+def write_trc(markers: MarkerSet, path: str | Path, digits: int = 10) -> None:
+    """Write a marker set as a tab-separated TRC file, atomically."""
+    atomic_write_text(path, trc_text(markers, digits))
