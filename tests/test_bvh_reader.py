@@ -190,7 +190,9 @@ def test_non_finite_values_are_refused(bad):
 
 
 def test_value_too_large_for_a_float():
-    assert_error(error_of(SMALL.replace("4 5 6 90", "4 5 1e999 90")), 20, 5, "too large")
+    assert_error(error_of(SMALL.replace("4 5 6 90", "4 5 1e999 90")), 20, 5, "out of range")
+    assert_error(error_of(SMALL.replace("4 5 6 90", "4 5 1e300 90")), 20, 5, "out of range")
+    assert_error(error_of(SMALL.replace("OFFSET 0 1 0", "OFFSET 0 1e309 0")), 8, 12, "out of range")
 
 
 def test_non_numeric_offset():

@@ -16,6 +16,9 @@ import numpy as np
 from core.errors import MotionFileError
 
 _VALUE = re.compile(rb"\S+")
+#: largest magnitude a reader accepts: far beyond any real length or angle, and small enough
+#: that forward kinematics cannot overflow to infinity (or NaN) from finite input
+MAX_ABS_VALUE = 1e12
 _NUMBER = re.compile(rb"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?\Z")
 
 
@@ -52,8 +55,8 @@ def parse_frames(
                 values = np.loadtxt(io.BytesIO(block), dtype=np.float64, comments=None, ndmin=2)
         except ValueError:
             values = None
-    if values is not None and values.shape == (n_frames, n_values) and np.isfinite(values).all():
-        return values
+    if values is not None and values.shape == (n_frames, n_values) and np.abs(values).max(initial=0) <= MAX_ABS_VALUE:
+        return values  # NaN fails the comparison too
     _raise_first_problem(block, first_line, n_values, n_frames, frames_line, path)
     raise MotionFileError(path, "the frame data could not be read", first_line, 1)  # pragma: no cover
 
@@ -86,10 +89,10 @@ def _raise_first_problem(
                     line_number,
                     _column(line, match.start()),
                 )
-            if not np.isfinite(float(text)):
+            if not abs(float(text)) <= MAX_ABS_VALUE:
                 raise MotionFileError(
                     path,
-                    f"frame {frame}, value {index + 1}: '{text.decode()}' is too large for a float",
+                    f"frame {frame}, value {index + 1}: '{text.decode()}' is out of range (at most {MAX_ABS_VALUE:g})",
                     line_number,
                     _column(line, match.start()),
                 )

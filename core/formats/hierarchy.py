@@ -14,6 +14,7 @@ import re
 from dataclasses import dataclass, field
 
 from core.errors import MotionFileError
+from core.formats.frames import MAX_ABS_VALUE
 from core.motion import check_joint_name
 
 #: channel names as written in files, with what they drive: ("position"|"rotation", axis)
@@ -130,7 +131,10 @@ class _Tokens:
         token = self.take(what)
         if not _NUMBER.match(token.text):
             raise self.error(f"expected {what}, found '{token.text}'", token)
-        return float(token.text)
+        value = float(token.text)
+        if not abs(value) <= MAX_ABS_VALUE:
+            raise self.error(f"'{token.text}' is out of range (at most {MAX_ABS_VALUE:g})", token)
+        return value
 
 
 def parse_header(data: bytes, path: str, dialect: str) -> ParsedHeader:
@@ -305,6 +309,6 @@ def _parse_frames_line(tokens: _Tokens) -> tuple[int, Token]:
 
 def _parse_frame_time_line(tokens: _Tokens) -> float:
     value, token = _header_line(tokens, "Frame Time: <seconds>", r"\s*Frame\s+Time:\s*(\S*)\s*$")
-    if not _NUMBER.match(value) or float(value) <= 0:
+    if not _NUMBER.match(value) or not 0 < float(value) <= MAX_ABS_VALUE:
         raise tokens.error(f"expected a positive number of seconds after 'Frame Time:', found '{value}'", token)
     return float(value)

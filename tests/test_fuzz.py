@@ -1,0 +1,123 @@
+"""The fuzzer: a fast subset of the hostile-file run, and the runner's own classification."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from core.cli import main
+from core.errors import MotionFileError
+from core.fuzz.mutations import TEXT_MUTATIONS
+from core.fuzz.runner import make_case, run_case, run_fuzz
+from core.fuzz.targets import Target, all_targets
+from tests.conftest import DATA, MISSING_DATA
+
+needs_data = pytest.mark.skipif(not DATA.is_dir(), reason=MISSING_DATA)
+
+
+@needs_data
+def test_fast_subset_of_every_format_is_read_or_refused_cleanly():
+    report = run_fuzz(cases=150, seed=7, timeout=20, jobs=2, stride=37)
+    assert set(report.counts) >= {"bvh", "gmr", "trc"}
+    for name, counts in report.counts.items():
+        assert sum(counts.values()) == 150, name
+        assert counts["clean"] > 0, f"{name}: no mutation was refused: the mutations are not biting"
+    assert report.failures == [], "\n".join(f"{f.target}:{f.index} {f.outcome} {f.detail}" for f in report.failures)
+
+
+@needs_data
+def test_cases_are_deterministic_and_start_with_structural_cuts():
+    target = all_targets()["bvh"]
+    first = make_case(target, 3, 5)
+    assert first == make_case(target, 3, 5)
+    assert first.mutations[0].startswith("truncate at structural point")
+    later = make_case(target, 3, 5000)
+    assert later.data == make_case(target, 3, 5000).data and later.mutations[0] in TEXT_MUTATIONS
+
+
+@needs_data
+def test_the_command_line_turns_fuzzed_errors_into_one_line(tmp_path, capsys):
+    target = all_targets()["bvh"]
+    checked = 0
+    for index in range(2000, 2200):
+        case = make_case(target, 11, index)
+        path = tmp_path / f"case{index}.bvh"
+        path.write_bytes(case.data)
+        try:
+            target.read(path, case.data)
+        except MotionFileError:
+            pass
+        else:
+            continue
+        code = main(["info", str(path)])
+        out, err = capsys.readouterr()
+        assert code == 2 and out == ""
+        assert err.count("\n") == 1 and err.startswith(f"{path}:") and "Traceback" not in err
+        checked += 1
+    assert checked > 50
+
+
+def _fake_target(read) -> Target:
+    return Target(
+        name="fake",
+        suffix=".txt",
+        seeds=lambda: [("seed", b"data\n")],
+        read=read,
+        check=lambda value: None,
+        mutations={"nothing": lambda data, rng: data},
+        structure=lambda data: [],
+    )
+
+
+def test_runner_classifies_every_kind_of_outcome(monkeypatch):
+    def hang(path, data):
+        import time
+
+        time.sleep(60)
+
+    def crash(path, data):
+        import os
+
+        os._exit(3)
+
+    def hog(path, data):
+        return np.ones((10**6, 10**6))  # 8 TB: must hit the memory bound
+
+    def sloppy(path, data):
+        raise MotionFileError(path, "no line given")
+
+    readers = {
+        "hang": hang,
+        "crash": crash,
+        "memory": hog,
+        "other": lambda p, d: 1 / 0,
+        "sloppy": sloppy,
+        "clean": lambda p, d: (_ for _ in ()).throw(MotionFileError(p, "bad", 1, 1)),
+        "read": lambda p, d: 1,
+    }
+    fakes = {name: dataclasses.replace(_fake_target(read), name=name) for name, read in readers.items()}
+    monkeypatch.setattr("core.fuzz.runner.all_targets", lambda: fakes)
+    report = run_fuzz(cases=2, timeout=2, memory_mb=256, jobs=2)
+    outcome_of = {name: counts.most_common(1)[0][0] for name, counts in report.counts.items()}
+    assert outcome_of == {
+        "hang": "hang",
+        "crash": "crash",
+        "memory": "memory",
+        "other": "other",
+        "sloppy": "other",
+        "clean": "clean",
+        "read": "read",
+    }
+    assert {f.target for f in report.failures} == {"hang", "crash", "memory", "other", "sloppy"}
+
+
+def test_run_case_checks_successful_reads(tmp_path):
+    target = dataclasses.replace(
+        _fake_target(lambda p, d: "value"), check=lambda v: (_ for _ in ()).throw(AssertionError("impossible value"))
+    )
+    case = make_case(target, 0, 0)
+    result = run_case(target, case, Path(tmp_path))
+    assert (result.outcome, result.detail) == ("other", "impossible value")
