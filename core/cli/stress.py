@@ -1,0 +1,63 @@
+"""``gmr stress``: a very large motion (default 1,000,000 frames of CMU 01_01's 38-joint
+skeleton) read from BVH, converted to GMR, forward kinematics, written as GMR; prints the
+time of each stage and the process's peak memory after it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import resource
+import tempfile
+import time
+from pathlib import Path
+
+from core.cli.bench import DEFAULT_BVH, tiled_bvh_bytes
+from core.convert import pre_from_post
+from core.errors import MotionFileError
+from core.formats.bvh import read_bvh
+from core.formats.gmr import write_gmr
+from core.kinematics import forward_kinematics
+from core.shared_data import shared_file
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    parser = sub.add_parser("stress", help="load, convert and run FK on a very large motion; print peak memory")
+    parser.add_argument("--frames", type=int, default=1_000_000, help="frames (1000000)")
+    parser.add_argument("--bvh", default=None, help=f"BVH to tile (default ../shared/data/{DEFAULT_BVH})")
+    parser.add_argument("--keep", metavar="DIR", help="write the big files here instead of a temporary folder")
+    parser.set_defaults(run=run)
+
+
+def peak_gib() -> float:
+    """Peak resident memory of this process so far, GiB (Linux reports KiB)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20
+
+
+def run(args: argparse.Namespace) -> int:
+    source = Path(args.bvh) if args.bvh else shared_file(DEFAULT_BVH)
+    if not source.exists():
+        raise MotionFileError(source, "stress input not found (the shared data folder is missing?)")
+    with tempfile.TemporaryDirectory(dir=args.keep) as folder:
+        rows = []
+
+        def stage(label, function, *arguments):
+            start = time.perf_counter()
+            value = function(*arguments)
+            rows.append((label, time.perf_counter() - start, peak_gib()))
+            print(f"{label:<44}{rows[-1][1]:8.1f} s   peak {rows[-1][2]:6.2f} GiB", flush=True)
+            return value
+
+        path = Path(folder) / "large.bvh"
+        data, _ = stage("tile and write the BVH", tiled_bvh_bytes, source, args.frames)
+        path.write_bytes(data)
+        size_mb = len(data) / 1e6
+        del data
+        post = stage(f"read the BVH ({size_mb:.0f} MB)", read_bvh, path)
+        print(f"  {post.n_frames} frames x {post.n_joints} joints")
+        gmr = stage("convert to GMR", pre_from_post, post)
+        del post
+        positions, rotations = stage("forward kinematics (positions, rotations)", forward_kinematics, gmr)
+        del positions, rotations
+        stage("write the GMR file", write_gmr, gmr, Path(folder) / "large.gmr")
+    print(f"peak resident memory of the whole run: {peak_gib():.2f} GiB")
+    return 0
