@@ -140,3 +140,9 @@ def test_bench_prints_side_by_side_figures(capsys):
     assert code == 0
     for label in ("BVH parse", "numpy.loadtxt", "post-rotation FK", "pre-rotation FK", "copy of the"):
         assert label in out
+
+
+def test_stress_runs_on_a_small_motion(capsys):
+    shared_path("cmu/subject01/01_01.bvh")
+    code, out, _ = run(capsys, "stress", "--frames", "500")
+    assert code == 0 and "500 frames x 38 joints" in out and "peak resident memory" in out
