@@ -12,6 +12,7 @@ when asked for something that makes no sense; the motion they were given is neve
 from __future__ import annotations
 
 from os import PathLike
+from pathlib import Path
 
 
 class MotionFileError(Exception):
@@ -52,3 +53,14 @@ class MotionFileError(Exception):
 
 class OperationError(ValueError):
     """An operation on a motion was refused; the motion is unchanged."""
+
+
+def read_input(path: str | PathLike[str], data: bytes | None = None) -> bytes:
+    """The bytes of an input file (``data`` when the caller already has them); a file that
+    cannot be read raises :class:`MotionFileError` naming the reason."""
+    if data is not None:
+        return data
+    try:
+        return Path(path).read_bytes()
+    except OSError as exc:
+        raise MotionFileError(path, f"cannot read the file: {exc.strerror or exc}") from None

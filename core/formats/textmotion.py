@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import MotionFileError
+from core.errors import MotionFileError, read_input
 from core.formats.frames import format_frames, format_number, parse_frames
 from core.formats.hierarchy import CHANNEL_NAMES, ParsedHeader, normalise_newlines, parse_header
 from core.motion import Motion, build_translations
@@ -34,12 +34,7 @@ _CHUNK_FRAMES = 2048
 def read_text_motion(path: str | Path, dialect: str, data: bytes | None = None) -> Motion:
     """Read a BVH ('bvh', post-rotation) or GMR ('gmr', pre-rotation) file."""
     path_text = str(path)
-    if data is None:
-        try:
-            data = Path(path).read_bytes()
-        except OSError as exc:
-            raise MotionFileError(path_text, f"cannot read the file: {exc.strerror or exc}") from None
-    data = normalise_newlines(data)
+    data = normalise_newlines(read_input(path, data))
     header = parse_header(data, path_text, dialect)
     n_values = sum(len(j.channels) for j in header.joints)
     values = parse_frames(

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from core.atomic import atomic_write_text
-from core.errors import MotionFileError
+from core.errors import MotionFileError, read_input
 from core.formats.frames import MAX_ABS_VALUE
 from core.formats.hierarchy import normalise_newlines
 from core.markers.markerset import UNIT_SCALE, MarkerSet, split_subject
@@ -30,12 +30,7 @@ _UNIT_ALIASES = {"mm": "mm", "millimeters": "mm", "cm": "cm", "m": "m", "meters"
 def read_trc(path: str | Path, data: bytes | None = None) -> MarkerSet:
     """Read a TRC file into a :class:`MarkerSet` (``data``: the bytes, if in hand)."""
     where = str(path)
-    if data is None:
-        try:
-            data = Path(path).read_bytes()
-        except OSError as exc:
-            raise MotionFileError(where, f"cannot read the file: {exc.strerror or exc}") from None
-    lines = normalise_newlines(data).split(b"\n")
+    lines = normalise_newlines(read_input(path, data)).split(b"\n")
 
     def fail(message: str, line: int, column: int | None = 1) -> MotionFileError:
         return MotionFileError(where, message, line, column)
