@@ -12,7 +12,8 @@ as a standard file (docs/formats.md, "BVH export"):
 - every joint has 0 or 3 rotation channels (Blender's importer misreads 1 or 2), in the
   joint's original order where it had one, and 0 or 3 position channels;
 - every channel-free leaf becomes an ``End Site`` (named ``<parent>_End`` by readers), and
-  a leaf with channels gets a zero-offset End Site below it; no comments, no SOFTLINKs.
+  a leaf with channels gets a zero-offset End Site below it; no comments, no SOFTLINKs;
+  joint names are single words (spaces become underscores).
 
 The writer (:mod:`core.formats.textmotion`) makes the Euler angles continuous over time.
 """
@@ -81,7 +82,7 @@ def bvh_export(motion: Motion, *, world_root: str = WORLD_ROOT) -> BvhExport:
     pre = pre_from_post(motion).replace(soft_parents=None)
     post, dummies = post_from_pre(pre)
     n_source = motion.n_joints
-    names = list(post.names)
+    names = _single_word_names(post.names)
     parents = list(post.parents)
     orders = list(post.rotation_orders)
     flags = list(post.has_translation)
@@ -145,6 +146,19 @@ def bvh_export(motion: Motion, *, world_root: str = WORLD_ROOT) -> BvhExport:
         comments=post.comments,
     )
     return BvhExport(result, tuple(names[:n_source]), tuple(dummies), world)
+
+
+def _single_word_names(names: tuple[str, ...]) -> list[str]:
+    """Names with spaces get underscores (BVH names are one word; Blender would do the same),
+    numbered if that name is taken."""
+    taken = set(names)
+    out = []
+    for name in names:
+        if " " in name:
+            name = _unique(name.replace(" ", "_"), taken)
+            taken.add(name)
+        out.append(name)
+    return out
 
 
 def _depth_first(parents: list[int], children: list[list[int]]) -> list[int]:

@@ -164,6 +164,36 @@ def test_forest_goes_under_one_world_root_with_six_channel_trees():
     assert_round_trip(source, export)
 
 
+@pytest.mark.parametrize("path", shared_files("**/*.bvh") + shared_files("**/*.amc"))
+def test_export_after_random_edits_of_every_shared_file(path):
+    rng = np.random.default_rng(sum(path.name.encode()))
+    motion = load_gmr(path)
+    n = motion.n_joints
+    for _ in range(8):
+        operation, joint = rng.choice(["shift", "split", "split", "join"]), int(rng.integers(n))
+        try:
+            if operation == "shift":
+                motion = shift_root(motion, joint)
+            elif operation == "split":
+                motion = split(motion, joint)
+            else:
+                motion = join(motion, int(rng.choice(motion.roots)))
+        except OperationError:
+            pass
+    if len(motion.roots) == 1:
+        motion = split(motion, int(rng.choice(np.flatnonzero(motion.parents >= 0))))
+    assert_round_trip(motion, bvh_export(motion))
+    for _, export in bvh_export_trees(motion):
+        assert_round_trip(motion, export)
+
+
+def test_names_with_spaces_become_single_words(rng):
+    motion = random_motion(rng, [-1, 0, 1], n_frames=2).replace(names=("Hips", "Left Hand", "Left_Hand"))
+    export = bvh_export(motion)
+    assert export.names == ("Hips", "Left_Hand2", "Left_Hand2_End")  # the leaf is an End Site
+    assert_round_trip(motion, export, tolerance=1e-9)
+
+
 def test_one_file_per_tree(tmp_path):
     source = split(split(load_gmr(shared_path("cmu/subject01/01_01.bvh")), "LeftFoot"), "RightArm")
     trees = bvh_export_trees(source)
