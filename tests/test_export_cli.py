@@ -113,6 +113,8 @@ def test_split_trees_writes_one_file_per_tree(capsys, tmp_path):
     assert sorted(p.name for p in tmp_path.glob("trees*.bvh")) == ["trees_Hips.bvh", "trees_LeftArm.bvh"]
     for path in tmp_path.glob("trees*.bvh"):
         validate_bvh(path.read_text())
+    code, _, _ = run(capsys, "convert", shared_path("cmu/subject01/01_01.bvh"), tmp_path / "one.bvh", "--split-trees")
+    assert code == 0 and (tmp_path / "one.bvh").exists()  # a single tree keeps the name asked for
     arm = read_bvh(tmp_path / "trees_LeftArm.bvh")
     assert arm.names[0] == "LeftArm"
     index = forest.names.index("LeftHand")

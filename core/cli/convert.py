@@ -140,7 +140,7 @@ def write_converted(motion: Motion, output: str | Path, *, split_trees: bool = F
         return [str(output)]
     exports = (
         [(tree_file_name(output, root), export) for root, export in bvh_export_trees(motion)]
-        if split_trees
+        if split_trees and len(motion.roots) > 1
         else [(Path(output), bvh_export(motion))]
     )
     written = []
