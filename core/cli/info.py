@@ -1,18 +1,25 @@
-"""``gmr info FILE [--json]``: what a motion file holds."""
+"""``gmr info FILE [--json]``: what a motion file holds, including its dummy joints
+(zero-offset joints with children that GMR does not need; :mod:`core.dummies`)."""
 
 from __future__ import annotations
 
 import argparse
 import json
 import sys
+from pathlib import Path
 
+from core.dummies import find_dummies
 from core.formats import read_motion
 from core.motion import Motion
+
+#: what ``info`` calls each format, by suffix
+FORMAT_NAMES = {".bvh": "BVH", ".gmr": "GMR", ".amc": "AMC (Acclaim, with its ASF)", ".asf": "ASF (Acclaim skeleton)"}
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("info", help="joints, roots, soft links, frames, frame rate and channels of a file")
-    parser.add_argument("file", help="a .bvh or .gmr file")
+    parser.add_argument("file", help="a .bvh, .gmr, .amc or .asf file")
+    parser.add_argument("--asf", help="the skeleton of an .amc file (default: the single .asf beside it)")
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
     parser.set_defaults(run=run)
 
@@ -31,7 +38,7 @@ def describe(motion: Motion, path: str) -> dict:
 
     return {
         "path": path,
-        "format": "BVH" if motion.convention == "post" else "GMR",
+        "format": FORMAT_NAMES.get(Path(path).suffix.lower(), "BVH" if motion.convention == "post" else "GMR"),
         "convention": f"{motion.convention}-rotation",
         "frames": motion.n_frames,
         "frame_time": motion.frame_time,
@@ -40,6 +47,7 @@ def describe(motion: Motion, path: str) -> dict:
         "size": motion.size,
         "roots": [motion.names[r] for r in motion.roots],
         "soft_links": {motion.names[j]: motion.names[s] for j, s in enumerate(motion.soft_parents) if s >= 0},
+        "dummies": [motion.names[j] for j in find_dummies(motion)],
         "joints": [
             {
                 "name": motion.names[j],
@@ -66,6 +74,8 @@ def format_text(info: dict) -> str:
         f"joints:     {len(joints)}",
         f"roots:      {len(roots)} ({', '.join(roots)})",
         "soft links: " + (", ".join(f"{a} -> {b}" for a, b in links.items()) if links else "none"),
+        f"dummies:    {len(info['dummies'])}"
+        + (f" ({', '.join(info['dummies'])}; gmr convert --remove-dummies folds them)" if info["dummies"] else ""),
         f"size:       {info['size']:.6g} (largest extent of the first frame)",
     ]
     lines += [f"comment:    {c}" for c in info["comments"]]
@@ -78,7 +88,8 @@ def format_text(info: dict) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    info = describe(read_motion(args.file), args.file)
+    options = {"asf": args.asf} if args.asf and args.file.lower().endswith(".amc") else {}
+    info = describe(read_motion(args.file, **options), args.file)
     if args.json:
         json.dump(info, sys.stdout, indent=2)
         print()
