@@ -6,9 +6,10 @@ A map is a small TOML file (``resources/markermaps/*.toml``; the format is docum
 - ``units``: the length unit the map works in (markers are converted to it first);
 - ``[alignment]``: ``skeleton = scale * rotation @ marker + offset``, from the marker
   file's axes and units to the skeleton's (CMU: Z-up millimetres to Y-up ASF units);
-- ``[pelvis]``: the three virtual markers of the technical note, X1 ``root`` (the pelvis
-  root), X2 ``left_femur`` and X3 ``lower_back``, with optional ``home`` positions (their
-  rest-pose positions in skeleton units);
+- ``[pelvis]``: ``markers = [X1, X2, X3]``, the three virtual markers of the technical
+  note (pelvis root, left femur, lower back: any three points rigid with the pelvis, X1 the
+  skeleton's root), with optional ``home`` positions (their rest-pose positions in
+  skeleton units);
 - ``[virtual.NAME]``, one per virtual marker, in the order they are computed, NAME being a
   skeleton joint. One of ``marker = "LABEL"`` (the marker itself), ``mean = [labels]`` (the
   mean of markers) or ``cluster = [labels]`` (three or more markers moving as one rigid
@@ -217,10 +218,10 @@ def _map_from_table(table: dict, path: Path) -> MarkerMap:
     pelvis, home = None, None
     if "pelvis" in table:
         section = table["pelvis"]
-        try:
-            pelvis = (str(section["root"]), str(section["left_femur"]), str(section["lower_back"]))
-        except KeyError as exc:
-            raise fail(f"[pelvis] needs root, left_femur and lower_back: {exc.args[0]} is missing") from None
+        names = section.get("markers")
+        if not isinstance(names, list) or len(names) != 3 or not all(isinstance(n, str) for n in names):
+            raise fail("[pelvis] needs markers = [X1, X2, X3]: pelvis root, left femur, lower back")
+        pelvis = (names[0], names[1], names[2])
         missing = [p for p in pelvis if p not in {v.name for v in virtual}]
         if missing:
             raise fail(f"[pelvis] names {', '.join(missing)}, which the map does not define")
@@ -285,9 +286,8 @@ def marker_map_text(marker_map: MarkerMap) -> str:
         f"offset = {_vector(a.offset)}",
     ]
     if marker_map.pelvis:
-        lines += ["", "[pelvis]"]
-        for key, name in zip(("root", "left_femur", "lower_back"), marker_map.pelvis):
-            lines.append(f"{key} = {_string(name)}")
+        lines += ["", "# X1 pelvis root, X2 left femur, X3 lower back (technical note, section 1)", "[pelvis]"]
+        lines.append(f"markers = [{', '.join(_string(n) for n in marker_map.pelvis)}]")
         if marker_map.pelvis_home is not None:
             lines.append(f"home = {_matrix(marker_map.pelvis_home)}")
     if marker_map.calibration:
