@@ -139,7 +139,7 @@ def run(args: argparse.Namespace) -> int:
     if motion_suffix(output) == ".bvh":
         from core.export import bvh_export
 
-        motion = bvh_export(motion)
+        motion = bvh_export(motion).motion  # dummies where GMR siblings turn independently
     write_motion(motion, output)
     truth_positions = truth_rotations = None
     if args.truth:
