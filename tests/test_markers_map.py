@@ -9,7 +9,7 @@ from scipy.spatial.transform import Rotation
 from core.errors import MotionFileError, OperationError
 from core.markers import load_marker_map
 from core.markers.markermap import MAPS_DIR, Alignment, MarkerMap, VirtualMarker, marker_map_text
-from core.markers.markerset import MarkerSet, frame_ranges
+from core.markers.markerset import UNIT_SCALE, MarkerSet, frame_ranges
 from core.markers.virtual import calibrate_marker_map, compute_virtual_markers, resolve_map
 
 SMALL_MAP = """
@@ -98,7 +98,9 @@ def test_bad_map_files(tmp_path, change, message, line):
 
 
 def test_unknown_map_name_lists_the_known_ones():
-    with pytest.raises(MotionFileError, match="known maps are joints, cmu"):
+    with pytest.raises(
+        MotionFileError, match="known maps are joints, asis-psis, cmu, opensim-gait, plug-in-gait, qualisys"
+    ):
         load_marker_map("nonesuch")
 
 
@@ -191,3 +193,33 @@ def test_frame_ranges_text():
     assert frame_ranges(np.array([0, 1, 2, 5, 7, 8])) == "0-2, 5, 7-8"
     assert frame_ranges(np.zeros(4, bool)) == "none"
     assert frame_ranges(np.arange(0, 40, 2), limit=3) == "0, 2, 4, ... (20 ranges)"
+
+
+@pytest.mark.parametrize(
+    ("relative", "map_name"),
+    [
+        ("c3d/c3dorg_s00_NexGen_test1_PiG_fullbody.c3d", "plug-in-gait"),
+        ("c3d/ezc3d_Vicon.c3d", "asis-psis"),
+        ("trc/pyomeca_markers_comma_delimited.trc", "asis-psis"),
+        ("c3d/ezc3d_Qualisys.c3d", "qualisys"),
+        ("trc/opensim_gait2392_subject01_walk1.trc", "opensim-gait"),
+    ],
+)
+def test_pelvis_only_maps_give_pelvis_frames_on_other_marker_sets(relative, map_name):
+    from core.markers import read_markers, recover_pelvis
+    from core.rotations import rotation_angle
+    from tests.conftest import shared_path
+
+    markers = read_markers(shared_path(relative))
+    frames = recover_pelvis(markers, map_name)
+    assert frames.valid.all() and frames.reasons == () and frames.labels == ("pelvis", "left", "back")
+    np.testing.assert_allclose(np.linalg.det(frames.rotations), 1.0)
+    np.testing.assert_allclose(
+        frames.rotations @ np.swapaxes(frames.rotations, -1, -2),
+        np.broadcast_to(np.eye(3), frames.rotations.shape),
+        atol=1e-12,
+    )
+    # skin markers on the pelvis keep its shape to a few millimetres, and it turns smoothly
+    assert np.nanmax(frames.residuals) * UNIT_SCALE[frames.units] * 1000 < 10.0  # millimetres
+    step = rotation_angle(np.swapaxes(frames.rotations[:-1], -1, -2) @ frames.rotations[1:])
+    assert np.degrees(step).max() < 5.0
