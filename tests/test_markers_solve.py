@@ -205,6 +205,8 @@ def test_wrong_reference_and_pelvis_that_is_not_the_root():
         markers_to_motion(joint_markers(truth), skeleton, "joints", reference=other)
     with pytest.raises(OperationError, match="the pelvis root 'lfemur' is not a root"):
         solve_positions(world_positions(truth), skeleton, ("lfemur", "ltibia", "lfoot"))
+    with pytest.raises(OperationError, match="pelvis markers pelvis, left, back are not joints of the skeleton"):
+        markers_to_motion(joint_markers(truth), skeleton, load_marker_map("plug-in-gait"))
 
 
 def test_recover_pelvis_on_joint_markers_is_the_root_rotation():

@@ -113,6 +113,16 @@ def markers_to_motion(
     pelvis_method : "note" or "points" (:func:`~core.markers.pelvis.pelvis_rotations`).
     aim : bone directions from the measured parent ("markers", the note's) or from the
         parent where the solved chain put it ("chain": errors do not add up along a limb).
+
+    Returns
+    -------
+    MarkerMotion: the motion (F frames, the skeleton's joints, units and axes) and what
+    was measured, matched, held or flagged.
+
+    Raises
+    ------
+    OperationError : no frame has a usable pelvis, the reference is of another skeleton, the
+        map does not fit the skeleton.
     """
     from core.convert import pre_from_post
     from core.markers.markermap import load_marker_map
@@ -185,6 +195,12 @@ def solve_positions(
     query_times = np.arange(n_frames) * frame_time if query_times is None else np.asarray(query_times)
     if pelvis is None or len(pelvis) != 3:
         raise OperationError("the marker map names no pelvis markers (root, left femur, lower back)")
+    strangers = [name for name in pelvis if name not in skeleton.names]
+    if strangers:
+        raise OperationError(
+            f"the map's pelvis markers {', '.join(strangers)} are not joints of the skeleton: "
+            "a map for markers_to_motion places joints (pelvis-only maps serve recover_pelvis)"
+        )
     triple_index = [skeleton.joint_index(name) for name in pelvis]
     pelvis_root = triple_index[0]
     if skeleton.parents[pelvis_root] >= 0:
