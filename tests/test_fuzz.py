@@ -20,10 +20,14 @@ needs_data = pytest.mark.skipif(not DATA.is_dir(), reason=MISSING_DATA)
 
 @needs_data
 def test_fast_subset_of_every_format_is_read_or_refused_cleanly():
-    report = run_fuzz(cases=150, seed=7, timeout=20, jobs=2, stride=37)
-    assert set(report.counts) >= {"bvh", "gmr", "trc"}
+    text = [name for name in all_targets() if name != "c3d"]
+    report = run_fuzz(text, cases=150, seed=7, timeout=20, jobs=2, stride=37)
+    binary = run_fuzz(["c3d"], cases=24, seed=7, jobs=2, stride=97)  # each C3D read starts a process
+    assert set(report.counts) == {"bvh", "gmr", "trc", "asf", "amc"} and set(binary.counts) == {"c3d"}
+    report.counts.update(binary.counts)
+    report.failures += binary.failures
     for name, counts in report.counts.items():
-        assert sum(counts.values()) == 150, name
+        assert sum(counts.values()) == (24 if name == "c3d" else 150), name
         assert counts["clean"] > 0, f"{name}: no mutation was refused: the mutations are not biting"
     assert report.failures == [], "\n".join(f"{f.target}:{f.index} {f.outcome} {f.detail}" for f in report.failures)
 
@@ -47,7 +51,7 @@ def test_the_command_line_turns_fuzzed_errors_into_one_line(tmp_path, capsys):
         path = tmp_path / f"case{index}.bvh"
         path.write_bytes(case.data)
         try:
-            target.read(path, case.data)
+            target.read(path, case.data, case.seed_file)
         except MotionFileError:
             pass
         else:
@@ -73,30 +77,30 @@ def _fake_target(read) -> Target:
 
 
 def test_runner_classifies_every_kind_of_outcome(monkeypatch):
-    def hang(path, data):
+    def hang(path, data, seed):
         import time
 
         time.sleep(60)
 
-    def crash(path, data):
+    def crash(path, data, seed):
         import os
 
         os._exit(3)
 
-    def hog(path, data):
+    def hog(path, data, seed):
         return np.ones((10**6, 10**6))  # 8 TB: must hit the memory bound
 
-    def sloppy(path, data):
+    def sloppy(path, data, seed):
         raise MotionFileError(path, "no line given")
 
     readers = {
         "hang": hang,
         "crash": crash,
         "memory": hog,
-        "other": lambda p, d: 1 / 0,
+        "other": lambda p, d, s: 1 / 0,
         "sloppy": sloppy,
-        "clean": lambda p, d: (_ for _ in ()).throw(MotionFileError(p, "bad", 1, 1)),
-        "read": lambda p, d: 1,
+        "clean": lambda p, d, s: (_ for _ in ()).throw(MotionFileError(p, "bad", 1, 1)),
+        "read": lambda p, d, s: 1,
     }
     fakes = {name: dataclasses.replace(_fake_target(read), name=name) for name, read in readers.items()}
     monkeypatch.setattr("core.fuzz.runner.all_targets", lambda: fakes)
@@ -116,7 +120,7 @@ def test_runner_classifies_every_kind_of_outcome(monkeypatch):
 
 def test_run_case_checks_successful_reads(tmp_path):
     target = dataclasses.replace(
-        _fake_target(lambda p, d: "value"), check=lambda v: (_ for _ in ()).throw(AssertionError("impossible value"))
+        _fake_target(lambda p, d, s: "value"), check=lambda v: (_ for _ in ()).throw(AssertionError("impossible value"))
     )
     case = make_case(target, 0, 0)
     result = run_case(target, case, Path(tmp_path))

@@ -293,7 +293,7 @@ def _bone(lines: _Lines, begin: _Token, units: AcclaimUnits, seen: dict[str, int
             raise lines.error(f"second '{key.text}' in the bone opened at line {begin.line}", key)
         keys[name] = key
         if name == "id":
-            if len(values) != 1 or not values[0].text.lstrip("+-").isdigit():
+            if len(values) != 1 or not re.fullmatch(r"[+-]?[0-9]+", values[0].text):
                 raise lines.error("expected a whole number after 'id'", values[0] if values else key)
             fields["id"] = int(values[0].text)
         elif name == "name":

@@ -59,13 +59,17 @@ class CaseResult:
     detail: str = ""
 
 
+_CUTS: dict[str, list[tuple[int, int]]] = {}
+
+
 def structural_cuts(target: Target) -> list[tuple[int, int]]:
     """(seed file, byte offset) of every structural point of every seed file: each line
     start of a text header (and of the first frames), each section of a binary file."""
-    cuts = []
-    for number, (_, data) in enumerate(target.seeds()):
-        cuts.extend((number, offset) for offset in target.structure(data))
-    return cuts
+    if target.name not in _CUTS:
+        _CUTS[target.name] = [
+            (number, offset) for number, (_, data) in enumerate(target.seeds()) for offset in target.structure(data)
+        ]
+    return _CUTS[target.name]
 
 
 def make_case(target: Target, seed: int, index: int) -> Case:
@@ -98,7 +102,7 @@ def run_case(target: Target, case: Case, folder: Path) -> CaseResult:
         return CaseResult(case.target, case.index, outcome, case.seed_file, case.mutations, detail[:300])
 
     try:
-        value = target.read(path, case.data)
+        value = target.read(path, case.data, case.seed_file)
     except MotionFileError as exc:
         if not exc.path or not exc.message:
             return result("other", f"MotionFileError without path or message: {exc!r}")
@@ -231,7 +235,8 @@ def run_fuzz(
                         w.task, w.started = tasks.popleft(), time.perf_counter()
                         w.connection.send(w.task)
                 busy = [w for w in workers if w.task]
-                deadline = min(w.started for w in busy) + timeout
+                limit = {w: max(timeout, targets[w.task[0]].timeout) for w in busy}
+                deadline = min(w.started + limit[w] for w in busy)
                 ready = set(wait([w.connection for w in busy], max(0.0, deadline - time.perf_counter())))
                 for i, w in enumerate(workers):
                     if w.task is None:
@@ -243,8 +248,8 @@ def run_fuzz(
                             outcome = w.connection.recv()
                         except (EOFError, OSError):
                             outcome = CaseResult(name, index, "crash", "", (), f"worker died ({w.process.exitcode})")
-                    elif time.perf_counter() - w.started > timeout:
-                        outcome = CaseResult(name, index, "hang", "", (), f"no answer within {timeout} s")
+                    elif time.perf_counter() - w.started > limit[w]:
+                        outcome = CaseResult(name, index, "hang", "", (), f"no answer within {limit[w]} s")
                     if outcome is None:
                         continue
                     if outcome.outcome in ("crash", "hang"):

@@ -27,19 +27,22 @@ SEED_FRAMES = 40
 class Target:
     """One format under attack.
 
-    ``read(path, data)`` reads a case (``data`` are the case's bytes, also written at
-    ``path`` for readers that need a file); ``check(result)`` raises AssertionError when a
+    ``read(path, data, seed)`` reads a case (``data`` are the case's bytes, also written at
+    ``path`` for readers that need a file; ``seed`` names the seed file it was made from, for
+    readers that need a companion file); ``check(result)`` raises AssertionError when a
     successful read returned something impossible (NaN from finite input, a reflection...).
     """
 
     name: str
     suffix: str
     seeds: Callable[[], list[tuple[str, bytes]]]
-    read: Callable[[Path, bytes], object]
+    read: Callable[[Path, bytes, str], object]
     check: Callable[[object], None]
     mutations: dict[str, Mutation]
     needs_file: bool = False
     structure: Callable[[bytes], list[int]] = lambda data: text_structure(data)
+    #: seconds a case may take at least (a reader with its own time limit needs more)
+    timeout: float = 0.0
 
 
 def text_structure(data: bytes, frame_lines: int = 3) -> list[int]:
@@ -139,19 +142,19 @@ def _check_markers(markers) -> None:
         raise AssertionError("read infinite marker positions")
 
 
-def _read_bvh(path: Path, data: bytes):
+def _read_bvh(path: Path, data: bytes, seed: str):
     from core.formats.bvh import read_bvh
 
     return read_bvh(path, data)
 
 
-def _read_gmr(path: Path, data: bytes):
+def _read_gmr(path: Path, data: bytes, seed: str):
     from core.formats.gmr import read_gmr
 
     return read_gmr(path, data)
 
 
-def _read_trc(path: Path, data: bytes):
+def _read_trc(path: Path, data: bytes, seed: str):
     from core.markers.trc import read_trc
 
     return read_trc(path, data)
