@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from PyQt6.QtGui import QAction, QKeySequence
+from PyQt6.QtGui import QAction, QKeySequence, QUndoStack
 from PyQt6.QtWidgets import QMainWindow, QMenu, QStyle, QToolBar
 
 from app.commands import can_join
@@ -30,9 +30,6 @@ ACTIONS: dict[str, tuple[str, object, str, bool, str | None]] = {
     "screenshot": ("Save screens&hot...", "Ctrl+Shift+P", "Save the 3D view as a PNG", False, None),
     "export_video": ("Export &video...", "", "Write an mp4 of the playback", False, None),
     "quit": ("&Quit", Key.Quit, "Close GMR Studio", False, None),
-    "undo": ("&Undo", Key.Undo, "Undo the last edit", False, None),
-    "redo": ("&Redo", "Ctrl+Shift+Z", "Redo the edit undone", False, None),
-    "history": ("&History", "Ctrl+H", "Show the list of edits", True, None),
     "make_root": ("Make &root", "Ctrl+R", "Shift the root of the tree to the selected joint", False, None),
     "split": ("&Split here", "Ctrl+T", "Make the selected joint a root (with a soft link to its parent)", False, None),
     "join": ("&Join to parent", "Ctrl+J", "Put the selected split root back under its soft-link parent", False, None),
@@ -71,9 +68,17 @@ ACTIONS: dict[str, tuple[str, object, str, bool, str | None]] = {
 SELECTION_EDITS = ("make_root", "split", "join")
 
 
-def build_actions(window: QMainWindow, handlers: dict[str, Callable]) -> dict[str, QAction]:
-    """All actions of the window, connected to ``handlers[name]`` (triggered or toggled)."""
-    actions: dict[str, QAction] = {}
+def build_actions(window: QMainWindow, handlers: dict[str, Callable], stack: QUndoStack) -> dict[str, QAction]:
+    """All actions of the window, connected to ``handlers[name]`` (triggered or toggled);
+    undo and redo are the undo stack's own (their text names the edit)."""
+    actions: dict[str, QAction] = {
+        "undo": stack.createUndoAction(window, "&Undo"),
+        "redo": stack.createRedoAction(window, "&Redo"),
+    }
+    actions["undo"].setShortcut(QKeySequence(Key.Undo))
+    actions["redo"].setShortcuts([QKeySequence("Ctrl+Shift+Z"), QKeySequence(Key.Redo)])
+    for name in ("undo", "redo"):
+        window.addAction(actions[name])
     style = window.style()
     for name, (text, shortcut, tip, checkable, icon) in ACTIONS.items():
         action = QAction(text, window)
@@ -161,12 +166,13 @@ def update_enabled(actions: dict[str, QAction], state: StudioState, remove_dummi
     """Enable what applies: edits on the selection, document actions when a motion is open."""
     motion, joint = state.motion, state.selected
     has_motion = motion is not None
-    actions["make_root"].setEnabled(has_motion and joint is not None and motion.parents[joint] >= 0)
-    actions["split"].setEnabled(has_motion and joint is not None and motion.parents[joint] >= 0)
-    actions["join"].setEnabled(can_join(motion, joint))
-    actions["split_all"].setEnabled(has_motion and len(motion.roots) < motion.n_joints)
-    actions["join_all"].setEnabled(has_motion and bool((motion.soft_parents >= 0).any()))
-    actions["remove_dummies"].setEnabled(has_motion and remove_dummies_available)
+    not_root = bool(has_motion and joint is not None and motion.parents[joint] >= 0)
+    actions["make_root"].setEnabled(not_root)
+    actions["split"].setEnabled(not_root)
+    actions["join"].setEnabled(bool(can_join(motion, joint)))
+    actions["split_all"].setEnabled(bool(has_motion and len(motion.roots) < motion.n_joints))
+    actions["join_all"].setEnabled(bool(has_motion and (motion.soft_parents >= 0).any()))
+    actions["remove_dummies"].setEnabled(bool(has_motion and remove_dummies_available))
     for name in ("save", "save_as", "export_bvh", "screenshot", "export_video", "add_markers", "reset_camera"):
         actions[name].setEnabled(has_motion)
     has_markers = state.marker_overlay is not None

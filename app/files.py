@@ -46,7 +46,7 @@ class FileController(QObject):
         self.scene_provider = scene_provider  # () -> SkeletonScene
         self.settings = settings
         self.window = window
-        self._jobs: list[loading.LoadJob] = []
+        self._jobs: dict[loading.LoadJob, tuple] = {}
         self.pending_markers: str | None = None
         self.quiet = False  # tests: errors go to the status bar only, no modal dialog
 
@@ -98,32 +98,44 @@ class FileController(QObject):
     def _run(self, function, path, on_loaded, label: str, wait: bool) -> None:
         job = loading.LoadJob(function, path, self)
         progress = None
-        if self.window.isVisible():
+        if self.window.isVisible() and not wait:
             progress = QProgressDialog(label, None, 0, 0, self.window)
             progress.setWindowTitle("GMR Studio")
             progress.setWindowModality(Qt.WindowModality.WindowModal)
             progress.setMinimumDuration(300)
             progress.setValue(0)
-
-        def finish() -> None:
-            if progress is not None:
-                progress.reset()
-                progress.deleteLater()
-            if job in self._jobs:
-                self._jobs.remove(job)
-            job.deleteLater()
-
-        job.loaded.connect(lambda result: (finish(), on_loaded(result, str(path))))
-        job.failed.connect(lambda exc: (finish(), self._on_failed(exc)))
-        self._jobs.append(job)
+        self._jobs[job] = (on_loaded, progress, str(path), wait)
+        job.loaded.connect(self._on_job_loaded)
+        job.failed.connect(self._on_job_failed)
         self.state.show_message(label)
         job.start()
         if wait:
             job.wait()
-            QApplication.processEvents()  # deliver the queued result
-            QApplication.processEvents()
+            while job in self._jobs:  # deliver the queued result (and any job it starts)
+                QApplication.processEvents()
 
-    def _on_motion_loaded(self, snapshot: Snapshot, path: str) -> None:
+    def busy(self) -> bool:
+        """A file is being read."""
+        return bool(self._jobs)
+
+    def _finish(self, job: loading.LoadJob):
+        on_loaded, progress, path, wait = self._jobs.pop(job)
+        if progress is not None:
+            progress.reset()
+            progress.deleteLater()
+        job.wait()
+        job.deleteLater()
+        return on_loaded, path, wait
+
+    def _on_job_loaded(self, job: loading.LoadJob, result) -> None:
+        on_loaded, path, wait = self._finish(job)
+        on_loaded(result, path, wait)
+
+    def _on_job_failed(self, job: loading.LoadJob, exc: BaseException) -> None:
+        self._finish(job)
+        self._on_failed(exc)
+
+    def _on_motion_loaded(self, snapshot: Snapshot, path: str, wait: bool) -> None:
         self.state.open_document(snapshot, path)
         self._remember(path)
         motion = snapshot.motion
@@ -134,7 +146,7 @@ class FileController(QObject):
         self.load_finished.emit(True)
         if self.pending_markers:
             markers, self.pending_markers = self.pending_markers, None
-            self.add_markers_path(markers)
+            self.add_markers_path(markers, wait=wait)
 
     def _on_failed(self, exc: BaseException) -> None:
         self.pending_markers = None
@@ -161,7 +173,7 @@ class FileController(QObject):
     def add_markers_path(self, path: str | Path, *, wait: bool = False) -> None:
         self._run(loading.load_markers, path, self._on_markers_loaded, f"Reading markers {Path(path).name}...", wait)
 
-    def _on_markers_loaded(self, markers: MarkerSet, path: str) -> None:
+    def _on_markers_loaded(self, markers: MarkerSet, path: str, _wait: bool) -> None:
         self.state.set_markers(markers)
         overlay = self.state.marker_overlay
         if overlay is not None:

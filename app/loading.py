@@ -46,10 +46,12 @@ def load_markers(path: str | Path) -> MarkerSet:
 
 
 class LoadJob(QThread):
-    """Runs ``function(path)`` in a worker thread; emits ``loaded(result)`` or ``failed(error)``."""
+    """Runs ``function(path)`` in a worker thread; emits ``loaded(job, result)`` or
+    ``failed(job, error)`` (connect them to methods of a QObject of the GUI thread, so they
+    are delivered there)."""
 
-    loaded = pyqtSignal(object)
-    failed = pyqtSignal(object)
+    loaded = pyqtSignal(object, object)
+    failed = pyqtSignal(object, object)
 
     def __init__(self, function: Callable[[str], object], path: str | Path, parent=None) -> None:
         super().__init__(parent)
@@ -60,6 +62,6 @@ class LoadJob(QThread):
         try:
             result = self.function(self.path)
         except Exception as exc:
-            self.failed.emit(exc)
+            self.failed.emit(self, exc)
         else:
-            self.loaded.emit(result)
+            self.loaded.emit(self, result)

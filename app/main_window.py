@@ -48,7 +48,7 @@ class MainWindow(QMainWindow):
         self.setCentralWidget(self.view)
         self.files = FileController(self.state, lambda: self.view.scene, self.settings, self)
         self.setAcceptDrops(True)
-        self.actions = action_table.build_actions(self, self._handlers())
+        self.actions = action_table.build_actions(self, self._handlers(), self.state.undo_stack)
         self.actions["play"].setShortcutContext(Qt.ShortcutContext.WindowShortcut)
         self.recent_menu = QMenu("Open &recent", self)
         self.history = QUndoView(self.state.undo_stack)
@@ -95,8 +95,6 @@ class MainWindow(QMainWindow):
             "screenshot": files.save_screenshot_dialog,
             "export_video": lambda: files.export_video_dialog(player.speed),
             "quit": self.close,
-            "undo": state.undo_stack.undo,
-            "redo": state.undo_stack.redo,
             "make_root": lambda: commands.make_root(state, state.selected),
             "split": lambda: commands.split_here(state, state.selected),
             "join": lambda: commands.join_to_parent(state, state.selected),
@@ -126,13 +124,6 @@ class MainWindow(QMainWindow):
 
     def _wire(self) -> None:
         state = self.state
-        stack = state.undo_stack
-        stack.canUndoChanged.connect(self.actions["undo"].setEnabled)
-        stack.canRedoChanged.connect(self.actions["redo"].setEnabled)
-        stack.undoTextChanged.connect(lambda text: self.actions["undo"].setText(f"&Undo {text}".strip()))
-        stack.redoTextChanged.connect(lambda text: self.actions["redo"].setText(f"&Redo {text}".strip()))
-        self.actions["undo"].setEnabled(False)
-        self.actions["redo"].setEnabled(False)
         state.message.connect(self.status.setText)
         state.path_changed.connect(self._on_path_changed)
         state.modified_changed.connect(self.setWindowModified)
@@ -143,7 +134,7 @@ class MainWindow(QMainWindow):
         self.files.recent_changed.connect(self._on_recent_changed)
         for name, shown in state.overlays.items():
             self.actions[f"overlay_{name}"].setChecked(shown)
-        state.overlay_changed.connect(lambda name, shown: self.actions[f"overlay_{name}"].setChecked(shown))
+        state.overlay_changed.connect(self._on_overlay_changed)
         self.actions["loop"].setChecked(self.player.loop)
         self._on_recent_changed(self.files.recent_files())
         self._on_enabled_changed()
@@ -153,6 +144,9 @@ class MainWindow(QMainWindow):
         name = Path(path).name if path else ("demo" if self.state.motion is not None else "no motion")
         self.setWindowTitle(f"{name}[*] \u2014 GMR Studio")
         self.setWindowModified(self.state.modified)
+
+    def _on_overlay_changed(self, name: str, shown: bool) -> None:
+        self.actions[f"overlay_{name}"].setChecked(shown)
 
     def _on_enabled_changed(self, *_args) -> None:
         action_table.update_enabled(self.actions, self.state, extensions.remove_dummies_available())
@@ -238,6 +232,7 @@ class MainWindow(QMainWindow):
             event.ignore()
             return
         self.player.pause()
+        self.state.undo_stack.blockSignals(True)  # its actions go away with the window
         self._save_settings()
         self.view.close_view()
         event.accept()

@@ -102,7 +102,13 @@ class SkeletonView(QWidget):
     def _on_click(self, event: QMouseEvent, point: QPoint) -> None:
         joint = self.joint_at(point)
         if event.button() == Qt.MouseButton.LeftButton:
-            marker = None if joint is not None else self.marker_at(point)
+            marker = self.marker_at(point)
+            if joint is not None and marker is not None:  # both under the mouse: the nearer wins
+                joints, markers = self.scene.joint_screen_positions(), self.scene.marker_screen_positions()
+                if _distance(markers[marker], point) < _distance(joints[joint], point):
+                    joint = None
+                else:
+                    marker = None
             self.state.select(joint)
             self.state.select_marker(marker)
         elif event.button() == Qt.MouseButton.RightButton:
@@ -123,3 +129,7 @@ class SkeletonView(QWidget):
         """Release the render window (always call before the widget goes away)."""
         self.interactor.removeEventFilter(self)
         self.interactor.close()
+
+
+def _distance(screen_point, point: QPoint) -> float:
+    return float(((screen_point[0] - point.x()) ** 2 + (screen_point[1] - point.y()) ** 2) ** 0.5)

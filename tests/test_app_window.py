@@ -1,0 +1,303 @@
+"""The real window under Xvfb: open, click, edit, undo, overlays, files, keys.
+
+Every test gets a fresh main window (``studio``) that fails the test if it leaks a window
+or a VTK render window.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PyQt6.QtCore import QPoint, Qt
+
+from app.scene import TREE_COLORS
+from core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
+from core.formats import load_gmr
+from core.kinematics import world_positions
+from tests import app_fixtures
+from tests.app_fixtures import open_file, screen_image
+from tests.conftest import shared_path
+
+pytestmark = pytest.mark.gui
+studio = app_fixtures.studio  # the fixture: a main window that must not leak
+
+CMU = "cmu/subject01/01_01.bvh"
+
+
+def joint_point(window, joint: int) -> QPoint:
+    x, y, _ = window.view.scene.joint_screen_positions()[joint]
+    return QPoint(round(x), round(y))
+
+
+def click(qtbot, window, point: QPoint, button=Qt.MouseButton.LeftButton) -> None:
+    qtbot.mouseClick(window.view.interactor, button, Qt.KeyboardModifier.NoModifier, point)
+
+
+def test_the_demo_opens_with_its_markers_and_shows_the_skeleton(qtbot, studio):
+    open_file(studio, demo_folder() / MOTION_FILE, demo_folder() / MARKERS_FILE)
+    state = studio.state
+    assert state.motion.n_joints == 31 and state.marker_overlay is not None
+    assert "walk.gmr" in studio.windowTitle() and "GMR Studio" in studio.windowTitle()
+    state.set_frame(200)
+    image = screen_image(studio).astype(int)
+    assert image.std() > 5  # not a blank picture
+    scale = image.shape[1] / studio.view.interactor.width()
+    blue = TREE_COLORS[0] * 255
+    screen = studio.view.scene.joint_screen_positions()
+    hits = 0
+    for x, y, _ in screen:
+        px, py = round(x * scale), round(y * scale)
+        patch = image[max(py - 2, 0) : py + 3, max(px - 2, 0) : px + 3].reshape(-1, 3)
+        hits += bool((np.abs(patch - blue).max(axis=1) < 40).any())
+    assert hits >= 0.8 * len(screen)  # the tree's colour where (nearly) every joint projects
+    background = image[2, 2]
+    assert np.abs(background - blue).max() > 60
+
+
+def test_a_click_on_a_joint_selects_it_in_the_view_and_the_forest(qtbot, studio):
+    open_file(studio, demo_folder() / MOTION_FILE)
+    head = studio.state.motion.joint_index("head")
+    click(qtbot, studio, joint_point(studio, head))
+    assert studio.state.selected == head
+    item = studio.forest.item_for(head)
+    assert item.isSelected() and studio.forest.currentItem() is item
+    assert "head" in studio.inspector.text()
+    assert studio.view.scene.is_shown("selection")
+    # selecting in the forest selects in the view
+    knee = studio.state.motion.joint_index("lfemur")
+    studio.forest.setCurrentItem(studio.forest.item_for(knee))
+    assert studio.state.selected == knee
+    # a click on empty space clears the selection
+    click(qtbot, studio, QPoint(5, 5))
+    assert studio.state.selected is None and not studio.forest.selectedItems()
+
+
+def test_edit_a_real_file_by_the_actions_and_undo_all(qtbot, studio):
+    path = shared_path(CMU)
+    open_file(studio, path)
+    state, actions = studio.state, studio.actions
+    original = state.positions
+    camera = studio.view.scene.plotter.camera_position
+    size = state.motion.size
+    names = state.motion.names
+
+    def select_by_click(name: str) -> None:
+        joint = names.index(name)
+        click(qtbot, studio, joint_point(studio, joint))
+        assert state.selected == joint, name
+
+    select_by_click("LeftFoot")
+    assert actions["make_root"].isEnabled() and not actions["join"].isEnabled()
+    actions["make_root"].trigger()
+    assert state.motion.roots.tolist() == [names.index("LeftFoot")]
+    select_by_click("RightForeArm")
+    actions["split"].trigger()
+    assert len(state.motion.roots) == 2 and actions["join"].isEnabled()
+    for snapshot_positions in (state.positions,):
+        np.testing.assert_allclose(snapshot_positions, original, rtol=0, atol=1e-9 * size)
+    assert studio.view.scene.plotter.camera_position == camera  # the view does not jump
+    roots = studio.forest.topLevelItemCount()
+    assert roots == 2 and "\u21e2 RightArm" in studio.forest.item_for(names.index("RightForeArm")).text(1)
+    actions["join"].trigger()
+    assert len(state.motion.roots) == 1
+    np.testing.assert_allclose(state.positions, original, rtol=0, atol=1e-9 * size)
+    assert studio.isWindowModified() and state.undo_stack.count() == 3
+    assert studio.history.model().rowCount() == 4  # "<opened>" and three edits
+    for _ in range(3):
+        actions["undo"].trigger()
+        np.testing.assert_allclose(state.positions, original, rtol=0, atol=1e-9 * size)
+    assert state.positions is original and not studio.isWindowModified()
+    assert state.motion.roots.tolist() == [0]
+
+
+def test_joining_the_last_root_is_refused_in_the_status_bar(qtbot, studio):
+    open_file(studio, demo_folder() / MOTION_FILE)
+    before = studio.state.snapshot
+    studio.state.select(0)
+    assert not studio.actions["join"].isEnabled()
+    studio.actions["join_all"].setEnabled(True)
+    from app import commands
+
+    commands.join_to_parent(studio.state, 0)
+    assert "last root of the forest" in studio.status.text()
+    assert studio.state.snapshot is before and studio.state.undo_stack.count() == 0
+
+
+def test_overlays_switch_their_actors_on_and_off(qtbot, studio):
+    open_file(studio, demo_folder() / MOTION_FILE, demo_folder() / MARKERS_FILE)
+    scene = studio.view.scene
+    studio.state.select(studio.state.motion.joint_index("lwrist"))
+    for name in ("ground", "axes", "trails", "labels", "markers", "soft_links"):
+        action = studio.actions[f"overlay_{name}"]
+        for shown in (True, False, True):
+            action.setChecked(shown)
+            assert studio.state.overlays[name] is shown
+            assert scene.is_shown(name) is shown, name
+    # the trail follows the selected joint over the last second
+    studio.state.set_frame(300)
+    trail = scene.parts["trails"].mesh.points
+    np.testing.assert_allclose(trail[-1], studio.state.positions[300, studio.state.selected])
+    np.testing.assert_allclose(trail[0], studio.state.positions[300 - 120, studio.state.selected])
+    # joint axes are the world rotation's columns
+    axes = scene.parts["axes"].mesh.points.reshape(-1, 3, 2, 3)
+    j = 7
+    direction = (axes[j, :, 1] - axes[j, :, 0]) / np.linalg.norm(axes[j, 0, 1] - axes[j, 0, 0])
+    np.testing.assert_allclose(direction.T, studio.state.rotations[300, j], atol=1e-9)
+
+
+def test_markers_skip_gaps_and_label_the_hovered_one(qtbot, studio):
+    open_file(studio, demo_folder() / MOTION_FILE, demo_folder() / MARKERS_FILE)
+    state, scene = studio.state, studio.view.scene
+    n_markers = state.marker_overlay.markers.n_markers
+    state.set_frame(50)
+    assert scene.parts["markers"].mesh.n_points == n_markers
+    state.set_frame(110)  # LWRA is missing from frame 100 to 131
+    assert scene.parts["markers"].mesh.n_points == n_markers - 1
+    state.set_overlay("joints", False) if "joints" in state.overlays else None
+    m = state.marker_overlay.markers.labels.index("LASI")
+    x, y, _ = scene.marker_screen_positions()[m]
+    qtbot.mouseMove(studio.view.interactor, QPoint(round(x), round(y)))
+    qtbot.waitUntil(lambda: scene.hovered_marker == m, timeout=2000)
+    assert scene.is_shown("marker_labels")
+    click(qtbot, studio, QPoint(round(x), round(y)))
+    assert state.selected_marker == m and "Marker LASI" in studio.inspector.text()
+
+
+def test_pelvis_frames_are_drawn_as_a_triad_with_the_residual(qtbot, studio):
+    from core.markers.pelvis import PelvisFrames
+
+    open_file(studio, demo_folder() / MOTION_FILE, demo_folder() / MARKERS_FILE)
+    markers = studio.state.marker_overlay.markers
+    n = markers.n_frames
+    pelvis = PelvisFrames(
+        rotations=np.broadcast_to(np.eye(3), (n, 3, 3)).copy(),
+        origins=markers.positions[:, 0].copy(),
+        residuals=np.full(n, 0.125),
+        valid=np.ones(n, bool),
+    )
+    studio.state.set_pelvis(pelvis)
+    assert studio.view.scene.is_shown("pelvis")
+    assert "residual" in studio.inspector.text() and "0.125" in studio.inspector.text()
+    studio.actions["overlay_pelvis"].setChecked(False)
+    assert not studio.view.scene.is_shown("pelvis")
+
+
+def test_a_bad_file_leaves_the_document_as_it_was(qtbot, studio, tmp_path):
+    open_file(studio, demo_folder() / MOTION_FILE)
+    before = studio.state.snapshot
+    bad = tmp_path / "bad.bvh"
+    bad.write_text("HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 zero\n}\n")
+    studio.files.open_path(str(bad), ask=False, wait=True)
+    assert studio.state.snapshot is before and studio.state.path.name == MOTION_FILE
+    assert f"{bad}:4:" in studio.status.text()
+
+
+def test_save_as_gmr_and_export_bvh_round_trip(qtbot, studio, tmp_path):
+    open_file(studio, demo_folder() / MOTION_FILE)
+    state = studio.state
+    from app import commands
+
+    commands.split_here(state, state.motion.joint_index("lfoot"))
+    assert studio.isWindowModified()
+    target = tmp_path / "edited.gmr"
+    assert studio.files.save_to(target)
+    assert not studio.isWindowModified() and "edited.gmr" in studio.windowTitle()
+    saved = load_gmr(target)  # files list each tree depth first: compare joints by name
+    order = [saved.joint_index(name) for name in state.motion.names]
+    np.testing.assert_allclose(world_positions(saved)[:, order], state.positions, atol=1e-9 * state.motion.size)
+    assert not studio.files.export_bvh(tmp_path / "two_trees.bvh")  # a forest of two trees
+    assert "join them first" in studio.status.text()
+    commands.join_everything(state)
+    assert studio.files.export_bvh(tmp_path / "one.bvh")
+    exported = load_gmr(tmp_path / "one.bvh")  # dummy joints added where siblings differ
+    order = [exported.joint_index(name) for name in state.motion.names]
+    np.testing.assert_allclose(world_positions(exported)[:, order], state.positions, atol=1e-6 * state.motion.size)
+    assert str(target.resolve()) in studio.files.recent_files()
+
+
+def test_keys_step_jump_and_play(qtbot, studio):
+    open_file(studio, demo_folder() / MOTION_FILE)
+    state = studio.state
+    studio.activateWindow()
+    qtbot.waitUntil(studio.isActiveWindow, timeout=3000)  # window shortcuts need an active window
+    studio.view.interactor.setFocus()
+    qtbot.keyClick(studio.view.interactor, Qt.Key.Key_Right)
+    assert state.frame == 1
+    qtbot.keyClick(studio.view.interactor, Qt.Key.Key_End)
+    assert state.frame == state.n_frames - 1
+    qtbot.keyClick(studio.view.interactor, Qt.Key.Key_Left)
+    assert state.frame == state.n_frames - 2
+    qtbot.keyClick(studio.view.interactor, Qt.Key.Key_Home)
+    assert state.frame == 0
+    qtbot.keyClick(studio.view.interactor, Qt.Key.Key_BracketRight)
+    assert studio.player.speed == 2.0 and studio.timeline.speed_box.currentText() == "2x"
+    qtbot.keyClick(studio.view.interactor, Qt.Key.Key_Space)
+    assert studio.player.playing
+    qtbot.waitUntil(lambda: state.frame > 20, timeout=3000)
+    qtbot.keyClick(studio.view.interactor, Qt.Key.Key_Space)
+    assert not studio.player.playing
+    assert studio.timeline.slider.value() == state.frame
+
+
+def test_unsaved_edits_are_offered_for_saving(qtbot, studio, monkeypatch, tmp_path):
+    from PyQt6.QtWidgets import QMessageBox
+
+    from app import commands
+
+    open_file(studio, demo_folder() / MOTION_FILE)
+    commands.split_everything(studio.state)
+    edited = studio.state.snapshot
+    answers = iter([QMessageBox.StandardButton.Cancel, QMessageBox.StandardButton.Discard])
+    monkeypatch.setattr(QMessageBox, "question", lambda *args, **kwargs: next(answers))
+    studio.files.open_path(str(demo_folder() / MOTION_FILE), wait=True)
+    assert studio.state.snapshot is edited  # cancelled
+    studio.files.open_path(str(demo_folder() / MOTION_FILE), wait=True)
+    assert studio.state.snapshot is not edited and not studio.state.modified
+
+
+def test_dropping_a_file_opens_it(qtbot, studio):
+    from PyQt6.QtCore import QMimeData, QPointF, QUrl
+    from PyQt6.QtGui import QDropEvent
+
+    data = QMimeData()
+    data.setUrls([QUrl.fromLocalFile(str(demo_folder() / MOTION_FILE))])
+    event = QDropEvent(
+        QPointF(10, 10), Qt.DropAction.CopyAction, data, Qt.MouseButton.NoButton, Qt.KeyboardModifier.NoModifier
+    )
+    studio.dropEvent(event)
+    qtbot.waitUntil(lambda: studio.state.motion is not None and not studio.files.busy(), timeout=5000)
+    assert studio.state.path.name == MOTION_FILE
+
+
+def test_inspector_shows_the_local_transform_both_ways(qtbot, studio):
+    open_file(studio, demo_folder() / MOTION_FILE)
+    state = studio.state
+    j = state.motion.joint_index("ltibia")
+    state.select(j)
+    state.set_frame(42)
+    text = studio.inspector.text()
+    rotation = state.motion.rotations[42, j]
+    t = state.motion.translations[42, j]
+    flat = " ".join(text.split())
+    assert "pre-rotation" in flat and "post-rotation" in flat and "Parent lfemur" in flat
+    assert f"{(rotation @ t)[1]:.4f}" in text  # R t, the pre-rotation translation
+    assert f"{t[1]:.4f}" in text  # t, the post-rotation translation
+    assert f"{state.positions[42, j, 2]:.4f}" in text
+
+
+def test_video_export_writes_every_sampled_frame(qtbot, studio, tmp_path):
+    import imageio_ffmpeg
+
+    from app.video import export_video, video_frames
+
+    open_file(studio, demo_folder() / MOTION_FILE)
+    studio.view.interactor.setFixedSize(320, 240)
+    qtbot.wait(50)
+    seen = []
+    written = export_video(
+        studio.view.scene, tmp_path / "walk.mp4", fps=10, speed=2.0, progress=lambda d, t: seen.append(d) or True
+    )
+    expected = len(video_frames(480, 120, 10, 2.0))
+    assert written == expected == 20 and seen[-1] == expected
+    frames, _ = imageio_ffmpeg.count_frames_and_secs(str(tmp_path / "walk.mp4"))
+    assert frames == expected
