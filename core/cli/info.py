@@ -5,14 +5,19 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from pathlib import Path
 
 from core.formats import read_motion
 from core.motion import Motion
 
+#: what ``info`` calls each format, by suffix
+FORMAT_NAMES = {".bvh": "BVH", ".gmr": "GMR", ".amc": "AMC (Acclaim, with its ASF)", ".asf": "ASF (Acclaim skeleton)"}
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("info", help="joints, roots, soft links, frames, frame rate and channels of a file")
-    parser.add_argument("file", help="a .bvh or .gmr file")
+    parser.add_argument("file", help="a .bvh, .gmr, .amc or .asf file")
+    parser.add_argument("--asf", help="the skeleton of an .amc file (default: the single .asf beside it)")
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
     parser.set_defaults(run=run)
 
@@ -31,7 +36,7 @@ def describe(motion: Motion, path: str) -> dict:
 
     return {
         "path": path,
-        "format": "BVH" if motion.convention == "post" else "GMR",
+        "format": FORMAT_NAMES.get(Path(path).suffix.lower(), "BVH" if motion.convention == "post" else "GMR"),
         "convention": f"{motion.convention}-rotation",
         "frames": motion.n_frames,
         "frame_time": motion.frame_time,
@@ -78,7 +83,8 @@ def format_text(info: dict) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    info = describe(read_motion(args.file), args.file)
+    options = {"asf": args.asf} if args.asf and args.file.lower().endswith(".amc") else {}
+    info = describe(read_motion(args.file, **options), args.file)
     if args.json:
         json.dump(info, sys.stdout, indent=2)
         print()

@@ -1,7 +1,10 @@
 """Motion file formats: read any supported file, write BVH or GMR.
 
 ``read_motion`` returns the file's own convention (post-rotation for BVH, pre-rotation for
-GMR); ``load_gmr`` converts to GMR. The suffix picks the format, case-insensitively.
+GMR; Acclaim AMC is read straight into pre-rotation, ``.asf`` alone gives the skeleton's
+rest pose); ``load_gmr`` converts to GMR. The suffix picks the format, case-insensitively.
+Options go to the reader: ``read_motion("walk.amc", asf="subject.asf", frame_rate=120)``
+(by default the AMC's skeleton is the single ``.asf`` beside it).
 """
 
 from __future__ import annotations
@@ -11,11 +14,17 @@ from pathlib import Path
 
 from core.convert import pre_from_post
 from core.errors import MotionFileError
+from core.formats.acclaim import read_amc_file, read_asf_file
 from core.formats.bvh import read_bvh, write_bvh
 from core.formats.gmr import read_gmr, write_gmr
 from core.motion import Motion
 
-READERS: dict[str, Callable[..., Motion]] = {".bvh": read_bvh, ".gmr": read_gmr}
+READERS: dict[str, Callable[..., Motion]] = {
+    ".bvh": read_bvh,
+    ".gmr": read_gmr,
+    ".amc": read_amc_file,
+    ".asf": read_asf_file,
+}
 WRITERS: dict[str, Callable[[Motion, Path], None]] = {".bvh": write_bvh, ".gmr": write_gmr}
 
 

@@ -1,0 +1,60 @@
+"""Format speed, printed (asserts nothing): the AMC reader on CMU 01_01 tiled to many frames.
+
+Run from the project folder: ``.venv/bin/python benchmarks/formats.py [--frames 100000]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import tempfile
+import time
+from pathlib import Path
+
+from core.formats.acclaim import read_amc, read_asf
+from core.shared_data import shared_file
+
+
+def tiled_amc(source: Path, n_frames: int) -> bytes:
+    """The AMC's frames repeated (and renumbered) up to ``n_frames``."""
+    lines = source.read_bytes().replace(b"\r\n", b"\n").split(b"\n")
+    header = [line for line in lines if line.startswith((b":", b"#"))]
+    frames: list[list[bytes]] = []
+    for line in lines:
+        if line.strip().isdigit():
+            frames.append([])
+        elif line.strip() and not line.startswith((b":", b"#")):
+            frames[-1].append(line)
+    out = list(header)
+    for f in range(n_frames):
+        out.append(b"%d" % (f + 1))
+        out.extend(frames[f % len(frames)])
+    return b"\n".join(out) + b"\n"
+
+
+def best_of(function, repeat: int) -> float:
+    best = float("inf")
+    for _ in range(repeat):
+        start = time.perf_counter()
+        function()
+        best = min(best, time.perf_counter() - start)
+    return best
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--frames", type=int, default=100_000)
+    parser.add_argument("--repeat", type=int, default=3)
+    args = parser.parse_args()
+    skeleton = read_asf(shared_file("cmu/subject01/01.asf"))
+    data = tiled_amc(shared_file("cmu/subject01/01_01.amc"), args.frames)
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "tiled.amc"
+        path.write_bytes(data)
+        seconds = best_of(lambda: read_amc(path, skeleton), args.repeat)
+    megabytes = len(data) / 1e6
+    rate = megabytes / seconds
+    print(f"AMC read, 01_01 tiled to {args.frames} frames ({megabytes:.1f} MB): {seconds:.2f} s, {rate:.1f} MB/s")
+
+
+if __name__ == "__main__":
+    main()
