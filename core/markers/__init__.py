@@ -9,10 +9,11 @@ from collections.abc import Callable
 from pathlib import Path
 
 from core.errors import MotionFileError
+from core.markers.c3d import read_c3d
 from core.markers.markerset import MarkerSet
 from core.markers.trc import read_trc
 
-MARKER_READERS: dict[str, Callable[..., MarkerSet]] = {".trc": read_trc}
+MARKER_READERS: dict[str, Callable[..., MarkerSet]] = {".trc": read_trc, ".c3d": read_c3d}
 
 
 def read_markers(path: str | Path, **options) -> MarkerSet:

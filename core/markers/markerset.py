@@ -17,7 +17,9 @@ notes             tuple of str       what the reader noticed but tolerated
 
 Axes are the file's. Conversions return new marker sets: :meth:`MarkerSet.in_units`,
 :meth:`MarkerSet.transformed` (any rotation/permutation, scale and offset, e.g. Z-up to
-Y-up), :meth:`MarkerSet.resampled` (another frame rate).
+Y-up), :meth:`MarkerSet.resampled` (another frame rate). Gaps stay gaps unless the user asks
+for :meth:`MarkerSet.filled` (linear interpolation of short gaps); :meth:`MarkerSet.gap_table`
+describes them.
 """
 
 from __future__ import annotations
@@ -35,6 +37,34 @@ UNIT_SCALE = {"mm": 1e-3, "cm": 1e-2, "m": 1.0, "in": 0.0254, "ft": 0.3048}
 #: rotations taking one up axis to another (column vectors): Z-up (x, y, z) -> Y-up (x, z, -y)
 Z_UP_TO_Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
 Y_UP_TO_Z_UP = Z_UP_TO_Y_UP.T
+
+
+def frame_ranges(frames: np.ndarray, limit: int = 8) -> str:
+    """Frame numbers as short text: a bool mask (F,) or sorted indices -> ``"3-9, 15, 20-22"``.
+
+    At most ``limit`` ranges are listed, then ``"... (N ranges)"``.
+    """
+    frames = np.asarray(frames)
+    index = np.flatnonzero(frames) if frames.dtype == bool else np.unique(frames.astype(np.int64))
+    if index.size == 0:
+        return "none"
+    breaks = np.flatnonzero(np.diff(index) != 1)
+    starts = np.concatenate([[index[0]], index[breaks + 1]])
+    ends = np.concatenate([index[breaks], [index[-1]]])
+    parts = [f"{a}" if a == b else f"{a}-{b}" for a, b in zip(starts[:limit], ends[:limit])]
+    if starts.size > limit:
+        parts.append(f"... ({starts.size} ranges)")
+    return ", ".join(parts)
+
+
+def gap_runs(present: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For a presence mask (F, ...), the last present frame at or before each frame and the
+    first at or after it (-1 and F where there is none): arrays of the same shape."""
+    n_frames = present.shape[0]
+    frame = np.arange(n_frames).reshape((-1,) + (1,) * (present.ndim - 1))
+    before = np.maximum.accumulate(np.where(present, frame, -1), axis=0)
+    after = np.minimum.accumulate(np.where(present, frame, n_frames)[::-1], axis=0)[::-1]
+    return before, after
 
 
 def split_subject(label: str) -> tuple[str, str]:
@@ -147,6 +177,44 @@ class MarkerSet:
         matrix = np.eye(3) if rotation is None else np.asarray(rotation, dtype=np.float64)
         positions = scale * np.einsum("ab,fmb->fma", matrix, self.positions) + np.asarray(offset, dtype=np.float64)
         return self.replace(positions=positions, units=units or self.units)
+
+    def filled(self, max_gap: int) -> MarkerSet:
+        """Gaps of at most ``max_gap`` frames with a seen sample on both sides, filled by linear
+        interpolation between those samples; longer gaps and gaps at either end stay gaps.
+        A note says how many samples were filled."""
+        if max_gap < 1:
+            return self
+        present = self.present
+        before, after = gap_runs(present)
+        n_frames = self.n_frames
+        fill = ~present & (before >= 0) & (after < n_frames) & (after - before - 1 <= max_gap)
+        if not fill.any():
+            return self
+        frame = np.arange(n_frames)[:, None]
+        lo = np.where(fill, before, 0)
+        hi = np.where(fill, after, 0)
+        weight = np.where(fill, (frame - lo) / np.maximum(hi - lo, 1), 0.0)[..., None]
+        marker = np.arange(self.n_markers)[None, :]
+        values = (1 - weight) * self.positions[lo, marker] + weight * self.positions[hi, marker]
+        positions = np.where(fill[..., None], values, self.positions)
+        note = f"{int(fill.sum())} samples in gaps of at most {max_gap} frames filled by linear interpolation"
+        return self.replace(positions=positions, notes=(*self.notes, note))
+
+    def gap_table(self) -> list[dict]:
+        """Per marker: ``label``, ``missing`` (frames), ``gaps`` (runs) and ``longest`` (frames)."""
+        missing = ~self.present
+        starts = missing & np.vstack([np.ones((1, self.n_markers), bool), ~missing[:-1]])
+        before, after = gap_runs(self.present)
+        length = np.where(missing, after - before - 1, 0)
+        return [
+            {
+                "label": f"{s}:{label}" if s else label,
+                "missing": int(missing[:, m].sum()),
+                "gaps": int(starts[:, m].sum()),
+                "longest": int(length[:, m].max(initial=0)),
+            }
+            for m, (s, label) in enumerate(zip(self.subjects, self.labels))
+        ]
 
     def resampled(self, rate: float) -> MarkerSet:
         """Linear interpolation in time to another rate; a sample between a gap and a good

@@ -1,0 +1,230 @@
+"""C3D marker files through ezc3d, in a child process so that no file can crash the caller.
+
+ezc3d reads every C3D flavour (Intel, DEC and SGI byte orders; integer and float samples;
+``LABELS2``... for more than 255 markers). It is a C++ extension, and on corrupt files it
+does not always raise: fuzzing the real files of this project (random bytes in the
+parameter section) made it hang for minutes or die with a segmentation fault in about 5%
+of the cases. A reader in a desktop app must not take the app down with it, so by default
+the decoding runs in a child Python process (``python -m core.markers.c3d_worker FILE``) with a
+time and memory limit; it costs about 0.15 s per file. A C3D that ezc3d rejects, or that
+makes it crash or hang, becomes a :class:`~core.errors.MotionFileError` naming the file.
+
+Gaps. A sample whose residual is negative is invalid in every C3D (ezc3d gives NaN). A
+residual of zero marks a point that the cameras did not measure but the capture software
+interpolated or computed; the default ``zero_residual="auto"`` makes those gaps too,
+*when the file records residuals at all* (some sample has a positive one, as CMU's files
+do). Many writers (Qualisys, Vicon Nexus exports, the Plug-in Gait sample) write a zero
+residual for every sample: there it means "no residual recorded", and the samples are kept.
+``"gap"`` and ``"keep"`` force one reading. A sample at exactly (0, 0, 0) with no positive
+residual is a gap (older writers mark missing markers that way).
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import struct
+import subprocess
+import sys
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+
+from core.errors import MotionFileError
+from core.markers.markerset import MarkerSet, split_subject
+
+#: exit status of the worker when ezc3d raised (its message is on stderr); see c3d_worker
+REJECTED = 3
+
+ZeroResidual = Literal["auto", "gap", "keep"]
+
+_PROCESSORS = {84: "Intel", 85: "DEC", 86: "SGI/MIPS"}
+_UNIT_ALIASES = {
+    "mm": "mm",
+    "millimeters": "mm",
+    "millimetres": "mm",
+    "cm": "cm",
+    "m": "m",
+    "meters": "m",
+    "metres": "m",
+    "in": "in",
+    "inches": "in",
+}
+#: the worker's address-space limit, in bytes (a C3D needs a few times its size)
+_MEMORY_FLOOR = 4 << 30
+
+
+def read_c3d(
+    path: str | Path,
+    *,
+    zero_residual: ZeroResidual = "auto",
+    isolate: bool = True,
+    timeout: float | None = None,
+) -> MarkerSet:
+    """Read the 3D points of a C3D file into a :class:`MarkerSet`.
+
+    Parameters
+    ----------
+    path : the file.
+    zero_residual : how samples with residual 0 are read (see the module docstring).
+    isolate : decode in a child process (default); ``False`` calls ezc3d in this process,
+        which is faster but trusts the file.
+    timeout : seconds the child may take (default: 10 s plus 1 s per MB of file).
+
+    Returns
+    -------
+    MarkerSet with positions (F, M, 3) in the file's POINT:UNITS and axes, gaps NaN, the
+    subject prefix split off each label, ``first_frame`` from the header, and ``notes``
+    saying what was tolerated (gaps made from zero residuals, renamed labels, a file
+    shorter than its header).
+
+    Raises
+    ------
+    MotionFileError : the file is missing, is not a C3D, or ezc3d rejects it.
+    """
+    if zero_residual not in ("auto", "gap", "keep"):
+        raise ValueError(f"zero_residual must be 'auto', 'gap' or 'keep', not {zero_residual!r}")
+    where = str(path)
+    size, announced = _check_header(Path(path), where)
+    if isolate:
+        decoded = _decode_in_child(Path(path), where, size, timeout)
+    else:
+        from core.markers.c3d_worker import decode_c3d  # not at import: see c3d_worker
+
+        try:
+            decoded = decode_c3d(Path(path))
+        except (OSError, RuntimeError, ValueError, MemoryError, IndexError) as exc:
+            raise MotionFileError(where, f"ezc3d rejects the file: {_clean(str(exc))}") from None
+    decoded["meta"]["announced_frames"] = announced
+    return _marker_set(decoded, where, zero_residual)
+
+
+def _check_header(path: Path, where: str) -> tuple[int, int]:
+    """The cheap checks of the 512-byte header, with clear messages.
+
+    Returns the file size and the number of frames the header announces (0 when its 16-bit
+    frame numbers cannot tell: ezc3d rewrites them to what it read, so they are taken here).
+    """
+    try:
+        with path.open("rb") as stream:
+            header = stream.read(512)
+            size = os.fstat(stream.fileno()).st_size
+    except OSError as exc:
+        raise MotionFileError(where, f"cannot read the file: {exc.strerror or exc}") from None
+    if size == 0:
+        raise MotionFileError(where, "the file is empty: expected a C3D header of 512 bytes")
+    if len(header) < 512:
+        raise MotionFileError(where, f"the file has {size} bytes: a C3D starts with a header of 512 bytes")
+    if header[1] != 0x50:
+        raise MotionFileError(where, f"byte 2 is {header[1]}, not 80 (0x50): this is not a C3D file")
+    start = (header[0] - 1) * 512
+    if header[0] < 1 or start + 4 > size:
+        raise MotionFileError(where, f"the parameter section (block {header[0]}) lies outside the file")
+    with path.open("rb") as stream:
+        stream.seek(start)
+        section = stream.read(4)
+    if section[3] not in _PROCESSORS:
+        known = ", ".join(f"{code} ({name})" for code, name in _PROCESSORS.items())
+        raise MotionFileError(where, f"unknown processor type {section[3]} in the parameters: expected {known}")
+    first, last = struct.unpack(">HH" if section[3] == 86 else "<HH", header[6:10])
+    return size, (last - first + 1 if first <= last < 0xFFFF else 0)
+
+
+def _decode_in_child(path: Path, where: str, size: int, timeout: float | None) -> dict:
+    limit = timeout if timeout is not None else 10.0 + size / 1e6
+    env = dict(os.environ)
+    project = str(Path(__file__).resolve().parents[2])
+    env["PYTHONPATH"] = project + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+    env["OMP_NUM_THREADS"] = env["OPENBLAS_NUM_THREADS"] = "1"
+    command = [sys.executable, "-m", "core.markers.c3d_worker", str(path.resolve()), str(max(_MEMORY_FLOOR, 64 * size))]
+    try:
+        done = subprocess.run(command, capture_output=True, timeout=limit, env=env, stdin=subprocess.DEVNULL)
+    except subprocess.TimeoutExpired:
+        raise MotionFileError(
+            where, f"ezc3d did not finish reading the file in {limit:.0f} s: the file is probably corrupt"
+        ) from None
+    message = _clean(done.stderr.decode("utf-8", "replace"))
+    if done.returncode == REJECTED:
+        raise MotionFileError(where, f"ezc3d rejects the file: {message}")
+    if done.returncode != 0:
+        cause = f"signal {-done.returncode}" if done.returncode < 0 else f"exit status {done.returncode}"
+        detail = f" ({message})" if message else ""
+        raise MotionFileError(where, f"ezc3d crashed reading the file ({cause}){detail}: the file is corrupt")
+    with np.load(io.BytesIO(done.stdout), allow_pickle=False) as archive:
+        decoded = {key: archive[key] for key in archive.files}
+    decoded["meta"] = json.loads(str(decoded["meta"]))
+    return decoded
+
+
+def _clean(message: str) -> str:
+    lines = [line.strip() for line in message.strip().splitlines() if line.strip()]
+    text = lines[-1] if lines else "no reason given"
+    return text.removesuffix(": iostream error")
+
+
+def _marker_set(decoded: dict, where: str, zero_residual: ZeroResidual) -> MarkerSet:
+    meta = decoded["meta"]
+    points = np.array(decoded["points"], dtype=np.float64)
+    residuals = np.asarray(decoded["residuals"], dtype=np.float64)
+    n_frames, n_markers = points.shape[:2]
+    notes: list[str] = []
+    rate = meta["rate"]
+    if not np.isfinite(rate) or rate <= 0:
+        raise MotionFileError(where, f"the point rate is {rate}: expected a positive number of frames per second")
+    units = _UNIT_ALIASES.get(meta["units"].strip().lower())
+    if units is None:
+        units = "mm"
+        notes.append(f"POINT:UNITS is '{meta['units'].strip()}', not a length unit known here: read as mm")
+    gaps = (residuals < 0) | ~np.isfinite(points).all(axis=2)
+    recorded = bool((residuals > 0).any())
+    zero = (residuals == 0) & ~gaps
+    if zero_residual == "gap" or (zero_residual == "auto" and recorded):
+        if zero.any():
+            notes.append(
+                f"{int(zero.sum())} samples with residual 0 (interpolated by the capture software, "
+                "not measured) read as gaps"
+            )
+        gaps |= zero
+    origin = zero & (points == 0).all(axis=2) & ~gaps
+    if zero_residual == "auto" and origin.any():
+        notes.append(f"{int(origin.sum())} samples at exactly (0, 0, 0) with no residual read as gaps")
+        gaps |= origin
+    points[gaps] = np.nan
+    if meta["announced_frames"] != n_frames and meta["announced_frames"] > 0:
+        notes.append(
+            f"the header announces {meta['announced_frames']} frames, the file holds {n_frames}: it may be truncated"
+        )
+    subjects, labels = _labels(meta["labels"], n_markers, notes)
+    return MarkerSet(
+        labels=labels,
+        subjects=subjects,
+        positions=points,
+        rate=rate,
+        units=units,
+        first_frame=meta["first_frame"],
+        source=where,
+        notes=notes,
+    )
+
+
+def _labels(raw: list[str], n_markers: int, notes: list[str]) -> tuple[list[str], list[str]]:
+    """Subjects and bare labels for the M points: blanks named, duplicates made unique."""
+    if len(raw) < n_markers:
+        notes.append(f"POINT:LABELS names {len(raw)} of the {n_markers} points: the others are named M001...")
+    subjects, labels = [], []
+    seen: set[tuple[str, str]] = set()
+    for m in range(n_markers):
+        text = raw[m].strip() if m < len(raw) else ""
+        subject, label = split_subject(text) if text else ("", f"M{m + 1:03d}")
+        if (subject, label) in seen:
+            copy = 2
+            while (subject, f"{label}~{copy}") in seen:
+                copy += 1
+            notes.append(f"point {m + 1} repeats the label '{text}': renamed '{label}~{copy}'")
+            label = f"{label}~{copy}"
+        seen.add((subject, label))
+        subjects.append(subject)
+        labels.append(label)
+    return subjects, labels

@@ -1,0 +1,80 @@
+"""The child process of :func:`core.markers.c3d.read_c3d`: ezc3d decodes one file.
+
+``python -m core.markers.c3d_worker FILE [MEMORY_BYTES]`` writes the decoded file to stdout
+as an .npz archive, or its error to stderr with exit status 3. Nothing in the package
+imports this module at import time, so ``-m`` runs it without a second copy.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+#: exit status when ezc3d raised (the same number as core.markers.c3d.REJECTED)
+REJECTED = 3
+
+
+def decode_c3d(path: Path) -> dict:
+    """What this module needs from ezc3d, as plain arrays and a JSON-ready ``meta`` dict.
+
+    Returns ``points`` (F, M, 3) float64 (NaN where ezc3d flags the sample), ``residuals``
+    (F, M) float64 and ``meta`` (labels, units, rate, first_frame).
+    """
+    import ezc3d  # imported here: the parent process of an isolated read never loads it
+
+    c3d = ezc3d.c3d(str(path))
+    point = c3d["parameters"]["POINT"]
+    data = c3d["data"]
+    xyz = np.ascontiguousarray(np.asarray(data["points"], dtype=np.float64)[:3].transpose(2, 1, 0))
+    residuals = np.asarray(data["meta_points"]["residuals"], dtype=np.float64)
+    residuals = residuals[0].T if residuals.size else np.zeros(xyz.shape[:2])
+    labels: list[str] = []
+    for key in ["LABELS"] + [f"LABELS{k}" for k in range(2, 100)]:
+        if key not in point:
+            break
+        labels += [str(label) for label in point[key]["value"]]
+    header = c3d["header"]["points"]
+    units = point["UNITS"]["value"] if "UNITS" in point else []
+    rate = point["RATE"]["value"] if "RATE" in point else []
+    meta = {
+        "labels": labels,
+        "units": str(units[0]) if len(units) else "",
+        "rate": float(rate[0]) if len(rate) else float(header["frame_rate"]),
+        "first_frame": int(header["first_frame"]),
+    }
+    return {"points": xyz, "residuals": residuals, "meta": meta}
+
+
+def _worker(argv: list[str]) -> int:
+    """``python -m core.markers.c3d_worker FILE [MEMORY_BYTES]``: the decoded file as .npz on stdout."""
+    try:
+        import resource
+
+        if len(argv) > 1:
+            limit = int(argv[1])
+            resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+    except (ImportError, ValueError, OSError):  # pragma: no cover - platform without rlimits
+        pass
+    try:
+        decoded = decode_c3d(Path(argv[0]))
+    except MemoryError:
+        print("the file asks for more memory than any C3D needs", file=sys.stderr)
+        return REJECTED
+    except Exception as exc:  # ezc3d raises OSError, RuntimeError, ValueError...
+        print(str(exc), file=sys.stderr)
+        return REJECTED
+    buffer = io.BytesIO()
+    np.savez(
+        buffer, points=decoded["points"], residuals=decoded["residuals"], meta=np.array(json.dumps(decoded["meta"]))
+    )
+    sys.stdout.buffer.write(buffer.getvalue())
+    sys.stdout.buffer.flush()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(_worker(sys.argv[1:]))

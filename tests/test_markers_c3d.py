@@ -1,0 +1,161 @@
+"""C3D through ezc3d: the real files, files written here by ezc3d, and broken files."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from core.errors import MotionFileError
+from core.markers import read_markers
+from core.markers.c3d import read_c3d
+from tests.conftest import shared_files, shared_path
+
+EB015 = "c3d/c3dorg_s01_Eb015pi_intel_int.c3d"
+
+
+def write_c3d(path, labels, points, residuals, rate=100.0, units="mm", first_frame=0):
+    """A float C3D written by ezc3d: points (F, M, 3), residuals (F, M)."""
+    ezc3d = pytest.importorskip("ezc3d")
+    c3d = ezc3d.c3d()
+    c3d["parameters"]["POINT"]["RATE"]["value"] = [rate]
+    c3d["parameters"]["POINT"]["LABELS"]["value"] = list(labels)
+    c3d["parameters"]["POINT"]["UNITS"]["value"] = [units]
+    data = np.ones((4, len(labels), len(points)))
+    data[:3] = np.asarray(points, dtype=float).transpose(2, 1, 0)
+    c3d["data"]["points"] = data
+    c3d["data"]["meta_points"]["residuals"] = np.asarray(residuals, dtype=float).T[None]
+    c3d["header"]["points"]["first_frame"] = first_frame
+    c3d.write(str(path))
+    return path
+
+
+@pytest.mark.parametrize(
+    ("relative", "n_frames", "n_markers", "rate", "units"),
+    [
+        ("cmu/subject01/01_01.c3d", 2751, 42, 120.0, "mm"),
+        ("c3d/ezc3d_Vicon.c3d", 580, 51, 100.0, "mm"),
+        ("c3d/ezc3d_Qualisys.c3d", 340, 55, 200.0, "mm"),
+        ("c3d/c3dorg_s00_NexGen_test1_PiG_fullbody.c3d", 721, 40, 128.0, "m"),
+        (EB015, 450, 26, 50.0, "mm"),
+    ],
+)
+def test_real_files(relative, n_frames, n_markers, rate, units):
+    markers = read_markers(shared_path(relative))
+    assert markers.positions.shape == (n_frames, n_markers, 3)
+    assert markers.rate == rate and markers.units == units
+    assert len(set(zip(markers.subjects, markers.labels))) == n_markers
+    # a gap is missing as a whole, every present sample is finite
+    assert np.isfinite(markers.positions[markers.present]).all()
+    assert np.isnan(markers.positions[~markers.present]).all()
+
+
+def test_cmu_labels_gaps_and_the_zero_residual_rule():
+    path = shared_path("cmu/subject01/01_01.c3d")
+    markers = read_c3d(path)
+    assert {"LFHD", "RFHD", "C7", "T10", "LANK", "RTOE", "LFWT", "RBWT"} <= set(markers.labels)
+    assert "RBAC-1" in markers.labels and markers.first_frame == 39
+    kept = read_c3d(path, zero_residual="keep")
+    # negative residuals (ezc3d's NaN) are the 2.4% of gaps PROVENANCE quotes
+    assert abs((~kept.present).mean() - 0.024) < 0.001
+    # zero residuals are the capture software's interpolation: gaps by default, not with "keep"
+    extra = ~markers.present & kept.present
+    assert extra.sum() == 859 and "859 samples with residual 0" in markers.notes[0]
+    np.testing.assert_array_equal(markers.positions[markers.present], kept.positions[markers.present])
+
+
+def test_files_without_residuals_keep_every_sample():
+    # Qualisys and the Plug-in Gait sample write residual 0 everywhere: no residual recorded
+    for relative in ("c3d/ezc3d_Qualisys.c3d", "c3d/c3dorg_s00_NexGen_test1_PiG_fullbody.c3d"):
+        markers = read_c3d(shared_path(relative))
+        assert markers.present.all() and markers.notes == ()
+        assert (~read_c3d(shared_path(relative), zero_residual="gap").present).all()
+
+
+def test_subject_prefix_is_split():
+    markers = read_c3d(shared_path("c3d/ezc3d_Vicon.c3d"))
+    assert "Daphnee" in markers.subjects and "ASISr" in markers.labels
+    m = markers.index("Daphnee:ASISr")
+    assert markers.subjects[m] == "Daphnee" and markers.labels[m] == "ASISr"
+
+
+@pytest.mark.parametrize("path", shared_files("c3d/*.c3d"))
+def test_isolated_and_in_process_reads_agree(path):
+    a, b = read_c3d(path), read_c3d(path, isolate=False)
+    np.testing.assert_array_equal(a.positions, b.positions)
+    assert (a.labels, a.subjects, a.rate, a.units, a.first_frame, a.notes) == (
+        b.labels,
+        b.subjects,
+        b.rate,
+        b.units,
+        b.first_frame,
+        b.notes,
+    )
+
+
+def test_written_file_with_residual_codes(tmp_path):
+    rng = np.random.default_rng(4)
+    points = rng.normal(size=(5, 3, 3)) * 100
+    residuals = np.ones((5, 3))
+    residuals[1, 0] = -1  # invalid
+    residuals[2, 1] = 0  # interpolated: a gap, since the file records residuals
+    path = write_c3d(tmp_path / "w.c3d", ["Sam:LASI", "RASI", "RASI"], points, residuals, rate=250, first_frame=7)
+    markers = read_c3d(path)
+    assert markers.labels == ("LASI", "RASI", "RASI~2") and markers.subjects == ("Sam", "", "")
+    assert markers.rate == 250 and markers.first_frame == 7 and markers.units == "mm"
+    expected = points.copy()
+    expected[1, 0] = expected[2, 1] = np.nan
+    np.testing.assert_allclose(markers.positions, expected, rtol=1e-6, atol=1e-4)  # stored as float32
+    assert any("repeats the label" in note for note in markers.notes)
+
+
+def test_one_frame_file_and_metres(tmp_path):
+    path = write_c3d(tmp_path / "one.c3d", ["A", "B"], [[[1, 2, 3], [4, 5, 6]]], [[0, 0]], units="m")
+    markers = read_c3d(path)
+    assert markers.positions.shape == (1, 2, 3) and markers.units == "m" and markers.present.all()
+    np.testing.assert_allclose(markers.in_units("mm").positions[0, 1], [4000, 5000, 6000], rtol=1e-6)
+
+
+def mutated(tmp_path, name, changes: dict[int, int], length: int | None = None):
+    data = bytearray(shared_path(EB015).read_bytes())
+    for index, value in changes.items():
+        data[index] = value
+    path = tmp_path / name
+    path.write_bytes(bytes(data[:length]))
+    return path
+
+
+@pytest.mark.parametrize(
+    ("name", "changes", "length", "message"),
+    [
+        ("empty.c3d", {}, 0, "the file is empty"),
+        ("short.c3d", {}, 100, "the file has 100 bytes"),
+        ("key.c3d", {1: 0x99}, None, "this is not a C3D file"),
+        ("proc.c3d", {512 + 3: 200}, None, "unknown processor type 200"),
+        ("block.c3d", {0: 0}, None, "the parameter section (block 0) lies outside the file"),
+        ("params.c3d", {}, 700, "ezc3d rejects the file"),
+        # found by fuzzing: this one byte in the parameters makes ezc3d 1.7 segfault
+        ("segv.c3d", {2926: 174}, None, "ezc3d crashed reading the file (signal 11)"),
+    ],
+)
+def test_broken_files_are_errors_not_crashes(tmp_path, name, changes, length, message):
+    path = mutated(tmp_path, name, changes, length)
+    with pytest.raises(MotionFileError) as error:
+        read_markers(path)
+    assert message in str(error.value) and str(error.value).startswith(str(path))
+
+
+def test_a_file_that_makes_ezc3d_hang_is_stopped(tmp_path):
+    path = mutated(tmp_path, "hang.c3d", {3152: 14})  # found by fuzzing: ezc3d loops
+    with pytest.raises(MotionFileError, match="did not finish reading the file in 2 s"):
+        read_c3d(path, timeout=2)
+
+
+def test_missing_file_and_truncated_data(tmp_path):
+    with pytest.raises(MotionFileError, match="cannot read the file"):
+        read_c3d(tmp_path / "absent.c3d")
+    whole = shared_path(EB015).read_bytes()
+    path = tmp_path / "cut.c3d"
+    path.write_bytes(whole[: len(whole) - 40_000])
+    markers = read_c3d(path)
+    assert 0 < markers.n_frames < 450
+    assert any("the header announces 450 frames" in note for note in markers.notes)
