@@ -15,7 +15,9 @@ markers to the motion's rate).
    the up axis), snapped to a unit conversion (m, cm, mm, in, ft, CMU's 1/0.45 in) when one
    is within 25%; the rotation is the axis permutation that takes the markers' up axis to
    the skeleton's and, of the four such headings, the one whose path of the marker
-   centroid best follows the skeleton's; the offset matches the two centroids on average.
+   centroid best follows the skeleton's; when the two differ by a few frames, the frame
+   shift that fits best too (:func:`candidate_frame_offsets`); the offset matches the two
+   centroids on average.
 
 Up axis rule (:func:`detect_up_axis`): Y or Z, whichever the figure spans more in the
 median frame (a standing or walking figure is taller than it is wide or deep; X is never
@@ -33,6 +35,8 @@ import numpy as np
 UNIT_LENGTHS = {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254, "ft": 0.3048, "CMU unit": 0.0254 / 0.45}
 #: how far (relative) a height ratio may be from a unit conversion and still snap to it
 SNAP_TOLERANCE = 0.25
+#: the frame shifts tried between marker and motion frames (e.g. a BVH with an added T-pose frame)
+MAX_FRAME_OFFSET = 5
 
 
 @dataclasses.dataclass(frozen=True)
@@ -170,10 +174,11 @@ def auto_alignment(
                 offset=offset,
                 method=f"fitted to {len(pairs)} markers named like joints (rms {rms:.3g})",
             )
-    return _heuristic_alignment(markers, joints, marker_units)
+    return _heuristic_alignment(marker_positions, joint_positions, marker_units)
 
 
-def _heuristic_alignment(markers: np.ndarray, joints: np.ndarray, marker_units: str) -> MarkerAlignment:
+def _heuristic_alignment(all_markers: np.ndarray, joints: np.ndarray, marker_units: str) -> MarkerAlignment:
+    markers = markers_on_motion_frames(all_markers, len(joints), 0)
     marker_up, joint_up = detect_up_axis(markers), detect_up_axis(joints)
     marker_height = _median_extents(markers)[marker_up]
     joint_height = _median_extents(joints)[joint_up]
@@ -188,25 +193,40 @@ def _heuristic_alignment(markers: np.ndarray, joints: np.ndarray, marker_units: 
                 break
     up_vector = np.eye(3)[joint_up]
     candidates = [r for r in axis_rotations() if np.allclose(r @ np.eye(3)[marker_up], up_vector)]
-    marker_centre = _nan_mean(markers)  # (F, 3)
     joint_centre = joints.mean(axis=1)
-    usable = np.isfinite(marker_centre).all(axis=1)
-    best, best_cost = candidates[0], np.inf
-    for rotation in candidates:
-        moved = scale * marker_centre[usable] @ rotation.T
-        shift = (joint_centre[usable] - moved).mean(axis=0) if usable.any() else np.zeros(3)
-        cost = float(((moved + shift - joint_centre[usable]) ** 2).sum()) if usable.any() else 0.0
-        if cost < best_cost * (1 - 1e-9):
-            best, best_cost = rotation, cost
-    moved = scale * marker_centre[usable] @ best.T
-    offset = (joint_centre[usable] - moved).mean(axis=0) if usable.any() else np.zeros(3)
+    best = (np.inf, candidates[0], np.zeros(3), 0)
+    for lag in candidate_frame_offsets(len(joints), len(all_markers)):
+        marker_centre = _nan_mean(markers_on_motion_frames(all_markers, len(joints), lag))  # (F, 3)
+        usable = np.isfinite(marker_centre).all(axis=1)
+        if not usable.any():
+            continue
+        for rotation in candidates:
+            moved = scale * marker_centre[usable] @ rotation.T
+            shift = (joint_centre[usable] - moved).mean(axis=0)
+            cost = float(((moved + shift - joint_centre[usable]) ** 2).mean())
+            if cost < best[0] * (1 - 1e-6):
+                best = (cost, rotation, shift, lag)
+    _, rotation, offset, lag = best
     axes = "XYZ"
+    shift = f", frame offset {lag}" if lag else ""
     return MarkerAlignment(
-        rotation=best,
+        rotation=rotation,
         scale=float(scale),
         offset=offset,
-        method=f"{unit_note}, {axes[marker_up]} up -> {axes[joint_up]} up, heading and offset from the centroid path",
+        frame_offset=lag,
+        method=f"{unit_note}, {axes[marker_up]} up -> {axes[joint_up]} up, "
+        f"heading{shift} and offset from the centroid path",
     )
+
+
+def candidate_frame_offsets(n_motion: int, n_markers: int) -> list[int]:
+    """Frame offsets worth trying: when the motion has a few more frames than the markers
+    (up to ``MAX_FRAME_OFFSET``, e.g. a BVH export that added a T-pose frame at the start),
+    the extra frames may be at the start or the end, and conversely; otherwise none."""
+    extra = n_motion - n_markers
+    if extra == 0 or abs(extra) > MAX_FRAME_OFFSET:
+        return [0]
+    return [-k if extra > 0 else k for k in range(abs(extra) + 1)]
 
 
 def _nan_mean(points: np.ndarray) -> np.ndarray:

@@ -89,3 +89,23 @@ def test_apply_keeps_gaps_and_frame_shift():
     shifted = markers_on_motion_frames(positions, 5, 1)
     np.testing.assert_array_equal(shifted[:3], positions[1:])
     assert np.isnan(shifted[3:]).all()
+
+
+def test_cmu_c3d_markers_land_on_the_bvh_skeleton():
+    """The CMU C3D (mm, Z up) onto the cgspeed BVH (CMU units, Y up, an added first frame):
+    PROVENANCE.md says (x, y, z)_c3d = 56.444 * (z, x, y)_amc, and LANK stays 47 mm from the ankle."""
+    from core.formats import load_gmr
+    from core.markers import read_markers
+    from tests.conftest import shared_path
+
+    motion = load_gmr(shared_path("cmu/subject01/01_01.bvh"))
+    markers = read_markers(shared_path("cmu/subject01/01_01.c3d"))
+    positions = world_positions(motion)
+    alignment = auto_alignment(markers.positions, markers.labels, positions, motion.names, markers.units)
+    np.testing.assert_array_equal(alignment.rotation, [[0, 1, 0], [0, 0, 1], [1, 0, 0]])
+    assert alignment.scale == pytest.approx(0.45 / 25.4)  # mm -> CMU length units
+    assert alignment.frame_offset == -1  # the BVH's frame 0 is an added T-pose
+    on_frames = alignment.apply(markers_on_motion_frames(markers.positions, motion.n_frames, alignment.frame_offset))
+    ankle = positions[:, motion.joint_index("LeftFoot")]
+    distance = np.linalg.norm(on_frames[:, markers.labels.index("LANK")] - ankle, axis=1) * 25.4 / 0.45
+    assert 30 < np.nanmean(distance) < 75 and np.nanstd(distance) < 5  # millimetres

@@ -301,3 +301,19 @@ def test_video_export_writes_every_sampled_frame(qtbot, studio, tmp_path):
     assert written == expected == 20 and seen[-1] == expected
     frames, _ = imageio_ffmpeg.count_frames_and_secs(str(tmp_path / "walk.mp4"))
     assert frames == expected
+
+
+def test_asf_amc_with_c3d_markers(qtbot, studio):
+    """ASF/AMC opens like any motion (the ASF beside it) and the C3D's markers align to it."""
+    amc = shared_path("cmu/subject01/01_01.amc")
+    open_file(studio, amc, shared_path("cmu/subject01/01_01.c3d"))
+    state = studio.state
+    assert state.motion.n_frames == 2751 and "lfemur" in state.motion.names
+    overlay = state.marker_overlay
+    assert overlay is not None and "CMU unit" in overlay.alignment.method and overlay.alignment.frame_offset == 0
+    assert "Markers" in studio.inspector.text() and "42" in studio.inspector.text()
+    # LANK follows the ankle (the end of ltibia) within a few centimetres all through
+    ankle = state.positions[:, state.motion.joint_index("ltibia")]
+    lank = overlay.positions[:, overlay.markers.labels.index("LANK")]
+    millimetres = np.linalg.norm(lank - ankle, axis=1) * 25.4 / 0.45
+    assert np.nanmedian(millimetres) < 75 and np.nanstd(millimetres) < 5
