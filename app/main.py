@@ -25,6 +25,8 @@ def build_arguments() -> argparse.ArgumentParser:
     parser.add_argument("--frame", type=int, default=0, metavar="N", help="frame to render (with --screenshot)")
     parser.add_argument("--size", default="1280x800", metavar="WxH", help="image size (with --screenshot)")
     parser.add_argument("--window", action="store_true", help="with --screenshot: the whole window, docks included")
+    # for app.bench: print the wall-clock time when the file's first frame is drawn, then quit
+    parser.add_argument("--first-frame-time", action="store_true", help=argparse.SUPPRESS)
     return parser
 
 
@@ -84,8 +86,20 @@ def main(argv: Sequence[str] | None = None) -> int:
     app.setApplicationName("GMR Studio")
     window = MainWindow()
     window.show()
+    if args.first_frame_time:
+        window.files.load_finished.connect(lambda ok: _report_first_frame(app, window, ok))
     window.files.open_path(motion_path, markers=markers_path, ask=False)
     return app.exec()
+
+
+def _report_first_frame(app, window, loaded: bool) -> None:
+    import time
+
+    window.view.scene.render()
+    app.processEvents()
+    print(f"{time.time():.6f}" if loaded else "nan", flush=True)
+    window.close()
+    app.quit()
 
 
 def _load_or_report(motion_path: str, markers_path: str | None):

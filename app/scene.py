@@ -44,9 +44,10 @@ TREE_COLORS = np.array(
     ]
 )
 BACKGROUND = (0.16, 0.17, 0.20)
-GROUND_COLOR = (0.42, 0.44, 0.48)
+GROUND_COLOR = (0.36, 0.38, 0.42)
+# everything is opaque: translucency costs a separate pass, several ms a frame in software GL
 SELECTION_COLOR = (1.0, 0.85, 0.1)
-SOFT_LINK_COLOR = (0.85, 0.85, 0.85)
+SOFT_LINK_COLOR = (0.62, 0.62, 0.66)  # faded: dashed and grey
 MARKER_COLOR = (0.92, 0.92, 0.95)
 AXIS_COLORS = np.eye(3) * 0.9 + 0.05
 JOINT_RADIUS = 0.016  # of Motion.size
@@ -92,6 +93,7 @@ class SkeletonScene:
         self.hovered_marker: int | None = None
         self.selected_marker: int | None = None
         self.pelvis: PelvisOverlay | None = None
+        self.request_repaint = None  # a callable that schedules a repaint of the view widget
 
     # ------------------------------------------------------------------- building
     def set_snapshot(self, snapshot: Snapshot | None, *, reset_camera: bool) -> None:
@@ -125,7 +127,7 @@ class SkeletonScene:
         dash_pairs = np.arange(2 * DASHES * len(links)).reshape(-1, 2)
         self._add(
             "soft_links",
-            parts.segments_part(len(dash_pairs) * 2, dash_pairs, color=SOFT_LINK_COLOR, width=2.0, opacity=0.7),
+            parts.segments_part(len(dash_pairs) * 2, dash_pairs, color=SOFT_LINK_COLOR, width=1.5),
         )
         axis_pairs = np.arange(6 * motion.n_joints).reshape(-1, 2)
         self._add(
@@ -136,11 +138,11 @@ class SkeletonScene:
         trail_pairs = np.column_stack([np.arange(self._trail_length - 1), np.arange(1, self._trail_length)])
         self._add(
             "trails",
-            parts.segments_part(self._trail_length, trail_pairs, color=SELECTION_COLOR, width=3.0, opacity=0.85),
+            parts.segments_part(self._trail_length, trail_pairs, color=SELECTION_COLOR, width=2.5),
         )
         self._add("labels", parts.label_part(motion.n_joints, list(motion.names)))
         self._add("selection", parts.glyph_part(1, pv.Sphere(radius=1.9 * r), color=SELECTION_COLOR))
-        self.parts["selection"].actor.GetProperty().SetOpacity(0.5)
+        self.parts["selection"].actor.GetProperty().SetRepresentationToWireframe()
         if reset_camera:
             self.up_axis = detect_up_axis(snapshot.positions)
             self._build_ground(snapshot.positions, size)
@@ -170,7 +172,7 @@ class SkeletonScene:
         coords[:, across] = np.array(points)
         coords[:, up] = low[up]
         pairs = np.arange(len(points)).reshape(-1, 2)
-        ground = parts.segments_part(len(points), pairs, color=GROUND_COLOR, width=1.0, opacity=0.8)
+        ground = parts.segments_part(len(points), pairs, color=GROUND_COLOR, width=1.0)
         ground.set_points(coords)
         self._add("ground", ground)
         self.ground_bounds = (low, high, low[up])
@@ -229,7 +231,7 @@ class SkeletonScene:
                 "marker_selection",
                 parts.glyph_part(1, pv.Sphere(radius=2.0 * MARKER_RADIUS * size), color=SELECTION_COLOR),
             )
-            self.parts["marker_selection"].actor.GetProperty().SetOpacity(0.6)
+            self.parts["marker_selection"].actor.GetProperty().SetRepresentationToWireframe()
         self._apply_visibility()
         self.show_frame(self.frame)
 
@@ -348,8 +350,14 @@ class SkeletonScene:
         coords[:, :, 1] = origins[:, None] + length * np.swapaxes(rotations, 1, 2)
         part.set_points(coords.reshape(-1, 3))
 
-    def render(self) -> None:
-        self.plotter.render()
+    def render(self, now: bool = False) -> None:
+        """Draw the scene: at once (``now``, e.g. before a screenshot), or by asking the
+        widget to repaint when it has set ``request_repaint`` (a Qt OpenGL widget renders in
+        its paint event anyway, so rendering here as well would draw every frame twice)."""
+        if self.request_repaint is not None and not now:
+            self.request_repaint()
+        else:
+            self.plotter.render()
 
     # ------------------------------------------------------------------- picking
     def view_projection(self) -> np.ndarray:

@@ -21,7 +21,7 @@ VIDEO_FPS = 30.0
 
 def scene_image(scene: SkeletonScene) -> np.ndarray:
     """(H, W, 3) uint8 RGB image of the scene as drawn now."""
-    scene.render()
+    scene.render(now=True)
     return np.asarray(scene.plotter.screenshot(return_img=True, transparent_background=False))[..., :3]
 
 

@@ -27,11 +27,13 @@ class SkeletonView(QWidget):
     def __init__(self, state: StudioState, parent: QWidget | None = None) -> None:
         super().__init__(parent)
         self.state = state
-        self.interactor = QtInteractor(self, auto_update=False, multi_samples=4)
+        # no multisampling: it quadruples the cost of a frame in software OpenGL (Xvfb, VMs)
+        self.interactor = QtInteractor(self, auto_update=False, multi_samples=0)
         self.interactor.setAcceptDrops(False)  # files dropped here go to the main window
         for key in ("q", "e", "v", "b", "r", "plus", "minus"):  # pyvista's default key bindings
             self.interactor.clear_events_for_key(key, raise_on_missing=False)
         self.scene = SkeletonScene(self.interactor)
+        self.scene.request_repaint = self.interactor.update  # one render per frame, in paintGL
         self.context_menu: QMenu | None = None
         self._press: QPoint | None = None
         layout = QVBoxLayout(self)
