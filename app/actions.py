@@ -46,7 +46,13 @@ ACTIONS: dict[str, tuple[str, object, str, bool, str | None]] = {
     "loop": ("&Loop", "Ctrl+L", "Play in a loop", True, None),
     "slower": ("Slower", "[", "Halve the playback speed (down to 0.25x)", False, None),
     "faster": ("Faster", "]", "Double the playback speed (up to 4x)", False, None),
-    "reset_camera": ("&Reset camera", "Ctrl+0", "Frame the whole motion", False, None),
+    "reset_camera": (
+        "&Reset camera",
+        "Ctrl+0",
+        "Frame the figure (or the whole motion when not following)",
+        False,
+        None,
+    ),
     "overlay_ground": ("&Ground grid", "G", "Show the ground grid", True, None),
     "overlay_soft_links": ("Soft lin&ks", "K", "Show soft links as dashed lines", True, None),
     "overlay_axes": ("Joint &axes", "A", "Show each joint's world rotation as a triad", True, None),
@@ -61,6 +67,7 @@ ACTIONS: dict[str, tuple[str, object, str, bool, str | None]] = {
     "overlay_markers": ("&Markers", "M", "Show the markers", True, None),
     "overlay_marker_labels": ("Marker la&bels", "B", "Label the hovered and selected marker", True, None),
     "overlay_pelvis": ("&Pelvis frames", "P", "Show the recovered pelvis frame", True, None),
+    "overlay_follow": ("&Follow the figure", "F", "Move the camera along with the figure", True, None),
     "about": ("&About GMR Studio", "", "", False, None),
     "keys": ("&Keyboard shortcuts", "F1", "", False, None),
 }

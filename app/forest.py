@@ -33,6 +33,7 @@ class ForestTree(QTreeWidget):
         self.setColumnCount(2)
         self.setHeaderLabels(["Joint", "Soft link"])
         self.setUniformRowHeights(True)
+        self.setIndentation(12)
         self.setContextMenuPolicy(Qt.ContextMenuPolicy.CustomContextMenu)
         self.customContextMenuRequested.connect(self._on_context_menu)
         self._items: dict[int, QTreeWidgetItem] = {}

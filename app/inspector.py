@@ -10,6 +10,7 @@ fit residual when pelvis frames are shown.
 from __future__ import annotations
 
 import html
+from pathlib import Path
 
 import numpy as np
 from PyQt6.QtCore import Qt
@@ -55,6 +56,7 @@ class Inspector(QScrollArea):
         self.label.setAlignment(Qt.AlignmentFlag.AlignTop | Qt.AlignmentFlag.AlignLeft)
         self.label.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
         self.label.setMargin(6)
+        self.label.setWordWrap(True)
         self.setWidget(self.label)
         self.setWidgetResizable(True)
         self._mono = QFontDatabase.systemFont(QFontDatabase.SystemFont.FixedFont).family()
@@ -136,7 +138,7 @@ class Inspector(QScrollArea):
         if overlay is not None:
             markers = overlay.markers
             out.append(
-                f"<p><b>Markers</b>: {markers.n_markers} from {html.escape(markers.source or 'a file')}, "
+                f"<p><b>Markers</b>: {markers.n_markers} from {html.escape(Path(markers.source).name or 'a file')}, "
                 f"{markers.rate:g} Hz, {markers.units}<br/>aligned: {html.escape(overlay.alignment.method)}</p>"
             )
             m = self.state.selected_marker

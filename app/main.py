@@ -25,6 +25,13 @@ def build_arguments() -> argparse.ArgumentParser:
     parser.add_argument("--frame", type=int, default=0, metavar="N", help="frame to render (with --screenshot)")
     parser.add_argument("--size", default="1280x800", metavar="WxH", help="image size (with --screenshot)")
     parser.add_argument("--window", action="store_true", help="with --screenshot: the whole window, docks included")
+    parser.add_argument("--select", metavar="JOINT", help="with --screenshot: select this joint first")
+    parser.add_argument(
+        "--show",
+        metavar="OVERLAYS",
+        default="",
+        help="with --screenshot: overlays to switch on, e.g. axes,trails,labels",
+    )
     # for app.bench: print the wall-clock time when the file's first frame is drawn, then quit
     parser.add_argument("--first-frame-time", action="store_true", help=argparse.SUPPRESS)
     return parser
@@ -68,9 +75,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         if not has_display():
             print("gmr-studio: --window needs a display (run under xvfb-run)", file=sys.stderr)
             return 2
-        return window_screenshot(motion_path, markers_path, args.screenshot, args.frame, size, args.window)
+        return window_screenshot(motion_path, markers_path, args, size)
     if args.screenshot:
-        return offscreen_screenshot(motion_path, markers_path, args.screenshot, args.frame, size)
+        return offscreen_screenshot(motion_path, markers_path, args, size)
     if not has_display():
         print(
             "gmr-studio: no display (DISPLAY and WAYLAND_DISPLAY are unset): run it on a desktop, under "
@@ -115,7 +122,20 @@ def _load_or_report(motion_path: str, markers_path: str | None):
     return snapshot, markers
 
 
-def offscreen_screenshot(motion_path: str, markers_path: str | None, out: str, frame: int, size) -> int:
+def _prepare(state, args: argparse.Namespace) -> str | None:
+    """Apply --select and --show to a state; an error message, or None."""
+    for name in [n.strip() for n in args.show.split(",") if n.strip()]:
+        if name not in state.overlays:
+            return f"--show: no overlay {name!r} (expected some of {', '.join(state.overlays)})"
+        state.set_overlay(name, True)
+    if args.select:
+        if args.select not in state.motion.names:
+            return f"--select: no joint {args.select!r} in the motion"
+        state.select(state.motion.names.index(args.select))
+    return None
+
+
+def offscreen_screenshot(motion_path: str, markers_path: str | None, args: argparse.Namespace, size) -> int:
     """Render the view of a file without any window (no display needed)."""
     import pyvista as pv
     from PyQt6.QtCore import QCoreApplication
@@ -133,10 +153,17 @@ def offscreen_screenshot(motion_path: str, markers_path: str | None, out: str, f
     state.open_document(snapshot, motion_path)
     if markers is not None:
         state.set_markers(markers)
+    problem = _prepare(state, args)
+    if problem:
+        print(f"gmr-studio: {problem}", file=sys.stderr)
+        return 2
+    frame, out = args.frame, args.screenshot
     plotter = pv.Plotter(off_screen=True, window_size=size)
     try:
         scene = SkeletonScene(plotter)
         scene.frame = frame
+        scene.overlays = dict(state.overlays)
+        scene.selected = state.selected
         scene.set_snapshot(state.snapshot, reset_camera=True)
         scene.set_markers(state.marker_overlay)
         scene.show_frame(frame)
@@ -147,9 +174,7 @@ def offscreen_screenshot(motion_path: str, markers_path: str | None, out: str, f
     return 0
 
 
-def window_screenshot(
-    motion_path: str, markers_path: str | None, out: str, frame: int, size, whole_window: bool
-) -> int:
+def window_screenshot(motion_path: str, markers_path: str | None, args: argparse.Namespace, size) -> int:
     """Open the real window, show the frame, save its view (or the whole window) and exit."""
     from PyQt6.QtWidgets import QApplication
 
@@ -168,9 +193,15 @@ def window_screenshot(
     scratch = tempfile.TemporaryDirectory()
     # throwaway settings: a screenshot neither reads nor changes the user's
     window = MainWindow(settings=QSettings(f"{scratch.name}/settings.ini", QSettings.Format.IniFormat))
+    frame, out, whole_window = args.frame, args.screenshot, args.window
     window.state.open_document(snapshot, motion_path)
     if markers is not None:
         window.state.set_markers(markers)
+    problem = _prepare(window.state, args)
+    if problem:
+        print(f"gmr-studio: {problem}", file=sys.stderr)
+        window.close()
+        return 2
     if whole_window:
         window.resize(*size)
     else:

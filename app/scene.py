@@ -94,6 +94,7 @@ class SkeletonScene:
         self.selected_marker: int | None = None
         self.pelvis: PelvisOverlay | None = None
         self.request_repaint = None  # a callable that schedules a repaint of the view widget
+        self._followed: np.ndarray | None = None  # where the followed figure was last drawn
 
     # ------------------------------------------------------------------- building
     def set_snapshot(self, snapshot: Snapshot | None, *, reset_camera: bool) -> None:
@@ -177,10 +178,23 @@ class SkeletonScene:
         self._add("ground", ground)
         self.ground_bounds = (low, high, low[up])
 
+    def _follow_point(self, frame: int) -> np.ndarray:
+        """(3,) the point the camera follows: the joints' centroid, on the floor."""
+        point = self.snapshot.positions[frame].mean(axis=0)
+        point[self.up_axis] = self.ground_bounds[2]
+        return point
+
     def _reset_camera(self) -> None:
-        """Frame the whole motion from the side of its main direction of travel (a walk
-        crosses the screen), a little from the front and above; up is the detected up axis."""
-        low, high, _floor = self.ground_bounds
+        """Look from the side of the motion's main direction of travel (a walk crosses the
+        screen), a little from the front and above, up the detected up axis; frame the
+        figure at this frame when following it, else the whole motion."""
+        low, high, floor = self.ground_bounds
+        if self.overlays.get("follow"):
+            points = self.snapshot.positions[self.frame]
+            margin = 0.3 * self.snapshot.motion.size
+            low, high = points.min(axis=0) - margin, points.max(axis=0) + margin
+            low[self.up_axis] = min(low[self.up_axis], floor)
+            self._followed = self._follow_point(self.frame)
         up_axis = self.up_axis
         up = np.eye(3)[up_axis]
         across = [a for a in (0, 1, 2) if a != up_axis]
@@ -199,7 +213,25 @@ class SkeletonScene:
         centre = (low + high) / 2
         self.plotter.camera_position = [tuple(centre + direction), tuple(centre), tuple(up)]
         self.plotter.reset_camera(bounds=np.column_stack([low, high]).ravel())
-        self.plotter.camera.zoom(1.15)
+        # reset_camera fits a bounding sphere, loose for a long path: zoom until the box's
+        # corners fill 90% of the view
+        corners = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
+        width, height = self.viewport()
+        screen = project_points(corners, self.view_projection(), (width, height))
+        if np.isfinite(screen).all() and width > 0 and height > 0:
+            reach = max(np.abs(screen[:, 0] / width * 2 - 1).max(), np.abs(screen[:, 1] / height * 2 - 1).max())
+            if reach > 0:
+                self.plotter.camera.zoom(float(np.clip(0.9 / reach, 0.5, 4.0)))
+
+    def _follow(self, frame: int) -> None:
+        """Move the camera along with the figure (horizontally), keeping its view direction."""
+        point = self._follow_point(frame)
+        if self._followed is not None:
+            delta = point - self._followed
+            camera = self.plotter.camera
+            camera.position = tuple(np.asarray(camera.position) + delta)
+            camera.focal_point = tuple(np.asarray(camera.focal_point) + delta)
+        self._followed = point
 
     def reset_camera(self) -> None:
         if self.snapshot is not None:
@@ -246,6 +278,8 @@ class SkeletonScene:
     # ----------------------------------------------------------------- switching
     def set_overlay(self, name: str, shown: bool) -> None:
         self.overlays[name] = bool(shown)
+        if name == "follow" and self.snapshot is not None:
+            self._followed = self._follow_point(self.frame) if shown else None
         self._apply_visibility()
         self.show_frame(self.frame)
 
@@ -294,6 +328,8 @@ class SkeletonScene:
         motion = self.snapshot.motion
         frame = int(min(max(frame, 0), motion.n_frames - 1))
         self.frame = frame
+        if self.overlays.get("follow"):
+            self._follow(frame)
         points = self.snapshot.positions[frame]
         size = motion.size
         self.parts["joints"].set_points(points)

@@ -36,6 +36,7 @@ OVERLAYS: dict[str, bool] = {
     "markers": True,
     "marker_labels": True,
     "pelvis": True,
+    "follow": True,  # the camera moves along with the figure
 }
 #: memory the undo history may hold (snapshots of motion + caches), bytes
 UNDO_MEMORY_BUDGET = 2 * 1024**3

@@ -95,7 +95,9 @@ def test_edit_a_real_file_by_the_actions_and_undo_all(qtbot, studio):
     assert len(state.motion.roots) == 2 and actions["join"].isEnabled()
     for snapshot_positions in (state.positions,):
         np.testing.assert_allclose(snapshot_positions, original, rtol=0, atol=1e-9 * size)
-    assert studio.view.scene.plotter.camera_position == camera  # the view does not jump
+    np.testing.assert_allclose(  # the view does not jump
+        np.array(studio.view.scene.plotter.camera_position), np.array(camera), rtol=0, atol=1e-9 * size
+    )
     roots = studio.forest.topLevelItemCount()
     assert roots == 2 and "\u21e2 RightArm" in studio.forest.item_for(names.index("RightForeArm")).text(1)
     actions["join"].trigger()
@@ -317,3 +319,19 @@ def test_asf_amc_with_c3d_markers(qtbot, studio):
     lank = overlay.positions[:, overlay.markers.labels.index("LANK")]
     millimetres = np.linalg.norm(lank - ankle, axis=1) * 25.4 / 0.45
     assert np.nanmedian(millimetres) < 75 and np.nanstd(millimetres) < 5
+
+
+def test_the_camera_follows_the_figure_or_stays(qtbot, studio):
+    open_file(studio, demo_folder() / MOTION_FILE)
+    state, camera = studio.state, studio.view.scene.plotter.camera
+    assert state.overlays["follow"]
+    before = np.array(camera.focal_point)
+    state.set_frame(240)
+    moved = np.array(camera.focal_point) - before
+    walked = state.positions[240].mean(axis=0) - state.positions[0].mean(axis=0)
+    walked[1] = 0  # only along the floor (Y is up in the demo)
+    np.testing.assert_allclose(moved, walked, atol=1e-9)
+    studio.actions["overlay_follow"].setChecked(False)
+    still = np.array(camera.focal_point)
+    state.set_frame(400)
+    np.testing.assert_allclose(np.array(camera.focal_point), still)
