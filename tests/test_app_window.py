@@ -96,7 +96,10 @@ def test_edit_a_real_file_by_the_actions_and_undo_all(qtbot, studio):
     for snapshot_positions in (state.positions,):
         np.testing.assert_allclose(snapshot_positions, original, rtol=0, atol=1e-9 * size)
     np.testing.assert_allclose(  # the view does not jump
-        np.array(studio.view.scene.plotter.camera_position), np.array(camera), rtol=0, atol=1e-9 * size
+        np.array(studio.view.scene.plotter.camera_position.to_list()),
+        np.array(camera.to_list()),
+        rtol=0,
+        atol=1e-9 * size,
     )
     roots = studio.forest.topLevelItemCount()
     assert roots == 2 and "\u21e2 RightArm" in studio.forest.item_for(names.index("RightForeArm")).text(1)
