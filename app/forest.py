@@ -77,6 +77,7 @@ class ForestTree(QTreeWidget):
                 self._items[j] = item
             self.expandAll()
             self.resizeColumnToContents(0)
+            self.resizeColumnToContents(1)
         self._updating = False
         self._on_selection_changed(-1 if self.state.selected is None else self.state.selected)
 

@@ -63,8 +63,9 @@ class MainWindow(QMainWindow):
         self.inspector = Inspector(self.state)
         self.timeline = Timeline(self.state, self.player, self.actions)
         self.forest.context_menu = self.view.context_menu = self.joint_menu
-        self._dock("Forest", self.forest, Qt.DockWidgetArea.LeftDockWidgetArea)
-        self._dock("Inspector", self.inspector, Qt.DockWidgetArea.RightDockWidgetArea)
+        forest_dock = self._dock("Forest", self.forest, Qt.DockWidgetArea.LeftDockWidgetArea)
+        inspector_dock = self._dock("Inspector", self.inspector, Qt.DockWidgetArea.RightDockWidgetArea)
+        self.resizeDocks([forest_dock, inspector_dock], [300, 370], Qt.Orientation.Horizontal)
         self._dock("Timeline", self.timeline, Qt.DockWidgetArea.BottomDockWidgetArea)
         self.status = QLabel()
         self.statusBar().addWidget(self.status, 1)

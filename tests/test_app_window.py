@@ -338,3 +338,31 @@ def test_the_camera_follows_the_figure_or_stays(qtbot, studio):
     still = np.array(camera.focal_point)
     state.set_frame(400)
     np.testing.assert_allclose(np.array(camera.focal_point), still)
+
+
+def test_a_long_load_shows_progress_and_keeps_the_window_responsive(qtbot, studio, monkeypatch):
+    import time
+
+    from PyQt6.QtCore import QTimer
+    from PyQt6.QtWidgets import QProgressDialog
+
+    from app import loading
+
+    real = loading.load_snapshot
+
+    def slow(path):
+        time.sleep(1.0)  # a big file: the reader runs in a worker thread
+        return real(path)
+
+    monkeypatch.setattr(loading, "load_snapshot", slow)
+    ticks = []
+    timer = QTimer()
+    timer.timeout.connect(lambda: ticks.append(studio.findChild(QProgressDialog) is not None))
+    timer.start(50)
+    studio.files.open_path(str(demo_folder() / MOTION_FILE), ask=False)
+    assert studio.files.busy() and studio.state.motion is None
+    qtbot.waitUntil(lambda: studio.state.motion is not None, timeout=10000)
+    timer.stop()
+    assert len(ticks) >= 10  # the event loop kept running during the load
+    assert any(ticks)  # with a progress dialog up
+    qtbot.waitUntil(lambda: studio.findChild(QProgressDialog) is None, timeout=2000)
