@@ -1,4 +1,5 @@
-"""Format speed, printed (asserts nothing): the AMC reader on CMU 01_01 tiled to many frames.
+"""Format speed, printed (asserts nothing), on CMU 01_01 tiled to many frames: the AMC
+reader, Euler continuity, and BVH export (dummies back in, continuous angles, text).
 
 Run from the project folder: ``.venv/bin/python benchmarks/formats.py [--frames 100000]``.
 """
@@ -10,7 +11,13 @@ import tempfile
 import time
 from pathlib import Path
 
+import numpy as np
+
+from core.dummies import remove_dummies
+from core.export import bvh_export
 from core.formats.acclaim import read_amc, read_asf
+from core.formats.bvh import read_bvh
+from core.formats.continuity import continuous_euler
 from core.shared_data import shared_file
 
 
@@ -54,6 +61,18 @@ def main() -> None:
     megabytes = len(data) / 1e6
     rate = megabytes / seconds
     print(f"AMC read, 01_01 tiled to {args.frames} frames ({megabytes:.1f} MB): {seconds:.2f} s, {rate:.1f} MB/s")
+    bvh = read_bvh(shared_file("cmu/subject01/01_01.bvh"))
+    tiled = bvh.frame_slice(np.arange(args.frames) % bvh.n_frames)
+    seconds = best_of(lambda: continuous_euler(tiled.rotations, "ZYX"), args.repeat)
+    print(f"continuous Euler angles, {args.frames} frames x {bvh.n_joints} joints: {seconds:.2f} s")
+    cleaned, _ = remove_dummies(tiled)
+    seconds = best_of(lambda: remove_dummies(tiled), args.repeat)
+    print(f"remove_dummies, {args.frames} frames x {bvh.n_joints} joints: {seconds:.2f} s")
+    export = bvh_export(cleaned)
+    seconds = best_of(lambda: bvh_export(cleaned), args.repeat)
+    print(f"BVH export (dummies back in), {args.frames} frames: {seconds:.2f} s")
+    seconds = best_of(export.text, args.repeat)
+    print(f"BVH text of that export ({export.motion.n_joints} joints, continuous angles): {seconds:.2f} s")
 
 
 if __name__ == "__main__":

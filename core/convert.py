@@ -54,7 +54,10 @@ def post_from_pre(motion: Motion, *, tolerance: float = 1e-12) -> tuple[Motion, 
     ``tolerance``, max abs difference of matrix entries, on every frame) takes it as its own;
     otherwise one zero-offset dummy joint is inserted above each child, named after the
     child (``<child>_dummy``), carrying that child's rotation. Leaves get the identity and,
-    without translation channels, become End Sites when written.
+    without translation channels, become End Sites when written. A joint that takes its
+    children's rotation also takes their rotation order, so BVH -> GMR -> BVH gives every
+    joint its original channel order back (:func:`pre_from_post` gives each joint its
+    parent's order).
 
     Returns the post-rotation motion (original joints first, in their order, dummies after)
     and the names of the dummies added. World positions are unchanged.
@@ -81,6 +84,7 @@ def post_from_pre(motion: Motion, *, tolerance: float = 1e-12) -> tuple[Motion, 
         shared = all(np.abs(motion.rotations[:, c] - first).max(initial=0.0) <= tolerance for c in kids[1:])
         if shared:
             post_world[p] = world[:, kids[0]]
+            orders[p] = motion.rotation_orders[kids[0]]  # the order of the rotation it now carries
             continue
         post_world[p] = world[:, p]
         for c in kids:

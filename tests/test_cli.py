@@ -88,14 +88,17 @@ def test_edit_applies_operations_in_the_order_given(capsys, tmp_path):
     assert np.abs(world_positions(edited)[:, index] - original).max() <= 1e-9 * expected.size
 
 
-def test_edit_to_bvh_when_one_tree_and_refusal_when_a_forest(capsys, tmp_path):
+def test_edit_to_bvh_one_tree_and_a_forest(capsys, tmp_path):
     source = shared_path("cmu/subject01/01_01.bvh")
     code, out, _ = run(capsys, "edit", source, "-o", tmp_path / "e.bvh", "--shift-root", "LeftFoot")
     assert code == 0 and "dummy joints" in out
     edited = read_bvh(tmp_path / "e.bvh")
     assert edited.names[0] == "LeftFoot"
-    code, _, err = run(capsys, "edit", source, "-o", tmp_path / "f.bvh", "--split", "LeftArm")
-    assert code == 2 and "2 trees" in err and not (tmp_path / "f.bvh").exists()
+    # a forest goes under one synthetic World root (issue 3: BVH export of any forest)
+    code, out, _ = run(capsys, "edit", source, "-o", tmp_path / "f.bvh", "--split", "LeftArm")
+    assert code == 0 and "2 trees under the synthetic root 'World'" in out
+    forest = read_bvh(tmp_path / "f.bvh")
+    assert forest.names[0] == "World" and len(forest.roots) == 1
 
 
 def test_convert_bvh_to_gmr_and_back(capsys, small_bvh, tmp_path):

@@ -1,42 +1,183 @@
-"""``gmr convert IN OUT``: between .bvh and .gmr."""
+"""``gmr convert IN OUT``: .bvh, .amc (+ASF), .gmr in; .gmr, .bvh out; or ``--batch``.
+
+Options, applied in this order: ``--remove-dummies`` (fold zero-offset joints into their
+children), ``--scale S`` (lengths times S), ``--up y|z`` (turn the world so that axis is
+up; the source's up axis is what its header says, else Y, or ``--from-up``). GMR outputs
+state the conversions in their ``#`` header; BVH has no comment syntax (Blender's importer,
+for one, reads lines at fixed offsets), so for a BVH they are printed instead.
+
+BVH output is standard whatever the motion holds (:mod:`core.export`): dummy joints for
+independent siblings, a forest under one ``World`` root, or one file per tree with
+``--split-trees``. ``--batch IN_DIR OUT_DIR`` converts a folder tree (:mod:`core.cli.batch`).
+"""
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 from pathlib import Path
 
-from core.convert import post_from_pre, pre_from_post
+from core.conversions import UP_AXES, change_up_axis, scale_lengths
+from core.convert import pre_from_post
+from core.dummies import remove_dummies
 from core.errors import OperationError
+from core.export import bvh_export, bvh_export_trees, tree_file_name
 from core.formats import motion_suffix, read_motion, write_motion
 from core.motion import Motion
 
+#: formats ``convert`` reads and writes
+INPUT_SUFFIXES = (".bvh", ".amc", ".gmr")
+OUTPUT_SUFFIXES = (".bvh", ".gmr")
+
+
+@dataclasses.dataclass(frozen=True)
+class ConvertOptions:
+    """What to do to each motion on its way from one file to another."""
+
+    asf: str | None = None
+    frame_rate: float | None = None
+    scale: float | None = None
+    up: str | None = None
+    from_up: str | None = None
+    remove_dummies: bool = False
+    split_trees: bool = False
+
+    @classmethod
+    def from_args(cls, args: argparse.Namespace) -> ConvertOptions:
+        return cls(**{field.name: getattr(args, field.name) for field in dataclasses.fields(cls)})
+
+
+@dataclasses.dataclass
+class ConversionReport:
+    """What one conversion did: files written and one-line notes."""
+
+    input: str
+    outputs: list[str]
+    frames: int
+    joints: int
+    notes: list[str]
+
+
+def positive_number(text: str) -> float:
+    value = float(text)
+    if not value > 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"expected a positive number, not {text!r}")
+    return value
+
+
+def add_conversion_options(parser: argparse.ArgumentParser) -> None:
+    """The options shared by single and batch conversion."""
+    parser.add_argument("--asf", help="skeleton of the .amc input(s) (default: the .asf beside each AMC)")
+    parser.add_argument("--frame-rate", type=positive_number, help="frames per second of .amc inputs (default 120)")
+    parser.add_argument("--scale", type=positive_number, help="multiply every length by this factor")
+    parser.add_argument("--up", choices=UP_AXES, help="make this axis the up axis of the output")
+    parser.add_argument("--from-up", choices=UP_AXES, help="the input's up axis (default: its header's, else y)")
+    parser.add_argument(
+        "--remove-dummies", action="store_true", help="fold zero-offset joints into their children (GMR needs none)"
+    )
+    parser.add_argument(
+        "--split-trees",
+        action="store_true",
+        help="BVH output: one file per tree (OUT_<root>.bvh) instead of a World root",
+    )
+
 
 def register(sub: argparse._SubParsersAction) -> None:
-    parser = sub.add_parser("convert", help="convert between .bvh and .gmr")
-    parser.add_argument("input", help="a .bvh or .gmr file")
-    parser.add_argument("output", help="the .bvh or .gmr file to write")
+    parser = sub.add_parser(
+        "convert",
+        help="convert .bvh/.amc/.gmr to .gmr/.bvh, one file or a folder tree (--batch)",
+        description=__doc__.split("\n\n")[0] if __doc__ else None,
+        usage="gmr convert IN OUT [options]\n"
+        "       gmr convert --batch IN_DIR OUT_DIR [--to gmr|bvh] [--jobs N] [options]",
+    )
+    parser.add_argument("input", help="a .bvh, .amc or .gmr file (with --batch: a folder)")
+    parser.add_argument("output", help="the .gmr or .bvh file to write (with --batch: a folder)")
+    parser.add_argument("--batch", action="store_true", help="convert every motion file in the folder tree IN_DIR")
+    parser.add_argument("--to", choices=("gmr", "bvh"), default="gmr", help="with --batch: output format (gmr)")
+    parser.add_argument("--jobs", type=int, default=None, help="with --batch: parallel processes (default: all cores)")
+    add_conversion_options(parser)
     parser.set_defaults(run=run)
 
 
-def write_converted(motion: Motion, output: str | Path) -> None:
-    """Write ``motion`` (either convention) in the format of ``output``'s suffix.
+def read_for_conversion(path: str | Path, options: ConvertOptions) -> Motion:
+    """Read any input file, passing the AMC options to the AMC reader."""
+    extra = {}
+    if motion_suffix(path) == ".amc":
+        extra = {key: value for key, value in (("asf", options.asf), ("frame_rate", options.frame_rate)) if value}
+    return read_motion(path, **extra)
 
-    BVH needs one tree: GMR siblings with independent rotations get dummy joints."""
+
+def transformed(motion: Motion, options: ConvertOptions) -> tuple[Motion, list[str]]:
+    """The motion after the options' conversions, with notes saying what happened; the
+    GMR form (pre-rotation) whenever dummies are removed, the input's convention otherwise."""
+    notes = []
+    if options.remove_dummies:
+        motion, removed = remove_dummies(motion)
+        note = f"removed {len(removed)} dummy joints" + (f": {', '.join(removed)}" if removed else "")
+        notes.append(note)
+        motion = motion.replace(comments=(*motion.comments, f"{note} (gmr convert --remove-dummies)"))
+    if options.scale is not None and options.scale != 1:
+        motion = scale_lengths(motion, options.scale)
+        notes.append(motion.comments[-1])
+    if options.up is not None:
+        turned = change_up_axis(motion, options.up, options.from_up)
+        if turned is not motion:
+            notes.append(turned.comments[-1])
+        motion = turned
+    return motion, notes
+
+
+def write_converted(motion: Motion, output: str | Path, *, split_trees: bool = False, quiet: bool = False) -> list[str]:
+    """Write ``motion`` (either convention) in the format of ``output``'s suffix; return
+    the files written. BVH: the standard form of :func:`core.export.bvh_export` (dummy
+    joints where siblings differ, a World root over a forest), or one file per tree."""
     suffix = motion_suffix(output)
-    if suffix == ".bvh":
-        if motion.convention == "pre" and len(motion.roots) > 1:
-            roots = ", ".join(motion.names[r] for r in motion.roots)
-            raise OperationError(f"the motion has {len(motion.roots)} trees ({roots}): write .gmr, or join them first")
-        motion, dummies = post_from_pre(motion)
-        if dummies:
-            print(f"{output}: added {len(dummies)} dummy joints for independent siblings: {', '.join(dummies)}")
-    elif suffix == ".gmr":
-        motion = pre_from_post(motion)
-    else:
+    if suffix not in OUTPUT_SUFFIXES:
         raise OperationError(f"cannot write '{Path(output).suffix}' files: expected .bvh or .gmr")
-    write_motion(motion, output)
+    if suffix == ".gmr":
+        gmr = pre_from_post(motion)
+        write_motion(gmr, output)
+        return [str(output)]
+    exports = (
+        [(tree_file_name(output, root), export) for root, export in bvh_export_trees(motion)]
+        if split_trees and len(motion.roots) > 1
+        else [(Path(output), bvh_export(motion))]
+    )
+    written = []
+    for path, export in exports:
+        export.write(path)
+        written.append(str(path))
+        if not quiet and export.dummies:
+            shown = ", ".join(export.dummies)
+            print(f"{path}: added {len(export.dummies)} dummy joints for independent siblings: {shown}")
+        if not quiet and export.world_root:
+            print(f"{path}: {len(motion.roots)} trees under the synthetic root '{export.world_root}'")
+    return written
+
+
+def convert_file(
+    source: str | Path, output: str | Path, options: ConvertOptions, *, quiet: bool = True
+) -> ConversionReport:
+    """Read, convert and write one file (outputs written atomically)."""
+    suffix = motion_suffix(source)
+    if suffix not in INPUT_SUFFIXES:
+        raise OperationError(f"cannot convert '{Path(source).suffix}' files: expected .bvh, .amc or .gmr")
+    motion = read_for_conversion(source, options)
+    motion, notes = transformed(motion, options)
+    if motion_suffix(output) == ".gmr":
+        motion = motion.replace(comments=(*motion.comments, f"written by gmr convert from {Path(source).name}"))
+    written = write_converted(motion, output, split_trees=options.split_trees, quiet=quiet)
+    return ConversionReport(str(source), written, motion.n_frames, motion.n_joints, notes)
 
 
 def run(args: argparse.Namespace) -> int:
-    write_converted(read_motion(args.input), args.output)
+    options = ConvertOptions.from_args(args)
+    if args.batch:
+        from core.cli.batch import run_batch
+
+        return run_batch(Path(args.input), Path(args.output), args.to, options, args.jobs)
+    report = convert_file(args.input, args.output, options, quiet=False)
+    for note in report.notes:
+        for path in report.outputs:
+            print(f"{path}: {note}")
     return 0

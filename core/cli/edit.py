@@ -1,5 +1,5 @@
 """``gmr edit IN -o OUT [--shift-root J] [--split J] [--join J] ...``: apply the operations
-in the order given, then write ``.gmr`` (or ``.bvh`` when the result is one tree)."""
+in the order given, then write ``.gmr`` or ``.bvh`` (a forest under one World root)."""
 
 from __future__ import annotations
 
@@ -29,8 +29,8 @@ class _Append(argparse.Action):
 
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("edit", help="shift root, split and join, in the order given")
-    parser.add_argument("input", help="a .bvh or .gmr file")
-    parser.add_argument("-o", "--output", required=True, help="a .gmr file, or .bvh if the result is one tree")
+    parser.add_argument("input", help="a .bvh, .gmr or .amc file (an AMC's .asf beside it)")
+    parser.add_argument("-o", "--output", required=True, help="a .gmr or .bvh file (forests: a World root)")
     parser.add_argument("--shift-root", metavar="J", action=_Append, const="shift_root", help="make J its tree's root")
     parser.add_argument("--split", metavar="J", action=_Append, const="split", help="make J a root (soft link kept)")
     parser.add_argument("--join", metavar="J", action=_Append, const="join", help="join split root J to its parent")

@@ -1,4 +1,5 @@
-"""``gmr info FILE [--json]``: what a motion file holds."""
+"""``gmr info FILE [--json]``: what a motion file holds, including its dummy joints
+(zero-offset joints with children that GMR does not need; :mod:`core.dummies`)."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ import json
 import sys
 from pathlib import Path
 
+from core.dummies import find_dummies
 from core.formats import read_motion
 from core.motion import Motion
 
@@ -45,6 +47,7 @@ def describe(motion: Motion, path: str) -> dict:
         "size": motion.size,
         "roots": [motion.names[r] for r in motion.roots],
         "soft_links": {motion.names[j]: motion.names[s] for j, s in enumerate(motion.soft_parents) if s >= 0},
+        "dummies": [motion.names[j] for j in find_dummies(motion)],
         "joints": [
             {
                 "name": motion.names[j],
@@ -71,6 +74,8 @@ def format_text(info: dict) -> str:
         f"joints:     {len(joints)}",
         f"roots:      {len(roots)} ({', '.join(roots)})",
         "soft links: " + (", ".join(f"{a} -> {b}" for a, b in links.items()) if links else "none"),
+        f"dummies:    {len(info['dummies'])}"
+        + (f" ({', '.join(info['dummies'])}; gmr convert --remove-dummies folds them)" if info["dummies"] else ""),
         f"size:       {info['size']:.6g} (largest extent of the first frame)",
     ]
     lines += [f"comment:    {c}" for c in info["comments"]]

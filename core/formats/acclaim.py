@@ -10,8 +10,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from core.errors import MotionFileError
+from core.formats.acclaim_skeleton import ROOT_NAME, AcclaimBone, AcclaimSkeleton, AcclaimUnits, axis_rotation
 from core.formats.amc import DEFAULT_FRAME_RATE, parse_amc_frames, read_amc, skeleton_motion
-from core.formats.asf import ROOT_NAME, AcclaimBone, AcclaimSkeleton, AcclaimUnits, axis_rotation, read_asf
+from core.formats.asf import read_asf
 from core.motion import Motion
 
 __all__ = [

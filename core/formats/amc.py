@@ -29,7 +29,8 @@ from pathlib import Path
 import numpy as np
 
 from core.errors import MotionFileError
-from core.formats.asf import ROOT_NAME, ROTATION_DOFS, AcclaimSkeleton, read_asf
+from core.formats.acclaim_skeleton import ROOT_NAME, ROTATION_DOFS, AcclaimSkeleton
+from core.formats.asf import read_asf
 from core.formats.hierarchy import normalise_newlines
 from core.motion import Motion, identity_rotations
 from core.rotations import complete_order, matrix_from_euler

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from core.errors import MotionFileError
+from core.formats.continuity import continuous_euler
 from core.formats.frames import format_frames, format_number, parse_frames
 from core.formats.hierarchy import CHANNEL_NAMES, ParsedHeader, normalise_newlines, parse_header
 from core.motion import Motion, build_translations
@@ -224,17 +225,17 @@ def format_text_motion(motion: Motion, dialect: str) -> Iterator[str]:
 
 
 def _frame_values(motion: Motion, columns: list[tuple[str, int, str]]) -> np.ndarray:
-    """(F, V) channel values in file order: positions as stored, rotations in degrees."""
+    """(F, V) channel values in file order: positions as stored, rotations in degrees,
+    continuous over the frames (:func:`core.formats.continuity.continuous_euler`)."""
     by_order: dict[str, list[int]] = defaultdict(list)
     for kind, j, order in columns:
         if kind == "rotation":
             by_order[order].append(j)
     angles: dict[int, np.ndarray] = {}
     for order, joints in by_order.items():
-        full = complete_order(order)
-        degrees = np.degrees(euler_from_matrix(motion.rotations[:, joints], full))
+        degrees = np.degrees(continuous_euler(motion.rotations[:, joints], order))
         for k, j in enumerate(joints):
-            angles[j] = degrees[:, k, : len(order)]
+            angles[j] = degrees[:, k]
     blocks = [motion.translations[:, j] if kind == "position" else angles[j] for kind, j, _ in columns]
     if not blocks:
         return np.zeros((motion.n_frames, 0))

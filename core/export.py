@@ -1,0 +1,215 @@
+"""BVH export of anything GMR can hold: trees with independent siblings, forests.
+
+:func:`bvh_export` turns any motion into a post-rotation motion that the BVH writer prints
+as a standard file (docs/formats.md, "BVH export"):
+
+- siblings with different rotations get one zero-offset dummy joint each, named after the
+  child (:func:`core.convert.post_from_pre`);
+- a forest hangs under one synthetic root (``World``: identity, at the origin, 6 zero
+  channels); each tree root is a 6-channel joint whose positions are its world positions.
+  :func:`bvh_export_trees` gives one motion per tree instead;
+- joints with per-frame offsets keep them as position channels;
+- every joint has 0 or 3 rotation channels (Blender's importer misreads 1 or 2), in the
+  joint's original order where it had one, and 0 or 3 position channels;
+- every channel-free leaf becomes an ``End Site`` (named ``<parent>_End`` by readers), and
+  a leaf with channels gets a zero-offset End Site below it; no comments, no SOFTLINKs;
+  joint names are single words (spaces become underscores).
+
+The writer (:mod:`core.formats.textmotion`) makes the Euler angles continuous over time.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+from pathlib import Path
+
+import numpy as np
+
+from core.atomic import atomic_write_text
+from core.convert import post_from_pre, pre_from_post
+from core.formats.textmotion import format_text_motion
+from core.motion import Motion
+from core.rotations import complete_order
+
+#: name of the synthetic root of an exported forest (numbered if a joint has it already)
+WORLD_ROOT = "World"
+#: rotation order of joints that carry no rotation of their own (the World root)
+NEUTRAL_ORDER = "ZYX"
+
+
+@dataclasses.dataclass(frozen=True)
+class BvhExport:
+    """A motion ready for :func:`core.formats.bvh.write_bvh`, and how it maps back.
+
+    Attributes
+    ----------
+    motion : the post-rotation motion to write.
+    names : for each joint of the source motion (by index), its name in the BVH as a BVH
+        reader names it (End Sites: ``<parent>_End``, ``<parent>_End2``...), or None for a
+        joint not in this export (another tree).
+    dummies : names of the dummy joints added for independent siblings.
+    world_root : name of the synthetic root, or None for a single tree.
+    """
+
+    motion: Motion
+    names: tuple[str | None, ...]
+    dummies: tuple[str, ...]
+    world_root: str | None
+
+    def text(self) -> str:
+        """The BVH file as one string."""
+        return "".join(format_text_motion(self.motion, "bvh"))
+
+    def write(self, path: str | Path) -> None:
+        """Write the BVH file atomically."""
+        atomic_write_text(path, format_text_motion(self.motion, "bvh"))
+
+
+def _unique(base: str, taken: set[str]) -> str:
+    name, n = base, 2
+    while name in taken:
+        name, n = f"{base}{n}", n + 1
+    return name
+
+
+def bvh_export(motion: Motion, *, world_root: str = WORLD_ROOT) -> BvhExport:
+    """The standard-BVH form of a motion (either convention, tree or forest).
+
+    World positions of every source joint are those of ``names[j]`` in the result, to
+    rounding (the file then keeps them to ~1e-14 of the size: 15 significant digits).
+    """
+    pre = pre_from_post(motion).replace(soft_parents=None)
+    post, dummies = post_from_pre(pre)
+    n_source = motion.n_joints
+    names = _single_word_names(post.names)
+    parents = list(post.parents)
+    orders = list(post.rotation_orders)
+    flags = list(post.has_translation)
+    offsets = list(post.offsets)
+    rotations = [post.rotations[:, j] for j in range(post.n_joints)]
+    translations = [post.translations[:, j] for j in range(post.n_joints)]
+    n_frames = post.n_frames
+    roots = [j for j in range(post.n_joints) if parents[j] < 0]
+    world = None
+    if len(roots) > 1:
+        world = _unique(world_root, set(names))
+        names.append(world)
+        parents.append(-1)
+        orders.append(NEUTRAL_ORDER)
+        flags.append(True)
+        offsets.append(np.zeros(3))
+        rotations.append(np.broadcast_to(np.eye(3), (n_frames, 3, 3)))
+        translations.append(np.zeros((n_frames, 3)))
+        for r in roots:
+            parents[r] = len(names) - 1
+    for j in roots:  # tree roots: 6 channels, positions = world positions
+        flags[j] = True
+    children: list[list[int]] = [[] for _ in names]
+    for j, p in enumerate(parents):
+        if p >= 0:
+            children[p].append(j)
+    all_names = set(names)
+    generated: set[str] = set()
+    for j in _depth_first(parents, children):
+        p = parents[j]
+        leaf = not children[j]
+        if leaf and p >= 0 and not orders[j] and not flags[j]:
+            end = _unique(f"{names[p]}_End", generated)
+            if end not in all_names or end == names[j]:  # else keep it a named JOINT
+                generated.add(end)
+                names[j] = end
+            continue
+        if orders[j]:
+            orders[j] = complete_order(orders[j])
+        if leaf:  # a leaf with channels: a zero-offset End Site below it
+            end = f"{names[j]}_End"
+            if end not in all_names and end not in generated:
+                generated.add(end)
+                names.append(end)
+                parents.append(j)
+                orders.append("")
+                flags.append(False)
+                offsets.append(np.zeros(3))
+                rotations.append(np.broadcast_to(np.eye(3), (n_frames, 3, 3)))
+                translations.append(np.zeros((n_frames, 3)))
+    result = Motion(
+        names=names,
+        parents=parents,
+        offsets=np.array(offsets),
+        rotation_orders=orders,
+        has_translation=np.array(flags),
+        rotations=np.stack(rotations, axis=1),
+        translations=np.stack(translations, axis=1),
+        frame_time=post.frame_time,
+        convention="post",
+        comments=post.comments,
+    )
+    return BvhExport(result, tuple(names[:n_source]), tuple(dummies), world)
+
+
+def _single_word_names(names: tuple[str, ...]) -> list[str]:
+    """Names with spaces get underscores (BVH names are one word; Blender would do the same),
+    numbered if that name is taken."""
+    taken = set(names)
+    out = []
+    for name in names:
+        if " " in name:
+            name = _unique(name.replace(" ", "_"), taken)
+            taken.add(name)
+        out.append(name)
+    return out
+
+
+def _depth_first(parents: list[int], children: list[list[int]]) -> list[int]:
+    """Joints in the writer's order: depth first from each root, children by index."""
+    order: list[int] = []
+    stack = [j for j in reversed(range(len(parents))) if parents[j] < 0]
+    while stack:
+        j = stack.pop()
+        order.append(j)
+        stack.extend(reversed(children[j]))
+    return order
+
+
+def select_joints(motion: Motion, joints: list[int]) -> Motion:
+    """The motion restricted to ``joints``: whole trees (every joint's parent is either
+    in ``joints`` or absent because the joint is a root). Soft links to joints left out
+    are dropped."""
+    index = np.full(motion.n_joints, -1, np.int64)
+    index[joints] = np.arange(len(joints))
+    parents = motion.parents[joints]
+    soft = motion.soft_parents[joints]
+    return motion.replace(
+        names=tuple(motion.names[j] for j in joints),
+        parents=np.where(parents >= 0, index[parents], -1),
+        soft_parents=np.where(soft >= 0, index[soft], -1),
+        offsets=motion.offsets[joints],
+        rotation_orders=tuple(motion.rotation_orders[j] for j in joints),
+        has_translation=motion.has_translation[joints],
+        rotations=motion.rotations[:, joints],
+        translations=motion.translations[:, joints],
+    )
+
+
+def bvh_export_trees(motion: Motion) -> list[tuple[str, BvhExport]]:
+    """One BVH export per tree of the forest: ``(root name, export)`` in root order.
+
+    ``export.names`` maps every joint of ``motion`` (None for joints of other trees)."""
+    pre = pre_from_post(motion).replace(soft_parents=None)
+    out = []
+    for root in pre.roots:
+        joints = pre.subtree(int(root))
+        single = bvh_export(select_joints(pre, joints))
+        names: list[str | None] = [None] * motion.n_joints
+        for k, j in enumerate(joints):
+            names[j] = single.names[k]
+        out.append((pre.names[int(root)], dataclasses.replace(single, names=tuple(names))))
+    return out
+
+
+def tree_file_name(path: str | Path, root: str) -> Path:
+    """``walk.bvh`` and root ``LeftFoot`` -> ``walk_LeftFoot.bvh`` (unsafe characters -> ``_``)."""
+    path = Path(path)
+    safe = re.sub(r"[^\w.-]+", "_", root).strip("._") or "tree"
+    return path.with_name(f"{path.stem}_{safe}{path.suffix}")
