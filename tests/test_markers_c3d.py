@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from core.errors import MotionFileError
+from core.markers import c3d as c3d_module
 from core.markers import read_markers
 from core.markers.c3d import read_c3d
 from tests.conftest import shared_files, shared_path
@@ -133,8 +134,6 @@ def mutated(tmp_path, name, changes: dict[int, int], length: int | None = None):
         ("proc.c3d", {512 + 3: 200}, None, "unknown processor type 200"),
         ("block.c3d", {0: 0}, None, "the parameter section (block 0) lies outside the file"),
         ("params.c3d", {}, 700, "ezc3d rejects the file"),
-        # found by fuzzing: this one byte in the parameters makes ezc3d 1.7 segfault
-        ("segv.c3d", {2926: 174}, None, "ezc3d crashed reading the file (signal 11)"),
     ],
 )
 def test_broken_files_are_errors_not_crashes(tmp_path, name, changes, length, message):
@@ -144,10 +143,37 @@ def test_broken_files_are_errors_not_crashes(tmp_path, name, changes, length, me
     assert message in str(error.value) and str(error.value).startswith(str(path))
 
 
-def test_a_file_that_makes_ezc3d_hang_is_stopped(tmp_path):
-    path = mutated(tmp_path, "hang.c3d", {3152: 14})  # found by fuzzing: ezc3d loops
-    with pytest.raises(MotionFileError, match="did not finish reading the file in 2 s"):
-        read_c3d(path, timeout=2)
+@pytest.mark.parametrize(
+    ("name", "changes"),
+    [
+        ("segv.c3d", {2926: 174}),  # found by fuzzing: this byte makes ezc3d 1.7.2 segfault
+        ("hang.c3d", {3152: 14}),  # and this one makes it loop
+    ],
+)
+def test_files_that_crash_or_hang_ezc3d_are_errors(tmp_path, name, changes):
+    path = mutated(tmp_path, name, changes)
+    with pytest.raises(MotionFileError) as error:
+        read_c3d(path, timeout=3)
+    assert str(error.value).startswith(str(path))
+    assert any(text in str(error.value) for text in ("crashed reading", "did not finish", "rejects the file"))
+
+
+@pytest.mark.parametrize(
+    ("name", "message"),
+    [
+        ("segv.c3d", "ezc3d crashed reading the file (signal 11): the file is corrupt"),
+        ("hang.c3d", "ezc3d did not finish reading the file in 1 s: the file is probably corrupt"),
+        ("odd.c3d", "ezc3d crashed reading the file (exit status 7) (something odd happened): the file is corrupt"),
+    ],
+)
+def test_the_child_process_contract(tmp_path, monkeypatch, name, message):
+    """Whatever the child does (a signal, a hang, an odd exit), the caller gets one error."""
+    monkeypatch.setattr(c3d_module, "WORKER_MODULE", "tests.fake_c3d_worker")
+    path = tmp_path / name
+    path.write_bytes(shared_path(EB015).read_bytes())
+    with pytest.raises(MotionFileError) as error:
+        read_c3d(path, timeout=1)
+    assert str(error.value) == f"{path}: {message}"
 
 
 def test_missing_file_and_truncated_data(tmp_path):

@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from core.errors import MotionFileError, OperationError
 
 #: subcommand modules, in the order ``gmr --help`` lists them
-COMMANDS = ("info", "positions", "edit", "convert", "bench")
+COMMANDS = ("info", "positions", "edit", "convert", "bench", "markers")
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -18,7 +18,7 @@ FORMAT_NAMES = {".bvh": "BVH", ".gmr": "GMR", ".amc": "AMC (Acclaim, with its AS
 
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("info", help="joints, roots, soft links, frames, frame rate and channels of a file")
-    parser.add_argument("file", help="a .bvh, .gmr, .amc or .asf file")
+    parser.add_argument("file", help="a .bvh, .gmr, .amc or .asf file, or a .c3d or .trc marker file")
     parser.add_argument("--asf", help="the skeleton of an .amc file (default: the single .asf beside it)")
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
     parser.set_defaults(run=run)
@@ -88,6 +88,13 @@ def format_text(info: dict) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
+    if Path(args.file).suffix.lower() in (".c3d", ".trc"):  # marker files: core.markers.report
+        from core.markers import read_markers
+        from core.markers.report import describe_markers, markers_text
+
+        info = describe_markers(read_markers(args.file), args.file)
+        print(json.dumps(info, indent=2) if args.json else markers_text(info))
+        return 0
     options = {"asf": args.asf} if args.asf and args.file.lower().endswith(".amc") else {}
     info = describe(read_motion(args.file, **options), args.file)
     if args.json:

@@ -1,6 +1,16 @@
 """Marker data: reading C3D and TRC files, and turning markers into GMR motion.
 
-``read_markers(path)`` picks the reader by suffix and returns a :class:`MarkerSet`.
+- ``read_markers(path)`` picks the reader by suffix (``.c3d`` through ezc3d, ``.trc``) and
+  returns a :class:`MarkerSet` (positions (F, M, 3), gaps NaN, rate, units, subjects).
+- ``load_marker_map(name_or_path)``: a :class:`MarkerMap` (``"joints"``, ``"cmu"`` or a
+  TOML file), which says how each virtual marker (joint centre) comes from real markers;
+  ``compute_virtual_markers`` evaluates it, ``calibrate_marker_map`` fits its clusters.
+- ``recover_pelvis(markers, marker_map)``: the pelvis frames by Procrustes
+  (:class:`PelvisFrames`, what the app draws over the markers).
+- ``markers_to_motion(markers, skeleton, marker_map, reference=...)``: a GMR motion
+  (:class:`MarkerMotion`), what ``gmr markers`` runs.
+
+See ``docs/markers.md``.
 """
 
 from __future__ import annotations
@@ -10,8 +20,12 @@ from pathlib import Path
 
 from core.errors import MotionFileError
 from core.markers.c3d import read_c3d
+from core.markers.markermap import MarkerMap, load_marker_map, save_marker_map
 from core.markers.markerset import MarkerSet
+from core.markers.pelvis import PelvisFrames, recover_pelvis
+from core.markers.solve import MarkerMotion, markers_to_motion
 from core.markers.trc import read_trc
+from core.markers.virtual import VirtualMarkers, calibrate_marker_map, compute_virtual_markers
 
 MARKER_READERS: dict[str, Callable[..., MarkerSet]] = {".trc": read_trc, ".c3d": read_c3d}
 
@@ -25,4 +39,20 @@ def read_markers(path: str | Path, **options) -> MarkerSet:
     return reader(path, **options)
 
 
-__all__ = ["MARKER_READERS", "MarkerSet", "read_markers"]
+__all__ = [
+    "MARKER_READERS",
+    "MarkerMap",
+    "MarkerMotion",
+    "MarkerSet",
+    "PelvisFrames",
+    "VirtualMarkers",
+    "calibrate_marker_map",
+    "compute_virtual_markers",
+    "load_marker_map",
+    "markers_to_motion",
+    "read_c3d",
+    "read_markers",
+    "read_trc",
+    "recover_pelvis",
+    "save_marker_map",
+]

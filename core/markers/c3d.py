@@ -52,6 +52,8 @@ _UNIT_ALIASES = {
     "in": "in",
     "inches": "in",
 }
+#: the module run in the child process
+WORKER_MODULE = "core.markers.c3d_worker"
 #: the worker's address-space limit, in bytes (a C3D needs a few times its size)
 _MEMORY_FLOOR = 4 << 30
 
@@ -138,7 +140,7 @@ def _decode_in_child(path: Path, where: str, size: int, timeout: float | None) -
     project = str(Path(__file__).resolve().parents[2])
     env["PYTHONPATH"] = project + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     env["OMP_NUM_THREADS"] = env["OPENBLAS_NUM_THREADS"] = "1"
-    command = [sys.executable, "-m", "core.markers.c3d_worker", str(path.resolve()), str(max(_MEMORY_FLOOR, 64 * size))]
+    command = [sys.executable, "-m", WORKER_MODULE, str(path.resolve()), str(max(_MEMORY_FLOOR, 64 * size))]
     try:
         done = subprocess.run(command, capture_output=True, timeout=limit, env=env, stdin=subprocess.DEVNULL)
     except subprocess.TimeoutExpired:
@@ -150,7 +152,7 @@ def _decode_in_child(path: Path, where: str, size: int, timeout: float | None) -
         raise MotionFileError(where, f"ezc3d rejects the file: {message}")
     if done.returncode != 0:
         cause = f"signal {-done.returncode}" if done.returncode < 0 else f"exit status {done.returncode}"
-        detail = f" ({message})" if message else ""
+        detail = f" ({message})" if done.stderr.strip() else ""
         raise MotionFileError(where, f"ezc3d crashed reading the file ({cause}){detail}: the file is corrupt")
     with np.load(io.BytesIO(done.stdout), allow_pickle=False) as archive:
         decoded = {key: archive[key] for key in archive.files}

@@ -1,5 +1,22 @@
 """The pelvis orientation recovered from three virtual markers (technical note, section 1).
 
+The note's method, for every frame at once: from X1 (pelvis root), X2 (left femur) and X3
+(lower back) build the orthonormal frame ``P = [p1 p2 p3]`` (Gram-Schmidt, equation 2 as
+corrected in MATH.md), the same frame ``H`` of the three points at the home pose (the
+skeleton's rest pose), solve ``R H = P`` in the least-squares sense (equation 7: with nine
+equations and nine unknowns, ``R = P H^+``), then take the nearest rotation by SVD
+(``R* = U V^T``, the last column of U negated when det < 0).
+
+``method="points"`` fits the home triangle to the measured one instead (Kabsch on the three
+centred points: all three weigh the same, where the note's frame trusts the X1-X2 direction
+fully and uses X3 only for the plane).
+
+The residual of a frame is the RMS distance between the three measured points and the home
+triangle placed on them by ``(R*, X1)``: zero when the pelvis triangle keeps its home shape,
+growing with marker noise, skin motion or a calibration that does not fit. Without a home
+pose the frame ``P`` itself is the rotation (``H = I``) and the residual is measured against
+the triangle's median shape over the valid frames.
+
 :class:`PelvisFrames` is the result the app draws over the markers: one frame per motion
 frame, with the fit residual and a flag for frames that could not be recovered.
 """
@@ -7,8 +24,16 @@ frame, with the fit residual and a flag for frames that could not be recovered.
 from __future__ import annotations
 
 import dataclasses
+from typing import Literal
 
 import numpy as np
+
+from core.errors import OperationError
+from core.markers.markerset import MarkerSet, frame_ranges
+from core.markers.procrustes import fit_rigid, frame_from_triple
+from core.rotations import nearest_rotation
+
+PelvisMethod = Literal["note", "points"]
 
 
 @dataclasses.dataclass(frozen=True, eq=False, kw_only=True)
@@ -18,15 +43,17 @@ class PelvisFrames:
     Attributes
     ----------
     rotations : (F, 3, 3) float64, world rotation of the pelvis per frame (identity where
-        not ``valid``).
+        not ``valid``), in the marker file's axes: it turns the home pelvis into the
+        measured one.
     origins : (F, 3) float64, the pelvis root (virtual marker X1) per frame, NaN where not
         ``valid``.
-    residuals : (F,) float64, the least-squares fit residual ``|R* H - P|_F`` per frame
-        (NaN where not ``valid``).
+    residuals : (F,) float64, RMS distance (``units``) of the three virtual markers from the
+        home triangle placed by the fit (NaN where not ``valid``).
     valid : (F,) bool, the three virtual markers were present and not degenerate.
     units : str, length unit of ``origins``.
     reasons : tuple of str, for each distinct cause of invalid frames, a message naming it
         and the frames it spoiled.
+    labels : the names of the three virtual markers (X1, X2, X3).
     """
 
     rotations: np.ndarray
@@ -35,7 +62,143 @@ class PelvisFrames:
     valid: np.ndarray
     units: str = "mm"
     reasons: tuple[str, ...] = ()
+    labels: tuple[str, ...] = ()
 
     @property
     def n_frames(self) -> int:
         return self.rotations.shape[0]
+
+
+def pelvis_rotations(
+    triple: np.ndarray,
+    home: np.ndarray | None = None,
+    *,
+    method: PelvisMethod = "note",
+    min_sine: float = 1e-6,
+    labels: tuple[str, str, str] = ("X1", "X2", "X3"),
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]:
+    """The pelvis rotation of every frame from the three points (the array core of
+    :func:`recover_pelvis`).
+
+    Parameters
+    ----------
+    triple : (F, 3, 3) float, X1, X2, X3 per frame (axis 1), NaN where missing.
+    home : (3, 3) float, the three points at the home pose in the same axes and units, or None.
+    method : "note" (frames, least squares, nearest rotation) or "points" (Kabsch).
+    min_sine : degeneracy threshold of :func:`~core.markers.procrustes.frame_from_triple`.
+    labels : names of the three points, for the messages.
+
+    Returns
+    -------
+    rotations (F, 3, 3), residuals (F,), valid (F,), reasons (list of str).
+    """
+    triple = np.asarray(triple, dtype=np.float64)
+    if method not in ("note", "points"):
+        raise ValueError(f"method must be 'note' or 'points', not {method!r}")
+    frames, ok, coincident, collinear = frame_from_triple(triple[:, 0], triple[:, 1], triple[:, 2], min_sine)
+    missing = ~np.isfinite(triple).all(axis=2)
+    reasons = []
+    for k, label in enumerate(labels):
+        if missing[:, k].any():
+            reasons.append(f"pelvis marker {label} missing in frames {frame_ranges(missing[:, k])}")
+    names = ", ".join(labels)
+    if coincident.any():
+        reasons.append(f"pelvis markers {names} coincide in frames {frame_ranges(coincident)}")
+    if collinear.any():
+        reasons.append(f"pelvis markers {names} are collinear in frames {frame_ranges(collinear)}")
+    if home is not None:
+        home = np.asarray(home, dtype=np.float64)
+        home_frame, home_ok, _, _ = frame_from_triple(home[0], home[1], home[2], min_sine)
+        if not home_ok:
+            raise OperationError(f"the home positions of the pelvis markers {names} are degenerate")
+        shape = home - home[0]
+    else:
+        home_frame = np.eye(3)
+        local = np.einsum("fba,fkb->fka", frames[ok], triple[ok] - triple[ok, :1])
+        shape = np.median(local, axis=0) if ok.any() else np.zeros((3, 3))
+    if method == "note":
+        # R H = P in the least-squares sense (H is orthonormal, so H^+ = H^T), then the
+        # nearest rotation by SVD with the det < 0 correction
+        rotations = nearest_rotation(frames @ np.linalg.pinv(home_frame))
+    else:
+        present = np.broadcast_to(ok[:, None], triple.shape[:2])
+        rotations = fit_rigid(shape, np.where(ok[:, None, None], triple, 0.0), present)[0]
+    rotations[~ok] = np.eye(3)
+    placed = triple[:, :1] + np.einsum("fab,kb->fka", rotations, shape)
+    residuals = np.sqrt(np.mean(np.sum((placed - triple) ** 2, axis=2), axis=1))
+    residuals[~ok] = np.nan
+    return rotations, residuals, ok, reasons
+
+
+def recover_pelvis(
+    markers: MarkerSet,
+    marker_map="joints",
+    *,
+    skeleton=None,
+    home: np.ndarray | None = None,
+    method: PelvisMethod = "note",
+    min_sine: float = 1e-6,
+) -> PelvisFrames:
+    """Pelvis frames of a marker set, through a marker map (see the module docstring).
+
+    Parameters
+    ----------
+    markers : the marker set.
+    marker_map : a :class:`~core.markers.markermap.MarkerMap`, or what
+        :func:`~core.markers.markermap.load_marker_map` takes: a name (``"joints"``: the
+        markers are the joint centres, labelled with joint names; ``"cmu"``: the shipped CMU
+        41-marker map) or the path of a map file. The map names the three virtual markers
+        (its ``[pelvis]`` section; ``joints`` guesses them from the names, e.g. root,
+        lhipjoint, rhipjoint for CMU ASF skeletons).
+    skeleton : a :class:`~core.motion.Motion` whose rest pose gives the home positions (and,
+        for ``joints``, the joint names), or None.
+    home : (3, 3) home positions of X1, X2, X3 in skeleton space, overriding the skeleton's
+        and the map's; without any, the rotation is the frame P itself.
+    method, min_sine : see :func:`pelvis_rotations`.
+
+    Returns
+    -------
+    PelvisFrames in the marker file's axes, origins in the map's units (the file's for
+    ``joints``).
+    """
+    from core.markers.markermap import load_marker_map
+    from core.markers.virtual import compute_virtual_markers, resolve_map
+
+    loaded = load_marker_map(marker_map)
+    resolved = resolve_map(loaded, markers, skeleton.names if skeleton is not None else None)
+    if resolved.pelvis is None:
+        raise OperationError(
+            f"marker map {resolved.name!r} names no pelvis markers (root, left femur, lower back) "
+            "and none could be guessed from the names"
+        )
+    virtual = compute_virtual_markers(markers, resolved)
+    index = [virtual.index(name) for name in resolved.pelvis]
+    triple = virtual.positions[:, index]
+    if home is None and skeleton is not None:
+        home = rest_positions(skeleton, resolved.pelvis)
+    if home is None:
+        home = resolved.pelvis_home
+    home_markers = None if home is None else resolved.alignment.to_markers(np.asarray(home, dtype=np.float64))
+    rotations, residuals, valid, reasons = pelvis_rotations(
+        triple, home_markers, method=method, min_sine=min_sine, labels=resolved.pelvis
+    )
+    if not valid.any():
+        reasons.append("no frame has a usable pelvis")
+    origins = np.where(valid[:, None], triple[:, 0], np.nan)
+    return PelvisFrames(
+        rotations=rotations,
+        origins=origins,
+        residuals=residuals,
+        valid=valid,
+        units=virtual.units,
+        reasons=tuple(reasons),
+        labels=resolved.pelvis,
+    )
+
+
+def rest_positions(skeleton, names) -> np.ndarray:
+    """(len(names), 3) world positions of some joints in the skeleton's rest pose."""
+    from core.kinematics import world_positions
+
+    rest = world_positions(skeleton.rest_pose())[0]
+    return rest[[skeleton.joint_index(n) for n in names]]

@@ -1,0 +1,82 @@
+"""Marker-conversion accuracy, printed (asserts nothing): the figures in docs/markers.md.
+
+1. Real markers: CMU 01_01.c3d through the shipped ``cmu`` map (calibrated on frames
+   0:1100) against the FK of 01_01.amc, on frames 1100:2751 (not used for calibration):
+   MPJPE in millimetres per joint and overall, for both ways of aiming the bones.
+2. Twist from the same trial: 02_01's joint positions as markers (the exact case), twists
+   from 02_01 itself with every reference frame within 1 s of the query excluded: the
+   distribution of the twist error (the angle between recovered and true local rotation;
+   positions are exact, so it is all twist), per joint and overall. The same for 01_01, and
+   without any reference (least change from frame to frame) for comparison.
+
+Run from the project folder: ``.venv/bin/python benchmarks/markers_accuracy.py``.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from core.formats import load_gmr
+from core.kinematics import world_positions
+from core.markers import MarkerSet, markers_to_motion, read_markers
+from core.rotations import rotation_angle
+from core.shared_data import shared_file
+
+MM_PER_ASF_UNIT = 25.4 / 0.45  # CMU ASF ":units length 0.45": one unit is 1/0.45 inch
+CALIBRATION_FRAMES = slice(0, 1100)
+EVALUATION_FRAMES = slice(1100, None)
+
+
+def mpjpe_report() -> None:
+    markers = read_markers(shared_file("cmu/subject01/01_01.c3d"))
+    skeleton = load_gmr(shared_file("cmu/subject01/01.asf"))
+    truth = load_gmr(shared_file("cmu/subject01/01_01.amc"))
+    expected = world_positions(truth)[EVALUATION_FRAMES]
+    table = {}
+    for aim in ("markers", "chain"):
+        start = time.perf_counter()
+        result = markers_to_motion(markers, skeleton, "cmu", frames=EVALUATION_FRAMES, aim=aim)
+        elapsed = time.perf_counter() - start
+        error = np.linalg.norm(world_positions(result.motion) - expected, axis=2) * MM_PER_ASF_UNIT
+        table[aim] = error.mean(axis=0)
+        print(f"aim={aim}: {result.motion.n_frames} frames converted in {elapsed:.2f} s")
+    print("\nMPJPE (mm), CMU 01_01.c3d with the cmu map vs FK of 01_01.amc, frames 1100:2751")
+    print(f"{'joint':<10} {'aim=markers':>12} {'aim=chain':>10}")
+    for j, name in enumerate(skeleton.names):
+        print(f"{name:<10} {table['markers'][j]:>12.1f} {table['chain'][j]:>10.1f}")
+    print(f"{'overall':<10} {table['markers'].mean():>12.1f} {table['chain'].mean():>10.1f}")
+
+
+def twist_report(amc: str, asf: str) -> None:
+    truth = load_gmr(shared_file(amc))
+    skeleton = load_gmr(shared_file(asf))
+    markers = MarkerSet(labels=truth.names, positions=world_positions(truth), rate=truth.frame_rate, units="mm")
+    runs = {
+        "reference, 1 s excluded": {"reference": truth, "exclude_within": 1.0},
+        "no reference (least change)": {},
+    }
+    print(f"\nTwist error (degrees), {amc}: its joint positions as markers, {truth.n_frames} frames")
+    for label, options in runs.items():
+        start = time.perf_counter()
+        result = markers_to_motion(markers, skeleton, "joints", **options)
+        elapsed = time.perf_counter() - start
+        position_error = np.abs(world_positions(result.motion) - world_positions(truth)).max() / truth.size
+        angles = np.degrees(rotation_angle(np.swapaxes(result.motion.rotations, -1, -2) @ truth.rotations))[:, 1:]
+        q = np.percentile(angles, [50, 90, 95, 99])
+        print(
+            f"  {label}: median {q[0]:.2f}, 90% {q[1]:.2f}, 95% {q[2]:.2f}, 99% {q[3]:.2f}, max {angles.max():.2f}"
+            f"  (positions exact to {position_error:.1e} of the size; {elapsed:.2f} s)"
+        )
+        if "reference" in options:
+            print(f"    {'joint':<10} {'median':>7} {'90%':>7} {'99%':>7} {'max':>7}")
+            for j, name in enumerate(truth.names[1:]):
+                p = np.percentile(angles[:, j], [50, 90, 99])
+                print(f"    {name:<10} {p[0]:>7.2f} {p[1]:>7.2f} {p[2]:>7.2f} {angles[:, j].max():>7.2f}")
+
+
+if __name__ == "__main__":
+    mpjpe_report()
+    twist_report("cmu/subject02/02_01.amc", "cmu/subject02/02.asf")
+    twist_report("cmu/subject01/01_01.amc", "cmu/subject01/01.asf")

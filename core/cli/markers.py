@@ -1,0 +1,204 @@
+"""``gmr markers IN.c3d|IN.trc --skeleton S --map NAME|FILE -o OUT.gmr``: markers to GMR.
+
+The marker map places each joint centre (``joints``: markers labelled with the joint names
+are the joint centres; ``cmu``: the CMU 41-marker set on the CMU ASF skeleton), the pelvis
+comes by Procrustes, the limbs by their bone directions, the twists from ``--reference``
+(or least change from frame to frame). Prints what was missing and a per-joint table: the
+share of frames each joint was measured, its distance from its virtual marker and, with
+``--truth`` (a motion of the same trial, frame for frame), its position and angle errors.
+
+``--calibrate A:B --save-map FILE`` first fits the map's clusters on those frames against
+``--reference`` (the same trial, or a one-frame static pose) and writes the calibrated map.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from core.errors import OperationError
+from core.formats import load_gmr, motion_suffix, write_motion
+from core.markers import read_markers
+from core.markers.markermap import Alignment, load_marker_map, save_marker_map
+from core.markers.markerset import MarkerSet
+from core.motion import Motion
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    parser = sub.add_parser(
+        "markers",
+        help="marker data (.c3d, .trc) to a GMR motion of a skeleton",
+        description=__doc__.split("\n\n", 1)[1],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument("input", help="a .c3d or .trc marker file")
+    parser.add_argument("--skeleton", required=True, help="the skeleton: .asf, .bvh or .gmr")
+    parser.add_argument("--map", default="joints", help="marker map: joints, cmu, or a .toml file (default joints)")
+    parser.add_argument("--reference", help="a motion of the same skeleton whose best-matching poses give the twists")
+    parser.add_argument("--truth", help="the true motion of the same trial, frame for frame: errors are printed")
+    parser.add_argument("--roots", default="", help="joints that stay roots at their measured positions: J1,J2")
+    parser.add_argument("--frames", type=frame_slice, help="marker frames A:B to convert (from 0, B excluded)")
+    parser.add_argument(
+        "--exclude-within", type=float, metavar="SECONDS", help="do not match reference frames this close in time"
+    )
+    parser.add_argument("--fill-gaps", type=int, default=0, metavar="N", help="interpolate marker gaps of <= N frames")
+    parser.add_argument(
+        "--axes",
+        help="skeleton axes as marker axes, overriding the map's alignment: e.g. yzx (CMU C3D to ASF), x,z,-y",
+    )
+    parser.add_argument("--scale", type=float, help="skeleton units per marker unit, overriding the map's")
+    parser.add_argument("--aim", choices=("markers", "chain"), default="markers", help="bone directions from")
+    parser.add_argument("--pelvis-fit", choices=("note", "points"), default="note", help="Procrustes variant")
+    parser.add_argument("--calibrate", type=frame_slice, metavar="A:B", help="calibrate the map on these frames")
+    parser.add_argument("--save-map", help="write the calibrated map here (.toml)")
+    parser.add_argument("--json", action="store_true", help="print the per-joint table as JSON")
+    parser.add_argument("-o", "--output", required=True, help="the .gmr (or .bvh) file to write")
+    parser.set_defaults(run=run)
+
+
+def frame_slice(text: str) -> slice:
+    """``"A:B"``, ``"A:"``, ``":B"`` -> slice (frame indices from 0)."""
+    start, sep, stop = text.partition(":")
+    try:
+        if not sep:
+            raise ValueError
+        return slice(int(start) if start.strip() else None, int(stop) if stop.strip() else None)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected frames as A:B, not {text!r}") from None
+
+
+def parse_axes(text: str) -> np.ndarray:
+    """``"yzx"`` or ``"x,z,-y"``: skeleton x, y, z as (signed) marker axes -> rotation (3, 3)."""
+    parts = text.split(",") if "," in text else list(text)
+    rows = []
+    for part in parts:
+        part = part.strip().lower()
+        sign = -1.0 if part.startswith("-") else 1.0
+        axis = part.lstrip("+-")
+        if axis not in ("x", "y", "z"):
+            raise OperationError(f"--axes {text!r}: expected three of x, y, z, each maybe signed")
+        row = np.zeros(3)
+        row["xyz".index(axis)] = sign
+        rows.append(row)
+    matrix = np.array(rows)
+    if matrix.shape != (3, 3) or not np.isclose(abs(np.linalg.det(matrix)), 1.0):
+        raise OperationError(f"--axes {text!r}: name each axis once")
+    if np.linalg.det(matrix) < 0:
+        raise OperationError(f"--axes {text!r} mirrors the markers: flip the sign of one axis")
+    return matrix
+
+
+def load_skeleton(path: str) -> Motion:
+    return load_gmr(path)
+
+
+def load_motion_of(path: str, skeleton_path: str) -> Motion:
+    """A motion of the skeleton (an .amc reads with the --skeleton .asf)."""
+    options = {"asf": skeleton_path} if motion_suffix(path) == ".amc" and motion_suffix(skeleton_path) == ".asf" else {}
+    return load_gmr(path, **options)
+
+
+def run(args: argparse.Namespace) -> int:
+    from core.kinematics import forward_kinematics
+    from core.markers.report import conversion_table, conversion_text
+    from core.markers.solve import markers_to_motion
+    from core.markers.virtual import resolve_map
+
+    markers = read_markers(args.input)
+    skeleton = load_skeleton(args.skeleton)
+    marker_map = load_marker_map(args.map)
+    if args.axes or args.scale:
+        old = marker_map.alignment
+        marker_map = marker_map.replace(
+            alignment=Alignment(
+                parse_axes(args.axes) if args.axes else old.rotation, args.scale or old.scale, old.offset
+            )
+        )
+    reference = load_motion_of(args.reference, args.skeleton) if args.reference else None
+    if args.calibrate is not None:
+        marker_map = _calibrate(args, markers, skeleton, marker_map, reference)
+    roots = [r.strip() for r in args.roots.split(",") if r.strip()]
+    result = markers_to_motion(
+        markers,
+        skeleton,
+        marker_map,
+        reference=reference,
+        exclude_within=args.exclude_within,
+        roots=roots,
+        frames=args.frames,
+        fill_gaps=args.fill_gaps,
+        pelvis_method=args.pelvis_fit,
+        aim=args.aim,
+    )
+    output = Path(args.output)
+    motion = result.motion
+    if motion_suffix(output) == ".bvh":
+        from core.export import bvh_export
+
+        motion = bvh_export(motion).motion  # dummies where GMR siblings turn independently
+    write_motion(motion, output)
+    truth_positions = truth_rotations = None
+    if args.truth:
+        truth = load_motion_of(args.truth, args.skeleton)
+        order = [truth.joint_index(n) for n in skeleton.names]
+        frames = args.frames or slice(None)
+        if truth.n_frames != markers.n_frames:
+            raise OperationError(
+                f"--truth has {truth.n_frames} frames and the markers {markers.n_frames}: it must be the same trial"
+            )
+        truth = truth.frame_slice(frames)
+        truth_positions = forward_kinematics(truth, with_rotations=False)[0][:, order]
+        truth_rotations = truth.rotations[:, order]
+    resolved = resolve_map(marker_map, markers, skeleton.names)
+    unit = resolved.units or markers.units  # errors are printed in the markers' unit
+    rows = conversion_table(result, 1.0 / resolved.alignment.scale, truth_positions, truth_rotations)
+    if args.json:
+        json.dump({"output": str(output), "reasons": list(result.reasons), "joints": rows}, sys.stdout, indent=2)
+        print()
+        return 0
+    print(
+        f"{output}: {motion.n_frames} frames x {motion.n_joints} joints at {1 / motion.frame_time:.6g} Hz, "
+        f"roots {', '.join(motion.names[r] for r in motion.roots)}; map {resolved.name}, "
+        f"twists {'from ' + args.reference if reference is not None else 'changing least from frame to frame'}"
+    )
+    for reason in result.reasons:
+        print(f"  note: {reason}")
+    print(conversion_text(rows, unit))
+    return 0
+
+
+def _calibrate(args, markers: MarkerSet, skeleton: Motion, marker_map, reference: Motion | None):
+    from core.kinematics import forward_kinematics
+    from core.markers.pelvis import rest_positions
+    from core.markers.virtual import calibrate_marker_map, resolve_map
+
+    if reference is None:
+        raise OperationError("--calibrate needs --reference: the pose of the calibration frames")
+    order = [reference.joint_index(n) for n in skeleton.names]
+    positions = forward_kinematics(reference, with_rotations=False)[0][:, order]
+    resolved = resolve_map(marker_map, markers, skeleton.names)
+    calibrated = calibrate_marker_map(
+        resolved,
+        markers,
+        positions,
+        skeleton.names,
+        args.calibrate,
+        pelvis_home=rest_positions(skeleton, resolved.pelvis) if resolved.pelvis else None,
+        note={
+            "markers": Path(args.input).name,
+            "reference": Path(args.reference).name,
+            "skeleton": Path(args.skeleton).name,
+            "frames": f"{args.calibrate.start or 0}:{'' if args.calibrate.stop is None else args.calibrate.stop}",
+        },
+    )
+    if args.save_map:
+        save_marker_map(calibrated, args.save_map)
+        print(f"{args.save_map}: map {calibrated.name} calibrated on frames {calibrated.calibration['frames']}")
+        for v in calibrated.virtual:
+            if v.rms is not None:
+                print(f"  {v.name}: calibration RMS {v.rms:.2f} {calibrated.units or markers.units}")
+    return calibrated

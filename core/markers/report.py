@@ -1,0 +1,120 @@
+"""Text and JSON descriptions of marker sets and of marker conversions (for ``gmr``)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from core.markers.markerset import MarkerSet
+from core.markers.solve import SOURCE_NAMES, MarkerMotion
+from core.rotations import rotation_angle
+
+
+def describe_markers(markers: MarkerSet, path: str) -> dict:
+    """A JSON-ready description: format, frames, rate, units, subjects, per-marker gaps."""
+    table = markers.gap_table()
+    return {
+        "path": path,
+        "format": "C3D" if path.lower().endswith(".c3d") else "TRC",
+        "frames": markers.n_frames,
+        "frame_rate": markers.rate,
+        "duration": markers.n_frames / markers.rate,
+        "first_frame": markers.first_frame,
+        "units": markers.units,
+        "subjects": sorted({s for s in markers.subjects if s}),
+        "markers": table,
+        "missing_fraction": float((~markers.present).mean()) if markers.present.size else 0.0,
+        "notes": list(markers.notes),
+    }
+
+
+def markers_text(info: dict) -> str:
+    lines = [
+        f"file:       {info['path']}",
+        f"format:     {info['format']} markers",
+        f"frames:     {info['frames']} at {info['frame_rate']:.6g} Hz ({info['duration']:.3f} s), "
+        f"first frame {info['first_frame']}",
+        f"units:      {info['units']} (axes as in the file)",
+        f"markers:    {len(info['markers'])}",
+        f"subjects:   {', '.join(info['subjects']) or 'none (no prefix on the labels)'}",
+        f"gaps:       {100 * info['missing_fraction']:.2f}% of all samples",
+    ]
+    lines += [f"note:       {n}" for n in info["notes"]]
+    width = max([len(m["label"]) for m in info["markers"]] + [6])
+    lines += ["", f"{'marker':<{width}}  {'missing':>8}  {'gaps':>5}  {'longest':>7}"]
+    for m in info["markers"]:
+        lines.append(f"{m['label']:<{width}}  {m['missing']:>8}  {m['gaps']:>5}  {m['longest']:>7}")
+    return "\n".join(lines)
+
+
+def conversion_table(
+    result: MarkerMotion, unit_mm: float | None, truth_positions=None, truth_rotations=None
+) -> list[dict]:
+    """Per joint: how its rotation was found, its distance from its virtual marker (mean,
+    max) and, given the true motion of the same frames, position and angle errors.
+
+    ``unit_mm``: the unit errors are given in, per skeleton unit (e.g. millimetres; None:
+    skeleton units).
+    ``truth_positions`` (F, J, 3), ``truth_rotations`` (F, J, 3, 3) local, skeleton order.
+    """
+    from core.kinematics import forward_kinematics
+
+    factor = unit_mm or 1.0
+    motion = result.motion
+    positions = forward_kinematics(motion, with_rotations=False)[0]
+    to_marker = np.linalg.norm(positions - result.measured, axis=2) * factor
+    rows = []
+    for j, name in enumerate(motion.names):
+        counts = np.bincount(result.sources[:, j], minlength=len(SOURCE_NAMES))
+        row = {
+            "joint": name,
+            "measured": float((counts[0] + counts[3]) / len(result.sources)),  # measured, or the root
+            "source": SOURCE_NAMES[int(np.argmax(counts))],
+            "marker_mean": _mean(to_marker[:, j]),
+            "marker_max": _max(to_marker[:, j]),
+        }
+        if truth_positions is not None:
+            row["position_error"] = _mean(np.linalg.norm(positions[:, j] - truth_positions[:, j], axis=1) * factor)
+        if truth_rotations is not None and motion.parents[j] >= 0:
+            angle = rotation_angle(np.swapaxes(motion.rotations[:, j], -1, -2) @ truth_rotations[:, j])
+            row["angle_error_deg"] = _mean(np.degrees(angle))
+        rows.append(row)
+    return rows
+
+
+def _mean(values: np.ndarray) -> float | None:
+    finite = values[np.isfinite(values)]
+    return float(finite.mean()) if finite.size else None
+
+
+def _max(values: np.ndarray) -> float | None:
+    finite = values[np.isfinite(values)]
+    return float(finite.max()) if finite.size else None
+
+
+def conversion_text(rows: list[dict], unit: str) -> str:
+    """The per-joint table of :func:`conversion_table` as text."""
+    width = max(len(r["joint"]) for r in rows)
+    has_truth = any("position_error" in r for r in rows)
+    has_angles = any("angle_error_deg" in r for r in rows)
+    header = f"{'joint':<{width}}  {'measured':>8}  {'to marker (mean/max ' + unit + ')':>28}"
+    if has_truth:
+        header += f"  {'vs truth ' + unit:>12}"
+    if has_angles:
+        header += f"  {'angle deg':>9}"
+    lines = [header]
+
+    def cell(value, size, digits=1):
+        return f"{'-':>{size}}" if value is None else f"{value:>{size}.{digits}f}"
+
+    for r in rows:
+        line = f"{r['joint']:<{width}}  {100 * r['measured']:>7.1f}%  "
+        line += f"{cell(r['marker_mean'], 13)} {cell(r['marker_max'], 14)}"
+        if has_truth:
+            line += f"  {cell(r.get('position_error'), 12)}"
+        if has_angles:
+            line += f"  {cell(r.get('angle_error_deg'), 9, 2)}"
+        lines.append(line)
+    if has_truth:
+        values = [r["position_error"] for r in rows if r.get("position_error") is not None]
+        lines.append(f"{'overall':<{width}}  {'':>8}  {'':>28}  {np.mean(values):>12.1f}")
+    return "\n".join(lines)

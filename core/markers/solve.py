@@ -1,0 +1,374 @@
+"""Markers to GMR motion: the pelvis by Procrustes, then every limb down the chains.
+
+:func:`markers_to_motion` turns a marker set, a skeleton and a marker map into a GMR
+:class:`~core.motion.Motion` of the skeleton's joints (technical note, section 2):
+
+1. the virtual markers (joint centres) are computed and aligned to skeleton space;
+2. the pelvis rotation of every frame comes from the three pelvis virtual markers
+   (:func:`~core.markers.pelvis.pelvis_rotations`); the root stands at the pelvis root;
+3. down every chain, each joint's bone direction in its parent's (already solved) frame
+   gives two angles, and the twist about the bone comes from the best-matching pose of a
+   reference motion (:mod:`core.markers.match`) or, without one, changes least from the
+   previous frame (:func:`~core.markers.limbs.least_change_twists`);
+4. the joints named in ``roots`` become roots of their own trees (soft-linked to their
+   parent, as a GMR split does) holding their measured world positions; the others are
+   rotational, with the skeleton's bone lengths.
+
+A joint whose bone direction cannot be measured in a frame (no virtual marker, a gap, a
+bone of length zero) takes its whole local rotation from the matched reference pose, or
+without a reference holds its nearest measured rotation (the rest pose if it never has one);
+``sources`` says which, per frame and joint. A frame whose pelvis cannot be recovered
+(missing or degenerate pelvis markers) is a copy of the nearest good frame and is flagged in
+``frame_valid``; ``reasons`` says why, with the frames. Good frames are computed exactly as
+they would be without the bad ones (with a reference; without one the twist runs on over
+the gap from the last good frame).
+
+The root's rotation is the pelvis rotation, composed, when a reference is matched, with the
+reference's own root-from-pelvis rotation ``R_pelvis,ref(g)^T R_root,ref(g)`` (the identity
+when the pelvis markers are rigid with the root, as in ASF skeletons; for skeletons converted
+from BVH, whose GMR root carries no rotation, it keeps the reference's convention).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+from typing import Literal
+
+import numpy as np
+
+from core.errors import OperationError
+from core.kinematics import forward_kinematics
+from core.markers.limbs import least_change_twists, limb_rotation, twist_of
+from core.markers.markerset import MarkerSet, frame_ranges, gap_runs
+from core.markers.match import best_matches
+from core.markers.pelvis import PelvisFrames, PelvisMethod, pelvis_rotations, rest_positions
+from core.motion import Motion
+
+#: ``sources`` codes, per frame and joint
+MEASURED, FROM_REFERENCE, HELD, ROOT = 0, 1, 2, 3
+SOURCE_NAMES = {MEASURED: "measured", FROM_REFERENCE: "from reference", HELD: "held", ROOT: "root"}
+Aim = Literal["markers", "chain"]
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class MarkerMotion:
+    """The result of :func:`markers_to_motion`.
+
+    Attributes
+    ----------
+    motion : the GMR motion (skeleton units and axes), F frames.
+    measured : (F, J, 3) the virtual marker of each joint in skeleton space (NaN: none).
+    sources : (F, J) int8, how each joint's rotation was found (:data:`SOURCE_NAMES`).
+    frame_valid : (F,) bool, the pelvis was recovered (False: a copy of the nearest good frame).
+    pelvis : PelvisFrames in skeleton axes and units.
+    matches : (F,) int64, the matched reference frame (-1: none); match_distances (F,) its
+        RMS joint distance in skeleton units.
+    reasons : what was missing or degenerate, with the frames.
+    """
+
+    motion: Motion
+    measured: np.ndarray
+    sources: np.ndarray
+    frame_valid: np.ndarray
+    pelvis: PelvisFrames
+    matches: np.ndarray
+    match_distances: np.ndarray
+    reasons: tuple[str, ...] = ()
+
+    def position_errors(self) -> np.ndarray:
+        """(F, J) distance between each joint of the motion and its virtual marker (NaN: none)."""
+        positions = forward_kinematics(self.motion, with_rotations=False)[0]
+        return np.linalg.norm(positions - self.measured, axis=2)
+
+
+def markers_to_motion(
+    markers: MarkerSet,
+    skeleton: Motion,
+    marker_map="joints",
+    *,
+    reference: Motion | None = None,
+    exclude_within: float | None = None,
+    roots: Sequence[str] = (),
+    frames: slice | None = None,
+    fill_gaps: int = 0,
+    pelvis_method: PelvisMethod = "note",
+    aim: Aim = "markers",
+) -> MarkerMotion:
+    """Convert markers to a GMR motion of ``skeleton`` (see the module docstring).
+
+    Parameters
+    ----------
+    markers : the marker set (any units and axes: the map's alignment takes them to the
+        skeleton's).
+    skeleton : the skeleton (a GMR or BVH motion; only its structure and offsets are used).
+    marker_map : a MarkerMap, a map name (``"joints"``, ``"cmu"``) or a map file.
+    reference : a motion of the same skeleton whose best-matching poses give the twists.
+        Its frame g is at time ``g * frame_time``, the markers' frame i at ``i / rate``.
+    exclude_within : seconds: reference frames this close in time to the query are not
+        matched (for a reference of the same trial).
+    roots : joints that become roots holding their measured positions (besides the pelvis).
+    frames : the marker frames to convert (a slice of frame indices from 0).
+    fill_gaps : fill marker gaps of at most this many frames by interpolation first.
+    pelvis_method : "note" or "points" (:func:`~core.markers.pelvis.pelvis_rotations`).
+    aim : bone directions from the measured parent ("markers", the note's) or from the
+        parent where the solved chain put it ("chain": errors do not add up along a limb).
+
+    Returns
+    -------
+    MarkerMotion: the motion (F frames, the skeleton's joints, units and axes) and what
+    was measured, matched, held or flagged.
+
+    Raises
+    ------
+    OperationError : no frame has a usable pelvis, the reference is of another skeleton, the
+        map does not fit the skeleton.
+    """
+    from core.convert import pre_from_post
+    from core.markers.markermap import load_marker_map
+    from core.markers.virtual import compute_virtual_markers, resolve_map
+
+    if skeleton.convention != "pre":
+        skeleton = pre_from_post(skeleton)
+    if reference is not None and reference.convention != "pre":
+        reference = pre_from_post(reference)
+    start = range(markers.n_frames)[frames].start if frames is not None and markers.n_frames else 0
+    if frames is not None:
+        markers = markers.frame_slice(frames)
+    if markers.n_frames == 0:
+        raise OperationError("there are no marker frames to convert")
+    if fill_gaps:
+        markers = markers.filled(fill_gaps)
+    resolved = resolve_map(load_marker_map(marker_map), markers, skeleton.names)
+    virtual = compute_virtual_markers(markers, resolved)
+    measured = np.full((markers.n_frames, skeleton.n_joints, 3), np.nan)
+    aligned = virtual.skeleton_positions()
+    for v, name in enumerate(virtual.names):
+        if name in skeleton.names:
+            measured[:, skeleton.joint_index(name)] = aligned[:, v]
+    times = (start + np.arange(markers.n_frames)) / markers.rate
+    result = solve_positions(
+        measured,
+        skeleton,
+        resolved.pelvis,
+        reference=reference,
+        query_times=times,
+        exclude_within=exclude_within,
+        roots=roots,
+        frame_time=markers.frame_time,
+        pelvis_method=pelvis_method,
+        aim=aim,
+    )
+    note = f"from markers {markers.source or '(memory)'} with map {resolved.name}"
+    motion = result.motion.replace(comments=(note, *result.motion.comments))
+    return dataclasses.replace(result, motion=motion, reasons=(*virtual.reasons, *result.reasons))
+
+
+def solve_positions(
+    measured: np.ndarray,
+    skeleton: Motion,
+    pelvis: Sequence[str] | None,
+    *,
+    reference: Motion | None = None,
+    query_times: np.ndarray | None = None,
+    exclude_within: float | None = None,
+    roots: Sequence[str] = (),
+    frame_time: float | None = None,
+    pelvis_method: PelvisMethod = "note",
+    aim: Aim = "markers",
+) -> MarkerMotion:
+    """The solver on joint positions already in skeleton space.
+
+    Parameters
+    ----------
+    measured : (F, J, 3) measured position of each skeleton joint (NaN: not measured).
+    skeleton : GMR skeleton (pre-rotation).
+    pelvis : names of X1 (a root of the skeleton), X2, X3.
+    query_times : (F,) seconds of the frames (default ``arange(F) * frame_time``).
+    Other parameters as in :func:`markers_to_motion`.
+    """
+    if skeleton.convention != "pre":
+        raise OperationError("the solver needs a GMR (pre-rotation) skeleton")
+    measured = np.asarray(measured, dtype=np.float64)
+    n_frames, n_joints = measured.shape[:2]
+    frame_time = float(frame_time or skeleton.frame_time)
+    query_times = np.arange(n_frames) * frame_time if query_times is None else np.asarray(query_times)
+    if pelvis is None or len(pelvis) != 3:
+        raise OperationError("the marker map names no pelvis markers (root, left femur, lower back)")
+    strangers = [name for name in pelvis if name not in skeleton.names]
+    if strangers:
+        raise OperationError(
+            f"the map's pelvis markers {', '.join(strangers)} are not joints of the skeleton: "
+            "a map for markers_to_motion places joints (pelvis-only maps serve recover_pelvis)"
+        )
+    triple_index = [skeleton.joint_index(name) for name in pelvis]
+    pelvis_root = triple_index[0]
+    if skeleton.parents[pelvis_root] >= 0:
+        raise OperationError(f"the pelvis root {pelvis[0]!r} is not a root of the skeleton")
+    root_set = {skeleton.joint_index(r) for r in roots} | {int(r) for r in skeleton.roots}
+    home = rest_positions(skeleton, pelvis)
+    rotations_p, residuals, valid, reasons = pelvis_rotations(
+        measured[:, triple_index], home, method=pelvis_method, labels=tuple(pelvis)
+    )
+    if not valid.any():
+        raise OperationError("no frame has a usable pelvis: " + "; ".join(reasons))
+    reference_data = _prepare_reference(reference, skeleton, triple_index, home, pelvis_method)
+    good = np.flatnonzero(valid)
+    m = measured[good]
+    have = np.isfinite(m).all(axis=2)
+    match, distance = np.full(len(good), -1), np.full(len(good), np.nan)
+    if reference_data is not None:
+        ref_local, ref_features, ref_correction, ref_times = reference_data
+        features = np.einsum("fba,fjb->fja", rotations_p[good], m - m[:, pelvis_root : pelvis_root + 1])
+        match, distance = best_matches(
+            features,
+            have & (np.arange(n_joints) != pelvis_root),
+            ref_features,
+            query_times=query_times[good],
+            reference_times=ref_times,
+            exclude_within=exclude_within,
+        )
+        if (match < 0).any():
+            reasons.append(f"no reference frame could be matched in frames {frame_ranges(good[match < 0])}")
+    matched = match >= 0
+    local = np.empty((len(good), n_joints, 3, 3))
+    world = np.empty_like(local)
+    chain = np.empty((len(good), n_joints, 3))
+    sources = np.full((len(good), n_joints), MEASURED, np.int8)
+    for j in skeleton.topological_order:
+        p = int(skeleton.parents[j])
+        if p < 0:
+            rotation = rotations_p[good] if j == pelvis_root else np.broadcast_to(np.eye(3), (len(good), 3, 3))
+            if reference_data is not None:
+                correction = ref_correction if j == pelvis_root else ref_local[:, j]
+                rotation = np.where(matched[:, None, None], rotation @ correction[np.maximum(match, 0)], rotation)
+            local[:, j] = world[:, j] = rotation
+            chain[:, j] = np.where(have[:, j, None], m[:, j], skeleton.offsets[j])
+            sources[:, j] = ROOT
+            continue
+        offset = skeleton.offsets[j]
+        length = np.linalg.norm(offset)
+        origin = np.where(have[:, p, None], m[:, p], chain[:, p]) if aim == "markers" else chain[:, p]
+        bone = np.einsum("fba,fb->fa", world[:, p], m[:, j] - origin)
+        bone_length = np.linalg.norm(bone, axis=1)
+        ok = have[:, j] & (length > 0) & (bone_length > 1e-12 * max(length, 1e-300))
+        c = bone / np.where(ok, bone_length, 1.0)[:, None]
+        u = offset / (length if length > 0 else 1.0)
+        result = np.broadcast_to(np.eye(3), (len(good), 3, 3)).copy()
+        if reference_data is not None:
+            known = ref_local[np.maximum(match, 0), j]
+            twist = twist_of(known, u)
+            result[ok & matched] = limb_rotation(u, c[ok & matched], twist[ok & matched])
+            result[~ok & matched] = known[~ok & matched]
+            sources[~ok & matched, j] = FROM_REFERENCE
+            todo = ok & ~matched
+        else:
+            todo = ok
+        if todo.any():
+            result[todo] = limb_rotation(u, c[todo], least_change_twists(u, c[todo]))
+        rest = ~ok & ~matched
+        if rest.any():
+            result[rest] = _hold(result, ok)[rest]
+            sources[rest, j] = HELD
+        local[:, j] = result
+        world[:, j] = world[:, p] @ result
+        chain[:, j] = chain[:, p] + np.einsum("fab,b->fa", world[:, j], offset)
+        if j in root_set:
+            chain[:, j] = np.where(have[:, j, None], m[:, j], chain[:, j])
+    return _assemble(
+        skeleton, valid, good, local, world, chain, sources, root_set, frame_time,
+        measured, rotations_p, residuals, match, distance, reasons, pelvis,
+    )  # fmt: skip
+
+
+def _hold(values: np.ndarray, ok: np.ndarray) -> np.ndarray:
+    """values (N, ...) with each row where ``ok`` is False taken from the nearest earlier
+    ok row, or the nearest later one; the identity where no row is ok."""
+    if not ok.any():
+        return values
+    before, after = gap_runs(ok)
+    source = np.where(before >= 0, before, after)
+    return values[source]
+
+
+def _prepare_reference(reference: Motion | None, skeleton: Motion, triple_index, home, pelvis_method):
+    """Local rotations (G, J, 3, 3) in skeleton joint order, pelvis-frame positions (G, J, 3),
+    root-from-pelvis rotations (G, 3, 3) and times (G,) of a reference motion."""
+    if reference is None:
+        return None
+    missing = [n for n in skeleton.names if n not in reference.names]
+    if missing:
+        raise OperationError(
+            f"the reference motion is not of the skeleton: it lacks the joints {', '.join(missing[:6])}"
+            + (" ..." if len(missing) > 6 else "")
+        )
+    order = [reference.joint_index(n) for n in skeleton.names]
+    if reference.n_frames == 0:
+        raise OperationError("the reference motion has no frames")
+    positions, world = forward_kinematics(reference)
+    positions, world, local = positions[:, order], world[:, order], reference.rotations[:, order]
+    rotations, _, valid, reasons = pelvis_rotations(positions[:, triple_index], home, method=pelvis_method)
+    if not valid.all():
+        raise OperationError("the reference motion's own pelvis is degenerate: " + "; ".join(reasons))
+    root = triple_index[0]
+    features = np.einsum("fba,fjb->fja", rotations, positions - positions[:, root : root + 1])
+    correction = np.swapaxes(rotations, -1, -2) @ world[:, root]
+    return local, features, correction, np.arange(reference.n_frames) * reference.frame_time
+
+
+def _assemble(
+    skeleton, valid, good, local, world, chain, sources, root_set, frame_time,
+    measured, rotations_p, residuals, match, distance, reasons, pelvis,
+) -> MarkerMotion:  # fmt: skip
+    """Scatter the good frames over all frames (bad ones copy the nearest good frame) and
+    build the GMR motion, splitting the requested roots off their parents."""
+    n_joints = measured.shape[1]
+    before, after = gap_runs(valid)
+    nearest = np.where(before >= 0, before, after)
+    position = np.searchsorted(good, nearest)
+    parents = skeleton.parents.copy()
+    soft = skeleton.soft_parents.copy()
+    is_root = np.zeros(n_joints, bool)
+    is_root[sorted(root_set)] = True
+    for j in np.flatnonzero(is_root & (parents >= 0)):
+        soft[j], parents[j] = parents[j], -1
+    rotations = np.where(is_root[None, :, None, None], world, local)[position]
+    translations = np.where(is_root[None, :, None], chain, skeleton.offsets[None])[position]
+    offsets = np.where(is_root[:, None], translations[0], skeleton.offsets)
+    orders = tuple(o or "ZYX" for o in skeleton.rotation_orders)
+    motion = Motion(
+        names=skeleton.names,
+        parents=parents,
+        soft_parents=soft,
+        offsets=offsets,
+        rotation_orders=orders,
+        has_translation=is_root,
+        rotations=rotations,
+        translations=translations,
+        frame_time=frame_time,
+        convention="pre",
+    )
+    full_sources = sources[position]
+    full_match = np.where(valid, match[position], -1)
+    full_distance = np.where(valid, distance[position], np.nan)
+    if (~valid).any():
+        reasons.append(f"frames {frame_ranges(~valid)} copy the nearest frame with a usable pelvis")
+    frames = PelvisFrames(
+        rotations=np.where(valid[:, None, None], rotations_p, np.eye(3)),
+        origins=np.where(valid[:, None], measured[:, skeleton.joint_index(pelvis[0])], np.nan),
+        residuals=residuals,
+        valid=valid,
+        units="skeleton",
+        reasons=tuple(r for r in reasons if r.startswith("pelvis")),
+        labels=tuple(pelvis),
+    )
+    return MarkerMotion(
+        motion=motion,
+        measured=measured,
+        sources=full_sources,
+        frame_valid=valid,
+        pelvis=frames,
+        matches=full_match,
+        match_distances=full_distance,
+        reasons=tuple(reasons),
+    )

@@ -1,0 +1,249 @@
+"""Virtual markers (joint centres) from real markers through a marker map, and calibration.
+
+:func:`compute_virtual_markers` evaluates a :class:`~core.markers.markermap.MarkerMap` on a
+marker set for every frame at once:
+
+- ``marker``: the marker itself; ``mean``: the mean of the markers, a gap if any is missing;
+- ``cluster``: the calibrated template is fitted to the markers present in each frame
+  (least squares, :func:`~core.markers.procrustes.fit_rigid`: at least three, not
+  collinear) and the offset is carried along: ``v = R offset + t``. A missing marker is
+  tolerated while three others are seen; the per-frame fit RMS says how rigid the cluster
+  was.
+
+A virtual marker that cannot be formed is NaN in that frame, and ``reasons`` names its
+frames and the missing markers. :func:`calibrate_marker_map` finds the clusters' templates
+(generalised Procrustes over the calibration frames) and offsets (least squares: the mean of
+``R_f^T (J_f - t_f)``) from frames whose joint positions are known.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+
+import numpy as np
+
+from core.errors import OperationError
+from core.markers.markermap import Alignment, MarkerMap, VirtualMarker
+from core.markers.markerset import MarkerSet, frame_ranges
+from core.markers.procrustes import fit_rigid
+
+#: generalised-Procrustes iterations for a cluster template (the template moves by less
+#: than 1e-9 of its size after three on the CMU clusters)
+TEMPLATE_ITERATIONS = 6
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class VirtualMarkers:
+    """Virtual marker trajectories.
+
+    Attributes
+    ----------
+    names : tuple of V str, the joints they place.
+    positions : (F, V, 3) float64, marker axes, ``units``; NaN where not ``valid``.
+    valid : (F, V) bool.
+    fit_rms : (F, V) float64, cluster fit RMS (NaN for other kinds and invalid frames).
+    units : str, alignment : Alignment (to skeleton space), rate : float.
+    reasons : tuple of str, one per virtual marker with invalid frames.
+    """
+
+    names: tuple[str, ...]
+    positions: np.ndarray
+    valid: np.ndarray
+    fit_rms: np.ndarray
+    units: str
+    alignment: Alignment
+    rate: float
+    reasons: tuple[str, ...] = ()
+
+    @property
+    def n_frames(self) -> int:
+        return self.positions.shape[0]
+
+    def index(self, name: str) -> int:
+        try:
+            return self.names.index(name)
+        except ValueError:
+            raise OperationError(f"no virtual marker {name!r}") from None
+
+    def skeleton_positions(self) -> np.ndarray:
+        """(F, V, 3) positions in the skeleton's axes and units (through the alignment)."""
+        return self.alignment.to_skeleton(self.positions)
+
+
+def resolve_map(marker_map: MarkerMap, markers: MarkerSet, joint_names: Sequence[str] | None = None) -> MarkerMap:
+    """The built-in ``joints`` map made concrete: one virtual marker per joint name that the
+    marker set has (every label when no names are given); other maps are returned as they are."""
+    if not marker_map.joints:
+        return marker_map
+    from core.markers.markermap import guess_pelvis, joints_map
+
+    labels = set(markers.labels)
+    names = [n for n in (joint_names if joint_names is not None else markers.labels) if n in labels]
+    if not names:
+        raise OperationError(
+            f"the 'joints' map needs markers labelled with joint names; {markers.source or 'the marker set'} has none"
+        )
+    pelvis = marker_map.pelvis if marker_map.pelvis and all(p in names for p in marker_map.pelvis) else None
+    return joints_map(names, pelvis or guess_pelvis(names)).replace(alignment=marker_map.alignment)
+
+
+def _in_map_units(markers: MarkerSet, marker_map: MarkerMap) -> MarkerSet:
+    return markers.in_units(marker_map.units) if marker_map.units and marker_map.units != markers.units else markers
+
+
+def compute_virtual_markers(markers: MarkerSet, marker_map: MarkerMap) -> VirtualMarkers:
+    """Evaluate every virtual marker of the map on every frame (see the module docstring).
+
+    Parameters
+    ----------
+    markers : the marker set (converted to the map's units first).
+    marker_map : a resolved map (see :func:`resolve_map`); clusters must be calibrated.
+
+    Returns
+    -------
+    VirtualMarkers in marker axes and the map's units.
+    """
+    markers = _in_map_units(markers, marker_map)
+    n_frames = markers.n_frames
+    n_virtual = len(marker_map.virtual)
+    positions = np.full((n_frames, n_virtual, 3), np.nan)
+    fit_rms = np.full((n_frames, n_virtual), np.nan)
+    reasons: list[str] = []
+    absent = [label for label in marker_map.labels() if label not in markers.labels]
+    if absent:
+        reasons.append(f"the markers {', '.join(absent)} are not in {markers.source or 'the marker set'}")
+    for v, virtual in enumerate(marker_map.virtual):
+        if not virtual.calibrated:
+            raise OperationError(
+                f"virtual marker {virtual.name!r} of map {marker_map.name!r} is not calibrated: "
+                "calibrate the map on frames of known pose first"
+            )
+        inputs = _inputs(virtual.markers, markers, marker_map, positions)
+        if virtual.kind == "cluster":
+            rotation, translation, rms, ok = fit_rigid(virtual.template, inputs)
+            positions[:, v] = np.einsum("fab,b->fa", rotation, virtual.offset) + translation
+            positions[~ok, v] = np.nan
+            fit_rms[:, v] = rms
+        else:
+            positions[:, v] = inputs.mean(axis=1)  # NaN if any input is missing
+        bad = ~np.isfinite(positions[:, v]).all(axis=1)
+        if bad.any():
+            lacking = [m for k, m in enumerate(virtual.markers) if not np.isfinite(inputs[bad, k]).all()]
+            reasons.append(
+                f"{virtual.name}: missing in frames {frame_ranges(bad)} ({int(bad.sum())} frames), "
+                f"its markers {', '.join(lacking) or 'are degenerate'}" + (" lack there" if lacking else "")
+            )
+    valid = np.isfinite(positions).all(axis=2)
+    return VirtualMarkers(
+        names=marker_map.names,
+        positions=positions,
+        valid=valid,
+        fit_rms=fit_rms,
+        units=markers.units,
+        alignment=marker_map.alignment,
+        rate=markers.rate,
+        reasons=tuple(reasons),
+    )
+
+
+def _inputs(labels: Sequence[str], markers: MarkerSet, marker_map: MarkerMap, virtual: np.ndarray) -> np.ndarray:
+    """(F, K, 3) the positions of a virtual marker's inputs (NaN for absent markers)."""
+    out = np.full((markers.n_frames, len(labels), 3), np.nan)
+    names = marker_map.names
+    for k, label in enumerate(labels):
+        if label.startswith("@"):
+            out[:, k] = virtual[:, names.index(label[1:])]
+        elif label in markers.labels:
+            out[:, k] = markers.positions[:, markers.index(label)]
+    return out
+
+
+def calibrate_marker_map(
+    marker_map: MarkerMap,
+    markers: MarkerSet,
+    joint_positions: np.ndarray,
+    joint_names: Sequence[str],
+    frames: np.ndarray | slice | None = None,
+    *,
+    pelvis_home: np.ndarray | None = None,
+    note: dict | None = None,
+) -> MarkerMap:
+    """Fit every cluster's template and offset on frames where the joints are known.
+
+    Parameters
+    ----------
+    marker_map : the map to calibrate (offsets already there are replaced).
+    markers : the marker set, frame-aligned with ``joint_positions``.
+    joint_positions : (F, J, 3) world positions in skeleton space (a reference motion of the
+        same trial), or (1, J, 3) for a static pose held during the calibration frames.
+    joint_names : the J joint names.
+    frames : which frames to use (slice, indices or (F,) bool; default all).
+    pelvis_home : (3, 3) rest positions of the pelvis triple (skeleton space) to store.
+    note : extra ``[calibration]`` entries (source files, frames, command).
+
+    Returns
+    -------
+    A new MarkerMap with ``offset``, ``template`` and ``rms`` (map units) for each cluster.
+    """
+    markers = _in_map_units(markers, marker_map)
+    n_frames = markers.n_frames
+    chosen = np.zeros(n_frames, bool)
+    chosen[np.arange(n_frames)[frames if frames is not None else slice(None)]] = True
+    joint_positions = np.asarray(joint_positions, dtype=np.float64)
+    if joint_positions.shape[0] == 1:
+        joint_positions = np.broadcast_to(joint_positions, (n_frames, *joint_positions.shape[1:]))
+    if joint_positions.shape[0] != n_frames:
+        raise OperationError(
+            f"the reference has {joint_positions.shape[0]} frames and the markers {n_frames}: "
+            "calibration needs the same trial, frame for frame (or a one-frame static pose)"
+        )
+    known = marker_map.alignment.to_markers(joint_positions)  # (F, J, 3) marker space
+    names = list(joint_names)
+    positions = np.full((n_frames, len(marker_map.virtual), 3), np.nan)
+    calibrated: list[VirtualMarker] = []
+    current = marker_map
+    for v, virtual in enumerate(marker_map.virtual):
+        inputs = _inputs(virtual.markers, markers, current, positions)
+        if virtual.kind == "cluster":
+            if virtual.name not in names:
+                raise OperationError(f"virtual marker {virtual.name!r} is not a joint of the reference")
+            target = known[:, names.index(virtual.name)]
+            virtual = _calibrate_cluster(virtual, inputs, target, chosen)
+            rotation, translation, _, ok = fit_rigid(virtual.template, inputs)
+            positions[:, v] = np.einsum("fab,b->fa", rotation, virtual.offset) + translation
+            positions[~ok, v] = np.nan
+        else:
+            positions[:, v] = inputs.mean(axis=1)
+        calibrated.append(virtual)
+        current = current.replace(virtual=(*calibrated, *marker_map.virtual[v + 1 :]))
+    calibration = dict(marker_map.calibration)
+    calibration.update(note or {})
+    return current.replace(
+        calibration=calibration, pelvis_home=pelvis_home if pelvis_home is not None else marker_map.pelvis_home
+    )
+
+
+def _calibrate_cluster(
+    virtual: VirtualMarker, inputs: np.ndarray, target: np.ndarray, chosen: np.ndarray
+) -> VirtualMarker:
+    complete = chosen & np.isfinite(inputs).all(axis=(1, 2)) & np.isfinite(target).all(axis=1)
+    if complete.sum() < 1:
+        raise OperationError(
+            f"cluster {virtual.name!r} ({', '.join(virtual.markers)}) is never complete in the calibration frames"
+        )
+    points, goal = inputs[complete], target[complete]
+    template = points[0] - points[0].mean(axis=0)
+    for _ in range(TEMPLATE_ITERATIONS):
+        rotation, translation, _, ok = fit_rigid(template, points)
+        if not ok.any():
+            raise OperationError(f"cluster {virtual.name!r}: its markers are collinear in every calibration frame")
+        aligned = np.einsum("fba,fkb->fka", rotation[ok], points[ok] - translation[ok, None, :])
+        template = aligned.mean(axis=0)
+        template -= template.mean(axis=0)
+    rotation, translation, _, ok = fit_rigid(template, points)
+    local = np.einsum("fba,fb->fa", rotation[ok], goal[ok] - translation[ok])
+    offset = local.mean(axis=0)
+    fitted = np.einsum("fab,b->fa", rotation[ok], offset) + translation[ok]
+    rms = float(np.sqrt(np.mean(np.sum((fitted - goal[ok]) ** 2, axis=1))))
+    return dataclasses.replace(virtual, offset=offset, template=template, rms=rms)

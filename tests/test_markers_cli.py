@@ -1,0 +1,154 @@
+"""``gmr markers`` and ``gmr info`` on marker files, end to end through files."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from core.cli import main
+from core.export import bvh_export
+from core.formats import load_gmr, read_motion, write_motion
+from core.kinematics import world_positions
+from core.markers import MarkerSet, load_marker_map
+from core.markers.markermap import VirtualMarker, marker_map_text
+from core.markers.trc import trc_text
+from core.rotations import rotation_angle
+from tests.conftest import shared_path
+
+CMU01 = "cmu/subject01/"
+CMU02 = "cmu/subject02/"
+
+
+def run(capsys, *argv) -> tuple[int, str, str]:
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.fixture
+def joints_trc(tmp_path):
+    """02_01's joint positions as a TRC labelled with the joint names (17 digits: exact)."""
+    truth = load_gmr(shared_path(CMU02 + "02_01.amc"))
+    markers = MarkerSet(labels=truth.names, positions=world_positions(truth), rate=120, units="mm")
+    path = tmp_path / "joints.trc"
+    path.write_text(trc_text(markers, digits=17))
+    return path, truth
+
+
+def test_exact_case_through_files_and_gmr_positions(capsys, tmp_path, joints_trc):
+    trc, truth = joints_trc
+    out_gmr, out_npz = tmp_path / "out.gmr", tmp_path / "out.npz"
+    skeleton, amc = shared_path(CMU02 + "02.asf"), shared_path(CMU02 + "02_01.amc")
+    code, out, _ = run(
+        capsys, "markers", trc, "--skeleton", skeleton, "--map", "joints", "--reference", amc, "--truth", amc,
+        "-o", out_gmr,
+    )  # fmt: skip
+    assert code == 0 and "343 frames x 31 joints at 120 Hz, roots root; map joints" in out
+    assert "overall" in out and "lhumerus" in out
+    assert run(capsys, "positions", out_gmr, "-o", out_npz)[0] == 0
+    positions = np.load(out_npz)["positions"]
+    assert np.abs(positions - world_positions(truth)).max() <= 1e-9 * truth.size
+    written = read_motion(out_gmr)
+    assert rotation_angle(np.swapaxes(written.rotations, -1, -2) @ truth.rotations).max() <= 1e-6
+
+
+def test_json_table_roots_frames_and_bvh_output(capsys, tmp_path, joints_trc):
+    trc, truth = joints_trc
+    skeleton, amc = shared_path(CMU02 + "02.asf"), shared_path(CMU02 + "02_01.amc")
+    code, out, _ = run(
+        capsys, "markers", trc, "--skeleton", skeleton, "--truth", amc, "--roots", "lfemur,rfemur",
+        "--frames", "100:200", "--json", "-o", tmp_path / "part.gmr",
+    )  # fmt: skip
+    table = json.loads(out)
+    rows = {row["joint"]: row for row in table["joints"]}
+    assert code == 0 and rows["lfemur"]["marker_max"] == pytest.approx(0.0, abs=1e-9)
+    assert max(row["position_error"] for row in rows.values()) < 1e-9 * truth.size
+    part = read_motion(tmp_path / "part.gmr")
+    assert part.n_frames == 100 and sorted(part.names[r] for r in part.roots) == ["lfemur", "rfemur", "root"]
+    assert run(capsys, "markers", trc, "--skeleton", skeleton, "-o", tmp_path / "out.bvh")[0] == 0
+    bvh = read_motion(tmp_path / "out.bvh")
+    order = [bvh.joint_index(name) for name in bvh_export(truth).names]  # leaves are End Sites there
+    error = np.abs(world_positions(bvh)[:, order] - world_positions(truth)).max()
+    assert error < 1e-6 * truth.size  # the BVH keeps the positions (to its printed digits)
+
+
+def test_calibration_reproduces_the_shipped_cmu_map(capsys, tmp_path):
+    """The command in docs/markers.md makes resources/markermaps/cmu.toml."""
+    template = tmp_path / "template.toml"
+    shipped = load_marker_map("cmu")
+    bare = shipped.replace(  # the same map before calibration
+        virtual=tuple(VirtualMarker(v.name, v.kind, v.markers) for v in shipped.virtual),
+        pelvis_home=None,
+        calibration={},
+    )
+    template.write_text(marker_map_text(bare))
+    saved = tmp_path / "cmu.toml"
+    d = shared_path(CMU01 + "01_01.c3d").parent
+    code, out, _ = run(
+        capsys, "markers", d / "01_01.c3d", "--skeleton", d / "01.asf", "--map", template, "--reference",
+        d / "01_01.amc", "--calibrate", "0:1100", "--save-map", saved, "-o", tmp_path / "cal.gmr",
+    )  # fmt: skip
+    assert code == 0 and "calibrated on frames 0:1100" in out
+    again = load_marker_map(saved)
+    for a, b in zip(again.virtual, shipped.virtual):
+        np.testing.assert_allclose(a.offset, b.offset, atol=1e-9)
+        np.testing.assert_allclose(a.template, b.template, atol=1e-9)
+    np.testing.assert_allclose(again.pelvis_home, shipped.pelvis_home, atol=1e-12)
+
+
+def test_cmu_markers_report_errors_against_the_amc(capsys, tmp_path):
+    d = shared_path(CMU01 + "01_01.c3d").parent
+    code, out, _ = run(
+        capsys, "markers", d / "01_01.c3d", "--skeleton", d / "01.asf", "--map", "cmu", "--truth",
+        d / "01_01.amc", "--frames", "1100:", "-o", tmp_path / "cmu.gmr",
+    )  # fmt: skip
+    assert code == 0
+    overall = float(out.strip().splitlines()[-1].split()[-1])
+    assert 5.0 < overall < 30.0  # measured 17.2 mm
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--map", "nonesuch"], "no marker map of that name"),
+        (["--axes", "xxy"], "name each axis once"),
+        (["--axes", "x,y,-z"], "mirrors the markers"),
+        (["--calibrate", "0:10"], "--calibrate needs --reference"),
+        (["--truth", "TRUTH_SHORT"], "it must be the same trial"),
+        (["--roots", "nose"], "unknown joint 'nose'"),
+    ],
+)
+def test_errors_are_one_line_and_exit_2(capsys, tmp_path, joints_trc, argv, message):
+    trc, truth = joints_trc
+    if "TRUTH_SHORT" in argv:
+        short = tmp_path / "short.gmr"
+        write_motion(truth.frame_slice(slice(0, 10)), short)
+        argv = [str(short) if a == "TRUTH_SHORT" else a for a in argv]
+    code, _, err = run(
+        capsys, "markers", trc, "--skeleton", shared_path(CMU02 + "02.asf"), *argv, "-o", tmp_path / "o.gmr"
+    )
+    assert code == 2 and message in err and len(err.strip().splitlines()) == 1
+
+
+def test_unknown_marker_format(capsys, tmp_path):
+    path = tmp_path / "x.mkr"
+    path.write_text("")
+    code, _, err = run(capsys, "markers", path, "--skeleton", shared_path(CMU02 + "02.asf"), "-o", tmp_path / "o.gmr")
+    assert code == 2 and "unknown marker format '.mkr'" in err
+
+
+def test_info_lists_markers_rate_units_and_gaps(capsys):
+    c3d = shared_path(CMU01 + "01_01.c3d")
+    code, out, _ = run(capsys, "info", c3d)
+    assert code == 0 and "C3D markers" in out and "2751 at 120 Hz" in out and "units:      mm" in out
+    assert "markers:    42" in out and "LANK" in out and "gaps:       3.14% of all samples" in out
+    code, out, _ = run(capsys, "info", c3d, "--json")
+    info = json.loads(out)
+    rows = {m["label"]: m for m in info["markers"]}
+    assert info["frame_rate"] == 120 and rows["STRN"]["missing"] == 103 and rows["LTHI"]["missing"] == 0
+    code, out, _ = run(capsys, "info", shared_path("c3d/ezc3d_Vicon.c3d"))
+    assert "subjects:   " in out and "Daphnee" in out and "Daphnee:ASISr" in out
+    code, out, _ = run(capsys, "info", shared_path("trc/opensim_gait2392_subject01_walk1.trc"))
+    assert code == 0 and "TRC markers" in out and "at 60 Hz" in out
