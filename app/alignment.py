@@ -57,6 +57,7 @@ class MarkerAlignment:
     offset: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))
     frame_offset: int = 0
     method: str = "identity"
+    units: str = ""  # the marker file's length unit, when known
 
     def apply(self, points: np.ndarray) -> np.ndarray:
         """(..., 3) marker coordinates -> (..., 3) motion coordinates (NaN stays NaN)."""
@@ -64,6 +65,13 @@ class MarkerAlignment:
 
     def replace(self, **changes) -> MarkerAlignment:
         return dataclasses.replace(self, **changes)
+
+    def unit_factor(self, units: str) -> float:
+        """Marker-file units per ``units`` (1 when either is unknown), for points measured
+        in another unit than the marker file's."""
+        if not units or not self.units or units == self.units:
+            return 1.0
+        return UNIT_LENGTHS[units] / UNIT_LENGTHS[self.units]
 
 
 def rotation_about(axis: int, degrees: float) -> np.ndarray:

@@ -19,7 +19,8 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
-from app.alignment import MarkerAlignment, auto_alignment, detect_up_axis, rotation_about
+from app.alignment import MarkerAlignment, auto_alignment, rotation_about
+from app.scene import up_axis_of
 from app.state import StudioState
 
 
@@ -32,7 +33,7 @@ class AlignmentDialog(QDialog):
         self.state = state
         self.original = state.marker_overlay.alignment
         self.base = self.original
-        self.up_axis = detect_up_axis(state.positions)
+        self.up_axis = up_axis_of(state.snapshot)
         size = state.motion.size
         layout = QFormLayout(self)
         self.method = QLabel(self.original.method)

@@ -12,6 +12,8 @@ from __future__ import annotations
 import importlib
 from collections.abc import Callable
 
+import numpy as np
+
 from app.commands import run_edit
 from app.state import StudioState
 from core.formats import READERS
@@ -43,26 +45,64 @@ def remove_dummy_joints(state: StudioState) -> bool:
     if remove is None:
         state.show_message("Remove dummy joints needs core.dummies (not installed in this build)")
         return False
-    return run_edit(state, "Remove dummy joints", remove)
+    removed: list[str] = []
+
+    def operation(motion):
+        result, names = remove(motion)
+        removed.extend(names)
+        return result
+
+    if not run_edit(state, "Remove dummy joints", operation):
+        return False
+    state.show_message(f"Removed {len(removed)} dummy joints: {', '.join(removed)}")
+    return True
 
 
 def pelvis_recovery_available() -> bool:
     return _find("core.markers.pelvis", "recover_pelvis") is not None
 
 
-def recover_pelvis_frames(state: StudioState) -> bool:
-    """Recover the pelvis frames from the shown markers and show them."""
+def candidate_marker_maps(state: StudioState) -> list:
+    """Marker maps to try for the pelvis, best first: the markers named like joints (with
+    the app's alignment, so the skeleton's rest pose gives the home pelvis), then every map
+    shipped in ``resources/markermaps``."""
+    from core.markers.markermap import MAPS_DIR, Alignment, joints_map
+
+    alignment = state.marker_overlay.alignment
+    joints = joints_map(()).replace(
+        alignment=Alignment(rotation=alignment.rotation, scale=alignment.scale, offset=alignment.offset)
+    )
+    return [joints, *sorted(p.stem for p in MAPS_DIR.glob("*.toml"))]
+
+
+def recover_pelvis_frames(state: StudioState, *, quiet: bool = False) -> bool:
+    """Recover the pelvis frames from the shown markers (the first marker map that fits)
+    and show them; ``quiet``: say nothing when no map fits."""
     recover = _find("core.markers.pelvis", "recover_pelvis")
     overlay = state.marker_overlay
     if recover is None or overlay is None:
-        state.show_message("Pelvis recovery needs markers and core.markers.pelvis.recover_pelvis")
+        if not quiet:
+            state.show_message("Pelvis recovery needs markers and core.markers.pelvis.recover_pelvis")
         return False
-    try:
-        pelvis = recover(overlay.markers, None)
-    except (ValueError, KeyError) as exc:
-        state.show_message(f"Cannot recover the pelvis frames: {exc}")
-        return False
-    state.set_pelvis(pelvis)
-    valid = int(pelvis.valid.sum())
-    state.show_message(f"Pelvis frames recovered on {valid} of {pelvis.n_frames} frames")
-    return True
+    from core.errors import MotionFileError, OperationError
+
+    problems = []
+    for marker_map in candidate_marker_maps(state):
+        name = getattr(marker_map, "name", marker_map)
+        try:
+            pelvis = recover(overlay.markers, marker_map, skeleton=state.motion)
+        except (OperationError, MotionFileError, ValueError, KeyError) as exc:
+            problems.append(f"{name}: {exc}")
+            continue
+        if pelvis.valid.any():
+            state.set_pelvis(pelvis)
+            valid = state.pelvis.residuals[np.isfinite(state.pelvis.residuals)]
+            state.show_message(
+                f"Pelvis frames from marker map '{name}' ({', '.join(pelvis.labels)}) on {int(pelvis.valid.sum())} "
+                f"of {pelvis.n_frames} frames; median residual {np.median(valid):.3g} {pelvis.units}"
+            )
+            return True
+        problems.append(f"{name}: {'; '.join(pelvis.reasons)}")
+    if not quiet:
+        state.show_message("No marker map gives pelvis frames: " + " | ".join(problems[:3]))
+    return False

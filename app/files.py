@@ -14,10 +14,9 @@ from pathlib import Path
 from PyQt6.QtCore import QObject, QSettings, Qt, pyqtSignal
 from PyQt6.QtWidgets import QApplication, QFileDialog, QMessageBox, QProgressDialog, QWidget
 
-from app import loading
+from app import extensions, loading
 from app.state import Snapshot, StudioState
 from app.video import export_video, save_screenshot
-from core.convert import post_from_pre
 from core.errors import MotionFileError, OperationError
 from core.formats import write_motion
 from core.markers import MarkerSet
@@ -177,10 +176,13 @@ class FileController(QObject):
         self.state.set_markers(markers)
         overlay = self.state.marker_overlay
         if overlay is not None:
-            self.state.show_message(
+            text = (
                 f"Added {markers.n_markers} markers from {Path(path).name} ({markers.rate:g} Hz, {markers.units}); "
                 f"aligned: {overlay.alignment.method}"
             )
+            if extensions.recover_pelvis_frames(self.state, quiet=True):
+                text += "; pelvis frames recovered"
+            self.state.show_message(text)
         self.load_finished.emit(True)
 
     # ---------------------------------------------------------------------- save
@@ -233,32 +235,54 @@ class FileController(QObject):
         return True
 
     def export_bvh_dialog(self) -> None:
-        if self.state.motion is None:
+        motion = self.state.motion
+        if motion is None:
             return
         stem = self.state.path.with_suffix(".bvh").name if self.state.path else "motion.bvh"
         path, _ = QFileDialog.getSaveFileName(
             self.window, "Export BVH", str(Path(self._folder()) / stem), "BVH (*.bvh)"
         )
-        if path:
-            self.export_bvh(path if path.lower().endswith(".bvh") else path + ".bvh")
-
-    def export_bvh(self, path: str | Path) -> bool:
-        """Write the document as BVH (post-rotation, dummy joints where GMR siblings differ)."""
-        motion = self.state.motion
+        if not path:
+            return
+        per_tree = False
         if len(motion.roots) > 1:
-            roots = ", ".join(motion.names[r] for r in motion.roots)
-            self._report(
-                f"Export BVH: the motion has {len(motion.roots)} trees ({roots}); join them first (Edit > Join all)"
+            box = QMessageBox(
+                QMessageBox.Icon.Question, "Export BVH", f"The motion is a forest of {len(motion.roots)} trees."
             )
-            return False
+            box.setInformativeText("Write one file with the trees under a World root, or one file per tree?")
+            one = box.addButton("One file", QMessageBox.ButtonRole.AcceptRole)
+            several = box.addButton("One file per tree", QMessageBox.ButtonRole.AcceptRole)
+            box.addButton(QMessageBox.StandardButton.Cancel)
+            box.exec()
+            if box.clickedButton() not in (one, several):
+                return
+            per_tree = box.clickedButton() is several
+        self.export_bvh(path if path.lower().endswith(".bvh") else path + ".bvh", per_tree=per_tree)
+
+    def export_bvh(self, path: str | Path, *, per_tree: bool = False) -> bool:
+        """Write the document as standard BVH (post-rotation; dummy joints where GMR siblings
+        turn independently; a forest under a ``World`` root, or one file per tree)."""
+        from core.export import bvh_export, bvh_export_trees, tree_file_name
+
+        motion = self.state.motion
         try:
-            post, dummies = post_from_pre(motion)
-            write_motion(post, path)
+            if per_tree:
+                written = []
+                for root, export in bvh_export_trees(motion):
+                    target = tree_file_name(path, root)
+                    export.write(target)
+                    written.append(target.name)
+                text = f"Exported {len(written)} trees: {', '.join(written)}"
+            else:
+                export = bvh_export(motion)
+                export.write(path)
+                extra = [f"{len(export.dummies)} dummy joints"] if export.dummies else []
+                extra += [f"the trees under a '{export.world_root}' root"] if export.world_root else []
+                text = f"Exported {path}" + (f" ({', '.join(extra)})" if extra else "")
         except (OSError, OperationError, ValueError) as exc:
             self._report(f"Cannot export {path}: {exc}")
             return False
-        extra = f" with {len(dummies)} dummy joints" if dummies else ""
-        self.state.show_message(f"Exported {path}{extra}")
+        self.state.show_message(text)
         return True
 
     # ------------------------------------------------------------- screenshots, video

@@ -65,6 +65,7 @@ class Inspector(QScrollArea):
         state.frame_changed.connect(self._on_changed)
         state.selection_changed.connect(self._on_changed)
         state.marker_selection_changed.connect(self._on_changed)
+        state.overlay_changed.connect(self._on_changed)
         self._on_changed()
 
     def text(self) -> str:
@@ -149,8 +150,10 @@ class Inspector(QScrollArea):
         pelvis = self.state.pelvis
         if pelvis is not None and self.state.overlays["pelvis"]:
             residual = pelvis.residuals[f]
-            text = f"{residual:.3g}" if np.isfinite(residual) else "not recovered at this frame"
-            out.append(f"<p><b>Pelvis fit residual</b> |R* H - P|: {text}</p>")
+            units = html.escape(pelvis.source.units)
+            text = f"{residual:.3g} {units}" if np.isfinite(residual) else "not recovered at this frame"
+            labels = html.escape(", ".join(pelvis.source.labels)) or "X1, X2, X3"
+            out.append(f"<p><b>Pelvis fit residual</b> (RMS of {labels}): {text}</p>")
             if np.isfinite(residual):
                 out.append(self._pre(format_matrix(pelvis.rotations[f])))
         return out

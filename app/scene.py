@@ -15,11 +15,14 @@ What is drawn (sizes are fractions of ``Motion.size``, so any unit works):
   selected joint (its last second), joint labels, markers (gaps not drawn; labels of the
   hovered and selected marker), the recovered pelvis frame as an RGB triad.
 
-The up axis (Y or Z) is detected from the motion (:func:`app.alignment.detect_up_axis`),
-and the camera's up follows it, so Y-up and Z-up files both stand upright.
+The up axis (Y or Z) is the one the file's comments state, else the one detected from the
+motion (:func:`up_axis_of`), and the camera's up follows it, so Y-up and Z-up files both
+stand upright.
 """
 
 from __future__ import annotations
+
+import re
 
 import numpy as np
 import pyvista as pv
@@ -67,6 +70,16 @@ def tree_colors(snapshot: Snapshot) -> np.ndarray:
     smallest = {int(t): int(np.flatnonzero(tree_of == t).min()) for t in np.unique(tree_of)}
     rank = {tree: k for k, tree in enumerate(sorted(smallest, key=smallest.get))}
     return TREE_COLORS[[rank[int(t)] % len(TREE_COLORS) for t in tree_of]]
+
+
+def up_axis_of(snapshot: Snapshot) -> int:
+    """1 (Y) or 2 (Z): what the file's comments state (``up axis: z``, as ``gmr convert``
+    writes), else what the motion shows (:func:`app.alignment.detect_up_axis`)."""
+    from core.conversions import up_axis_of as stated_up_axis
+
+    if any(re.match(r"\s*up axis:\s*[yz]\b", comment, re.IGNORECASE) for comment in snapshot.motion.comments):
+        return 1 if stated_up_axis(snapshot.motion) == "y" else 2
+    return detect_up_axis(snapshot.positions)
 
 
 def nice_step(length: float) -> float:
@@ -145,7 +158,7 @@ class SkeletonScene:
         self._add("selection", parts.glyph_part(1, pv.Sphere(radius=1.9 * r), color=SELECTION_COLOR))
         self.parts["selection"].actor.GetProperty().SetRepresentationToWireframe()
         if reset_camera:
-            self.up_axis = detect_up_axis(snapshot.positions)
+            self.up_axis = up_axis_of(snapshot)
             self._build_ground(snapshot.positions, size)
             self._reset_camera()
         self._apply_visibility()

@@ -239,6 +239,7 @@ class StudioState(QObject):
                 alignment = auto_alignment(
                     resampled.positions, resampled.labels, self.snapshot.positions, self.motion.names, markers.units
                 )
+            alignment = alignment.replace(units=markers.units)
             self.marker_overlay = _marker_overlay(markers, resampled, alignment, self.n_frames)
         self.markers_changed.emit()
         self.marker_selection_changed.emit(-1)
@@ -250,6 +251,7 @@ class StudioState(QObject):
             return
         markers = self.marker_overlay.markers
         resampled = markers.resampled(self.motion.frame_rate)
+        alignment = alignment.replace(units=markers.units)
         self.marker_overlay = _marker_overlay(markers, resampled, alignment, self.n_frames)
         self.markers_changed.emit()
         if self.pelvis is not None:
@@ -284,7 +286,12 @@ def _marker_overlay(
 
 def pelvis_on_motion(pelvis: PelvisFrames, rate: float, alignment: MarkerAlignment, motion: Motion) -> PelvisOverlay:
     """Pelvis frames sampled at the motion's frames (nearest marker frame, after the
-    alignment's frame offset) and turned into the motion's axes and units."""
+    alignment's frame offset) and turned into the motion's axes and units.
+
+    ``pelvis.rotations`` act in the marker file's axes, so in the motion's they are
+    ``A R A^T`` (``A`` the alignment's rotation); origins in the pelvis' units are taken to
+    the marker file's (``alignment.scale`` is per marker-file unit) and then aligned.
+    """
     times = (np.arange(motion.n_frames) + alignment.frame_offset) * motion.frame_time
     source = np.rint(times * rate).astype(np.int64)
     inside = (source >= 0) & (source < pelvis.n_frames)
@@ -294,8 +301,9 @@ def pelvis_on_motion(pelvis: PelvisFrames, rate: float, alignment: MarkerAlignme
     origins = np.full((motion.n_frames, 3), np.nan)
     residuals = np.full(motion.n_frames, np.nan)
     if valid.any():
-        rotations[valid] = alignment.rotation @ pelvis.rotations[index[valid]]
-        origins[valid] = alignment.apply(pelvis.origins[index[valid]])
+        turn = alignment.rotation
+        rotations[valid] = turn @ pelvis.rotations[index[valid]] @ turn.T
+        origins[valid] = alignment.apply(pelvis.origins[index[valid]] * alignment.unit_factor(pelvis.units))
         residuals[valid] = pelvis.residuals[index[valid]]
     return PelvisOverlay(_readonly(rotations), _readonly(origins), _readonly(residuals), pelvis)
 

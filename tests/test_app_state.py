@@ -15,6 +15,7 @@ from core.demo import demo_markers, demo_motion
 from core.kinematics import world_positions
 from core.markers.pelvis import PelvisFrames
 from core.operations import split
+from core.rotations import matrix_from_euler
 from tests.conftest import random_motion
 
 PARENTS = [-1, 0, 1, 2, 1, 4, 0, 6]
@@ -201,18 +202,48 @@ def test_pelvis_frames_follow_the_marker_alignment():
     n = markers.n_frames
     valid = np.ones(n, bool)
     valid[10] = False
-    root = markers.positions[:, 0]
+    turn = matrix_from_euler(np.array([0.3, -0.2, 0.5]), "ZYX")  # a pelvis rotation in the marker file's axes
     pelvis = PelvisFrames(
-        rotations=np.broadcast_to(np.eye(3), (n, 3, 3)).copy(),
-        origins=np.where(valid[:, None], root, np.nan),
+        rotations=np.broadcast_to(turn, (n, 3, 3)).copy(),
+        origins=np.where(valid[:, None], markers.positions[:, 0] / 1000, np.nan),  # in metres
         residuals=np.where(valid, 0.01, np.nan),
         valid=valid,
+        units="m",
     )
     state.set_pelvis(pelvis)
     shown = state.pelvis
-    np.testing.assert_allclose(shown.origins[0], state.positions[0, 0], atol=0.3)
+    np.testing.assert_allclose(shown.origins[0], state.positions[0, 0], atol=0.3)  # m -> mm -> cm
     assert np.isnan(shown.origins[10]).all() and np.isnan(shown.residuals[10])
-    np.testing.assert_allclose(shown.rotations[0], state.marker_overlay.alignment.rotation)
+    a = state.marker_overlay.alignment.rotation
+    np.testing.assert_allclose(shown.rotations[0], a @ turn @ a.T, atol=1e-12)  # the same turn, motion axes
+
+
+@pytest.mark.parametrize("case", ["demo", "cmu"])
+def test_recovered_pelvis_turns_with_the_root(case):
+    """The pelvis frames recovered from markers (demo: markers named like joints; CMU: the
+    shipped CMU map on the C3D) turn with the skeleton's root, to a degree or two."""
+    from app import extensions
+    from core.formats import load_gmr
+    from core.markers import read_markers
+    from core.rotations import rotation_angle
+    from tests.conftest import shared_path
+
+    if case == "demo":
+        motion = demo_motion()
+        markers = demo_markers(motion)
+    else:
+        motion = load_gmr(shared_path("cmu/subject01/01_01.amc"))
+        markers = read_markers(shared_path("cmu/subject01/01_01.c3d"))
+    state = StudioState()
+    state.open_document(Snapshot.of(motion), None)
+    state.set_markers(markers)
+    assert extensions.recover_pelvis_frames(state)
+    pelvis = state.pelvis
+    assert pelvis.source.valid.mean() > 0.99
+    angle = np.degrees(rotation_angle(np.swapaxes(pelvis.rotations, 1, 2) @ state.rotations[:, 0]))
+    assert np.nanmedian(angle) < 1.5 and np.nanpercentile(angle, 95) < 4
+    distance = np.linalg.norm(pelvis.origins - state.positions[:, 0], axis=1)
+    assert np.nanmedian(distance) < 0.02 * motion.size
 
 
 def test_undo_limit_scales_with_motion_size(rng):

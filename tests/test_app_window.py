@@ -12,7 +12,6 @@ from PyQt6.QtCore import QPoint, Qt
 
 from app.scene import TREE_COLORS
 from core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
-from core.formats import load_gmr
 from core.kinematics import world_positions
 from tests import app_fixtures
 from tests.app_fixtures import open_file, screen_image
@@ -168,23 +167,19 @@ def test_markers_skip_gaps_and_label_the_hovered_one(qtbot, studio):
     assert state.selected_marker == m and "Marker LASI" in studio.inspector.text()
 
 
-def test_pelvis_frames_are_drawn_as_a_triad_with_the_residual(qtbot, studio):
-    from core.markers.pelvis import PelvisFrames
-
+def test_pelvis_frames_are_recovered_and_drawn_as_a_triad_with_the_residual(qtbot, studio):
     open_file(studio, demo_folder() / MOTION_FILE, demo_folder() / MARKERS_FILE)
-    markers = studio.state.marker_overlay.markers
-    n = markers.n_frames
-    pelvis = PelvisFrames(
-        rotations=np.broadcast_to(np.eye(3), (n, 3, 3)).copy(),
-        origins=markers.positions[:, 0].copy(),
-        residuals=np.full(n, 0.125),
-        valid=np.ones(n, bool),
-    )
-    studio.state.set_pelvis(pelvis)
-    assert studio.view.scene.is_shown("pelvis")
-    assert "residual" in studio.inspector.text() and "0.125" in studio.inspector.text()
+    state, scene = studio.state, studio.view.scene
+    assert state.pelvis is not None and "pelvis frames recovered" in studio.status.text()
+    assert scene.is_shown("pelvis") and studio.actions["recover_pelvis"].isEnabled()
+    state.set_frame(77)
+    triad = scene.parts["pelvis"].mesh.points.reshape(3, 2, 3)
+    np.testing.assert_allclose(triad[:, 0], np.broadcast_to(state.pelvis.origins[77], (3, 3)))
+    axes = (triad[:, 1] - triad[:, 0]).T / np.linalg.norm(triad[0, 1] - triad[0, 0])
+    np.testing.assert_allclose(axes, state.pelvis.rotations[77], atol=1e-9)
+    assert "residual" in studio.inspector.text() and f"{state.pelvis.residuals[77]:.3g}" in studio.inspector.text()
     studio.actions["overlay_pelvis"].setChecked(False)
-    assert not studio.view.scene.is_shown("pelvis")
+    assert not scene.is_shown("pelvis") and "residual" not in studio.inspector.text()
 
 
 def test_a_bad_file_leaves_the_document_as_it_was(qtbot, studio, tmp_path):
@@ -198,6 +193,9 @@ def test_a_bad_file_leaves_the_document_as_it_was(qtbot, studio, tmp_path):
 
 
 def test_save_as_gmr_and_export_bvh_round_trip(qtbot, studio, tmp_path):
+    from core.export import bvh_export, tree_file_name
+    from core.formats import read_motion
+
     open_file(studio, demo_folder() / MOTION_FILE)
     state = studio.state
     from app import commands
@@ -207,17 +205,42 @@ def test_save_as_gmr_and_export_bvh_round_trip(qtbot, studio, tmp_path):
     target = tmp_path / "edited.gmr"
     assert studio.files.save_to(target)
     assert not studio.isWindowModified() and "edited.gmr" in studio.windowTitle()
-    saved = load_gmr(target)  # files list each tree depth first: compare joints by name
-    order = [saved.joint_index(name) for name in state.motion.names]
-    np.testing.assert_allclose(world_positions(saved)[:, order], state.positions, atol=1e-9 * state.motion.size)
-    assert not studio.files.export_bvh(tmp_path / "two_trees.bvh")  # a forest of two trees
-    assert "join them first" in studio.status.text()
+    size = state.motion.size
+
+    def same_positions(path, names=None):
+        motion = read_motion(path)
+        order = [motion.joint_index(name) for name in (names or state.motion.names)]
+        np.testing.assert_allclose(world_positions(motion)[:, order], state.positions, atol=1e-9 * size)
+
+    same_positions(target)  # files list each tree depth first: joints compared by name
+    assert studio.files.export_bvh(tmp_path / "forest.bvh")  # one file, the trees under a World root
+    assert "World" in studio.status.text()
+    same_positions(tmp_path / "forest.bvh", bvh_export(state.motion).names)  # leaves are End Sites
+    assert studio.files.export_bvh(tmp_path / "trees.bvh", per_tree=True)
+    first = read_motion(tree_file_name(tmp_path / "trees.bvh", "root"))
+    second = read_motion(tree_file_name(tmp_path / "trees.bvh", "lfoot"))
+    assert first.n_joints + second.n_joints >= state.motion.n_joints
     commands.join_everything(state)
     assert studio.files.export_bvh(tmp_path / "one.bvh")
-    exported = load_gmr(tmp_path / "one.bvh")  # dummy joints added where siblings differ
-    order = [exported.joint_index(name) for name in state.motion.names]
-    np.testing.assert_allclose(world_positions(exported)[:, order], state.positions, atol=1e-6 * state.motion.size)
+    same_positions(tmp_path / "one.bvh", bvh_export(state.motion).names)  # dummies where siblings differ
     assert str(target.resolve()) in studio.files.recent_files()
+
+
+def test_remove_dummy_joints_on_the_cmu_bvh(qtbot, studio):
+    open_file(studio, shared_path(CMU))
+    state = studio.state
+    before = state.snapshot
+    action = studio.actions["remove_dummies"]
+    assert action.isEnabled()
+    action.trigger()
+    motion = state.motion
+    removed = set(before.motion.names) - set(motion.names)
+    assert {"LHipJoint", "RHipJoint"} <= removed and "Removed" in studio.status.text()
+    kept = [before.motion.names.index(name) for name in motion.names]
+    np.testing.assert_allclose(state.positions, before.positions[:, kept], atol=1e-9 * motion.size)
+    studio.actions["undo"].trigger()
+    assert state.snapshot is before
+    assert studio.forest.item_for(before.motion.joint_index("LHipJoint")) is not None
 
 
 def test_keys_step_jump_and_play(qtbot, studio):
