@@ -66,13 +66,16 @@ def bench_frames(frames: int) -> None:
     ):
         for name in extra:
             state.set_overlay(name, True)
+        for f in range(30):  # warm up (first renders compile shaders, fill caches)
+            state.set_frame(f)
+            app.processEvents()
         times = []
         for f in range(1, frames + 1):
             start = time.perf_counter()
             state.set_frame(f % state.n_frames)
             app.processEvents()  # the repaint: VTK renders in the widget's paint event
             times.append(time.perf_counter() - start)
-        _summary(label, np.array(times[5:]))
+        _summary(label, np.array(times))
     state.undo_stack.setClean()
     window.close()
 

@@ -13,12 +13,14 @@ import html
 from pathlib import Path
 
 import numpy as np
-from PyQt6.QtCore import Qt
+from PyQt6.QtCore import QElapsedTimer, Qt, QTimer
 from PyQt6.QtGui import QFontDatabase
 from PyQt6.QtWidgets import QLabel, QScrollArea, QWidget
 
 from app.state import StudioState
 from core.rotations import complete_order, euler_from_matrix
+
+REFRESH_MS = 100
 
 
 def format_matrix(matrix: np.ndarray, digits: int = 4) -> str:
@@ -62,21 +64,38 @@ class Inspector(QScrollArea):
         self._mono = QFontDatabase.systemFont(QFontDatabase.SystemFont.FixedFont).family()
         for signal in (state.document_changed, state.motion_changed, state.markers_changed, state.pelvis_changed):
             signal.connect(self._on_changed)
-        state.frame_changed.connect(self._on_changed)
+        state.frame_changed.connect(self._on_frame_changed)
         state.selection_changed.connect(self._on_changed)
         state.marker_selection_changed.connect(self._on_changed)
         state.overlay_changed.connect(self._on_changed)
+        # during playback the text is laid out at most every REFRESH_MS (it costs more than
+        # moving the skeleton); the last frame is always shown
+        self._clock = QElapsedTimer()
+        self._pending = QTimer(self, singleShot=True, interval=REFRESH_MS)
+        self._pending.timeout.connect(self._on_changed)
         self._on_changed()
+
+    def _on_frame_changed(self, _frame: int) -> None:
+        if self._clock.isValid() and self._clock.elapsed() < REFRESH_MS:
+            if not self._pending.isActive():
+                self._pending.start()
+        else:
+            self._on_changed()
 
     def text(self) -> str:
         """The shown text without markup (for tests and copying)."""
         from PyQt6.QtGui import QTextDocument
 
+        if self._pending.isActive():
+            self._pending.stop()
+            self._on_changed()
         document = QTextDocument()
         document.setHtml(self.label.text())
         return document.toPlainText()
 
     def _on_changed(self, *_args) -> None:
+        self._pending.stop()
+        self._clock.start()
         self.label.setText(self._html())
 
     def _pre(self, text: str) -> str:

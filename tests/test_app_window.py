@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from PyQt6.QtCore import QPoint, Qt
+from PyQt6.QtCore import QEvent, QPoint, Qt
 
 from app.scene import TREE_COLORS
 from core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
@@ -26,6 +26,33 @@ CMU = "cmu/subject01/01_01.bvh"
 def joint_point(window, joint: int) -> QPoint:
     x, y, _ = window.view.scene.joint_screen_positions()[joint]
     return QPoint(round(x), round(y))
+
+
+def hover(widget, point: QPoint) -> None:
+    """A mouse move with no button, sent to the widget itself (moving the real cursor would
+    reach whichever window is on top of the X server that test workers share)."""
+    from PyQt6.QtCore import QPointF
+    from PyQt6.QtGui import QMouseEvent
+    from PyQt6.QtWidgets import QApplication
+
+    local = QPointF(point)
+    event = QMouseEvent(
+        QEvent.Type.MouseMove,
+        local,
+        QPointF(widget.mapToGlobal(point)),
+        Qt.MouseButton.NoButton,
+        Qt.MouseButton.NoButton,
+        Qt.KeyboardModifier.NoModifier,
+    )
+    QApplication.sendEvent(widget, event)
+
+
+def press(qtbot, window, key) -> None:
+    """A key press as the user makes it: window shortcuts need the window to be active."""
+    if not window.isActiveWindow():
+        window.activateWindow()
+        qtbot.waitUntil(window.isActiveWindow, timeout=3000)
+    qtbot.keyClick(window.view.interactor, key)
 
 
 def click(qtbot, window, point: QPoint, button=Qt.MouseButton.LeftButton) -> None:
@@ -160,8 +187,8 @@ def test_markers_skip_gaps_and_label_the_hovered_one(qtbot, studio):
     state.set_overlay("joints", False) if "joints" in state.overlays else None
     m = state.marker_overlay.markers.labels.index("LASI")
     x, y, _ = scene.marker_screen_positions()[m]
-    qtbot.mouseMove(studio.view.interactor, QPoint(round(x), round(y)))
-    qtbot.waitUntil(lambda: scene.hovered_marker == m, timeout=2000)
+    hover(studio.view.interactor, QPoint(round(x), round(y)))
+    assert scene.hovered_marker == m
     assert scene.is_shown("marker_labels")
     click(qtbot, studio, QPoint(round(x), round(y)))
     assert state.selected_marker == m and "Marker LASI" in studio.inspector.text()
@@ -246,23 +273,21 @@ def test_remove_dummy_joints_on_the_cmu_bvh(qtbot, studio):
 def test_keys_step_jump_and_play(qtbot, studio):
     open_file(studio, demo_folder() / MOTION_FILE)
     state = studio.state
-    studio.activateWindow()
-    qtbot.waitUntil(studio.isActiveWindow, timeout=3000)  # window shortcuts need an active window
     studio.view.interactor.setFocus()
-    qtbot.keyClick(studio.view.interactor, Qt.Key.Key_Right)
+    press(qtbot, studio, Qt.Key.Key_Right)
     assert state.frame == 1
-    qtbot.keyClick(studio.view.interactor, Qt.Key.Key_End)
+    press(qtbot, studio, Qt.Key.Key_End)
     assert state.frame == state.n_frames - 1
-    qtbot.keyClick(studio.view.interactor, Qt.Key.Key_Left)
+    press(qtbot, studio, Qt.Key.Key_Left)
     assert state.frame == state.n_frames - 2
-    qtbot.keyClick(studio.view.interactor, Qt.Key.Key_Home)
+    press(qtbot, studio, Qt.Key.Key_Home)
     assert state.frame == 0
-    qtbot.keyClick(studio.view.interactor, Qt.Key.Key_BracketRight)
+    press(qtbot, studio, Qt.Key.Key_BracketRight)
     assert studio.player.speed == 2.0 and studio.timeline.speed_box.currentText() == "2x"
-    qtbot.keyClick(studio.view.interactor, Qt.Key.Key_Space)
+    press(qtbot, studio, Qt.Key.Key_Space)
     assert studio.player.playing
     qtbot.waitUntil(lambda: state.frame > 20, timeout=3000)
-    qtbot.keyClick(studio.view.interactor, Qt.Key.Key_Space)
+    press(qtbot, studio, Qt.Key.Key_Space)
     assert not studio.player.playing
     assert studio.timeline.slider.value() == state.frame
 
