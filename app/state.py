@@ -309,6 +309,6 @@ def pelvis_on_motion(pelvis: PelvisFrames, rate: float, alignment: MarkerAlignme
 
 
 def undo_limit_for(snapshot: Snapshot) -> int:
-    """How many edits the history keeps for a motion this big (at least 5, at most 100),
+    """How many edits the history keeps for a motion this big (at least 3, at most 100),
     so that 100,000-frame motions do not exhaust memory."""
-    return int(min(100, max(5, UNDO_MEMORY_BUDGET // max(2 * snapshot.nbytes, 1))))
+    return int(min(100, max(3, UNDO_MEMORY_BUDGET // max(2 * snapshot.nbytes, 1))))

@@ -251,4 +251,4 @@ def test_undo_limit_scales_with_motion_size(rng):
     assert undo_limit_for(small) == 100
     big = Snapshot.of(split(demo_motion(), 3))
     per_edit = 2 * big.nbytes
-    assert undo_limit_for(big) == min(100, max(5, UNDO_MEMORY_BUDGET // per_edit))
+    assert undo_limit_for(big) == min(100, max(3, UNDO_MEMORY_BUDGET // per_edit))

@@ -414,3 +414,60 @@ def test_a_long_load_shows_progress_and_keeps_the_window_responsive(qtbot, studi
     assert len(ticks) >= 10  # the event loop kept running during the load
     assert any(ticks)  # with a progress dialog up
     qtbot.waitUntil(lambda: studio.findChild(QProgressDialog) is None, timeout=2000)
+
+
+def test_a_bad_file_is_explained_in_a_dialog(qtbot, studio, tmp_path):
+    from PyQt6.QtCore import QTimer
+    from PyQt6.QtWidgets import QApplication, QMessageBox
+
+    bad = tmp_path / "broken.gmr"
+    bad.write_text("GMR 1\nHIERARCHY\nROOT a\n{\n OFFSET 0 0\n}\n")
+    studio.files.quiet = False
+    seen = []
+
+    def read_and_close() -> None:
+        box = QApplication.activeModalWidget()
+        if isinstance(box, QMessageBox):
+            seen.append((box.text(), box.detailedText()))
+            box.close()
+        else:
+            QTimer.singleShot(50, read_and_close)
+
+    QTimer.singleShot(50, read_and_close)
+    studio.files.open_path(str(bad), ask=False, wait=True)
+    assert seen, "no error dialog"
+    text, details = seen[0]
+    assert "broken.gmr" in text and "line 6, column 1" in text and "expected a number for OFFSET" in text
+    assert details.startswith(f"{bad}:6:1:")
+    assert studio.state.motion is None
+
+
+def test_the_joint_menu_opens_on_a_right_click(qtbot, studio):
+    open_file(studio, demo_folder() / MOTION_FILE)
+    knee = studio.state.motion.joint_index("rfemur")
+    click(qtbot, studio, joint_point(studio, knee), Qt.MouseButton.RightButton)
+    menu = studio.joint_menu
+    qtbot.waitUntil(menu.isVisible, timeout=2000)
+    assert studio.state.selected == knee
+    enabled = {a.text().replace("&", "") for a in menu.actions() if a.isEnabled() and a.text()}
+    assert {"Make root", "Split here", "Split all"} <= enabled and "Join to parent" not in enabled
+    menu.close()
+
+
+def test_overlays_and_playback_settings_are_remembered(qtbot, tmp_path):
+    from PyQt6.QtCore import QSettings
+
+    from app.main_window import MainWindow
+
+    path = str(tmp_path / "settings.ini")
+    first = MainWindow(settings=QSettings(path, QSettings.Format.IniFormat))
+    qtbot.addWidget(first)
+    first.actions["overlay_axes"].setChecked(True)
+    first.actions["overlay_ground"].setChecked(False)
+    first.player.set_speed(0.5)
+    first.close()
+    second = MainWindow(settings=QSettings(path, QSettings.Format.IniFormat))
+    qtbot.addWidget(second)
+    assert second.state.overlays["axes"] and not second.state.overlays["ground"]
+    assert second.player.speed == 0.5 and second.timeline.speed_box.currentText() == "0.5x"
+    second.close()
