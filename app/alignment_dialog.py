@@ -70,12 +70,13 @@ class AlignmentDialog(QDialog):
         self.frames.valueChanged.connect(self._on_edited)
 
     def alignment(self) -> MarkerAlignment:
-        """The alignment the fields describe."""
+        """The alignment the fields describe (a field left as shown keeps its exact value,
+        not the value rounded to the box's decimals)."""
         turn = rotation_about(self.up_axis, self.turn.value())
         return self.base.replace(
             rotation=turn @ self.base.rotation,
-            scale=self.scale.value(),
-            offset=np.array([box.value() for box in self.offset]),
+            scale=_exact(self.scale, self.base.scale),
+            offset=np.array([_exact(box, value) for box, value in zip(self.offset, self.base.offset)]),
             frame_offset=self.frames.value(),
             method=self.base.method if self._untouched() else f"{self.base.method}; adjusted by hand",
         )
@@ -113,3 +114,8 @@ class AlignmentDialog(QDialog):
     def reject(self) -> None:
         self.state.set_alignment(self.original)
         super().reject()
+
+
+def _exact(box: QDoubleSpinBox, value: float) -> float:
+    """``value`` if the box still shows it (rounded to its decimals), else the box's value."""
+    return float(value) if box.value() == round(float(value), box.decimals()) else box.value()

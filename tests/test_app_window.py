@@ -471,3 +471,27 @@ def test_overlays_and_playback_settings_are_remembered(qtbot, tmp_path):
     assert second.state.overlays["axes"] and not second.state.overlays["ground"]
     assert second.player.speed == 0.5 and second.timeline.speed_box.currentText() == "0.5x"
     second.close()
+
+
+def test_the_alignment_dialog_adjusts_live_and_cancel_restores(qtbot, studio):
+    from app.alignment_dialog import AlignmentDialog
+
+    open_file(studio, demo_folder() / MOTION_FILE, demo_folder() / MARKERS_FILE)
+    state = studio.state
+    original = state.marker_overlay
+    dialog = AlignmentDialog(state, studio)
+    qtbot.addWidget(dialog)
+    dialog.offset[0].setValue(float(original.alignment.offset[0]) + 10.0)
+    shift = dialog.offset[0].value() - original.alignment.offset[0]  # 10, to the box's decimals
+    assert shift == pytest.approx(10.0, abs=1e-3)
+    np.testing.assert_allclose(state.marker_overlay.positions[:, :, 0], original.positions[:, :, 0] + shift, atol=1e-9)
+    dialog.turn.setValue(90.0)  # a quarter turn about the up axis (Y)
+    centre = original.alignment.offset + np.array([shift, 0, 0])
+    turned = state.marker_overlay.positions[5, 0] - centre
+    before = original.positions[5, 0] - original.alignment.offset
+    np.testing.assert_allclose(turned, [before[2], before[1], -before[0]], atol=1e-6)
+    assert "adjusted by hand" in state.marker_overlay.alignment.method
+    dialog.frames.setValue(3)
+    np.testing.assert_allclose(state.marker_overlay.positions[0, :, 1], original.positions[3, :, 1], atol=1e-6)
+    dialog.reject()
+    np.testing.assert_array_equal(state.marker_overlay.positions, original.positions)  # NaN gaps compare equal
