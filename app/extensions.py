@@ -35,8 +35,12 @@ def marker_suffixes() -> set[str]:
     return set(MARKER_READERS)
 
 
-def remove_dummies_available() -> bool:
-    return _find("core.dummies", "remove_dummies") is not None
+def remove_dummies_available(motion=None) -> bool:
+    """The core can remove dummy joints (and, given a motion, it has some)."""
+    find = _find("core.dummies", "find_dummies")
+    if find is None or _find("core.dummies", "remove_dummies") is None:
+        return False
+    return motion is None or bool(find(motion))
 
 
 def remove_dummy_joints(state: StudioState) -> bool:

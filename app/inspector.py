@@ -174,5 +174,6 @@ class Inspector(QScrollArea):
             labels = html.escape(", ".join(pelvis.source.labels)) or "X1, X2, X3"
             out.append(f"<p><b>Pelvis fit residual</b> (RMS of {labels}): {text}</p>")
             if np.isfinite(residual):
+                out.append("<p style='margin-bottom:2px'><b>Pelvis rotation</b> (recovered, motion axes)</p>")
                 out.append(self._pre(format_matrix(pelvis.rotations[f])))
         return out

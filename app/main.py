@@ -140,6 +140,7 @@ def offscreen_screenshot(motion_path: str, markers_path: str | None, args: argpa
     import pyvista as pv
     from PyQt6.QtCore import QCoreApplication
 
+    from app import extensions
     from app.scene import SkeletonScene
     from app.state import StudioState
     from app.video import save_screenshot
@@ -153,6 +154,7 @@ def offscreen_screenshot(motion_path: str, markers_path: str | None, args: argpa
     state.open_document(snapshot, motion_path)
     if markers is not None:
         state.set_markers(markers)
+        extensions.recover_pelvis_frames(state, quiet=True)
     problem = _prepare(state, args)
     if problem:
         print(f"gmr-studio: {problem}", file=sys.stderr)
@@ -166,6 +168,7 @@ def offscreen_screenshot(motion_path: str, markers_path: str | None, args: argpa
         scene.selected = state.selected
         scene.set_snapshot(state.snapshot, reset_camera=True)
         scene.set_markers(state.marker_overlay)
+        scene.set_pelvis(state.pelvis)
         scene.show_frame(frame)
         width, height = save_screenshot(scene, out)
     finally:
@@ -178,6 +181,7 @@ def window_screenshot(motion_path: str, markers_path: str | None, args: argparse
     """Open the real window, show the frame, save its view (or the whole window) and exit."""
     from PyQt6.QtWidgets import QApplication
 
+    from app import extensions
     from app.main_window import MainWindow
     from app.video import save_screenshot, window_image
 
@@ -197,6 +201,7 @@ def window_screenshot(motion_path: str, markers_path: str | None, args: argparse
     window.state.open_document(snapshot, motion_path)
     if markers is not None:
         window.state.set_markers(markers)
+        extensions.recover_pelvis_frames(window.state, quiet=True)
     problem = _prepare(window.state, args)
     if problem:
         print(f"gmr-studio: {problem}", file=sys.stderr)

@@ -150,7 +150,11 @@ class MainWindow(QMainWindow):
         self.actions[f"overlay_{name}"].setChecked(shown)
 
     def _on_enabled_changed(self, *_args) -> None:
-        action_table.update_enabled(self.actions, self.state, extensions.remove_dummies_available())
+        action_table.update_enabled(
+            self.actions,
+            self.state,
+            self.state.motion is not None and extensions.remove_dummies_available(self.state.motion),
+        )
         self.actions["recover_pelvis"].setEnabled(
             self.state.marker_overlay is not None and extensions.pelvis_recovery_available()
         )

@@ -204,7 +204,7 @@ class SkeletonScene:
         low, high, floor = self.ground_bounds
         if self.overlays.get("follow"):
             points = self.snapshot.positions[self.frame]
-            margin = 0.3 * self.snapshot.motion.size
+            margin = 0.12 * self.snapshot.motion.size
             low, high = points.min(axis=0) - margin, points.max(axis=0) + margin
             low[self.up_axis] = min(low[self.up_axis], floor)
             self._followed = self._follow_point(self.frame)
