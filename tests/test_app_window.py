@@ -1,4 +1,4 @@
-"""The real window under Xvfb: open, click, edit, undo, overlays, files, keys.
+"""The real window under Xvfb: open, click, edit, undo, overlays, markers, pelvis, keys.
 
 Every test gets a fresh main window (``studio``) that fails the test if it leaks a window
 or a VTK render window.
