@@ -48,10 +48,14 @@ def parse_size(text: str) -> tuple[int, int]:
 
 
 def has_display() -> bool:
-    """A display the Qt xcb/wayland platforms can use (or a platform chosen explicitly)."""
+    """A display the window can be shown on: not Linux, or DISPLAY / WAYLAND_DISPLAY set, or a
+    Qt platform chosen explicitly that shows windows (``offscreen`` and ``minimal`` do not)."""
     if sys.platform != "linux":
         return True
-    return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY") or os.environ.get("QT_QPA_PLATFORM"))
+    platform = os.environ.get("QT_QPA_PLATFORM", "").split(":")[0]
+    if platform in ("offscreen", "minimal"):
+        return False
+    return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY") or platform)
 
 
 def default_files(args: argparse.Namespace) -> tuple[str, str | None]:

@@ -37,6 +37,12 @@ def test_without_a_display_it_says_how_to_run_and_exits_2():
     assert len(lines) == 1 and "no display" in lines[0] and "xvfb-run" in lines[0] and "--screenshot" in lines[0]
 
 
+def test_an_offscreen_qt_platform_is_no_display():
+    env = {**headless_env(), "QT_QPA_PLATFORM": "offscreen"}
+    result = subprocess.run(STUDIO, capture_output=True, text=True, env=env, timeout=60)
+    assert result.returncode == 2 and "no display" in result.stderr
+
+
 def test_screenshot_without_a_display_renders_off_screen(tmp_path):
     out = tmp_path / "walk.png"
     result = subprocess.run(
