@@ -1,53 +1,238 @@
-"""``gmr-studio [FILE]``: the desktop app.
+"""``gmr-studio [FILE] [--markers M] [--screenshot OUT.png [--frame N] [--size WxH]]``.
 
-Placeholder until the viewer lands: a window that loads the file (or says what it would
-show) so that the entry point, packaging and GUI test set-up are real.
+With no FILE the demo opens (``resources/demo/``: a walk and its markers, made by
+``python -m core.demo``). ``--screenshot`` renders the 3D view to a PNG and exits; it
+works without a display (off-screen rendering). Without a display and without
+``--screenshot`` the app says how to run it and exits with status 2 instead of letting Qt
+abort.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from collections.abc import Sequence
+
+from core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
 
 
 def build_arguments() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="gmr-studio", description="Look at and edit skeletal motion (GMR).")
-    parser.add_argument("file", nargs="?", help="a .bvh or .gmr file to open")
+    parser.add_argument("file", nargs="?", help="a .bvh, .gmr (or .amc) motion; default: the demo walk")
+    parser.add_argument("--markers", metavar="M", help="a .trc (or .c3d) marker file to show over the motion")
+    parser.add_argument("--screenshot", metavar="OUT.png", help="render the view to a PNG and exit")
+    parser.add_argument("--frame", type=int, default=0, metavar="N", help="frame to render (with --screenshot)")
+    parser.add_argument("--size", default="1280x800", metavar="WxH", help="image size (with --screenshot)")
+    parser.add_argument("--window", action="store_true", help="with --screenshot: the whole window, docks included")
+    parser.add_argument("--select", metavar="JOINT", help="with --screenshot: select this joint first")
+    parser.add_argument(
+        "--show",
+        metavar="OVERLAYS",
+        default="",
+        help="with --screenshot: overlays to switch on, e.g. axes,trails,labels",
+    )
+    # for app.bench: print the wall-clock time when the file's first frame is drawn, then quit
+    parser.add_argument("--first-frame-time", action="store_true", help=argparse.SUPPRESS)
     return parser
 
 
-def create_window(path: str | None):
-    """The main window (a placeholder that summarises the motion)."""
-    from PyQt6.QtWidgets import QLabel, QMainWindow
+def parse_size(text: str) -> tuple[int, int]:
+    try:
+        width, height = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--size must look like 1280x800, not {text!r}") from None
+    if not (16 <= width <= 8192 and 16 <= height <= 8192):
+        raise argparse.ArgumentTypeError(f"--size {text}: each side must be 16 to 8192 pixels")
+    return width, height
 
-    from core.errors import MotionFileError
-    from core.formats import load_gmr
 
-    window = QMainWindow()
-    window.setWindowTitle("GMR Studio")
-    if path:
-        try:
-            motion = load_gmr(path)
-            text = f"{path}\n{motion.n_joints} joints, {motion.n_frames} frames at {motion.frame_rate:.4g} Hz"
-        except MotionFileError as exc:
-            text = str(exc)
-    else:
-        text = "GMR Studio\n(the 3D viewer is on its way)"
-    label = QLabel(text)
-    window.setCentralWidget(label)
-    window.resize(800, 600)
-    return window
+def has_display() -> bool:
+    """A display the window can be shown on: not Linux, or DISPLAY / WAYLAND_DISPLAY set, or a
+    Qt platform chosen explicitly that shows windows (``offscreen`` and ``minimal`` do not)."""
+    if sys.platform != "linux":
+        return True
+    platform = os.environ.get("QT_QPA_PLATFORM", "").split(":")[0]
+    if platform in ("offscreen", "minimal"):
+        return False
+    return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY") or platform)
+
+
+def default_files(args: argparse.Namespace) -> tuple[str, str | None]:
+    """The motion and markers to open: the arguments, or the demo."""
+    if args.file:
+        return args.file, args.markers
+    folder = demo_folder()
+    markers = folder / MARKERS_FILE
+    return str(folder / MOTION_FILE), args.markers or (str(markers) if markers.exists() else None)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    args = build_arguments().parse_args(argv)
+    parser = build_arguments()
+    args = parser.parse_args(argv)
+    try:
+        size = parse_size(args.size)
+    except argparse.ArgumentTypeError as exc:
+        parser.error(str(exc))
+    motion_path, markers_path = default_files(args)
+    if args.screenshot and (args.window or has_display()):
+        if not has_display():
+            print("gmr-studio: --window needs a display (run under xvfb-run)", file=sys.stderr)
+            return 2
+        return window_screenshot(motion_path, markers_path, args, size)
+    if args.screenshot:
+        return offscreen_screenshot(motion_path, markers_path, args, size)
+    if not has_display():
+        print(
+            "gmr-studio: no display (DISPLAY and WAYLAND_DISPLAY are unset): run it on a desktop, under "
+            "`xvfb-run -a gmr-studio ...`, or render a picture with `gmr-studio FILE --screenshot OUT.png`",
+            file=sys.stderr,
+        )
+        return 2
     from PyQt6.QtWidgets import QApplication
 
+    from app.main_window import MainWindow
+
     app = QApplication.instance() or QApplication(sys.argv[:1])
-    window = create_window(args.file)
+    app.setApplicationName("GMR Studio")
+    window = MainWindow()
     window.show()
+    if args.first_frame_time:
+        window.files.load_finished.connect(lambda ok: _report_first_frame(app, window, ok))
+    window.files.open_path(motion_path, markers=markers_path, ask=False)
     return app.exec()
+
+
+def _report_first_frame(app, window, loaded: bool) -> None:
+    import time
+
+    window.view.scene.render()
+    app.processEvents()
+    print(f"{time.time():.6f}" if loaded else "nan", flush=True)
+    window.close()
+    app.quit()
+
+
+def _load_or_report(motion_path: str, markers_path: str | None):
+    from app.loading import load_markers, load_snapshot
+    from core.errors import MotionFileError
+
+    try:
+        snapshot = load_snapshot(motion_path)
+        markers = load_markers(markers_path) if markers_path else None
+    except MotionFileError as exc:
+        print(exc, file=sys.stderr)
+        return None
+    return snapshot, markers
+
+
+def _prepare(state, args: argparse.Namespace) -> str | None:
+    """Apply --select and --show to a state; an error message, or None."""
+    for name in [n.strip() for n in args.show.split(",") if n.strip()]:
+        if name not in state.overlays:
+            return f"--show: no overlay {name!r} (expected some of {', '.join(state.overlays)})"
+        state.set_overlay(name, True)
+    if args.select:
+        if args.select not in state.motion.names:
+            return f"--select: no joint {args.select!r} in the motion"
+        state.select(state.motion.names.index(args.select))
+    return None
+
+
+def offscreen_screenshot(motion_path: str, markers_path: str | None, args: argparse.Namespace, size) -> int:
+    """Render the view of a file without any window (no display needed)."""
+    import pyvista as pv
+    from PyQt6.QtCore import QCoreApplication
+
+    from app import extensions
+    from app.scene import SkeletonScene
+    from app.state import StudioState
+    from app.video import save_screenshot
+
+    loaded = _load_or_report(motion_path, markers_path)
+    if loaded is None:
+        return 2
+    snapshot, markers = loaded
+    _app = QCoreApplication.instance() or QCoreApplication(sys.argv[:1])
+    state = StudioState()
+    state.open_document(snapshot, motion_path)
+    if markers is not None:
+        state.set_markers(markers)
+        extensions.recover_pelvis_frames(state, quiet=True)
+    problem = _prepare(state, args)
+    if problem:
+        print(f"gmr-studio: {problem}", file=sys.stderr)
+        return 2
+    frame, out = args.frame, args.screenshot
+    plotter = pv.Plotter(off_screen=True, window_size=size)
+    try:
+        scene = SkeletonScene(plotter)
+        scene.frame = frame
+        scene.overlays = dict(state.overlays)
+        scene.selected = state.selected
+        scene.set_snapshot(state.snapshot, reset_camera=True)
+        scene.set_markers(state.marker_overlay)
+        scene.set_pelvis(state.pelvis)
+        scene.show_frame(frame)
+        width, height = save_screenshot(scene, out)
+    finally:
+        plotter.close()
+    print(f"wrote {out} ({width}x{height}, frame {scene.frame})")
+    return 0
+
+
+def window_screenshot(motion_path: str, markers_path: str | None, args: argparse.Namespace, size) -> int:
+    """Open the real window, show the frame, save its view (or the whole window) and exit."""
+    from PyQt6.QtWidgets import QApplication
+
+    from app import extensions
+    from app.main_window import MainWindow
+    from app.video import save_screenshot, window_image
+
+    loaded = _load_or_report(motion_path, markers_path)
+    if loaded is None:
+        return 2
+    snapshot, markers = loaded
+    import tempfile
+
+    from PyQt6.QtCore import QSettings
+
+    app = QApplication.instance() or QApplication(sys.argv[:1])
+    scratch = tempfile.TemporaryDirectory()
+    # throwaway settings: a screenshot neither reads nor changes the user's
+    window = MainWindow(settings=QSettings(f"{scratch.name}/settings.ini", QSettings.Format.IniFormat))
+    frame, out, whole_window = args.frame, args.screenshot, args.window
+    window.state.open_document(snapshot, motion_path)
+    if markers is not None:
+        window.state.set_markers(markers)
+        extensions.recover_pelvis_frames(window.state, quiet=True)
+    problem = _prepare(window.state, args)
+    if problem:
+        print(f"gmr-studio: {problem}", file=sys.stderr)
+        window.close()
+        return 2
+    if whole_window:
+        window.resize(*size)
+    else:
+        window.view.interactor.setFixedSize(*size)
+    window.show()
+    app.processEvents()
+    window.state.set_frame(frame)
+    window.view.scene.reset_camera()
+    app.processEvents()
+    if whole_window:
+        from app.video import save_png
+
+        image = window_image(window, window.view.interactor)
+        save_png(image, out)
+        width, height = image.shape[1], image.shape[0]
+    else:
+        width, height = save_screenshot(window.view.scene, out)
+    window.state.undo_stack.setClean()
+    window.close()
+    scratch.cleanup()
+    print(f"wrote {out} ({width}x{height}, frame {window.state.frame})")
+    return 0
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,22 +1,22 @@
-"""The desktop entry point starts a real Qt window (under Xvfb in CI)."""
+"""The desktop entry point starts a real Qt window (under Xvfb in CI) and shows a file."""
 
 from __future__ import annotations
 
 import pytest
 
-pytest.importorskip("PyQt6")
-
-from app.main import create_window
+from tests import app_fixtures
+from tests.app_fixtures import open_file
 from tests.test_bvh_reader import SMALL
 
+pytestmark = pytest.mark.gui
+studio = app_fixtures.studio
 
-@pytest.mark.gui
-def test_window_opens_on_a_file(qtbot, tmp_path):
+
+def test_window_opens_on_a_small_file(qtbot, studio, tmp_path):
     path = tmp_path / "small.bvh"
     path.write_text(SMALL)
-    window = create_window(str(path))
-    qtbot.addWidget(window)
-    window.show()
-    qtbot.waitExposed(window)
-    assert window.windowTitle() == "GMR Studio"
-    assert "3 joints, 2 frames" in window.centralWidget().text()
+    open_file(studio, path)
+    assert studio.windowTitle() == "small.bvh[*] \u2014 GMR Studio"
+    assert studio.forest.topLevelItemCount() == 1
+    assert "3 joints" in studio.status.text() and "2 frames" in studio.status.text()
+    assert studio.view.scene.is_shown("joints") and studio.view.scene.is_shown("bones")

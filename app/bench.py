@@ -1,0 +1,152 @@
+"""``python -m app.bench``: how fast the app is, measured (prints only; run under xvfb-run).
+
+1. Frame update during playback of CMU 01_01 (BVH) with its C3D markers: the time from
+   ``state.set_frame(f)`` (every actor moved, timeline and inspector updated) until Qt has
+   processed the events that follow, the view's render and the window's repaint included,
+   over consecutive frames; median, 95th percentile and the fps they imply. Once with the
+   default overlays and a selected joint, once with axes, trail and labels on too.
+2. Launch to first frame: a fresh ``gmr-studio 01_01.bvh`` process, from before it starts
+   to the first rendered frame of the file (interpreter, imports, window, reading, FK).
+3. Edits on a 100,000-frame motion (01_01 tiled): shift root, split and join, each as the
+   core operation alone and as the app's undoable edit (operation + forward kinematics of
+   every frame for the cache).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import time
+from collections.abc import Sequence
+
+import numpy as np
+
+from core.shared_data import shared_data_dir
+
+BVH = "cmu/subject01/01_01.bvh"
+C3D = "cmu/subject01/01_01.c3d"
+
+
+def _summary(label: str, seconds: np.ndarray) -> None:
+    ms = 1000 * np.asarray(seconds)
+    median, p95 = np.median(ms), np.percentile(ms, 95)
+    rates = f"{1000 / median:5.0f} fps (p95: {1000 / p95:4.0f})"
+    print(f"{label:<46} median {median:6.2f} ms   p95 {p95:6.2f} ms   -> {rates}")
+
+
+def bench_frames(frames: int) -> None:
+    from PyQt6.QtCore import QSettings
+    from PyQt6.QtWidgets import QApplication
+
+    from app.main_window import MainWindow
+
+    data = shared_data_dir()
+    app = QApplication.instance() or QApplication(sys.argv[:1])
+    scratch = os.path.join(os.environ.get("TMPDIR", "/tmp"), "gmr-studio-bench.ini")
+    window = MainWindow(settings=QSettings(scratch, QSettings.Format.IniFormat))
+    window.settings.clear()
+    window.files.quiet = True
+    window.resize(1280, 800)
+    window.show()
+    app.processEvents()
+    window.files.open_path(str(data / BVH), markers=str(data / C3D), ask=False, wait=True)
+    state = window.state
+    overlay = state.marker_overlay
+    print(
+        f"CMU 01_01: {state.motion.n_joints} joints, {state.motion.n_frames} frames; "
+        f"{overlay.markers.n_markers} markers ({overlay.alignment.method}); view "
+        f"{window.view.interactor.width()}x{window.view.interactor.height()} px"
+    )
+    state.select(state.motion.joint_index("LeftHand"))
+    render_window = window.view.scene.plotter.ren_win
+    started, renders = [0.0], []
+    render_window.AddObserver("StartEvent", lambda *_: started.__setitem__(0, time.perf_counter()))
+    render_window.AddObserver("EndEvent", lambda *_: renders.append(time.perf_counter() - started[0]))
+    for label, extra in (
+        ("set frame + render (default overlays)", ()),
+        ("... with axes, trail, labels", ("axes", "trails", "labels")),
+    ):
+        for name in extra:
+            state.set_overlay(name, True)
+        for f in range(30):  # warm up (first renders compile shaders, fill caches)
+            state.set_frame(f)
+            app.processEvents()
+        times = []
+        renders.clear()
+        for f in range(1, frames + 1):
+            start = time.perf_counter()
+            state.set_frame(f % state.n_frames)
+            app.processEvents()  # the repaint: VTK renders in the widget's paint event
+            times.append(time.perf_counter() - start)
+        _summary(label, np.array(times))
+        print(f"{'  of which VTK rendering (the rest: Qt)':<46} median {1000 * np.median(renders):6.2f} ms")
+    state.undo_stack.setClean()
+    window.close()
+
+
+def bench_launch() -> None:
+    path = shared_data_dir() / BVH
+    start = time.time()
+    result = subprocess.run(
+        [sys.executable, "-m", "app.main", str(path), "--first-frame-time"], capture_output=True, text=True, check=False
+    )
+    if result.returncode != 0:
+        print(f"launch: failed: {result.stderr.strip()}")
+        return
+    shown = float(result.stdout.strip().splitlines()[-1])
+    print(f"{'launch to first frame of 01_01.bvh':<46} {shown - start:6.2f} s (new process, window shown)")
+
+
+def bench_edits(n_frames: int) -> None:
+    from app import commands
+    from app.state import Snapshot, StudioState
+    from core.formats import load_gmr
+    from core.operations import join, shift_root, split
+
+    base = load_gmr(shared_data_dir() / BVH)
+    repeat = -(-n_frames // base.n_frames)
+    index = np.tile(np.arange(base.n_frames), repeat)[:n_frames]
+    motion = base.frame_slice(index)
+    print(f"edits on {motion.n_frames} frames x {motion.n_joints} joints (01_01 tiled)")
+    foot, forearm = motion.joint_index("LeftFoot"), motion.joint_index("RightForeArm")
+    start = time.perf_counter()
+    snapshot = Snapshot.of(motion)
+    print(f"{'  forward kinematics of every frame (cache)':<46} {time.perf_counter() - start:6.3f} s")
+    split_motion = split(motion, forearm)
+    for label, operation, source in (
+        ("shift root to LeftFoot", lambda m: shift_root(m, foot), motion),
+        ("split at RightForeArm", lambda m: split(m, forearm), motion),
+        ("join RightForeArm", lambda m: join(m, forearm), split_motion),
+    ):
+        start = time.perf_counter()
+        operation(source)
+        core_time = time.perf_counter() - start
+        state = StudioState()
+        state.open_document(snapshot if source is motion else Snapshot.of(source), None)
+        start = time.perf_counter()
+        assert commands.run_edit(state, label, operation)
+        edit_time = time.perf_counter() - start
+        start = time.perf_counter()
+        state.undo_stack.undo()
+        undo_time = time.perf_counter() - start
+        print(f"  {label:<44} core {core_time:6.3f} s   app edit {edit_time:6.3f} s   undo {1000 * undo_time:5.2f} ms")
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m app.bench", description=__doc__.splitlines()[0])
+    parser.add_argument("--frames", type=int, default=600, help="frames played for the frame-update timing")
+    parser.add_argument("--edit-frames", type=int, default=100_000, help="frames of the motion edited")
+    args = parser.parse_args(argv)
+    if not (shared_data_dir() / BVH).exists():
+        print(f"the CMU files are not in {shared_data_dir()}: nothing to measure", file=sys.stderr)
+        return 2
+    bench_frames(args.frames)
+    bench_launch()
+    bench_edits(args.edit_frames)
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,248 @@
+"""The main window: lays out the view and the docks and wires the actions. No math here."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from PyQt6.QtCore import QSettings, Qt
+from PyQt6.QtGui import QCloseEvent, QDragEnterEvent, QDropEvent
+from PyQt6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMenu, QMessageBox, QUndoView, QWidget
+
+from app import actions as action_table
+from app import commands, extensions
+from app.alignment_dialog import AlignmentDialog
+from app.files import FileController
+from app.forest import ForestTree
+from app.inspector import Inspector
+from app.playback import SPEEDS, Player
+from app.state import StudioState
+from app.timeline import Timeline
+from app.view import SkeletonView
+
+KEYS_HELP = """<table>
+<tr><td><b>Space</b></td><td>play / pause</td></tr>
+<tr><td><b>Left / Right</b></td><td>previous / next frame (Shift: one second)</td></tr>
+<tr><td><b>Home / End</b></td><td>first / last frame</td></tr>
+<tr><td><b>[ / ]</b></td><td>slower / faster (0.25x to 4x)</td></tr>
+<tr><td><b>Click</b></td><td>select a joint (or a marker); right click: joint menu</td></tr>
+<tr><td><b>Drag</b></td><td>turn the camera (Shift: pan, wheel or right drag: zoom)</td></tr>
+<tr><td><b>Ctrl+R / Ctrl+T / Ctrl+J</b></td><td>make root / split here / join to parent</td></tr>
+<tr><td><b>Ctrl+Z / Ctrl+Shift+Z</b></td><td>undo / redo</td></tr>
+<tr><td><b>G K A T L M B P</b></td><td>ground, soft links, axes, trail, labels, markers, marker labels, pelvis</td></tr>
+</table>"""
+
+
+def default_settings() -> QSettings:
+    return QSettings(QSettings.Format.IniFormat, QSettings.Scope.UserScope, "gmr-studio", "gmr-studio")
+
+
+class MainWindow(QMainWindow):
+    """GMR Studio's window: 3D view in the centre; forest, inspector, timeline, history docks."""
+
+    def __init__(self, settings: QSettings | None = None, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.settings = settings if settings is not None else default_settings()
+        self.state = StudioState(self)
+        self.player = Player(self.state, self)
+        self.view = SkeletonView(self.state, self)
+        self.setCentralWidget(self.view)
+        self.files = FileController(self.state, lambda: self.view.scene, self.settings, self)
+        self.setAcceptDrops(True)
+        self.actions = action_table.build_actions(self, self._handlers(), self.state.undo_stack)
+        self.actions["play"].setShortcutContext(Qt.ShortcutContext.WindowShortcut)
+        self.recent_menu = QMenu("Open &recent", self)
+        self.history = QUndoView(self.state.undo_stack)
+        self.history.setEmptyLabel("<opened>")
+        self.history_dock = self._dock("History", self.history, Qt.DockWidgetArea.RightDockWidgetArea)
+        self.history_dock.hide()
+        toggle = self.history_dock.toggleViewAction()
+        toggle.setText("&History")
+        toggle.setShortcut("Ctrl+H")
+        self.joint_menu = action_table.fill_menus(self, self.actions, self.recent_menu, toggle)
+        self.forest = ForestTree(self.state)
+        self.inspector = Inspector(self.state)
+        self.timeline = Timeline(self.state, self.player, self.actions)
+        self.forest.context_menu = self.view.context_menu = self.joint_menu
+        forest_dock = self._dock("Forest", self.forest, Qt.DockWidgetArea.LeftDockWidgetArea)
+        inspector_dock = self._dock("Inspector", self.inspector, Qt.DockWidgetArea.RightDockWidgetArea)
+        self.resizeDocks([forest_dock, inspector_dock], [300, 370], Qt.Orientation.Horizontal)
+        self._dock("Timeline", self.timeline, Qt.DockWidgetArea.BottomDockWidgetArea)
+        self.status = QLabel()
+        self.statusBar().addWidget(self.status, 1)
+        self._wire()
+        self._restore_settings()
+        self._on_path_changed("")
+
+    def _dock(self, title: str, widget: QWidget, area: Qt.DockWidgetArea) -> QDockWidget:
+        dock = QDockWidget(title, self)
+        dock.setObjectName(title.lower())
+        dock.setWidget(widget)
+        self.addDockWidget(area, dock)
+        if hasattr(self, "view_menu"):
+            self.view_menu.addAction(dock.toggleViewAction())
+        return dock
+
+    def _handlers(self) -> dict:
+        state, player, files = self.state, self.player, self.files
+        handlers = {
+            "open": files.open_dialog,
+            "add_markers": files.add_markers_dialog,
+            "align_markers": self._align_markers,
+            "remove_markers": lambda: state.set_markers(None),
+            "recover_pelvis": self._recover_pelvis,
+            "save": files.save,
+            "save_as": files.save_as,
+            "export_bvh": files.export_bvh_dialog,
+            "screenshot": files.save_screenshot_dialog,
+            "export_video": lambda: files.export_video_dialog(player.speed),
+            "quit": self.close,
+            "make_root": lambda: commands.make_root(state, state.selected),
+            "split": lambda: commands.split_here(state, state.selected),
+            "join": lambda: commands.join_to_parent(state, state.selected),
+            "split_all": lambda: commands.split_everything(state),
+            "join_all": lambda: commands.join_everything(state),
+            "remove_dummies": lambda: extensions.remove_dummy_joints(state),
+            "play": player.toggle,
+            "step_back": lambda: (player.pause(), state.step(-1)),
+            "step_forward": lambda: (player.pause(), state.step(1)),
+            "back_second": lambda: state.step(-self._second()),
+            "forward_second": lambda: state.step(self._second()),
+            "first_frame": lambda: state.set_frame(0),
+            "last_frame": lambda: state.set_frame(state.n_frames - 1),
+            "loop": player.set_loop,
+            "slower": lambda: player.set_speed(_next_speed(player.speed, -1)),
+            "faster": lambda: player.set_speed(_next_speed(player.speed, 1)),
+            "reset_camera": lambda: self.view.scene.reset_camera(),
+            "about": self._about,
+            "keys": lambda: QMessageBox.information(self, "Keyboard shortcuts", KEYS_HELP),
+        }
+        for name in state.overlays:
+            handlers[f"overlay_{name}"] = lambda shown, name=name: state.set_overlay(name, shown)
+        return handlers
+
+    def _second(self) -> int:
+        return max(1, round(self.state.motion.frame_rate)) if self.state.motion else 1
+
+    def _wire(self) -> None:
+        state = self.state
+        state.message.connect(self.status.setText)
+        state.path_changed.connect(self._on_path_changed)
+        state.modified_changed.connect(self.setWindowModified)
+        for signal in (state.document_changed, state.motion_changed, state.selection_changed, state.markers_changed):
+            signal.connect(self._on_enabled_changed)
+        self.player.playing_changed.connect(self._on_playing_changed)
+        self.player.loop_changed.connect(self.actions["loop"].setChecked)
+        self.files.recent_changed.connect(self._on_recent_changed)
+        for name, shown in state.overlays.items():
+            self.actions[f"overlay_{name}"].setChecked(shown)
+        state.overlay_changed.connect(self._on_overlay_changed)
+        self.actions["loop"].setChecked(self.player.loop)
+        self._on_recent_changed(self.files.recent_files())
+        self._on_enabled_changed()
+
+    # ----------------------------------------------------------------- handlers
+    def _on_path_changed(self, path: str) -> None:
+        name = Path(path).name if path else ("demo" if self.state.motion is not None else "no motion")
+        self.setWindowTitle(f"{name}[*] \u2014 GMR Studio")
+        self.setWindowModified(self.state.modified)
+
+    def _on_overlay_changed(self, name: str, shown: bool) -> None:
+        self.actions[f"overlay_{name}"].setChecked(shown)
+
+    def _on_enabled_changed(self, *_args) -> None:
+        action_table.update_enabled(
+            self.actions,
+            self.state,
+            self.state.motion is not None and extensions.remove_dummies_available(self.state.motion),
+        )
+        self.actions["recover_pelvis"].setEnabled(
+            self.state.marker_overlay is not None and extensions.pelvis_recovery_available()
+        )
+
+    def _on_playing_changed(self, playing: bool) -> None:
+        icon = "SP_MediaPause" if playing else "SP_MediaPlay"
+        from PyQt6.QtWidgets import QStyle
+
+        self.actions["play"].setIcon(self.style().standardIcon(getattr(QStyle.StandardPixmap, icon)))
+        self.actions["play"].setText("&Pause" if playing else "&Play")
+
+    def _on_recent_changed(self, paths: list) -> None:
+        self.recent_menu.clear()
+        for path in paths:
+            self.recent_menu.addAction(Path(path).name, lambda p=path: self.files.open_path(p)).setStatusTip(path)
+        self.recent_menu.addSeparator()
+        self.recent_menu.addAction("Clear the list", self.files.clear_recent)
+        self.recent_menu.setEnabled(bool(paths))
+
+    def _align_markers(self) -> None:
+        AlignmentDialog(self.state, self).exec()
+
+    def _recover_pelvis(self) -> None:
+        extensions.recover_pelvis_frames(self.state)
+
+    def _about(self) -> None:
+        QMessageBox.about(
+            self,
+            "About GMR Studio",
+            "<b>GMR Studio</b><br/>Look at, edit and convert skeletal motion in the General Motion "
+            "Representation: shift root, split and join trees, with undo.",
+        )
+
+    # ------------------------------------------------------------ drops, settings, close
+    def dragEnterEvent(self, event: QDragEnterEvent) -> None:  # noqa: N802
+        if event.mimeData().hasUrls():
+            event.acceptProposedAction()
+
+    def dropEvent(self, event: QDropEvent) -> None:  # noqa: N802
+        paths = [url.toLocalFile() for url in event.mimeData().urls() if url.isLocalFile()]
+        motions = [p for p in paths if Path(p).suffix.lower() in extensions.motion_suffixes()]
+        markers = [p for p in paths if Path(p).suffix.lower() in extensions.marker_suffixes()]
+        if motions:
+            self.files.open_path(motions[0], markers=markers[0] if markers else None)
+        elif markers and self.state.motion is not None:
+            self.files.add_markers_path(markers[0])
+        event.acceptProposedAction()
+
+    def _restore_settings(self) -> None:
+        geometry = self.settings.value("window/geometry")
+        if geometry is not None:
+            self.restoreGeometry(geometry)
+        else:
+            self.resize(1400, 900)
+        layout = self.settings.value("window/state")
+        if layout is not None:
+            self.restoreState(layout)
+        for name in self.state.overlays:
+            value = self.settings.value(f"overlays/{name}")
+            if value is not None:
+                self.state.set_overlay(name, str(value).lower() == "true")
+        speed = self.settings.value("playback/speed")
+        if speed is not None:
+            self.player.set_speed(float(speed))
+        loop = self.settings.value("playback/loop")
+        if loop is not None:
+            self.player.set_loop(str(loop).lower() == "true")
+
+    def _save_settings(self) -> None:
+        self.settings.setValue("window/geometry", self.saveGeometry())
+        self.settings.setValue("window/state", self.saveState())
+        for name, shown in self.state.overlays.items():
+            self.settings.setValue(f"overlays/{name}", shown)
+        self.settings.setValue("playback/speed", self.player.speed)
+        self.settings.setValue("playback/loop", self.player.loop)
+        self.settings.sync()
+
+    def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802
+        if not self.files.maybe_save():
+            event.ignore()
+            return
+        self.player.pause()
+        self.state.undo_stack.blockSignals(True)  # its actions go away with the window
+        self._save_settings()
+        self.view.close_view()
+        event.accept()
+
+
+def _next_speed(speed: float, direction: int) -> float:
+    index = min(range(len(SPEEDS)), key=lambda i: abs(SPEEDS[i] - speed))
+    return SPEEDS[min(max(index + direction, 0), len(SPEEDS) - 1)]

@@ -1,0 +1,134 @@
+"""Pictures of the scene: PNG screenshots and mp4 videos of the playback (imageio-ffmpeg).
+
+Both work on any plotter the :class:`~app.scene.SkeletonScene` draws into: the window's
+interactor or an off-screen plotter (``gmr-studio FILE --screenshot OUT.png`` without a
+display). The video samples the motion at the video's frame rate by time, as playback
+does, so it lasts as long as the motion (divided by the speed).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from app.scene import SkeletonScene
+from core.atomic import atomic_write_bytes
+
+VIDEO_FPS = 30.0
+
+
+def scene_image(scene: SkeletonScene) -> np.ndarray:
+    """(H, W, 3) uint8 RGB image of the scene as drawn now."""
+    scene.render(now=True)
+    return np.asarray(scene.plotter.screenshot(return_img=True, transparent_background=False))[..., :3]
+
+
+def save_png(image: np.ndarray, path: str | Path) -> None:
+    """Write an (H, W, 3) uint8 image as PNG, atomically."""
+    from PyQt6.QtCore import QBuffer, QByteArray, QIODevice
+    from PyQt6.QtGui import QImage
+
+    image = np.ascontiguousarray(image[..., :3], dtype=np.uint8)
+    height, width = image.shape[:2]
+    qimage = QImage(image.data, width, height, 3 * width, QImage.Format.Format_RGB888)
+    data = QByteArray()
+    buffer = QBuffer(data)
+    buffer.open(QIODevice.OpenModeFlag.WriteOnly)
+    if not qimage.save(buffer, "PNG"):
+        raise OSError(f"could not encode {path} as PNG")
+    buffer.close()
+    atomic_write_bytes(path, bytes(data))
+
+
+def window_image(window, interactor) -> np.ndarray:
+    """(H, W, 3) uint8 image of a whole window with the 3D view painted in (a plain grab of
+    the window leaves the OpenGL view blank on some platforms)."""
+    from PyQt6.QtCore import QPoint
+    from PyQt6.QtGui import QImage, QPainter
+
+    picture = window.grab().toImage().convertToFormat(QImage.Format.Format_RGB888)
+    view = np.ascontiguousarray(np.asarray(interactor.screenshot(return_img=True))[..., :3])
+    ratio = picture.width() / max(window.width(), 1)
+    height, width = view.shape[:2]
+    patch = QImage(view.data, width, height, 3 * width, QImage.Format.Format_RGB888)
+    corner = interactor.mapTo(window, QPoint(0, 0))
+    painter = QPainter(picture)
+    target = patch.scaled(round(interactor.width() * ratio), round(interactor.height() * ratio))
+    painter.drawImage(round(corner.x() * ratio), round(corner.y() * ratio), target)
+    painter.end()
+    bits = picture.constBits()
+    bits.setsize(picture.sizeInBytes())
+    rows = np.frombuffer(bits, np.uint8).reshape(picture.height(), picture.bytesPerLine())
+    return rows[:, : 3 * picture.width()].reshape(picture.height(), picture.width(), 3).copy()
+
+
+def save_screenshot(scene: SkeletonScene, path: str | Path) -> tuple[int, int]:
+    """Save the scene as a PNG; returns (width, height)."""
+    image = scene_image(scene)
+    save_png(image, path)
+    return image.shape[1], image.shape[0]
+
+
+def video_frames(n_frames: int, rate: float, fps: float = VIDEO_FPS, speed: float = 1.0) -> np.ndarray:
+    """(N,) motion frames shown by a video at ``fps`` of a motion at ``rate`` played at ``speed``."""
+    if n_frames <= 0:
+        return np.zeros(0, np.int64)
+    duration = n_frames / rate / speed
+    times = np.arange(max(1, int(np.floor(duration * fps + 1e-9)))) / fps
+    return np.minimum((times * rate * speed + 1e-9).astype(np.int64), n_frames - 1)
+
+
+def export_video(
+    scene: SkeletonScene,
+    path: str | Path,
+    *,
+    fps: float = VIDEO_FPS,
+    speed: float = 1.0,
+    progress: Callable[[int, int], bool] | None = None,
+) -> int:
+    """Write an H.264 mp4 of the scene playing its motion; returns the frames written.
+
+    ``progress(done, total)`` is called after each frame; when it returns False the export
+    stops and the partial file is removed. The scene is left on the frame it showed.
+    """
+    import imageio_ffmpeg
+
+    if scene.snapshot is None:
+        raise ValueError("no motion to export")
+    motion = scene.snapshot.motion
+    frames = video_frames(motion.n_frames, motion.frame_rate, fps, speed)
+    shown = scene.frame
+    target = Path(path)
+    partial = target.with_name(f".{target.name}.partial.mp4")
+    first = scene_image(scene)
+    height, width = (first.shape[0] // 2) * 2, (first.shape[1] // 2) * 2
+    writer = imageio_ffmpeg.write_frames(
+        str(partial),
+        (width, height),
+        fps=fps,
+        codec="libx264",
+        pix_fmt_out="yuv420p",
+        macro_block_size=2,
+        quality=7,
+        ffmpeg_log_level="error",
+    )
+    writer.send(None)
+    written = 0
+    try:
+        for done, frame in enumerate(frames, start=1):
+            scene.show_frame(int(frame), render=False)
+            image = scene_image(scene)[:height, :width]
+            writer.send(np.ascontiguousarray(image))
+            written = done
+            if progress is not None and progress(done, len(frames)) is False:
+                break
+    finally:
+        writer.close()
+        scene.show_frame(shown)
+    if written < len(frames):
+        partial.unlink(missing_ok=True)
+        return 0
+    partial.replace(target)
+    return written

@@ -1,0 +1,62 @@
+"""Pick-to-joint mapping as pure functions: projection and nearest point within a radius."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from app.picking import pick_point, project_points
+
+
+def perspective(fov_deg: float, aspect: float, near: float, far: float) -> np.ndarray:
+    f = 1 / np.tan(np.radians(fov_deg) / 2)
+    return np.array(
+        [
+            [f / aspect, 0, 0, 0],
+            [0, f, 0, 0],
+            [0, 0, (far + near) / (near - far), 2 * far * near / (near - far)],
+            [0, 0, -1, 0],
+        ]
+    )
+
+
+def look_from_z(distance: float) -> np.ndarray:
+    """View matrix of a camera on +Z looking at the origin, Y up."""
+    view = np.eye(4)
+    view[2, 3] = -distance
+    return view
+
+
+def test_projection_matches_a_pinhole_camera():
+    width, height = 800, 600
+    matrix = perspective(30, width / height, 0.1, 100) @ look_from_z(10)
+    points = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 5]], dtype=float)
+    screen = project_points(points, matrix, (width, height))
+    f = 1 / np.tan(np.radians(15))
+    # independent pinhole: x_pixel = cx + f*(h/2)*X/depth, y grows downwards
+    expected_x = width / 2 + f * (height / 2) * points[:, 0] / (10 - points[:, 2])
+    expected_y = height / 2 - f * (height / 2) * points[:, 1] / (10 - points[:, 2])
+    np.testing.assert_allclose(screen[:, 0], expected_x, atol=1e-9)
+    np.testing.assert_allclose(screen[:, 1], expected_y, atol=1e-9)
+    assert screen[3, 2] < screen[0, 2]  # nearer has smaller depth
+
+
+def test_points_behind_the_camera_and_nan_are_never_picked():
+    matrix = perspective(30, 1, 0.1, 100) @ look_from_z(10)
+    screen = project_points(np.array([[0, 0, 20.0], [np.nan, 0, 0]]), matrix, (100, 100))
+    assert np.isnan(screen).all()
+    assert pick_point((50, 50), screen, 1000) is None
+
+
+def test_pick_nearest_within_radius():
+    screen = np.array([[10, 10, 0.5], [50, 50, 0.5], [53, 50, 0.5]], dtype=float)
+    assert pick_point((49, 51), screen, 5) == 1
+    assert pick_point((53.5, 50), screen, 5) == 2
+    assert pick_point((30, 30), screen, 5) is None
+    assert pick_point((14, 10), screen, 5) == 0
+    assert pick_point((16, 10), screen, 5) is None
+    assert pick_point((0, 0), np.zeros((0, 3)), 5) is None
+
+
+def test_overlapping_points_pick_the_one_nearest_the_camera():
+    screen = np.array([[50, 50, 0.9], [50.5, 50, 0.2], [51, 50, 0.6]])
+    assert pick_point((50, 50), screen, 8) == 1

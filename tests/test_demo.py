@@ -1,0 +1,78 @@
+"""The demo files are made by core/demo.py: regenerating them reproduces the committed ones."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from core.demo import (
+    GAPS,
+    MARKERS_FILE,
+    MOTION_FILE,
+    SURFACE_MARKERS,
+    demo_folder,
+    demo_markers,
+    demo_motion,
+    write_demo,
+)
+from core.formats.gmr import gmr_text, read_gmr
+from core.kinematics import world_positions
+from core.markers.markerset import Z_UP_TO_Y_UP
+from core.markers.trc import read_trc, trc_text
+
+CMU_NAMES = {"root", "lhipjoint", "lfemur", "ltibia", "lfoot", "ltoes", "lowerback", "upperback", "thorax", "head"}
+
+
+def test_regenerating_reproduces_the_committed_files(tmp_path):
+    motion_path, markers_path = write_demo(tmp_path)
+    committed_motion = read_gmr(demo_folder() / MOTION_FILE)
+    fresh_motion = read_gmr(motion_path)
+    assert committed_motion.names == fresh_motion.names
+    np.testing.assert_array_equal(committed_motion.parents, fresh_motion.parents)
+    np.testing.assert_allclose(world_positions(committed_motion), world_positions(fresh_motion), rtol=0, atol=1e-9)
+    # the header (everything but the numbers of the frames) is the same text
+    committed_text = (demo_folder() / MOTION_FILE).read_text()
+    assert committed_text.split("MOTION")[0] == motion_path.read_text().split("MOTION")[0]
+    committed_markers, fresh_markers = read_trc(demo_folder() / MARKERS_FILE), read_trc(markers_path)
+    assert committed_markers.labels == fresh_markers.labels
+    np.testing.assert_allclose(committed_markers.positions, fresh_markers.positions, rtol=0, atol=1e-6, equal_nan=True)
+
+
+def test_the_demo_is_deterministic():
+    assert gmr_text(demo_motion()) == gmr_text(demo_motion())
+    assert trc_text(demo_markers()) == trc_text(demo_markers())
+
+
+def test_the_demo_is_a_standing_walking_humanoid_with_cmu_bone_names():
+    motion = demo_motion()
+    assert CMU_NAMES <= set(motion.names) and motion.n_joints == 31
+    assert motion.frame_rate == 120 and motion.n_frames == 480
+    positions = world_positions(motion)
+    head, toes = positions[:, motion.joint_index("head"), 1], positions[:, motion.joint_index("ltoes"), 1]
+    assert (head > 150).all() and (toes < 30).all()  # Y up, centimetres
+    lowest = positions[..., 1].min(axis=1)
+    assert np.abs(lowest).max() < 6  # feet on the ground, give or take a few cm
+    travel = positions[-1, 0, 2] - positions[0, 0, 2]
+    assert 450 < travel < 550  # walks about 5 m along +Z in 4 s
+    left_knee = positions[:, motion.joint_index("lfemur")]
+    right_knee = positions[:, motion.joint_index("rfemur")]
+    swing = left_knee[:, 2] - right_knee[:, 2]
+    assert swing.max() > 20 and swing.min() < -20  # the legs alternate
+    left_hand = positions[:, motion.joint_index("lwrist"), 2] - positions[:, 0, 2]
+    assert np.corrcoef(left_hand, swing)[0, 1] < -0.5  # arms swing against the legs
+
+
+def test_the_markers_follow_the_joints_with_gaps():
+    motion = demo_motion()
+    markers = demo_markers(motion)
+    assert markers.units == "mm" and markers.rate == motion.frame_rate
+    assert markers.labels[: motion.n_joints] == motion.names
+    assert set(markers.labels[motion.n_joints :]) == set(SURFACE_MARKERS)
+    # back to the motion's axes and units: virtual markers sit on their joints (0.5 mm noise)
+    in_motion = np.einsum("ab,fmb->fma", Z_UP_TO_Y_UP, markers.positions) / 10.0
+    error = np.linalg.norm(in_motion[:, : motion.n_joints] - world_positions(motion), axis=-1)
+    assert np.nanmax(error) < 0.5 and np.nanmean(error) < 0.15
+    for label, first, last in GAPS:
+        m = markers.labels.index(label)
+        assert not markers.present[first : last + 1, m].any()
+        assert markers.present[last + 1, m] and markers.present[first - 1, m]
+    assert markers.present.mean() > 0.99
