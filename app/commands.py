@@ -4,7 +4,9 @@ The core operations never change their input, so a command keeps the snapshot be
 the one after (motion plus its cached kinematics) and its redo and undo just hand one or
 the other to the state: undo restores the very same arrays. An edit that the core refuses
 (:class:`~core.errors.OperationError`, e.g. joining the last root) is never pushed; its
-message goes to the status bar and nothing changes.
+message goes to the status bar and nothing changes. Neither is an edit that fails
+unexpectedly (a bug, out of memory): it is logged to the crash log and reported, and the
+document and history stay as they were.
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ from collections.abc import Callable
 
 from PyQt6.QtGui import QUndoCommand
 
+from app.crash import report_unexpected
 from app.state import Snapshot, StudioState
 from core.errors import OperationError
 from core.motion import Motion
@@ -48,13 +51,17 @@ def run_edit(state: StudioState, text: str, operation: Callable[[Motion], Motion
         return False
     try:
         motion = operation(before.motion)
+        after = None if motion is before.motion else Snapshot.of(motion)
     except OperationError as exc:
         state.show_message(f"{text} refused: {exc}")
         return False
-    if motion is before.motion:
+    except Exception as exc:
+        report_unexpected(text, exc, state.show_message)
+        return False
+    if after is None:
         state.show_message(f"{text}: nothing to change")
         return False
-    state.undo_stack.push(MotionEdit(state, text, before, Snapshot.of(motion)))
+    state.undo_stack.push(MotionEdit(state, text, before, after))
     state.show_message(text)
     return True
 

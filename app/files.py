@@ -15,6 +15,7 @@ from PyQt6.QtCore import QObject, QSettings, Qt, pyqtSignal
 from PyQt6.QtWidgets import QApplication, QFileDialog, QMessageBox, QProgressDialog, QWidget
 
 from app import extensions, loading
+from app.crash import log_exception, report_unexpected
 from app.state import Snapshot, StudioState
 from app.video import export_video, save_screenshot
 from core.errors import MotionFileError, OperationError
@@ -150,6 +151,9 @@ class FileController(QObject):
     def _on_failed(self, exc: BaseException) -> None:
         self.pending_markers = None
         short, details = error_text(exc)
+        if not isinstance(exc, MotionFileError):  # a bug or a resource problem, not a bad file
+            log = log_exception("Reading a file", exc)
+            details += f"\n(logged in {log})" if log else ""
         self.state.show_message(details)
         self.load_finished.emit(False)
         if not self.quiet:
@@ -229,6 +233,9 @@ class FileController(QObject):
         except OSError as exc:
             self._report(f"Cannot save {path}: {exc.strerror or exc}")
             return False
+        except Exception as exc:
+            self._report(report_unexpected(f"Saving {path}", exc, lambda text: None))
+            return False
         self.state.mark_saved(path)
         self._remember(path)
         self.state.show_message(f"Saved {path}")
@@ -281,6 +288,9 @@ class FileController(QObject):
                 text = f"Exported {path}" + (f" ({', '.join(extra)})" if extra else "")
         except (OSError, OperationError, ValueError) as exc:
             self._report(f"Cannot export {path}: {exc}")
+            return False
+        except Exception as exc:
+            self._report(report_unexpected(f"Exporting {path}", exc, lambda text: None))
             return False
         self.state.show_message(text)
         return True

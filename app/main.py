@@ -91,11 +91,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     from PyQt6.QtWidgets import QApplication
 
+    from app.crash import install_hooks
     from app.main_window import MainWindow
 
     app = QApplication.instance() or QApplication(sys.argv[:1])
     app.setApplicationName("GMR Studio")
     window = MainWindow()
+    install_hooks(window.report_problem)  # an exception in a slot is logged and survived
     window.show()
     if args.first_frame_time:
         window.files.load_finished.connect(lambda ok: _report_first_frame(app, window, ok))

@@ -232,6 +232,15 @@ class MainWindow(QMainWindow):
         self.settings.setValue("playback/loop", self.player.loop)
         self.settings.sync()
 
+    def report_problem(self, text: str) -> None:
+        """Tell the user about an unexpected error (status bar, and a dialog that does not
+        block what was running)."""
+        self.state.show_message(text)
+        if not self.files.quiet:
+            box = QMessageBox(QMessageBox.Icon.Warning, "GMR Studio", text, QMessageBox.StandardButton.Ok, self)
+            box.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
+            box.open()
+
     def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802
         if not self.files.maybe_save():
             event.ignore()
