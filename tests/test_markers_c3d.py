@@ -185,3 +185,51 @@ def test_missing_file_and_truncated_data(tmp_path):
     markers = read_c3d(path)
     assert 0 < markers.n_frames < 450
     assert any("the header announces 450 frames" in note for note in markers.notes)
+
+
+def _processes_reading(path) -> list[int]:
+    """PIDs whose command line names ``path``."""
+    import os
+    from pathlib import Path as _Path
+
+    found = []
+    for entry in _Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                cmdline = (entry / "cmdline").read_bytes()
+            except OSError:
+                continue
+            if str(path).encode() in cmdline and int(entry.name) != os.getpid():
+                found.append(int(entry.name))
+    return found
+
+
+def test_a_reader_killed_mid_read_leaves_no_ezc3d_child_behind(tmp_path):
+    """Regression (fuzz run, seed 0, case c3d:713): a cut-short Plug-in Gait file makes ezc3d
+    spin forever; when the reading process was killed, its child kept spinning."""
+    import subprocess
+    import sys
+    import time
+
+    from core.fuzz.runner import make_case
+    from core.fuzz.targets import all_targets
+
+    shared_path("c3d/c3dorg_s00_NexGen_test1_PiG_fullbody.c3d")
+    case = make_case(all_targets()["c3d"], 0, 713)
+    path = tmp_path / "spinning.c3d"
+    path.write_bytes(case.data)
+    with pytest.raises(MotionFileError, match="did not finish reading the file in 2 s"):
+        read_c3d(path, timeout=2)
+    reader = subprocess.Popen(
+        [sys.executable, "-c", f"from core.markers.c3d import read_c3d; read_c3d({str(path)!r})"],
+    )
+    deadline = time.monotonic() + 20
+    while not any(pid != reader.pid for pid in _processes_reading(path)) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert any(pid != reader.pid for pid in _processes_reading(path)), "the child never started"
+    reader.kill()
+    reader.wait()
+    deadline = time.monotonic() + 5
+    while _processes_reading(path) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert _processes_reading(path) == []

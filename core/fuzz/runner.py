@@ -22,6 +22,7 @@ import dataclasses
 import multiprocessing
 import os
 import resource
+import signal
 import sys
 import tempfile
 import time
@@ -134,6 +135,7 @@ def _address_space_in_use() -> int:
 
 
 def _worker(connection: Connection, targets: dict[str, Target], seed: int, memory_bytes: int, folder: str) -> None:
+    os.setpgrp()  # its own process group: killing a stuck case kills the reader's children too
     os.environ["OPENBLAS_NUM_THREADS"] = "1"
     limit = _address_space_in_use() + memory_bytes
     resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
@@ -186,7 +188,10 @@ class _Worker:
 
     def stop(self, kill: bool = False) -> None:
         if kill:
-            self.process.kill()
+            try:
+                os.killpg(self.process.pid, signal.SIGKILL)
+            except (ProcessLookupError, PermissionError):
+                self.process.kill()
         else:
             try:
                 self.connection.send(None)

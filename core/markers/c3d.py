@@ -140,7 +140,8 @@ def _decode_in_child(path: Path, where: str, size: int, timeout: float | None) -
     project = str(Path(__file__).resolve().parents[2])
     env["PYTHONPATH"] = project + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     env["OMP_NUM_THREADS"] = env["OPENBLAS_NUM_THREADS"] = "1"
-    command = [sys.executable, "-m", WORKER_MODULE, str(path.resolve()), str(max(_MEMORY_FLOOR, 64 * size))]
+    memory = str(max(_MEMORY_FLOOR, 64 * size))
+    command = [sys.executable, "-m", WORKER_MODULE, str(path.resolve()), memory, f"{limit:.0f}", str(os.getpid())]
     try:
         done = subprocess.run(command, capture_output=True, timeout=limit, env=env, stdin=subprocess.DEVNULL)
     except subprocess.TimeoutExpired:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import io
 import json
+import os
 import sys
 from pathlib import Path
 
@@ -49,14 +50,34 @@ def decode_c3d(path: Path) -> dict:
     return {"points": xyz, "residuals": residuals, "meta": meta}
 
 
+def _die_with_parent(parent: int | None) -> None:
+    """Ask Linux to kill this process when its parent dies (a reader killed in the middle of
+    a read must not leave ezc3d spinning), and leave at once if the parent is already gone."""
+    try:
+        import ctypes
+        import signal
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):  # pragma: no cover - not Linux
+        return
+    if parent is not None and os.getppid() != parent:
+        os._exit(REJECTED)
+
+
 def _worker(argv: list[str]) -> int:
-    """``python -m core.markers.c3d_worker FILE [MEMORY_BYTES]``: the decoded file as .npz on stdout."""
+    """``python -m core.markers.c3d_worker FILE [MEMORY_BYTES [SECONDS [PARENT_PID]]]``: the
+    decoded file as .npz on stdout."""
+    _die_with_parent(int(argv[3]) if len(argv) > 3 else None)
     try:
         import resource
 
         if len(argv) > 1:
             limit = int(argv[1])
             resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+        if len(argv) > 2:  # CPU seconds: a backstop should the parent's timeout never come
+            seconds = int(float(argv[2])) + 2
+            resource.setrlimit(resource.RLIMIT_CPU, (seconds, seconds + 1))
     except (ImportError, ValueError, OSError):  # pragma: no cover - platform without rlimits
         pass
     try:
