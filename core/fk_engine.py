@@ -178,16 +178,17 @@ def euler_codes(orders: tuple[str, ...]) -> np.ndarray:
     return np.array([_indices_and_parity(order or "XYZ") for order in orders], dtype=np.float64)
 
 
-def euler_angles(motion: Motion) -> np.ndarray:
+def euler_angles(motion: Motion, joints: np.ndarray | None = None) -> np.ndarray:
     """(F, J, 3) radians: each joint's local rotation as Euler angles in its completed
-    rotation order (zeros for joints without rotation channels). For BVH files these are
-    the channel values as stored (in radians; a joint's missing channels are 0)."""
+    rotation order (zeros for joints without rotation channels, and for joints left out
+    of the (J,) bool mask ``joints``). For BVH files these are the channel values as
+    stored (in radians; a joint's missing channels are 0)."""
     from core.rotations import euler_from_matrix
 
     angles = np.zeros((motion.n_frames, motion.n_joints, 3))
     by_order: dict[str, list[int]] = {}
     for j, order in enumerate(motion.rotation_orders):
-        if order:
+        if order and (joints is None or joints[j]):
             by_order.setdefault(complete_order(order), []).append(j)
     for order, joints in by_order.items():
         angles[:, joints] = euler_from_matrix(motion.rotations[:, joints], order)

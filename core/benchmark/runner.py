@@ -48,6 +48,11 @@ class BenchOptions:
     peer_frames: int = 1000
     peers: bool = True
 
+    @property
+    def repeat_config(self) -> int:
+        """Runs per configuration instance (there are J x instances of them)."""
+        return max(1, min(self.repeat, 3))
+
 
 def machine() -> dict:
     """CPU model, cores, Python and library versions, the FK backend."""
@@ -176,12 +181,12 @@ def _configurations(gmr, base_positions, options, bvh_best, bvh_euler_best, yard
         matrices, eulers, errors = [], [], []
         for roots in random_root_sets(joints, k, options.instances, rng):
             config = with_roots(gmr, roots)
-            timing = time_call(lambda config=config: fk_engine.world_positions(config), options.repeat)
+            timing = time_call(lambda config=config: fk_engine.world_positions(config), options.repeat_config)
             out = fk_engine.world_positions(config)
             errors.append(float(np.abs(out - base_positions).max()))
             del out
-            angles = fk_engine.euler_angles(config)
-            euler = time_call(lambda c=config, a=angles: fk_engine.positions_from_euler(c, a), options.repeat)
+            angles = fk_engine.euler_angles(config, fk_engine.FKPlan.of(config, False).needs_rotation())
+            euler = time_call(lambda c=config, a=angles: fk_engine.positions_from_euler(c, a), options.repeat_config)
             matrices.append(timing.best)
             eulers.append(euler.best)
             del config, angles
