@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 
 import numba
+import numpy as np
 
 ROOT, INNER, LEAF = 0, 1, 2
 
@@ -69,16 +70,32 @@ def _frame(local, offsets, order, parents, kinds, keep_root, keep_world, pre, po
                 _product(world, p, local, j)
 
 
+@numba.njit(inline="always", boundscheck=False)
+def _stage(rotations, translations, local, offsets):  # pragma: no cover - compiled
+    """Copy one frame's (J, 3, 3) rotations and (J, 3) translations in memory order."""
+    for j in range(rotations.shape[0]):
+        for a in range(3):
+            offsets[j, a] = translations[j, a]
+            for b in range(3):
+                local[j, a, b] = rotations[j, a, b]
+
+
 @numba.njit(nogil=True, cache=True, boundscheck=False)
 def fk_matrices(  # pragma: no cover - compiled
-    rotations, translations, order, parents, kinds, keep_root, keep_world, pre, positions, world
+    rotations, translations, order, parents, kinds, keep_root, keep_world, pre, staged, positions, world, local, offsets
 ):
     """rotations (F, J, 3, 3), translations (F, J, 3) -> positions (F, J, 3) and world:
     (F, J, 3, 3) when ``keep_world`` (every frame's world rotations), else (1, J, 3, 3)
-    scratch."""
+    scratch. When ``staged``, each frame is first copied, in memory order, into the
+    scratch ``local`` (J, 3, 3) and ``offsets`` (J, 3): the walk in tree order then
+    reads from L1 instead of jumping about in memory the prefetchers cannot follow."""
     for f in range(rotations.shape[0]):
         w = world[f] if keep_world else world[0]
-        _frame(rotations[f], translations[f], order, parents, kinds, keep_root, keep_world, pre, positions[f], w)
+        if staged:
+            _stage(rotations[f], translations[f], local, offsets)
+            _frame(local, offsets, order, parents, kinds, keep_root, keep_world, pre, positions[f], w)
+        else:
+            _frame(rotations[f], translations[f], order, parents, kinds, keep_root, keep_world, pre, positions[f], w)
 
 
 @numba.njit(inline="always", boundscheck=False)
@@ -109,15 +126,32 @@ def _euler_matrix(a, b, c, code, out):  # pragma: no cover - compiled
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)
 def fk_euler(  # pragma: no cover - compiled
-    angles, codes, needed, translations, order, parents, kinds, keep_root, pre, positions, scratch
+    angles, codes, needed, translations, order, parents, kinds, keep_root, pre, positions, scratch, offsets
 ):
     """angles (F, J, 3) radians -> positions (F, J, 3); only joints marked ``needed`` get
-    a rotation matrix. scratch (2, J, 3, 3): local and world rotations of one frame."""
+    a rotation matrix, computed in memory order. scratch (2, J, 3, 3): local and world
+    rotations of one frame; offsets (J, 3): the frame's translations, staged likewise."""
     local = scratch[0]
     world = scratch[1]
     n_joints = angles.shape[1]
     for f in range(angles.shape[0]):
         for j in range(n_joints):
+            for a in range(3):
+                offsets[j, a] = translations[f, j, a]
             if needed[j]:
                 _euler_matrix(angles[f, j, 0], angles[f, j, 1], angles[f, j, 2], codes[j], local[j])
-        _frame(local, translations[f], order, parents, kinds, keep_root, False, pre, positions[f], world)
+        _frame(local, offsets, order, parents, kinds, keep_root, False, pre, positions[f], world)
+
+
+@numba.njit(nogil=True, cache=True, boundscheck=False)
+def matrices_from_degrees(values, joints, columns, codes, start, stop, out):  # pragma: no cover - compiled
+    """out[f, joints[m]] = the rotation of the Euler angles in degrees at ``values[f,
+    columns[m]]`` (a column of -1: angle 0), for frames start..stop-1. codes (M, 4) as in
+    :func:`_euler_matrix`. Same operations as numpy.radians + core.rotations.matrix_from_euler."""
+    scale = np.pi / 180.0
+    for f in range(start, stop):
+        for m in range(joints.shape[0]):
+            a = values[f, columns[m, 0]] * scale if columns[m, 0] >= 0 else 0.0
+            b = values[f, columns[m, 1]] * scale if columns[m, 1] >= 0 else 0.0
+            c = values[f, columns[m, 2]] * scale if columns[m, 2] >= 0 else 0.0
+            _euler_matrix(a, b, c, codes[m], out[f, joints[m]])

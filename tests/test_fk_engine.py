@@ -143,3 +143,22 @@ def test_bad_arguments(rng):
         fk_engine.forward_kinematics(motion, backend="fortran")
     with pytest.raises(ValueError, match="angles must have shape"):
         fk_engine.positions_from_euler(motion, np.zeros((2, 3, 3)))
+
+
+@pytest.mark.skipif(not fk_engine.have_numba(), reason="numba is not installed: the readers use numpy")
+def test_compiled_degree_conversion_matches_numpy(rng):
+    from core.rotations import matrix_from_euler
+
+    values = rng.uniform(-400, 400, size=(50, 12))
+    groups = [
+        ("ZYX", [0, 3], np.array([[0, 1, 2], [5, 6, 7]])),
+        ("XZ", [1], np.array([[3, 4]])),
+        ("Y", [4], np.array([[8]])),
+        ("YXZ", [2], np.array([[9, 10, 11]])),
+    ]
+    out = np.full((50, 6, 3, 3), 7.0)
+    assert fk_engine.degrees_to_matrices_compiled(values, groups, out, 10, 50)
+    assert (out[:10] == 7.0).all() and (out[:, 5] == 7.0).all()  # only the frames and joints asked for
+    for order, joints, cols in groups:
+        expected = matrix_from_euler(np.radians(values[10:, cols]), order)
+        np.testing.assert_allclose(out[10:, joints], expected, rtol=0, atol=1e-15)
