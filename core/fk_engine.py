@@ -13,33 +13,51 @@ pure-numpy path. Both start from the :class:`~core.motion.Motion` arrays as they
 rotations cached at load as ``(F, J, 3, 3)`` matrices. :func:`positions_from_euler` starts
 from the Euler angles instead (what a file stores) and turns them into matrices on the fly.
 
-Choices, measured on this project's machine (AMD EPYC, 2 shared cores, numpy 2.4, numba
-0.68; 100,000 frames of CMU 01_01, 38 joints, one root; timings are best of 7 on a busy
-machine, the copy of the (F, J, 3) output, the memory-bound yardstick, took 0.08-0.16
-us/frame in the same runs; docs/benchmark.md has the full run):
+Choices, measured on this project's machine (AMD EPYC, 2 cores shared with other jobs,
+numpy 2.4, numba 0.68; CMU 01_01 tiled to 100,000 frames, 38 joints; best of 5-9 runs,
+the copy of the (F, J, 3) output, the memory-bound yardstick, took 0.075-0.09 us/frame
+in the same runs; docs/benchmark.md has the full benchmark):
 
-- **Compiled kernel, frame-major.** numpy's batched 3x3 matmul costs 0.06-0.09 us/frame
-  per joint however it is batched (per joint or per depth level; einsum is slower,
-  explicit element expressions too): ~3 us/frame for 38 joints. The numba kernel walks
-  each frame's joints in topological order with the 3x3 products in registers and the
-  parents' world rotations in a (J, 3, 3) scratch that stays in L1: 0.50-0.62 us/frame,
-  reading the (F, J, 3, 3) rotations once, in the order they are stored (frame-major:
-  the Motion layout; a joint-major copy would cost more than the FK). Compiling takes
-  ~1.3 s once; ``cache=True`` keeps the machine code on disk for later runs. numba is
-  an optional dependency (the ``fast`` and ``bench`` extras): the app's motions (a few
-  thousand frames) take milliseconds either way, and the numpy path below gives the same
-  bits where numba is absent.
+- **A compiled kernel, frame-major.** numpy's batched 3x3 matmul costs 0.06-0.09
+  us/frame per joint however it is batched (per joint or per depth level; einsum and
+  explicit element expressions are slower): ~3 us/frame for 38 joints, and the reference
+  takes 4.4. The numba kernel walks each frame's joints with the 3x3 products in
+  registers and the world rotations of one frame in a (J, 3, 3) scratch that stays in L1:
+  0.40-0.47 us/frame (BVH and GMR alike), reading the rotations once, in the order they
+  are stored (frame-major, the Motion layout). Tried and dropped: joint-major component
+  planes per block of 8-64 frames so that LLVM vectorises across frames (0.73-0.99: the
+  transposes cost more than SIMD saves); two or four frames interleaved in one joint loop
+  (0.73-1.36); fused multiply-add (``fastmath={'contract'}``, no gain within the noise,
+  and it would break the bitwise equality below).
+- **Memory order of the walk.** Re-rooted trees (shift root) first ran 2-3x slower
+  (0.8-1.2 us/frame) with identical arithmetic: a depth-first walk from a new root jumps
+  back and forth in the frame's 2.7 KB, and the hardware prefetchers stop following. The
+  kernel now walks parents before children and otherwise by increasing index (a min-heap
+  topological order), which is plain memory order for a file's own root; for any other
+  order it first copies the frame, in memory order, into an L1 scratch (``staged``).
+  Mean over the 38 single-root trees of CMU 01_01 (20,000 frames): depth-first 0.77,
+  increasing-index 0.62, staged 0.47 us/frame (min 0.37, max 0.55); staging a walk
+  that is already in memory order costs ~0.07, so it is skipped there. Touching the
+  frame's cache lines instead of copying them was slower (0.64-0.68).
 - **Matrices, not quaternions.** The Motion stores matrices (see core/motion.py); a
-  quaternion kernel would first have to convert them (a pass costing more than the FK).
-- **float64 throughout**: the tolerances of the operations (1e-9 of the size over chains
-  of edits) need it, and the kernel is bound by reading the rotations, not by arithmetic.
+  quaternion kernel would first have to convert them, a pass costing more than the FK.
+- **float64 throughout**: the operations promise 1e-9 of the size over chains of edits,
+  and the kernel is bound by arithmetic latency and memory order, not by bytes.
 - **Leaves skip their world rotation** (pre-rotation): ``P_j = P_p + W_p (R_j t_j)``,
-  18 multiplications instead of 36 and no store. Post-rotation leaves never read their
-  rotation at all. Roots with world coordinates cost one copy of their translation.
-- **No multi-threading**: the benchmark compares against a single-threaded copy, and
-  the kernel is close to the memory bandwidth of one core already.
-- **No fused multiply-add**: numba compiles without fast-math, so ``a*b + c`` rounds
-  twice, exactly as numpy does; that is what makes the two backends bitwise equal.
+  18 multiplications instead of 36 and no store; post-rotation leaves never read their
+  rotation. Roots with world coordinates cost one copy of their translation: the fully
+  translational forest runs at 1.2-1.4x the copy.
+- **numba is optional** (the ``fast`` extra; ``bench`` includes it). Compiling takes
+  ~1.3 s per kernel once, ``cache=True`` keeps the machine code on disk. Without numba
+  the numpy backend below (1.8 us/frame: per depth level, frames in blocks of 1024 laid
+  out joint-major with frames last so that every ufunc runs over long rows) gives the
+  same bits: numba compiles without fast-math, so ``a*b + c`` rounds twice as in numpy,
+  and both sum ``(a0 b0 + a1 b1) + a2 b2`` in that order (tested bitwise on random
+  forests). ``GMR_DISABLE_NUMBA=1`` forces the numpy backend.
+- **No threads**: the benchmark compares against a single-threaded copy.
+- **Memory**: positions only, the kernel allocates the (F, J, 3) output and nothing of
+  size F; with world rotations, one more (F, J, 3, 3) array. The numpy backend holds a
+  few blocks of 1024 frames.
 """
 
 from __future__ import annotations
