@@ -88,9 +88,9 @@ def test_timing_and_memory_helpers():
 
 def test_bench_command_on_a_tiny_input(capsys, tmp_path):
     shared_path("cmu/subject01/01_01.bvh")
-    out, plot = tmp_path / "bench.json", tmp_path / "bench.png"
+    out, plot, tables = tmp_path / "bench.json", tmp_path / "bench.png", tmp_path / "bench.md"
     options = ["--frames", "2000", "--instances", "1", "--repeat", "1", "--peer-frames", "20"]
-    code = main(["bench", *options, "--json", str(out), "--plot", str(plot)])
+    code = main(["bench", *options, "--json", str(out), "--plot", str(plot), "--markdown", str(tables)])
     printed = capsys.readouterr().out
     assert code == 0
     result = json.loads(out.read_text())
@@ -111,3 +111,5 @@ def test_bench_command_on_a_tiny_input(capsys, tmp_path):
     for label in ("C_1 ", "C_38", "faster than BVH", "targets:", "MB/s", "operations on 2000 frames"):
         assert label in printed
     assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    markdown = tables.read_text()
+    assert "| 38 |" in markdown and "Parsing:" in markdown and "x faster than BVH" in markdown

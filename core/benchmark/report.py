@@ -127,3 +127,81 @@ def write_plot(result: dict, path: Path, log: Callable[[str], None] = print) -> 
     plt.close(figure)
     atomic_write_bytes(path, buffer.getvalue())
     return True
+
+
+def markdown_tables(result: dict) -> str:
+    """The run as Markdown tables (what docs/benchmark.md shows)."""
+    m, frames, yard = result["machine"], result["frames"], result["yardstick_us_per_frame"]
+    bvh, bvh_euler = result["bvh_us_per_frame"], result["bvh_euler_us_per_frame"]
+    configs = result["configs"]
+    single, full = configs[0], configs[-1]
+    out = [
+        f"Machine: {m['cpu']}, {m['cores']} cores, Python {m['python']}, numpy {m['numpy']}, "
+        f"numba {m.get('numba', 'absent')} (FK backend: {m['fk_backend']}). {frames:,} frames x {result['joints']} "
+        f"joints, best of {result['repeat']} runs (at most 3 per configuration instance); noise (median/best - 1): "
+        + ", ".join(f"{k} {v:.0%}" for k, v in result["noise"].items())
+        + ".",
+        "",
+        "| path | us/frame | x faster than BVH (same start) | x the copy |",
+        "|---|---:|---:|---:|",
+        f"| copy of the (F, J, 3) output (yardstick) | {yard:.3f} | | 1.00 |",
+        f"| BVH, rotations cached at load | {bvh:.3f} | 1.00 | {bvh / yard:.2f} |",
+        f"| BVH, from Euler angles as stored | {bvh_euler:.3f} | 1.00 | {bvh_euler / yard:.2f} |",
+        f"| BVH, reference `core.kinematics` (before this work) | {result['reference_bvh_us_per_frame']:.3f} | "
+        f"{bvh / result['reference_bvh_us_per_frame']:.2f} | {result['reference_bvh_us_per_frame'] / yard:.2f} |",
+        f"| GMR single root (Hips), cached | {result['single_root_us_per_frame']:.3f} | "
+        f"{bvh / result['single_root_us_per_frame']:.2f} | {result['single_root_us_per_frame'] / yard:.2f} |",
+        f"| GMR C_1 (random single root, mean), cached | {single['us_per_frame']:.3f} | {single['ratio_to_bvh']:.2f} "
+        f"| {single['ratio_to_yardstick']:.2f} |",
+        f"| GMR C_{full['k']} fully translational, cached | {full['us_per_frame']:.3f} | {full['ratio_to_bvh']:.2f} | "
+        f"{full['ratio_to_yardstick']:.2f} |",
+        f"| GMR C_1, from Euler angles | {single['euler_us_per_frame']:.3f} | {single['euler_ratio_to_bvh']:.2f} | "
+        f"{single['euler_us_per_frame'] / yard:.2f} |",
+        f"| GMR C_{full['k']}, from Euler angles | {full['euler_us_per_frame']:.3f} | "
+        f"{full['euler_ratio_to_bvh']:.2f} | {full['euler_us_per_frame'] / yard:.2f} |",
+        "",
+        "| k | us/frame (cached) | min-max of instances | x faster than BVH | x the copy | us/frame (Euler) "
+        "| x faster than BVH (Euler) |",
+        "|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for c in configs:
+        out.append(
+            f"| {c['k']} | {c['us_per_frame']:.3f} | {c['min_us_per_frame']:.3f}-{c['max_us_per_frame']:.3f} | "
+            f"{c['ratio_to_bvh']:.2f} | {c['ratio_to_yardstick']:.2f} | {c['euler_us_per_frame']:.3f} | "
+            f"{c['euler_ratio_to_bvh']:.2f} |"
+        )
+    if result["peers"]:
+        out += [
+            "",
+            "| peer | starts from | frames timed | us/frame | x ours, BVH same start | x ours, GMR C_1 | "
+            "x ours, GMR C_J | max error / size |",
+            "|---|---|---:|---:|---:|---:|---:|---:|",
+        ]
+        for p in result["peers"]:
+            ours = bvh_euler if "Euler" in p["starts_from"] else bvh
+            us = p["us_per_frame"]
+            out.append(
+                f"| {p['name']} {p['version']} | {p['starts_from']} | {p['frames']:,} | {us:.2f} | {us / ours:.1f} | "
+                f"{us / single['us_per_frame']:.1f} | {us / full['us_per_frame']:.0f} | {p['relative_error']:.1e} |"
+            )
+    ops, mem = result["operations"], result["memory"]
+    out += [
+        "",
+        f"Parsing: `read_bvh` {result['parse_mb_per_s']:.1f} MB/s ({result['parse_ms']:.0f} ms), `numpy.loadtxt` of "
+        f"the frame lines {result['numpy_parse_mb_per_s']:.1f} MB/s ({result['numpy_parse_ms']:.0f} ms): "
+        f"{result['parse_mb_per_s'] / result['numpy_parse_mb_per_s']:.2f}x.",
+        "",
+        f"Operations on {frames:,} frames: shift root to {ops['shift_root']['joint']} "
+        f"{ops['shift_root']['seconds'] * 1e3:.0f} ms; split {ops['split']['joint']} "
+        f"{ops['split']['seconds'] * 1e3:.0f} ms; join it back {ops['join']['seconds'] * 1e3:.0f} ms.",
+        "",
+        f"Memory: one (F, J, 3, 3) float64 array is {mem['rotations_array_mb']:.0f} MB. Peak allocated by FK above its "
+        f"input (tracemalloc): positions {mem['positions_peak_mb']:.0f} MB, positions and rotations "
+        f"{mem['positions_and_rotations_peak_mb']:.0f} MB, positions from Euler angles "
+        f"{mem['positions_from_euler_peak_mb']:.0f} MB. Whole benchmark process: max RSS "
+        f"{result['max_rss_mb']:.0f} MB.",
+        "",
+        f"Agreement: engine vs reference {result['engine_vs_reference_error']:.1e} of the size; every configuration's "
+        f"positions vs the one-root motion at most {max(c['max_position_error'] for c in configs):.1e} of the size.",
+    ]
+    return "\n".join(out) + "\n"

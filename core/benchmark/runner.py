@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import dataclasses
 import io
+import os
 import platform
 import resource
 import tempfile
@@ -66,7 +67,7 @@ def machine() -> dict:
         cpu = platform.processor() or "unknown"
     info = {
         "cpu": cpu,
-        "cores": len(__import__("os").sched_getaffinity(0)),
+        "cores": len(os.sched_getaffinity(0)),
         "python": platform.python_version(),
         "numpy": np.__version__,
         "platform": platform.platform(),

@@ -23,6 +23,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--seed", type=int, default=6, help="seed for the random root sets (6)")
     parser.add_argument("--json", type=Path, default=None, metavar="OUT", help="write the results as JSON")
     parser.add_argument("--plot", type=Path, default=None, metavar="OUT.png", help="write the Figure-4-style plot")
+    parser.add_argument("--markdown", type=Path, default=None, metavar="OUT.md", help="write the tables as Markdown")
     parser.add_argument(
         "--data", type=Path, action="append", default=[], metavar="DIR", help="another folder of BVH files (repeatable)"
     )
@@ -34,7 +35,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from core.benchmark.report import summary_lines, write_json, write_plot
+    from core.atomic import atomic_write_text
+    from core.benchmark.report import markdown_tables, summary_lines, write_json, write_plot
     from core.benchmark.runner import BenchOptions, run_benchmark
 
     if args.frames < 1 or args.instances < 1 or args.repeat < 1:
@@ -56,4 +58,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"wrote {args.json}")
     if args.plot and write_plot(result, args.plot):
         print(f"wrote {args.plot}")
+    if args.markdown:
+        atomic_write_text(args.markdown, markdown_tables(result))
+        print(f"wrote {args.markdown}")
     return 0
