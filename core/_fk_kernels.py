@@ -71,11 +71,15 @@ def _frame(local, offsets, order, parents, kinds, keep_root, keep_world, pre, po
 
 
 @numba.njit(inline="always", boundscheck=False)
-def _stage(rotations, translations, local, offsets):  # pragma: no cover - compiled
-    """Copy one frame's (J, 3, 3) rotations and (J, 3) translations in memory order."""
-    for j in range(rotations.shape[0]):
+def _stage(rotations, translations, joints, local, offsets):  # pragma: no cover - compiled
+    """Copy one frame's (J, 3) translations and the (J, 3, 3) rotations of ``joints``
+    (increasing) in memory order."""
+    for j in range(translations.shape[0]):
         for a in range(3):
             offsets[j, a] = translations[j, a]
+    for i in range(joints.shape[0]):
+        j = joints[i]
+        for a in range(3):
             for b in range(3):
                 local[j, a, b] = rotations[j, a, b]
 
@@ -86,13 +90,15 @@ def fk_matrices(  # pragma: no cover - compiled
 ):
     """rotations (F, J, 3, 3), translations (F, J, 3) -> positions (F, J, 3) and world:
     (F, J, 3, 3) when ``keep_world`` (every frame's world rotations), else (1, J, 3, 3)
-    scratch. When ``staged``, each frame is first copied, in memory order, into the
-    scratch ``local`` (J, 3, 3) and ``offsets`` (J, 3): the walk in tree order then
+    scratch. When ``staged`` (increasing joint indices) is not empty, the rotations of
+    those joints and all translations of each frame are first copied, in memory order, into
+    the scratch ``local`` (J, 3, 3) and ``offsets`` (J, 3): the walk in tree order then
     reads from L1 instead of jumping about in memory the prefetchers cannot follow."""
+    stage = staged.shape[0] > 0
     for f in range(rotations.shape[0]):
         w = world[f] if keep_world else world[0]
-        if staged:
-            _stage(rotations[f], translations[f], local, offsets)
+        if stage:
+            _stage(rotations[f], translations[f], staged, local, offsets)
             _frame(local, offsets, order, parents, kinds, keep_root, keep_world, pre, positions[f], w)
         else:
             _frame(rotations[f], translations[f], order, parents, kinds, keep_root, keep_world, pre, positions[f], w)

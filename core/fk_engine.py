@@ -34,11 +34,19 @@ in the same runs; docs/benchmark.md has the full benchmark):
   back and forth in the frame's 2.7 KB, and the hardware prefetchers stop following. The
   kernel now walks parents before children and otherwise by increasing index (a min-heap
   topological order), which is plain memory order for a file's own root; for any other
-  order it first copies the frame, in memory order, into an L1 scratch (``staged``).
+  order it first copies, in memory order, the rotations it will read and the frame's
+  translations into an L1 scratch (``staged``).
   Mean over the 38 single-root trees of CMU 01_01 (20,000 frames): depth-first 0.77,
   increasing-index 0.62, staged 0.47 us/frame (min 0.37, max 0.55); staging a walk
   that is already in memory order costs ~0.07, so it is skipped there. Touching the
   frame's cache lines instead of copying them was slower (0.64-0.68).
+- **Known weak spot: many roots, a few scattered non-roots** (k of about 28-35 of 38):
+  the few rotations read are sparse in each frame's memory and the prefetchers do not
+  follow: 0.4-0.6 us/frame from memory against 0.16-0.22 for the same forest on 1,000
+  frames in cache. A software prefetch of the needed lines a few frames ahead (an
+  ``llvm.prefetch`` numba intrinsic) recovered most of it (k=30: 0.45 against 0.75-0.97)
+  but made every other configuration ~0.1 us/frame slower, even with nothing to
+  prefetch, and ties the code to LLVM's intrinsic names: not adopted.
 - **Matrices, not quaternions.** The Motion stores matrices (see core/motion.py); a
   quaternion kernel would first have to convert them, a pass costing more than the FK.
 - **float64 throughout**: the operations promise 1e-9 of the size over chains of edits,
@@ -115,8 +123,10 @@ class FKPlan:
         those with children, or all when ``keep_world``.
     keep_world : the caller wants every joint's world rotation.
     pre : True for pre-rotation (GMR), False for post-rotation (BVH).
-    staged : the order is not increasing, so the compiled kernel first copies each frame
-        into a small scratch in memory order (see the module docstring).
+    staged : (S,) int64, increasing: the joints whose rotations the compiled kernel first
+        copies, each frame, into a small scratch in memory order (with the frame's
+        translations), because the walk reads them out of memory order (see the module
+        docstring); empty when the walk reads them in order.
     """
 
     order: np.ndarray
@@ -125,7 +135,7 @@ class FKPlan:
     keep_root: np.ndarray
     keep_world: bool
     pre: bool
-    staged: bool
+    staged: np.ndarray
 
     @classmethod
     def of(cls, motion: Motion, with_rotations: bool) -> FKPlan:
@@ -136,8 +146,12 @@ class FKPlan:
         kinds[parents < 0] = ROOT
         keep_root = (parents < 0) & (has_children | with_rotations)
         order = _ascending_topological_order(parents, motion.children)
-        staged = bool(np.any(np.diff(order) < 0))
-        return cls(order, parents, kinds, keep_root, with_rotations, motion.convention == "pre", staged)
+        plan = cls(order, parents, kinds, keep_root, with_rotations, motion.convention == "pre", np.zeros(0, np.int64))
+        read = plan.needs_rotation()
+        walk = order[read[order]]
+        if np.any(np.diff(walk) < 0):
+            object.__setattr__(plan, "staged", np.flatnonzero(read).astype(np.int64))
+        return plan
 
     def needs_rotation(self) -> np.ndarray:
         """(J,) bool: the joints whose local rotation is read."""
