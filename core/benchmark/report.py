@@ -105,7 +105,7 @@ def write_plot(result: dict, path: Path, log: Callable[[str], None] = print) -> 
         return False
     configs = result["configs"]
     ks = [c["k"] for c in configs]
-    figure, axes = plt.subplots(figsize=(8, 5), dpi=120)
+    figure, axes = plt.subplots(figsize=(8, 6), dpi=120)
     low = [c["us_per_frame"] - c["min_us_per_frame"] for c in configs]
     high = [c["max_us_per_frame"] - c["us_per_frame"] for c in configs]
     axes.errorbar(ks, [c["us_per_frame"] for c in configs], yerr=[low, high], fmt="o-", ms=3, capsize=2,
@@ -120,7 +120,7 @@ def write_plot(result: dict, path: Path, log: Callable[[str], None] = print) -> 
     axes.set_ylabel("microseconds per frame (log scale)")
     axes.set_title(f"World positions of {result['joints']} joints, {result['frames']:,} frames")
     axes.grid(True, which="both", alpha=0.3)
-    axes.legend(fontsize=8, loc="upper right")
+    axes.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2, frameon=False)
     figure.tight_layout()
     buffer = io.BytesIO()
     figure.savefig(buffer, format="png")
