@@ -150,7 +150,7 @@ class FKPlan:
         read = plan.needs_rotation()
         walk = order[read[order]]
         if np.any(np.diff(walk) < 0):
-            object.__setattr__(plan, "staged", np.flatnonzero(read).astype(np.int64))
+            plan = dataclasses.replace(plan, staged=np.flatnonzero(read).astype(np.int64))
         return plan
 
     def needs_rotation(self) -> np.ndarray:
@@ -244,8 +244,8 @@ def euler_angles(motion: Motion, joints: np.ndarray | None = None) -> np.ndarray
     for j, order in enumerate(motion.rotation_orders):
         if order and (joints is None or joints[j]):
             by_order.setdefault(complete_order(order), []).append(j)
-    for order, joints in by_order.items():
-        angles[:, joints] = euler_from_matrix(motion.rotations[:, joints], order)
+    for order, members in by_order.items():
+        angles[:, members] = euler_from_matrix(motion.rotations[:, members], order)
     return angles
 
 
