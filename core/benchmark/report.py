@@ -29,7 +29,8 @@ def summary_lines(result: dict) -> list[str]:
     bvh, bvh_euler = result["bvh_us_per_frame"], result["bvh_euler_us_per_frame"]
     lines = [
         "",
-        f"{frames} frames x {result['joints']} joints; best of {result['repeat']} runs "
+        f"{frames} frames x {result['joints']} joints; best of {result['repeat']} runs, baselines best of "
+        f"{result['baseline_runs']['bvh']} spread over the run "
         f"(noise: copy {result['noise']['yardstick']:.0%}, BVH {result['noise']['bvh']:.0%})",
         f"{'path':<52}{'us/frame':>10}{'vs BVH':>10}{'vs copy':>10}",
     ]
@@ -138,7 +139,9 @@ def markdown_tables(result: dict) -> str:
     out = [
         f"Machine: {m['cpu']}, {m['cores']} cores, Python {m['python']}, numpy {m['numpy']}, "
         f"numba {m.get('numba', 'absent')} (FK backend: {m['fk_backend']}). {frames:,} frames x {result['joints']} "
-        f"joints, best of {result['repeat']} runs (at most 3 per configuration instance); noise (median/best - 1): "
+        f"joints. Best of {result['repeat']} runs for parsing, at most 3 per configuration instance, and "
+        f"{result['baseline_runs']['bvh']} for the baselines (copy, BVH, one root), timed in alternation at the "
+        "start and again after each k so that bursts of load from other jobs hit every side; noise (median/best - 1): "
         + ", ".join(f"{k} {v:.0%}" for k, v in result["noise"].items())
         + ".",
         "",

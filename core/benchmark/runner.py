@@ -31,7 +31,7 @@ from core import fk_engine
 from core.benchmark.configs import random_root_sets, with_roots
 from core.benchmark.data import build_benchmark_data
 from core.benchmark.peers import run_peers
-from core.benchmark.timing import peak_memory, time_call
+from core.benchmark.timing import merged, peak_memory, time_call, time_interleaved
 from core.formats.bvh import read_bvh
 from core.kinematics import reference_forward_kinematics
 from core.operations import join, shift_root, split
@@ -102,10 +102,14 @@ def run_benchmark(options: BenchOptions, log: Callable[[str], None] = print) -> 
             log(f"  {s.path} ({s.frames} frames, {s.joints} joints, {1 / s.frame_time:.0f} fps): {state} {s.note}")
 
         log("parsing ...")
-        parse = time_call(lambda: read_bvh(data.path), options.repeat)
-        numpy_parse = time_call(
-            lambda: np.loadtxt(io.BytesIO(data.block), dtype=np.float64, comments=None, ndmin=2), options.repeat
+        parsing = time_interleaved(
+            {
+                "parse": lambda: read_bvh(data.path),
+                "numpy_parse": lambda: np.loadtxt(io.BytesIO(data.block), dtype=np.float64, comments=None, ndmin=2),
+            },
+            options.repeat,
         )
+        parse, numpy_parse = parsing["parse"], parsing["numpy_parse"]
         result["parse_mb_per_s"] = data.file_bytes / parse.best / 1e6
         result["numpy_parse_mb_per_s"] = data.block_bytes / numpy_parse.best / 1e6
         result["parse_ms"] = parse.best * 1e3
@@ -113,27 +117,19 @@ def run_benchmark(options: BenchOptions, log: Callable[[str], None] = print) -> 
 
         log("BVH baseline and yardstick ...")
         positions = fk_engine.world_positions(post)
-        yardstick = time_call(positions.copy, options.repeat * 2)
-        bvh = time_call(lambda: fk_engine.world_positions(post), options.repeat)
         post_angles = fk_engine.euler_angles(post)
-        bvh_euler = time_call(lambda: fk_engine.positions_from_euler(post, post_angles), options.repeat)
+        baselines = {
+            "yardstick": positions.copy,
+            "bvh": lambda: fk_engine.world_positions(post),
+            "bvh_euler": lambda: fk_engine.positions_from_euler(post, post_angles),
+            "single_root": lambda: fk_engine.world_positions(gmr),
+        }
+        timings = time_interleaved(baselines, options.repeat)
         reference_bvh = time_call(lambda: reference_forward_kinematics(post, with_rotations=False), 1)
         reference_gmr = time_call(lambda: reference_forward_kinematics(gmr, with_rotations=False), 1)
-        single = time_call(lambda: fk_engine.world_positions(gmr), options.repeat)
         result.update(
-            bvh_us_per_frame=bvh.us_per_frame(frames),
-            bvh_euler_us_per_frame=bvh_euler.us_per_frame(frames),
-            yardstick_us_per_frame=yardstick.us_per_frame(frames),
-            single_root_us_per_frame=single.us_per_frame(frames),
             reference_bvh_us_per_frame=reference_bvh.us_per_frame(frames),
             reference_gmr_us_per_frame=reference_gmr.us_per_frame(frames),
-            noise={
-                "yardstick": yardstick.noise,
-                "bvh": bvh.noise,
-                "bvh_euler": bvh_euler.noise,
-                "parse": parse.noise,
-                "numpy_parse": numpy_parse.noise,
-            },
         )
         reference = reference_forward_kinematics(post, with_rotations=False)[0]
         result["engine_vs_reference_error"] = float(np.abs(positions - reference).max() / gmr.size)
@@ -150,7 +146,16 @@ def run_benchmark(options: BenchOptions, log: Callable[[str], None] = print) -> 
         }
 
         log(f"configurations C_1 .. C_{joints}, {options.instances} instances each ...")
-        result["configs"] = _configurations(gmr, positions, options, bvh.best, bvh_euler.best, yardstick.best, log)
+        result["configs"] = _configurations(gmr, positions, options, baselines, timings, log)
+        result.update(
+            bvh_us_per_frame=timings["bvh"].us_per_frame(frames),
+            bvh_euler_us_per_frame=timings["bvh_euler"].us_per_frame(frames),
+            yardstick_us_per_frame=timings["yardstick"].us_per_frame(frames),
+            single_root_us_per_frame=timings["single_root"].us_per_frame(frames),
+            baseline_runs={name: len(t.runs) for name, t in timings.items()},
+            noise={name: t.noise for name, t in timings.items()}
+            | {"parse": parse.noise, "numpy_parse": numpy_parse.noise},
+        )
 
         log("operations on the whole motion ...")
         result["operations"] = _operations(gmr, options.repeat)
@@ -174,10 +179,13 @@ def run_benchmark(options: BenchOptions, log: Callable[[str], None] = print) -> 
     return result
 
 
-def _configurations(gmr, base_positions, options, bvh_best, bvh_euler_best, yardstick_best, log) -> list[dict]:
+def _configurations(gmr, base_positions, options, baselines, timings, log) -> list[dict]:
+    """Time C_1..C_J; the baselines are timed again (interleaved, once) at every k, and
+    ``timings`` (updated in place) keeps all their runs: the ratios use the best run of
+    the whole benchmark for every side."""
     rng = np.random.default_rng(options.seed)
     frames, joints = gmr.n_frames, gmr.n_joints
-    rows = []
+    raw = []
     for k in range(1, joints + 1):
         matrices, eulers, errors = [], [], []
         for roots in random_root_sets(joints, k, options.instances, rng):
@@ -191,23 +199,29 @@ def _configurations(gmr, base_positions, options, bvh_best, bvh_euler_best, yard
             matrices.append(timing.best)
             eulers.append(euler.best)
             del config, angles
-        mean, euler_mean = float(np.mean(matrices)), float(np.mean(eulers))
-        row = {
-            "k": k,
-            "us_per_frame": _per_frame(mean, frames),
-            "min_us_per_frame": _per_frame(min(matrices), frames),
-            "max_us_per_frame": _per_frame(max(matrices), frames),
-            "ratio_to_bvh": bvh_best / mean,
-            "ratio_to_yardstick": mean / yardstick_best,
-            "euler_us_per_frame": _per_frame(euler_mean, frames),
-            "euler_ratio_to_bvh": bvh_euler_best / euler_mean,
-            "max_position_error": max(errors) / gmr.size,
-        }
-        rows.append(row)
+        for name, again in time_interleaved(baselines, 1).items():
+            timings[name] = merged(timings[name], again)
+        raw.append((k, matrices, eulers, errors))
         log(
-            f"  C_{k:<3d}{row['us_per_frame']:8.3f} us/frame  {row['ratio_to_bvh']:6.2f}x faster than BVH  "
-            f"{row['ratio_to_yardstick']:5.2f}x the copy | from Euler {row['euler_us_per_frame']:7.3f} us/frame  "
-            f"{row['euler_ratio_to_bvh']:6.2f}x faster than BVH"
+            f"  C_{k:<3d}{_per_frame(float(np.mean(matrices)), frames):8.3f} us/frame (rotations cached), "
+            f"{_per_frame(float(np.mean(eulers)), frames):8.3f} us/frame (from Euler angles)"
+        )
+    bvh, bvh_euler, yardstick = (timings[name].best for name in ("bvh", "bvh_euler", "yardstick"))
+    rows = []
+    for k, matrices, eulers, errors in raw:
+        mean, euler_mean = float(np.mean(matrices)), float(np.mean(eulers))
+        rows.append(
+            {
+                "k": k,
+                "us_per_frame": _per_frame(mean, frames),
+                "min_us_per_frame": _per_frame(min(matrices), frames),
+                "max_us_per_frame": _per_frame(max(matrices), frames),
+                "ratio_to_bvh": bvh / mean,
+                "ratio_to_yardstick": mean / yardstick,
+                "euler_us_per_frame": _per_frame(euler_mean, frames),
+                "euler_ratio_to_bvh": bvh_euler / euler_mean,
+                "max_position_error": max(errors) / gmr.size,
+            }
         )
     return rows
 

@@ -57,3 +57,20 @@ def peak_memory(function: Callable[[], object]) -> int:
     finally:
         if not was_tracing:
             tracemalloc.stop()
+
+
+def time_interleaved(functions: dict[str, Callable[[], object]], repeat: int) -> dict[str, Timing]:
+    """Time several calls in alternation, ``repeat`` rounds: a burst of load from other
+    jobs then hits all of them alike instead of one of them."""
+    runs: dict[str, list[float]] = {name: [] for name in functions}
+    for _ in range(max(1, repeat)):
+        for name, function in functions.items():
+            start = time.perf_counter()
+            function()
+            runs[name].append(time.perf_counter() - start)
+    return {name: Timing(tuple(values)) for name, values in runs.items()}
+
+
+def merged(first: Timing, second: Timing) -> Timing:
+    """Both sets of runs as one timing."""
+    return Timing(first.runs + second.runs)
