@@ -132,21 +132,26 @@ def _euler_matrix(a, b, c, code, out):  # pragma: no cover - compiled
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)
 def fk_euler(  # pragma: no cover - compiled
-    angles, codes, needed, translations, order, parents, kinds, keep_root, pre, positions, scratch, offsets
+    angles, codes, needed, translations, order, parents, kinds, keep_root, pre, staged, positions, scratch, offsets
 ):
     """angles (F, J, 3) radians -> positions (F, J, 3); only joints marked ``needed`` get
     a rotation matrix, computed in memory order. scratch (2, J, 3, 3): local and world
-    rotations of one frame; offsets (J, 3): the frame's translations, staged likewise."""
+    rotations of one frame; offsets (J, 3): the frame's translations, copied there in
+    memory order first when ``staged`` (the walk is not in memory order)."""
     local = scratch[0]
     world = scratch[1]
     n_joints = angles.shape[1]
     for f in range(angles.shape[0]):
         for j in range(n_joints):
-            for a in range(3):
-                offsets[j, a] = translations[f, j, a]
             if needed[j]:
                 _euler_matrix(angles[f, j, 0], angles[f, j, 1], angles[f, j, 2], codes[j], local[j])
-        _frame(local, offsets, order, parents, kinds, keep_root, False, pre, positions[f], world)
+        if staged:
+            for j in range(n_joints):
+                for a in range(3):
+                    offsets[j, a] = translations[f, j, a]
+            _frame(local, offsets, order, parents, kinds, keep_root, False, pre, positions[f], world)
+        else:
+            _frame(local, translations[f], order, parents, kinds, keep_root, False, pre, positions[f], world)
 
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)

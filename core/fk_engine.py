@@ -53,8 +53,9 @@ in the same runs; docs/benchmark.md has the full benchmark):
   and the kernel is bound by arithmetic latency and memory order, not by bytes.
 - **Leaves skip their world rotation** (pre-rotation): ``P_j = P_p + W_p (R_j t_j)``,
   18 multiplications instead of 36 and no store; post-rotation leaves never read their
-  rotation. Roots with world coordinates cost one copy of their translation: the fully
-  translational forest runs at 1.2-1.4x the copy.
+  rotation. Roots with world coordinates cost one copy of their translation, and a
+  forest of roots only (fully translational) is one array copy: the positions are the
+  data (the per-joint loop took 1.5x the copy).
 - **numba is optional** (the ``fast`` extra; ``bench`` includes it). Compiling takes
   ~1.3 s per kernel once, ``cache=True`` keeps the machine code on disk. Without numba
   the numpy backend below (1.8 us/frame: per depth level, frames in blocks of 1024 laid
@@ -198,7 +199,13 @@ def forward_kinematics(
     world = np.empty((n_frames, n_joints, 3, 3)) if with_rotations else None
     if n_frames == 0:
         return positions, world
-    if _resolve(backend) == "numba":
+    backend = _resolve(backend)
+    if not np.any(plan.parents >= 0):  # fully translational: the positions are the data
+        np.copyto(positions, translations)
+        if world is not None:
+            np.copyto(world, rotations)
+        return positions, world
+    if backend == "numba":
         scratch = world if world is not None else np.empty((1, n_joints, 3, 3))
         _kernels.fk_matrices(
             rotations,
@@ -269,12 +276,16 @@ def positions_from_euler(
     positions = np.empty((motion.n_frames, motion.n_joints, 3))
     if motion.n_frames == 0:
         return positions
+    backend = _resolve(backend)
+    if not np.any(plan.parents >= 0):  # fully translational: no angle is read
+        np.copyto(positions, translations)
+        return positions
     needed = plan.needs_rotation()
-    if _resolve(backend) == "numba":
+    if backend == "numba":
         scratch = np.empty((2, motion.n_joints, 3, 3))
         _kernels.fk_euler(
             angles, codes, needed, translations, plan.order, plan.parents, plan.kinds, plan.keep_root, plan.pre,
-            positions, scratch, np.empty((motion.n_joints, 3)),
+            plan.staged.shape[0] > 0, positions, scratch, np.empty((motion.n_joints, 3)),
         )  # fmt: skip
         return positions
     from core.rotations import matrix_from_euler

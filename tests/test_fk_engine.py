@@ -162,3 +162,14 @@ def test_compiled_degree_conversion_matches_numpy(rng):
     for order, joints, cols in groups:
         expected = matrix_from_euler(np.radians(values[10:, cols]), order)
         np.testing.assert_allclose(out[10:, joints], expected, rtol=0, atol=1e-15)
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_a_forest_of_roots_is_its_data(rng, backend):
+    motion = random_motion(rng, [-1, -1, -1, -1], n_frames=6)
+    positions, rotations = fk_engine.forward_kinematics(motion, backend=backend)
+    np.testing.assert_array_equal(positions, motion.translations)
+    np.testing.assert_array_equal(rotations, motion.rotations)
+    from_euler = fk_engine.positions_from_euler(motion, np.full((6, 4, 3), np.nan), backend=backend)
+    np.testing.assert_array_equal(from_euler, motion.translations)  # no angle is read
+    np.testing.assert_allclose(positions, reference_forward_kinematics(motion)[0], rtol=0, atol=0)
