@@ -7,19 +7,30 @@ joint (parents before children). With ``W`` the world rotation and ``P`` the wor
 - post (BVH):      ``W_j = W_p R_j``,      ``P_j = P_p + W_p t_j``
 - pre (GMR):       ``W_j = W_p R_j``,      ``P_j = P_p + W_j t_j``
 
-This is the reference implementation, written for clarity. ``core.fk_engine`` (if present)
-is the tuned one and is tested against this.
+:func:`reference_forward_kinematics` is the reference implementation, written for clarity
+(one numpy step per joint). :func:`forward_kinematics`, which the app, the operations and
+the command line call, runs the tuned :mod:`core.fk_engine` (tested against the reference
+on random forests and real files; it agrees to ~1e-15 of the size and is ~10x faster).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from core import fk_engine
 from core.motion import Motion
 
 
 def forward_kinematics(motion: Motion, *, with_rotations: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
-    """World positions and (optionally) world rotations.
+    """World positions (F, J, 3) and, if ``with_rotations``, world rotations (F, J, 3, 3)
+    (else None), computed by :func:`core.fk_engine.forward_kinematics`."""
+    return fk_engine.forward_kinematics(motion, with_rotations=with_rotations)
+
+
+def reference_forward_kinematics(
+    motion: Motion, *, with_rotations: bool = True
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """World positions and (optionally) world rotations: the reference implementation.
 
     Returns
     -------

@@ -1,89 +1,64 @@
-"""``gmr bench``: BVH parsing and forward kinematics, timed side by side in one run.
+"""``gmr bench``: the paper's benchmark (section 6, Figure 4), reproduced in one run.
 
-Prints figures, asserts nothing. The motion is CMU 01_01 (from ../shared/data) tiled to
-``--frames`` frames.
+Prints tables, asserts nothing; the machinery is in :mod:`core.benchmark`.
 """
 
 from __future__ import annotations
 
 import argparse
-import io
-import tempfile
-import time
 from pathlib import Path
 
-import numpy as np
-
-from core.convert import pre_from_post
-from core.errors import MotionFileError
-from core.formats.bvh import read_bvh
-from core.kinematics import forward_kinematics
-from core.shared_data import shared_file
-
-DEFAULT_BVH = "cmu/subject01/01_01.bvh"
+from core.shared_data import shared_data_dir
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    parser = sub.add_parser("bench", help="time BVH parsing and forward kinematics (prints, asserts nothing)")
+    parser = sub.add_parser(
+        "bench",
+        help="time GMR forward kinematics for C_1..C_J roots against BVH, a copy, and other libraries",
+        description="Real BVH files (../shared/data and --data folders), tiled to --frames frames at 120 fps; "
+        "configurations C_k with k random roots, --instances each; BVH baseline, memory-bound yardstick, "
+        "parse throughput, operations, peers. Prints figures, asserts nothing.",
+    )
     parser.add_argument("--frames", type=int, default=100_000, help="frames to tile the motion to (100000)")
-    parser.add_argument("--bvh", default=None, help=f"the BVH file to tile (default ../shared/data/{DEFAULT_BVH})")
-    parser.add_argument("--repeat", type=int, default=3, help="timings keep the best of this many runs (3)")
+    parser.add_argument("--seed", type=int, default=6, help="seed for the random root sets (6)")
+    parser.add_argument("--json", type=Path, default=None, metavar="OUT", help="write the results as JSON")
+    parser.add_argument("--plot", type=Path, default=None, metavar="OUT.png", help="write the Figure-4-style plot")
+    parser.add_argument("--markdown", type=Path, default=None, metavar="OUT.md", help="write the tables as Markdown")
+    parser.add_argument(
+        "--data", type=Path, action="append", default=[], metavar="DIR", help="another folder of BVH files (repeatable)"
+    )
+    parser.add_argument("--instances", type=int, default=10, help="random instances per configuration (10)")
+    parser.add_argument("--repeat", type=int, default=5, help="timings keep the best of this many runs (5)")
+    parser.add_argument("--peer-frames", type=int, default=1000, help="frames for per-frame peers (bvhio) (1000)")
+    parser.add_argument("--no-peers", action="store_true", help="skip the other libraries")
     parser.set_defaults(run=run)
 
 
-def best_time(function, repeat: int) -> float:
-    """The fastest of ``repeat`` calls, in seconds."""
-    best = float("inf")
-    for _ in range(repeat):
-        start = time.perf_counter()
-        function()
-        best = min(best, time.perf_counter() - start)
-    return best
-
-
-def tiled_bvh_bytes(source: Path, n_frames: int) -> tuple[bytes, bytes]:
-    """A BVH file with the frames of ``source`` repeated to ``n_frames``; also its frame block."""
-    data = source.read_bytes().replace(b"\r\n", b"\n")
-    head, _, rest = data.partition(b"\nMOTION\n")
-    lines = [line for line in rest.split(b"\n")[2:] if line.strip()]
-    reps = -(-n_frames // len(lines))
-    block = b"\n".join((lines * reps)[:n_frames]) + b"\n"
-    header = head + b"\nMOTION\nFrames: %d\nFrame Time: 0.00833333\n" % n_frames
-    return header + block, block
-
-
 def run(args: argparse.Namespace) -> int:
-    source = Path(args.bvh) if args.bvh else shared_file(DEFAULT_BVH)
-    if not source.exists():
-        raise MotionFileError(source, "benchmark input not found (the shared data folder is missing?)")
-    data, block = tiled_bvh_bytes(source, args.frames)
-    megabytes = len(data) / 1e6
-    with tempfile.TemporaryDirectory() as folder:
-        path = Path(folder) / "tiled.bvh"
-        path.write_bytes(data)
-        parse = best_time(lambda: read_bvh(path), args.repeat)
-        numpy_parse = best_time(lambda: np.loadtxt(io.BytesIO(block), comments=None, ndmin=2), args.repeat)
-        post = read_bvh(path)
-    gmr = pre_from_post(post)
-    frames = post.n_frames
-    positions = forward_kinematics(gmr, with_rotations=False)[0]
-    rows = [
-        ("BVH parse (ours, file -> motion)", parse, f"{megabytes / parse:8.1f} MB/s"),
-        ("numpy.loadtxt of the same numbers", numpy_parse, f"{megabytes / numpy_parse:8.1f} MB/s"),
-        (
-            "post-rotation FK (BVH), positions",
-            best_time(lambda: forward_kinematics(post, with_rotations=False), args.repeat),
-            "",
-        ),
-        (
-            "pre-rotation FK (GMR), positions",
-            best_time(lambda: forward_kinematics(gmr, with_rotations=False), args.repeat),
-            "",
-        ),
-        ("copy of the (F, J, 3) output (memory bound)", best_time(positions.copy, args.repeat), ""),
-    ]
-    print(f"{source.name} tiled to {frames} frames x {post.n_joints} joints ({megabytes:.1f} MB of BVH)")
-    print(f"{'what':<46}{'total':>10}{'per frame':>14}  rate")
-    for label, seconds, rate in rows:
-        print(f"{label:<46}{seconds * 1e3:8.1f} ms{seconds / frames * 1e6:10.3f} us  {rate}")
+    from core.atomic import atomic_write_text
+    from core.benchmark.report import markdown_tables, summary_lines, write_json, write_plot
+    from core.benchmark.runner import BenchOptions, run_benchmark
+
+    if args.frames < 1 or args.instances < 1 or args.repeat < 1:
+        raise SystemExit("gmr bench: --frames, --instances and --repeat must be positive")
+    options = BenchOptions(
+        folders=(shared_data_dir(), *args.data),
+        frames=args.frames,
+        seed=args.seed,
+        instances=args.instances,
+        repeat=args.repeat,
+        peer_frames=args.peer_frames,
+        peers=not args.no_peers,
+    )
+    result = run_benchmark(options, log=lambda line: print(line, flush=True))
+    for line in summary_lines(result):
+        print(line)
+    if args.json:
+        write_json(result, args.json)
+        print(f"wrote {args.json}")
+    if args.plot and write_plot(result, args.plot):
+        print(f"wrote {args.plot}")
+    if args.markdown:
+        atomic_write_text(args.markdown, markdown_tables(result))
+        print(f"wrote {args.markdown}")
     return 0

@@ -11,13 +11,15 @@ import tempfile
 import time
 from pathlib import Path
 
-from core.cli.bench import DEFAULT_BVH, tiled_bvh_bytes
+from core.benchmark.data import tile_bvh
 from core.convert import pre_from_post
 from core.errors import MotionFileError
 from core.formats.bvh import read_bvh
 from core.formats.gmr import write_gmr
 from core.kinematics import forward_kinematics
 from core.shared_data import shared_file
+
+DEFAULT_BVH = "cmu/subject01/01_01.bvh"
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -48,7 +50,7 @@ def run(args: argparse.Namespace) -> int:
             return value
 
         path = Path(folder) / "large.bvh"
-        data, _ = stage("tile and write the BVH", tiled_bvh_bytes, source, args.frames)
+        data = stage("tile and write the BVH", tile_bvh, source, args.frames)
         path.write_bytes(data)
         size_mb = len(data) / 1e6
         del data

@@ -1,0 +1,407 @@
+"""The tuned forward-kinematics engine: world positions (and rotations) of any forest.
+
+Same results as the reference :mod:`core.kinematics` (to rounding, ~1e-15 of the size),
+for both conventions. With ``W`` the world rotation and ``P`` the world position:
+
+- root r:          ``P_r = t_r`` (a copy; ``W_r = R_r`` only when someone needs it)
+- pre (GMR):       ``W_j = W_p R_j``,  ``P_j = P_p + W_j t_j``
+- post (BVH):      ``W_j = W_p R_j``,  ``P_j = P_p + W_p t_j``
+
+Two backends compute exactly the same floating-point operations in the same order, so
+their results are bitwise identical (tested): a compiled kernel (numba, optional) and a
+pure-numpy path. Both start from the :class:`~core.motion.Motion` arrays as they are, the
+rotations cached at load as ``(F, J, 3, 3)`` matrices. :func:`positions_from_euler` starts
+from the Euler angles instead (what a file stores) and turns them into matrices on the fly.
+
+Choices, measured on this project's machine (AMD EPYC, 2 cores shared with other jobs,
+numpy 2.4, numba 0.68; CMU 01_01 tiled to 100,000 frames, 38 joints; best of 5-9 runs,
+the copy of the (F, J, 3) output, the memory-bound yardstick, took 0.075-0.09 us/frame
+in the same runs; docs/benchmark.md has the full benchmark):
+
+- **A compiled kernel, frame-major.** numpy's batched 3x3 matmul costs 0.06-0.09
+  us/frame per joint however it is batched (per joint or per depth level; einsum and
+  explicit element expressions are slower): ~3 us/frame for 38 joints, and the reference
+  takes 4.4. The numba kernel walks each frame's joints with the 3x3 products in
+  registers and the world rotations of one frame in a (J, 3, 3) scratch that stays in L1:
+  0.40-0.47 us/frame (BVH and GMR alike), reading the rotations once, in the order they
+  are stored (frame-major, the Motion layout). Tried and dropped: joint-major component
+  planes per block of 8-64 frames so that LLVM vectorises across frames (0.73-0.99: the
+  transposes cost more than SIMD saves); two or four frames interleaved in one joint loop
+  (0.73-1.36); fused multiply-add (``fastmath={'contract'}``, no gain within the noise,
+  and it would break the bitwise equality below).
+- **Memory order of the walk.** Re-rooted trees (shift root) first ran 2-3x slower
+  (0.8-1.2 us/frame) with identical arithmetic: a depth-first walk from a new root jumps
+  back and forth in the frame's 2.7 KB, and the hardware prefetchers stop following. The
+  kernel now walks parents before children and otherwise by increasing index (a min-heap
+  topological order), which is plain memory order for a file's own root; for any other
+  order it first copies, in memory order, the rotations it will read and the frame's
+  translations into an L1 scratch (``staged``).
+  Mean over the 38 single-root trees of CMU 01_01 (20,000 frames): depth-first 0.77,
+  increasing-index 0.62, staged 0.47 us/frame (min 0.37, max 0.55); staging a walk
+  that is already in memory order costs ~0.07, so it is skipped there. Touching the
+  frame's cache lines instead of copying them was slower (0.64-0.68).
+- **Known weak spot: many roots, a few scattered non-roots** (k of about 28-35 of 38):
+  the few rotations read are sparse in each frame's memory and the prefetchers do not
+  follow: 0.4-0.6 us/frame from memory against 0.16-0.22 for the same forest on 1,000
+  frames in cache. A software prefetch of the needed lines a few frames ahead (an
+  ``llvm.prefetch`` numba intrinsic) recovered most of it (k=30: 0.45 against 0.75-0.97)
+  but made every other configuration ~0.1 us/frame slower, even with nothing to
+  prefetch, and ties the code to LLVM's intrinsic names: not adopted.
+- **Matrices, not quaternions.** The Motion stores matrices (see core/motion.py); a
+  quaternion kernel would first have to convert them, a pass costing more than the FK.
+- **float64 throughout**: the operations promise 1e-9 of the size over chains of edits,
+  and the kernel is bound by arithmetic latency and memory order, not by bytes.
+- **Leaves skip their world rotation** (pre-rotation): ``P_j = P_p + W_p (R_j t_j)``,
+  18 multiplications instead of 36 and no store; post-rotation leaves never read their
+  rotation. Roots with world coordinates cost one copy of their translation, and a
+  forest of roots only (fully translational) is one array copy: the positions are the
+  data (the per-joint loop took 1.5x the copy).
+- **numba is optional** (the ``fast`` extra; ``bench`` includes it). Compiling takes
+  ~1.3 s per kernel once, ``cache=True`` keeps the machine code on disk. Without numba
+  the numpy backend below (1.8 us/frame: per depth level, frames in blocks of 1024 laid
+  out joint-major with frames last so that every ufunc runs over long rows) gives the
+  same bits: numba compiles without fast-math, so ``a*b + c`` rounds twice as in numpy,
+  and both sum ``(a0 b0 + a1 b1) + a2 b2`` in that order (tested bitwise on random
+  forests). ``GMR_DISABLE_NUMBA=1`` forces the numpy backend.
+- **No threads**: the benchmark compares against a single-threaded copy.
+- **Memory**: positions only, the kernel allocates the (F, J, 3) output and nothing of
+  size F; with world rotations, one more (F, J, 3, 3) array. The numpy backend holds a
+  few blocks of 1024 frames.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import heapq
+import os
+from typing import Literal
+
+import numpy as np
+
+from core.motion import Motion
+from core.rotations import _indices_and_parity, complete_order
+
+try:  # the compiled backend is optional
+    if os.environ.get("GMR_DISABLE_NUMBA") == "1":
+        raise ImportError("disabled by GMR_DISABLE_NUMBA=1")
+    from core import _fk_kernels as _kernels
+except ImportError:  # pragma: no cover - depends on the environment
+    _kernels = None
+
+Backend = Literal["auto", "numba", "numpy"]
+
+#: joint kinds in a :class:`FKPlan`
+ROOT, INNER, LEAF = 0, 1, 2
+#: frames per block in the numpy backend (its temporaries stay in the L2 cache)
+NUMPY_CHUNK_FRAMES = 1024
+
+
+def have_numba() -> bool:
+    """True when the compiled kernels can be used."""
+    return _kernels is not None
+
+
+def _resolve(backend: Backend) -> str:
+    if backend == "auto":
+        return "numba" if _kernels is not None else "numpy"
+    if backend == "numba" and _kernels is None:
+        raise RuntimeError("the numba backend is not available: install the 'fast' extra (numba)")
+    if backend not in ("numba", "numpy"):
+        raise ValueError(f"unknown FK backend {backend!r}: expected 'auto', 'numba' or 'numpy'")
+    return backend
+
+
+@dataclasses.dataclass(frozen=True)
+class FKPlan:
+    """What the kernels need to know about a forest, as small arrays.
+
+    order : (J,) int64, every joint after its parent, and otherwise by increasing index
+        (the most ascending walk through a frame's memory; see ``staged``).
+    parents : (J,) int64, -1 for roots.
+    kinds : (J,) int8, ROOT, INNER (has children) or LEAF (no children: its world
+        rotation is computed only when ``keep_world``).
+    keep_root : (J,) bool, the roots whose world rotation (their local one) is kept:
+        those with children, or all when ``keep_world``.
+    keep_world : the caller wants every joint's world rotation.
+    pre : True for pre-rotation (GMR), False for post-rotation (BVH).
+    staged : (S,) int64, increasing: the joints whose rotations the compiled kernel first
+        copies, each frame, into a small scratch in memory order (with the frame's
+        translations), because the walk reads them out of memory order (see the module
+        docstring); empty when the walk reads them in order.
+    """
+
+    order: np.ndarray
+    parents: np.ndarray
+    kinds: np.ndarray
+    keep_root: np.ndarray
+    keep_world: bool
+    pre: bool
+    staged: np.ndarray
+
+    @classmethod
+    def of(cls, motion: Motion, with_rotations: bool) -> FKPlan:
+        parents = np.ascontiguousarray(motion.parents, dtype=np.int64)
+        has_children = np.zeros(motion.n_joints, bool)
+        has_children[parents[parents >= 0]] = True
+        kinds = np.where(has_children, INNER, LEAF).astype(np.int8)
+        kinds[parents < 0] = ROOT
+        keep_root = (parents < 0) & (has_children | with_rotations)
+        order = _ascending_topological_order(parents, motion.children)
+        plan = cls(order, parents, kinds, keep_root, with_rotations, motion.convention == "pre", np.zeros(0, np.int64))
+        read = plan.needs_rotation()
+        walk = order[read[order]]
+        if np.any(np.diff(walk) < 0):
+            plan = dataclasses.replace(plan, staged=np.flatnonzero(read).astype(np.int64))
+        return plan
+
+    def needs_rotation(self) -> np.ndarray:
+        """(J,) bool: the joints whose local rotation is read."""
+        if self.pre or self.keep_world:
+            return (self.kinds != ROOT) | self.keep_root
+        return (self.kinds == INNER) | self.keep_root
+
+
+def _ascending_topological_order(parents: np.ndarray, children: tuple[tuple[int, ...], ...]) -> np.ndarray:
+    """(J,) int64: parents before children, otherwise the smallest index first."""
+    ready = [int(j) for j in np.flatnonzero(parents < 0)]
+    heapq.heapify(ready)
+    order = []
+    while ready:
+        j = heapq.heappop(ready)
+        order.append(j)
+        for child in children[j]:
+            heapq.heappush(ready, child)
+    return np.asarray(order, dtype=np.int64)
+
+
+def forward_kinematics(
+    motion: Motion, *, with_rotations: bool = True, backend: Backend = "auto"
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """World positions and (optionally) world rotations of every joint for every frame.
+
+    Parameters
+    ----------
+    motion : any forest, either convention.
+    with_rotations : also return the world rotations (one more (F, J, 3, 3) array).
+    backend : 'numba' (compiled), 'numpy', or 'auto' (numba when installed). Both give
+        bitwise identical results.
+
+    Returns
+    -------
+    positions : (F, J, 3) float64
+    rotations : (F, J, 3, 3) float64, or None when ``with_rotations`` is False.
+    """
+    plan = FKPlan.of(motion, with_rotations)
+    rotations = np.ascontiguousarray(motion.rotations)
+    translations = np.ascontiguousarray(motion.translations)
+    n_frames, n_joints = motion.n_frames, motion.n_joints
+    positions = np.empty((n_frames, n_joints, 3))
+    world = np.empty((n_frames, n_joints, 3, 3)) if with_rotations else None
+    if n_frames == 0:
+        return positions, world
+    backend = _resolve(backend)
+    if not np.any(plan.parents >= 0):  # fully translational: the positions are the data
+        np.copyto(positions, translations)
+        if world is not None:
+            np.copyto(world, rotations)
+        return positions, world
+    if backend == "numba":
+        scratch = world if world is not None else np.empty((1, n_joints, 3, 3))
+        _kernels.fk_matrices(
+            rotations,
+            translations,
+            plan.order,
+            plan.parents,
+            plan.kinds,
+            plan.keep_root,
+            plan.keep_world,
+            plan.pre,
+            plan.staged,
+            positions,
+            scratch,
+            np.empty((n_joints, 3, 3)),
+            np.empty((n_joints, 3)),
+        )
+    else:
+        _numpy_fk(rotations, translations, plan, positions, world)
+    return positions, world
+
+
+def world_positions(motion: Motion, *, backend: Backend = "auto") -> np.ndarray:
+    """(F, J, 3) world positions of every joint."""
+    return forward_kinematics(motion, with_rotations=False, backend=backend)[0]
+
+
+# ------------------------------------------------------------------ from Euler angles
+def euler_codes(orders: tuple[str, ...]) -> np.ndarray:
+    """(J, 4) float64 rows ``(i, j, k, parity)`` of each joint's completed Euler order
+    (see :func:`core.rotations.matrix_from_euler`); ``""`` counts as 'XYZ' (its angles are 0)."""
+    return np.array([_indices_and_parity(order or "XYZ") for order in orders], dtype=np.float64)
+
+
+def euler_angles(motion: Motion, joints: np.ndarray | None = None) -> np.ndarray:
+    """(F, J, 3) radians: each joint's local rotation as Euler angles in its completed
+    rotation order (zeros for joints without rotation channels, and for joints left out
+    of the (J,) bool mask ``joints``). For BVH files these are the channel values as
+    stored (in radians; a joint's missing channels are 0)."""
+    from core.rotations import euler_from_matrix
+
+    angles = np.zeros((motion.n_frames, motion.n_joints, 3))
+    by_order: dict[str, list[int]] = {}
+    for j, order in enumerate(motion.rotation_orders):
+        if order and (joints is None or joints[j]):
+            by_order.setdefault(complete_order(order), []).append(j)
+    for order, members in by_order.items():
+        angles[:, members] = euler_from_matrix(motion.rotations[:, members], order)
+    return angles
+
+
+def positions_from_euler(
+    motion: Motion, angles: np.ndarray, *, codes: np.ndarray | None = None, backend: Backend = "auto"
+) -> np.ndarray:
+    """World positions (F, J, 3) from Euler angles, converting only the rotations FK reads.
+
+    The path that starts from what a file stores: ``motion`` gives the forest,
+    translations and rotation orders (its rotation matrices are ignored); ``angles``
+    (F, J, 3) radians are each joint's angles in its completed order (as
+    :func:`euler_angles` returns). A root with world coordinates and no children, and a
+    post-rotation leaf, convert nothing.
+    """
+    plan = FKPlan.of(motion, False)
+    angles = np.ascontiguousarray(angles, dtype=np.float64)
+    if angles.shape != (motion.n_frames, motion.n_joints, 3):
+        raise ValueError(f"angles must have shape {(motion.n_frames, motion.n_joints, 3)}, not {angles.shape}")
+    codes = euler_codes(motion.rotation_orders) if codes is None else codes
+    translations = np.ascontiguousarray(motion.translations)
+    positions = np.empty((motion.n_frames, motion.n_joints, 3))
+    if motion.n_frames == 0:
+        return positions
+    backend = _resolve(backend)
+    if not np.any(plan.parents >= 0):  # fully translational: no angle is read
+        np.copyto(positions, translations)
+        return positions
+    needed = plan.needs_rotation()
+    if backend == "numba":
+        scratch = np.empty((2, motion.n_joints, 3, 3))
+        _kernels.fk_euler(
+            angles, codes, needed, translations, plan.order, plan.parents, plan.kinds, plan.keep_root, plan.pre,
+            plan.staged.shape[0] > 0, positions, scratch, np.empty((motion.n_joints, 3)),
+        )  # fmt: skip
+        return positions
+    from core.rotations import matrix_from_euler
+
+    rotations = np.empty((motion.n_frames, motion.n_joints, 3, 3))
+    rotations[:] = np.eye(3)
+    for order in {complete_order(motion.rotation_orders[j] or "XYZ") for j in np.flatnonzero(needed)}:
+        joints = [j for j in np.flatnonzero(needed) if complete_order(motion.rotation_orders[j] or "XYZ") == order]
+        rotations[:, joints] = matrix_from_euler(angles[:, joints], order)
+    _numpy_fk(rotations, translations, plan, positions, None)
+    return positions
+
+
+def degrees_to_matrices_compiled(
+    values: np.ndarray, groups: list[tuple[str, list[int], np.ndarray]], out: np.ndarray, start: int, stop: int
+) -> bool:
+    """Fill ``out[start:stop, joints]`` (F, J, 3, 3) from Euler angles in degrees, the
+    channel columns of each (order, joints, (n, len(order)) columns) group of ``values``
+    (F, V); the file readers' conversion. Returns False (doing nothing) without numba.
+
+    The same operations as ``matrix_from_euler(np.radians(...))``; sin and cos come from
+    the C library rather than numpy's own, so results may differ in the last bit. Measured
+    on 100,000 frames of CMU 01_01 (3.1 million rotations): 0.36 s through numpy (two
+    threads) against 0.1 s here, which is what keeps BVH parsing at more than half of
+    numpy.loadtxt's speed.
+    """
+    if _kernels is None:
+        return False
+    joints, columns, codes = [], [], []
+    for order, members, cols in groups:
+        code = _indices_and_parity(order)
+        for joint, joint_cols in zip(members, np.asarray(cols).reshape(len(members), -1)):
+            joints.append(joint)
+            columns.append(list(joint_cols) + [-1] * (3 - len(joint_cols)))
+            codes.append(code)
+    if joints:
+        _kernels.matrices_from_degrees(
+            np.ascontiguousarray(values, dtype=np.float64),
+            np.asarray(joints, dtype=np.int64),
+            np.asarray(columns, dtype=np.int64),
+            np.asarray(codes, dtype=np.float64),
+            start,
+            stop,
+            out,
+        )
+    return True
+
+
+# ------------------------------------------------------------------- numpy backend
+def _levels(plan: FKPlan) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
+    """Per depth level: (inner joints, their parents, leaf joints, their parents)."""
+    depth = np.zeros(plan.parents.shape[0], np.int64)
+    for j in plan.order:
+        if plan.parents[j] >= 0:
+            depth[j] = depth[plan.parents[j]] + 1
+    levels = []
+    for d in range(1, int(depth.max(initial=0)) + 1):
+        at = plan.order[depth[plan.order] == d]
+        inner = at[plan.kinds[at] == INNER]
+        leaf = at[plan.kinds[at] == LEAF]
+        levels.append((inner, plan.parents[inner], leaf, plan.parents[leaf]))
+    return levels
+
+
+def _times(matrices: np.ndarray, vectors: np.ndarray) -> np.ndarray:
+    """Planes: matrices (m, 3, 3, n) times vectors (m, 3, n) -> (m, 3, n), summed as
+    ``(M[:, 0] v0 + M[:, 1] v1) + M[:, 2] v2`` (the kernel's order)."""
+    return (matrices[:, :, 0] * vectors[:, None, 0] + matrices[:, :, 1] * vectors[:, None, 1]) + matrices[
+        :, :, 2
+    ] * vectors[:, None, 2]
+
+
+def _product(left: np.ndarray, right: np.ndarray) -> np.ndarray:
+    """Planes: (m, 3, 3, n) @ (m, 3, 3, n) -> (m, 3, 3, n), summed in the kernel's order."""
+    return (left[:, :, 0, None] * right[:, None, 0] + left[:, :, 1, None] * right[:, None, 1]) + left[
+        :, :, 2, None
+    ] * right[:, None, 2]
+
+
+def _numpy_fk(
+    rotations: np.ndarray, translations: np.ndarray, plan: FKPlan, positions: np.ndarray, world: np.ndarray | None
+) -> None:
+    """The numpy backend: per depth level, frames in blocks; fills positions (and world).
+
+    Each block is turned joint-major with the frames last, ``(J, 3, 3, n)`` (component
+    planes), so that every ufunc call runs over long contiguous rows of frames instead of
+    3-element ones; this took it from 9.8 to 1.8 us/frame (100,000 frames, 38 joints; the reference
+    core.kinematics takes ~4.4).
+    """
+    n_frames, n_joints = rotations.shape[:2]
+    roots = np.flatnonzero(plan.kinds == ROOT)
+    kept_roots = np.flatnonzero(plan.keep_root)
+    levels = _levels(plan)
+    for start in range(0, n_frames, NUMPY_CHUNK_FRAMES):
+        block = slice(start, min(start + NUMPY_CHUNK_FRAMES, n_frames))
+        local = np.ascontiguousarray(rotations[block].transpose(1, 2, 3, 0))  # (J, 3, 3, n)
+        offsets = np.ascontiguousarray(translations[block].transpose(1, 2, 0))  # (J, 3, n)
+        pos = np.empty_like(offsets)
+        rot = np.empty((n_joints, 3, 3, offsets.shape[-1]))
+        pos[roots] = offsets[roots]
+        rot[kept_roots] = local[kept_roots]
+        for inner, inner_parents, leaf, leaf_parents in levels:
+            if inner.size:
+                parent_world = rot[inner_parents]
+                own = _product(parent_world, local[inner])
+                rot[inner] = own
+                frame = own if plan.pre else parent_world
+                pos[inner] = pos[inner_parents] + _times(frame, offsets[inner])
+            if leaf.size:
+                parent_world = rot[leaf_parents]
+                vectors = offsets[leaf]
+                if plan.pre:
+                    vectors = _times(local[leaf], vectors)
+                pos[leaf] = pos[leaf_parents] + _times(parent_world, vectors)
+                if world is not None:
+                    rot[leaf] = _product(parent_world, local[leaf])
+        positions[block] = pos.transpose(2, 0, 1)
+        if world is not None:
+            world[block] = rot.transpose(3, 0, 1, 2)

@@ -1,0 +1,175 @@
+"""The FK engine against the reference, a per-frame 4x4 loop, and itself across backends."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from core import fk_engine
+from core.convert import pre_from_post
+from core.formats.bvh import read_bvh
+from core.kinematics import forward_kinematics, reference_forward_kinematics
+from core.operations import shift_root, split
+from tests.conftest import random_motion, shared_files
+from tests.test_kinematics import per_frame_fk
+
+BACKENDS = ["numpy", pytest.param("numba", marks=pytest.mark.skipif(not fk_engine.have_numba(), reason="no numba"))]
+SETTINGS = settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+
+
+@st.composite
+def forests(draw, max_joints=40):
+    """A random forest (parents in any index order), random rotations, some moving joints."""
+    n = draw(st.integers(1, max_joints))
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    convention = draw(st.sampled_from(["pre", "post"]))
+    branching = draw(st.floats(0.0, 1.0))
+    parents = [-1]
+    for j in range(1, n):
+        if rng.random() < draw(st.sampled_from([0.0, 0.05, 0.5])):
+            parents.append(-1)
+        else:
+            parents.append(int(rng.integers(0, j)) if rng.random() < branching else j - 1)
+    relabel = rng.permutation(n)  # parents need not come before children in index order
+    inverse = np.argsort(relabel)
+    shuffled = [-1 if parents[inverse[k]] < 0 else int(relabel[parents[inverse[k]]]) for k in range(n)]
+    moving = tuple(int(j) for j in rng.choice(n, size=min(n, 2), replace=False))
+    frames = draw(st.integers(1, 5))
+    return random_motion(rng, shuffled, n_frames=frames, convention=convention, translation_joints=moving)
+
+
+@SETTINGS
+@given(motion=forests())
+def test_engine_matches_reference_and_per_frame_loop(motion):
+    expected_positions, expected_rotations = per_frame_fk(motion)
+    reference_positions, reference_rotations = reference_forward_kinematics(motion)
+    tolerance = 1e-12 * max(1.0, np.abs(expected_positions).max())
+    for backend in ("numpy", "numba") if fk_engine.have_numba() else ("numpy",):
+        positions, rotations = fk_engine.forward_kinematics(motion, backend=backend)
+        np.testing.assert_allclose(positions, expected_positions, rtol=0, atol=tolerance)
+        np.testing.assert_allclose(rotations, expected_rotations, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(positions, reference_positions, rtol=0, atol=tolerance)
+        np.testing.assert_allclose(rotations, reference_rotations, rtol=0, atol=1e-12)
+        # positions do not depend on whether rotations were asked for
+        alone, none = fk_engine.forward_kinematics(motion, with_rotations=False, backend=backend)
+        assert none is None
+        np.testing.assert_array_equal(alone, positions)
+
+
+@pytest.mark.skipif(not fk_engine.have_numba(), reason="numba is not installed: only one backend")
+@SETTINGS
+@given(motion=forests())
+def test_backends_are_bitwise_identical(motion):
+    for with_rotations in (False, True):
+        fast = fk_engine.forward_kinematics(motion, with_rotations=with_rotations, backend="numba")
+        plain = fk_engine.forward_kinematics(motion, with_rotations=with_rotations, backend="numpy")
+        np.testing.assert_array_equal(fast[0], plain[0])
+        if with_rotations:
+            np.testing.assert_array_equal(fast[1], plain[1])
+
+
+@SETTINGS
+@given(motion=forests())
+def test_positions_from_euler_angles_match(motion):
+    angles = fk_engine.euler_angles(motion)
+    expected = fk_engine.world_positions(motion)
+    tolerance = 1e-11 * max(1.0, np.abs(expected).max())
+    for backend in ("numpy", "numba") if fk_engine.have_numba() else ("numpy",):
+        positions = fk_engine.positions_from_euler(motion, angles, backend=backend)
+        np.testing.assert_allclose(positions, expected, rtol=0, atol=tolerance)
+
+
+@pytest.mark.parametrize("path", shared_files("**/*.bvh"))
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_real_files_in_both_conventions_and_as_forests(path, backend):
+    post = read_bvh(path)
+    gmr = pre_from_post(post)
+    forest = split(split(shift_root(gmr, "LeftHand"), "RightFoot"), "Head")
+    for motion in (post, gmr, forest):
+        expected_positions, expected_rotations = reference_forward_kinematics(motion)
+        positions, rotations = fk_engine.forward_kinematics(motion, backend=backend)
+        assert np.abs(positions - expected_positions).max() <= 1e-12 * motion.size
+        assert np.abs(rotations - expected_rotations).max() <= 1e-12
+    angles = fk_engine.euler_angles(post)
+    from_euler = fk_engine.positions_from_euler(post, angles, backend=backend)
+    assert np.abs(from_euler - reference_forward_kinematics(post)[0]).max() <= 1e-11 * post.size
+
+
+def test_hand_computed_two_joint_forest():
+    # root 0 at (1, 2, 3) turned 90 degrees about z, child 1 one unit along x; root 2 alone
+    rz = np.array([[0.0, -1, 0], [1, 0, 0], [0, 0, 1]])
+    motion = random_motion(np.random.default_rng(0), [-1, 0, -1], n_frames=1)
+    motion = motion.replace(
+        rotations=np.stack([rz, np.eye(3), rz])[None],
+        translations=np.array([[[1.0, 2, 3], [1, 0, 0], [7, 8, 9]]]),
+        offsets=np.array([[1.0, 2, 3], [1, 0, 0], [7, 8, 9]]),
+        has_translation=np.array([True, False, True]),
+    )
+    positions, rotations = fk_engine.forward_kinematics(motion)
+    np.testing.assert_array_equal(positions[0], [[1, 2, 3], [1, 3, 3], [7, 8, 9]])
+    np.testing.assert_array_equal(rotations[0, 1], rz)
+
+
+def test_the_public_entry_point_is_the_engine(rng):
+    motion = random_motion(rng, [-1, 0, 1, 0, -1, 4], n_frames=7)
+    np.testing.assert_array_equal(forward_kinematics(motion)[0], fk_engine.forward_kinematics(motion)[0])
+
+
+def test_strided_and_empty_inputs(rng):
+    motion = random_motion(rng, [-1, 0, 1, 1, 0], n_frames=9)
+    every_other = motion.frame_slice(slice(None, None, 2))
+    np.testing.assert_allclose(
+        fk_engine.world_positions(every_other), reference_forward_kinematics(motion)[0][::2], rtol=0, atol=1e-12
+    )
+    empty = motion.frame_slice(slice(0, 0))
+    positions, rotations = fk_engine.forward_kinematics(empty)
+    assert positions.shape == (0, 5, 3) and rotations.shape == (0, 5, 3, 3)
+    assert fk_engine.positions_from_euler(empty, np.zeros((0, 5, 3))).shape == (0, 5, 3)
+
+
+def test_many_frames_span_several_numpy_blocks(rng):
+    motion = random_motion(rng, [-1, 0, 1, 2, 1, -1, 5], n_frames=fk_engine.NUMPY_CHUNK_FRAMES + 37)
+    positions, rotations = fk_engine.forward_kinematics(motion, backend="numpy")
+    expected_positions, expected_rotations = reference_forward_kinematics(motion)
+    np.testing.assert_allclose(positions, expected_positions, rtol=0, atol=1e-12 * 100)
+    np.testing.assert_allclose(rotations, expected_rotations, rtol=0, atol=1e-12)
+
+
+def test_bad_arguments(rng):
+    motion = random_motion(rng, [-1, 0], n_frames=2)
+    with pytest.raises(ValueError, match="unknown FK backend"):
+        fk_engine.forward_kinematics(motion, backend="fortran")
+    with pytest.raises(ValueError, match="angles must have shape"):
+        fk_engine.positions_from_euler(motion, np.zeros((2, 3, 3)))
+
+
+@pytest.mark.skipif(not fk_engine.have_numba(), reason="numba is not installed: the readers use numpy")
+def test_compiled_degree_conversion_matches_numpy(rng):
+    from core.rotations import matrix_from_euler
+
+    values = rng.uniform(-400, 400, size=(50, 12))
+    groups = [
+        ("ZYX", [0, 3], np.array([[0, 1, 2], [5, 6, 7]])),
+        ("XZ", [1], np.array([[3, 4]])),
+        ("Y", [4], np.array([[8]])),
+        ("YXZ", [2], np.array([[9, 10, 11]])),
+    ]
+    out = np.full((50, 6, 3, 3), 7.0)
+    assert fk_engine.degrees_to_matrices_compiled(values, groups, out, 10, 50)
+    assert (out[:10] == 7.0).all() and (out[:, 5] == 7.0).all()  # only the frames and joints asked for
+    for order, joints, cols in groups:
+        expected = matrix_from_euler(np.radians(values[10:, cols]), order)
+        np.testing.assert_allclose(out[10:, joints], expected, rtol=0, atol=1e-15)
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_a_forest_of_roots_is_its_data(rng, backend):
+    motion = random_motion(rng, [-1, -1, -1, -1], n_frames=6)
+    positions, rotations = fk_engine.forward_kinematics(motion, backend=backend)
+    np.testing.assert_array_equal(positions, motion.translations)
+    np.testing.assert_array_equal(rotations, motion.rotations)
+    from_euler = fk_engine.positions_from_euler(motion, np.full((6, 4, 3), np.nan), backend=backend)
+    np.testing.assert_array_equal(from_euler, motion.translations)  # no angle is read
+    np.testing.assert_allclose(positions, reference_forward_kinematics(motion)[0], rtol=0, atol=0)
