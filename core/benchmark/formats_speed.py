@@ -1,7 +1,7 @@
 """Format speed, printed (asserts nothing), on CMU 01_01 tiled to many frames: the AMC
 reader, Euler continuity, and BVH export (dummies back in, continuous angles, text).
 
-Run from the project folder: ``.venv/bin/python benchmarks/formats.py [--frames 100000]``.
+Run: ``.venv/bin/python -m core.benchmark.formats_speed [--frames 100000]``.
 """
 
 from __future__ import annotations

@@ -9,7 +9,7 @@
    positions are exact, so it is all twist), per joint and overall. The same for 01_01, and
    without any reference (least change from frame to frame) for comparison.
 
-Run from the project folder: ``.venv/bin/python benchmarks/markers_accuracy.py``.
+Run: ``.venv/bin/python -m core.benchmark.markers_accuracy``.
 """
 
 from __future__ import annotations
