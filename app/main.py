@@ -93,9 +93,11 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     from app.crash import install_hooks
     from app.main_window import MainWindow
+    from app.theme import apply_theme
 
     app = QApplication.instance() or QApplication(sys.argv[:1])
     app.setApplicationName("GMR Studio")
+    apply_theme(app)
     window = MainWindow()
     install_hooks(window.report_problem)  # an exception in a slot is logged and survived
     window.show()

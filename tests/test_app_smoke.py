@@ -20,3 +20,18 @@ def test_window_opens_on_a_small_file(qtbot, studio, tmp_path):
     assert studio.forest.topLevelItemCount() == 1
     assert "3 joints" in studio.status.text() and "2 frames" in studio.status.text()
     assert studio.view.scene.is_shown("joints") and studio.view.scene.is_shown("bones")
+
+
+@pytest.mark.gui
+def test_the_theme_gives_an_icon_and_a_style(qapp):
+    from app.theme import ICON, STYLE, apply_theme
+
+    previous = qapp.styleSheet(), qapp.windowIcon()
+    try:
+        apply_theme(qapp)
+        assert not qapp.windowIcon().isNull() and ICON.exists()
+        assert "QDockWidget::title" in qapp.styleSheet() and STYLE.exists()
+        assert qapp.windowIcon().pixmap(64, 64).toImage().pixelColor(32, 11).blue() > 150  # the blue head
+    finally:
+        qapp.setStyleSheet(previous[0])
+        qapp.setWindowIcon(previous[1])
