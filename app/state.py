@@ -64,7 +64,7 @@ class Snapshot:
 
     @classmethod
     def of(cls, motion: Motion) -> Snapshot:
-        positions, rotations = forward_kinematics(motion)
+        positions, rotations = forward_kinematics(motion, threads=None)  # all cores: the cache of every frame
         return cls(motion, _readonly(positions), _readonly(rotations))
 
     @property

@@ -21,10 +21,13 @@ from core import fk_engine
 from core.motion import Motion
 
 
-def forward_kinematics(motion: Motion, *, with_rotations: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
+def forward_kinematics(
+    motion: Motion, *, with_rotations: bool = True, threads: int | None = 1
+) -> tuple[np.ndarray, np.ndarray | None]:
     """World positions (F, J, 3) and, if ``with_rotations``, world rotations (F, J, 3, 3)
-    (else None), computed by :func:`core.fk_engine.forward_kinematics`."""
-    return fk_engine.forward_kinematics(motion, with_rotations=with_rotations)
+    (else None), computed by :func:`core.fk_engine.forward_kinematics` (``threads``: blocks
+    of frames at once, None for one per core; the result does not depend on it)."""
+    return fk_engine.forward_kinematics(motion, with_rotations=with_rotations, threads=threads)
 
 
 def reference_forward_kinematics(

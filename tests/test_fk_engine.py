@@ -173,3 +173,16 @@ def test_a_forest_of_roots_is_its_data(rng, backend):
     from_euler = fk_engine.positions_from_euler(motion, np.full((6, 4, 3), np.nan), backend=backend)
     np.testing.assert_array_equal(from_euler, motion.translations)  # no angle is read
     np.testing.assert_allclose(positions, reference_forward_kinematics(motion)[0], rtol=0, atol=0)
+
+
+@pytest.mark.parametrize("threads", [2, 3, None])
+def test_threads_give_the_same_bits(threads, rng):
+    from core.fk_engine import MIN_FRAMES_PER_THREAD
+
+    motion = shift_root(random_motion(rng, [-1, 0, 1, 1, 3, 0, 5], n_frames=2 * MIN_FRAMES_PER_THREAD + 7), 4)
+    for with_rotations in (True, False):
+        one = fk_engine.forward_kinematics(motion, with_rotations=with_rotations, threads=1)
+        many = fk_engine.forward_kinematics(motion, with_rotations=with_rotations, threads=threads)
+        np.testing.assert_array_equal(one[0], many[0])
+        if with_rotations:
+            np.testing.assert_array_equal(one[1], many[1])

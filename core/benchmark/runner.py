@@ -123,6 +123,7 @@ def run_benchmark(options: BenchOptions, log: Callable[[str], None] = print) -> 
             "bvh": lambda: fk_engine.world_positions(post),
             "bvh_euler": lambda: fk_engine.positions_from_euler(post, post_angles),
             "single_root": lambda: fk_engine.world_positions(gmr),
+            "single_root_threads": lambda: fk_engine.world_positions(gmr, threads=None),
         }
         timings = time_interleaved(baselines, options.repeat)
         reference_bvh = time_call(lambda: reference_forward_kinematics(post, with_rotations=False), 1)
@@ -152,6 +153,8 @@ def run_benchmark(options: BenchOptions, log: Callable[[str], None] = print) -> 
             bvh_euler_us_per_frame=timings["bvh_euler"].us_per_frame(frames),
             yardstick_us_per_frame=timings["yardstick"].us_per_frame(frames),
             single_root_us_per_frame=timings["single_root"].us_per_frame(frames),
+            single_root_threads_us_per_frame=timings["single_root_threads"].us_per_frame(frames),
+            threads=os.cpu_count() or 1,
             baseline_runs={name: len(t.runs) for name, t in timings.items()},
             noise={name: t.noise for name, t in timings.items()}
             | {"parse": parse.noise, "numpy_parse": numpy_parse.noise},
