@@ -93,6 +93,11 @@ ASF_CASES = {
     ),
     "bad angle unit": (SKELETON.replace("angle deg", "angle grad"), "7:9: expected 'deg' or 'rad' after 'angle'"),
     "bone named root": (SKELETON.replace("name spine", "name root"), "45:11: a bone cannot be named 'root'"),
+    # found by the long fuzz run: a huge direction overflowed the norm (a RuntimeWarning, then inf)
+    "direction out of range": (
+        SKELETON.replace("direction 0 -2 0", "direction 0 -2e200 0"),
+        "20:18: '-2e200' is out of range (at most 1e+12)",
+    ),
 }
 
 
@@ -148,6 +153,10 @@ AMC_CASES = {
     "overflow": (
         GOOD_AMC.replace("knee 1 2\nhip", "knee 1 1e999\nhip"),
         "12:8: expected a finite number, found '1e999'",
+    ),
+    "out of range": (
+        GOOD_AMC.replace("knee 1 2\nhip", "knee 1 1e300\nhip"),
+        "12:8: '1e300' is out of range (at most 1e+12)",
     ),
     "frame numbers jump": (
         GOOD_AMC.replace("\n2\n", "\n3\n"),

@@ -31,6 +31,7 @@ import numpy as np
 from core.errors import MotionFileError, read_input
 from core.formats.acclaim_skeleton import ROOT_NAME, ROTATION_DOFS, AcclaimSkeleton
 from core.formats.asf import read_asf
+from core.formats.frames import MAX_ABS_VALUE
 from core.formats.hierarchy import normalise_newlines
 from core.motion import Motion, identity_rotations
 from core.rotations import complete_order, matrix_from_euler
@@ -247,7 +248,7 @@ class _Block:
             except ValueError:
                 values = None
         expected = self.starts.size - int((joint >= 0).sum())
-        if values is not None and values.size == expected and np.isfinite(values).all():
+        if values is not None and values.size == expected and (np.abs(values) <= MAX_ABS_VALUE).all():
             return values
         names = set(self.line_first_token[joint >= 0].tolist())
         for token in range(self.starts.size):
@@ -262,6 +263,8 @@ class _Block:
                 raise self.error(token, f"expected a number, found '{text_token}'")
             if not finite:
                 raise self.error(token, f"expected a finite number, found '{text_token}'")
+            if abs(float(text_token)) > MAX_ABS_VALUE:
+                raise self.error(token, f"'{text_token}' is out of range (at most {MAX_ABS_VALUE:g})")
         raise MotionFileError(self.path, "the frame data could not be read", self.first_line, 1)  # pragma: no cover
 
 
