@@ -93,6 +93,8 @@ ASF_CASES = {
     ),
     "bad angle unit": (SKELETON.replace("angle deg", "angle grad"), "7:9: expected 'deg' or 'rad' after 'angle'"),
     "bone named root": (SKELETON.replace("name spine", "name root"), "45:11: a bone cannot be named 'root'"),
+    # found by fuzzing: int('--1') raised a bare ValueError instead of a MotionFileError
+    "id not a whole number": (SKELETON.replace("id 1\n", "id --1\n"), "18:9: expected a whole number after 'id'"),
     # found by the long fuzz run: a huge direction overflowed the norm (a RuntimeWarning, then inf)
     "direction out of range": (
         SKELETON.replace("direction 0 -2 0", "direction 0 -2e200 0"),

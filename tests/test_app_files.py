@@ -78,6 +78,26 @@ def test_unsaved_edits_are_offered_for_saving(qtbot, studio, monkeypatch, tmp_pa
     assert studio.state.snapshot is not edited and not studio.state.modified
 
 
+def test_closing_with_unsaved_edits_asks_and_cancel_keeps_the_window(qtbot, studio, monkeypatch):
+    from PyQt6.QtWidgets import QMessageBox
+
+    from app import commands
+
+    open_file(studio, demo_folder() / MOTION_FILE)
+    commands.split_everything(studio.state)
+    edited = studio.state.snapshot
+    asked = []
+
+    def cancel(*args, **kwargs):
+        asked.append(args)
+        return QMessageBox.StandardButton.Cancel
+
+    monkeypatch.setattr(QMessageBox, "question", cancel)
+    assert studio.close() is False
+    assert len(asked) == 1 and studio.isVisible()
+    assert studio.state.snapshot is edited and studio.state.modified
+
+
 def test_dropping_a_file_opens_it(qtbot, studio):
     from PyQt6.QtCore import QMimeData, QPointF, QUrl
     from PyQt6.QtGui import QDropEvent

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from core.convert import post_from_pre, pre_from_post
+from core.export import bvh_export, bvh_export_trees
 from core.formats.bvh import bvh_text, read_bvh
 from core.formats.gmr import gmr_text, read_gmr
 from core.kinematics import forward_kinematics, world_positions
@@ -77,6 +78,16 @@ def test_gimbal_lock_and_degenerate_bones_through_every_conversion(order, case):
         assert_finite_and_equal(gmr, motion, scale=size)
     back, _ = post_from_pre(restored)
     assert_finite_and_equal(gmr, read_bvh("b.bvh", bvh_text(back).encode()), gmr.names, size)
+    # the forest as one BVH (dummies, a world root) and as one BVH per tree
+    export = bvh_export(everything)
+    read = read_bvh("f.bvh", export.text().encode())
+    assert_finite_and_equal(everything, read, export.names, size)
+    for _, tree in bvh_export_trees(edited):
+        joints = [j for j, name in enumerate(tree.names) if name is not None]
+        read = read_bvh("t.bvh", tree.text().encode())
+        theirs = world_positions(read)[:, [read.names.index(tree.names[j]) for j in joints]]
+        assert np.isfinite(theirs).all()
+        assert np.abs(world_positions(edited)[:, joints] - theirs).max() <= 1e-9 * size
 
 
 def test_gimbal_lock_rotations_rebuild_exactly():
