@@ -269,6 +269,23 @@ def test_continuous_euler_recovers_a_continuous_path(order):
     assert np.abs(np.diff(principal, axis=0)).max() > np.radians(300)  # what the writer used to print
 
 
+@pytest.mark.parametrize("order", ["ZYX", "XZY", "YX", "Z"])
+def test_continuous_euler_block_by_block_matches_one_call(order, rng):
+    # turns and gimbal passes that cross the block boundaries; the writer goes block by block
+    t = np.linspace(0, 1, 997)
+    swing = 2.2 if len(order) == 3 else 1.2  # a shorter order cannot pass its middle axis beyond 90 degrees
+    path = np.stack([6 * np.pi * t, swing * np.sin(9 * t), -5 * np.pi * t], axis=-1)[:, None, : len(order)]
+    path = path + rng.normal(scale=0.01, size=(len(t), 4, len(order)))
+    matrices = matrix_from_euler(path, order)
+    whole = continuous_euler(matrices, order)
+    blocks, previous = [], None
+    for start in range(0, len(t), 100):
+        blocks.append(continuous_euler(matrices[start : start + 100], order, previous))
+        previous = blocks[-1][-1]
+    np.testing.assert_allclose(np.concatenate(blocks), whole, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(whole, path, atol=1e-9)
+
+
 def test_written_angles_are_continuous(rng):
     n = 400
     t = np.linspace(0, 1, n)

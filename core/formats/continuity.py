@@ -31,7 +31,7 @@ def _wrapped_square_distance(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.einsum("...i,...i->...", difference, difference)
 
 
-def continuous_euler(matrices: np.ndarray, order: str) -> np.ndarray:
+def continuous_euler(matrices: np.ndarray, order: str, previous: np.ndarray | None = None) -> np.ndarray:
     """Intrinsic Euler angles, continuous along the first axis (frames).
 
     Parameters
@@ -39,16 +39,20 @@ def continuous_euler(matrices: np.ndarray, order: str) -> np.ndarray:
     matrices : (F, ..., 3, 3) rotations, frames first.
     order : 1 to 3 axis letters; shorter orders give the angles about their axes only
         (the rotation must not need the others; no branch change is then possible).
+    previous : (..., len(order)) radians, the angles this function returned for the frame
+        just before ``matrices[0]``: the result then continues from them, so that a long
+        motion can be converted block by block with the same angles as in one call (to
+        rounding). None: the first frame keeps the principal decomposition.
 
     Returns
     -------
     (F, ..., len(order)) radians; each angle differs from the previous frame's by less
     than pi, and the angles reproduce the matrices (to rounding).
     """
-    angles = euler_from_matrix(matrices, complete_order(order))
-    if angles.shape[0] < 2:
-        return angles[..., : len(order)]
-    if len(order) == 3:
+    angles = euler_from_matrix(matrices, complete_order(order))[..., : len(order)]
+    if previous is not None:
+        angles = np.concatenate([np.asarray(previous, dtype=np.float64)[None], angles])
+    if angles.shape[0] >= 2 and len(order) == 3:
         other = angles + np.array([np.pi, 0.0, np.pi])
         other[..., 1] = np.pi - angles[..., 1]
         stay = _wrapped_square_distance(angles[1:], angles[:-1])
@@ -56,4 +60,6 @@ def continuous_euler(matrices: np.ndarray, order: str) -> np.ndarray:
         switch = change < stay
         branch = np.concatenate([np.zeros_like(switch[:1]), np.cumsum(switch, axis=0) % 2 == 1])
         angles = np.where(branch[..., None], other, angles)
-    return np.unwrap(angles[..., : len(order)], axis=0)
+    if angles.shape[0] >= 2:
+        angles = np.unwrap(angles, axis=0)
+    return angles[1:] if previous is not None else angles

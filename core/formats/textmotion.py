@@ -26,6 +26,8 @@ from core.rotations import complete_order, euler_from_matrix, matrix_from_euler
 
 #: significant digits of frame values; 15 keeps write -> read to ~1e-15 relative
 FRAME_DIGITS = 15
+#: frames converted to angles and formatted at a time when writing
+WRITE_CHUNK_FRAMES = 4096
 #: rotation channels whose angles are below this (radians) may be left out when a joint
 #: was read with fewer than three rotation channels
 _PARTIAL_ORDER_TOLERANCE = 1e-9
@@ -216,25 +218,29 @@ def format_text_motion(motion: Motion, dialect: str) -> Iterator[str]:
         write_joint(int(root), 0)
     lines += ["MOTION", f"Frames: {motion.n_frames}", f"Frame Time: {format_number(motion.frame_time)}", ""]
     yield "\n".join(lines)
-    values = _frame_values(motion, columns)
-    chunk = 4096
-    for start in range(0, motion.n_frames, chunk):
-        yield format_frames(values[start : start + chunk], FRAME_DIGITS)
+    for values in _frame_values(motion, columns, WRITE_CHUNK_FRAMES):
+        yield format_frames(values, FRAME_DIGITS)
 
 
-def _frame_values(motion: Motion, columns: list[tuple[str, int, str]]) -> np.ndarray:
-    """(F, V) channel values in file order: positions as stored, rotations in degrees,
-    continuous over the frames (:func:`core.formats.continuity.continuous_euler`)."""
+def _frame_values(motion: Motion, columns: list[tuple[str, int, str]], chunk: int) -> Iterator[np.ndarray]:
+    """(up to chunk, V) channel values in file order, block after block of frames: positions as
+    stored, rotations in degrees, continuous over all the frames
+    (:func:`core.formats.continuity.continuous_euler`, carried from block to block). Only
+    one block of angles is held at a time, so writing needs memory for ``chunk`` frames,
+    not for the motion."""
     by_order: dict[str, list[int]] = defaultdict(list)
     for kind, j, order in columns:
         if kind == "rotation":
             by_order[order].append(j)
-    angles: dict[int, np.ndarray] = {}
-    for order, joints in by_order.items():
-        degrees = np.degrees(continuous_euler(motion.rotations[:, joints], order))
-        for k, j in enumerate(joints):
-            angles[j] = degrees[:, k]
-    blocks = [motion.translations[:, j] if kind == "position" else angles[j] for kind, j, _ in columns]
-    if not blocks:
-        return np.zeros((motion.n_frames, 0))
-    return np.concatenate(blocks, axis=1)
+    last: dict[str, np.ndarray | None] = dict.fromkeys(by_order)
+    for start in range(0, motion.n_frames, chunk):
+        frames = slice(start, min(start + chunk, motion.n_frames))
+        angles: dict[int, np.ndarray] = {}
+        for order, joints in by_order.items():
+            radians = continuous_euler(motion.rotations[frames, joints], order, last[order])
+            last[order] = radians[-1]
+            degrees = np.degrees(radians)
+            for k, j in enumerate(joints):
+                angles[j] = degrees[:, k]
+        blocks = [motion.translations[frames, j] if kind == "position" else angles[j] for kind, j, _ in columns]
+        yield np.concatenate(blocks, axis=1) if blocks else np.zeros((frames.stop - frames.start, 0))
