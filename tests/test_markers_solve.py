@@ -168,6 +168,31 @@ def test_bad_frames_are_flagged_and_leave_good_frames_alone():
     assert (result.sources[50:53, truth.joint_index("lfoot")] == MEASURED).all()
 
 
+def test_long_gaps_and_a_long_stretch_without_markers_leave_good_frames_alone():
+    truth = cmu_motion(CMU02 + "02_01.amc").frame_slice(slice(0, 300))
+    skeleton = load_gmr(shared_path(CMU02 + "02.asf"))
+    clean = markers_to_motion(joint_markers(truth), skeleton, "joints", reference=truth)
+    positions = joint_markers(truth).positions.copy()
+    positions[60:180] = np.nan  # every marker gone for a second (120 fps)
+    knee = truth.joint_index("ltibia")
+    positions[190:290, knee] = np.nan  # one marker gone for most of a second
+    markers = MarkerSet(labels=truth.names, positions=positions, rate=truth.frame_rate, units="mm")
+    result = markers_to_motion(markers, skeleton, "joints", reference=truth)
+    assert list(np.flatnonzero(~result.frame_valid)) == list(range(60, 180))
+    assert "frames 60-179 copy the nearest frame with a usable pelvis" in " | ".join(result.reasons)
+    motion = result.motion
+    assert np.isfinite(motion.rotations).all() and np.isfinite(motion.translations).all()
+    good = np.r_[0:60, 180:190, 290:300]
+    np.testing.assert_array_equal(motion.rotations[good], clean.motion.rotations[good])
+    np.testing.assert_array_equal(motion.translations[good], clean.motion.translations[good])
+    # inside the long limb gap only the knee's rotation is borrowed (here the exact one); the
+    # rest stays measured: the same rotations, to rounding below the knee (its frame moved)
+    assert (result.sources[190:290, knee] == FROM_REFERENCE).all()
+    others = np.setdiff1d(np.arange(truth.n_joints), [knee])
+    assert (result.sources[190:290][:, others] == clean.sources[190:290][:, others]).all()
+    np.testing.assert_allclose(motion.rotations[190:290], clean.motion.rotations[190:290], rtol=0, atol=1e-12)
+
+
 def test_without_reference_a_limb_gap_holds_the_last_rotation():
     truth = cmu_motion(CMU02 + "02_01.amc").frame_slice(slice(0, 30))
     skeleton = load_gmr(shared_path(CMU02 + "02.asf"))
