@@ -99,6 +99,7 @@ def test_runner_classifies_every_kind_of_outcome(monkeypatch):
         "memory": hog,
         "other": lambda p, d, s: 1 / 0,
         "sloppy": sloppy,
+        "overflow": lambda p, d, s: np.float64(1e308) * 10,
         "clean": lambda p, d, s: (_ for _ in ()).throw(MotionFileError(p, "bad", 1, 1)),
         "read": lambda p, d, s: 1,
     }
@@ -112,10 +113,13 @@ def test_runner_classifies_every_kind_of_outcome(monkeypatch):
         "memory": "memory",
         "other": "other",
         "sloppy": "other",
+        "overflow": "other",
         "clean": "clean",
         "read": "read",
     }
-    assert {f.target for f in report.failures} == {"hang", "crash", "memory", "other", "sloppy"}
+    assert {f.target for f in report.failures} == {"hang", "crash", "memory", "other", "sloppy", "overflow"}
+    overflow = next(f for f in report.failures if f.target == "overflow")
+    assert overflow.detail.startswith("RuntimeWarning at test_fuzz.py:") and "overflow" in overflow.detail
 
 
 def test_run_case_checks_successful_reads(tmp_path):

@@ -5,8 +5,10 @@ Outcomes of a case:
 - ``read``: the reader returned a motion or marker set that passes its sanity check;
 - ``clean``: the reader raised :class:`~core.errors.MotionFileError` carrying the path, a
   message and (for text formats) a line;
-- ``other``: any other exception, an error without its location, or a read that returned
-  something impossible (NaN from finite input...): a bug;
+- ``other``: any other exception, an error without its location, a read that returned
+  something impossible (NaN from finite input...), or numpy's RuntimeWarning (overflow,
+  invalid value) on the way to a read or an error: the reader computed with numbers it had
+  not bounded. A bug, each of them;
 - ``hang``: the case ran longer than the time bound (the worker is killed);
 - ``memory``: the reader tried to allocate beyond the memory bound (a file claiming 10^12
   frames must be refused before allocating);
@@ -26,6 +28,7 @@ import signal
 import sys
 import tempfile
 import time
+import warnings
 import zlib
 from collections import Counter, deque
 from multiprocessing.connection import Connection, wait
@@ -102,26 +105,44 @@ def run_case(target: Target, case: Case, folder: Path) -> CaseResult:
     def result(outcome: str, detail: str = "") -> CaseResult:
         return CaseResult(case.target, case.index, outcome, case.seed_file, case.mutations, detail[:300])
 
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", RuntimeWarning)
+        outcome, detail, value = _read(target, case, path)
+        if outcome == "read":
+            try:
+                target.check(value)
+            except AssertionError as exc:
+                outcome, detail = "other", str(exc)
+    numeric = [w for w in caught if issubclass(w.category, RuntimeWarning)]
+    if numeric and outcome in ACCEPTABLE:
+        # overflow, invalid values...: the reader computed with numbers it had not bounded
+        warning = numeric[0]
+        return result(
+            "other",
+            f"{warning.category.__name__} at {Path(warning.filename).name}:{warning.lineno}: "
+            f"{warning.message} ({outcome}: {detail})",
+        )
+    return result(outcome, detail)
+
+
+def _read(target: Target, case: Case, path: Path) -> tuple[str, str, object]:
+    """(outcome, detail, value) of reading one case, before the sanity check."""
     try:
         value = target.read(path, case.data, case.seed_file)
     except MotionFileError as exc:
         if not exc.path or not exc.message:
-            return result("other", f"MotionFileError without path or message: {exc!r}")
+            return "other", f"MotionFileError without path or message: {exc!r}", None
         if target.name not in BINARY_FORMATS and exc.line is None:
-            return result("other", f"MotionFileError without a line: {exc}")
-        return result("clean", str(exc))
+            return "other", f"MotionFileError without a line: {exc}", None
+        return "clean", str(exc), None
     except MemoryError as exc:
-        return result("memory", f"MemoryError {exc}")
+        return "memory", f"MemoryError {exc}", None
     except Exception as exc:
-        return result("other", f"{type(exc).__name__}: {exc}")
+        return "other", f"{type(exc).__name__}: {exc}", None
     finally:
         if target.needs_file:
             path.unlink(missing_ok=True)
-    try:
-        target.check(value)
-    except AssertionError as exc:
-        return result("other", str(exc))
-    return result("read")
+    return "read", "", value
 
 
 def _address_space_in_use() -> int:
