@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from core.kinematics import world_positions
 from core.markers.markerset import MarkerSet
 from core.markers.solve import SOURCE_NAMES, MarkerMotion
 from core.rotations import rotation_angle
@@ -56,11 +57,9 @@ def conversion_table(
     skeleton units).
     ``truth_positions`` (F, J, 3), ``truth_rotations`` (F, J, 3, 3) local, skeleton order.
     """
-    from core.kinematics import forward_kinematics
-
     factor = unit_mm or 1.0
     motion = result.motion
-    positions = forward_kinematics(motion, with_rotations=False)[0]
+    positions = world_positions(motion)
     to_marker = np.linalg.norm(positions - result.measured, axis=2) * factor
     rows = []
     for j, name in enumerate(motion.names):

@@ -38,7 +38,7 @@ from typing import Literal
 import numpy as np
 
 from core.errors import OperationError
-from core.kinematics import forward_kinematics
+from core.kinematics import joint_world_transform, world_positions
 from core.markers.limbs import least_change_twists, limb_rotation, twist_of
 from core.markers.markerset import MarkerSet, frame_ranges, gap_runs
 from core.markers.match import best_matches
@@ -78,7 +78,7 @@ class MarkerMotion:
 
     def position_errors(self) -> np.ndarray:
         """(F, J) distance between each joint of the motion and its virtual marker (NaN: none)."""
-        positions = forward_kinematics(self.motion, with_rotations=False)[0]
+        positions = world_positions(self.motion)
         return np.linalg.norm(positions - self.measured, axis=2)
 
 
@@ -305,14 +305,13 @@ def _prepare_reference(reference: Motion | None, skeleton: Motion, triple_index,
     order = [reference.joint_index(n) for n in skeleton.names]
     if reference.n_frames == 0:
         raise OperationError("the reference motion has no frames")
-    positions, world = forward_kinematics(reference)
-    positions, world, local = positions[:, order], world[:, order], reference.rotations[:, order]
+    positions, local = world_positions(reference)[:, order], reference.rotations[:, order]
     rotations, _, valid, reasons = pelvis_rotations(positions[:, triple_index], home, method=pelvis_method)
     if not valid.all():
         raise OperationError("the reference motion's own pelvis is degenerate: " + "; ".join(reasons))
     root = triple_index[0]
     features = np.einsum("fba,fjb->fja", rotations, positions - positions[:, root : root + 1])
-    correction = np.swapaxes(rotations, -1, -2) @ world[:, root]
+    correction = np.swapaxes(rotations, -1, -2) @ joint_world_transform(reference, order[root])[0]
     return local, features, correction, np.arange(reference.n_frames) * reference.frame_time
 
 
