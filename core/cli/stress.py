@@ -6,6 +6,7 @@ time of each stage and the process's peak memory after it.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import resource
 import tempfile
 import time
@@ -39,18 +40,18 @@ def run(args: argparse.Namespace) -> int:
     source = Path(args.bvh) if args.bvh else shared_file(DEFAULT_BVH)
     if not source.exists():
         raise MotionFileError(source, "stress input not found (the shared data folder is missing?)")
-    with tempfile.TemporaryDirectory(dir=args.keep) as folder:
-        rows = []
+    if args.keep:
+        Path(args.keep).mkdir(parents=True, exist_ok=True)
+    with contextlib.nullcontext(args.keep) if args.keep else tempfile.TemporaryDirectory() as folder:
 
         def stage(label, function, *arguments):
             start = time.perf_counter()
             value = function(*arguments)
-            rows.append((label, time.perf_counter() - start, peak_gib()))
-            print(f"{label:<44}{rows[-1][1]:8.1f} s   peak {rows[-1][2]:6.2f} GiB", flush=True)
+            print(f"{label:<44}{time.perf_counter() - start:8.1f} s   peak {peak_gib():6.2f} GiB", flush=True)
             return value
 
         path = Path(folder) / "large.bvh"
-        data = stage("tile and write the BVH", tile_bvh, source, args.frames)
+        data = stage("tile the BVH text", tile_bvh, source, args.frames)
         path.write_bytes(data)
         size_mb = len(data) / 1e6
         del data

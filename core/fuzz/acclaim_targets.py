@@ -7,14 +7,12 @@ import re
 from functools import cache
 from pathlib import Path
 
-from core.formats.amc import read_amc, skeleton_motion
+from core.formats.acclaim import asf_beside, read_asf_file
+from core.formats.amc import read_amc
 from core.formats.asf import read_asf
+from core.fuzz.mutations import line_starts
 from core.fuzz.targets import SEED_FRAMES, Target, _shared
 from core.shared_data import shared_data_dir
-
-
-def _all_line_starts(data: bytes) -> list[int]:
-    return [0] + [m.end() for m in re.finditer(rb"\r\n|\r|\n", data)]
 
 
 @cache
@@ -36,12 +34,11 @@ def amc_seeds() -> list[tuple[str, bytes]]:
 
 @cache
 def _skeleton_beside(amc_label: str):
-    folder = (shared_data_dir() / amc_label).parent
-    return read_asf(next(folder.glob("*.asf")))
+    return read_asf(asf_beside(shared_data_dir() / amc_label))
 
 
 def _read_asf(path: Path, data: bytes, seed: str):
-    return skeleton_motion(read_asf(path, data))
+    return read_asf_file(path, data)
 
 
 def _read_amc(path: Path, data: bytes, seed: str):
@@ -50,6 +47,6 @@ def _read_amc(path: Path, data: bytes, seed: str):
 
 def targets(mutations, check_motion) -> dict[str, Target]:
     return {
-        "asf": Target("asf", ".asf", asf_seeds, _read_asf, check_motion, mutations, structure=_all_line_starts),
+        "asf": Target("asf", ".asf", asf_seeds, _read_asf, check_motion, mutations, structure=line_starts),
         "amc": Target("amc", ".amc", amc_seeds, _read_amc, check_motion, mutations),
     }

@@ -53,7 +53,8 @@ _HUGE_COUNTS = [
 ]
 
 
-def _line_starts(data: bytes) -> list[int]:
+def line_starts(data: bytes) -> list[int]:
+    """Byte offsets of every line start (any line ending)."""
     return [0] + [m.end() for m in re.finditer(rb"\r\n|\r|\n", data)]
 
 
@@ -63,7 +64,7 @@ def _pick(rng: np.random.Generator, items):
 
 def truncate_at_line(data: bytes, rng: np.random.Generator) -> bytes:
     """Cut the file at the start of a line (a structural point)."""
-    return data[: _pick(rng, _line_starts(data))]
+    return data[: _pick(rng, line_starts(data))]
 
 
 def truncate_in_header(data: bytes, rng: np.random.Generator) -> bytes:
@@ -172,11 +173,6 @@ def unknown_channel(data: bytes, rng: np.random.Generator) -> bytes:
         return data
     m = _pick(rng, matches)
     return data[: m.start()] + _pick(rng, [b"Wrotation", b"Xrot", b"rw", b"position", b"\xc3\xa9"]) + data[m.end() :]
-
-
-def _names(data: bytes) -> list[re.Match]:
-    pattern = rb"(?m)^[ \t]*(?:ROOT|JOINT|name|begin)[ \t]*([^\s{]*)|^[ \t]*([A-Za-z_][\w.:-]*)(?=[ \t]+-?[\d.])"
-    return [m for m in re.finditer(pattern, data[:200000]) if (m.group(1) or m.group(2))]
 
 
 def duplicate_name(data: bytes, rng: np.random.Generator) -> bytes:

@@ -183,10 +183,6 @@ class FuzzReport:
     seconds: float
     unavailable: list[str]
 
-    @property
-    def acceptable(self) -> bool:
-        return not self.failures
-
     def table(self) -> str:
         header = f"{'format':<8}{'cases':>8}{'read':>8}{'clean':>8}{'other':>8}{'hang':>6}{'memory':>8}{'crash':>7}"
         lines = [header]

@@ -29,14 +29,15 @@ from functools import cached_property
 
 import numpy as np
 
+from core.conversions import Y_TO_Z
 from core.errors import OperationError
 
 #: metres per unit
 UNIT_SCALE = {"mm": 1e-3, "cm": 1e-2, "m": 1.0, "in": 0.0254, "ft": 0.3048}
 
 #: rotations taking one up axis to another (column vectors): Z-up (x, y, z) -> Y-up (x, z, -y)
-Z_UP_TO_Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
-Y_UP_TO_Z_UP = Z_UP_TO_Y_UP.T
+Y_UP_TO_Z_UP = Y_TO_Z
+Z_UP_TO_Y_UP = Y_TO_Z.T.copy()
 
 
 def frame_ranges(frames: np.ndarray, limit: int = 8) -> str:
