@@ -31,7 +31,7 @@ import numpy as np
 from core.errors import MotionFileError, read_input
 from core.formats.acclaim_skeleton import ROOT_NAME, ROTATION_DOFS, AcclaimSkeleton
 from core.formats.asf import read_asf
-from core.formats.frames import MAX_ABS_VALUE
+from core.formats.frames import out_of_range, within_range
 from core.formats.hierarchy import normalise_newlines
 from core.motion import Motion, identity_rotations
 from core.rotations import complete_order, matrix_from_euler
@@ -248,7 +248,7 @@ class _Block:
             except ValueError:
                 values = None
         expected = self.starts.size - int((joint >= 0).sum())
-        if values is not None and values.size == expected and (np.abs(values) <= MAX_ABS_VALUE).all():
+        if values is not None and values.size == expected and within_range(values):
             return values
         names = set(self.line_first_token[joint >= 0].tolist())
         for token in range(self.starts.size):
@@ -256,15 +256,15 @@ class _Block:
                 continue
             text_token = self.text(token)
             try:
-                finite = np.isfinite(float(text_token))
+                number = float(text_token)
             except ValueError:
-                finite = None
-            if finite is None or text_token.encode().translate(None, _NUMBER_CHARACTERS):
+                number = None
+            if number is None or text_token.encode().translate(None, _NUMBER_CHARACTERS):
                 raise self.error(token, f"expected a number, found '{text_token}'")
-            if not finite:
+            if not np.isfinite(number):
                 raise self.error(token, f"expected a finite number, found '{text_token}'")
-            if abs(float(text_token)) > MAX_ABS_VALUE:
-                raise self.error(token, f"'{text_token}' is out of range (at most {MAX_ABS_VALUE:g})")
+            if not within_range(number):
+                raise self.error(token, out_of_range(text_token))
         raise MotionFileError(self.path, "the frame data could not be read", self.first_line, 1)  # pragma: no cover
 
 

@@ -34,7 +34,7 @@ from core.formats.acclaim_skeleton import (
     AcclaimSkeleton,
     AcclaimUnits,
 )
-from core.formats.frames import MAX_ABS_VALUE
+from core.formats.frames import MAX_ABS_VALUE, out_of_range, within_range
 from core.formats.hierarchy import normalise_newlines
 from core.motion import check_joint_name
 
@@ -105,9 +105,9 @@ def _numbers(lines: _Lines, key: _Token, values: list[_Token], count: int, what:
     if not np.isfinite(out).all():
         bad = values[int(np.flatnonzero(~np.isfinite(out))[0])]
         raise lines.error(f"'{key.text}' needs finite numbers, found '{bad.text}'", bad)
-    if not (np.abs(out) <= MAX_ABS_VALUE).all():
+    if not within_range(out):
         bad = values[int(np.flatnonzero(np.abs(out) > MAX_ABS_VALUE)[0])]
-        raise lines.error(f"'{bad.text}' is out of range (at most {MAX_ABS_VALUE:g})", bad)
+        raise lines.error(out_of_range(bad.text), bad)
     return out
 
 

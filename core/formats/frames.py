@@ -19,6 +19,21 @@ _VALUE = re.compile(rb"\S+")
 #: largest magnitude a reader accepts: far beyond any real length or angle, and small enough
 #: that forward kinematics cannot overflow to infinity (or NaN) from finite input
 MAX_ABS_VALUE = 1e12
+
+
+def within_range(values, *, allow_nan: bool = False) -> bool:
+    """True when every value is a number of magnitude at most MAX_ABS_VALUE (NaN counts as
+    out of range unless ``allow_nan``: missing marker samples)."""
+    values = np.asarray(values, dtype=np.float64)
+    inside = np.abs(values) <= MAX_ABS_VALUE
+    return bool(np.all(inside | np.isnan(values)) if allow_nan else np.all(inside))
+
+
+def out_of_range(text: str) -> str:
+    """The error message for a number beyond MAX_ABS_VALUE, as written in the file."""
+    return f"'{text}' is out of range (at most {MAX_ABS_VALUE:g})"
+
+
 _NUMBER = re.compile(rb"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?\Z")
 
 
@@ -55,7 +70,7 @@ def parse_frames(
                 values = np.loadtxt(io.BytesIO(block), dtype=np.float64, comments=None, ndmin=2)
         except ValueError:
             values = None
-    if values is not None and values.shape == (n_frames, n_values) and np.abs(values).max(initial=0) <= MAX_ABS_VALUE:
+    if values is not None and values.shape == (n_frames, n_values) and within_range(values):
         return values  # NaN fails the comparison too
     _raise_first_problem(block, first_line, n_values, n_frames, frames_line, path)
     raise MotionFileError(path, "the frame data could not be read", first_line, 1)  # pragma: no cover
@@ -89,10 +104,10 @@ def _raise_first_problem(
                     line_number,
                     _column(line, match.start()),
                 )
-            if not abs(float(text)) <= MAX_ABS_VALUE:
+            if not within_range(float(text)):
                 raise MotionFileError(
                     path,
-                    f"frame {frame}, value {index + 1}: '{text.decode()}' is out of range (at most {MAX_ABS_VALUE:g})",
+                    f"frame {frame}, value {index + 1}: {out_of_range(text.decode())}",
                     line_number,
                     _column(line, match.start()),
                 )

@@ -14,7 +14,7 @@ import re
 from dataclasses import dataclass, field
 
 from core.errors import MotionFileError
-from core.formats.frames import MAX_ABS_VALUE
+from core.formats.frames import MAX_ABS_VALUE, out_of_range, within_range
 from core.motion import check_joint_name
 
 #: channel names as written in files, with what they drive: ("position"|"rotation", axis)
@@ -132,8 +132,8 @@ class _Tokens:
         if not _NUMBER.match(token.text):
             raise self.error(f"expected {what}, found '{token.text}'", token)
         value = float(token.text)
-        if not abs(value) <= MAX_ABS_VALUE:
-            raise self.error(f"'{token.text}' is out of range (at most {MAX_ABS_VALUE:g})", token)
+        if not within_range(value):
+            raise self.error(out_of_range(token.text), token)
         return value
 
 

@@ -19,7 +19,7 @@ import numpy as np
 
 from core.atomic import atomic_write_text
 from core.errors import MotionFileError, read_input
-from core.formats.frames import MAX_ABS_VALUE
+from core.formats.frames import out_of_range, within_range
 from core.formats.hierarchy import normalise_newlines
 from core.markers.markerset import UNIT_SCALE, MarkerSet, split_subject
 
@@ -137,7 +137,7 @@ def _read_rows(
             table = np.loadtxt(io.BytesIO(block), delimiter=delimiter, dtype=np.float64, comments=None, ndmin=2)
     except ValueError:
         table = None
-    if table is None or table.shape != (len(rows), n_columns) or np.nanmax(np.abs(table), initial=0) > MAX_ABS_VALUE:
+    if table is None or table.shape != (len(rows), n_columns) or not within_range(table, allow_nan=True):
         _raise_bad_value(rows, numbers, sep, path)
     frame_numbers = table[:, 0]
     if np.isnan(frame_numbers).any():
@@ -153,9 +153,8 @@ def _raise_bad_value(rows: list[bytes], numbers: list[int], sep: bytes, path: st
             if field != b"nan" and not _NUMBER.match(field):
                 found = field.decode("utf-8", "replace").strip()
                 raise MotionFileError(path, f"expected a number, found '{found}'", number, column)
-            if field != b"nan" and not abs(float(field)) <= MAX_ABS_VALUE:
-                text = field.decode().strip()
-                raise MotionFileError(path, f"'{text}' is out of range (at most {MAX_ABS_VALUE:g})", number, column)
+            if field != b"nan" and not within_range(float(field)):
+                raise MotionFileError(path, out_of_range(field.decode().strip()), number, column)
             column += len(field.decode("utf-8", "replace")) + len(sep)
     raise MotionFileError(path, "the marker rows could not be read", numbers[0], 1)  # pragma: no cover
 
