@@ -113,18 +113,16 @@ def compute_virtual_markers(markers: MarkerSet, marker_map: MarkerMap) -> Virtua
     absent = [label for label in marker_map.labels() if label not in markers.labels]
     if absent:
         reasons.append(f"the markers {', '.join(absent)} are not in {markers.source or 'the marker set'}")
+    fits = _ClusterFits()
     for v, virtual in enumerate(marker_map.virtual):
         if not virtual.calibrated:
             raise OperationError(
                 f"virtual marker {virtual.name!r} of map {marker_map.name!r} is not calibrated: "
                 "calibrate the map on frames of known pose first"
             )
-        inputs = _inputs(virtual.markers, markers, marker_map, positions)
+        inputs = _inputs(virtual.markers, markers, marker_map.names, positions)
         if virtual.kind == "cluster":
-            rotation, translation, rms, ok = fit_rigid(virtual.template, inputs)
-            positions[:, v] = np.einsum("fab,b->fa", rotation, virtual.offset) + translation
-            positions[~ok, v] = np.nan
-            fit_rms[:, v] = rms
+            positions[:, v], fit_rms[:, v] = fits.place(virtual, inputs)
         else:
             positions[:, v] = inputs.mean(axis=1)  # NaN if any input is missing
         bad = ~np.isfinite(positions[:, v]).all(axis=1)
@@ -147,10 +145,31 @@ def compute_virtual_markers(markers: MarkerSet, marker_map: MarkerMap) -> Virtua
     )
 
 
-def _inputs(labels: Sequence[str], markers: MarkerSet, marker_map: MarkerMap, virtual: np.ndarray) -> np.ndarray:
-    """(F, K, 3) the positions of a virtual marker's inputs (NaN for absent markers)."""
+class _ClusterFits:
+    """Rigid fits of clusters, each computed once: maps place several joints on one
+    cluster (the pelvis markers carry root and both hips), and a fit depends only on the
+    cluster's markers and template (virtual markers are evaluated in map order, so an
+    ``@NAME`` input is final when it is read)."""
+
+    def __init__(self) -> None:
+        self._fits: dict[tuple, tuple[np.ndarray, ...]] = {}
+
+    def place(self, virtual: VirtualMarker, inputs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(F, 3) positions of a calibrated cluster marker (NaN where the fit failed) and
+        (F,) fit RMS, from its (F, K, 3) inputs."""
+        key = (virtual.markers, virtual.template.tobytes())
+        if key not in self._fits:
+            self._fits[key] = fit_rigid(virtual.template, inputs)
+        rotation, translation, rms, ok = self._fits[key]
+        positions = np.einsum("fab,b->fa", rotation, virtual.offset) + translation
+        positions[~ok] = np.nan
+        return positions, rms
+
+
+def _inputs(labels: Sequence[str], markers: MarkerSet, names: tuple[str, ...], virtual: np.ndarray) -> np.ndarray:
+    """(F, K, 3) the positions of a virtual marker's inputs (NaN for absent markers);
+    ``@NAME`` inputs come from ``virtual`` (F, V, 3), V in the order of ``names``."""
     out = np.full((markers.n_frames, len(labels), 3), np.nan)
-    names = marker_map.names
     for k, label in enumerate(labels):
         if label.startswith("@"):
             out[:, k] = virtual[:, names.index(label[1:])]
@@ -202,48 +221,61 @@ def calibrate_marker_map(
     names = list(joint_names)
     positions = np.full((n_frames, len(marker_map.virtual), 3), np.nan)
     calibrated: list[VirtualMarker] = []
-    current = marker_map
+    templates: dict[tuple, tuple[np.ndarray, ...]] = {}
+    fits = _ClusterFits()
     for v, virtual in enumerate(marker_map.virtual):
-        inputs = _inputs(virtual.markers, markers, current, positions)
+        inputs = _inputs(virtual.markers, markers, marker_map.names, positions)
         if virtual.kind == "cluster":
             if virtual.name not in names:
                 raise OperationError(f"virtual marker {virtual.name!r} is not a joint of the reference")
             target = known[:, names.index(virtual.name)]
-            virtual = _calibrate_cluster(virtual, inputs, target, chosen)
-            rotation, translation, _, ok = fit_rigid(virtual.template, inputs)
-            positions[:, v] = np.einsum("fab,b->fa", rotation, virtual.offset) + translation
-            positions[~ok, v] = np.nan
+            virtual = _calibrate_cluster(virtual, inputs, target, chosen, templates)
+            positions[:, v] = fits.place(virtual, inputs)[0]
         else:
             positions[:, v] = inputs.mean(axis=1)
         calibrated.append(virtual)
-        current = current.replace(virtual=(*calibrated, *marker_map.virtual[v + 1 :]))
     calibration = dict(marker_map.calibration)
     calibration.update(note or {})
-    return current.replace(
-        calibration=calibration, pelvis_home=pelvis_home if pelvis_home is not None else marker_map.pelvis_home
+    return marker_map.replace(
+        virtual=tuple(calibrated),
+        calibration=calibration,
+        pelvis_home=pelvis_home if pelvis_home is not None else marker_map.pelvis_home,
     )
 
 
 def _calibrate_cluster(
-    virtual: VirtualMarker, inputs: np.ndarray, target: np.ndarray, chosen: np.ndarray
+    virtual: VirtualMarker, inputs: np.ndarray, target: np.ndarray, chosen: np.ndarray, templates: dict
 ) -> VirtualMarker:
+    """The cluster's template (which depends only on its markers and the frames used, so
+    it is kept in ``templates`` for the map's other joints on the same cluster) and its
+    offset to ``target`` (F, 3)."""
     complete = chosen & np.isfinite(inputs).all(axis=(1, 2)) & np.isfinite(target).all(axis=1)
-    if complete.sum() < 1:
+    if not complete.any():
         raise OperationError(
             f"cluster {virtual.name!r} ({', '.join(virtual.markers)}) is never complete in the calibration frames"
         )
-    points, goal = inputs[complete], target[complete]
-    template = points[0] - points[0].mean(axis=0)
-    for _ in range(TEMPLATE_ITERATIONS):
-        rotation, translation, _, ok = fit_rigid(template, points)
-        if not ok.any():
-            raise OperationError(f"cluster {virtual.name!r}: its markers are collinear in every calibration frame")
-        aligned = np.einsum("fba,fkb->fka", rotation[ok], points[ok] - translation[ok, None, :])
-        template = aligned.mean(axis=0)
-        template -= template.mean(axis=0)
-    rotation, translation, _, ok = fit_rigid(template, points)
+    key = (virtual.markers, complete.tobytes())
+    if key not in templates:
+        templates[key] = _cluster_template(virtual.name, inputs[complete])
+    template, rotation, translation, ok = templates[key]
+    goal = target[complete]
     local = np.einsum("fba,fb->fa", rotation[ok], goal[ok] - translation[ok])
     offset = local.mean(axis=0)
     fitted = np.einsum("fab,b->fa", rotation[ok], offset) + translation[ok]
     rms = float(np.sqrt(np.mean(np.sum((fitted - goal[ok]) ** 2, axis=1))))
     return dataclasses.replace(virtual, offset=offset, template=template, rms=rms)
+
+
+def _cluster_template(name: str, points: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Template (K, 3) of a cluster from its (C, K, 3) complete calibration frames, and the
+    fit of every one of those frames to it: rotation (C, 3, 3), translation (C, 3), ok (C,)."""
+    template = points[0] - points[0].mean(axis=0)
+    for _ in range(TEMPLATE_ITERATIONS):
+        rotation, translation, _, ok = fit_rigid(template, points)
+        if not ok.any():
+            raise OperationError(f"cluster {name!r}: its markers are collinear in every calibration frame")
+        aligned = np.einsum("fba,fkb->fka", rotation[ok], points[ok] - translation[ok, None, :])
+        template = aligned.mean(axis=0)
+        template -= template.mean(axis=0)
+    rotation, translation, _, ok = fit_rigid(template, points)
+    return template, rotation, translation, ok
