@@ -69,19 +69,5 @@ def remove_dummies(motion: Motion, *, tolerance: float = DEFAULT_RELATIVE_TOLERA
         for child in motion.children[d]:
             rotations[:, child] = rotations[:, d] @ rotations[:, child]
             parents[child] = parents[d]
-    keep = np.flatnonzero(~removed)
-    new_index = np.full(motion.n_joints, -1, np.int64)
-    new_index[keep] = np.arange(keep.size)
-    kept_parents = parents[keep]
-    soft = motion.soft_parents[keep]
-    result = motion.replace(
-        names=tuple(motion.names[j] for j in keep),
-        parents=np.where(kept_parents >= 0, new_index[kept_parents], -1),
-        soft_parents=np.where(soft >= 0, new_index[soft], -1),
-        offsets=motion.offsets[keep],
-        rotation_orders=tuple(motion.rotation_orders[j] for j in keep),
-        has_translation=motion.has_translation[keep],
-        rotations=rotations[:, keep],
-        translations=motion.translations[:, keep],
-    )
+    result = motion.replace(parents=parents, rotations=rotations).joint_slice(np.flatnonzero(~removed))
     return result, [motion.names[d] for d in dummies]

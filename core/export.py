@@ -172,26 +172,6 @@ def _depth_first(parents: list[int], children: list[list[int]]) -> list[int]:
     return order
 
 
-def select_joints(motion: Motion, joints: list[int]) -> Motion:
-    """The motion restricted to ``joints``: whole trees (every joint's parent is either
-    in ``joints`` or absent because the joint is a root). Soft links to joints left out
-    are dropped."""
-    index = np.full(motion.n_joints, -1, np.int64)
-    index[joints] = np.arange(len(joints))
-    parents = motion.parents[joints]
-    soft = motion.soft_parents[joints]
-    return motion.replace(
-        names=tuple(motion.names[j] for j in joints),
-        parents=np.where(parents >= 0, index[parents], -1),
-        soft_parents=np.where(soft >= 0, index[soft], -1),
-        offsets=motion.offsets[joints],
-        rotation_orders=tuple(motion.rotation_orders[j] for j in joints),
-        has_translation=motion.has_translation[joints],
-        rotations=motion.rotations[:, joints],
-        translations=motion.translations[:, joints],
-    )
-
-
 def bvh_export_trees(motion: Motion) -> list[tuple[str, BvhExport]]:
     """One BVH export per tree of the forest: ``(root name, export)`` in root order.
 
@@ -200,7 +180,7 @@ def bvh_export_trees(motion: Motion) -> list[tuple[str, BvhExport]]:
     out = []
     for root in pre.roots:
         joints = pre.subtree(int(root))
-        single = bvh_export(select_joints(pre, joints))
+        single = bvh_export(pre.joint_slice(joints))
         names: list[str | None] = [None] * motion.n_joints
         for k, j in enumerate(joints):
             names[j] = single.names[k]

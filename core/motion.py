@@ -46,7 +46,7 @@ that share the arrays they did not change.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from functools import cached_property
 from typing import Literal
 
@@ -273,6 +273,25 @@ class Motion:
     def frame_slice(self, frames: slice | np.ndarray) -> Motion:
         """The motion restricted to some frames (a slice shares memory; an index array copies)."""
         return self.replace(rotations=self.rotations[frames], translations=self.translations[frames])
+
+    def joint_slice(self, joints: Sequence[int] | np.ndarray) -> Motion:
+        """The motion restricted to ``joints`` (in that order), renumbered: each kept joint's
+        parent must be kept too, or the joint must be a root. Soft links to joints left out
+        are dropped."""
+        joints = np.asarray(joints, dtype=np.int64)
+        index = np.full(self.n_joints, -1, np.int64)
+        index[joints] = np.arange(joints.size)
+        parents, soft = self.parents[joints], self.soft_parents[joints]
+        return self.replace(
+            names=tuple(self.names[j] for j in joints),
+            parents=np.where(parents >= 0, index[parents], -1),
+            soft_parents=np.where(soft >= 0, index[soft], -1),
+            offsets=self.offsets[joints],
+            rotation_orders=tuple(self.rotation_orders[j] for j in joints),
+            has_translation=self.has_translation[joints],
+            rotations=self.rotations[:, joints],
+            translations=self.translations[:, joints],
+        )
 
     def rest_pose(self) -> Motion:
         """One frame with every rotation the identity and every translation its offset."""

@@ -118,7 +118,7 @@ def split(motion: Motion, joint: int | str) -> Motion:
         raise OperationError(f"cannot split '{motion.names[j]}': it is already a root")
     world_rotation, world_position = joint_world_transform(motion, j)
     soft = _soft_links_after_split(motion, j)
-    return _with_joint(
+    return with_joint_data(
         motion,
         j,
         parent=-1,
@@ -161,7 +161,7 @@ def join(motion: Motion, joint: int | str, *, tolerance: float = RIGID_RELATIVE_
     rigid = spread <= tolerance * motion.size
     soft = motion.soft_parents.copy()
     soft[j] = -1
-    return _with_joint(
+    return with_joint_data(
         motion,
         j,
         parent=target,
@@ -173,9 +173,9 @@ def join(motion: Motion, joint: int | str, *, tolerance: float = RIGID_RELATIVE_
     )
 
 
-def _with_joint(
+def with_joint_data(
     motion: Motion,
-    j: int,
+    j: int | list[int],
     *,
     parent: int,
     rotation: np.ndarray,
@@ -184,7 +184,8 @@ def _with_joint(
     has_translation: bool,
     soft_parents: np.ndarray,
 ) -> Motion:
-    """A copy of ``motion`` in which joint j has new local data and a new parent."""
+    """A copy of ``motion`` in which joint j (or each joint of a list, with values for each:
+    ``rotation`` (F, 3, 3) or (F, k, 3, 3), ...) has new local data and a new parent."""
     parents = motion.parents.copy()
     parents[j] = parent
     offsets = motion.offsets.copy()

@@ -6,7 +6,7 @@ import numpy as np
 
 from core import fk_engine
 from core.motion import Motion
-from core.operations import shift_root
+from core.operations import shift_root, with_joint_data
 
 
 def random_root_sets(n_joints: int, k: int, instances: int, rng: np.random.Generator) -> list[np.ndarray]:
@@ -33,22 +33,15 @@ def with_roots(motion: Motion, roots: np.ndarray) -> Motion:
     if not others:
         return motion
     positions, world = fk_engine.forward_kinematics(motion)
-    rotations = motion.rotations.copy()
-    rotations[:, others] = world[:, others]
+    rotation = world[:, others]
     del world
-    translations = motion.translations.copy()
-    translations[:, others] = positions[:, others]
-    parents = motion.parents.copy()
-    parents[others] = -1
-    offsets = motion.offsets.copy()
-    offsets[others] = 0.0
-    flags = motion.has_translation.copy()
-    flags[others] = True
-    return motion.replace(
-        parents=parents,
-        offsets=offsets,
-        has_translation=flags,
-        rotations=rotations,
-        translations=translations,
+    return with_joint_data(
+        motion,
+        others,
+        parent=-1,
+        rotation=rotation,
+        translation=positions[:, others],
+        offset=np.zeros(3),
+        has_translation=True,
         soft_parents=np.full(motion.n_joints, -1),
     )
