@@ -68,9 +68,14 @@ def unexpected_message(context: str, exc: BaseException, log: Path | None) -> st
 _show: Callable[[str], None] = lambda text: print(text, file=sys.stderr)  # noqa: E731
 
 
+def describe_unexpected(context: str, exc: BaseException) -> str:
+    """Log ``exc``; the message for the user (for callers that show it their own way)."""
+    return unexpected_message(context, exc, log_exception(context, exc))
+
+
 def report_unexpected(context: str, exc: BaseException, show: Callable[[str], None] | None = None) -> str:
     """Log ``exc`` and tell the user; returns the message shown."""
-    text = unexpected_message(context, exc, log_exception(context, exc))
+    text = describe_unexpected(context, exc)
     (show or _show)(text)
     return text
 

@@ -15,7 +15,7 @@ from PyQt6.QtCore import QObject, QSettings, Qt, pyqtSignal
 from PyQt6.QtWidgets import QApplication, QFileDialog, QMessageBox, QProgressDialog, QWidget
 
 from app import extensions, loading
-from app.crash import log_exception, report_unexpected
+from app.crash import describe_unexpected, log_exception
 from app.state import Snapshot, StudioState
 from app.video import export_video, save_screenshot
 from core.errors import MotionFileError, OperationError
@@ -234,7 +234,7 @@ class FileController(QObject):
             self._report(f"Cannot save {path}: {exc.strerror or exc}")
             return False
         except Exception as exc:
-            self._report(report_unexpected(f"Saving {path}", exc, lambda text: None))
+            self._report(describe_unexpected(f"Saving {path}", exc))
             return False
         self.state.mark_saved(path)
         self._remember(path)
@@ -290,7 +290,7 @@ class FileController(QObject):
             self._report(f"Cannot export {path}: {exc}")
             return False
         except Exception as exc:
-            self._report(report_unexpected(f"Exporting {path}", exc, lambda text: None))
+            self._report(describe_unexpected(f"Exporting {path}", exc))
             return False
         self.state.show_message(text)
         return True
