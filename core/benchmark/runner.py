@@ -31,7 +31,7 @@ from core import fk_engine
 from core.benchmark.configs import random_root_sets, with_roots
 from core.benchmark.data import build_benchmark_data
 from core.benchmark.peers import run_peers
-from core.benchmark.timing import merged, peak_memory, time_call, time_interleaved
+from core.benchmark.timing import merged, peak_memory, time_call, time_interleaved, time_returning
 from core.formats.bvh import read_bvh
 from core.kinematics import reference_forward_kinematics
 from core.operations import join, shift_root, split
@@ -126,13 +126,14 @@ def run_benchmark(options: BenchOptions, log: Callable[[str], None] = print) -> 
             "single_root_threads": lambda: fk_engine.world_positions(gmr, threads=None),
         }
         timings = time_interleaved(baselines, options.repeat)
-        reference_bvh = time_call(lambda: reference_forward_kinematics(post, with_rotations=False), 1)
+        reference_bvh, (reference, _) = time_returning(
+            lambda: reference_forward_kinematics(post, with_rotations=False), 1
+        )
         reference_gmr = time_call(lambda: reference_forward_kinematics(gmr, with_rotations=False), 1)
         result.update(
             reference_bvh_us_per_frame=reference_bvh.us_per_frame(frames),
             reference_gmr_us_per_frame=reference_gmr.us_per_frame(frames),
         )
-        reference = reference_forward_kinematics(post, with_rotations=False)[0]
         result["engine_vs_reference_error"] = float(np.abs(positions - reference).max() / gmr.size)
         del reference
 
@@ -193,8 +194,7 @@ def _configurations(gmr, base_positions, options, baselines, timings, log) -> li
         matrices, eulers, errors = [], [], []
         for roots in random_root_sets(joints, k, options.instances, rng):
             config = with_roots(gmr, roots)
-            timing = time_call(lambda config=config: fk_engine.world_positions(config), options.repeat_config)
-            out = fk_engine.world_positions(config)
+            timing, out = time_returning(lambda config=config: fk_engine.world_positions(config), options.repeat_config)
             errors.append(float(np.abs(out - base_positions).max()))
             del out
             angles = fk_engine.euler_angles(config, fk_engine.FKPlan.of(config, False).needs_rotation())

@@ -35,12 +35,20 @@ class Timing:
 
 def time_call(function: Callable[[], object], repeat: int) -> Timing:
     """Run ``function`` ``repeat`` times (at least once) and keep every duration."""
-    runs = []
+    return time_returning(function, repeat, keep=False)[0]
+
+
+def time_returning(function: Callable[[], object], repeat: int, *, keep: bool = True) -> tuple[Timing, object]:
+    """Like :func:`time_call`, also returning the last run's result (None unless ``keep``:
+    a result held across runs is one more output in memory while the next run allocates)."""
+    runs, result = [], None
     for _ in range(max(1, repeat)):
         start = time.perf_counter()
-        function()
+        value = function()
         runs.append(time.perf_counter() - start)
-    return Timing(tuple(runs))
+        result = value if keep else None
+        del value
+    return Timing(tuple(runs)), result
 
 
 def peak_memory(function: Callable[[], object]) -> int:
