@@ -16,6 +16,7 @@ from core.kinematics import forward_kinematics, world_positions
 from core.markers import MarkerSet, load_marker_map, markers_to_motion, read_markers, recover_pelvis
 from core.markers.solve import FROM_REFERENCE, HELD, MEASURED, solve_positions
 from core.motion import Motion, build_translations
+from core.operations import shift_root, split
 from core.rotations import matrix_from_euler, rotation_angle
 from tests.conftest import shared_path
 
@@ -135,6 +136,19 @@ def test_named_roots_hold_their_measured_positions():
     assert sorted(motion.names[r] for r in motion.roots) == ["lfemur", "rhumerus", "root"]
     assert_exact(motion, truth, angles=False)
     motion.check_invariants()
+
+
+def test_named_roots_on_a_skeleton_with_soft_links_split_like_the_operation():
+    # the tree of lwrist holds its soft link at lwrist, inside the subtree of lradius: the
+    # new link must go on the cut's other side, as core.operations.split puts it
+    truth = cmu_motion(CMU02 + "02_01.amc").frame_slice(slice(0, 30))
+    skeleton = shift_root(split(load_gmr(shared_path(CMU02 + "02.asf")), "lhumerus"), "lwrist")
+    result = markers_to_motion(joint_markers(truth), skeleton, "joints", reference=truth, roots=["lradius"])
+    expected = split(skeleton, "lradius")
+    np.testing.assert_array_equal(result.motion.parents, expected.parents)
+    np.testing.assert_array_equal(result.motion.soft_parents, expected.soft_parents)
+    result.motion.check_invariants()
+    np.testing.assert_allclose(world_positions(result.motion), world_positions(truth), atol=1e-9 * truth.size)
 
 
 def test_bad_frames_are_flagged_and_leave_good_frames_alone():

@@ -44,6 +44,7 @@ from core.markers.markerset import MarkerSet, frame_ranges, gap_runs
 from core.markers.match import best_matches
 from core.markers.pelvis import PelvisFrames, PelvisMethod, pelvis_rotations, rest_positions
 from core.motion import Motion
+from core.operations import split
 
 #: ``sources`` codes, per frame and joint
 MEASURED, FROM_REFERENCE, HELD, ROOT = 0, 1, 2, 3
@@ -325,12 +326,14 @@ def _assemble(
     before, after = gap_runs(valid)
     nearest = np.where(before >= 0, before, after)
     position = np.searchsorted(good, nearest)
-    parents = skeleton.parents.copy()
-    soft = skeleton.soft_parents.copy()
     is_root = np.zeros(n_joints, bool)
     is_root[sorted(root_set)] = True
-    for j in np.flatnonzero(is_root & (parents >= 0)):
-        soft[j], parents[j] = parents[j], -1
+    # the forest and its soft links as core.operations.split leaves them (on the rest pose)
+    structure = skeleton.rest_pose()
+    for j in skeleton.topological_order:
+        if is_root[j] and structure.parents[j] >= 0:
+            structure = split(structure, int(j))
+    parents, soft = structure.parents, structure.soft_parents
     rotations = np.where(is_root[None, :, None, None], world, local)[position]
     translations = np.where(is_root[None, :, None], chain, skeleton.offsets[None])[position]
     offsets = np.where(is_root[:, None], translations[0], skeleton.offsets)
