@@ -12,8 +12,8 @@ from collections.abc import Callable
 from PyQt6.QtGui import QAction, QKeySequence, QUndoStack
 from PyQt6.QtWidgets import QMainWindow, QMenu, QStyle, QToolBar
 
-from app.commands import can_join
-from app.state import StudioState
+from gmr_studio.app.commands import can_join
+from gmr_studio.app.state import StudioState
 
 Key = QKeySequence.StandardKey
 

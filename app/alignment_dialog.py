@@ -19,9 +19,9 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
-from app.alignment import MarkerAlignment, auto_alignment, rotation_about
-from app.scene import up_axis_of
-from app.state import StudioState
+from gmr_studio.app.alignment import MarkerAlignment, auto_alignment, rotation_about
+from gmr_studio.app.scene import up_axis_of
+from gmr_studio.app.state import StudioState
 
 
 class AlignmentDialog(QDialog):

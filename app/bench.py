@@ -23,7 +23,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from core.shared_data import shared_data_dir
+from gmr_studio.core.shared_data import shared_data_dir
 
 BVH = "cmu/subject01/01_01.bvh"
 C3D = "cmu/subject01/01_01.c3d"
@@ -40,7 +40,7 @@ def bench_frames(frames: int) -> None:
     from PyQt6.QtCore import QSettings
     from PyQt6.QtWidgets import QApplication
 
-    from app.main_window import MainWindow
+    from gmr_studio.app.main_window import MainWindow
 
     data = shared_data_dir()
     app = QApplication.instance() or QApplication(sys.argv[:1])
@@ -90,7 +90,10 @@ def bench_launch() -> None:
     path = shared_data_dir() / BVH
     start = time.time()
     result = subprocess.run(
-        [sys.executable, "-m", "app.main", str(path), "--first-frame-time"], capture_output=True, text=True, check=False
+        [sys.executable, "-m", "gmr_studio.app.main", str(path), "--first-frame-time"],
+        capture_output=True,
+        text=True,
+        check=False,
     )
     if result.returncode != 0:
         print(f"launch: failed: {result.stderr.strip()}")
@@ -100,10 +103,10 @@ def bench_launch() -> None:
 
 
 def bench_edits(n_frames: int) -> None:
-    from app import commands
-    from app.state import Snapshot, StudioState
-    from core.formats import load_gmr
-    from core.operations import join, shift_root, split
+    from gmr_studio.app import commands
+    from gmr_studio.app.state import Snapshot, StudioState
+    from gmr_studio.core.formats import load_gmr
+    from gmr_studio.core.operations import join, shift_root, split
 
     base = load_gmr(shared_data_dir() / BVH)
     repeat = -(-n_frames // base.n_frames)

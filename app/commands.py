@@ -15,11 +15,11 @@ from collections.abc import Callable
 
 from PyQt6.QtGui import QUndoCommand
 
-from app.crash import report_unexpected
-from app.state import Snapshot, StudioState
-from core.errors import OperationError
-from core.motion import Motion
-from core.operations import join, join_all, shift_root, split, split_all
+from gmr_studio.app.crash import report_unexpected
+from gmr_studio.app.state import Snapshot, StudioState
+from gmr_studio.core.errors import OperationError
+from gmr_studio.core.motion import Motion
+from gmr_studio.core.operations import join, join_all, shift_root, split, split_all
 
 
 class MotionEdit(QUndoCommand):

@@ -14,10 +14,10 @@ from collections.abc import Callable
 
 import numpy as np
 
-from app.commands import run_edit
-from app.state import StudioState
-from core.formats import READERS
-from core.markers import MARKER_READERS
+from gmr_studio.app.commands import run_edit
+from gmr_studio.app.state import StudioState
+from gmr_studio.core.formats import READERS
+from gmr_studio.core.markers import MARKER_READERS
 
 
 def _find(module: str, name: str) -> Callable | None:
@@ -37,15 +37,15 @@ def marker_suffixes() -> set[str]:
 
 def remove_dummies_available(motion=None) -> bool:
     """The core can remove dummy joints (and, given a motion, it has some)."""
-    find = _find("core.dummies", "find_dummies")
-    if find is None or _find("core.dummies", "remove_dummies") is None:
+    find = _find("gmr_studio.core.dummies", "find_dummies")
+    if find is None or _find("gmr_studio.core.dummies", "remove_dummies") is None:
         return False
     return motion is None or bool(find(motion))
 
 
 def remove_dummy_joints(state: StudioState) -> bool:
     """Fold zero-offset dummy joints into their children, as an undoable edit."""
-    remove = _find("core.dummies", "remove_dummies")
+    remove = _find("gmr_studio.core.dummies", "remove_dummies")
     if remove is None:
         state.show_message("Remove dummy joints needs core.dummies (not installed in this build)")
         return False
@@ -63,14 +63,14 @@ def remove_dummy_joints(state: StudioState) -> bool:
 
 
 def pelvis_recovery_available() -> bool:
-    return _find("core.markers.pelvis", "recover_pelvis") is not None
+    return _find("gmr_studio.core.markers.pelvis", "recover_pelvis") is not None
 
 
 def candidate_marker_maps(state: StudioState) -> list:
     """Marker maps to try for the pelvis, best first: the markers named like joints (with
     the app's alignment, so the skeleton's rest pose gives the home pelvis), then every map
     shipped in ``resources/markermaps``."""
-    from core.markers.markermap import MAPS_DIR, Alignment, joints_map
+    from gmr_studio.core.markers.markermap import MAPS_DIR, Alignment, joints_map
 
     alignment = state.marker_overlay.alignment
     joints = joints_map(()).replace(
@@ -82,13 +82,13 @@ def candidate_marker_maps(state: StudioState) -> list:
 def recover_pelvis_frames(state: StudioState, *, quiet: bool = False) -> bool:
     """Recover the pelvis frames from the shown markers (the first marker map that fits)
     and show them; ``quiet``: say nothing when no map fits."""
-    recover = _find("core.markers.pelvis", "recover_pelvis")
+    recover = _find("gmr_studio.core.markers.pelvis", "recover_pelvis")
     overlay = state.marker_overlay
     if recover is None or overlay is None:
         if not quiet:
             state.show_message("Pelvis recovery needs markers and core.markers.pelvis.recover_pelvis")
         return False
-    from core.errors import MotionFileError, OperationError
+    from gmr_studio.core.errors import MotionFileError, OperationError
 
     problems = []
     for marker_map in candidate_marker_maps(state):

@@ -14,13 +14,13 @@ from pathlib import Path
 from PyQt6.QtCore import QObject, QSettings, Qt, pyqtSignal
 from PyQt6.QtWidgets import QApplication, QFileDialog, QMessageBox, QProgressDialog, QWidget
 
-from app import extensions, loading
-from app.crash import describe_unexpected, log_exception
-from app.state import Snapshot, StudioState
-from app.video import export_video, save_screenshot
-from core.errors import MotionFileError, OperationError
-from core.formats import write_motion
-from core.markers import MarkerSet
+from gmr_studio.app import extensions, loading
+from gmr_studio.app.crash import describe_unexpected, log_exception
+from gmr_studio.app.state import Snapshot, StudioState
+from gmr_studio.app.video import export_video, save_screenshot
+from gmr_studio.core.errors import MotionFileError, OperationError
+from gmr_studio.core.formats import write_motion
+from gmr_studio.core.markers import MarkerSet
 
 MAX_RECENT = 8
 
@@ -269,7 +269,7 @@ class FileController(QObject):
     def export_bvh(self, path: str | Path, *, per_tree: bool = False) -> bool:
         """Write the document as standard BVH (post-rotation; dummy joints where GMR siblings
         turn independently; a forest under a ``World`` root, or one file per tree)."""
-        from core.export import bvh_export, bvh_export_trees, tree_file_name
+        from gmr_studio.core.export import bvh_export, bvh_export_trees, tree_file_name
 
         motion = self.state.motion
         try:

@@ -10,8 +10,8 @@ from PyQt6.QtCore import Qt
 from PyQt6.QtGui import QBrush, QColor, QFont, QIcon, QPixmap
 from PyQt6.QtWidgets import QMenu, QTreeWidget, QTreeWidgetItem, QWidget
 
-from app.scene import tree_colors
-from app.state import StudioState
+from gmr_studio.app.scene import tree_colors
+from gmr_studio.app.state import StudioState
 
 ROOT_MARK = "\u25c6"  # a diamond before root names
 LINK_MARK = "\u21e2"  # a dashed arrow before a soft-link parent

@@ -17,8 +17,8 @@ from PyQt6.QtCore import QElapsedTimer, Qt, QTimer
 from PyQt6.QtGui import QFontDatabase
 from PyQt6.QtWidgets import QLabel, QScrollArea, QWidget
 
-from app.state import StudioState
-from core.rotations import complete_order, euler_from_matrix
+from gmr_studio.app.state import StudioState
+from gmr_studio.core.rotations import complete_order, euler_from_matrix
 
 REFRESH_MS = 100
 

@@ -13,9 +13,9 @@ from pathlib import Path
 
 from PyQt6.QtCore import QThread, pyqtSignal
 
-from app.state import Snapshot
-from core.formats import READERS, load_gmr
-from core.markers import MARKER_READERS, MarkerSet, read_markers
+from gmr_studio.app.state import Snapshot
+from gmr_studio.core.formats import READERS, load_gmr
+from gmr_studio.core.markers import MARKER_READERS, MarkerSet, read_markers
 
 
 def motion_suffixes() -> list[str]:

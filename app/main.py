@@ -14,7 +14,7 @@ import os
 import sys
 from collections.abc import Sequence
 
-from core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
+from gmr_studio.core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
 
 
 def build_arguments() -> argparse.ArgumentParser:
@@ -91,9 +91,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     from PyQt6.QtWidgets import QApplication
 
-    from app.crash import install_hooks
-    from app.main_window import MainWindow
-    from app.theme import apply_theme
+    from gmr_studio.app.crash import install_hooks
+    from gmr_studio.app.main_window import MainWindow
+    from gmr_studio.app.theme import apply_theme
 
     app = QApplication.instance() or QApplication(sys.argv[:1])
     app.setApplicationName("GMR Studio")
@@ -118,8 +118,8 @@ def _report_first_frame(app, window, loaded: bool) -> None:
 
 
 def _load_or_report(motion_path: str, markers_path: str | None):
-    from app.loading import load_markers, load_snapshot
-    from core.errors import MotionFileError
+    from gmr_studio.app.loading import load_markers, load_snapshot
+    from gmr_studio.core.errors import MotionFileError
 
     try:
         snapshot = load_snapshot(motion_path)
@@ -148,10 +148,10 @@ def offscreen_screenshot(motion_path: str, markers_path: str | None, args: argpa
     import pyvista as pv
     from PyQt6.QtCore import QCoreApplication
 
-    from app import extensions
-    from app.scene import SkeletonScene
-    from app.state import StudioState
-    from app.video import save_screenshot
+    from gmr_studio.app import extensions
+    from gmr_studio.app.scene import SkeletonScene
+    from gmr_studio.app.state import StudioState
+    from gmr_studio.app.video import save_screenshot
 
     loaded = _load_or_report(motion_path, markers_path)
     if loaded is None:
@@ -189,9 +189,9 @@ def window_screenshot(motion_path: str, markers_path: str | None, args: argparse
     """Open the real window, show the frame, save its view (or the whole window) and exit."""
     from PyQt6.QtWidgets import QApplication
 
-    from app import extensions
-    from app.main_window import MainWindow
-    from app.video import save_screenshot, window_image
+    from gmr_studio.app import extensions
+    from gmr_studio.app.main_window import MainWindow
+    from gmr_studio.app.video import save_screenshot, window_image
 
     loaded = _load_or_report(motion_path, markers_path)
     if loaded is None:
@@ -225,7 +225,7 @@ def window_screenshot(motion_path: str, markers_path: str | None, args: argparse
     window.view.scene.reset_camera()
     app.processEvents()
     if whole_window:
-        from app.video import save_png
+        from gmr_studio.app.video import save_png
 
         image = window_image(window, window.view.interactor)
         save_png(image, out)

@@ -8,16 +8,16 @@ from PyQt6.QtCore import QSettings, Qt
 from PyQt6.QtGui import QCloseEvent, QDragEnterEvent, QDropEvent
 from PyQt6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMenu, QMessageBox, QUndoView, QWidget
 
-from app import actions as action_table
-from app import commands, extensions
-from app.alignment_dialog import AlignmentDialog
-from app.files import FileController
-from app.forest import ForestTree
-from app.inspector import Inspector
-from app.playback import SPEEDS, Player
-from app.state import StudioState
-from app.timeline import Timeline
-from app.view import SkeletonView
+from gmr_studio.app import actions as action_table
+from gmr_studio.app import commands, extensions
+from gmr_studio.app.alignment_dialog import AlignmentDialog
+from gmr_studio.app.files import FileController
+from gmr_studio.app.forest import ForestTree
+from gmr_studio.app.inspector import Inspector
+from gmr_studio.app.playback import SPEEDS, Player
+from gmr_studio.app.state import StudioState
+from gmr_studio.app.timeline import Timeline
+from gmr_studio.app.view import SkeletonView
 
 KEYS_HELP = """<table>
 <tr><td><b>Space</b></td><td>play / pause</td></tr>

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from PyQt6.QtCore import QElapsedTimer, QObject, Qt, QTimer, pyqtSignal
 
-from app.state import StudioState
+from gmr_studio.app.state import StudioState
 
 SPEEDS = (0.25, 0.5, 1.0, 2.0, 4.0)
 

@@ -27,10 +27,10 @@ import re
 import numpy as np
 import pyvista as pv
 
-from app import vtk_parts as parts
-from app.alignment import detect_up_axis
-from app.picking import project_points
-from app.state import OVERLAYS, MarkerOverlay, PelvisOverlay, Snapshot
+from gmr_studio.app import vtk_parts as parts
+from gmr_studio.app.alignment import detect_up_axis
+from gmr_studio.app.picking import project_points
+from gmr_studio.app.state import OVERLAYS, MarkerOverlay, PelvisOverlay, Snapshot
 
 TREE_COLORS = np.array(
     [
@@ -75,7 +75,7 @@ def tree_colors(snapshot: Snapshot) -> np.ndarray:
 def up_axis_of(snapshot: Snapshot) -> int:
     """1 (Y) or 2 (Z): what the file's comments state (``up axis: z``, as ``gmr convert``
     writes), else what the motion shows (:func:`app.alignment.detect_up_axis`)."""
-    from core.conversions import up_axis_of as stated_up_axis
+    from gmr_studio.core.conversions import up_axis_of as stated_up_axis
 
     if any(re.match(r"\s*up axis:\s*[yz]\b", comment, re.IGNORECASE) for comment in snapshot.motion.comments):
         return 1 if stated_up_axis(snapshot.motion) == "y" else 2

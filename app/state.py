@@ -20,11 +20,11 @@ import numpy as np
 from PyQt6.QtCore import QObject, pyqtSignal
 from PyQt6.QtGui import QUndoStack
 
-from app.alignment import MarkerAlignment, auto_alignment, markers_on_motion_frames
-from core.kinematics import forward_kinematics
-from core.markers import MarkerSet
-from core.markers.pelvis import PelvisFrames
-from core.motion import Motion
+from gmr_studio.app.alignment import MarkerAlignment, auto_alignment, markers_on_motion_frames
+from gmr_studio.core.kinematics import forward_kinematics
+from gmr_studio.core.markers import MarkerSet
+from gmr_studio.core.markers.pelvis import PelvisFrames
+from gmr_studio.core.motion import Motion
 
 #: overlay name -> shown at start
 OVERLAYS: dict[str, bool] = {

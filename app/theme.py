@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 from PyQt6.QtGui import QIcon
 from PyQt6.QtWidgets import QApplication
 
-RESOURCES = Path(__file__).resolve().parent.parent / "resources"
+from gmr_studio.resources import resource_path
+
+RESOURCES = resource_path()
 ICON = RESOURCES / "icons" / "gmr-studio.svg"
 STYLE = RESOURCES / "styles" / "studio.qss"
 

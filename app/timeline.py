@@ -10,8 +10,8 @@ from PyQt6.QtCore import Qt
 from PyQt6.QtGui import QAction
 from PyQt6.QtWidgets import QComboBox, QHBoxLayout, QLabel, QSlider, QSpinBox, QToolButton, QWidget
 
-from app.playback import SPEEDS, Player
-from app.state import StudioState
+from gmr_studio.app.playback import SPEEDS, Player
+from gmr_studio.app.state import StudioState
 
 
 class Timeline(QWidget):

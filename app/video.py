@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from app.scene import SkeletonScene
-from core.atomic import atomic_write_bytes
+from gmr_studio.app.scene import SkeletonScene
+from gmr_studio.core.atomic import atomic_write_bytes
 
 VIDEO_FPS = 30.0
 

@@ -14,9 +14,9 @@ from PyQt6.QtGui import QMouseEvent
 from PyQt6.QtWidgets import QMenu, QVBoxLayout, QWidget
 from pyvistaqt import QtInteractor
 
-from app.picking import pick_point
-from app.scene import SkeletonScene
-from app.state import StudioState
+from gmr_studio.app.picking import pick_point
+from gmr_studio.app.scene import SkeletonScene
+from gmr_studio.app.state import StudioState
 
 CLICK_SLOP = 4  # pixels a press may move and still be a click
 

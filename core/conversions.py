@@ -23,7 +23,7 @@ import re
 
 import numpy as np
 
-from core.motion import Motion
+from gmr_studio.core.motion import Motion
 
 UP_AXES = ("y", "z")
 #: Y up -> Z up: a rotation of +90 degrees about X

@@ -24,10 +24,11 @@ from pathlib import Path
 
 import numpy as np
 
-from core.kinematics import forward_kinematics
-from core.markers.markerset import Y_UP_TO_Z_UP, MarkerSet
-from core.motion import Motion, build_translations
-from core.rotations import matrix_from_euler
+from gmr_studio.core.kinematics import forward_kinematics
+from gmr_studio.core.markers.markerset import Y_UP_TO_Z_UP, MarkerSet
+from gmr_studio.core.motion import Motion, build_translations
+from gmr_studio.core.rotations import matrix_from_euler
+from gmr_studio.resources import resource_path
 
 #: joint name -> (parent name, bone vector in the rest pose, cm); the CMU ASF hierarchy
 SKELETON: dict[str, tuple[str | None, tuple[float, float, float]]] = {
@@ -99,7 +100,7 @@ MARKERS_FILE = "walk.trc"
 
 def demo_folder() -> Path:
     """Where the demo files live: ``resources/demo/`` beside the packages."""
-    return Path(__file__).resolve().parent.parent / "resources" / "demo"
+    return resource_path("demo")
 
 
 def _joint_angles(phase: np.ndarray) -> dict[str, np.ndarray]:
@@ -213,8 +214,8 @@ def demo_markers(motion: Motion | None = None) -> MarkerSet:
 
 def write_demo(folder: str | Path | None = None) -> tuple[Path, Path]:
     """Write ``walk.gmr`` and ``walk.trc`` (atomically) and return their paths."""
-    from core.formats.gmr import write_gmr
-    from core.markers.trc import write_trc
+    from gmr_studio.core.formats.gmr import write_gmr
+    from gmr_studio.core.markers.trc import write_trc
 
     target = Path(folder) if folder is not None else demo_folder()
     target.mkdir(parents=True, exist_ok=True)

@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from core.convert import pre_from_post
-from core.motion import DEFAULT_RELATIVE_TOLERANCE, Motion
+from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.motion import DEFAULT_RELATIVE_TOLERANCE, Motion
 
 
 def find_dummies(motion: Motion, *, tolerance: float = DEFAULT_RELATIVE_TOLERANCE) -> list[int]:

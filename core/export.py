@@ -26,11 +26,11 @@ from pathlib import Path
 
 import numpy as np
 
-from core.atomic import atomic_write_text
-from core.convert import post_from_pre, pre_from_post
-from core.formats.textmotion import format_text_motion
-from core.motion import Motion
-from core.rotations import complete_order
+from gmr_studio.core.atomic import atomic_write_text
+from gmr_studio.core.convert import post_from_pre, pre_from_post
+from gmr_studio.core.formats.textmotion import format_text_motion
+from gmr_studio.core.motion import Motion
+from gmr_studio.core.rotations import complete_order
 
 #: name of the synthetic root of an exported forest (numbered if a joint has it already)
 WORLD_ROOT = "World"

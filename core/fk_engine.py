@@ -82,13 +82,13 @@ from typing import Literal
 
 import numpy as np
 
-from core.motion import Motion
-from core.rotations import _indices_and_parity, complete_order
+from gmr_studio.core.motion import Motion
+from gmr_studio.core.rotations import _indices_and_parity, complete_order
 
 try:  # the compiled backend is optional
     if os.environ.get("GMR_DISABLE_NUMBA") == "1":
         raise ImportError("disabled by GMR_DISABLE_NUMBA=1")
-    from core import _fk_kernels as _kernels
+    from gmr_studio.core import _fk_kernels as _kernels
 except ImportError:  # pragma: no cover - depends on the environment
     _kernels = None
 
@@ -272,7 +272,7 @@ def euler_angles(motion: Motion, joints: np.ndarray | None = None) -> np.ndarray
     rotation order (zeros for joints without rotation channels, and for joints left out
     of the (J,) bool mask ``joints``). For BVH files these are the channel values as
     stored (in radians; a joint's missing channels are 0)."""
-    from core.rotations import euler_from_matrix
+    from gmr_studio.core.rotations import euler_from_matrix
 
     angles = np.zeros((motion.n_frames, motion.n_joints, 3))
     by_order: dict[str, list[int]] = {}
@@ -316,7 +316,7 @@ def positions_from_euler(
             plan.staged.shape[0] > 0, positions, scratch, np.empty((motion.n_joints, 3)),
         )  # fmt: skip
         return positions
-    from core.rotations import matrix_from_euler
+    from gmr_studio.core.rotations import matrix_from_euler
 
     rotations = np.empty((motion.n_frames, motion.n_joints, 3, 3))
     rotations[:] = np.eye(3)

@@ -17,8 +17,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from core import fk_engine
-from core.motion import Motion
+from gmr_studio.core import fk_engine
+from gmr_studio.core.motion import Motion
 
 
 def forward_kinematics(

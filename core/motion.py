@@ -52,8 +52,8 @@ from typing import Literal
 
 import numpy as np
 
-from core.errors import OperationError
-from core.rotations import check_order
+from gmr_studio.core.errors import OperationError
+from gmr_studio.core.rotations import check_order
 
 Convention = Literal["pre", "post"]
 
@@ -256,7 +256,7 @@ class Motion:
 
         Invariant under shift root, split and join, so tolerances scaled by it are too.
         """
-        from core.kinematics import world_positions
+        from gmr_studio.core.kinematics import world_positions
 
         if self.n_frames:
             points = world_positions(self.frame_slice(slice(0, 1)))[0]

@@ -18,10 +18,10 @@ import itertools
 
 import numpy as np
 
-from core.errors import OperationError
-from core.kinematics import forward_kinematics, joint_world_transform
-from core.motion import RIGID_RELATIVE_TOLERANCE, Motion
-from core.rotations import orthonormalize
+from gmr_studio.core.errors import OperationError
+from gmr_studio.core.kinematics import forward_kinematics, joint_world_transform
+from gmr_studio.core.motion import RIGID_RELATIVE_TOLERANCE, Motion
+from gmr_studio.core.rotations import orthonormalize
 
 
 def _require_pre(motion: Motion, what: str) -> None:

@@ -7,9 +7,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from core.motion import Motion, build_translations
-from core.rotations import matrix_from_euler
-from core.shared_data import shared_data_dir
+from gmr_studio.core.motion import Motion, build_translations
+from gmr_studio.core.rotations import matrix_from_euler
+from gmr_studio.core.shared_data import shared_data_dir
 
 DATA = shared_data_dir()
 MISSING_DATA = f"the real data folder {DATA} is absent (it ships with CI, not with a fresh clone)"

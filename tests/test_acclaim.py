@@ -6,11 +6,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from core.formats import load_gmr, read_motion
-from core.formats.acclaim import asf_beside, read_amc, read_asf, skeleton_motion
-from core.formats.amc import parse_amc_frames
-from core.formats.bvh import read_bvh
-from core.kinematics import world_positions
+from gmr_studio.core.formats import load_gmr, read_motion
+from gmr_studio.core.formats.acclaim import asf_beside, read_amc, read_asf, skeleton_motion
+from gmr_studio.core.formats.amc import parse_amc_frames
+from gmr_studio.core.formats.bvh import read_bvh
+from gmr_studio.core.kinematics import world_positions
 from tests.conftest import shared_files, shared_path
 
 # ------------------------------------------------------------------ independent Acclaim FK

@@ -6,10 +6,10 @@ import re
 
 import pytest
 
-from core.cli import main
-from core.errors import MotionFileError
-from core.formats import read_motion
-from core.formats.acclaim import read_amc, read_asf
+from gmr_studio.core.cli import main
+from gmr_studio.core.errors import MotionFileError
+from gmr_studio.core.formats import read_motion
+from gmr_studio.core.formats.acclaim import read_amc, read_asf
 from tests.test_acclaim import SKELETON
 
 ASF_CASES = {

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from app.alignment import (
+from gmr_studio.app.alignment import (
     MarkerAlignment,
     auto_alignment,
     axis_rotations,
@@ -15,9 +15,9 @@ from app.alignment import (
     rotation_about,
     similarity_fit,
 )
-from core.demo import demo_markers, demo_motion
-from core.kinematics import world_positions
-from core.markers.markerset import Y_UP_TO_Z_UP
+from gmr_studio.core.demo import demo_markers, demo_motion
+from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.markers.markerset import Y_UP_TO_Z_UP
 
 
 @pytest.fixture(scope="module")
@@ -94,8 +94,8 @@ def test_apply_keeps_gaps_and_frame_shift():
 def test_cmu_c3d_markers_land_on_the_bvh_skeleton():
     """The CMU C3D (mm, Z up) onto the cgspeed BVH (CMU units, Y up, an added first frame):
     PROVENANCE.md says (x, y, z)_c3d = 56.444 * (z, x, y)_amc, and LANK stays 47 mm from the ankle."""
-    from core.formats import load_gmr
-    from core.markers import read_markers
+    from gmr_studio.core.formats import load_gmr
+    from gmr_studio.core.markers import read_markers
     from tests.conftest import shared_path
 
     motion = load_gmr(shared_path("cmu/subject01/01_01.bvh"))

@@ -9,10 +9,10 @@ import sys
 import numpy as np
 import pytest
 
-from app.main import build_arguments, parse_size
-from core.demo import MOTION_FILE, demo_folder
+from gmr_studio.app.main import build_arguments, parse_size
+from gmr_studio.core.demo import MOTION_FILE, demo_folder
 
-STUDIO = [sys.executable, "-m", "app.main"]
+STUDIO = [sys.executable, "-m", "gmr_studio.app.main"]
 
 
 def headless_env() -> dict[str, str]:

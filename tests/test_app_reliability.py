@@ -9,8 +9,8 @@ import threading
 import pytest
 from PyQt6.QtCore import QObject, QTimer, pyqtSignal
 
-from app import commands, crash
-from core.demo import MOTION_FILE, demo_folder
+from gmr_studio.app import commands, crash
+from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from tests import app_fixtures
 from tests.app_fixtures import open_file
 
@@ -61,7 +61,7 @@ def test_running_out_of_memory_while_caching_an_edit_changes_nothing(qtbot, stud
 
 
 def test_a_save_that_fails_midway_keeps_the_old_file_and_the_edits(qtbot, studio, crash_folder, monkeypatch, tmp_path):
-    import core.formats.textmotion as textmotion
+    import gmr_studio.core.formats.textmotion as textmotion
 
     open_file(studio, demo_folder() / MOTION_FILE)
     target = tmp_path / "walk.gmr"
@@ -81,7 +81,7 @@ def test_a_save_that_fails_midway_keeps_the_old_file_and_the_edits(qtbot, studio
 
 
 def test_a_loader_that_fails_unexpectedly_keeps_the_document(qtbot, studio, crash_folder, monkeypatch):
-    from app import loading
+    from gmr_studio.app import loading
 
     open_file(studio, demo_folder() / MOTION_FILE)
     before = studio.state.snapshot

@@ -9,13 +9,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app import commands
-from app.state import UNDO_MEMORY_BUDGET, Snapshot, StudioState, undo_limit_for
-from core.demo import demo_markers, demo_motion
-from core.kinematics import world_positions
-from core.markers.pelvis import PelvisFrames
-from core.operations import split
-from core.rotations import matrix_from_euler
+from gmr_studio.app import commands
+from gmr_studio.app.state import UNDO_MEMORY_BUDGET, Snapshot, StudioState, undo_limit_for
+from gmr_studio.core.demo import demo_markers, demo_motion
+from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.markers.pelvis import PelvisFrames
+from gmr_studio.core.operations import split
+from gmr_studio.core.rotations import matrix_from_euler
 from tests.conftest import random_motion
 
 PARENTS = [-1, 0, 1, 2, 1, 4, 0, 6]
@@ -222,10 +222,10 @@ def test_pelvis_frames_follow_the_marker_alignment():
 def test_recovered_pelvis_turns_with_the_root(case):
     """The pelvis frames recovered from markers (demo: markers named like joints; CMU: the
     shipped CMU map on the C3D) turn with the skeleton's root, to a degree or two."""
-    from app import extensions
-    from core.formats import load_gmr
-    from core.markers import read_markers
-    from core.rotations import rotation_angle
+    from gmr_studio.app import extensions
+    from gmr_studio.core.formats import load_gmr
+    from gmr_studio.core.markers import read_markers
+    from gmr_studio.core.rotations import rotation_angle
     from tests.conftest import shared_path
 
     if case == "demo":

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from core.atomic import atomic_write_text
-from core.formats.gmr import read_gmr, write_gmr
+from gmr_studio.core.atomic import atomic_write_text
+from gmr_studio.core.formats.gmr import read_gmr, write_gmr
 from tests.conftest import random_motion
 
 
@@ -29,7 +29,7 @@ def test_writer_failing_midway_keeps_the_previous_motion(tmp_path, rng, monkeypa
     first = random_motion(rng, [-1, 0, 1], n_frames=10)
     write_gmr(first, target)
     before = target.read_bytes()
-    import core.formats.textmotion as textmotion
+    import gmr_studio.core.formats.textmotion as textmotion
 
     def broken(values, digits):
         raise MemoryError("simulated failure while formatting frames")

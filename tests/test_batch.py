@@ -8,12 +8,12 @@ import shutil
 import numpy as np
 import pytest
 
-from core.cli import main
-from core.cli.batch import Progress, find_motion_files, plan_outputs, run_batch
-from core.cli.convert import ConvertOptions
-from core.formats import load_gmr, read_motion
-from core.kinematics import world_positions
-from core.shared_data import shared_data_dir
+from gmr_studio.core.cli import main
+from gmr_studio.core.cli.batch import Progress, find_motion_files, plan_outputs, run_batch
+from gmr_studio.core.cli.convert import ConvertOptions
+from gmr_studio.core.formats import load_gmr, read_motion
+from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.shared_data import shared_data_dir
 from tests.conftest import shared_path
 from tests.test_export import validate_bvh
 
@@ -111,7 +111,7 @@ def test_batch_to_bvh_with_options(motion_folder, tmp_path, capsys):
 
 
 def test_a_failed_write_leaves_no_output_and_keeps_the_old_file(tmp_path, monkeypatch):
-    import core.export
+    import gmr_studio.core.export as core_export
 
     folder = tmp_path / "in"
     folder.mkdir()
@@ -124,7 +124,7 @@ def test_a_failed_write_leaves_no_output_and_keeps_the_old_file(tmp_path, monkey
         yield "HIERARCHY\n"
         raise OSError("disk full")
 
-    monkeypatch.setattr(core.export, "format_text_motion", failing)
+    monkeypatch.setattr(core_export, "format_text_motion", failing)
     stream = io.StringIO()
     assert run_batch(folder, out, "bvh", ConvertOptions(), jobs=1, stream=stream) == 1
     assert f"{folder / 'clip.bvh'}: disk full" in stream.getvalue()

@@ -7,14 +7,14 @@ import json
 import numpy as np
 import pytest
 
-from core.benchmark.configs import random_root_sets, with_roots
-from core.benchmark.data import build_benchmark_data, find_bvh_files
-from core.benchmark.peers import _compare, _pybvh_name
-from core.benchmark.timing import Timing, peak_memory, time_call
-from core.cli import main
-from core.formats.bvh import read_bvh
-from core.kinematics import reference_forward_kinematics, world_positions
-from core.operations import shift_root, split
+from gmr_studio.core.benchmark.configs import random_root_sets, with_roots
+from gmr_studio.core.benchmark.data import build_benchmark_data, find_bvh_files
+from gmr_studio.core.benchmark.peers import _compare, _pybvh_name
+from gmr_studio.core.benchmark.timing import Timing, peak_memory, time_call
+from gmr_studio.core.cli import main
+from gmr_studio.core.formats.bvh import read_bvh
+from gmr_studio.core.kinematics import reference_forward_kinematics, world_positions
+from gmr_studio.core.operations import shift_root, split
 from tests.conftest import random_motion, shared_path
 from tests.test_bvh_reader import SMALL
 

@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from core.errors import MotionFileError
-from core.formats.bvh import read_bvh
-from core.kinematics import world_positions
-from core.rotations import matrix_from_euler
+from gmr_studio.core.errors import MotionFileError
+from gmr_studio.core.formats.bvh import read_bvh
+from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.rotations import matrix_from_euler
 from tests.conftest import shared_files
 
 SMALL = """HIERARCHY

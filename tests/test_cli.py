@@ -9,12 +9,12 @@ import sys
 import numpy as np
 import pytest
 
-from core.cli import main
-from core.convert import pre_from_post
-from core.formats import read_motion
-from core.formats.bvh import read_bvh
-from core.kinematics import world_positions
-from core.operations import join, shift_root, split
+from gmr_studio.core.cli import main
+from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.formats import read_motion
+from gmr_studio.core.formats.bvh import read_bvh
+from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.operations import join, shift_root, split
 from tests.conftest import shared_path
 from tests.test_bvh_reader import SMALL
 
@@ -130,7 +130,9 @@ def test_unknown_format_and_missing_file(capsys, tmp_path):
 
 def test_installed_command_prints_no_traceback(small_bvh):
     small_bvh.write_text(SMALL.replace("Frames: 2", "Frames: 9"))
-    result = subprocess.run([sys.executable, "-m", "core.cli", "info", str(small_bvh)], capture_output=True, text=True)
+    result = subprocess.run(
+        [sys.executable, "-m", "gmr_studio.core.cli", "info", str(small_bvh)], capture_output=True, text=True
+    )
     assert result.returncode == 2
     expected = f"{small_bvh}:21:1: the file ends after 2 frames, but 'Frames:' on line 17 promised 9"
     assert result.stderr.strip() == expected

@@ -7,7 +7,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-import core
+import gmr_studio.core as core
 
 FORBIDDEN = {"PyQt6", "pyvista", "pyvistaqt", "vtk", "vtkmodules", "PySide6"}
 CORE = Path(core.__file__).parent
@@ -45,7 +45,7 @@ def test_the_checker_sees_imports(tmp_path):
 
 def test_importing_all_of_core_loads_no_gui_module():
     modules = [
-        "core." + ".".join(p.relative_to(CORE).with_suffix("").parts)
+        "gmr_studio.core." + ".".join(p.relative_to(CORE).with_suffix("").parts)
         for p in CORE.rglob("*.py")
         if p.name not in ("__init__.py", "__main__.py")
     ]

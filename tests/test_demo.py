@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from core.demo import (
+from gmr_studio.core.demo import (
     GAPS,
     MARKERS_FILE,
     MOTION_FILE,
@@ -14,10 +14,10 @@ from core.demo import (
     demo_motion,
     write_demo,
 )
-from core.formats.gmr import gmr_text, read_gmr
-from core.kinematics import world_positions
-from core.markers.markerset import Z_UP_TO_Y_UP
-from core.markers.trc import read_trc, trc_text
+from gmr_studio.core.formats.gmr import gmr_text, read_gmr
+from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.markers.markerset import Z_UP_TO_Y_UP
+from gmr_studio.core.markers.trc import read_trc, trc_text
 
 CMU_NAMES = {"root", "lhipjoint", "lfemur", "ltibia", "lfoot", "ltoes", "lowerback", "upperback", "thorax", "head"}
 

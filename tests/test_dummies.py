@@ -7,14 +7,14 @@ import json
 import numpy as np
 import pytest
 
-from core.cli import main
-from core.convert import pre_from_post
-from core.dummies import find_dummies, remove_dummies
-from core.export import bvh_export
-from core.formats import read_motion
-from core.formats.bvh import read_bvh
-from core.kinematics import world_positions
-from core.operations import split
+from gmr_studio.core.cli import main
+from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.dummies import find_dummies, remove_dummies
+from gmr_studio.core.export import bvh_export
+from gmr_studio.core.formats import read_motion
+from gmr_studio.core.formats.bvh import read_bvh
+from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.operations import split
 from tests.conftest import random_motion, shared_path
 from tests.test_export import assert_round_trip
 

@@ -7,12 +7,12 @@ import shutil
 import numpy as np
 import pytest
 
-from core.cli import main
-from core.conversions import Y_TO_Z, change_up_axis, scale_lengths, up_axis_of
-from core.formats import load_gmr, read_motion, write_motion
-from core.formats.bvh import read_bvh
-from core.kinematics import forward_kinematics, world_positions
-from core.operations import split
+from gmr_studio.core.cli import main
+from gmr_studio.core.conversions import Y_TO_Z, change_up_axis, scale_lengths, up_axis_of
+from gmr_studio.core.formats import load_gmr, read_motion, write_motion
+from gmr_studio.core.formats.bvh import read_bvh
+from gmr_studio.core.kinematics import forward_kinematics, world_positions
+from gmr_studio.core.operations import split
 from tests.conftest import random_motion, shared_path
 from tests.test_export import validate_bvh
 

@@ -8,11 +8,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from core.cli import main
-from core.errors import MotionFileError
-from core.fuzz.mutations import TEXT_MUTATIONS
-from core.fuzz.runner import make_case, run_case, run_fuzz
-from core.fuzz.targets import Target, all_targets
+from gmr_studio.core.cli import main
+from gmr_studio.core.errors import MotionFileError
+from gmr_studio.core.fuzz.mutations import TEXT_MUTATIONS
+from gmr_studio.core.fuzz.runner import make_case, run_case, run_fuzz
+from gmr_studio.core.fuzz.targets import Target, all_targets
 from tests.conftest import DATA, MISSING_DATA
 
 needs_data = pytest.mark.skipif(not DATA.is_dir(), reason=MISSING_DATA)
@@ -104,7 +104,7 @@ def test_runner_classifies_every_kind_of_outcome(monkeypatch):
         "read": lambda p, d, s: 1,
     }
     fakes = {name: dataclasses.replace(_fake_target(read), name=name) for name, read in readers.items()}
-    monkeypatch.setattr("core.fuzz.runner.all_targets", lambda: fakes)
+    monkeypatch.setattr("gmr_studio.core.fuzz.runner.all_targets", lambda: fakes)
     report = run_fuzz(cases=2, timeout=2, memory_mb=256, jobs=2)
     outcome_of = {name: counts.most_common(1)[0][0] for name, counts in report.counts.items()}
     assert outcome_of == {

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from core.kinematics import forward_kinematics, joint_world_transform, world_positions
-from core.motion import Motion
-from core.rotations import rotation_about_axis
+from gmr_studio.core.kinematics import forward_kinematics, joint_world_transform, world_positions
+from gmr_studio.core.motion import Motion
+from gmr_studio.core.rotations import rotation_about_axis
 from tests.conftest import random_motion
 
 RZ90 = rotation_about_axis("Z", np.pi / 2)

@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
-from core.errors import MotionFileError
-from core.markers import c3d as c3d_module
-from core.markers import read_markers
-from core.markers.c3d import read_c3d
+from gmr_studio.core.errors import MotionFileError
+from gmr_studio.core.markers import c3d as c3d_module
+from gmr_studio.core.markers import read_markers
+from gmr_studio.core.markers.c3d import read_c3d
 from tests.conftest import shared_files, shared_path
 
 EB015 = "c3d/c3dorg_s01_Eb015pi_intel_int.c3d"
@@ -169,6 +171,7 @@ def test_files_that_crash_or_hang_ezc3d_are_errors(tmp_path, name, changes):
 def test_the_child_process_contract(tmp_path, monkeypatch, name, message):
     """Whatever the child does (a signal, a hang, an odd exit), the caller gets one error."""
     monkeypatch.setattr(c3d_module, "WORKER_MODULE", "tests.fake_c3d_worker")
+    monkeypatch.setenv("PYTHONPATH", str(Path(__file__).resolve().parent.parent))
     path = tmp_path / name
     path.write_bytes(shared_path(EB015).read_bytes())
     with pytest.raises(MotionFileError) as error:
@@ -190,10 +193,9 @@ def test_missing_file_and_truncated_data(tmp_path):
 def _processes_reading(path) -> list[int]:
     """PIDs whose command line names ``path``."""
     import os
-    from pathlib import Path as _Path
 
     found = []
-    for entry in _Path("/proc").iterdir():
+    for entry in Path("/proc").iterdir():
         if entry.name.isdigit():
             try:
                 cmdline = (entry / "cmdline").read_bytes()
@@ -211,8 +213,8 @@ def test_a_reader_killed_mid_read_leaves_no_ezc3d_child_behind(tmp_path):
     import sys
     import time
 
-    from core.fuzz.runner import make_case
-    from core.fuzz.targets import all_targets
+    from gmr_studio.core.fuzz.runner import make_case
+    from gmr_studio.core.fuzz.targets import all_targets
 
     shared_path("c3d/c3dorg_s00_NexGen_test1_PiG_fullbody.c3d")
     case = make_case(all_targets()["c3d"], 0, 713)

@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from core.errors import MotionFileError, OperationError
-from core.markers import load_marker_map
-from core.markers.markermap import MAPS_DIR, Alignment, MarkerMap, VirtualMarker, marker_map_text
-from core.markers.markerset import UNIT_SCALE, MarkerSet, frame_ranges
-from core.markers.virtual import calibrate_marker_map, compute_virtual_markers, resolve_map
+from gmr_studio.core.errors import MotionFileError, OperationError
+from gmr_studio.core.markers import load_marker_map
+from gmr_studio.core.markers.markermap import MAPS_DIR, Alignment, MarkerMap, VirtualMarker, marker_map_text
+from gmr_studio.core.markers.markerset import UNIT_SCALE, MarkerSet, frame_ranges
+from gmr_studio.core.markers.virtual import calibrate_marker_map, compute_virtual_markers, resolve_map
 
 SMALL_MAP = """
 format = "gmr-markermap 1"
@@ -206,8 +206,8 @@ def test_frame_ranges_text():
     ],
 )
 def test_pelvis_only_maps_give_pelvis_frames_on_other_marker_sets(relative, map_name):
-    from core.markers import read_markers, recover_pelvis
-    from core.rotations import rotation_angle
+    from gmr_studio.core.markers import read_markers, recover_pelvis
+    from gmr_studio.core.rotations import rotation_angle
     from tests.conftest import shared_path
 
     markers = read_markers(shared_path(relative))

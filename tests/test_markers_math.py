@@ -7,12 +7,12 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from core.markers import match as match_module
-from core.markers.limbs import about_axis, least_change_twists, limb_rotation, swing, twist_angle, twist_of
-from core.markers.match import best_matches
-from core.markers.pelvis import pelvis_rotations
-from core.markers.procrustes import fit_rigid, frame_from_triple
-from core.rotations import rotation_angle
+from gmr_studio.core.markers import match as match_module
+from gmr_studio.core.markers.limbs import about_axis, least_change_twists, limb_rotation, swing, twist_angle, twist_of
+from gmr_studio.core.markers.match import best_matches
+from gmr_studio.core.markers.pelvis import pelvis_rotations
+from gmr_studio.core.markers.procrustes import fit_rigid, frame_from_triple
+from gmr_studio.core.rotations import rotation_angle
 
 
 def test_fit_rigid_recovers_a_rigid_motion_and_agrees_with_scipy(rng):

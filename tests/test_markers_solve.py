@@ -10,14 +10,14 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from core.errors import OperationError
-from core.formats import load_gmr
-from core.kinematics import forward_kinematics, world_positions
-from core.markers import MarkerSet, load_marker_map, markers_to_motion, read_markers, recover_pelvis
-from core.markers.solve import FROM_REFERENCE, HELD, MEASURED, solve_positions
-from core.motion import Motion, build_translations
-from core.operations import shift_root, split
-from core.rotations import matrix_from_euler, rotation_angle
+from gmr_studio.core.errors import OperationError
+from gmr_studio.core.formats import load_gmr
+from gmr_studio.core.kinematics import forward_kinematics, world_positions
+from gmr_studio.core.markers import MarkerSet, load_marker_map, markers_to_motion, read_markers, recover_pelvis
+from gmr_studio.core.markers.solve import FROM_REFERENCE, HELD, MEASURED, solve_positions
+from gmr_studio.core.motion import Motion, build_translations
+from gmr_studio.core.operations import shift_root, split
+from gmr_studio.core.rotations import matrix_from_euler, rotation_angle
 from tests.conftest import shared_path
 
 CMU01 = "cmu/subject01/"

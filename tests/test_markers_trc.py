@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from core.errors import MotionFileError
-from core.markers import read_markers
-from core.markers.markerset import Z_UP_TO_Y_UP, MarkerSet, split_subject
-from core.markers.trc import read_trc, trc_text
+from gmr_studio.core.errors import MotionFileError
+from gmr_studio.core.markers import read_markers
+from gmr_studio.core.markers.markerset import Z_UP_TO_Y_UP, MarkerSet, split_subject
+from gmr_studio.core.markers.trc import read_trc, trc_text
 from tests.conftest import shared_files
 
 TRC = (

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from core import fk_engine
-from core.motion import Motion
-from core.operations import shift_root, with_joint_data
+from gmr_studio.core import fk_engine
+from gmr_studio.core.motion import Motion
+from gmr_studio.core.operations import shift_root, with_joint_data
 
 
 def random_root_sets(n_joints: int, k: int, instances: int, rng: np.random.Generator) -> list[np.ndarray]:

@@ -13,12 +13,12 @@ from pathlib import Path
 
 import numpy as np
 
-from core.dummies import remove_dummies
-from core.export import bvh_export
-from core.formats.acclaim import read_amc, read_asf
-from core.formats.bvh import read_bvh
-from core.formats.continuity import continuous_euler
-from core.shared_data import shared_file
+from gmr_studio.core.dummies import remove_dummies
+from gmr_studio.core.export import bvh_export
+from gmr_studio.core.formats.acclaim import read_amc, read_asf
+from gmr_studio.core.formats.bvh import read_bvh
+from gmr_studio.core.formats.continuity import continuous_euler
+from gmr_studio.core.shared_data import shared_file
 
 
 def tiled_amc(source: Path, n_frames: int) -> bytes:

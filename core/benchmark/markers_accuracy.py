@@ -18,11 +18,11 @@ import time
 
 import numpy as np
 
-from core.formats import load_gmr
-from core.kinematics import world_positions
-from core.markers import MarkerSet, markers_to_motion, read_markers
-from core.rotations import rotation_angle
-from core.shared_data import shared_file
+from gmr_studio.core.formats import load_gmr
+from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.markers import MarkerSet, markers_to_motion, read_markers
+from gmr_studio.core.rotations import rotation_angle
+from gmr_studio.core.shared_data import shared_file
 
 MM_PER_ASF_UNIT = 25.4 / 0.45  # CMU ASF ":units length 0.45": one unit is 1/0.45 inch
 CALIBRATION_FRAMES = slice(0, 1100)

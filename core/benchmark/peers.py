@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from core.benchmark.timing import time_call
+from gmr_studio.core.benchmark.timing import time_call
 
 
 @dataclasses.dataclass(frozen=True)

@@ -7,7 +7,7 @@ import json
 from collections.abc import Callable
 from pathlib import Path
 
-from core.atomic import atomic_write_bytes, atomic_write_text
+from gmr_studio.core.atomic import atomic_write_bytes, atomic_write_text
 
 #: what the ratios in the JSON mean
 DEFINITIONS = {

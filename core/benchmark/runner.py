@@ -27,14 +27,14 @@ from pathlib import Path
 
 import numpy as np
 
-from core import fk_engine
-from core.benchmark.configs import random_root_sets, with_roots
-from core.benchmark.data import build_benchmark_data
-from core.benchmark.peers import run_peers
-from core.benchmark.timing import merged, peak_memory, time_call, time_interleaved, time_returning
-from core.formats.bvh import read_bvh
-from core.kinematics import reference_forward_kinematics
-from core.operations import join, shift_root, split
+from gmr_studio.core import fk_engine
+from gmr_studio.core.benchmark.configs import random_root_sets, with_roots
+from gmr_studio.core.benchmark.data import build_benchmark_data
+from gmr_studio.core.benchmark.peers import run_peers
+from gmr_studio.core.benchmark.timing import merged, peak_memory, time_call, time_interleaved, time_returning
+from gmr_studio.core.formats.bvh import read_bvh
+from gmr_studio.core.kinematics import reference_forward_kinematics
+from gmr_studio.core.operations import join, shift_root, split
 
 
 @dataclasses.dataclass(frozen=True)

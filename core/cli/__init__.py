@@ -11,7 +11,7 @@ import importlib
 import sys
 from collections.abc import Sequence
 
-from core.errors import MotionFileError, OperationError
+from gmr_studio.core.errors import MotionFileError, OperationError
 
 #: subcommand modules, in the order ``gmr --help`` lists them
 COMMANDS = ("info", "positions", "edit", "convert", "markers", "bench", "fuzz", "stress")
@@ -24,7 +24,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for name in COMMANDS:
-        module = importlib.import_module(f"core.cli.{name}")
+        module = importlib.import_module(f"gmr_studio.core.cli.{name}")
         module.register(sub)
     return parser
 

@@ -22,8 +22,8 @@ from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wai
 from pathlib import Path
 from typing import TextIO
 
-from core.cli.convert import INPUT_SUFFIXES, ConversionReport, ConvertOptions, convert_file
-from core.errors import MotionFileError, OperationError
+from gmr_studio.core.cli.convert import INPUT_SUFFIXES, ConversionReport, ConvertOptions, convert_file
+from gmr_studio.core.errors import MotionFileError, OperationError
 
 BAR_WIDTH = 30
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from core.shared_data import shared_data_dir
+from gmr_studio.core.shared_data import shared_data_dir
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -35,9 +35,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from core.atomic import atomic_write_text
-    from core.benchmark.report import markdown_tables, summary_lines, write_json, write_plot
-    from core.benchmark.runner import BenchOptions, run_benchmark
+    from gmr_studio.core.atomic import atomic_write_text
+    from gmr_studio.core.benchmark.report import markdown_tables, summary_lines, write_json, write_plot
+    from gmr_studio.core.benchmark.runner import BenchOptions, run_benchmark
 
     if args.frames < 1 or args.instances < 1 or args.repeat < 1:
         raise SystemExit("gmr bench: --frames, --instances and --repeat must be positive")

@@ -17,13 +17,13 @@ import argparse
 import dataclasses
 from pathlib import Path
 
-from core.conversions import UP_AXES, change_up_axis, scale_lengths
-from core.convert import pre_from_post
-from core.dummies import remove_dummies
-from core.errors import OperationError
-from core.export import bvh_export, bvh_export_trees, tree_file_name
-from core.formats import motion_suffix, read_motion, write_motion
-from core.motion import Motion
+from gmr_studio.core.conversions import UP_AXES, change_up_axis, scale_lengths
+from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.dummies import remove_dummies
+from gmr_studio.core.errors import OperationError
+from gmr_studio.core.export import bvh_export, bvh_export_trees, tree_file_name
+from gmr_studio.core.formats import motion_suffix, read_motion, write_motion
+from gmr_studio.core.motion import Motion
 
 #: formats ``convert`` reads and writes
 INPUT_SUFFIXES = (".bvh", ".amc", ".gmr")
@@ -173,7 +173,7 @@ def convert_file(
 def run(args: argparse.Namespace) -> int:
     options = ConvertOptions.from_args(args)
     if args.batch:
-        from core.cli.batch import run_batch
+        from gmr_studio.core.cli.batch import run_batch
 
         return run_batch(Path(args.input), Path(args.output), args.to, options, args.jobs)
     report = convert_file(args.input, args.output, options, quiet=False)

@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import argparse
 
-from core.cli.convert import write_converted
-from core.formats import load_gmr
-from core.operations import join, join_all, shift_root, split, split_all
+from gmr_studio.core.cli.convert import write_converted
+from gmr_studio.core.formats import load_gmr
+from gmr_studio.core.operations import join, join_all, shift_root, split, split_all
 
 OPERATIONS = {
     "shift_root": lambda m, j: shift_root(m, j),

@@ -10,8 +10,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from core.fuzz.runner import OUTCOMES, print_progress, replay, run_fuzz
-from core.fuzz.targets import all_targets
+from gmr_studio.core.fuzz.runner import OUTCOMES, print_progress, replay, run_fuzz
+from gmr_studio.core.fuzz.targets import all_targets
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -8,9 +8,9 @@ import json
 import sys
 from pathlib import Path
 
-from core.dummies import find_dummies
-from core.formats import read_motion
-from core.motion import Motion
+from gmr_studio.core.dummies import find_dummies
+from gmr_studio.core.formats import read_motion
+from gmr_studio.core.motion import Motion
 
 #: what ``info`` calls each format, by suffix
 FORMAT_NAMES = {".bvh": "BVH", ".gmr": "GMR", ".amc": "AMC (Acclaim, with its ASF)", ".asf": "ASF (Acclaim skeleton)"}
@@ -89,8 +89,8 @@ def format_text(info: dict) -> str:
 
 def run(args: argparse.Namespace) -> int:
     if Path(args.file).suffix.lower() in (".c3d", ".trc"):  # marker files: core.markers.report
-        from core.markers import read_markers
-        from core.markers.report import describe_markers, markers_text
+        from gmr_studio.core.markers import read_markers
+        from gmr_studio.core.markers.report import describe_markers, markers_text
 
         info = describe_markers(read_markers(args.file), args.file)
         print(json.dumps(info, indent=2) if args.json else markers_text(info))

@@ -20,12 +20,12 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import OperationError
-from core.formats import load_gmr, motion_suffix, write_motion
-from core.markers import read_markers
-from core.markers.markermap import Alignment, load_marker_map, save_marker_map
-from core.markers.markerset import MarkerSet
-from core.motion import Motion
+from gmr_studio.core.errors import OperationError
+from gmr_studio.core.formats import load_gmr, motion_suffix, write_motion
+from gmr_studio.core.markers import read_markers
+from gmr_studio.core.markers.markermap import Alignment, load_marker_map, save_marker_map
+from gmr_studio.core.markers.markerset import MarkerSet
+from gmr_studio.core.motion import Motion
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -103,10 +103,10 @@ def load_motion_of(path: str, skeleton_path: str) -> Motion:
 
 
 def run(args: argparse.Namespace) -> int:
-    from core.kinematics import forward_kinematics
-    from core.markers.report import conversion_table, conversion_text
-    from core.markers.solve import markers_to_motion
-    from core.markers.virtual import resolve_map
+    from gmr_studio.core.kinematics import forward_kinematics
+    from gmr_studio.core.markers.report import conversion_table, conversion_text
+    from gmr_studio.core.markers.solve import markers_to_motion
+    from gmr_studio.core.markers.virtual import resolve_map
 
     markers = read_markers(args.input)
     skeleton = load_skeleton(args.skeleton)
@@ -137,7 +137,7 @@ def run(args: argparse.Namespace) -> int:
     output = Path(args.output)
     motion = result.motion
     if motion_suffix(output) == ".bvh":
-        from core.export import bvh_export
+        from gmr_studio.core.export import bvh_export
 
         motion = bvh_export(motion).motion  # dummies where GMR siblings turn independently
     write_motion(motion, output)
@@ -172,9 +172,9 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _calibrate(args, markers: MarkerSet, skeleton: Motion, marker_map, reference: Motion | None):
-    from core.kinematics import forward_kinematics
-    from core.markers.pelvis import rest_positions
-    from core.markers.virtual import calibrate_marker_map, resolve_map
+    from gmr_studio.core.kinematics import forward_kinematics
+    from gmr_studio.core.markers.pelvis import rest_positions
+    from gmr_studio.core.markers.virtual import calibrate_marker_map, resolve_map
 
     if reference is None:
         raise OperationError("--calibrate needs --reference: the pose of the calibration frames")

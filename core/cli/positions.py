@@ -7,9 +7,9 @@ import io
 
 import numpy as np
 
-from core.atomic import atomic_write_bytes
-from core.formats import read_motion
-from core.kinematics import world_positions
+from gmr_studio.core.atomic import atomic_write_bytes
+from gmr_studio.core.formats import read_motion
+from gmr_studio.core.kinematics import world_positions
 
 
 def register(sub: argparse._SubParsersAction) -> None:

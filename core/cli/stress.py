@@ -12,13 +12,13 @@ import tempfile
 import time
 from pathlib import Path
 
-from core.benchmark.data import tile_bvh
-from core.convert import pre_from_post
-from core.errors import MotionFileError
-from core.formats.bvh import read_bvh
-from core.formats.gmr import write_gmr
-from core.kinematics import forward_kinematics
-from core.shared_data import shared_file
+from gmr_studio.core.benchmark.data import tile_bvh
+from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.errors import MotionFileError
+from gmr_studio.core.formats.bvh import read_bvh
+from gmr_studio.core.formats.gmr import write_gmr
+from gmr_studio.core.kinematics import forward_kinematics
+from gmr_studio.core.shared_data import shared_file
 
 DEFAULT_BVH = "cmu/subject01/01_01.bvh"
 

@@ -12,12 +12,12 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
-from core.convert import pre_from_post
-from core.errors import MotionFileError
-from core.formats.acclaim import read_amc_file, read_asf_file
-from core.formats.bvh import read_bvh, write_bvh
-from core.formats.gmr import read_gmr, write_gmr
-from core.motion import Motion
+from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.errors import MotionFileError
+from gmr_studio.core.formats.acclaim import read_amc_file, read_asf_file
+from gmr_studio.core.formats.bvh import read_bvh, write_bvh
+from gmr_studio.core.formats.gmr import read_gmr, write_gmr
+from gmr_studio.core.motion import Motion
 
 READERS: dict[str, Callable[..., Motion]] = {
     ".bvh": read_bvh,

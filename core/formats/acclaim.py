@@ -9,11 +9,17 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from core.errors import MotionFileError
-from core.formats.acclaim_skeleton import ROOT_NAME, AcclaimBone, AcclaimSkeleton, AcclaimUnits, axis_rotation
-from core.formats.amc import DEFAULT_FRAME_RATE, parse_amc_frames, read_amc, skeleton_motion
-from core.formats.asf import read_asf
-from core.motion import Motion
+from gmr_studio.core.errors import MotionFileError
+from gmr_studio.core.formats.acclaim_skeleton import (
+    ROOT_NAME,
+    AcclaimBone,
+    AcclaimSkeleton,
+    AcclaimUnits,
+    axis_rotation,
+)
+from gmr_studio.core.formats.amc import DEFAULT_FRAME_RATE, parse_amc_frames, read_amc, skeleton_motion
+from gmr_studio.core.formats.asf import read_asf
+from gmr_studio.core.motion import Motion
 
 __all__ = [
     "DEFAULT_FRAME_RATE",

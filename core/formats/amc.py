@@ -28,13 +28,13 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import MotionFileError, read_input
-from core.formats.acclaim_skeleton import ROOT_NAME, ROTATION_DOFS, AcclaimSkeleton
-from core.formats.asf import read_asf
-from core.formats.frames import out_of_range, within_range
-from core.formats.hierarchy import normalise_newlines
-from core.motion import Motion, identity_rotations
-from core.rotations import complete_order, matrix_from_euler
+from gmr_studio.core.errors import MotionFileError, read_input
+from gmr_studio.core.formats.acclaim_skeleton import ROOT_NAME, ROTATION_DOFS, AcclaimSkeleton
+from gmr_studio.core.formats.asf import read_asf
+from gmr_studio.core.formats.frames import out_of_range, within_range
+from gmr_studio.core.formats.hierarchy import normalise_newlines
+from gmr_studio.core.motion import Motion, identity_rotations
+from gmr_studio.core.rotations import complete_order, matrix_from_euler
 
 #: frame rate assumed for AMC files, which do not store one (CMU's motions are 120 Hz)
 DEFAULT_FRAME_RATE = 120.0

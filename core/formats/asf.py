@@ -24,8 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import MotionFileError, read_input
-from core.formats.acclaim_skeleton import (
+from gmr_studio.core.errors import MotionFileError, read_input
+from gmr_studio.core.formats.acclaim_skeleton import (
     BONE_DOFS,
     ROOT_NAME,
     ROTATION_DOFS,
@@ -34,9 +34,9 @@ from core.formats.acclaim_skeleton import (
     AcclaimSkeleton,
     AcclaimUnits,
 )
-from core.formats.frames import MAX_ABS_VALUE, out_of_range, within_range
-from core.formats.hierarchy import normalise_newlines
-from core.motion import check_joint_name
+from gmr_studio.core.formats.frames import MAX_ABS_VALUE, out_of_range, within_range
+from gmr_studio.core.formats.hierarchy import normalise_newlines
+from gmr_studio.core.motion import check_joint_name
 
 _NUMBER = re.compile(r"[+-]?(?:(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|inf|infinity)\Z", re.IGNORECASE)
 _SEPARATORS = str.maketrans({",": " ", "(": " ", ")": " "})

@@ -13,7 +13,7 @@ import warnings
 
 import numpy as np
 
-from core.errors import MotionFileError
+from gmr_studio.core.errors import MotionFileError
 
 _VALUE = re.compile(rb"\S+")
 #: largest magnitude a reader accepts: far beyond any real length or angle, and small enough

@@ -15,9 +15,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from core.atomic import atomic_write_text
-from core.formats.textmotion import format_text_motion, read_text_motion
-from core.motion import Motion
+from gmr_studio.core.atomic import atomic_write_text
+from gmr_studio.core.formats.textmotion import format_text_motion, read_text_motion
+from gmr_studio.core.motion import Motion
 
 
 def read_gmr(path: str | Path, data: bytes | None = None) -> Motion:

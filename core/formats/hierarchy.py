@@ -13,9 +13,9 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
-from core.errors import MotionFileError
-from core.formats.frames import MAX_ABS_VALUE, out_of_range, within_range
-from core.motion import check_joint_name
+from gmr_studio.core.errors import MotionFileError
+from gmr_studio.core.formats.frames import MAX_ABS_VALUE, out_of_range, within_range
+from gmr_studio.core.motion import check_joint_name
 
 #: channel names as written in files, with what they drive: ("position"|"rotation", axis)
 CHANNEL_NAMES = {f"{axis}{kind}": (kind, axis) for kind in ("position", "rotation") for axis in "XYZ"}

@@ -16,13 +16,13 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import MotionFileError, read_input
-from core.fk_engine import degrees_to_matrices_compiled
-from core.formats.continuity import continuous_euler
-from core.formats.frames import format_frames, format_number, parse_frames
-from core.formats.hierarchy import CHANNEL_NAMES, ParsedHeader, normalise_newlines, parse_header
-from core.motion import Motion, build_translations
-from core.rotations import complete_order, euler_from_matrix, matrix_from_euler
+from gmr_studio.core.errors import MotionFileError, read_input
+from gmr_studio.core.fk_engine import degrees_to_matrices_compiled
+from gmr_studio.core.formats.continuity import continuous_euler
+from gmr_studio.core.formats.frames import format_frames, format_number, parse_frames
+from gmr_studio.core.formats.hierarchy import CHANNEL_NAMES, ParsedHeader, normalise_newlines, parse_header
+from gmr_studio.core.motion import Motion, build_translations
+from gmr_studio.core.rotations import complete_order, euler_from_matrix, matrix_from_euler
 
 #: significant digits of frame values; 15 keeps write -> read to ~1e-15 relative
 FRAME_DIGITS = 15

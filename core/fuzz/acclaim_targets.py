@@ -7,12 +7,12 @@ import re
 from functools import cache
 from pathlib import Path
 
-from core.formats.acclaim import asf_beside, read_asf_file
-from core.formats.amc import read_amc
-from core.formats.asf import read_asf
-from core.fuzz.mutations import line_starts
-from core.fuzz.targets import SEED_FRAMES, Target, _shared
-from core.shared_data import shared_data_dir
+from gmr_studio.core.formats.acclaim import asf_beside, read_asf_file
+from gmr_studio.core.formats.amc import read_amc
+from gmr_studio.core.formats.asf import read_asf
+from gmr_studio.core.fuzz.mutations import line_starts
+from gmr_studio.core.fuzz.targets import SEED_FRAMES, Target, _shared
+from gmr_studio.core.shared_data import shared_data_dir
 
 
 @cache

@@ -5,8 +5,8 @@ from __future__ import annotations
 from functools import cache
 from pathlib import Path
 
-from core.fuzz.targets import Target, _shared
-from core.markers.c3d import read_c3d
+from gmr_studio.core.fuzz.targets import Target, _shared
+from gmr_studio.core.markers.c3d import read_c3d
 
 
 @cache

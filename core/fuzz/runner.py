@@ -36,8 +36,8 @@ from pathlib import Path
 
 import numpy as np
 
-from core.errors import MotionFileError
-from core.fuzz.targets import Target, all_targets
+from gmr_studio.core.errors import MotionFileError
+from gmr_studio.core.fuzz.targets import Target, all_targets
 
 ACCEPTABLE = ("read", "clean")
 OUTCOMES = ("read", "clean", "other", "hang", "memory", "crash")

@@ -16,8 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-from core.fuzz.mutations import ACCLAIM_MUTATIONS, BINARY_MUTATIONS, TEXT_MUTATIONS, Mutation
-from core.shared_data import shared_data_dir
+from gmr_studio.core.fuzz.mutations import ACCLAIM_MUTATIONS, BINARY_MUTATIONS, TEXT_MUTATIONS, Mutation
+from gmr_studio.core.shared_data import shared_data_dir
 
 #: frames kept when a seed file is trimmed
 SEED_FRAMES = 40
@@ -76,9 +76,9 @@ def _shared(pattern: str) -> list[Path]:
 
 @cache
 def bvh_seeds() -> list[tuple[str, bytes]]:
-    from core.convert import post_from_pre, pre_from_post
-    from core.formats.bvh import bvh_text, read_bvh
-    from core.operations import shift_root
+    from gmr_studio.core.convert import post_from_pre, pre_from_post
+    from gmr_studio.core.formats.bvh import bvh_text, read_bvh
+    from gmr_studio.core.operations import shift_root
 
     seeds = []
     for path in _shared("**/*.bvh"):
@@ -96,10 +96,10 @@ def bvh_seeds() -> list[tuple[str, bytes]]:
 
 @cache
 def gmr_seeds() -> list[tuple[str, bytes]]:
-    from core.convert import pre_from_post
-    from core.formats.bvh import read_bvh
-    from core.formats.gmr import gmr_text
-    from core.operations import shift_root, split, split_all
+    from gmr_studio.core.convert import pre_from_post
+    from gmr_studio.core.formats.bvh import read_bvh
+    from gmr_studio.core.formats.gmr import gmr_text
+    from gmr_studio.core.operations import shift_root, split, split_all
 
     seeds = []
     for path in _shared("**/*.bvh"):
@@ -118,7 +118,7 @@ def gmr_seeds() -> list[tuple[str, bytes]]:
 
 @cache
 def trc_seeds() -> list[tuple[str, bytes]]:
-    from core.markers.trc import read_trc, trc_text
+    from gmr_studio.core.markers.trc import read_trc, trc_text
 
     seeds = []
     for path in _shared("**/*.trc"):
@@ -143,19 +143,19 @@ def _check_markers(markers) -> None:
 
 
 def _read_bvh(path: Path, data: bytes, seed: str):
-    from core.formats.bvh import read_bvh
+    from gmr_studio.core.formats.bvh import read_bvh
 
     return read_bvh(path, data)
 
 
 def _read_gmr(path: Path, data: bytes, seed: str):
-    from core.formats.gmr import read_gmr
+    from gmr_studio.core.formats.gmr import read_gmr
 
     return read_gmr(path, data)
 
 
 def _read_trc(path: Path, data: bytes, seed: str):
-    from core.markers.trc import read_trc
+    from gmr_studio.core.markers.trc import read_trc
 
     return read_trc(path, data)
 
@@ -175,13 +175,13 @@ def _optional_targets() -> dict[str, Target]:
     """Targets whose readers live in modules that may not be in this build."""
     out: dict[str, Target] = {}
     try:
-        from core.fuzz import acclaim_targets
+        from gmr_studio.core.fuzz import acclaim_targets
     except ImportError:
         acclaim_targets = None
     if acclaim_targets is not None:
         out.update(acclaim_targets.targets(ACCLAIM_MUTATIONS, _check_motion))
     try:
-        from core.fuzz import c3d_targets
+        from gmr_studio.core.fuzz import c3d_targets
     except ImportError:
         c3d_targets = None
     if c3d_targets is not None:

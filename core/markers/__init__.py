@@ -18,14 +18,14 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
-from core.errors import MotionFileError
-from core.markers.c3d import read_c3d
-from core.markers.markermap import MarkerMap, load_marker_map, save_marker_map
-from core.markers.markerset import MarkerSet
-from core.markers.pelvis import PelvisFrames, recover_pelvis
-from core.markers.solve import MarkerMotion, markers_to_motion
-from core.markers.trc import read_trc
-from core.markers.virtual import VirtualMarkers, calibrate_marker_map, compute_virtual_markers
+from gmr_studio.core.errors import MotionFileError
+from gmr_studio.core.markers.c3d import read_c3d
+from gmr_studio.core.markers.markermap import MarkerMap, load_marker_map, save_marker_map
+from gmr_studio.core.markers.markerset import MarkerSet
+from gmr_studio.core.markers.pelvis import PelvisFrames, recover_pelvis
+from gmr_studio.core.markers.solve import MarkerMotion, markers_to_motion
+from gmr_studio.core.markers.trc import read_trc
+from gmr_studio.core.markers.virtual import VirtualMarkers, calibrate_marker_map, compute_virtual_markers
 
 MARKER_READERS: dict[str, Callable[..., MarkerSet]] = {".trc": read_trc, ".c3d": read_c3d}
 

@@ -32,8 +32,8 @@ from typing import Literal
 
 import numpy as np
 
-from core.errors import MotionFileError
-from core.markers.markerset import MarkerSet, split_subject
+from gmr_studio.core.errors import MotionFileError
+from gmr_studio.core.markers.markerset import MarkerSet, split_subject
 
 #: exit status of the worker when ezc3d raised (its message is on stderr); see c3d_worker
 REJECTED = 3
@@ -53,7 +53,7 @@ _UNIT_ALIASES = {
     "inches": "in",
 }
 #: the module run in the child process
-WORKER_MODULE = "core.markers.c3d_worker"
+WORKER_MODULE = "gmr_studio.core.markers.c3d_worker"
 #: the worker's address-space limit, in bytes (a C3D needs a few times its size)
 _MEMORY_FLOOR = 4 << 30
 
@@ -93,7 +93,7 @@ def read_c3d(
     if isolate:
         decoded = _decode_in_child(Path(path), where, size, timeout)
     else:
-        from core.markers.c3d_worker import decode_c3d  # not at import: see c3d_worker
+        from gmr_studio.core.markers.c3d_worker import decode_c3d  # not at import: see c3d_worker
 
         try:
             decoded = decode_c3d(Path(path))
@@ -137,8 +137,6 @@ def _check_header(path: Path, where: str) -> tuple[int, int]:
 def _decode_in_child(path: Path, where: str, size: int, timeout: float | None) -> dict:
     limit = timeout if timeout is not None else 10.0 + size / 1e6
     env = dict(os.environ)
-    project = str(Path(__file__).resolve().parents[2])
-    env["PYTHONPATH"] = project + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     env["OMP_NUM_THREADS"] = env["OPENBLAS_NUM_THREADS"] = "1"
     memory = str(max(_MEMORY_FLOOR, 64 * size))
     command = [sys.executable, "-m", WORKER_MODULE, str(path.resolve()), memory, f"{limit:.0f}", str(os.getpid())]

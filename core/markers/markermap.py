@@ -32,12 +32,12 @@ from typing import Literal
 
 import numpy as np
 
-from core.atomic import atomic_write_text
-from core.errors import MotionFileError
-from core.markers.markerset import UNIT_SCALE
-from core.shared_data import PROJECT_ROOT
+from gmr_studio.core.atomic import atomic_write_text
+from gmr_studio.core.errors import MotionFileError
+from gmr_studio.core.markers.markerset import UNIT_SCALE
+from gmr_studio.resources import resource_path
 
-MAPS_DIR = PROJECT_ROOT / "resources" / "markermaps"
+MAPS_DIR = resource_path("markermaps")
 FORMAT = "gmr-markermap 1"
 Kind = Literal["marker", "mean", "cluster"]
 

@@ -28,10 +28,10 @@ from typing import Literal
 
 import numpy as np
 
-from core.errors import OperationError
-from core.markers.markerset import MarkerSet, frame_ranges
-from core.markers.procrustes import fit_rigid, frame_from_triple
-from core.rotations import nearest_rotation
+from gmr_studio.core.errors import OperationError
+from gmr_studio.core.markers.markerset import MarkerSet, frame_ranges
+from gmr_studio.core.markers.procrustes import fit_rigid, frame_from_triple
+from gmr_studio.core.rotations import nearest_rotation
 
 PelvisMethod = Literal["note", "points"]
 
@@ -161,8 +161,8 @@ def recover_pelvis(
     PelvisFrames in the marker file's axes, origins in the map's units (the file's for
     ``joints``).
     """
-    from core.markers.markermap import load_marker_map
-    from core.markers.virtual import compute_virtual_markers, resolve_map
+    from gmr_studio.core.markers.markermap import load_marker_map
+    from gmr_studio.core.markers.virtual import compute_virtual_markers, resolve_map
 
     loaded = load_marker_map(marker_map)
     resolved = resolve_map(loaded, markers, skeleton.names if skeleton is not None else None)
@@ -198,7 +198,7 @@ def recover_pelvis(
 
 def rest_positions(skeleton, names) -> np.ndarray:
     """(len(names), 3) world positions of some joints in the skeleton's rest pose."""
-    from core.kinematics import world_positions
+    from gmr_studio.core.kinematics import world_positions
 
     rest = world_positions(skeleton.rest_pose())[0]
     return rest[[skeleton.joint_index(n) for n in names]]

@@ -37,14 +37,14 @@ from typing import Literal
 
 import numpy as np
 
-from core.errors import OperationError
-from core.kinematics import joint_world_transform, world_positions
-from core.markers.limbs import least_change_twists, limb_rotation, twist_of
-from core.markers.markerset import MarkerSet, frame_ranges, gap_runs
-from core.markers.match import best_matches
-from core.markers.pelvis import PelvisFrames, PelvisMethod, pelvis_rotations, rest_positions
-from core.motion import Motion
-from core.operations import split
+from gmr_studio.core.errors import OperationError
+from gmr_studio.core.kinematics import joint_world_transform, world_positions
+from gmr_studio.core.markers.limbs import least_change_twists, limb_rotation, twist_of
+from gmr_studio.core.markers.markerset import MarkerSet, frame_ranges, gap_runs
+from gmr_studio.core.markers.match import best_matches
+from gmr_studio.core.markers.pelvis import PelvisFrames, PelvisMethod, pelvis_rotations, rest_positions
+from gmr_studio.core.motion import Motion
+from gmr_studio.core.operations import split
 
 #: ``sources`` codes, per frame and joint
 MEASURED, FROM_REFERENCE, HELD, ROOT = 0, 1, 2, 3
@@ -125,9 +125,9 @@ def markers_to_motion(
     OperationError : no frame has a usable pelvis, the reference is of another skeleton, the
         map does not fit the skeleton.
     """
-    from core.convert import pre_from_post
-    from core.markers.markermap import load_marker_map
-    from core.markers.virtual import compute_virtual_markers, resolve_map
+    from gmr_studio.core.convert import pre_from_post
+    from gmr_studio.core.markers.markermap import load_marker_map
+    from gmr_studio.core.markers.virtual import compute_virtual_markers, resolve_map
 
     if skeleton.convention != "pre":
         skeleton = pre_from_post(skeleton)

@@ -17,11 +17,11 @@ from pathlib import Path
 
 import numpy as np
 
-from core.atomic import atomic_write_text
-from core.errors import MotionFileError, read_input
-from core.formats.frames import out_of_range, within_range
-from core.formats.hierarchy import normalise_newlines
-from core.markers.markerset import UNIT_SCALE, MarkerSet, split_subject
+from gmr_studio.core.atomic import atomic_write_text
+from gmr_studio.core.errors import MotionFileError, read_input
+from gmr_studio.core.formats.frames import out_of_range, within_range
+from gmr_studio.core.formats.hierarchy import normalise_newlines
+from gmr_studio.core.markers.markerset import UNIT_SCALE, MarkerSet, split_subject
 
 _NUMBER = re.compile(rb"\s*[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?\s*\Z")
 _UNIT_ALIASES = {"mm": "mm", "millimeters": "mm", "cm": "cm", "m": "m", "meters": "m", "in": "in", "inches": "in"}

@@ -23,10 +23,10 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from core.errors import OperationError
-from core.markers.markermap import Alignment, MarkerMap, VirtualMarker
-from core.markers.markerset import MarkerSet, frame_ranges
-from core.markers.procrustes import fit_rigid
+from gmr_studio.core.errors import OperationError
+from gmr_studio.core.markers.markermap import Alignment, MarkerMap, VirtualMarker
+from gmr_studio.core.markers.markerset import MarkerSet, frame_ranges
+from gmr_studio.core.markers.procrustes import fit_rigid
 
 #: generalised-Procrustes iterations for a cluster template (the template moves by less
 #: than 1e-9 of its size after three on the CMU clusters)
@@ -76,7 +76,7 @@ def resolve_map(marker_map: MarkerMap, markers: MarkerSet, joint_names: Sequence
     marker set has (every label when no names are given); other maps are returned as they are."""
     if not marker_map.joints:
         return marker_map
-    from core.markers.markermap import guess_pelvis, joints_map
+    from gmr_studio.core.markers.markermap import guess_pelvis, joints_map
 
     labels = set(markers.labels)
     names = [n for n in (joint_names if joint_names is not None else markers.labels) if n in labels]
