@@ -37,9 +37,27 @@ def amc_apart(tmp_path):
 @pytest.mark.parametrize("command", sorted(MOTION_COMMANDS))
 def test_every_motion_command_takes_the_reading_options(command):
     argv = [command, *MOTION_COMMANDS[command], "--asf", "S.asf", "--frame-rate", "60"]
+    if command != "markers":  # its --scale is marker units to skeleton units
+        argv += ["--scale", "2.54", "--up", "z", "--from-up", "y"]
     args = build_parser().parse_args(argv)
     assert args.asf == "S.asf"
     assert args.frame_rate == 60.0
+    if command != "markers":
+        assert (args.scale, args.up, args.from_up) == (2.54, "z", "y")
+
+
+def test_positions_scaled_and_turned_like_convert(capsys, tmp_path):
+    bvh = shared_path("cmu/subject01/01_01.bvh")
+    out = tmp_path / "positions.npz"
+    assert main(["positions", str(bvh), "-o", str(out), "--scale", "0.0254", "--up", "z"]) == 0
+    converted = tmp_path / "walk.gmr"
+    assert main(["convert", str(bvh), str(converted), "--scale", "0.0254", "--up", "z"]) == 0
+    expected = world_positions(read_motion(converted))
+    original = world_positions(read_motion(bvh))
+    positions = np.load(out)["positions"]
+    np.testing.assert_allclose(positions, expected, rtol=0, atol=1e-12)
+    # Y up in inches -> Z up in metres: z' = 0.0254 y, and lengths scale alike
+    np.testing.assert_allclose(positions[..., 2], 0.0254 * original[..., 1], rtol=0, atol=1e-12)
 
 
 def test_positions_of_an_amc_with_its_asf_elsewhere(capsys, amc_apart, tmp_path):

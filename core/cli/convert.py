@@ -17,8 +17,8 @@ import argparse
 import dataclasses
 from pathlib import Path
 
-from gmr_studio.core.cli.reading import add_reading_options, positive_number, reader_options
-from gmr_studio.core.conversions import UP_AXES, change_up_axis, scale_lengths
+from gmr_studio.core.cli.reading import add_reading_options, reader_options
+from gmr_studio.core.conversions import change_up_axis, scale_lengths
 from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.dummies import remove_dummies
 from gmr_studio.core.errors import OperationError
@@ -61,10 +61,7 @@ class ConversionReport:
 
 def add_conversion_options(parser: argparse.ArgumentParser) -> None:
     """The options shared by single and batch conversion."""
-    add_reading_options(parser)
-    parser.add_argument("--scale", type=positive_number, help="multiply every length by this factor")
-    parser.add_argument("--up", choices=UP_AXES, help="make this axis the up axis of the output")
-    parser.add_argument("--from-up", choices=UP_AXES, help="the input's up axis (default: its header's, else y)")
+    add_reading_options(parser)  # --asf, --frame-rate, --scale, --up, --from-up
     parser.add_argument(
         "--remove-dummies", action="store_true", help="fold zero-offset joints into their children (GMR needs none)"
     )

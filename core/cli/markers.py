@@ -58,7 +58,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--save-map", help="write the calibrated map here (.toml)")
     parser.add_argument("--json", action="store_true", help="print the per-joint table as JSON")
     parser.add_argument("-o", "--output", required=True, help="the .gmr (or .bvh) file to write")
-    add_reading_options(parser)
+    add_reading_options(parser, transforms=False)  # its --scale is the marker-to-skeleton one
     parser.set_defaults(run=run)
 
 
