@@ -131,8 +131,8 @@ def bvh_local(motion: Motion, frame: int, joint: int, file_channels: FileChannel
     return LocalTransform(np.column_stack([rotation, translation]), name, order, angles, from_file, note)
 
 
-def bvh_channel_names(motion: Motion, joint: int, has_rotation: bool, order: str) -> str:
-    """The BVH CHANNELS of a joint: positions where it translates, rotations in ``order``."""
+def channel_names(motion: Motion, joint: int, has_rotation: bool, order: str) -> str:
+    """A joint's CHANNELS as a file lists them: positions where it translates, rotations in ``order``."""
     names = ["Xposition", "Yposition", "Zposition"] if motion.has_translation[joint] else []
     if has_rotation:
         names += [f"{axis}rotation" for axis in order]
