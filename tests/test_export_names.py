@@ -14,7 +14,11 @@ from gmr_studio.core.formats.bvh import read_bvh
 from gmr_studio.core.kinematics import world_positions
 from gmr_studio.core.motion import Motion
 from gmr_studio.core.operations import split, split_all
+from tests import app_fixtures
+from tests.app_fixtures import open_file
 from tests.conftest import shared_path
+
+studio = app_fixtures.studio  # the main-window fixture (fails on leaked windows)
 
 
 @pytest.fixture(scope="module")
@@ -93,3 +97,19 @@ def test_other_readers_read_the_names_back(split_feet, tmp_path):
     joints = {n for j, n in enumerate(ours.names) if ours.rotation_orders[j] or ours.has_translation[j]}
     assert {"LeftLeg", "RightLeg", "Head"} <= joints
     assert joints <= pybvh_names and joints <= bvhio_names
+
+
+@pytest.mark.gui
+def test_names_kept_by_the_apps_export(qtbot, studio, tmp_path):
+    """File > Export BVH (one file and one file per tree) after Split here at both feet."""
+    from gmr_studio.app import commands
+
+    open_file(studio, shared_path("cmu/subject01/01_01.bvh"))
+    state = studio.state
+    for foot in ("LeftFoot", "RightFoot"):
+        assert commands.split_here(state, state.motion.joint_index(foot))
+    assert studio.files.export_bvh(tmp_path / "one.bvh")
+    assert set(state.motion.names) <= set(read_bvh(tmp_path / "one.bvh").names)
+    assert studio.files.export_bvh(tmp_path / "trees.bvh", per_tree=True)
+    names = set().union(*(read_bvh(f).names for f in tmp_path.glob("trees_*.bvh")))
+    assert set(state.motion.names) <= names
