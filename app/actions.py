@@ -73,6 +73,28 @@ ACTIONS: dict[str, tuple[str, object, str, bool, str | None]] = {
 }
 
 SELECTION_EDITS = ("make_root", "split", "join")
+#: longest undo/redo label shown in the menu and the toolbar (the full one is the tooltip),
+#: so that an edit of a long joint name does not widen the toolbar
+UNDO_LABEL_CHARS = 28
+
+
+def elide(text: str, limit: int = UNDO_LABEL_CHARS) -> str:
+    """``text`` cut to ``limit`` characters, ending in an ellipsis when cut."""
+    return text if len(text) <= limit else text[: limit - 1].rstrip() + "\u2026"
+
+
+def _short_labels(action: QAction, prefix: str, text_changed) -> None:
+    """Keep an undo stack action's label short; its tooltip and status tip say it all."""
+
+    def update(text: str) -> None:
+        full = f"{prefix} {text}" if text else prefix
+        action.setText(elide(full))
+        plain = full.replace("&", "")
+        action.setToolTip(plain)
+        action.setStatusTip(plain)
+
+    text_changed.connect(update)  # after the stack's own connection, so this label wins
+    update("")
 
 
 def build_actions(window: QMainWindow, handlers: dict[str, Callable], stack: QUndoStack) -> dict[str, QAction]:
@@ -82,11 +104,15 @@ def build_actions(window: QMainWindow, handlers: dict[str, Callable], stack: QUn
         "undo": stack.createUndoAction(window, "&Undo"),
         "redo": stack.createRedoAction(window, "&Redo"),
     }
+    _short_labels(actions["undo"], "&Undo", stack.undoTextChanged)
+    _short_labels(actions["redo"], "&Redo", stack.redoTextChanged)
     actions["undo"].setShortcut(QKeySequence(Key.Undo))
     actions["redo"].setShortcuts([QKeySequence("Ctrl+Shift+Z"), QKeySequence(Key.Redo)])
-    for name in ("undo", "redo"):
-        window.addAction(actions[name])
     style = window.style()
+    for name, icon in (("undo", "SP_ArrowBack"), ("redo", "SP_ArrowForward")):
+        # an icon: the toolbar shows it alone, whatever the edit's name (the tooltip names it)
+        actions[name].setIcon(style.standardIcon(getattr(QStyle.StandardPixmap, icon)))
+        window.addAction(actions[name])
     for name, (text, shortcut, tip, checkable, icon) in ACTIONS.items():
         action = QAction(text, window)
         if shortcut:

@@ -85,6 +85,28 @@ def rotation_about(axis: int, degrees: float) -> np.ndarray:
     return out
 
 
+#: joint names (lower case) taken as the figure's centre, before the root of the largest tree
+PELVIS_NAMES = ("hips", "pelvis", "root")
+
+
+def turned_about(alignment: MarkerAlignment, up_axis: int, degrees: float, pivot: np.ndarray) -> MarkerAlignment:
+    """The alignment followed by a turn of ``degrees`` about the up axis through ``pivot``
+    (motion coordinates): ``p' = T (p - c) + c``, so the pivot stays where it is."""
+    turn = rotation_about(up_axis, degrees)
+    pivot = np.asarray(pivot, dtype=np.float64)
+    return alignment.replace(rotation=turn @ alignment.rotation, offset=turn @ (alignment.offset - pivot) + pivot)
+
+
+def figure_centre_joint(names: tuple[str, ...], tree_roots: np.ndarray) -> int:
+    """The joint the figure turns about: one named like a pelvis (``Hips``, ``pelvis``,
+    ``root``, any case), else the root of the tree with the most joints."""
+    lower = [name.lower() for name in names]
+    for wanted in PELVIS_NAMES:
+        if wanted in lower:
+            return lower.index(wanted)
+    return int(np.bincount(tree_roots).argmax())
+
+
 def detect_up_axis(points: np.ndarray) -> int:
     """1 (Y) or 2 (Z): the axis the figure spans more in its median frame.
 

@@ -2,6 +2,9 @@
 
 Scale, offset, a turn about the up axis and a frame offset, previewed live in the view;
 Auto recomputes :func:`app.alignment.auto_alignment`, Cancel restores what was there.
+The turn is about the vertical line through the figure's centre (the pelvis at the current
+frame, :func:`app.alignment.figure_centre_joint`), drawn in the view while the dialog is
+open, so a quarter turn spins the markers in place instead of throwing them away.
 """
 
 from __future__ import annotations
@@ -19,15 +22,19 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
-from gmr_studio.app.alignment import MarkerAlignment, auto_alignment, rotation_about
+from gmr_studio.app.alignment import MarkerAlignment, auto_alignment, figure_centre_joint, turned_about
 from gmr_studio.app.scene import up_axis_of
 from gmr_studio.app.state import StudioState
+
+#: name and colour of the pivot drawn in the view while the dialog is open
+PIVOT_ACTOR = "alignment_pivot"
+PIVOT_COLOR = (1.0, 0.25, 0.85)
 
 
 class AlignmentDialog(QDialog):
     """Edits the state's marker alignment in place (Cancel puts the old one back)."""
 
-    def __init__(self, state: StudioState, parent: QWidget | None = None) -> None:
+    def __init__(self, state: StudioState, parent: QWidget | None = None, scene=None) -> None:
         super().__init__(parent)
         self.setWindowTitle("Marker alignment")
         self.state = state
@@ -52,8 +59,16 @@ class AlignmentDialog(QDialog):
         layout.addRow("Offset X Y Z", row)
         self.turn = QDoubleSpinBox(decimals=1, minimum=-180, maximum=180, value=0.0, suffix=" deg")
         self.turn.setSingleStep(90)
-        self.turn.setToolTip(f"An extra turn about the up axis ({'XYZ'[self.up_axis]})")
+        self.pivot_joint = figure_centre_joint(state.motion.names, state.motion.tree_roots)
+        pivot_name = state.motion.names[self.pivot_joint]
+        self.turn.setToolTip(
+            f"An extra turn about the up axis ({'XYZ'[self.up_axis]}) through {pivot_name} at the current frame"
+        )
         layout.addRow("Turn about up", self.turn)
+        self.pivot_label = QLabel()
+        layout.addRow("Turns about", self.pivot_label)
+        self.scene = scene
+        self._show_pivot()
         self.frames = QSpinBox(minimum=-100000, maximum=100000, value=self.original.frame_offset)
         self.frames.setToolTip("Marker frame shown at motion frame f is f + this")
         layout.addRow("Frame offset", self.frames)
@@ -72,14 +87,46 @@ class AlignmentDialog(QDialog):
     def alignment(self) -> MarkerAlignment:
         """The alignment the fields describe (a field left as shown keeps its exact value,
         not the value rounded to the box's decimals)."""
-        turn = rotation_about(self.up_axis, self.turn.value())
-        return self.base.replace(
-            rotation=turn @ self.base.rotation,
+        fields = self.base.replace(
             scale=_exact(self.scale, self.base.scale),
             offset=np.array([_exact(box, value) for box, value in zip(self.offset, self.base.offset)]),
             frame_offset=self.frames.value(),
             method=self.base.method if self._untouched() else f"{self.base.method}; adjusted by hand",
         )
+        if self.turn.value() == 0:
+            return fields
+        return turned_about(fields, self.up_axis, self.turn.value(), self.pivot())
+
+    def pivot(self) -> np.ndarray:
+        """(3,) the point the turn is about: the figure's centre at the current frame."""
+        return np.array(self.state.positions[self.state.frame, self.pivot_joint])
+
+    def _show_pivot(self) -> None:
+        """Say where the pivot is, and draw it (a sphere on a vertical line) in the view."""
+        pivot = self.pivot()
+        size = self.state.motion.size
+        where = " ".join(f"{v:.4g}" for v in pivot)
+        self.pivot_label.setText(f"{self.state.motion.names[self.pivot_joint]} at frame {self.state.frame} ({where})")
+        if self.scene is None:
+            return
+        import pyvista as pv
+
+        up = np.zeros(3)
+        up[self.up_axis] = 0.6 * size
+        line = pv.Line(pivot - up, pivot + up)
+        marker = pv.Sphere(radius=0.03 * size, center=pivot).merge(line.tube(radius=0.006 * size))
+        options = {"color": PIVOT_COLOR, "lighting": False, "pickable": False, "reset_camera": False}
+        self.scene.plotter.add_mesh(marker, name=PIVOT_ACTOR, render=False, **options)
+        self.scene.render()
+
+    def _hide_pivot(self) -> None:
+        if self.scene is not None:
+            self.scene.plotter.remove_actor(PIVOT_ACTOR, render=False)
+            self.scene.render()
+
+    def done(self, result: int) -> None:
+        self._hide_pivot()
+        super().done(result)
 
     def _untouched(self) -> bool:
         return (

@@ -14,7 +14,9 @@ from pathlib import Path
 from PyQt6.QtCore import QThread, pyqtSignal
 
 from gmr_studio.app.state import Snapshot
-from gmr_studio.core.formats import READERS, load_gmr
+from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.formats import READERS, load_gmr, motion_suffix
+from gmr_studio.core.formats.bvh import read_bvh_with_channels
 from gmr_studio.core.markers import MARKER_READERS, MarkerSet, read_markers
 
 
@@ -38,6 +40,9 @@ def load_snapshot(path: str | Path) -> Snapshot:
 
     Raises MotionFileError for a bad or unknown file.
     """
+    if motion_suffix(path) == ".bvh":  # keep the file's channel values for the inspector
+        motion, channels = read_bvh_with_channels(path)
+        return Snapshot.of(pre_from_post(motion), file_channels=channels)
     return Snapshot.of(load_gmr(path))
 
 

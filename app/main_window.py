@@ -175,7 +175,7 @@ class MainWindow(QMainWindow):
         self.recent_menu.setEnabled(bool(paths))
 
     def _align_markers(self) -> None:
-        AlignmentDialog(self.state, self).exec()
+        AlignmentDialog(self.state, self, self.view.scene).exec()
 
     def _recover_pelvis(self) -> None:
         extensions.recover_pelvis_frames(self.state)

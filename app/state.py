@@ -21,6 +21,7 @@ from PyQt6.QtCore import QObject, pyqtSignal
 from PyQt6.QtGui import QUndoStack
 
 from gmr_studio.app.alignment import MarkerAlignment, auto_alignment, markers_on_motion_frames
+from gmr_studio.core.formats.bvh import FileChannels
 from gmr_studio.core.kinematics import forward_kinematics
 from gmr_studio.core.markers import MarkerSet
 from gmr_studio.core.markers.pelvis import PelvisFrames
@@ -56,16 +57,19 @@ class Snapshot:
     motion : the GMR (pre-rotation) motion.
     positions : (F, J, 3) float64 world positions, read-only.
     rotations : (F, J, 3, 3) float64 world rotations, read-only.
+    file_channels : the rotation channel values of the BVH file the motion was read from
+        (as written, for the inspector), or None.
     """
 
     motion: Motion
     positions: np.ndarray
     rotations: np.ndarray
+    file_channels: FileChannels | None = None
 
     @classmethod
-    def of(cls, motion: Motion) -> Snapshot:
+    def of(cls, motion: Motion, file_channels: FileChannels | None = None) -> Snapshot:
         positions, rotations = forward_kinematics(motion, threads=None)  # all cores: the cache of every frame
-        return cls(motion, _readonly(positions), _readonly(rotations))
+        return cls(motion, _readonly(positions), _readonly(rotations), file_channels)
 
     @property
     def nbytes(self) -> int:
@@ -128,6 +132,8 @@ class StudioState(QObject):
         self.undo_stack = QUndoStack(self)
         self.undo_stack.cleanChanged.connect(self._on_clean_changed)
         self.snapshot: Snapshot | None = None
+        #: the channel values of the file the document was read from (kept through edits)
+        self.file_channels: FileChannels | None = None
         self.path: Path | None = None
         self.frame = 0
         self.selected: int | None = None
@@ -160,6 +166,7 @@ class StudioState(QObject):
         self.undo_stack.clear()
         self.undo_stack.setUndoLimit(undo_limit_for(snapshot))
         self.snapshot = snapshot
+        self.file_channels = snapshot.file_channels
         self.path = Path(path) if path is not None else None
         self.frame = 0
         self.selected = None
@@ -175,14 +182,31 @@ class StudioState(QObject):
         self.modified_changed.emit(False)
 
     def apply_snapshot(self, snapshot: Snapshot) -> None:
-        """Replace the document's motion (commands call this from redo and undo)."""
+        """Replace the document's motion (commands call this from redo and undo).
+
+        The selection follows the joint, by name, whatever its index in the new motion; a
+        joint the new motion does not have is deselected. Stale status messages are cleared.
+        """
         if self.snapshot is not None and snapshot.motion.n_frames != self.snapshot.motion.n_frames:
             self.frame = min(self.frame, max(snapshot.motion.n_frames - 1, 0))
-        self.snapshot = snapshot
-        if self.selected is not None and self.selected >= snapshot.motion.n_joints:
+        followed = self.follow_joint(self.selected, snapshot.motion)
+        moved = followed != self.selected
+        if moved and self.selected is not None:  # views drop the old index before they rebuild
             self.selected = None
             self.selection_changed.emit(-1)
+        self.snapshot = snapshot
+        self.message.emit("")
         self.motion_changed.emit()
+        if moved and followed is not None:
+            self.selected = followed
+            self.selection_changed.emit(followed)
+
+    def follow_joint(self, joint: int | None, motion: Motion) -> int | None:
+        """The index in ``motion`` of the current motion's joint ``joint`` (by name), or None."""
+        if joint is None or self.motion is None or joint >= self.motion.n_joints:
+            return None
+        name = self.motion.names[joint]
+        return motion.names.index(name) if name in motion.names else None
 
     def mark_saved(self, path: str | Path) -> None:
         """The document was written to ``path``: it is now the document's file, unmodified."""

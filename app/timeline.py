@@ -7,11 +7,30 @@ buttons here trigger the same actions, so both stay in step.
 from __future__ import annotations
 
 from PyQt6.QtCore import Qt
-from PyQt6.QtGui import QAction
+from PyQt6.QtGui import QAction, QValidator
 from PyQt6.QtWidgets import QComboBox, QHBoxLayout, QLabel, QSlider, QSpinBox, QToolButton, QWidget
 
 from gmr_studio.app.playback import SPEEDS, Player
 from gmr_studio.app.state import StudioState
+
+
+class FrameBox(QSpinBox):
+    """The frame number: any whole number may be typed, and one past the last frame lands
+    on the last frame (a plain QSpinBox refuses the digit that passes the maximum, so
+    typing 99999999 in a 2,752-frame take left 999)."""
+
+    def validate(self, text: str, position: int) -> tuple[QValidator.State, str, int]:
+        digits = text.strip()
+        if digits.isdigit():
+            inside = self.minimum() <= int(digits) <= self.maximum()
+            return (QValidator.State.Acceptable if inside else QValidator.State.Intermediate), text, position
+        return super().validate(text, position)
+
+    def fixup(self, text: str) -> str:
+        digits = text.strip()
+        if digits.isdigit():
+            return str(min(max(int(digits), self.minimum()), self.maximum()))
+        return super().fixup(text)
 
 
 class Timeline(QWidget):
@@ -34,7 +53,7 @@ class Timeline(QWidget):
         self.slider.setFocusPolicy(Qt.FocusPolicy.NoFocus)  # arrows belong to the window shortcuts
         self.slider.valueChanged.connect(state.set_frame)
         layout.addWidget(self.slider, 1)
-        self.frame_box = QSpinBox(self)
+        self.frame_box = FrameBox(self)
         self.frame_box.setKeyboardTracking(False)
         self.frame_box.setToolTip("Frame number (0-based)")
         self.frame_box.valueChanged.connect(state.set_frame)

@@ -11,9 +11,13 @@ as a standard file (docs/formats.md, "BVH export"):
 - joints with per-frame offsets keep them as position channels;
 - every joint has 0 or 3 rotation channels (Blender's importer misreads 1 or 2), in the
   joint's original order where it had one, and 0 or 3 position channels;
-- every channel-free leaf becomes an ``End Site`` (named ``<parent>_End`` by readers), and
-  a leaf with channels gets a zero-offset End Site below it; no comments, no SOFTLINKs;
-  joint names are single words (spaces become underscores).
+- a channel-free leaf named as readers name an End Site (``<parent>_End``, maybe
+  numbered) is written as an ``End Site``; every other leaf keeps its name as a JOINT
+  with 3 rotation channels (zero for a channel-free leaf, e.g. one left childless by a
+  split) and a zero-offset End Site below it: Blender, bvhio, pybvh and our reader all
+  read such a joint back with its name (``CHANNELS 0`` would keep it too, but pybvh
+  rejects it); no comments, no SOFTLINKs; joint names are single words (spaces become
+  underscores).
 
 The writer (:mod:`core.formats.textmotion`) makes the Euler angles continuous over time.
 """
@@ -46,7 +50,7 @@ class BvhExport:
     ----------
     motion : the post-rotation motion to write.
     names : for each joint of the source motion (by index), its name in the BVH as a BVH
-        reader names it (End Sites: ``<parent>_End``, ``<parent>_End2``...), or None for a
+        reader reads it back (the source name, with spaces as underscores), or None for a
         joint not in this export (another tree).
     dummies : names of the dummy joints added for independent siblings.
     world_root : name of the synthetic root, or None for a single tree.
@@ -110,22 +114,25 @@ def bvh_export(motion: Motion, *, world_root: str = WORLD_ROOT) -> BvhExport:
         if p >= 0:
             children[p].append(j)
     all_names = set(names)
-    generated: set[str] = set()
+    read_back: set[str] = set()  # names a reader has given, in file order
     for j in _depth_first(parents, children):
         p = parents[j]
         leaf = not children[j]
         if leaf and p >= 0 and not orders[j] and not flags[j]:
-            end = _unique(f"{names[p]}_End", generated)
-            if end not in all_names or end == names[j]:  # else keep it a named JOINT
-                generated.add(end)
-                names[j] = end
-            continue
+            if names[j] == _unique(f"{names[p]}_End", read_back):
+                read_back.add(names[j])  # an End Site a reader names just so
+                continue
+            # any other channel-free leaf (e.g. one left childless by a split) keeps its
+            # name: three zero rotation channels and a zero-offset End Site below
+            source_order = pre.rotation_orders[j] if j < pre.n_joints else ""
+            orders[j] = source_order or NEUTRAL_ORDER
+        read_back.add(names[j])
         if orders[j]:
             orders[j] = complete_order(orders[j])
         if leaf:  # a leaf with channels: a zero-offset End Site below it
-            end = f"{names[j]}_End"
-            if end not in all_names and end not in generated:
-                generated.add(end)
+            end = _unique(f"{names[j]}_End", read_back)
+            if end not in all_names:
+                read_back.add(end)
                 names.append(end)
                 parents.append(j)
                 orders.append("")

@@ -303,10 +303,10 @@ def test_the_alignment_dialog_adjusts_live_and_cancel_restores(qtbot, studio):
     shift = dialog.offset[0].value() - original.alignment.offset[0]  # 10, to the box's decimals
     assert shift == pytest.approx(10.0, abs=1e-3)
     np.testing.assert_allclose(state.marker_overlay.positions[:, :, 0], original.positions[:, :, 0] + shift, atol=1e-9)
-    dialog.turn.setValue(90.0)  # a quarter turn about the up axis (Y)
-    centre = original.alignment.offset + np.array([shift, 0, 0])
-    turned = state.marker_overlay.positions[5, 0] - centre
-    before = original.positions[5, 0] - original.alignment.offset
+    dialog.turn.setValue(90.0)  # a quarter turn about the up axis (Y) through the pelvis
+    pivot = state.positions[state.frame, dialog.pivot_joint]
+    turned = state.marker_overlay.positions[5, 0] - pivot
+    before = original.positions[5, 0] + np.array([shift, 0, 0]) - pivot
     np.testing.assert_allclose(turned, [before[2], before[1], -before[0]], atol=1e-6)
     assert "adjusted by hand" in state.marker_overlay.alignment.method
     dialog.frames.setValue(3)

@@ -141,11 +141,12 @@ def test_cmu_bvh_exports_as_it_was_read():
     np.testing.assert_allclose(again.offsets, original.offsets, atol=1e-12)
 
 
-def test_amc_leaves_become_end_sites_and_siblings_get_dummies():
+def test_amc_leaves_keep_their_names_and_siblings_get_dummies():
     source = read_motion(shared_path("cmu/subject01/01_01.amc"))
     export = bvh_export(source)
-    names = dict(zip(source.names, export.names))
-    assert names["ltoes"] == "lfoot_End" and names["head"] == "upperneck_End" and names["lfemur"] == "lfemur"
+    assert export.names == source.names  # leaves too: JOINT ltoes with a zero-offset End Site
+    again = read_bvh("again.bvh", export.text().encode())
+    assert set(source.names) <= set(again.names)
     # root's children (lhipjoint, rhipjoint, lowerback) turn differently: one dummy each
     assert {"lhipjoint_dummy", "rhipjoint_dummy", "lowerback_dummy"} <= set(export.dummies)
     summary = validate_bvh(export.text())
@@ -190,7 +191,7 @@ def test_export_after_random_edits_of_every_shared_file(path):
 def test_names_with_spaces_become_single_words(rng):
     motion = random_motion(rng, [-1, 0, 1], n_frames=2).replace(names=("Hips", "Left Hand", "Left_Hand"))
     export = bvh_export(motion)
-    assert export.names == ("Hips", "Left_Hand2", "Left_Hand2_End")  # the leaf is an End Site
+    assert export.names == ("Hips", "Left_Hand2", "Left_Hand")  # the leaf keeps its name
     assert_round_trip(motion, export, tolerance=1e-9)
 
 

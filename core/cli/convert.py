@@ -17,7 +17,8 @@ import argparse
 import dataclasses
 from pathlib import Path
 
-from gmr_studio.core.conversions import UP_AXES, change_up_axis, scale_lengths
+from gmr_studio.core.cli.reading import add_reading_options, reader_options
+from gmr_studio.core.conversions import change_up_axis, scale_lengths
 from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.dummies import remove_dummies
 from gmr_studio.core.errors import OperationError
@@ -58,20 +59,9 @@ class ConversionReport:
     notes: list[str]
 
 
-def positive_number(text: str) -> float:
-    value = float(text)
-    if not value > 0 or value == float("inf"):
-        raise argparse.ArgumentTypeError(f"expected a positive number, not {text!r}")
-    return value
-
-
 def add_conversion_options(parser: argparse.ArgumentParser) -> None:
     """The options shared by single and batch conversion."""
-    parser.add_argument("--asf", help="skeleton of the .amc input(s) (default: the .asf beside each AMC)")
-    parser.add_argument("--frame-rate", type=positive_number, help="frames per second of .amc inputs (default 120)")
-    parser.add_argument("--scale", type=positive_number, help="multiply every length by this factor")
-    parser.add_argument("--up", choices=UP_AXES, help="make this axis the up axis of the output")
-    parser.add_argument("--from-up", choices=UP_AXES, help="the input's up axis (default: its header's, else y)")
+    add_reading_options(parser)  # --asf, --frame-rate, --scale, --up, --from-up
     parser.add_argument(
         "--remove-dummies", action="store_true", help="fold zero-offset joints into their children (GMR needs none)"
     )
@@ -101,10 +91,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def read_for_conversion(path: str | Path, options: ConvertOptions) -> Motion:
     """Read any input file, passing the AMC options to the AMC reader."""
-    extra = {}
-    if motion_suffix(path) == ".amc":
-        extra = {key: value for key, value in (("asf", options.asf), ("frame_rate", options.frame_rate)) if value}
-    return read_motion(path, **extra)
+    return read_motion(path, **reader_options(path, options.asf, options.frame_rate))
 
 
 def transformed(motion: Motion, options: ConvertOptions) -> tuple[Motion, list[str]]:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 
 from gmr_studio.core.cli.convert import write_converted
-from gmr_studio.core.formats import load_gmr
+from gmr_studio.core.cli.reading import add_reading_options, load_gmr_with_args
 from gmr_studio.core.operations import join, join_all, shift_root, split, split_all
 
 OPERATIONS = {
@@ -29,18 +29,19 @@ class _Append(argparse.Action):
 
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("edit", help="shift root, split and join, in the order given")
-    parser.add_argument("input", help="a .bvh, .gmr or .amc file (an AMC's .asf beside it)")
+    parser.add_argument("input", help="a .bvh, .gmr or .amc file (an AMC's skeleton: --asf, else the .asf beside it)")
     parser.add_argument("-o", "--output", required=True, help="a .gmr or .bvh file (forests: a World root)")
     parser.add_argument("--shift-root", metavar="J", action=_Append, const="shift_root", help="make J its tree's root")
     parser.add_argument("--split", metavar="J", action=_Append, const="split", help="make J a root (soft link kept)")
     parser.add_argument("--join", metavar="J", action=_Append, const="join", help="join split root J to its parent")
     parser.add_argument("--split-all", nargs=0, action=_Append, const="split_all", help="make every joint a root")
     parser.add_argument("--join-all", nargs=0, action=_Append, const="join_all", help="join every soft link")
+    add_reading_options(parser)
     parser.set_defaults(run=run, steps=[])
 
 
 def run(args: argparse.Namespace) -> int:
-    motion = load_gmr(args.input)
+    motion = load_gmr_with_args(args.input, args)
     for operation, joint in args.steps:
         motion = OPERATIONS[operation](motion, joint)
     write_converted(motion, args.output)

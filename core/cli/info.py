@@ -8,8 +8,8 @@ import json
 import sys
 from pathlib import Path
 
+from gmr_studio.core.cli.reading import add_reading_options, read_with_args
 from gmr_studio.core.dummies import find_dummies
-from gmr_studio.core.formats import read_motion
 from gmr_studio.core.motion import Motion
 
 #: what ``info`` calls each format, by suffix
@@ -19,8 +19,8 @@ FORMAT_NAMES = {".bvh": "BVH", ".gmr": "GMR", ".amc": "AMC (Acclaim, with its AS
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("info", help="joints, roots, soft links, frames, frame rate and channels of a file")
     parser.add_argument("file", help="a .bvh, .gmr, .amc or .asf file, or a .c3d or .trc marker file")
-    parser.add_argument("--asf", help="the skeleton of an .amc file (default: the single .asf beside it)")
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
+    add_reading_options(parser)
     parser.set_defaults(run=run)
 
 
@@ -95,8 +95,7 @@ def run(args: argparse.Namespace) -> int:
         info = describe_markers(read_markers(args.file), args.file)
         print(json.dumps(info, indent=2) if args.json else markers_text(info))
         return 0
-    options = {"asf": args.asf} if args.asf and args.file.lower().endswith(".amc") else {}
-    info = describe(read_motion(args.file, **options), args.file)
+    info = describe(read_with_args(args.file, args), args.file)
     if args.json:
         json.dump(info, sys.stdout, indent=2)
         print()

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from gmr_studio.core.cli.reading import add_reading_options, reader_options
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import load_gmr, motion_suffix, write_motion
 from gmr_studio.core.markers import read_markers
@@ -57,6 +58,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--save-map", help="write the calibrated map here (.toml)")
     parser.add_argument("--json", action="store_true", help="print the per-joint table as JSON")
     parser.add_argument("-o", "--output", required=True, help="the .gmr (or .bvh) file to write")
+    add_reading_options(parser, transforms=False)  # its --scale is the marker-to-skeleton one
     parser.set_defaults(run=run)
 
 
@@ -96,10 +98,11 @@ def load_skeleton(path: str) -> Motion:
     return load_gmr(path)
 
 
-def load_motion_of(path: str, skeleton_path: str) -> Motion:
-    """A motion of the skeleton (an .amc reads with the --skeleton .asf)."""
-    options = {"asf": skeleton_path} if motion_suffix(path) == ".amc" and motion_suffix(skeleton_path) == ".asf" else {}
-    return load_gmr(path, **options)
+def load_motion_of(path: str, skeleton_path: str, args: argparse.Namespace | None = None) -> Motion:
+    """A motion of the skeleton, read with the reading options (an .amc reads with --asf,
+    else with the --skeleton .asf)."""
+    asf = getattr(args, "asf", None) or (skeleton_path if motion_suffix(skeleton_path) == ".asf" else None)
+    return load_gmr(path, **reader_options(path, asf, getattr(args, "frame_rate", None)))
 
 
 def run(args: argparse.Namespace) -> int:
@@ -118,7 +121,7 @@ def run(args: argparse.Namespace) -> int:
                 parse_axes(args.axes) if args.axes else old.rotation, args.scale or old.scale, old.offset
             )
         )
-    reference = load_motion_of(args.reference, args.skeleton) if args.reference else None
+    reference = load_motion_of(args.reference, args.skeleton, args) if args.reference else None
     if args.calibrate is not None:
         marker_map = _calibrate(args, markers, skeleton, marker_map, reference)
     roots = [r.strip() for r in args.roots.split(",") if r.strip()]
@@ -143,7 +146,7 @@ def run(args: argparse.Namespace) -> int:
     write_motion(motion, output)
     truth_positions = truth_rotations = None
     if args.truth:
-        truth = load_motion_of(args.truth, args.skeleton)
+        truth = load_motion_of(args.truth, args.skeleton, args)
         order = [truth.joint_index(n) for n in skeleton.names]
         frames = args.frames or slice(None)
         if truth.n_frames != markers.n_frames:

@@ -8,7 +8,7 @@ import io
 import numpy as np
 
 from gmr_studio.core.atomic import atomic_write_bytes
-from gmr_studio.core.formats import read_motion
+from gmr_studio.core.cli.reading import add_reading_options, read_with_args
 from gmr_studio.core.kinematics import world_positions
 
 
@@ -21,11 +21,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("file", help="any motion file the project reads")
     parser.add_argument("-o", "--output", required=True, help="the .npz file to write")
+    add_reading_options(parser)
     parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    motion = read_motion(args.file)
+    motion = read_with_args(args.file, args)
     buffer = io.BytesIO()
     np.savez(
         buffer,

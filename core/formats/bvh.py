@@ -8,16 +8,69 @@ names with ``.``, ``:``, ``-``. Errors are :class:`~core.errors.MotionFileError`
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
+import numpy as np
+
 from gmr_studio.core.atomic import atomic_write_text
-from gmr_studio.core.formats.textmotion import format_text_motion, read_text_motion
+from gmr_studio.core.errors import read_input
+from gmr_studio.core.formats.frames import parse_frames
+from gmr_studio.core.formats.hierarchy import normalise_newlines, parse_header
+from gmr_studio.core.formats.textmotion import _motion_from_header, format_text_motion, read_text_motion
 from gmr_studio.core.motion import Motion
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class FileChannels:
+    """The rotation channel values of a BVH file as written: degrees, unwrapped as the
+    file has them (370 stays 370), for showing next to the matrices they make.
+
+    Attributes
+    ----------
+    orders : joint name -> its rotation channels' axes in file order (e.g. ``"ZXY"``);
+        joints without rotation channels (End Sites) are absent.
+    angles : joint name -> (F, k) float64 read-only degrees, columns in that order.
+    """
+
+    orders: dict[str, str]
+    angles: dict[str, np.ndarray]
+
+    def of(self, name: str, frame: int) -> tuple[str, np.ndarray] | None:
+        """(order, (k,) degrees) of a joint at a frame, or None if it has no rotation channels."""
+        if name not in self.orders:
+            return None
+        return self.orders[name], self.angles[name][frame]
 
 
 def read_bvh(path: str | Path, data: bytes | None = None) -> Motion:
     """Read a BVH file into a post-rotation :class:`Motion` (``data``: the bytes, if in hand)."""
     return read_text_motion(path, "bvh", data)
+
+
+def read_bvh_with_channels(path: str | Path, data: bytes | None = None) -> tuple[Motion, FileChannels]:
+    """:func:`read_bvh`, and the file's rotation channel values as written."""
+    path_text = str(path)
+    data = normalise_newlines(read_input(path, data))
+    header = parse_header(data, path_text, "bvh")
+    n_values = sum(len(j.channels) for j in header.joints)
+    values = parse_frames(
+        data, header.data_offset, header.data_line, n_values, header.n_frames, header.frames_token.line, path_text
+    )
+    motion = _motion_from_header(header, values, "bvh", path_text)
+    values.flags.writeable = False
+    orders, angles, column = {}, {}, 0
+    for joint in header.joints:
+        rotation_columns = [column + k for k, name in enumerate(joint.channels) if name.endswith("rotation")]
+        if rotation_columns:
+            orders[joint.name] = "".join(joint.channels[k - column][0] for k in rotation_columns)
+            first, last = rotation_columns[0], rotation_columns[-1]
+            contiguous = last - first + 1 == len(rotation_columns)  # as files have them: a view
+            block = values[:, first : last + 1] if contiguous else values[:, rotation_columns]
+            block.flags.writeable = False
+            angles[joint.name] = block
+        column += len(joint.channels)
+    return motion, FileChannels(orders, angles)
 
 
 def write_bvh(motion: Motion, path: str | Path) -> None:

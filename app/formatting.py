@@ -1,0 +1,75 @@
+"""Numbers as the app shows them: rounded to the motion's precision, so that float noise
+such as ``9.917e-14`` left by a split and a join shows as ``0``.
+
+A length is shown to :data:`LENGTH_DIGITS` significant digits of the motion's size (the
+extent of the skeleton): in a 35-inch skeleton a step of 1e-5 inch, in a 1.7 m one 1e-6 m.
+Anything smaller than that step is below what a file holds anyway (BVH files write about 6
+significant digits) and far above rounding noise (~1e-14 of the size).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+#: significant digits of the motion's size kept in shown lengths
+LENGTH_DIGITS = 7
+#: decimals of shown rotation-matrix entries and of angles in degrees
+MATRIX_DECIMALS = 4
+ANGLE_DECIMALS = 3
+
+
+def length_decimals(size: float, digits: int = LENGTH_DIGITS) -> int:
+    """Decimals that keep ``digits`` significant digits of ``size`` (at least 0)."""
+    if not np.isfinite(size) or size <= 0:
+        size = 1.0
+    return max(0, digits - 1 - math.floor(math.log10(size)))
+
+
+def format_number(value: float, decimals: int) -> str:
+    """``value`` rounded to ``decimals``, trailing zeros dropped, never ``-0``."""
+    if not np.isfinite(value):
+        return str(value)
+    rounded = round(float(value), decimals) + 0.0  # + 0.0 turns -0.0 into 0.0
+    text = f"{rounded:.{decimals}f}"
+    if "." in text:
+        text = text.rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+def format_length(value: float, size: float) -> str:
+    """A length of a motion of this size, to the motion's precision."""
+    return format_number(value, length_decimals(size))
+
+
+def format_lengths(values: np.ndarray, size: float) -> str:
+    """Lengths (e.g. an offset or a position), space-separated, to the motion's precision."""
+    decimals = length_decimals(size)
+    return " ".join(format_number(v, decimals) for v in np.ravel(values))
+
+
+def format_angles(degrees: np.ndarray) -> str:
+    """Angles in degrees, comma-separated, to :data:`ANGLE_DECIMALS`."""
+    return ", ".join(f"{round(float(v), ANGLE_DECIMALS) + 0.0:.{ANGLE_DECIMALS}f}" for v in np.ravel(degrees))
+
+
+def format_matrix(matrix: np.ndarray, size: float | None = None, *, lengths: bool = False) -> str:
+    """Rows of a matrix as aligned text, with a bar before the last column of a 3x4.
+
+    Rotation entries get :data:`MATRIX_DECIMALS`; lengths (the last column of a 3x4, or
+    every entry with ``lengths``) the precision of a motion of this ``size``.
+    """
+    matrix = np.atleast_2d(np.asarray(matrix, dtype=np.float64))
+    length_places = length_decimals(size) if size is not None else MATRIX_DECIMALS
+    rows = []
+    for row in matrix:
+        cells = []
+        for k, value in enumerate(row):
+            is_length = lengths or (matrix.shape[1] == 4 and k == 3)
+            places = length_places if is_length else MATRIX_DECIMALS
+            cells.append(f"{round(float(value), places) + 0.0:{places + 6}.{places}f}")
+        if len(cells) == 4:
+            cells.insert(3, " |")
+        rows.append(" ".join(cells))
+    return "\n".join(rows)

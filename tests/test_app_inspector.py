@@ -1,0 +1,88 @@
+"""The inspector in the real window: BVH and GMR local transforms from the right joint's
+channels (issue 14.1), numbers at the motion's precision (14.10), no lag behind the
+timeline during playback (13.5)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from gmr_studio.app import commands
+from gmr_studio.app.formatting import format_angles, format_lengths, format_number, length_decimals
+from gmr_studio.core.formats.bvh import read_bvh_with_channels
+from tests import app_fixtures
+from tests.app_fixtures import open_file
+from tests.conftest import shared_path
+
+studio = app_fixtures.studio
+
+CMU = "cmu/subject01/01_01.bvh"
+
+
+def flat(text: str) -> str:
+    return " ".join(text.split())
+
+
+@pytest.mark.gui
+def test_head_shows_its_own_file_channels_and_its_end_site_none(qtbot, studio):
+    open_file(studio, shared_path(CMU))
+    state = studio.state
+    _, channels = read_bvh_with_channels(shared_path(CMU))
+    state.select(state.motion.joint_index("Head"))
+    state.set_frame(619)
+    text = flat(studio.inspector.text())
+    bvh_part = text.split("(BVH)", 2)[2].split("(GMR)")[0]  # after the channels rows
+    assert "BVH channels of Head, as in the file" in bvh_part
+    assert f"Euler ZYX (the file's channel values): {format_angles(channels.angles['Head'][619])}" in bvh_part
+    gmr_part = text.split("pre-rotation [R, R t] (GMR)")[1].split("World position")[0]
+    assert "bone Neck1 -> Head" in gmr_part and "the file's BVH channels of Neck1" in gmr_part
+    assert format_angles(channels.angles["Neck1"][619]) in gmr_part
+    state.select(state.motion.joint_index("Head_End"))
+    text = flat(studio.inspector.text())
+    assert "Channels (BVH) none" in text and "no rotation channels" in text
+
+
+@pytest.mark.gui
+def test_offsets_after_split_all_and_join_all_show_no_float_noise(qtbot, studio):
+    open_file(studio, shared_path(CMU))
+    state = studio.state
+    original = state.motion
+    assert commands.split_everything(state) and commands.join_everything(state)
+    for name in ("LeftUpLeg", "LeftHand", "Head", "RThumb"):
+        state.select(state.motion.joint_index(name))
+        text = flat(studio.inspector.text())
+        offset_row = text.split("Offset ", 1)[1].split(" Channels")[0]
+        assert "e-" not in offset_row and "e+" not in offset_row
+        assert offset_row == format_lengths(original.offsets[original.joint_index(name)], original.size)
+
+
+def test_lengths_round_to_the_motions_precision():
+    assert format_lengths(np.array([4.983, 9.917e-14, -4.891e-14]), 35.0) == "4.983 0 0"
+    assert format_number(-1e-15, 5) == "0" and format_number(-4e-7, 6) == "0" and format_number(2.5e-6, 5) == "0"
+    rng = np.random.default_rng(1)
+    for size in (0.017, 1.7, 35.0, 1700.0):
+        values = rng.normal(scale=size, size=200)
+        decimals = length_decimals(size)
+        shown = np.array([float(format_number(v, decimals)) for v in values])
+        # within half a step of the value, and the step is 1e-6 of the size (7 digits)
+        assert np.abs(shown - values).max() <= 0.5 * 10.0**-decimals * (1 + 1e-9)
+        assert 10.0**-decimals <= 1e-5 * size
+
+
+@pytest.mark.gui
+def test_the_inspector_shows_the_timelines_frame_while_playing(qtbot, studio):
+    open_file(studio, shared_path(CMU))
+    state = studio.state
+    state.select(state.motion.joint_index("LeftHand"))
+    behind: list[tuple[int, int | None]] = []
+
+    def check(frame: int) -> None:  # connected after the inspector: runs once it has updated
+        if studio.inspector.shown_frame() != frame:
+            behind.append((frame, studio.inspector.shown_frame()))
+
+    state.frame_changed.connect(check)
+    studio.player.play()
+    qtbot.waitUntil(lambda: state.frame > 40, timeout=10000)
+    studio.player.pause()
+    assert not behind, f"the inspector lagged: {behind[:5]}"
+    assert f"Frame {state.frame} of" in studio.inspector.text()

@@ -1,0 +1,54 @@
+"""Issue 13.5: the frame box keeps to the take's range, long undo labels do not widen the
+toolbar."""
+
+from __future__ import annotations
+
+import pytest
+from PyQt6.QtCore import Qt
+from PyQt6.QtWidgets import QToolBar
+
+from gmr_studio.app.actions import UNDO_LABEL_CHARS
+from gmr_studio.app.commands import run_edit
+from gmr_studio.core.operations import split
+from tests import app_fixtures
+from tests.app_fixtures import open_file
+from tests.conftest import shared_path
+
+pytestmark = pytest.mark.gui
+studio = app_fixtures.studio
+
+
+def type_frame(qtbot, studio, text: str) -> None:
+    box = studio.timeline.frame_box
+    box.lineEdit().selectAll()
+    qtbot.keyClicks(box.lineEdit(), text)
+    qtbot.keyClick(box.lineEdit(), Qt.Key.Key_Return)
+
+
+def test_a_frame_past_the_end_lands_on_the_last_frame(qtbot, studio):
+    open_file(studio, shared_path("cmu/subject01/01_01.bvh"))
+    state = studio.state
+    last = state.n_frames - 1
+    type_frame(qtbot, studio, "99999999")
+    assert state.frame == last and studio.timeline.frame_box.value() == last
+    type_frame(qtbot, studio, "1234")
+    assert state.frame == 1234
+    type_frame(qtbot, studio, str(last + 1))
+    assert state.frame == last
+
+
+def test_long_undo_labels_are_elided_and_do_not_widen_the_toolbar(qtbot, studio):
+    open_file(studio, shared_path("cmu/subject01/01_01.bvh"))
+    state = studio.state
+    toolbar = studio.findChild(QToolBar, "tools")
+    width = toolbar.sizeHint().width()
+    label = "Split at '" + "VeryLongJointName" * 12 + "'"
+    assert run_edit(state, label, lambda m: split(m, "LeftFoot"))
+    undo = studio.actions["undo"]
+    assert len(undo.text()) <= UNDO_LABEL_CHARS and undo.text().endswith("\u2026")
+    assert undo.toolTip() == f"Undo {label}"
+    assert toolbar.sizeHint().width() <= width
+    state.undo_stack.undo()
+    redo = studio.actions["redo"]
+    assert len(redo.text()) <= UNDO_LABEL_CHARS and redo.toolTip() == f"Redo {label}"
+    assert toolbar.sizeHint().width() <= width

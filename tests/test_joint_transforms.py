@@ -1,0 +1,102 @@
+"""The inspector's numbers (app.joint_transforms) against the BVH file's own channels:
+every joint of CMU 01_01.bvh at several frames (issue 14.1)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from gmr_studio.app.joint_transforms import bvh_local, gmr_local
+from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.formats.bvh import read_bvh_with_channels
+from gmr_studio.core.operations import shift_root, split
+from gmr_studio.core.rotations import matrix_from_euler
+from tests.conftest import shared_path
+
+FRAMES = (0, 1, 619, 1500, 2751)
+
+
+@pytest.fixture(scope="module")
+def cmu():
+    """(post motion as read, its GMR form, the file's channels)."""
+    post, channels = read_bvh_with_channels(shared_path("cmu/subject01/01_01.bvh"))
+    return post, pre_from_post(post), channels
+
+
+def test_file_channels_are_the_values_written(cmu):
+    post, _, channels = cmu
+    text = shared_path("cmu/subject01/01_01.bvh").read_text().splitlines()
+    first_frame = np.array(text[text.index("Frame Time: .0083333") + 1].split(), float)
+    # Hips: 3 positions then Zrotation Yrotation Xrotation; LHipJoint's 3 angles follow
+    np.testing.assert_array_equal(channels.angles["Hips"][0], first_frame[3:6])
+    np.testing.assert_array_equal(channels.angles["LHipJoint"][0], first_frame[6:9])
+    assert channels.orders["Hips"] == "ZYX" and "Head_End" not in channels.orders
+    assert set(channels.orders) == {n for n, o in zip(post.names, post.rotation_orders) if o}
+
+
+@pytest.mark.parametrize("frame", FRAMES)
+def test_bvh_heading_shows_each_joints_own_file_channels(cmu, frame):
+    post, pre, channels = cmu
+    for j, name in enumerate(post.names):
+        shown = bvh_local(pre, frame, j, channels)
+        if not post.rotation_orders[j]:  # an End Site: no channels, [I, t]
+            assert shown.channels_of is None and shown.angles is None and not pre.children[j]
+            np.testing.assert_array_equal(shown.matrix[:, :3], np.eye(3))
+            np.testing.assert_array_equal(shown.matrix[:, 3], post.translations[frame, j])
+            continue
+        assert shown.channels_of == name and shown.from_file
+        assert shown.order == post.rotation_orders[j]
+        np.testing.assert_array_equal(shown.angles, channels.angles[name][frame])  # the file's values
+        file_matrix = matrix_from_euler(np.radians(channels.angles[name][frame]), post.rotation_orders[j])
+        np.testing.assert_allclose(shown.matrix[:, :3], file_matrix, rtol=0, atol=1e-14)
+        np.testing.assert_allclose(shown.matrix[:, :3], post.rotations[frame, j], rtol=0, atol=1e-14)
+        np.testing.assert_array_equal(shown.matrix[:, 3], post.translations[frame, j])
+
+
+@pytest.mark.parametrize("frame", FRAMES)
+def test_gmr_heading_shows_the_parents_file_channels(cmu, frame):
+    post, pre, channels = cmu
+    for j, name in enumerate(pre.names):
+        shown = gmr_local(pre, frame, j, channels)
+        p = int(pre.parents[j])
+        assert shown.channels_of == name
+        if p < 0:  # the root: identity rotation in GMR, its world position
+            np.testing.assert_array_equal(shown.matrix, np.column_stack([np.eye(3), post.translations[frame, j]]))
+            continue
+        rotation = post.rotations[frame, p]
+        assert shown.from_file and post.names[p] in shown.note
+        np.testing.assert_array_equal(shown.angles, channels.angles[post.names[p]][frame])
+        np.testing.assert_allclose(shown.matrix[:, :3], rotation, rtol=0, atol=1e-14)
+        np.testing.assert_allclose(shown.matrix[:, 3], rotation @ post.translations[frame, j], rtol=0, atol=1e-12)
+
+
+def test_head_at_frame_619_is_heads_not_neck1s(cmu):
+    """The case of the issue: Head's BVH rotation is Head's channels, its End Site has none."""
+    post, pre, channels = cmu
+    head, neck = pre.joint_index("Head"), pre.joint_index("Neck1")
+    shown = bvh_local(pre, 619, head, channels)
+    np.testing.assert_array_equal(shown.angles, channels.angles["Head"][619])
+    assert not np.allclose(shown.matrix[:, :3], post.rotations[619, neck], atol=1e-6)
+    end = bvh_local(pre, 619, pre.joint_index("Head_End"), channels)
+    assert end.channels_of is None and "no rotation channels" in end.note
+
+
+def test_after_edits_the_angles_are_computed_and_still_make_the_matrix(cmu):
+    _, pre, channels = cmu
+    edited = split(shift_root(pre, "LeftFoot"), "Spine1")
+    for frame in (0, 619):
+        for j in range(edited.n_joints):
+            for shown in (bvh_local(edited, frame, j, channels), gmr_local(edited, frame, j, channels)):
+                if shown.angles is None or shown.matrix is None:
+                    continue
+                rebuilt = matrix_from_euler(np.radians(shown.angles), shown.order)
+                np.testing.assert_allclose(rebuilt, shown.matrix[:, :3], rtol=0, atol=1e-9)
+
+
+def test_independent_children_have_no_single_bvh_rotation(rng):
+    from tests.conftest import random_motion
+
+    motion = random_motion(rng, [-1, 0, 0, 1], n_frames=2)
+    shown = bvh_local(motion, 1, 0)
+    assert shown.matrix is None and "dummy" in shown.note
+    assert bvh_local(motion, 1, 1).matrix is not None  # a single child: its GMR rotation
