@@ -15,6 +15,7 @@ from gmr_studio.app.classroom import Classroom
 from gmr_studio.app.files import FileController
 from gmr_studio.app.forest import ForestTree
 from gmr_studio.app.inspector import Inspector
+from gmr_studio.app.onion import OnionMenu
 from gmr_studio.app.playback import SPEEDS, Player
 from gmr_studio.app.state import StudioState
 from gmr_studio.app.timeline import Timeline
@@ -70,6 +71,7 @@ class MainWindow(QMainWindow):
         self._dock("Timeline", self.timeline, Qt.DockWidgetArea.BottomDockWidgetArea)
         self.classroom = Classroom(self, self.state, self.view.scene, beside=inspector_dock)
         self.view_menu.addAction(self.classroom.dock.toggleViewAction())
+        self.onion = OnionMenu(self, self.state, self.view.scene, self.view_menu)
         self.status = QLabel()
         self.statusBar().addWidget(self.status, 1)
         self._wire()
