@@ -57,6 +57,22 @@ def teaching_geometry(snapshot: Snapshot, joint: int, frame: int, amount: float)
     return TeachingGeometry(chain, pre, post_points)
 
 
+def _front_layer(plotter: pv.BasePlotter):
+    """A transparent renderer drawn over the scene with the scene's camera: what the
+    classroom draws stays visible in front of the figure's tubes and spheres."""
+    from vtkmodules.vtkRenderingCore import vtkRenderer
+
+    window = plotter.render_window
+    front = vtkRenderer()
+    front.SetLayer(1)
+    window.SetNumberOfLayers(max(2, window.GetNumberOfLayers()))
+    front.SetActiveCamera(plotter.renderer.GetActiveCamera())
+    front.InteractiveOff()
+    front.SetViewport(plotter.renderer.GetViewport())
+    window.AddRenderer(front)
+    return front
+
+
 class TeachOverlay:
     """The classroom's actors in a plotter: the chain, the pre-rotation bone, the post-rotation
     bones. ``request_render`` schedules a render."""
@@ -64,6 +80,7 @@ class TeachOverlay:
     def __init__(self, plotter: pv.BasePlotter, request_render: Callable[[], None]) -> None:
         self.plotter = plotter
         self.request_render = request_render
+        self.renderer = _front_layer(plotter)
         self.parts: dict[str, parts.Part] = {}
         self.geometry: TeachingGeometry | None = None
         self._shapes: dict[str, int] = {}
@@ -71,9 +88,9 @@ class TeachOverlay:
     def _replace(self, name: str, part: parts.Part) -> None:
         old = self.parts.pop(name, None)
         if old is not None:
-            self.plotter.renderer.RemoveActor(old.actor)
+            self.renderer.RemoveActor(old.actor)
         self.parts[name] = part
-        self.plotter.renderer.AddActor(part.actor)
+        self.renderer.AddActor(part.actor)
 
     def show(self, snapshot: Snapshot | None, joint: int | None, frame: int, amount: float) -> None:
         """Draw for ``joint`` (None or no snapshot: hide everything)."""
@@ -96,7 +113,7 @@ class TeachOverlay:
 
     def clear(self) -> None:
         for part in self.parts.values():
-            self.plotter.renderer.RemoveActor(part.actor)
+            self.renderer.RemoveActor(part.actor)
         self.parts.clear()
         self._shapes.clear()
         if self.geometry is not None:
