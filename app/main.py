@@ -32,6 +32,13 @@ def build_arguments() -> argparse.ArgumentParser:
         default="",
         help="with --screenshot: overlays to switch on, e.g. axes,trails,labels",
     )
+    parser.add_argument(
+        "--filmstrip", metavar="OUT.png", help="render several poses in one picture (with --frames) and exit"
+    )
+    parser.add_argument("--frames", metavar="A:B:STEP", help="with --filmstrip: the frames, as a Python slice")
+    parser.add_argument(
+        "--layout", choices=("path", "side"), default="path", help="with --filmstrip: along the path or side by side"
+    )
     # for app.bench: print the wall-clock time when the file's first frame is drawn, then quit
     parser.add_argument("--first-frame-time", action="store_true", help=argparse.SUPPRESS)
     return parser
@@ -75,6 +82,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except argparse.ArgumentTypeError as exc:
         parser.error(str(exc))
     motion_path, markers_path = default_files(args)
+    if args.filmstrip:
+        from gmr_studio.app.filmstrip import filmstrip_command
+
+        return filmstrip_command(motion_path, args.filmstrip, args.frames, args.layout, size)
     if args.screenshot and (args.window or has_display()):
         if not has_display():
             print("gmr-studio: --window needs a display (run under xvfb-run)", file=sys.stderr)

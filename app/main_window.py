@@ -11,9 +11,11 @@ from PyQt6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMenu, QMessageBox
 from gmr_studio.app import actions as action_table
 from gmr_studio.app import commands, extensions
 from gmr_studio.app.alignment_dialog import AlignmentDialog
+from gmr_studio.app.classroom import Classroom
 from gmr_studio.app.files import FileController
 from gmr_studio.app.forest import ForestTree
 from gmr_studio.app.inspector import Inspector
+from gmr_studio.app.onion import OnionMenu
 from gmr_studio.app.playback import SPEEDS, Player
 from gmr_studio.app.state import StudioState
 from gmr_studio.app.timeline import Timeline
@@ -67,6 +69,9 @@ class MainWindow(QMainWindow):
         inspector_dock = self._dock("Inspector", self.inspector, Qt.DockWidgetArea.RightDockWidgetArea)
         self.resizeDocks([forest_dock, inspector_dock], [300, 370], Qt.Orientation.Horizontal)
         self._dock("Timeline", self.timeline, Qt.DockWidgetArea.BottomDockWidgetArea)
+        self.classroom = Classroom(self, self.state, self.view.scene, beside=inspector_dock)
+        self.view_menu.addAction(self.classroom.dock.toggleViewAction())
+        self.onion = OnionMenu(self, self.state, self.view.scene, self.view_menu)
         self.status = QLabel()
         self.statusBar().addWidget(self.status, 1)
         self._wire()
