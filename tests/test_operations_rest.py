@@ -208,3 +208,15 @@ def test_shift_root_of_a_static_root_gives_the_new_root_channels(rng):
     back = shift_root(shifted, 0)
     assert back.has_translation.tolist() == [True, False, False]  # a root's data are its channels
     assert_positions(back, static, 1e-12)
+
+
+def test_the_hypothesis_profile_follows_the_environment():
+    from hypothesis import settings
+
+    from tests.conftest import hypothesis_profile
+
+    assert hypothesis_profile({"GMR_REQUIRE_GUI": "1"}) == "ci" and hypothesis_profile({"CI": "true"}) == "ci"
+    assert hypothesis_profile({}) == "dev" and hypothesis_profile({"CI": "1", "HYPOTHESIS_PROFILE": "dev"}) == "dev"
+    assert settings.get_profile("ci").derandomize and settings.get_profile("ci").database is None
+    assert not settings.get_profile("dev").derandomize
+    assert settings.default.derandomize == (hypothesis_profile() == "ci")
