@@ -220,3 +220,14 @@ def test_the_hypothesis_profile_follows_the_environment():
     assert settings.get_profile("ci").derandomize and settings.get_profile("ci").database is None
     assert not settings.get_profile("dev").derandomize
     assert settings.default.derandomize == (hypothesis_profile() == "ci")
+
+
+def test_a_missing_shared_file_fails_when_the_data_folder_is_present():
+    from tests.conftest import DATA, shared_files
+
+    shared_path("cmu/subject01/01_01.bvh")  # the folder is here (else this test skips)
+    with pytest.raises(pytest.fail.Exception, match="is missing, though the data folder"):
+        shared_path("cmu/subject01/no_such_take.bvh")
+    (param,) = shared_files("no_such_folder/*.bvh")
+    assert param.id == "missing:no_such_folder/*.bvh" and not param.marks and not param.values[0].exists()
+    assert DATA.is_dir()
