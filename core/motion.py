@@ -8,6 +8,9 @@ field              shape / type         meaning
 names              tuple of J str       unique joint names; BVH end sites are ordinary joints
 parents            (J,) int64           parent index, -1 for a root
 soft_parents       (J,) int64           the joint a split root was split from, -1 otherwise
+link_offsets       (J, 3) float64       for a soft-link holder, the bone offset it had under
+                                        its soft-link parent before the split (NaN where
+                                        unknown or no link); join restores these bits
 offsets            (J, 3) float64       static local offset ``t_j``; for a root, its static
                                         world position (used when it has no translation
                                         channels)
@@ -99,6 +102,7 @@ class Motion:
     frame_time: float
     convention: Convention = "pre"
     soft_parents: np.ndarray | None = None
+    link_offsets: np.ndarray | None = None
     comments: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
@@ -124,6 +128,12 @@ class Motion:
         translations = np.asarray(self.translations, dtype=np.float64)
         if parents.shape != (n_joints,) or soft.shape != (n_joints,):
             raise ValueError(f"parents and soft_parents must have shape ({n_joints},)")
+        link_offsets = np.full((n_joints, 3), np.nan)
+        if self.link_offsets is not None:
+            given = np.asarray(self.link_offsets, dtype=np.float64)
+            if given.shape != (n_joints, 3):
+                raise ValueError(f"link_offsets must have shape ({n_joints}, 3), not {given.shape}")
+            link_offsets[soft >= 0] = given[soft >= 0]  # only soft-link holders keep one
         if offsets.shape != (n_joints, 3) or has_translation.shape != (n_joints,):
             raise ValueError(f"offsets must be ({n_joints}, 3) and has_translation ({n_joints},)")
         if rotations.ndim != 4 or rotations.shape[1:] != (n_joints, 3, 3):
@@ -152,6 +162,7 @@ class Motion:
         for field, value in (
             ("parents", parents),
             ("soft_parents", soft),
+            ("link_offsets", link_offsets),
             ("offsets", offsets),
             ("has_translation", has_translation),
             ("rotations", rotations),
@@ -286,6 +297,7 @@ class Motion:
             names=tuple(self.names[j] for j in joints),
             parents=np.where(parents >= 0, index[parents], -1),
             soft_parents=np.where(soft >= 0, index[soft], -1),
+            link_offsets=self.link_offsets[joints],
             offsets=self.offsets[joints],
             rotation_orders=tuple(self.rotation_orders[j] for j in joints),
             has_translation=self.has_translation[joints],

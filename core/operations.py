@@ -66,8 +66,8 @@ def shift_root(motion: Motion, joint: int | str) -> Motion:
         translations[:, old_root] = -t1
         rotations[:, new_root] = r0
         rotations[:, old_root] = r1
-        offsets[old_root] = -offsets[new_root]
-        offsets[new_root] = 0.0
+        # a root's offset is its rest-pose world position (rest rotations are the identity)
+        offsets[old_root], offsets[new_root] = -offsets[new_root], offsets[old_root] + offsets[new_root]
         has_translation[old_root] = has_translation[new_root]
         has_translation[new_root] = True
         orders[old_root], orders[new_root] = orders[new_root], orders[old_root]
@@ -85,24 +85,33 @@ def shift_root(motion: Motion, joint: int | str) -> Motion:
     )
 
 
-def _soft_links_after_split(motion: Motion, joint: int) -> np.ndarray:
-    """Soft links after cutting the edge between ``joint`` and its parent.
+def _soft_links_after_split(motion: Motion, joint: int) -> tuple[np.ndarray, np.ndarray]:
+    """Soft links and link offsets after cutting the edge between ``joint`` and its parent.
 
     Each tree holds at most one soft link, leading towards the tree it was split from. The
     cut makes two trees: the subtree of ``joint`` and the rest. If the old tree's link is
     held inside the subtree, the subtree already leads away through it, so the new link
     goes on the parent, pointing at ``joint``; otherwise it goes on ``joint``, pointing at
-    its parent.
+    its parent. The holder keeps the cut bone's offset as seen from its side (the parent's
+    side is the negated offset, exactly), for :func:`join` to restore bit for bit.
     """
     soft = motion.soft_parents.copy()
+    links = motion.link_offsets.copy()
     parent = int(motion.parents[joint])
     tree = motion.tree_roots[joint]
     holders = np.flatnonzero((soft >= 0) & (motion.tree_roots == tree))
     if holders.size and int(holders[0]) in set(motion.subtree(joint)):
         soft[parent] = joint
+        links[parent] = -motion.offsets[joint]
     else:
         soft[joint] = parent
-    return soft
+        links[joint] = motion.offsets[joint]
+    return soft, links
+
+
+def rest_world_positions(motion: Motion) -> np.ndarray:
+    """(J, 3) world positions of the joints in the rest pose (every rotation the identity)."""
+    return forward_kinematics(motion.rest_pose(), with_rotations=False)[0][0]
 
 
 def split(motion: Motion, joint: int | str) -> Motion:
@@ -110,23 +119,25 @@ def split(motion: Motion, joint: int | str) -> Motion:
 
     With ``M_j = [R_s, t_s]`` before the split: ``R'_j = R_s``, ``t'_j = 0``, ``G_j = t_s``
     (per-frame translation channels); its children are unchanged; a soft link to the old
-    parent is kept for :func:`join`.
+    parent is kept for :func:`join`, with the bone's offset. The new root's offset is its
+    rest-pose world position, so the rest pose (all a motion without frames has) is kept.
     """
     _require_pre(motion, "split")
     j = motion.joint_index(joint)
     if motion.parents[j] < 0:
         raise OperationError(f"cannot split '{motion.names[j]}': it is already a root")
     world_rotation, world_position = joint_world_transform(motion, j)
-    soft = _soft_links_after_split(motion, j)
+    soft, links = _soft_links_after_split(motion, j)
     return with_joint_data(
         motion,
         j,
         parent=-1,
         rotation=world_rotation,
         translation=world_position,
-        offset=np.zeros(3),
+        offset=rest_world_positions(motion)[j],
         has_translation=True,
         soft_parents=soft,
+        link_offsets=links,
     )
 
 
@@ -136,7 +147,9 @@ def join(motion: Motion, joint: int | str, *, tolerance: float = RIGID_RELATIVE_
     With ``M_p = [R_p, t_p]`` the soft-link parent's world transform and ``[R_s, t_s]`` the
     root's: ``R_j = R_p^T R_s`` and ``t_j = R_s^T (t_s - t_p)`` per frame. When ``t_j`` is
     constant over the frames to ``tolerance`` times the skeleton's size it becomes the
-    static offset; otherwise the joint keeps per-frame translation channels.
+    static offset; otherwise the joint keeps per-frame translation channels. The offset the
+    split kept (``link_offsets``) is restored bit for bit when it agrees with ``t_j`` to that
+    tolerance, and is the offset of a motion without frames (else its rest pose gives it).
     """
     _require_pre(motion, "join")
     j = motion.joint_index(joint)
@@ -153,11 +166,17 @@ def join(motion: Motion, joint: int | str, *, tolerance: float = RIGID_RELATIVE_
     own_position = motion.translations[:, j]
     rotation = orthonormalize(_transposed(parent_rotation) @ own_rotation)
     offset_per_frame = np.einsum("fba,fb->fa", own_rotation, own_position - parent_position)
+    kept = motion.link_offsets[j]
     if motion.n_frames:
         mean = offset_per_frame.mean(axis=0)
         spread = np.abs(offset_per_frame - mean).max()
+        if np.abs(mean - kept).max() <= tolerance * motion.size:  # False when kept is NaN
+            mean = kept.copy()
+    elif np.isfinite(kept).all():
+        mean, spread = kept.copy(), 0.0
     else:
-        mean, spread = motion.offsets[j].copy(), 0.0
+        rest = rest_world_positions(motion)
+        mean, spread = rest[j] - rest[target], 0.0
     rigid = spread <= tolerance * motion.size
     soft = motion.soft_parents.copy()
     soft[j] = -1
@@ -183,9 +202,11 @@ def with_joint_data(
     offset: np.ndarray,
     has_translation: bool,
     soft_parents: np.ndarray,
+    link_offsets: np.ndarray | None = None,
 ) -> Motion:
     """A copy of ``motion`` in which joint j (or each joint of a list, with values for each:
-    ``rotation`` (F, 3, 3) or (F, k, 3, 3), ...) has new local data and a new parent."""
+    ``rotation`` (F, 3, 3) or (F, k, 3, 3), ...) has new local data and a new parent.
+    ``link_offsets`` (J, 3) replaces the motion's when given."""
     parents = motion.parents.copy()
     parents[j] = parent
     offsets = motion.offsets.copy()
@@ -199,6 +220,7 @@ def with_joint_data(
     return motion.replace(
         parents=parents,
         soft_parents=soft_parents,
+        link_offsets=motion.link_offsets if link_offsets is None else link_offsets,
         offsets=offsets,
         has_translation=flags,
         rotations=rotations,
@@ -221,7 +243,8 @@ def split_all(motion: Motion) -> Motion:
     return motion.replace(
         parents=np.full(motion.n_joints, -1),
         soft_parents=soft,
-        offsets=np.zeros((motion.n_joints, 3)),
+        link_offsets=_link_offsets_of(motion, soft),
+        offsets=rest_world_positions(motion),
         has_translation=np.ones(motion.n_joints, bool),
         rotations=orthonormalize(world),
         translations=positions,
@@ -233,6 +256,25 @@ def _union_edges(motion: Motion) -> list[tuple[int, int]]:
     edges = [(j, int(p)) for j, p in enumerate(motion.parents) if p >= 0]
     edges += [(j, int(s)) for j, s in enumerate(motion.soft_parents) if s >= 0]
     return edges
+
+
+def _link_offsets_of(motion: Motion, soft: np.ndarray) -> np.ndarray:
+    """(J, 3) offset of each holder of a new soft link ``soft`` under its soft parent, from
+    the bone or old soft link it replaces (negated, exactly, where it runs the other way)."""
+    holder = np.flatnonzero(soft >= 0)
+    target = soft[holder]
+    links = np.full((motion.n_joints, 3), np.nan)
+    links[holder] = np.select(
+        [
+            (motion.parents[holder] == target)[:, None],
+            (motion.parents[target] == holder)[:, None],
+            (motion.soft_parents[holder] == target)[:, None],
+            (motion.soft_parents[target] == holder)[:, None],
+        ],
+        [motion.offsets[holder], -motion.offsets[target], motion.link_offsets[holder], -motion.link_offsets[target]],
+        np.nan,
+    )
+    return links
 
 
 def _soft_links_towards(motion: Motion, edges: list[tuple[int, int]]) -> np.ndarray:

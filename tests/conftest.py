@@ -1,33 +1,63 @@
-"""Shared fixtures: the real data folder, small synthetic motions, tolerances."""
+"""Shared fixtures: the real data folder, small synthetic motions, tolerances, and the
+hypothesis profiles.
+
+Hypothesis runs under one of two profiles: ``ci`` (derandomised: the examples are derived
+from each test's source, so a red run is red again on replay, and no example database) when
+the environment sets ``CI`` or ``GMR_REQUIRE_GUI`` (as the README's test command does), else
+``dev`` (random examples every run, to keep finding new cases locally). ``HYPOTHESIS_PROFILE``
+picks one explicitly.
+"""
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import settings
 
 from gmr_studio.core.motion import Motion, build_translations
 from gmr_studio.core.rotations import matrix_from_euler
 from gmr_studio.core.shared_data import shared_data_dir
+
+settings.register_profile("ci", derandomize=True, database=None, print_blob=True)
+settings.register_profile("dev", derandomize=False)
+
+
+def hypothesis_profile(environ: dict[str, str] | os._Environ = os.environ) -> str:
+    """The hypothesis profile for an environment (see the module docstring)."""
+    if environ.get("HYPOTHESIS_PROFILE"):
+        return environ["HYPOTHESIS_PROFILE"]
+    return "ci" if environ.get("CI") or environ.get("GMR_REQUIRE_GUI") else "dev"
+
+
+settings.load_profile(hypothesis_profile())
 
 DATA = shared_data_dir()
 MISSING_DATA = f"the real data folder {DATA} is absent (it ships with CI, not with a fresh clone)"
 
 
 def shared_files(pattern: str) -> list:
-    """pytest params for the shared files matching ``pattern``; one skipping param if none."""
-    files = sorted(DATA.glob(pattern)) if DATA.is_dir() else []
-    if not files:
+    """pytest params for the shared files matching ``pattern``: one skipping param when the
+    data folder is absent; when it is present but nothing matches, one param naming the
+    missing pattern, so that the test fails (a missing file is a failure, not a skip)."""
+    if not DATA.is_dir():
         return [pytest.param(None, marks=pytest.mark.skip(reason=MISSING_DATA), id="no-data")]
+    files = sorted(DATA.glob(pattern))
+    if not files:
+        return [pytest.param(DATA / f"MISSING {pattern}", id=f"missing:{pattern}")]
     return [pytest.param(f, id=str(f.relative_to(DATA))) for f in files]
 
 
 def shared_path(relative: str) -> Path:
-    """A file of the shared data; skips the test when the folder is absent."""
+    """A file of the shared data. Skips the test when the data folder is absent; fails it
+    when the folder is present but the file is not."""
     path = DATA / relative
+    if not DATA.is_dir():
+        pytest.skip(MISSING_DATA)
     if not path.exists():
-        pytest.skip(MISSING_DATA if not DATA.is_dir() else f"{path} is missing")
+        pytest.fail(f"{path} is missing, though the data folder {DATA} is present")
     return path
 
 
@@ -68,16 +98,12 @@ def rng() -> np.random.Generator:
 
 
 def _have_display() -> bool:
-    import os
-
     return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY") or os.environ.get("QT_QPA_PLATFORM"))
 
 
 def pytest_collection_modifyitems(config, items):
     """GUI tests need a display. Without one they are skipped, saying how to run them,
     unless GMR_REQUIRE_GUI=1 (as CI sets): then they fail, never skip."""
-    import os
-
     if _have_display():
         return
     if os.environ.get("GMR_REQUIRE_GUI") == "1":

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+import stat
+
 import numpy as np
 import pytest
 
@@ -42,7 +45,21 @@ def test_writer_failing_midway_keeps_the_previous_motion(tmp_path, rng, monkeypa
     assert len(list(tmp_path.iterdir())) == 1
 
 
-def test_new_file_gets_ordinary_permissions(tmp_path):
+@pytest.mark.parametrize("umask", [0o022, 0o002, 0o027])
+def test_a_new_file_gets_the_permissions_the_umask_allows(tmp_path, umask):
     target = tmp_path / "fresh.gmr"
-    atomic_write_text(target, "x")
-    assert target.stat().st_mode & 0o600 == 0o600
+    previous = os.umask(umask)
+    try:
+        atomic_write_text(target, "x")
+    finally:
+        os.umask(previous)
+    assert stat.S_IMODE(target.stat().st_mode) == 0o666 & ~umask  # not mkstemp's 0o600
+
+
+@pytest.mark.parametrize("mode", [0o640, 0o604, 0o755])
+def test_a_rewritten_file_keeps_its_permissions(tmp_path, mode):
+    target = tmp_path / "kept.gmr"
+    target.write_text("old")
+    target.chmod(mode)
+    atomic_write_text(target, "new")
+    assert target.read_text() == "new" and stat.S_IMODE(target.stat().st_mode) == mode

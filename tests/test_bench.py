@@ -2,14 +2,17 @@
 
 from __future__ import annotations
 
+import importlib.metadata
 import json
+import shutil
 
 import numpy as np
 import pytest
 
+from gmr_studio.core.benchmark import peers as peers_module
 from gmr_studio.core.benchmark.configs import random_root_sets, with_roots
 from gmr_studio.core.benchmark.data import build_benchmark_data, find_bvh_files
-from gmr_studio.core.benchmark.peers import _compare, _pybvh_name
+from gmr_studio.core.benchmark.peers import PEERS, _compare, _pybvh_name, run_peers
 from gmr_studio.core.benchmark.timing import Timing, peak_memory, time_call
 from gmr_studio.core.cli import main
 from gmr_studio.core.formats.bvh import read_bvh
@@ -86,30 +89,118 @@ def test_timing_and_memory_helpers():
     assert peak_memory(lambda: np.ones(1_000_000)) >= 8_000_000
 
 
+def installed_peers() -> list[str]:
+    """The peer distributions installed here (the ``bench`` extra installs all of them)."""
+    found = []
+    for distribution, _, _ in PEERS:
+        try:
+            importlib.metadata.version(distribution)
+        except importlib.metadata.PackageNotFoundError:
+            continue
+        found.append(distribution)
+    return found
+
+
+#: rows each peer gives: upc-pymotion is timed from its cached quaternions and from Euler
+PEER_ROWS = {"pybvh": 1, "upc-pymotion": 2, "bvhio": 1}
+#: each peer's position error over the skeleton's size, near what it measures: pybvh 6.3e-16
+#: (float64), upc-pymotion 1.6e-8 (float32 quaternions), bvhio 2.8e-7 (float32 GLM)
+PEER_TOLERANCE = {"pybvh": 1e-14, "upc-pymotion": 1e-7, "bvhio": 1e-6}
+
+
+def test_a_peer_that_fails_is_reported_and_each_row_is_checked_on_its_own_output(monkeypatch, tmp_path):
+    ours = np.arange(2 * 3 * 3, dtype=float).reshape(2, 3, 3)
+    names = ("a", "b", "c")
+
+    def good(path, repeat, frames):
+        shifted = ours.copy()
+        shifted[:, 1] += (0.0, 0.0, 2.0)  # this row's own output is off by 2 at joint b
+        return [
+            ("good", "as is", 2, 1e-3, ours.copy(), list(names)),
+            ("good", "shifted", 2, 2e-3, shifted, list(names)),
+        ]
+
+    def broken(path, repeat, frames):
+        raise RuntimeError("simulated peer bug")
+
+    monkeypatch.setattr(peers_module, "PEERS", (("good-peer", good, True), ("broken-peer", broken, True)))
+    monkeypatch.setattr(peers_module, "_version", lambda distribution: "1.0")
+    lines: list[str] = []
+    results = run_peers(tmp_path / "a.bvh", tmp_path / "b.bvh", ours, names, 10.0, 1, 2, lines.append)
+    assert [(r.name, r.starts_from) for r in results] == [
+        ("good", "as is"),
+        ("good", "shifted"),
+        ("broken-peer", "(failed)"),
+    ]
+    assert results[0].max_error == 0.0 and results[0].agrees() and results[0].us_per_frame == pytest.approx(500.0)
+    assert results[1].max_error == 2.0 and results[1].relative_error == 0.2 and not results[1].agrees()
+    assert results[2].failure == "RuntimeError: simulated peer bug" and not results[2].agrees()
+    assert lines == ["  broken-peer 1.0: FAILED: RuntimeError: simulated peer bug"]
+
+
+def test_pymotion_times_and_checks_each_of_its_rows(tmp_path):
+    if "upc-pymotion" not in installed_peers():
+        pytest.fail("upc-pymotion is not installed: install the bench extra (pip install '.[bench]')")
+    path = tmp_path / "small.bvh"
+    path.write_text(SMALL)
+    rows = peers_module._pymotion(path, 2, 10)
+    assert [row[1] for row in rows] == ["quaternions cached at load", "Euler angles as stored (get_data + fk)"]
+    assert rows[0][4] is not rows[1][4]  # each row's own timed output
+    expected = world_positions(read_bvh(path))
+    names = read_bvh(path).names
+    for row in rows:
+        error, compared = _compare(expected, names, row[4], row[5])
+        assert compared == 2 and error <= 1e-7  # no end sites in pymotion; float32: 2.8e-8 measured
+
+
 def test_bench_command_on_a_tiny_input(capsys, tmp_path):
-    shared_path("cmu/subject01/01_01.bvh")
+    cmu = shared_path("cmu/subject01/01_01.bvh")
+    extra = tmp_path / "extra"
+    extra.mkdir()
+    shutil.copy(cmu, extra / "same_skeleton.bvh")  # joins the benchmark group
+    (extra / "other.bvh").write_text(OTHER)  # a different skeleton: listed, left out
     out, plot, tables = tmp_path / "bench.json", tmp_path / "bench.png", tmp_path / "bench.md"
-    options = ["--frames", "2000", "--instances", "1", "--repeat", "1", "--peer-frames", "20"]
+    options = ["--frames", "2000", "--instances", "1", "--repeat", "1", "--peer-frames", "20", "--data", str(extra)]
     code = main(["bench", *options, "--json", str(out), "--plot", str(plot), "--markdown", str(tables)])
     printed = capsys.readouterr().out
     assert code == 0
     result = json.loads(out.read_text())
-    for key in ("frames", "joints", "bvh_us_per_frame", "yardstick_us_per_frame", "configs", "parse_mb_per_s"):
-        assert key in result
-    assert "numpy_parse_mb_per_s" in result and "peers" in result
+    sources = {s["path"]: s for s in result["sources"]}
+    assert sources[str(extra / "same_skeleton.bvh")]["included"] is True
+    assert sources[str(extra / "other.bvh")] == {
+        "path": str(extra / "other.bvh"),
+        "frames": 2,
+        "joints": 3,
+        "included": False,
+        "note": "different skeleton from the benchmark group",
+    }
+    assert f"{extra / 'other.bvh'} (2 frames, 3 joints, 2 fps): left out" in printed
     assert result["frames"] == 2000 and result["joints"] == 38
     assert [c["k"] for c in result["configs"]] == list(range(1, 39))
     for config in result["configs"]:
-        assert {"k", "us_per_frame", "ratio_to_bvh"} <= set(config) and config["us_per_frame"] > 0
-        assert config["max_position_error"] <= 1e-9  # every configuration keeps every position
-    assert result["engine_vs_reference_error"] <= 1e-12
-    assert {"shift_root", "split", "join"} <= set(result["operations"])
-    assert result["memory"]["positions_peak_mb"] > 0
+        assert config["us_per_frame"] > 0 and config["ratio_to_bvh"] > 0
+        assert config["max_position_error"] <= 1e-15 * result["size"]  # measured 4.3e-17 of the size
+    assert result["engine_vs_reference_error"] <= 5e-15  # measured 8.0e-16
+    assert {"shift_root", "split", "join"} == set(result["operations"])
+    assert all(0 < op["seconds"] < 60 for op in result["operations"].values())
+    memory = result["memory"]
+    assert memory["rotations_array_mb"] == 2000 * 38 * 9 * 8 / 1e6
+    positions_mb = 2000 * 38 * 3 * 8 / 1e6
+    both_mb = positions_mb + memory["rotations_array_mb"]
+    # the outputs and little else (measured 1.833 of 1.824 MB; 7.302 of 7.296 MB)
+    assert positions_mb <= memory["positions_peak_mb"] <= 1.1 * positions_mb
+    assert positions_mb <= memory["positions_from_euler_peak_mb"] <= 1.1 * positions_mb
+    assert both_mb <= memory["positions_and_rotations_peak_mb"] <= 1.1 * both_mb
+    rows = [(p["name"], p["starts_from"]) for p in result["peers"]]
+    expected = {name: PEER_ROWS[name] for name in installed_peers()}
+    assert {name: sum(1 for n, _ in rows if n == name) for name in expected} == expected, rows
     for peer in result["peers"]:
-        assert {"name", "version", "us_per_frame"} <= set(peer)
-        assert peer["agrees"], peer  # every installed peer computes the same positions
+        assert not peer["failure"] and peer["agrees"] and peer["joints_compared"] >= 31, peer
+        assert peer["relative_error"] <= PEER_TOLERANCE[peer["name"]], peer
+        assert peer["frames"] == (20 if peer["name"] == "bvhio" else 2000)
     for label in ("C_1 ", "C_38", "faster than BVH", "targets:", "MB/s", "operations on 2000 frames"):
         assert label in printed
+    assert "FAILED" not in printed
     assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     markdown = tables.read_text()
     assert "| 38 |" in markdown and "Parsing:" in markdown and "x faster than BVH" in markdown

@@ -129,3 +129,22 @@ def test_run_case_checks_successful_reads(tmp_path):
     case = make_case(target, 0, 0)
     result = run_case(target, case, Path(tmp_path))
     assert (result.outcome, result.detail) == ("other", "impossible value")
+
+
+def test_the_fuzz_command_exits_1_and_prints_the_replay_line_when_a_case_fails(monkeypatch, capsys):
+    fakes = {
+        "good": dataclasses.replace(_fake_target(lambda p, d, s: 1), name="good"),
+        "bad": dataclasses.replace(_fake_target(lambda p, d, s: 1 / 0), name="bad"),
+    }
+    monkeypatch.setattr("gmr_studio.core.fuzz.runner.all_targets", lambda: fakes)
+    monkeypatch.setattr("gmr_studio.core.cli.fuzz.all_targets", lambda: fakes)
+    assert main(["fuzz", "--formats", "good", "--cases", "3", "--seed", "5", "--jobs", "1"]) == 0
+    assert "every case was a correct read or a clean error" in capsys.readouterr().out
+    assert main(["fuzz", "--formats", "good,bad", "--cases", "3", "--seed", "5", "--jobs", "1"]) == 1
+    out = capsys.readouterr().out
+    assert "3 cases ended otherwise than read or clean:" in out
+    assert "  bad:0 [other] seed + nothing: ZeroDivisionError" in out
+    assert "replay one with: gmr fuzz --seed 5 --replay FORMAT:INDEX --save case.bin" in out
+    assert main(["fuzz", "--seed", "5", "--replay", "bad:1"]) == 1
+    assert "outcome: other" in capsys.readouterr().out
+    assert main(["fuzz", "--seed", "5", "--replay", "good:1"]) == 0

@@ -12,6 +12,9 @@ matched by name; end sites where the peer has them). What each timed path starts
 - ``bvhio``: its transform hierarchy, ``loadPose(frame)`` then ``PositionWorld`` of every
   joint: one frame at a time through Python objects (float32 GLM), so it is timed on the
   first ``peer_frames`` frames only.
+
+Every row is checked on the positions of its own timed run. A peer that is installed but
+fails is not dropped: it gets a row whose ``failure`` says why (and never agrees).
 """
 
 from __future__ import annotations
@@ -23,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gmr_studio.core.benchmark.timing import time_call
+from gmr_studio.core.benchmark.timing import time_call, time_returning
 
 
 @dataclasses.dataclass(frozen=True)
@@ -43,9 +46,10 @@ class PeerResult:
     max_error: float
     relative_error: float
     joints_compared: int
+    failure: str = ""
 
     def agrees(self, tolerance: float = 1e-6) -> bool:
-        return self.relative_error <= tolerance
+        return not self.failure and self.joints_compared > 0 and self.relative_error <= tolerance
 
 
 def _version(distribution: str) -> str | None:
@@ -73,8 +77,9 @@ def _pybvh(path: Path, repeat: int, frames: int) -> list[tuple[str, str, int, fl
 
     bvh = pybvh.read_bvh_file(path)
     topology, root, angles = bvh.fk_topology, bvh.root_pos, bvh.joint_angles
-    timing = time_call(lambda: frames_to_node_positions(topology, root_pos=root, joint_angles=angles), repeat)
-    positions = frames_to_node_positions(topology, root_pos=root, joint_angles=angles)
+    timing, positions = time_returning(
+        lambda: frames_to_node_positions(topology, root_pos=root, joint_angles=angles), repeat
+    )
     names = [_pybvh_name(node.name) for node in bvh.nodes]
     return [("pybvh", "Euler angles as stored", bvh.frame_count, timing.best, positions, names)]
 
@@ -93,17 +98,16 @@ def _pymotion(path: Path, repeat: int, frames: int) -> list[tuple[str, str, int,
     rotations, local, parents, offsets, _, _ = bvh.get_data()
     names = [str(n) for n in bvh.data["names"]]
     count = rotations.shape[0]
-    cached = time_call(lambda: fk(rotations, local[:, 0], offsets, parents), repeat)
+    cached, cached_positions = time_returning(lambda: fk(rotations, local[:, 0], offsets, parents)[0], repeat)
 
     def from_euler() -> np.ndarray:
         quaternions, positions, parent_list, joint_offsets, _, _ = bvh.get_data()
         return fk(quaternions, positions[:, 0], joint_offsets, parent_list)[0]
 
-    stored = time_call(from_euler, max(1, repeat // 2))
-    positions = fk(rotations, local[:, 0], offsets, parents)[0]
+    stored, stored_positions = time_returning(from_euler, max(1, repeat // 2))
     return [
-        ("upc-pymotion", "quaternions cached at load", count, cached.best, positions, names),
-        ("upc-pymotion", "Euler angles as stored (get_data + fk)", count, stored.best, positions, names),
+        ("upc-pymotion", "quaternions cached at load", count, cached.best, cached_positions, names),
+        ("upc-pymotion", "Euler angles as stored (get_data + fk)", count, stored.best, stored_positions, names),
     ]
 
 
@@ -144,7 +148,10 @@ def run_peers(
     peer_frames: int,
     log: Callable[[str], None] = print,
 ) -> list[PeerResult]:
-    """Time every installed peer and compare its positions with ``ours`` (F, J, 3)."""
+    """Time every installed peer and compare each row's own positions with ``ours`` (F, J, 3).
+
+    A peer that raises gets a row with its ``failure`` (it must not stop the benchmark, nor
+    vanish from it)."""
     results = []
     for distribution, runner, whole in PEERS:
         version = _version(distribution)
@@ -153,8 +160,11 @@ def run_peers(
             continue
         try:
             rows = runner(full_path if whole else short_path, repeat, peer_frames)
-        except Exception as exc:  # a peer failing must not stop the benchmark
-            log(f"  {distribution} {version}: failed: {type(exc).__name__}: {exc}")
+        except Exception as exc:
+            failure = f"{type(exc).__name__}: {exc}"
+            log(f"  {distribution} {version}: FAILED: {failure}")
+            nan = float("nan")
+            results.append(PeerResult(distribution, version, "(failed)", 0, nan, nan, nan, 0, failure))
             continue
         for name, starts_from, frames, seconds, positions, their_names in rows:
             error, compared = _compare(ours, names, positions, their_names)

@@ -69,6 +69,9 @@ def summary_lines(result: dict) -> list[str]:
     if peers:
         lines += ["", f"{'peer':<46}{'frames':>8}{'us/frame':>10}{'ours BVH':>10}{'GMR C_1':>9}{'error/size':>12}"]
         for p in peers:
+            if p.get("failure"):
+                lines.append(f"{p['name'] + ' ' + p['version']:<46.46}  FAILED: {p['failure']}")
+                continue
             ours = bvh_euler if "Euler" in p["starts_from"] else bvh
             us = p["us_per_frame"]
             lines.append(
@@ -76,7 +79,8 @@ def summary_lines(result: dict) -> list[str]:
                 f"{us:10.2f}{us / ours:9.1f}x{us / single['us_per_frame']:8.1f}x"
                 f"{p['relative_error']:12.1e}{'' if p['agrees'] else '  DISAGREES'}"
             )
-        fastest = min(peers, key=lambda p: p["us_per_frame"])
+        ran = [p for p in peers if not p.get("failure")]
+        fastest = min(ran or peers, key=lambda p: p["us_per_frame"])
         lines.append(
             f"  fastest peer {fastest['name']} ({fastest['starts_from']}): ours is "
             f"{fastest['us_per_frame'] / single['us_per_frame']:.1f}x faster with one root, "
@@ -192,6 +196,9 @@ def markdown_tables(result: dict) -> str:
             "|---|---|---:|---:|---:|---:|---:|---:|",
         ]
         for p in result["peers"]:
+            if p.get("failure"):
+                out.append(f"| {p['name']} {p['version']} | FAILED: {p['failure']} | | | | | | |")
+                continue
             ours = bvh_euler if "Euler" in p["starts_from"] else bvh
             us = p["us_per_frame"]
             out.append(

@@ -1,0 +1,182 @@
+"""Re-run the mutation checks of docs/reliability.md ("Tests that can fail").
+
+Each mutation replaces one piece of the code, runs the tests meant to catch it, and puts the
+file back as it was (from the text read before, whatever happens). A mutation the tests do
+not catch is printed as SURVIVED and makes the exit code 1.
+
+    GMR_REQUIRE_GUI=1 xvfb-run -a .venv/bin/python -m tests.mutation_check [INDEX ...]
+
+Not part of the test suite (it edits the working tree while it runs: do not run it with the
+suite, nor on a tree other processes are reading).
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+
+#: (what, file, text replaced, replacement, tests that must fail); or (what, file,
+#: [(text replaced, replacement), ...], tests)
+MUTATIONS = [
+    (
+        "zero-frame split offset 0 (the bug)",
+        "core/operations.py",
+        "        offset=rest_world_positions(motion)[j],\n",
+        "        offset=np.zeros(3),\n",
+        ["tests/test_operations_rest.py"],
+    ),
+    (
+        "join ignores the offset the split kept",
+        "core/operations.py",
+        "            mean = kept.copy()\n    elif",
+        "            pass\n    elif",
+        ["tests/test_operations_rest.py"],
+    ),
+    (
+        "fit_rigid RMS over all K points",
+        "core/markers/procrustes.py",
+        "rms = np.sqrt(error.sum(axis=-1) / safe[..., 0])",
+        "rms = np.sqrt(error.sum(axis=-1) / points.shape[-2])",
+        ["tests/test_procrustes.py"],
+    ),
+    (
+        "atomic: no chmod",
+        "core/atomic.py",
+        [
+            ("os.chmod(temporary, target.stat().st_mode & 0o7777)", "pass"),
+            ("os.chmod(temporary, 0o666 & ~umask)", "pass"),
+        ],
+        ["tests/test_atomic.py"],
+    ),
+    (
+        "gmr fuzz exits 0 on failures",
+        "core/cli/fuzz.py",
+        'FORMAT:INDEX --save case.bin")\n        return 1',
+        'FORMAT:INDEX --save case.bin")\n        return 0',
+        ["tests/test_fuzz.py::test_the_fuzz_command_exits_1_and_prints_the_replay_line_when_a_case_fails"],
+    ),
+    (
+        "export: World root not renamed",
+        "core/export.py",
+        "        world = _unique(world_root, set(names))",
+        "        world = world_root",
+        ["tests/test_export.py::test_a_joint_named_world_keeps_its_name_and_the_synthetic_root_takes_another"],
+    ),
+    (
+        "app: no except Exception around export",
+        "app/files.py",
+        '            self._report(describe_unexpected(f"Exporting {path}", exc))\n            return False\n',
+        "            raise\n",
+        ["tests/test_export_app.py"],
+    ),
+    (
+        "shift_root: old root always gets translation channels",
+        "core/operations.py",
+        "        has_translation[old_root] = has_translation[new_root]\n",
+        "        has_translation[old_root] = True\n",
+        ["tests/test_operations_rest.py"],
+    ),
+    (
+        "shift_root: new root keeps its own flag",
+        "core/operations.py",
+        "        has_translation[new_root] = True\n",
+        "        has_translation[new_root] = has_translation[old_root]\n",
+        ["tests/test_operations_rest.py"],
+    ),
+    (
+        "shift_root: old root's translation from the static offset",
+        "core/operations.py",
+        "        translations[:, old_root] = -t1\n",
+        "        translations[:, old_root] = -offsets[new_root]\n",
+        ["tests/test_operations_rest.py"],
+    ),
+    (
+        "shift_root: old root's flag not moved",
+        "core/operations.py",
+        "        has_translation[old_root] = has_translation[new_root]\n",
+        "",
+        ["tests/test_operations_rest.py"],
+    ),
+    (
+        "peers: a failing peer dropped",
+        "core/benchmark/peers.py",
+        '            results.append(PeerResult(distribution, version, "(failed)", 0, nan, nan, nan, 0, failure))\n',
+        "",
+        ["tests/test_bench.py::test_a_peer_that_fails_is_reported_and_each_row_is_checked_on_its_own_output"],
+    ),
+    (
+        "peers: pymotion Euler row reports the cached positions",
+        "core/benchmark/peers.py",
+        "stored.best, stored_positions, names)",
+        "stored.best, cached_positions, names)",
+        ["tests/test_bench.py::test_pymotion_times_and_checks_each_of_its_rows"],
+    ),
+    (
+        "bench --data ignored",
+        "core/cli/bench.py",
+        "folders=(shared_data_dir(), *args.data),",
+        "folders=(shared_data_dir(),),",
+        ["tests/test_bench.py::test_bench_command_on_a_tiny_input"],
+    ),
+    (
+        "demo: walk 0.01% faster",
+        "core/demo.py",
+        "WALK_SPEED = 125.0  # cm/s",
+        "WALK_SPEED = 125.0125  # cm/s",
+        ["tests/test_demo.py::test_the_demo_in_memory_is_the_committed_one"],
+    ),
+    (
+        "FK: compiled kernel ignores the convention",
+        "core/fk_engine.py",
+        "                plan.pre,\n                plan.staged,",
+        "                True,\n                plan.staged,",
+        ["tests/test_fk_engine.py::test_the_public_entry_point_matches_the_per_joint_reference"],
+    ),
+    (
+        "writers format all frames at once (memory)",
+        "core/formats/textmotion.py",
+        "WRITE_CHUNK_FRAMES = 4096",
+        "WRITE_CHUNK_FRAMES = 10**9",
+        ["tests/test_stress.py::test_peak_memory_extrapolates_within_the_claim"],
+    ),
+]
+
+
+def main(only: list[str]) -> int:
+    survived = 0
+    for index, (what, file, *change, tests) in enumerate(MUTATIONS):
+        if only and str(index) not in only:
+            continue
+        pairs = change[0] if len(change) == 1 else [tuple(change)]
+        path = ROOT / file
+        original = mutated = path.read_text()
+        if not all(old in original for old, _ in pairs):
+            print(f"{index}: {what}: the code changed, update the mutation")
+            survived += 1
+            continue
+        for old, new in pairs:
+            mutated = mutated.replace(old, new, 1)
+        path.write_text(mutated)
+        try:
+            done = subprocess.run(
+                [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", *tests],
+                cwd=ROOT,
+                capture_output=True,
+                text=True,
+                env=os.environ,
+            )
+        finally:
+            path.write_text(original)
+        failed = [line.split(" ")[1] for line in done.stdout.splitlines() if line.startswith("FAILED ")]
+        caught = done.returncode != 0 and bool(failed)
+        survived += not caught
+        print(f"{index}: {what}: {'caught by ' + ', '.join(failed) if caught else 'SURVIVED'}", flush=True)
+    return 1 if survived else 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main(sys.argv[1:]))
