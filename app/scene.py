@@ -114,7 +114,8 @@ class SkeletonScene:
         """Rebuild the skeleton's actors for ``snapshot``; a new document also gets a new
         ground grid, up axis and camera, an edit keeps them."""
         self.snapshot = snapshot
-        for name in [n for n in self.parts if not n.startswith(("marker", "pelvis"))]:
+        # the ground, markers and pelvis belong to the document, not to the skeleton's structure
+        for name in [n for n in self.parts if n != "ground" and not n.startswith(("marker", "pelvis"))]:
             self._remove(name)
         if snapshot is None:
             self.render()
@@ -157,9 +158,10 @@ class SkeletonScene:
         self._add("labels", parts.label_part(motion.n_joints, list(motion.names)))
         self._add("selection", parts.glyph_part(1, pv.Sphere(radius=1.9 * r), color=SELECTION_COLOR))
         self.parts["selection"].actor.GetProperty().SetRepresentationToWireframe()
-        if reset_camera:
+        if reset_camera or "ground" not in self.parts:
             self.up_axis = up_axis_of(snapshot)
             self._build_ground(snapshot.positions, size)
+        if reset_camera:
             self._reset_camera()
         self._apply_visibility()
         self.show_frame(self.frame)
@@ -402,7 +404,11 @@ class SkeletonScene:
     def render(self, now: bool = False) -> None:
         """Draw the scene: at once (``now``, e.g. before a screenshot), or by asking the
         widget to repaint when it has set ``request_repaint`` (a Qt OpenGL widget renders in
-        its paint event anyway, so rendering here as well would draw every frame twice)."""
+        its paint event anyway, so rendering here as well would draw every frame twice).
+
+        The near and far planes are fitted to what is drawn first: kept from an earlier
+        render, they clip a skeleton whose actors were rebuilt (an edit) down to fragments."""
+        self.plotter.renderer.ResetCameraClippingRange()
         if self.request_repaint is not None and not now:
             self.request_repaint()
         else:
@@ -435,16 +441,16 @@ class SkeletonScene:
             return np.zeros((0, 3))
         return project_points(self.markers.positions[self.frame], self.view_projection(), self.viewport())
 
-    def pick_radius(self) -> float:
-        """Pixels within which a click picks a joint: a joint's drawn radius, at least 8."""
+    def joint_radius_pixels(self) -> float:
+        """A joint sphere's radius on screen, in pixels, at the camera's distance."""
         if self.snapshot is None:
-            return 8.0
-        screen = self.joint_screen_positions()
+            return 0.0
         _width, height = self.viewport()
-        finite = screen[np.isfinite(screen).all(axis=1)]
-        if not len(finite):
-            return 8.0
         angle = np.radians(self.plotter.camera.GetViewAngle())
         distance = self.plotter.camera.GetDistance()
         pixels_per_unit = height / (2 * distance * np.tan(angle / 2)) if distance > 0 else 0.0
-        return float(max(8.0, 1.5 * JOINT_RADIUS * self.snapshot.motion.size * pixels_per_unit))
+        return float(JOINT_RADIUS * self.snapshot.motion.size * pixels_per_unit)
+
+    def pick_radius(self) -> float:
+        """Pixels within which a click picks a joint: a joint's drawn radius, at least 8."""
+        return float(max(8.0, 1.5 * self.joint_radius_pixels()))
