@@ -9,7 +9,10 @@ where it was while its colours, root marks and soft links change.
 What is drawn (sizes are fractions of ``Motion.size``, so any unit works):
 
 - joints as spheres, each tree of the forest in its own colour (the tree of joint 0 first);
-  roots as cubes of their tree's colour; bones as tubes; soft links as thin dashed lines;
+  roots as cubes of their tree's colour; bones as tubes; soft links as thin dashed lines,
+  and so is the bone from an anchor (:attr:`core.motion.Motion.anchors`, e.g. a ``Root``
+  left at the origin while the hips walk away), which is no part of the figure: the size,
+  ground, camera, up axis and followed point are the figure's;
 - a ground grid under the lowest point of the whole motion, as large as its path;
 - switchable: joint axes (world rotation triads, X red, Y green, Z blue), the trail of the
   selected joint (its last second), joint labels, markers (gaps not drawn; labels of the
@@ -79,7 +82,14 @@ def up_axis_of(snapshot: Snapshot) -> int:
 
     if any(re.match(r"\s*up axis:\s*[yz]\b", comment, re.IGNORECASE) for comment in snapshot.motion.comments):
         return 1 if stated_up_axis(snapshot.motion) == "y" else 2
-    return detect_up_axis(snapshot.positions)
+    return detect_up_axis(actor_positions(snapshot))
+
+
+def actor_positions(snapshot: Snapshot) -> np.ndarray:
+    """(F, A, 3) world positions of the joints that make the figure: all but the
+    :attr:`~core.motion.Motion.anchors` (a root pinned at the origin far from the actor)."""
+    anchors = snapshot.motion.anchors
+    return snapshot.positions[:, ~anchors] if anchors.any() else snapshot.positions
 
 
 def nice_step(length: float) -> float:
@@ -132,14 +142,23 @@ class SkeletonScene:
         roots = motion.roots
         cube = pv.Cube(x_length=3.0 * r, y_length=3.0 * r, z_length=3.0 * r)
         self._add("roots", parts.glyph_part(len(roots), cube, colors[roots]))
-        bones = np.flatnonzero(motion.parents >= 0)
+        # a bone from an anchor (a joint pinned at the origin) is no part of the figure:
+        # it is drawn as the soft, thin kind of link it is
+        anchored = motion.anchors | motion.anchors[np.maximum(motion.parents, 0)]
+        bones = np.flatnonzero((motion.parents >= 0) & ~anchored)
         pairs = np.column_stack([bones, motion.parents[bones]])
         self._add(
             "bones", parts.segments_part(motion.n_joints, pairs, 0.85 * colors[bones], tube_radius=BONE_RADIUS * size)
         )
         links = np.flatnonzero(motion.soft_parents >= 0)
-        self._soft_links = np.column_stack([links, motion.soft_parents[links]])
-        dash_pairs = np.arange(2 * DASHES * len(links)).reshape(-1, 2)
+        anchor_bones = np.flatnonzero((motion.parents >= 0) & anchored)
+        self._soft_links = np.vstack(
+            [
+                np.column_stack([links, motion.soft_parents[links]]),
+                np.column_stack([anchor_bones, motion.parents[anchor_bones]]),
+            ]
+        )
+        dash_pairs = np.arange(2 * DASHES * len(self._soft_links)).reshape(-1, 2)
         self._add(
             "soft_links",
             parts.segments_part(len(dash_pairs) * 2, dash_pairs, color=SOFT_LINK_COLOR, width=1.5),
@@ -160,7 +179,7 @@ class SkeletonScene:
         self.parts["selection"].actor.GetProperty().SetRepresentationToWireframe()
         if reset_camera or "ground" not in self.parts:
             self.up_axis = up_axis_of(snapshot)
-            self._build_ground(snapshot.positions, size)
+            self._build_ground(actor_positions(snapshot), size)
         if reset_camera:
             self._reset_camera()
         self._apply_visibility()
@@ -195,7 +214,7 @@ class SkeletonScene:
 
     def _follow_point(self, frame: int) -> np.ndarray:
         """(3,) the point the camera follows: the joints' centroid, on the floor."""
-        point = self.snapshot.positions[frame].mean(axis=0)
+        point = self.snapshot.positions[frame, ~self.snapshot.motion.anchors].mean(axis=0)
         point[self.up_axis] = self.ground_bounds[2]
         return point
 
@@ -205,7 +224,7 @@ class SkeletonScene:
         figure at this frame when following it, else the whole motion."""
         low, high, floor = self.ground_bounds
         if self.overlays.get("follow"):
-            points = self.snapshot.positions[self.frame]
+            points = self.snapshot.positions[self.frame, ~self.snapshot.motion.anchors]
             margin = 0.12 * self.snapshot.motion.size
             low, high = points.min(axis=0) - margin, points.max(axis=0) + margin
             low[self.up_axis] = min(low[self.up_axis], floor)
@@ -213,7 +232,7 @@ class SkeletonScene:
         up_axis = self.up_axis
         up = np.eye(3)[up_axis]
         across = [a for a in (0, 1, 2) if a != up_axis]
-        path = self.snapshot.positions[:, :, across].mean(axis=1)  # (F, 2) horizontal centroid path
+        path = actor_positions(self.snapshot)[:, :, across].mean(axis=1)  # (F, 2) horizontal centroid path
         travel = np.zeros(3)
         spread = path - path.mean(axis=0)
         if len(path) > 1 and np.abs(spread).max() > 0.5 * self.snapshot.motion.size:
