@@ -60,6 +60,7 @@ class MainWindow(QMainWindow):
         toggle.setShortcut("Ctrl+H")
         self.joint_menu = action_table.fill_menus(self, self.actions, self.recent_menu, toggle)
         self.forest = ForestTree(self.state)
+        self.forest.tree_colors = self.view.scene.tree_colors  # one colour per tree in both
         self.inspector = Inspector(self.state)
         self.timeline = Timeline(self.state, self.player, self.actions)
         self.forest.context_menu = self.view.context_menu = self.joint_menu

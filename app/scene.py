@@ -8,7 +8,8 @@ where it was while its colours, root marks and soft links change.
 
 What is drawn (sizes are fractions of ``Motion.size``, so any unit works):
 
-- joints as spheres, each tree of the forest in its own colour (the tree of joint 0 first);
+- joints as spheres, each tree of the forest in its own colour, kept across edits and undo
+  (:mod:`app.tree_colors`);
   roots as cubes of their tree's colour; bones as tubes; soft links as thin dashed lines,
   and so is the bone from an anchor (:attr:`core.motion.Motion.anchors`, e.g. a ``Root``
   left at the origin while the hips walk away), which is no part of the figure: the size,
@@ -34,21 +35,9 @@ from gmr_studio.app import vtk_parts as parts
 from gmr_studio.app.alignment import detect_up_axis
 from gmr_studio.app.picking import project_points
 from gmr_studio.app.state import OVERLAYS, MarkerOverlay, PelvisOverlay, Snapshot
+from gmr_studio.app.tree_colors import PALETTE, TreeColors
 
-TREE_COLORS = np.array(
-    [
-        (0.122, 0.467, 0.706),  # blue
-        (1.000, 0.498, 0.055),  # orange
-        (0.173, 0.627, 0.173),  # green
-        (0.839, 0.153, 0.157),  # red
-        (0.580, 0.404, 0.741),  # purple
-        (0.090, 0.745, 0.812),  # cyan
-        (0.890, 0.467, 0.761),  # pink
-        (0.737, 0.741, 0.133),  # olive
-        (0.549, 0.337, 0.294),  # brown
-        (0.498, 0.498, 0.498),  # grey
-    ]
-)
+TREE_COLORS = PALETTE  # the trees' colours, in the order new trees get them
 BACKGROUND = (0.16, 0.17, 0.20)
 GROUND_COLOR = (0.36, 0.38, 0.42)
 # everything is opaque: translucency costs a separate pass, several ms a frame in software GL
@@ -63,16 +52,6 @@ AXIS_LENGTH = 0.06
 PELVIS_AXIS_LENGTH = 0.16
 TRAIL_SECONDS = 1.0
 DASHES = 8
-
-
-def tree_colors(snapshot: Snapshot) -> np.ndarray:
-    """(J, 3) colour of each joint's tree; trees are numbered by their smallest joint index,
-    which shift root does not change."""
-    motion = snapshot.motion
-    tree_of = motion.tree_roots
-    smallest = {int(t): int(np.flatnonzero(tree_of == t).min()) for t in np.unique(tree_of)}
-    rank = {tree: k for k, tree in enumerate(sorted(smallest, key=smallest.get))}
-    return TREE_COLORS[[rank[int(t)] % len(TREE_COLORS) for t in tree_of]]
 
 
 def up_axis_of(snapshot: Snapshot) -> int:
@@ -118,6 +97,7 @@ class SkeletonScene:
         self.pelvis: PelvisOverlay | None = None
         self.request_repaint = None  # a callable that schedules a repaint of the view widget
         self._followed: np.ndarray | None = None  # where the followed figure was last drawn
+        self.tree_colors = TreeColors()  # shared with the forest dock: the same colour per tree
 
     # ------------------------------------------------------------------- building
     def set_snapshot(self, snapshot: Snapshot | None, *, reset_camera: bool) -> None:
@@ -133,7 +113,7 @@ class SkeletonScene:
         motion = snapshot.motion
         size = motion.size
         self.frame = min(self.frame, motion.n_frames - 1)
-        colors = tree_colors(snapshot)
+        colors = self.tree_colors.colors(motion)
         r = JOINT_RADIUS * size
         self._add(
             "joints",
