@@ -14,7 +14,7 @@ from pathlib import Path
 from PyQt6.QtCore import QObject, QSettings, Qt, pyqtSignal
 from PyQt6.QtWidgets import QApplication, QFileDialog, QMessageBox, QProgressDialog, QWidget
 
-from gmr_studio.app import extensions, loading
+from gmr_studio.app import extensions, loading, video
 from gmr_studio.app.crash import describe_unexpected, log_exception
 from gmr_studio.app.state import Snapshot, StudioState
 from gmr_studio.app.video import export_video, save_screenshot
@@ -297,8 +297,11 @@ class FileController(QObject):
 
     # ------------------------------------------------------------- screenshots, video
     def save_screenshot_dialog(self) -> None:
-        path, _ = QFileDialog.getSaveFileName(self.window, "Save screenshot", self._folder(), "PNG images (*.png)")
+        name = video.suggested_name(self.state.path, ".png", self.state.frame)
+        start = str(Path(video.export_folder(self.settings, self._folder())) / name)
+        path, _ = QFileDialog.getSaveFileName(self.window, "Save screenshot", start, "PNG images (*.png)")
         if path:
+            video.remember_export_folder(self.settings, path)
             width, height = save_screenshot(
                 self.scene_provider(), path if path.lower().endswith(".png") else path + ".png"
             )
@@ -307,10 +310,17 @@ class FileController(QObject):
     def export_video_dialog(self, speed: float = 1.0) -> None:
         if self.state.motion is None:
             return
-        path, _ = QFileDialog.getSaveFileName(self.window, "Export video", self._folder(), "MP4 video (*.mp4)")
+        frames = video.ask_frame_range(self.window, self.state.motion.n_frames)
+        if frames is None:
+            return
+        whole = frames == (0, self.state.motion.n_frames - 1)
+        name = video.suggested_name(self.state.path, ".mp4", frames[0], None if whole else frames[1])
+        start = str(Path(video.export_folder(self.settings, self._folder())) / name)
+        path, _ = QFileDialog.getSaveFileName(self.window, "Export video", start, "MP4 video (*.mp4)")
         if not path:
             return
         path = path if path.lower().endswith(".mp4") else path + ".mp4"
+        video.remember_export_folder(self.settings, path)
         progress = QProgressDialog("Writing video...", "Cancel", 0, 100, self.window)
         progress.setWindowModality(Qt.WindowModality.WindowModal)
         progress.setMinimumDuration(0)
@@ -322,7 +332,9 @@ class FileController(QObject):
             return not progress.wasCanceled()
 
         try:
-            written = export_video(self.scene_provider(), path, speed=speed, progress=report)
+            written = export_video(
+                self.scene_provider(), path, speed=speed, progress=report, first=frames[0], last=frames[1]
+            )
         except (OSError, RuntimeError) as exc:
             self._report(f"Cannot export the video: {exc}")
             written = 0

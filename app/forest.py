@@ -10,8 +10,8 @@ from PyQt6.QtCore import Qt
 from PyQt6.QtGui import QBrush, QColor, QFont, QIcon, QPixmap
 from PyQt6.QtWidgets import QMenu, QTreeWidget, QTreeWidgetItem, QWidget
 
-from gmr_studio.app.scene import tree_colors
 from gmr_studio.app.state import StudioState
+from gmr_studio.app.tree_colors import TreeColors
 
 ROOT_MARK = "\u25c6"  # a diamond before root names
 LINK_MARK = "\u21e2"  # a dashed arrow before a soft-link parent
@@ -37,6 +37,7 @@ class ForestTree(QTreeWidget):
         self.setContextMenuPolicy(Qt.ContextMenuPolicy.CustomContextMenu)
         self.customContextMenuRequested.connect(self._on_context_menu)
         self._items: dict[int, QTreeWidgetItem] = {}
+        self.tree_colors = TreeColors()  # the main window hands it the view's, to match
         self._updating = False
         self.itemSelectionChanged.connect(self._on_item_selection_changed)
         state.document_changed.connect(self._on_motion_changed)
@@ -53,7 +54,7 @@ class ForestTree(QTreeWidget):
         snapshot = self.state.snapshot
         if snapshot is not None:
             motion = snapshot.motion
-            colors = tree_colors(snapshot)
+            colors = self.tree_colors.colors(motion)
             bold = QFont(self.font())
             bold.setBold(True)
             for j in motion.topological_order:

@@ -1,4 +1,9 @@
-"""``gmr-studio [FILE] [--markers M] [--screenshot OUT.png [--frame N] [--size WxH]]``.
+"""``gmr-studio [FILE] [--markers M] [EDITS] [--screenshot OUT.png [--frame N] [--size WxH]]``.
+
+EDITS are ``gmr edit``'s flags (``--shift-root J``, ``--split J``, ``--join J``,
+``--split-all``, ``--join-all``, ``--remove-dummies``), applied in the order given through
+the app's own undoable commands: to the picture with ``--screenshot``, else to the window,
+which opens with them applied and unsaved (Edit > Undo takes them back).
 
 With no FILE the demo opens (``resources/demo/``: a walk and its markers, made by
 ``python -m core.demo``). ``--screenshot`` renders the 3D view to a PNG and exits; it
@@ -14,6 +19,7 @@ import os
 import sys
 from collections.abc import Sequence
 
+from gmr_studio.core.cli.edit import add_edit_arguments
 from gmr_studio.core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
 
 
@@ -21,6 +27,7 @@ def build_arguments() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="gmr-studio", description="Look at and edit skeletal motion (GMR).")
     parser.add_argument("file", nargs="?", help="a .bvh, .gmr (or .amc) motion; default: the demo walk")
     parser.add_argument("--markers", metavar="M", help="a .trc (or .c3d) marker file to show over the motion")
+    add_edit_arguments(parser)
     parser.add_argument("--screenshot", metavar="OUT.png", help="render the view to a PNG and exit")
     parser.add_argument("--frame", type=int, default=0, metavar="N", help="frame to render (with --screenshot)")
     parser.add_argument("--size", default="1280x800", metavar="WxH", help="image size (with --screenshot)")
@@ -112,10 +119,64 @@ def main(argv: Sequence[str] | None = None) -> int:
     window = MainWindow()
     install_hooks(window.report_problem)  # an exception in a slot is logged and survived
     window.show()
+    if args.steps:
+        _apply_steps_once_loaded(window, args.steps)
     if args.first_frame_time:
         window.files.load_finished.connect(lambda ok: _report_first_frame(app, window, ok))
     window.files.open_path(motion_path, markers=markers_path, ask=False)
     return app.exec()
+
+
+def _apply_steps_once_loaded(window, steps: list) -> None:
+    """Apply the edit flags to the first document the window loads (never to a later one)."""
+
+    def apply(loaded: bool) -> None:
+        window.files.load_finished.disconnect(apply)
+        problem = apply_steps(window.state, steps) if loaded else None
+        if problem:
+            window.state.show_message(problem)
+
+    window.files.load_finished.connect(apply)
+
+
+def _edit_command(operation: str):
+    """The app's command for one of ``gmr edit``'s operations: (state, joint index) -> pushed."""
+    from gmr_studio.app import commands, extensions
+
+    return {
+        "shift_root": commands.make_root,
+        "split": commands.split_here,
+        "join": commands.join_to_parent,
+        "split_all": lambda state, _: commands.split_everything(state),
+        "join_all": lambda state, _: commands.join_everything(state),
+        "remove_dummies": lambda state, _: extensions.remove_dummy_joints(state),
+    }[operation]
+
+
+def apply_steps(state, steps: list) -> str | None:
+    """Apply ``gmr edit``'s steps ((operation, joint name) pairs, :func:`add_edit_arguments`)
+    to the state's document through the app's undoable commands, in order; stops at the
+    first one refused and returns its message, else None. A step with nothing to change
+    (``--join-all`` on a tree) is no error, as in ``gmr edit``."""
+    from gmr_studio.core.errors import OperationError
+
+    for operation, joint in steps:
+        flag = "--" + operation.replace("_", "-")
+        index = None
+        if operation in ("shift_root", "split", "join"):
+            try:
+                index = state.motion.joint_index(joint)
+            except OperationError as exc:
+                return f"{flag} {joint}: {exc}"
+        messages: list[str] = []
+        state.message.connect(messages.append)
+        try:
+            done = _edit_command(operation)(state, index)
+        finally:
+            state.message.disconnect(messages.append)
+        if not done and not (messages and messages[-1].endswith(": nothing to change")):
+            return f"{flag}: {messages[-1] if messages else 'refused'}"
+    return None
 
 
 def _report_first_frame(app, window, loaded: bool) -> None:
@@ -142,7 +203,10 @@ def _load_or_report(motion_path: str, markers_path: str | None):
 
 
 def _prepare(state, args: argparse.Namespace) -> str | None:
-    """Apply --select and --show to a state; an error message, or None."""
+    """Apply the edit flags, --select and --show to a state; an error message, or None."""
+    problem = apply_steps(state, args.steps)
+    if problem:
+        return problem
     for name in [n.strip() for n in args.show.split(",") if n.strip()]:
         if name not in state.overlays:
             return f"--show: no overlay {name!r} (expected some of {', '.join(state.overlays)})"
@@ -224,6 +288,7 @@ def window_screenshot(motion_path: str, markers_path: str | None, args: argparse
     problem = _prepare(window.state, args)
     if problem:
         print(f"gmr-studio: {problem}", file=sys.stderr)
+        window.state.undo_stack.setClean()  # edits made before the refusal: nothing to save
         window.close()
         return 2
     if whole_window:

@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
-from PyQt6.QtCore import QSettings, Qt
+from PyQt6.QtCore import QSettings, Qt, QTimer
 from PyQt6.QtGui import QCloseEvent, QDragEnterEvent, QDropEvent
 from PyQt6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMenu, QMessageBox, QUndoView, QWidget
 
@@ -32,6 +33,14 @@ KEYS_HELP = """<table>
 <tr><td><b>Ctrl+Z / Ctrl+Shift+Z</b></td><td>undo / redo</td></tr>
 <tr><td><b>G K A T L M B P</b></td><td>ground, soft links, axes, trail, labels, markers, marker labels, pelvis</td></tr>
 </table>"""
+
+# layout: the widths the side docks (forest, inspector) are usable at, and their least; the share of the
+# window's width the 3D view keeps, and its least size; the timeline slider's least width
+DOCK_WIDTHS = (300, 370)
+DOCK_MINIMUM = 100
+VIEW_SHARE = 0.4
+VIEW_MINIMUM = (200, 150)
+SLIDER_MINIMUM = 120
 
 
 def default_settings() -> QSettings:
@@ -62,14 +71,21 @@ class MainWindow(QMainWindow):
         toggle.setShortcut("Ctrl+H")
         self.joint_menu = action_table.fill_menus(self, self.actions, self.recent_menu, toggle)
         self.forest = ForestTree(self.state)
+        self.forest.tree_colors = self.view.scene.tree_colors  # one colour per tree in both
         self.inspector = Inspector(self.state)
         self.timeline = Timeline(self.state, self.player, self.actions)
         self.forest.context_menu = self.view.context_menu = self.joint_menu
-        forest_dock = self._dock("Forest", self.forest, Qt.DockWidgetArea.LeftDockWidgetArea)
-        inspector_dock = self._dock("Inspector", self.inspector, Qt.DockWidgetArea.RightDockWidgetArea)
-        self.resizeDocks([forest_dock, inspector_dock], [300, 370], Qt.Orientation.Horizontal)
+        self.forest_dock = self._dock("Forest", self.forest, Qt.DockWidgetArea.LeftDockWidgetArea)
+        self.inspector_dock = self._dock("Inspector", self.inspector, Qt.DockWidgetArea.RightDockWidgetArea)
+        self.resizeDocks([self.forest_dock, self.inspector_dock], list(DOCK_WIDTHS), Qt.Orientation.Horizontal)
         self._dock("Timeline", self.timeline, Qt.DockWidgetArea.BottomDockWidgetArea)
-        self.classroom = Classroom(self, self.state, self.view.scene, beside=inspector_dock)
+        self.view.setMinimumSize(*VIEW_MINIMUM)
+        for dock in (self.forest_dock, self.inspector_dock):  # they may give way to the view
+            dock.widget().setMinimumWidth(DOCK_MINIMUM)
+        self.timeline.slider.setMinimumWidth(SLIDER_MINIMUM)  # never squeezed into a square
+        self._fit_pending = QTimer(self, singleShot=True, interval=0)
+        self._fit_pending.timeout.connect(self.fit_docks)
+        self.classroom = Classroom(self, self.state, self.view.scene, beside=self.inspector_dock)
         self.view_menu.addAction(self.classroom.dock.toggleViewAction())
         self.onion = OnionMenu(self, self.state, self.view.scene, self.view_menu)
         self.status = QLabel()
@@ -77,6 +93,29 @@ class MainWindow(QMainWindow):
         self._wire()
         self._restore_settings()
         self._on_path_changed("")
+
+    # ------------------------------------------------------------------ layout
+    def fit_docks(self) -> None:
+        """Keep the layout usable at any window size: the side docks (forest, inspector)
+        get back :data:`DOCK_WIDTHS` when there is room, and give way when the 3D view would
+        have less than :data:`VIEW_SHARE` of the window's width. Docks a user made wider
+        than that are left alone while the view keeps its share."""
+        docks = [d for d in (self.forest_dock, self.inspector_dock) if d.isVisible() and not d.isFloating()]
+        if not docks:
+            return
+        shared = self.view.width() + sum(d.width() for d in docks)  # less splitters and margins
+        room = max(0.0, shared - math.ceil(VIEW_SHARE * self.width())) / len(docks)
+        usable = dict(zip((self.forest_dock, self.inspector_dock), DOCK_WIDTHS))
+        targets = [int(min(usable[d], room)) for d in docks]
+        squeezed = self.view.width() < VIEW_SHARE * self.width() - 1
+        narrow = any(d.width() < t - 1 for d, t in zip(docks, targets))
+        if squeezed or narrow:
+            widths = [t if squeezed or d.width() < t else d.width() for d, t in zip(docks, targets)]
+            self.resizeDocks(docks, widths, Qt.Orientation.Horizontal)
+
+    def resizeEvent(self, event) -> None:  # noqa: N802 (Qt's name)
+        super().resizeEvent(event)
+        self._fit_pending.start()  # once the layout has settled at the new size
 
     def _dock(self, title: str, widget: QWidget, area: Qt.DockWidgetArea) -> QDockWidget:
         dock = QDockWidget(title, self)
@@ -217,6 +256,7 @@ class MainWindow(QMainWindow):
         layout = self.settings.value("window/state")
         if layout is not None:
             self.restoreState(layout)
+        self.fit_docks()  # a layout saved squeezed comes back usable
         for name in self.state.overlays:
             value = self.settings.value(f"overlays/{name}")
             if value is not None:

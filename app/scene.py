@@ -8,8 +8,12 @@ where it was while its colours, root marks and soft links change.
 
 What is drawn (sizes are fractions of ``Motion.size``, so any unit works):
 
-- joints as spheres, each tree of the forest in its own colour (the tree of joint 0 first);
-  roots as cubes of their tree's colour; bones as tubes; soft links as thin dashed lines;
+- joints as spheres, each tree of the forest in its own colour, kept across edits and undo
+  (:mod:`app.tree_colors`);
+  roots as cubes of their tree's colour; bones as tubes; soft links as thin dashed lines,
+  and so is the bone from an anchor (:attr:`core.motion.Motion.anchors`, e.g. a ``Root``
+  left at the origin while the hips walk away), which is no part of the figure: the size,
+  ground, camera, up axis and followed point are the figure's;
 - a ground grid under the lowest point of the whole motion, as large as its path;
 - switchable: joint axes (world rotation triads, X red, Y green, Z blue), the trail of the
   selected joint (its last second), joint labels, markers (gaps not drawn; labels of the
@@ -31,21 +35,9 @@ from gmr_studio.app import vtk_parts as parts
 from gmr_studio.app.alignment import detect_up_axis
 from gmr_studio.app.picking import project_points
 from gmr_studio.app.state import OVERLAYS, MarkerOverlay, PelvisOverlay, Snapshot
+from gmr_studio.app.tree_colors import PALETTE, TreeColors
 
-TREE_COLORS = np.array(
-    [
-        (0.122, 0.467, 0.706),  # blue
-        (1.000, 0.498, 0.055),  # orange
-        (0.173, 0.627, 0.173),  # green
-        (0.839, 0.153, 0.157),  # red
-        (0.580, 0.404, 0.741),  # purple
-        (0.090, 0.745, 0.812),  # cyan
-        (0.890, 0.467, 0.761),  # pink
-        (0.737, 0.741, 0.133),  # olive
-        (0.549, 0.337, 0.294),  # brown
-        (0.498, 0.498, 0.498),  # grey
-    ]
-)
+TREE_COLORS = PALETTE  # the trees' colours, in the order new trees get them
 BACKGROUND = (0.16, 0.17, 0.20)
 GROUND_COLOR = (0.36, 0.38, 0.42)
 # everything is opaque: translucency costs a separate pass, several ms a frame in software GL
@@ -62,16 +54,6 @@ TRAIL_SECONDS = 1.0
 DASHES = 8
 
 
-def tree_colors(snapshot: Snapshot) -> np.ndarray:
-    """(J, 3) colour of each joint's tree; trees are numbered by their smallest joint index,
-    which shift root does not change."""
-    motion = snapshot.motion
-    tree_of = motion.tree_roots
-    smallest = {int(t): int(np.flatnonzero(tree_of == t).min()) for t in np.unique(tree_of)}
-    rank = {tree: k for k, tree in enumerate(sorted(smallest, key=smallest.get))}
-    return TREE_COLORS[[rank[int(t)] % len(TREE_COLORS) for t in tree_of]]
-
-
 def up_axis_of(snapshot: Snapshot) -> int:
     """1 (Y) or 2 (Z): what the file's comments state (``up axis: z``, as ``gmr convert``
     writes), else what the motion shows (:func:`app.alignment.detect_up_axis`)."""
@@ -79,7 +61,14 @@ def up_axis_of(snapshot: Snapshot) -> int:
 
     if any(re.match(r"\s*up axis:\s*[yz]\b", comment, re.IGNORECASE) for comment in snapshot.motion.comments):
         return 1 if stated_up_axis(snapshot.motion) == "y" else 2
-    return detect_up_axis(snapshot.positions)
+    return detect_up_axis(actor_positions(snapshot))
+
+
+def actor_positions(snapshot: Snapshot) -> np.ndarray:
+    """(F, A, 3) world positions of the joints that make the figure: all but the
+    :attr:`~core.motion.Motion.anchors` (a root pinned at the origin far from the actor)."""
+    anchors = snapshot.motion.anchors
+    return snapshot.positions[:, ~anchors] if anchors.any() else snapshot.positions
 
 
 def nice_step(length: float) -> float:
@@ -108,13 +97,15 @@ class SkeletonScene:
         self.pelvis: PelvisOverlay | None = None
         self.request_repaint = None  # a callable that schedules a repaint of the view widget
         self._followed: np.ndarray | None = None  # where the followed figure was last drawn
+        self.tree_colors = TreeColors()  # shared with the forest dock: the same colour per tree
 
     # ------------------------------------------------------------------- building
     def set_snapshot(self, snapshot: Snapshot | None, *, reset_camera: bool) -> None:
         """Rebuild the skeleton's actors for ``snapshot``; a new document also gets a new
         ground grid, up axis and camera, an edit keeps them."""
         self.snapshot = snapshot
-        for name in [n for n in self.parts if not n.startswith(("marker", "pelvis"))]:
+        # the ground, markers and pelvis belong to the document, not to the skeleton's structure
+        for name in [n for n in self.parts if n != "ground" and not n.startswith(("marker", "pelvis"))]:
             self._remove(name)
         if snapshot is None:
             self.render()
@@ -122,7 +113,7 @@ class SkeletonScene:
         motion = snapshot.motion
         size = motion.size
         self.frame = min(self.frame, motion.n_frames - 1)
-        colors = tree_colors(snapshot)
+        colors = self.tree_colors.colors(motion)
         r = JOINT_RADIUS * size
         self._add(
             "joints",
@@ -131,14 +122,23 @@ class SkeletonScene:
         roots = motion.roots
         cube = pv.Cube(x_length=3.0 * r, y_length=3.0 * r, z_length=3.0 * r)
         self._add("roots", parts.glyph_part(len(roots), cube, colors[roots]))
-        bones = np.flatnonzero(motion.parents >= 0)
+        # a bone from an anchor (a joint pinned at the origin) is no part of the figure:
+        # it is drawn as the soft, thin kind of link it is
+        anchored = motion.anchors | motion.anchors[np.maximum(motion.parents, 0)]
+        bones = np.flatnonzero((motion.parents >= 0) & ~anchored)
         pairs = np.column_stack([bones, motion.parents[bones]])
         self._add(
             "bones", parts.segments_part(motion.n_joints, pairs, 0.85 * colors[bones], tube_radius=BONE_RADIUS * size)
         )
         links = np.flatnonzero(motion.soft_parents >= 0)
-        self._soft_links = np.column_stack([links, motion.soft_parents[links]])
-        dash_pairs = np.arange(2 * DASHES * len(links)).reshape(-1, 2)
+        anchor_bones = np.flatnonzero((motion.parents >= 0) & anchored)
+        self._soft_links = np.vstack(
+            [
+                np.column_stack([links, motion.soft_parents[links]]),
+                np.column_stack([anchor_bones, motion.parents[anchor_bones]]),
+            ]
+        )
+        dash_pairs = np.arange(2 * DASHES * len(self._soft_links)).reshape(-1, 2)
         self._add(
             "soft_links",
             parts.segments_part(len(dash_pairs) * 2, dash_pairs, color=SOFT_LINK_COLOR, width=1.5),
@@ -157,9 +157,10 @@ class SkeletonScene:
         self._add("labels", parts.label_part(motion.n_joints, list(motion.names)))
         self._add("selection", parts.glyph_part(1, pv.Sphere(radius=1.9 * r), color=SELECTION_COLOR))
         self.parts["selection"].actor.GetProperty().SetRepresentationToWireframe()
-        if reset_camera:
+        if reset_camera or "ground" not in self.parts:
             self.up_axis = up_axis_of(snapshot)
-            self._build_ground(snapshot.positions, size)
+            self._build_ground(actor_positions(snapshot), size)
+        if reset_camera:
             self._reset_camera()
         self._apply_visibility()
         self.show_frame(self.frame)
@@ -193,7 +194,7 @@ class SkeletonScene:
 
     def _follow_point(self, frame: int) -> np.ndarray:
         """(3,) the point the camera follows: the joints' centroid, on the floor."""
-        point = self.snapshot.positions[frame].mean(axis=0)
+        point = self.snapshot.positions[frame, ~self.snapshot.motion.anchors].mean(axis=0)
         point[self.up_axis] = self.ground_bounds[2]
         return point
 
@@ -203,7 +204,7 @@ class SkeletonScene:
         figure at this frame when following it, else the whole motion."""
         low, high, floor = self.ground_bounds
         if self.overlays.get("follow"):
-            points = self.snapshot.positions[self.frame]
+            points = self.snapshot.positions[self.frame, ~self.snapshot.motion.anchors]
             margin = 0.12 * self.snapshot.motion.size
             low, high = points.min(axis=0) - margin, points.max(axis=0) + margin
             low[self.up_axis] = min(low[self.up_axis], floor)
@@ -211,7 +212,7 @@ class SkeletonScene:
         up_axis = self.up_axis
         up = np.eye(3)[up_axis]
         across = [a for a in (0, 1, 2) if a != up_axis]
-        path = self.snapshot.positions[:, :, across].mean(axis=1)  # (F, 2) horizontal centroid path
+        path = actor_positions(self.snapshot)[:, :, across].mean(axis=1)  # (F, 2) horizontal centroid path
         travel = np.zeros(3)
         spread = path - path.mean(axis=0)
         if len(path) > 1 and np.abs(spread).max() > 0.5 * self.snapshot.motion.size:
@@ -402,7 +403,11 @@ class SkeletonScene:
     def render(self, now: bool = False) -> None:
         """Draw the scene: at once (``now``, e.g. before a screenshot), or by asking the
         widget to repaint when it has set ``request_repaint`` (a Qt OpenGL widget renders in
-        its paint event anyway, so rendering here as well would draw every frame twice)."""
+        its paint event anyway, so rendering here as well would draw every frame twice).
+
+        The near and far planes are fitted to what is drawn first: kept from an earlier
+        render, they clip a skeleton whose actors were rebuilt (an edit) down to fragments."""
+        self.plotter.renderer.ResetCameraClippingRange()
         if self.request_repaint is not None and not now:
             self.request_repaint()
         else:
@@ -435,16 +440,16 @@ class SkeletonScene:
             return np.zeros((0, 3))
         return project_points(self.markers.positions[self.frame], self.view_projection(), self.viewport())
 
-    def pick_radius(self) -> float:
-        """Pixels within which a click picks a joint: a joint's drawn radius, at least 8."""
+    def joint_radius_pixels(self) -> float:
+        """A joint sphere's radius on screen, in pixels, at the camera's distance."""
         if self.snapshot is None:
-            return 8.0
-        screen = self.joint_screen_positions()
+            return 0.0
         _width, height = self.viewport()
-        finite = screen[np.isfinite(screen).all(axis=1)]
-        if not len(finite):
-            return 8.0
         angle = np.radians(self.plotter.camera.GetViewAngle())
         distance = self.plotter.camera.GetDistance()
         pixels_per_unit = height / (2 * distance * np.tan(angle / 2)) if distance > 0 else 0.0
-        return float(max(8.0, 1.5 * JOINT_RADIUS * self.snapshot.motion.size * pixels_per_unit))
+        return float(JOINT_RADIUS * self.snapshot.motion.size * pixels_per_unit)
+
+    def pick_radius(self) -> float:
+        """Pixels within which a click picks a joint: a joint's drawn radius, at least 8."""
+        return float(max(8.0, 1.5 * self.joint_radius_pixels()))

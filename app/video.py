@@ -3,7 +3,9 @@
 Both work on any plotter the :class:`~app.scene.SkeletonScene` draws into: the window's
 interactor or an off-screen plotter (``gmr-studio FILE --screenshot OUT.png`` without a
 display). The video samples the motion at the video's frame rate by time, as playback
-does, so it lasts as long as the motion (divided by the speed).
+does, so it lasts as long as the motion (divided by the speed), or as the range of frames
+asked for. The dialogs suggest a file name from the motion's and the folder the last
+picture or video went to.
 """
 
 from __future__ import annotations
@@ -71,13 +73,66 @@ def save_screenshot(scene: SkeletonScene, path: str | Path) -> tuple[int, int]:
     return image.shape[1], image.shape[0]
 
 
-def video_frames(n_frames: int, rate: float, fps: float = VIDEO_FPS, speed: float = 1.0) -> np.ndarray:
-    """(N,) motion frames shown by a video at ``fps`` of a motion at ``rate`` played at ``speed``."""
-    if n_frames <= 0:
+def video_frames(
+    n_frames: int, rate: float, fps: float = VIDEO_FPS, speed: float = 1.0, first: int = 0, last: int | None = None
+) -> np.ndarray:
+    """(N,) motion frames shown by a video at ``fps`` of frames ``first`` to ``last``
+    (both included; default the whole take) of a motion at ``rate`` played at ``speed``."""
+    last = n_frames - 1 if last is None else min(int(last), n_frames - 1)
+    first = max(0, int(first))
+    span = last - first + 1
+    if n_frames <= 0 or span <= 0:
         return np.zeros(0, np.int64)
-    duration = n_frames / rate / speed
+    duration = span / rate / speed
     times = np.arange(max(1, int(np.floor(duration * fps + 1e-9)))) / fps
-    return np.minimum((times * rate * speed + 1e-9).astype(np.int64), n_frames - 1)
+    return first + np.minimum((times * rate * speed + 1e-9).astype(np.int64), span - 1)
+
+
+def suggested_name(motion_path: str | Path | None, suffix: str, first: int, last: int | None = None) -> str:
+    """A file name for a picture (``walk_frame00150.png``) or video (``walk.mp4`` for the
+    whole take, ``walk_frames100-299.mp4`` for a range) of the motion at ``motion_path``."""
+    stem = Path(motion_path).stem if motion_path else "motion"
+    if suffix == ".png":
+        return f"{stem}_frame{first:05d}.png"
+    return f"{stem}{suffix}" if last is None else f"{stem}_frames{first}-{last}{suffix}"
+
+
+EXPORT_FOLDER_KEY = "export/last_folder"
+
+
+def export_folder(settings, fallback: str = "") -> str:
+    """The folder the last screenshot or video went to (else ``fallback``)."""
+    return str(settings.value(EXPORT_FOLDER_KEY, "") or fallback)
+
+
+def remember_export_folder(settings, path: str | Path) -> None:
+    settings.setValue(EXPORT_FOLDER_KEY, str(Path(path).parent))
+
+
+def ask_frame_range(parent, n_frames: int, first: int = 0, last: int | None = None) -> tuple[int, int] | None:
+    """A dialog asking which frames (first, last, both included) a video shows; None if
+    cancelled. Defaults: the whole take."""
+    from PyQt6.QtWidgets import QDialog, QDialogButtonBox, QFormLayout, QSpinBox
+
+    dialog = QDialog(parent)
+    dialog.setWindowTitle("Export video: frames")
+    layout = QFormLayout(dialog)
+    boxes = []
+    for label, value in (("From frame", first), ("To frame", n_frames - 1 if last is None else last)):
+        box = QSpinBox(dialog)
+        box.setRange(0, max(0, n_frames - 1))
+        box.setValue(int(value))
+        layout.addRow(label, box)
+        boxes.append(box)
+    boxes[0].valueChanged.connect(lambda v: boxes[1].setValue(max(v, boxes[1].value())))
+    boxes[1].valueChanged.connect(lambda v: boxes[0].setValue(min(v, boxes[0].value())))
+    buttons = QDialogButtonBox(QDialogButtonBox.StandardButton.Ok | QDialogButtonBox.StandardButton.Cancel, dialog)
+    buttons.accepted.connect(dialog.accept)
+    buttons.rejected.connect(dialog.reject)
+    layout.addRow(buttons)
+    if dialog.exec() != QDialog.DialogCode.Accepted:
+        return None
+    return boxes[0].value(), boxes[1].value()
 
 
 def export_video(
@@ -87,8 +142,11 @@ def export_video(
     fps: float = VIDEO_FPS,
     speed: float = 1.0,
     progress: Callable[[int, int], bool] | None = None,
+    first: int = 0,
+    last: int | None = None,
 ) -> int:
-    """Write an H.264 mp4 of the scene playing its motion; returns the frames written.
+    """Write an H.264 mp4 of the scene playing frames ``first`` to ``last`` of its motion
+    (default the whole take); returns the frames written.
 
     ``progress(done, total)`` is called after each frame; when it returns False the export
     stops and the partial file is removed. The scene is left on the frame it showed.
@@ -98,7 +156,7 @@ def export_video(
     if scene.snapshot is None:
         raise ValueError("no motion to export")
     motion = scene.snapshot.motion
-    frames = video_frames(motion.n_frames, motion.frame_rate, fps, speed)
+    frames = video_frames(motion.n_frames, motion.frame_rate, fps, speed, first, last)
     shown = scene.frame
     target = Path(path)
     partial = target.with_name(f".{target.name}.partial.mp4")

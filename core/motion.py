@@ -67,6 +67,12 @@ DEFAULT_RELATIVE_TOLERANCE = 1e-9
 #: join moves positions by at most this much, so even a chain of 60 joins stays far below
 #: the 1e-9 to which operations promise to keep positions.
 RIGID_RELATIVE_TOLERANCE = 1e-11
+#: frames of the motion (evenly spread) that :attr:`Motion.size` measures
+SIZE_SAMPLE_FRAMES = 64
+#: a joint whose position varies less than this, times the extent of every joint over the
+#: sampled frames, stands still; one whose position varies more than the next moves
+STILL_RELATIVE_TOLERANCE = 1e-9
+MOVING_RELATIVE_TOLERANCE = 1e-3
 
 
 def _readonly(array: np.ndarray) -> np.ndarray:
@@ -261,19 +267,55 @@ class Motion:
 
     # ------------------------------------------------------------------------ scale
     @cached_property
-    def size(self) -> float:
-        """The skeleton's size: the largest extent, over the three axes, of the joints'
-        world positions at the first frame (the rest pose when there are no frames).
-
-        Invariant under shift root, split and join, so tolerances scaled by it are too.
-        """
+    def _sampled_positions(self) -> np.ndarray:
+        """(K, J, 3) world positions at up to :data:`SIZE_SAMPLE_FRAMES` frames spread evenly
+        over the motion (the rest pose when there are no frames)."""
         from gmr_studio.core.kinematics import world_positions
 
-        if self.n_frames:
-            points = world_positions(self.frame_slice(slice(0, 1)))[0]
-        else:
-            points = world_positions(self.rest_pose())[0]
-        extent = float(np.max(points.max(axis=0) - points.min(axis=0)))
+        if not self.n_frames:
+            return world_positions(self.rest_pose())
+        frames = np.unique(np.linspace(0, self.n_frames - 1, min(self.n_frames, SIZE_SAMPLE_FRAMES)).round())
+        return world_positions(self.frame_slice(frames.astype(np.int64)))
+
+    @cached_property
+    def anchors(self) -> np.ndarray:
+        """(J,) bool: joints that only pin the figure to a fixed point, not part of it.
+
+        An anchor has one neighbour (counting bones and soft links alike, so shift root,
+        split and join do not change it), never moves, and that neighbour does: the ``Root``
+        left at the world origin by many game and dataset exports while the hips below it
+        carry the walk. A still motion (a T-pose) has none.
+        """
+        points = self._sampled_positions
+        degree = np.zeros(self.n_joints, np.int64)
+        neighbour = np.full(self.n_joints, -1, np.int64)
+        for links in (self.parents, self.soft_parents):
+            child = np.flatnonzero(links >= 0)
+            np.add.at(degree, child, 1)
+            np.add.at(degree, links[child], 1)
+            neighbour[child] = links[child]
+            neighbour[links[child]] = child  # only read where the degree is 1
+        extent = float(np.max(points.max(axis=(0, 1)) - points.min(axis=(0, 1))))
+        spread = np.abs(points - points.mean(axis=0)).max(axis=(0, 2))  # (J,)
+        still = spread <= STILL_RELATIVE_TOLERANCE * extent
+        moves = spread > MOVING_RELATIVE_TOLERANCE * extent
+        anchor = (degree == 1) & still
+        anchor[anchor] &= moves[neighbour[anchor]]
+        return _readonly(anchor)
+
+    @cached_property
+    def size(self) -> float:
+        """The actor's size: the largest extent, over the three axes and a sample of frames
+        spread over the motion, of the joints' world positions in one frame, leaving out
+        :attr:`anchors` (a ``Root`` pinned at the origin would make it the distance from
+        the origin to the actor instead).
+
+        Invariant under shift root, split and join (they keep positions, and anchors are
+        found from positions and the links between joints, whatever their kind), so
+        tolerances scaled by it are too.
+        """
+        points = self._sampled_positions[:, ~self.anchors]
+        extent = float(np.max(points.max(axis=1) - points.min(axis=1))) if points.size else 0.0
         return extent if np.isfinite(extent) and extent > 0 else 1.0
 
     # ------------------------------------------------------------------- derivations

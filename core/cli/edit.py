@@ -1,4 +1,4 @@
-"""``gmr edit IN -o OUT [--shift-root J] [--split J] [--join J] ...``: apply the operations
+"""``gmr edit IN -o OUT [--shift-root J] [--split J] [--join J] [--remove-dummies] ...``: apply the operations
 in the order given, then write ``.gmr`` or ``.bvh`` (a forest under one World root)."""
 
 from __future__ import annotations
@@ -7,6 +7,7 @@ import argparse
 
 from gmr_studio.core.cli.convert import write_converted
 from gmr_studio.core.cli.reading import add_reading_options, load_gmr_with_args
+from gmr_studio.core.dummies import remove_dummies
 from gmr_studio.core.operations import join, join_all, shift_root, split, split_all
 
 OPERATIONS = {
@@ -15,6 +16,7 @@ OPERATIONS = {
     "join": lambda m, j: join(m, j),
     "split_all": lambda m, _: split_all(m),
     "join_all": lambda m, _: join_all(m),
+    "remove_dummies": lambda m, _: remove_dummies(m)[0],
 }
 
 
@@ -31,13 +33,24 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("edit", help="shift root, split and join, in the order given")
     parser.add_argument("input", help="a .bvh, .gmr or .amc file (an AMC's skeleton: --asf, else the .asf beside it)")
     parser.add_argument("-o", "--output", required=True, help="a .gmr or .bvh file (forests: a World root)")
+    add_edit_arguments(parser)
+    add_reading_options(parser)
+    parser.set_defaults(run=run)
+
+
+def add_edit_arguments(parser: argparse.ArgumentParser) -> None:
+    """The edit flags, collected in command-line order as ``args.steps``: a list of
+    (operation, joint name or None) pairs, operation a key of :data:`OPERATIONS` (also
+    used by ``gmr-studio FILE --split J ...``)."""
     parser.add_argument("--shift-root", metavar="J", action=_Append, const="shift_root", help="make J its tree's root")
     parser.add_argument("--split", metavar="J", action=_Append, const="split", help="make J a root (soft link kept)")
     parser.add_argument("--join", metavar="J", action=_Append, const="join", help="join split root J to its parent")
     parser.add_argument("--split-all", nargs=0, action=_Append, const="split_all", help="make every joint a root")
     parser.add_argument("--join-all", nargs=0, action=_Append, const="join_all", help="join every soft link")
-    add_reading_options(parser)
-    parser.set_defaults(run=run, steps=[])
+    parser.add_argument(
+        "--remove-dummies", nargs=0, action=_Append, const="remove_dummies", help="fold zero-offset dummy joints"
+    )
+    parser.set_defaults(steps=[])
 
 
 def run(args: argparse.Namespace) -> int:
