@@ -1,13 +1,29 @@
-"""``gmr edit IN -o OUT [--shift-root J] [--split J] [--join J] ...``: apply the operations
-in the order given, then write ``.gmr`` or ``.bvh`` (a forest under one World root)."""
+"""``gmr edit IN -o OUT [--shift-root J] [--split J] [--join J] [--frames A:B] [--rate HZ]
+[--mirror] ...``: apply the operations in the order given, then write ``.gmr`` or ``.bvh`` (a
+forest under one World root). ``--frames`` trims to ``A:B`` (0-based, B excluded),
+``--rate`` resamples (:mod:`core.clip`), ``--mirror`` swaps left and right
+(:mod:`core.mirror`; names that look sided but have no partner are listed on stderr)."""
 
 from __future__ import annotations
 
 import argparse
+import sys
 
-from gmr_studio.core.cli.convert import write_converted
+from gmr_studio.core.cli.convert import positive_number, write_converted
+from gmr_studio.core.cli.curves import parse_frames
+from gmr_studio.core.clip import resample, trim
 from gmr_studio.core.formats import load_gmr
+from gmr_studio.core.mirror import mirror
+from gmr_studio.core.motion import Motion
 from gmr_studio.core.operations import join, join_all, shift_root, split, split_all
+
+
+def _mirrored(motion: Motion) -> Motion:
+    result, unmatched = mirror(motion)
+    if unmatched:
+        print(f"gmr edit --mirror: no partner for {', '.join(unmatched)} (left as they are)", file=sys.stderr)
+    return result
+
 
 OPERATIONS = {
     "shift_root": lambda m, j: shift_root(m, j),
@@ -15,6 +31,9 @@ OPERATIONS = {
     "join": lambda m, j: join(m, j),
     "split_all": lambda m, _: split_all(m),
     "join_all": lambda m, _: join_all(m),
+    "frames": lambda m, frames: trim(m, *frames),
+    "rate": lambda m, rate: resample(m, rate),
+    "mirror": lambda m, _: _mirrored(m),
 }
 
 
@@ -28,7 +47,7 @@ class _Append(argparse.Action):
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    parser = sub.add_parser("edit", help="shift root, split and join, in the order given")
+    parser = sub.add_parser("edit", help="shift root, split, join, trim, resample, mirror, in the order given")
     parser.add_argument("input", help="a .bvh, .gmr or .amc file (an AMC's .asf beside it)")
     parser.add_argument("-o", "--output", required=True, help="a .gmr or .bvh file (forests: a World root)")
     parser.add_argument("--shift-root", metavar="J", action=_Append, const="shift_root", help="make J its tree's root")
@@ -36,6 +55,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--join", metavar="J", action=_Append, const="join", help="join split root J to its parent")
     parser.add_argument("--split-all", nargs=0, action=_Append, const="split_all", help="make every joint a root")
     parser.add_argument("--join-all", nargs=0, action=_Append, const="join_all", help="join every soft link")
+    parser.add_argument(
+        "--frames", metavar="A:B", type=parse_frames, action=_Append, const="frames", help="keep frames A to B-1"
+    )
+    parser.add_argument(
+        "--rate", metavar="HZ", type=positive_number, action=_Append, const="rate", help="resample to HZ"
+    )
+    parser.add_argument("--mirror", nargs=0, action=_Append, const="mirror", help="swap left and right")
     parser.set_defaults(run=run, steps=[])
 
 
