@@ -11,6 +11,8 @@ from PyQt6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMenu, QMessageBox
 from gmr_studio.app import actions as action_table
 from gmr_studio.app import commands, extensions
 from gmr_studio.app.alignment_dialog import AlignmentDialog
+from gmr_studio.app.contact_bars import ContactBars
+from gmr_studio.app.curves_dock import CurvesDock
 from gmr_studio.app.files import FileController
 from gmr_studio.app.forest import ForestTree
 from gmr_studio.app.inspector import Inspector
@@ -66,7 +68,14 @@ class MainWindow(QMainWindow):
         forest_dock = self._dock("Forest", self.forest, Qt.DockWidgetArea.LeftDockWidgetArea)
         inspector_dock = self._dock("Inspector", self.inspector, Qt.DockWidgetArea.RightDockWidgetArea)
         self.resizeDocks([forest_dock, inspector_dock], [300, 370], Qt.Orientation.Horizontal)
-        self._dock("Timeline", self.timeline, Qt.DockWidgetArea.BottomDockWidgetArea)
+        timeline_dock = self._dock("Timeline", self.timeline, Qt.DockWidgetArea.BottomDockWidgetArea)
+        self.contact_bars = ContactBars(self.state)
+        contacts_dock = self._dock("Foot contacts", self.contact_bars, Qt.DockWidgetArea.BottomDockWidgetArea)
+        self.curves = CurvesDock(self.state, self.player)
+        curves_dock = self._dock("Curves", self.curves, Qt.DockWidgetArea.BottomDockWidgetArea)
+        self.splitDockWidget(timeline_dock, contacts_dock, Qt.Orientation.Vertical)
+        self.splitDockWidget(contacts_dock, curves_dock, Qt.Orientation.Vertical)
+        self.resizeDocks([curves_dock], [260], Qt.Orientation.Vertical)
         self.status = QLabel()
         self.statusBar().addWidget(self.status, 1)
         self._wire()
