@@ -3,18 +3,19 @@
 The contacts come from :func:`core.contacts.foot_contacts` on the document's cached world
 positions, recomputed when the motion or the thresholds change (two spin boxes: height and
 speed as percentages of the skeleton's size). The current frame is a vertical line; a click
-or drag in the bars sets the frame.
+or drag in the bars sets the frame. The bars are an image made once per contacts and width,
+so playback only redraws the line.
 """
 
 from __future__ import annotations
 
 import numpy as np
 from PyQt6.QtCore import QRectF, Qt
-from PyQt6.QtGui import QColor, QMouseEvent, QPainter, QPaintEvent
+from PyQt6.QtGui import QColor, QImage, QMouseEvent, QPainter, QPaintEvent
 from PyQt6.QtWidgets import QDoubleSpinBox, QHBoxLayout, QLabel, QSizePolicy, QVBoxLayout, QWidget
 
 from gmr_studio.app.state import StudioState
-from gmr_studio.core.contacts import DEFAULT_HEIGHT, DEFAULT_SPEED, Contacts, contact_runs, foot_contacts
+from gmr_studio.core.contacts import DEFAULT_HEIGHT, DEFAULT_SPEED, Contacts, foot_contacts
 
 ROW_HEIGHT = 14
 NAME_WIDTH = 110
@@ -24,19 +25,23 @@ CURSOR_COLOUR = QColor("#ffd400")
 
 
 class ContactStrip(QWidget):
-    """The painted bars (names on the left, frames across)."""
+    """The painted bars (names on the left, frames across).
+
+    The bars are drawn once per contacts and width into an image (:func:`bars_image`,
+    vectorised over frames), so a frame change only blits it and draws the cursor line.
+    """
 
     def __init__(self, state: StudioState, parent: QWidget | None = None) -> None:
         super().__init__(parent)
         self.state = state
         self.contacts: Contacts | None = None
-        self.runs: list[np.ndarray] = []
+        self._image: QImage | None = None
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
         state.frame_changed.connect(lambda _: self.update())
 
     def set_contacts(self, contacts: Contacts | None) -> None:
         self.contacts = contacts
-        self.runs = [] if contacts is None else [contact_runs(p) for p in contacts.planted.T]
+        self._image = None
         rows = 0 if contacts is None else len(contacts.names)
         self.setFixedHeight(max(rows, 1) * ROW_HEIGHT + 2)
         self.update()
@@ -49,17 +54,21 @@ class ContactStrip(QWidget):
         n = max(self.state.n_frames, 1)
         return int(min(max((x - NAME_WIDTH) / max(self.width() - NAME_WIDTH, 1) * n, 0), n - 1))
 
+    def resizeEvent(self, event) -> None:  # noqa: N802
+        self._image = None
+        super().resizeEvent(event)
+
     def paintEvent(self, event: QPaintEvent) -> None:  # noqa: N802
         painter = QPainter(self)
         painter.fillRect(self.rect(), BACKGROUND)
         if self.contacts is not None:
-            for row, (name, runs) in enumerate(zip(self.contacts.names, self.runs)):
-                top = 1 + row * ROW_HEIGHT
-                painter.setPen(QColor("#cfcfcf"))
-                painter.drawText(QRectF(4, top, NAME_WIDTH - 8, ROW_HEIGHT), Qt.AlignmentFlag.AlignVCenter, name)
-                for start, stop in runs:
-                    x0, x1 = self.x_of_frame(start), self.x_of_frame(stop)
-                    painter.fillRect(QRectF(x0, top + 2, max(x1 - x0, 1.0), ROW_HEIGHT - 4), PLANTED_COLOUR)
+            if self._image is None or self._image.width() != self.width() - NAME_WIDTH:
+                self._image = bars_image(self.contacts.planted, self.width() - NAME_WIDTH)
+            painter.drawImage(NAME_WIDTH, 1, self._image)
+            painter.setPen(QColor("#cfcfcf"))
+            for row, name in enumerate(self.contacts.names):
+                rect = QRectF(4, 1 + row * ROW_HEIGHT, NAME_WIDTH - 8, ROW_HEIGHT)
+                painter.drawText(rect, Qt.AlignmentFlag.AlignVCenter, name)
         x = self.x_of_frame(self.state.frame + 0.5)
         painter.setPen(CURSOR_COLOUR)
         painter.drawLine(int(x), 0, int(x), self.height())
@@ -71,6 +80,27 @@ class ContactStrip(QWidget):
     def mouseMoveEvent(self, event: QMouseEvent) -> None:  # noqa: N802
         if event.buttons() & Qt.MouseButton.LeftButton:
             self.state.set_frame(self.frame_at(event.position().x()))
+
+
+def bars_image(planted: np.ndarray, width: int) -> QImage:
+    """The bars of planted (F, K) bool as an image ``width`` px wide, ``K * ROW_HEIGHT`` high:
+    a pixel column is filled where any of its frames is planted."""
+    n_frames, n_rows = planted.shape
+    width = max(int(width), 1)
+    column = np.minimum((np.arange(n_frames) * width) // max(n_frames, 1), width - 1)
+    filled = np.zeros((n_rows, width), bool)
+    for row in range(n_rows):
+        filled[row, column[planted[:, row]]] = True
+    pixels = np.empty((n_rows, ROW_HEIGHT, width, 3), np.uint8)
+    pixels[:] = (BACKGROUND.red(), BACKGROUND.green(), BACKGROUND.blue())
+    bar = pixels[:, 2 : ROW_HEIGHT - 2]
+    bar[np.broadcast_to(filled[:, None, :], bar.shape[:3])] = (
+        PLANTED_COLOUR.red(),
+        PLANTED_COLOUR.green(),
+        PLANTED_COLOUR.blue(),
+    )
+    rows = np.ascontiguousarray(pixels.reshape(n_rows * ROW_HEIGHT, width, 3))
+    return QImage(rows.data, width, rows.shape[0], 3 * width, QImage.Format.Format_RGB888).copy()
 
 
 class ContactBars(QWidget):

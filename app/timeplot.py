@@ -27,7 +27,7 @@ import numpy as np
 import pyqtgraph as pg
 from PyQt6.QtCore import QBuffer, QIODevice, Qt, pyqtSignal
 from PyQt6.QtGui import QColor
-from PyQt6.QtWidgets import QVBoxLayout, QWidget
+from PyQt6.QtWidgets import QGraphicsItem, QVBoxLayout, QWidget
 
 from gmr_studio.core.atomic import atomic_write_bytes, atomic_write_text
 
@@ -137,10 +137,14 @@ class TimePlot(QWidget):
         x = self.frames * self.scale
         for c, name in enumerate(self.columns):
             pen = pg.mkPen(self._colours[c], width=1.2, style=self._styles[c])
-            item = pg.PlotDataItem(x, self.values[:, c], pen=pen, name=name, connect="finite")
-            self.plot_item.addItem(item)  # first: pyqtgraph 0.14 clips to a view only once in one
+            item = pg.PlotDataItem(pen=pen, name=name, connect="finite")
+            self.plot_item.addItem(item)  # empty first: pyqtgraph 0.14 clips to a view only once in one
             item.setDownsampling(auto=True, method="peak")
             item.setClipToView(True)
+            # drawn once into a pixmap until the data or the view change: a cursor move then
+            # repaints a thin strip from it instead of re-rasterising every curve
+            item.curve.setCacheMode(QGraphicsItem.CacheMode.DeviceCoordinateCache)
+            item.setData(x, self.values[:, c])  # downsampled once, with every option set
             self._items.append(item)
         self._set_labels()
 
@@ -175,13 +179,13 @@ class TimePlot(QWidget):
     def autoscale(self) -> None:
         """Fit every curve: x over all frames, y over all finite values (computed here, not by
         pyqtgraph, whose bounds of a clipped-to-view curve are those of the clipped part)."""
-        if self.frames.size:
-            self.view_box.setXRange(self.frames[0] * self.scale, self.frames[-1] * self.scale, padding=0.01)
+        if not self.frames.size:
+            return
+        x_range = (self.frames[0] * self.scale, max(self.frames[-1], self.frames[0] + 1) * self.scale)
         finite = self.values[np.isfinite(self.values)]
-        if finite.size:
-            low, high = float(finite.min()), float(finite.max())
-            margin = 0.05 * (high - low) if high > low else max(abs(high), 1.0) * 0.05
-            self.view_box.setYRange(low - margin, high + margin, padding=0)
+        low, high = (float(finite.min()), float(finite.max())) if finite.size else (-1.0, 1.0)
+        margin = 0.05 * (high - low) if high > low else max(abs(high), 1.0) * 0.05
+        self.view_box.setRange(xRange=x_range, yRange=(low - margin, high + margin), padding=0)  # one update
 
     def _set_labels(self) -> None:
         self.plot_item.setLabel("bottom", "time (s)" if self.x_unit == "seconds" else "frame")
