@@ -16,7 +16,8 @@ Quantities (:data:`QUANTITIES`):
 - ``quaternion``: ``R_j`` as ``w, x, y, z`` with signs kept continuous over frames.
 - ``local-pre``: the local translation as GMR composes it, ``R_j t_j`` (``[R, R t]``);
   ``local-post``: as BVH does, ``t_j`` (``[R, t]``). For a root both are its world
-  position ``G``. Computed on the GMR form of the motion (``t`` is the same in both forms).
+  position ``G``. On a BVH motion ``R_j`` is the GMR one, i.e. the parent's BVH rotation
+  (``t`` is the same in both forms).
 - ``world``: the world position (forward kinematics), file units.
 - ``speed``: the norm of the world velocity, units per second; ``acceleration``: the norm of
   the world acceleration, units per second squared. Derivatives are central differences
@@ -32,7 +33,6 @@ import dataclasses
 
 import numpy as np
 
-from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.kinematics import joint_world_transform
 from gmr_studio.core.motion import Motion
@@ -128,12 +128,17 @@ def euler_degrees(rotations: np.ndarray, order: str) -> np.ndarray:
 
 def local_translations(motion: Motion, joint: int, composition: str) -> np.ndarray:
     """(F, 3) local translation of a joint: ``"pre"`` gives GMR's ``R_j t_j``, ``"post"``
-    BVH's ``t_j`` (both on the GMR form; a root's is ``G`` either way)."""
-    gmr = pre_from_post(motion)
-    translation = gmr.translations[:, joint]
-    if composition == "post" or gmr.parents[joint] < 0:
+    BVH's ``t_j`` (a root's is ``G`` either way).
+
+    On a post-rotation motion the GMR rotation of a joint is its parent's post rotation
+    (:func:`core.convert.pre_from_post`), used here without converting the whole motion.
+    """
+    translation = motion.translations[:, joint]
+    parent = int(motion.parents[joint])
+    if composition == "post" or parent < 0:
         return np.array(translation)
-    return np.einsum("fab,fb->fa", gmr.rotations[:, joint], translation)
+    rotation = motion.rotations[:, joint] if motion.convention == "pre" else motion.rotations[:, parent]
+    return np.einsum("fab,fb->fa", rotation, translation)
 
 
 def derivative(values: np.ndarray, frame_time: float) -> np.ndarray:

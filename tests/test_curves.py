@@ -107,7 +107,12 @@ def test_local_translations_both_ways_and_rotation_angle(rng):
             angle, np.degrees(Rotation.from_matrix(np.array(motion.rotations[:, j])).magnitude()), atol=1e-9
         )
     bvh = read_motion(shared_path("cmu/subject01/01_01.bvh"))
-    np.testing.assert_array_equal(local_translations(bvh, 3, "post"), bvh.translations[:, 3])
+    gmr = load_gmr(shared_path("cmu/subject01/01_01.bvh"))
+    for j in (0, 3, 6):  # root, LeftLeg, an end site: the same as on the converted motion
+        for composition in ("pre", "post"):
+            np.testing.assert_array_equal(
+                local_translations(bvh, j, composition), local_translations(gmr, j, composition)
+            )
 
 
 def test_quaternion_curves_are_continuous_and_match_scipy(rng):
