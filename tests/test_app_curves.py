@@ -201,3 +201,20 @@ def test_contact_bars_show_the_core_contacts_and_seek(walk):
     x = bars.strip.x_of_frame(250.5)
     send_mouse(bars.strip, QEvent.Type.MouseButtonPress, QPointF(x, 5), LEFT)
     assert state.frame == 250
+
+
+def test_the_selected_marker_is_plotted_with_its_gaps_shaded(qtbot, studio):
+    from gmr_studio.core.curves import gap_spans
+
+    open_file(studio, shared_path("cmu/subject01/01_01.bvh"), shared_path("cmu/subject01/01_01.c3d"))
+    overlay = studio.state.marker_overlay
+    missing = np.isnan(overlay.positions).any(axis=2)
+    marker = int(np.argmax(missing.sum(axis=0)))  # the marker with the most missing frames
+    assert missing[:, marker].any() and not missing[:, marker].all()
+    studio.state.select_marker(marker)
+    plot = studio.curves.plot
+    label = overlay.markers.labels[marker]
+    assert plot.columns[-3:] == (f"{label}.x", f"{label}.y", f"{label}.z")
+    np.testing.assert_array_equal(plot.values[:, -3:], overlay.positions[:, marker])
+    np.testing.assert_array_equal(plot._span_frames, gap_spans(overlay.positions[:, marker]))
+    assert len(plot._spans) == len(plot._span_frames) > 0
