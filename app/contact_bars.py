@@ -4,7 +4,8 @@ The contacts come from :func:`core.contacts.foot_contacts` on the document's cac
 positions, recomputed when the motion or the thresholds change (two spin boxes: height and
 speed as percentages of the skeleton's size). The current frame is a vertical line; a click
 or drag in the bars sets the frame. The bars are an image made once per contacts and width,
-so playback only redraws the line.
+so playback only redraws the line. Shift+drag selects the state's frame range (shaded), as in
+the curves plot.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ NAME_WIDTH = 110
 PLANTED_COLOUR = QColor("#59a14f")
 BACKGROUND = QColor("#26282c")
 CURSOR_COLOUR = QColor("#ffd400")
+RANGE_COLOUR = QColor(255, 212, 0, 50)
 
 
 class ContactStrip(QWidget):
@@ -37,7 +39,9 @@ class ContactStrip(QWidget):
         self.contacts: Contacts | None = None
         self._image: QImage | None = None
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
+        self._range_anchor: int | None = None
         state.frame_changed.connect(lambda _: self.update())
+        state.range_changed.connect(lambda *_: self.update())
 
     def set_contacts(self, contacts: Contacts | None) -> None:
         self.contacts = contacts
@@ -69,17 +73,32 @@ class ContactStrip(QWidget):
             for row, name in enumerate(self.contacts.names):
                 rect = QRectF(4, 1 + row * ROW_HEIGHT, NAME_WIDTH - 8, ROW_HEIGHT)
                 painter.drawText(rect, Qt.AlignmentFlag.AlignVCenter, name)
+        if self.state.frame_range is not None:
+            start, stop = self.state.frame_range
+            x0, x1 = self.x_of_frame(start), self.x_of_frame(stop)
+            painter.fillRect(QRectF(x0, 0, max(x1 - x0, 1.0), self.height()), RANGE_COLOUR)
         x = self.x_of_frame(self.state.frame + 0.5)
         painter.setPen(CURSOR_COLOUR)
         painter.drawLine(int(x), 0, int(x), self.height())
         painter.end()
 
     def mousePressEvent(self, event: QMouseEvent) -> None:  # noqa: N802
-        self.state.set_frame(self.frame_at(event.position().x()))
+        frame = self.frame_at(event.position().x())
+        if event.modifiers() & Qt.KeyboardModifier.ShiftModifier:  # Shift+drag: a frame range
+            self._range_anchor = frame
+            self.state.set_frame_range(frame, frame + 1)
+        else:
+            self._range_anchor = None
+            self.state.set_frame(frame)
 
     def mouseMoveEvent(self, event: QMouseEvent) -> None:  # noqa: N802
-        if event.buttons() & Qt.MouseButton.LeftButton:
-            self.state.set_frame(self.frame_at(event.position().x()))
+        if not event.buttons() & Qt.MouseButton.LeftButton:
+            return
+        frame = self.frame_at(event.position().x())
+        if self._range_anchor is not None:
+            self.state.set_frame_range(min(frame, self._range_anchor), max(frame, self._range_anchor) + 1)
+        else:
+            self.state.set_frame(frame)
 
 
 def bars_image(planted: np.ndarray, width: int) -> QImage:

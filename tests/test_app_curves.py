@@ -201,6 +201,9 @@ def test_contact_bars_show_the_core_contacts_and_seek(walk):
     x = bars.strip.x_of_frame(250.5)
     send_mouse(bars.strip, QEvent.Type.MouseButtonPress, QPointF(x, 5), LEFT)
     assert state.frame == 250
+    drag(bars.strip, [QPointF(bars.strip.x_of_frame(f + 0.5), 5) for f in (200, 150, 120)], SHIFT)
+    assert state.frame_range == (120, 201) and state.frame == 250
+    assert walk.curves.plot.range == (120, 201)  # the plot shows the range chosen under the timeline
 
 
 def test_the_selected_marker_is_plotted_with_its_gaps_shaded(qtbot, studio):
