@@ -17,7 +17,9 @@ from PyQt6.QtGui import QUndoCommand
 
 from gmr_studio.app.crash import report_unexpected
 from gmr_studio.app.state import Snapshot, StudioState
+from gmr_studio.core.clip import resample, trim
 from gmr_studio.core.errors import OperationError
+from gmr_studio.core.mirror import mirror
 from gmr_studio.core.motion import Motion
 from gmr_studio.core.operations import join, join_all, shift_root, split, split_all
 
@@ -96,3 +98,28 @@ def join_everything(state: StudioState) -> bool:
 def can_join(motion: Motion | None, joint: int | None) -> bool:
     """Join to parent applies: the joint is a split root (a root holding a soft link)."""
     return motion is not None and joint is not None and motion.parents[joint] < 0 and motion.soft_parents[joint] >= 0
+
+
+def trim_to_range(state: StudioState, start: int, stop: int) -> bool:
+    """Keep frames ``[start, stop)`` (:func:`core.clip.trim`)."""
+    return run_edit(state, f"Trim to frames {start}-{stop - 1}", lambda m: trim(m, start, stop))
+
+
+def resample_to(state: StudioState, rate: float) -> bool:
+    """Resample to ``rate`` frames per second (:func:`core.clip.resample`)."""
+    return run_edit(state, f"Resample to {rate:g} Hz", lambda m: resample(m, rate))
+
+
+def mirror_left_right(state: StudioState) -> bool:
+    """Swap left and right (:func:`core.mirror.mirror`); names without a partner are reported."""
+    unmatched: list[str] = []
+
+    def operation(motion: Motion) -> Motion:
+        result, names = mirror(motion)
+        unmatched.extend(names)
+        return result
+
+    done = run_edit(state, "Mirror left/right", operation)
+    if done and unmatched:
+        state.show_message(f"Mirror left/right: no partner for {', '.join(unmatched)} (left as they are)")
+    return done

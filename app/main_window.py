@@ -13,6 +13,8 @@ from gmr_studio.app import actions as action_table
 from gmr_studio.app import commands, extensions
 from gmr_studio.app.alignment_dialog import AlignmentDialog
 from gmr_studio.app.classroom import Classroom
+from gmr_studio.app.contact_bars import ContactBars
+from gmr_studio.app.curves_dock import CurvesDock
 from gmr_studio.app.files import FileController
 from gmr_studio.app.forest import ForestTree
 from gmr_studio.app.inspector import Inspector
@@ -78,7 +80,14 @@ class MainWindow(QMainWindow):
         self.forest_dock = self._dock("Forest", self.forest, Qt.DockWidgetArea.LeftDockWidgetArea)
         self.inspector_dock = self._dock("Inspector", self.inspector, Qt.DockWidgetArea.RightDockWidgetArea)
         self.resizeDocks([self.forest_dock, self.inspector_dock], list(DOCK_WIDTHS), Qt.Orientation.Horizontal)
-        self._dock("Timeline", self.timeline, Qt.DockWidgetArea.BottomDockWidgetArea)
+        timeline_dock = self._dock("Timeline", self.timeline, Qt.DockWidgetArea.BottomDockWidgetArea)
+        self.contact_bars = ContactBars(self.state)
+        contacts_dock = self._dock("Foot contacts", self.contact_bars, Qt.DockWidgetArea.BottomDockWidgetArea)
+        self.curves = CurvesDock(self.state, self.player)
+        curves_dock = self._dock("Curves", self.curves, Qt.DockWidgetArea.BottomDockWidgetArea)
+        self.splitDockWidget(timeline_dock, contacts_dock, Qt.Orientation.Vertical)
+        self.splitDockWidget(contacts_dock, curves_dock, Qt.Orientation.Vertical)
+        self.resizeDocks([curves_dock], [260], Qt.Orientation.Vertical)
         self.view.setMinimumSize(*VIEW_MINIMUM)
         for dock in (self.forest_dock, self.inspector_dock):  # they may give way to the view
             dock.widget().setMinimumWidth(DOCK_MINIMUM)

@@ -49,6 +49,8 @@ class Player(QObject):
         self._timer.setTimerType(Qt.TimerType.PreciseTimer)
         self._timer.timeout.connect(self._on_tick)
         self._shown = -1
+        self.range: tuple[int, int] | None = None  # frames [start, stop) played by play_range
+        self._range_loop = False
         state.document_changed.connect(self._on_document_changed)
         state.frame_changed.connect(self._on_frame_changed)
 
@@ -56,12 +58,32 @@ class Player(QObject):
     def playing(self) -> bool:
         return self._timer.isActive()
 
+    def play_range(self, loop: bool) -> None:
+        """Play the state's frame range once (``loop`` False) or in a loop, from its start
+        unless the frame is already inside it; a plain :meth:`play` plays everything again."""
+        selected = self.state.frame_range
+        if selected is None or selected[1] - selected[0] < 2:
+            return
+        self.pause()
+        self.range, self._range_loop = selected, bool(loop)
+        if not selected[0] <= self.state.frame < selected[1] - 1:
+            self.state.set_frame(selected[0])
+        self._start_playing()
+
     def play(self) -> None:
+        self.range = None
+        self._start_playing()
+
+    def _start_playing(self) -> None:
         motion = self.state.motion
         if motion is None or motion.n_frames < 2 or self.playing:
             return
-        if not self.loop and self.state.frame >= motion.n_frames - 1:
+        if self.range is not None and not self.range[0] <= self.state.frame < self.range[1]:
+            self.range = None  # moved outside the range played last: play everything
+        if self.range is None and not self.loop and self.state.frame >= motion.n_frames - 1:
             self.state.set_frame(0)
+        elif self.range is not None and not self._range_loop and self.state.frame >= self.range[1] - 1:
+            self.state.set_frame(self.range[0])
         self._restart_clock()
         # tick at the motion's rate, at most ~120 Hz (the frame is computed from time anyway)
         interval = max(8, int(1000 * motion.frame_time / self.speed))
@@ -74,7 +96,7 @@ class Player(QObject):
             self.playing_changed.emit(False)
 
     def toggle(self) -> None:
-        self.pause() if self.playing else self.play()
+        self.pause() if self.playing else self._start_playing()
 
     def set_speed(self, speed: float) -> None:
         speed = float(min(max(speed, SPEEDS[0]), SPEEDS[-1]))
@@ -91,6 +113,8 @@ class Player(QObject):
 
     def _restart_clock(self) -> None:
         self._start = self.state.frame
+        if self.range is not None:
+            self._start = min(max(self._start, self.range[0]), self.range[1] - 1)
         self._clock.start()
 
     def _on_tick(self) -> None:
@@ -98,9 +122,12 @@ class Player(QObject):
         if motion is None:
             self.pause()
             return
+        first, stop = self.range or (0, motion.n_frames)
+        loop = self._range_loop if self.range else self.loop
         frame, finished = frame_at(
-            self._clock.nsecsElapsed() * 1e-9, self._start, motion.frame_rate, self.speed, motion.n_frames, self.loop
+            self._clock.nsecsElapsed() * 1e-9, self._start - first, motion.frame_rate, self.speed, stop - first, loop
         )
+        frame += first
         self._shown = frame
         self.state.set_frame(frame)
         if finished:
@@ -108,6 +135,7 @@ class Player(QObject):
 
     def _on_document_changed(self) -> None:
         self.pause()
+        self.range = None
 
     def _on_frame_changed(self, frame: int) -> None:
         if self.playing and frame != self._shown:  # the user moved the slider: play on from there

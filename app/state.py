@@ -126,6 +126,7 @@ class StudioState(QObject):
     path_changed = pyqtSignal(str)
     modified_changed = pyqtSignal(bool)
     message = pyqtSignal(str)  # for the status bar
+    range_changed = pyqtSignal(int, int)  # frame range [start, stop) for range actions; (-1, -1): none
 
     def __init__(self, parent: QObject | None = None) -> None:
         super().__init__(parent)
@@ -141,6 +142,7 @@ class StudioState(QObject):
         self.marker_overlay: MarkerOverlay | None = None
         self.selected_marker: int | None = None
         self.pelvis: PelvisOverlay | None = None
+        self.frame_range: tuple[int, int] | None = None
 
     # ------------------------------------------------------------------ the document
     @property
@@ -173,6 +175,7 @@ class StudioState(QObject):
         self.marker_overlay = None
         self.selected_marker = None
         self.pelvis = None
+        self.set_frame_range(-1, -1)
         self.document_changed.emit()
         self.path_changed.emit(str(self.path or ""))
         self.frame_changed.emit(0)
@@ -189,6 +192,7 @@ class StudioState(QObject):
         """
         if self.snapshot is not None and snapshot.motion.n_frames != self.snapshot.motion.n_frames:
             self.frame = min(self.frame, max(snapshot.motion.n_frames - 1, 0))
+            self.set_frame_range(-1, -1)
         followed = self.follow_joint(self.selected, snapshot.motion)
         moved = followed != self.selected
         if moved and self.selected is not None:  # views drop the old index before they rebuild
@@ -238,6 +242,15 @@ class StudioState(QObject):
         if joint != self.selected:
             self.selected = joint
             self.selection_changed.emit(-1 if joint is None else joint)
+
+    def set_frame_range(self, start: int, stop: int) -> None:
+        """Select frames ``[start, stop)`` for range actions (play, loop, trim); clamped to the
+        motion; an empty range (e.g. ``-1, -1``) clears it."""
+        start, stop = max(int(start), 0), min(int(stop), self.n_frames)
+        selected = (start, stop) if start < stop else None
+        if selected != self.frame_range:
+            self.frame_range = selected
+            self.range_changed.emit(*(selected or (-1, -1)))
 
     def set_overlay(self, name: str, shown: bool) -> None:
         if name not in self.overlays:

@@ -1,14 +1,31 @@
-"""``gmr edit IN -o OUT [--shift-root J] [--split J] [--join J] [--remove-dummies] ...``: apply the operations
-in the order given, then write ``.gmr`` or ``.bvh`` (a forest under one World root)."""
+"""``gmr edit IN -o OUT [--shift-root J] [--split J] [--join J] [--split-all] [--join-all]
+[--remove-dummies] [--frames A:B] [--rate HZ] [--mirror] ...``: apply the operations in the
+order given, then write ``.gmr`` or ``.bvh`` (a forest under one World root). ``--frames``
+trims to ``A:B`` (0-based, B excluded), ``--rate`` resamples (:mod:`core.clip`), ``--mirror``
+swaps left and right (:mod:`core.mirror`; names that look sided but have no partner are listed
+on stderr)."""
 
 from __future__ import annotations
 
 import argparse
+import sys
 
 from gmr_studio.core.cli.convert import write_converted
-from gmr_studio.core.cli.reading import add_reading_options, load_gmr_with_args
+from gmr_studio.core.cli.curves import parse_frames
+from gmr_studio.core.cli.reading import add_reading_options, load_gmr_with_args, positive_number
+from gmr_studio.core.clip import resample, trim
 from gmr_studio.core.dummies import remove_dummies
+from gmr_studio.core.mirror import mirror
+from gmr_studio.core.motion import Motion
 from gmr_studio.core.operations import join, join_all, shift_root, split, split_all
+
+
+def _mirrored(motion: Motion) -> Motion:
+    result, unmatched = mirror(motion)
+    if unmatched:
+        print(f"gmr edit --mirror: no partner for {', '.join(unmatched)} (left as they are)", file=sys.stderr)
+    return result
+
 
 OPERATIONS = {
     "shift_root": lambda m, j: shift_root(m, j),
@@ -17,6 +34,9 @@ OPERATIONS = {
     "split_all": lambda m, _: split_all(m),
     "join_all": lambda m, _: join_all(m),
     "remove_dummies": lambda m, _: remove_dummies(m)[0],
+    "frames": lambda m, frames: trim(m, *frames),
+    "rate": lambda m, rate: resample(m, rate),
+    "mirror": lambda m, _: _mirrored(m),
 }
 
 
@@ -30,18 +50,25 @@ class _Append(argparse.Action):
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    parser = sub.add_parser("edit", help="shift root, split and join, in the order given")
+    parser = sub.add_parser("edit", help="shift root, split, join, trim, resample, mirror, in the order given")
     parser.add_argument("input", help="a .bvh, .gmr or .amc file (an AMC's skeleton: --asf, else the .asf beside it)")
     parser.add_argument("-o", "--output", required=True, help="a .gmr or .bvh file (forests: a World root)")
     add_edit_arguments(parser)
+    parser.add_argument(
+        "--frames", metavar="A:B", type=parse_frames, action=_Append, const="frames", help="keep frames A to B-1"
+    )
+    parser.add_argument(
+        "--rate", metavar="HZ", type=positive_number, action=_Append, const="rate", help="resample to HZ"
+    )
+    parser.add_argument("--mirror", nargs=0, action=_Append, const="mirror", help="swap left and right")
     add_reading_options(parser)
     parser.set_defaults(run=run)
 
 
 def add_edit_arguments(parser: argparse.ArgumentParser) -> None:
-    """The edit flags, collected in command-line order as ``args.steps``: a list of
-    (operation, joint name or None) pairs, operation a key of :data:`OPERATIONS` (also
-    used by ``gmr-studio FILE --split J ...``)."""
+    """The structural edit flags, collected in command-line order as ``args.steps``: a list of
+    (operation, joint name or None) pairs, operation a key of :data:`OPERATIONS` (also used by
+    ``gmr-studio FILE --split J ...``)."""
     parser.add_argument("--shift-root", metavar="J", action=_Append, const="shift_root", help="make J its tree's root")
     parser.add_argument("--split", metavar="J", action=_Append, const="split", help="make J a root (soft link kept)")
     parser.add_argument("--join", metavar="J", action=_Append, const="join", help="join split root J to its parent")

@@ -1,0 +1,140 @@
+"""``python -m gmr_studio.app.curves_bench``: what the curves dock costs (prints only; run under xvfb-run).
+
+On CMU 01_01 tiled to 100,000 frames (38 joints), with the world position of LeftFoot,
+RightHand and Head plotted (9 curves of 100,000 points each, the whole range in view):
+
+1. Drawing: computing the curves, handing them to the plot and repainting it.
+2. The same plot in a window of its own: moving its cursor one frame and repainting (what
+   playback asks of it, without the cost of composing the main window, whose OpenGL 3D
+   view makes every repaint of any widget in it a full composition under Xvfb).
+3. The whole window during playback: ``state.set_frame(f)`` and the events that follow (3D
+   view, timeline, inspector, contact bars, curves) with the curves dock shown and hidden;
+   the difference of the medians is what the curves add to a frame update.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from collections.abc import Sequence
+
+import numpy as np
+
+from gmr_studio.core.shared_data import shared_data_dir
+
+BVH = "cmu/subject01/01_01.bvh"
+
+
+def _median_ms(seconds: list[float]) -> tuple[float, float]:
+    ms = 1000 * np.asarray(seconds)
+    return float(np.median(ms)), float(np.percentile(ms, 95))
+
+
+def _print(label: str, seconds: list[float]) -> float:
+    median, p95 = _median_ms(seconds)
+    print(f"{label:<58} median {median:7.2f} ms   p95 {p95:7.2f} ms")
+    return median
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m gmr_studio.app.curves_bench", description=__doc__.splitlines()[0])
+    parser.add_argument("--frames", type=int, default=100_000, help="frames of the motion plotted")
+    parser.add_argument("--updates", type=int, default=300, help="frame updates timed")
+    parser.add_argument("--profile", action="store_true", help="print a profile of the window's frame updates")
+    args = parser.parse_args(argv)
+    if not (shared_data_dir() / BVH).exists():
+        print(f"the CMU files are not in {shared_data_dir()}: nothing to measure", file=sys.stderr)
+        return 2
+    from PyQt6.QtCore import QSettings
+    from PyQt6.QtWidgets import QApplication
+
+    from gmr_studio.app.main_window import MainWindow
+    from gmr_studio.app.state import Snapshot
+    from gmr_studio.app.timeplot import TimePlot
+    from gmr_studio.core.formats import load_gmr
+
+    app = QApplication.instance() or QApplication(sys.argv[:1])
+    base = load_gmr(shared_data_dir() / BVH)
+    index = np.tile(np.arange(base.n_frames), -(-args.frames // base.n_frames))[: args.frames]
+    motion = base.frame_slice(index)
+    scratch = os.path.join(os.environ.get("TMPDIR", "/tmp"), "gmr-studio-curves-bench.ini")
+    if os.path.exists(scratch):
+        os.remove(scratch)  # a layout saved by an earlier run may hide the dock
+    window = MainWindow(settings=QSettings(scratch, QSettings.Format.IniFormat))
+    window.settings.clear()
+    window.files.quiet = True
+    window.resize(1400, 1000)
+    window.show()
+    app.processEvents()
+    state, dock = window.state, window.curves
+    state.open_document(Snapshot.of(motion), None)
+    state.select(motion.joint_index("Head"))
+    dock.set_quantity("world")
+    for name in ("LeftFoot", "RightHand"):
+        dock.pinned.append(motion.joint_index(name))
+    app.processEvents()
+    dock.refresh(autoscale=True)
+    print(f"machine load (1, 5, 15 min): {', '.join(f'{v:.1f}' for v in os.getloadavg())} on {os.cpu_count()} cores")
+    print(
+        f"01_01 tiled: {motion.n_frames} frames x {motion.n_joints} joints; plot "
+        f"{dock.plot.plot_widget.width()}x{dock.plot.plot_widget.height()} px, "
+        f"{len(dock.plot.columns)} curves of {dock.plot.values.shape[0]} points"
+    )
+    draws = []
+    for _ in range(5):
+        start = time.perf_counter()
+        dock.refresh(autoscale=True)
+        dock.plot.plot_widget.viewport().repaint()
+        draws.append(time.perf_counter() - start)
+    _print("draw: compute the curves, plot them, repaint", draws)
+    alone = TimePlot()
+    alone.resize(dock.plot.width(), dock.plot.height())
+    alone.set_curves(dock.plot.frames, dock.plot.columns, dock.plot.values, dock.plot.unit)
+    alone.show()
+    alone.autoscale()
+    app.processEvents()
+    moves = []
+    for f in range(args.updates):
+        start = time.perf_counter()
+        alone.set_cursor(1000 + f)
+        app.processEvents()  # the view repaints the strips of the cursor's old and new places
+        moves.append(time.perf_counter() - start)
+    _print("the same plot in its own window: move the cursor + repaint", moves)
+    alone.close()
+    if args.profile:
+        import cProfile
+        import pstats
+
+        with cProfile.Profile() as profile:
+            for f in range(50):
+                state.set_frame(3000 + f)
+                app.processEvents()
+        pstats.Stats(profile).sort_stats("cumulative").print_stats(25)
+    times: dict[bool, list[float]] = {True: [], False: []}
+    curves_dock = window.findChild(type(window.history_dock), "curves")
+    for block in range(6):  # shown and hidden in turns, so that the machine's load hits both alike
+        shown = block % 2 == 0
+        curves_dock.setVisible(shown)
+        for f in range(10):  # warm up
+            state.set_frame(f)
+            app.processEvents()
+        for f in range(args.updates // 3):
+            start = time.perf_counter()
+            state.set_frame(2000 + block * args.updates + f)
+            app.processEvents()
+            times[shown].append(time.perf_counter() - start)
+    medians = {
+        shown: _print(f"window frame update, curves dock {'shown' if shown else 'hidden'}", times[shown])
+        for shown in (True, False)
+    }
+    added = medians[True] - medians[False]
+    print(f"{'the curves dock adds to a frame update (difference of medians)':<58} {added:7.2f} ms")
+    state.undo_stack.setClean()
+    window.close()
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,133 @@
+"""Mirror a motion left/right across its sagittal plane.
+
+Left/right partners are found by name (:func:`side_partners`), with these rules, tried in
+order on each name:
+
+- strict (a name that fits one without a partner is *reported*): ``Left*``/``Right*``
+  (after an optional ``namespace:``, e.g. ``mixamorig:LeftArm``), ``*_L``/``*_R``,
+  ``*.L``/``*.R`` (either case of the letter);
+- loose (a name that fits one without a partner is taken as central, since ``lowerback``
+  and ``LowerBack`` are no side): ``l*``/``r*`` followed by a lower-case letter, as in CMU
+  ASF (``lfemur``), and ``L*``/``R*`` followed by an upper-case letter (``LHipJoint``).
+
+The sagittal plane is perpendicular to the *lateral axis*: the world axis (X, Y or Z) most
+aligned with the mean left-minus-right vector of the partners in the rest pose; it passes
+through the mean lateral coordinate of all joints at the first frame. With ``S`` the
+reflection of that axis and ``σ`` the partner swap (an involution; central joints map to
+themselves), joint ``j`` of the result takes the data of ``σ(j)`` reflected:
+``R'_j = S R_σ(j) S`` (a rotation again), ``t'_j = S t_σ(j)`` (plus ``2 c n`` for a root's
+world position), ``parent'(j) = σ(parent(σ(j)))``, orders and channels of ``σ(j)``. Every
+world position becomes ``P'_j = S P_σ(j) + 2 c n`` in either convention (forward kinematics
+commutes with the conjugation), and mirroring twice gives the motion back exactly.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+
+import numpy as np
+
+from gmr_studio.core.errors import OperationError
+from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.motion import Motion
+
+#: (pattern, left, right, strict): the side is group 2; groups 1 and 3 are kept
+SIDE_RULES: tuple[tuple[re.Pattern[str], str, str, bool], ...] = (
+    (re.compile(r"^((?:.*:)?)(Left|Right)(.*)$"), "Left", "Right", True),
+    (re.compile(r"^((?:.*:)?)(left|right)(.*)$"), "left", "right", True),
+    (re.compile(r"^(.+_)(L|R)()$"), "L", "R", True),
+    (re.compile(r"^(.+_)(l|r)()$"), "l", "r", True),
+    (re.compile(r"^(.+\.)(L|R)()$"), "L", "R", True),
+    (re.compile(r"^(.+\.)(l|r)()$"), "l", "r", True),
+    (re.compile(r"^()(l|r)([a-z].*)$"), "l", "r", False),
+    (re.compile(r"^()(L|R)([A-Z].*)$"), "L", "R", False),
+)
+
+
+@dataclasses.dataclass(frozen=True)
+class SidePairs:
+    """Left/right partners of a motion's joints.
+
+    Attributes
+    ----------
+    partner : (J,) int64, the index of each joint's partner (itself for central joints).
+    pairs : (P, 2) int64, ``(left, right)`` index pairs.
+    unmatched : names that follow a strict side rule but whose partner is absent.
+    """
+
+    partner: np.ndarray
+    pairs: np.ndarray
+    unmatched: tuple[str, ...]
+
+
+def side_partners(names: tuple[str, ...] | list[str]) -> SidePairs:
+    """Partners of each name under :data:`SIDE_RULES` (see the module docstring)."""
+    index = {name: j for j, name in enumerate(names)}
+    partner = np.arange(len(names), dtype=np.int64)
+    pairs: list[tuple[int, int]] = []
+    unmatched: list[str] = []
+    for j, name in enumerate(names):
+        for pattern, left, right, strict in SIDE_RULES:
+            match = pattern.match(name)
+            if match is None:
+                continue
+            head, side, tail = match.groups()
+            other = index.get(f"{head}{right if side == left else left}{tail}")
+            if other is not None:
+                partner[j] = other
+                if side == left:
+                    pairs.append((j, other))
+                break
+            if strict:
+                unmatched.append(name)
+                break
+    return SidePairs(partner, np.array(pairs, dtype=np.int64).reshape(-1, 2), tuple(unmatched))
+
+
+def lateral_axis(motion: Motion, pairs: np.ndarray) -> int:
+    """The world axis (0, 1, 2) most aligned with the mean left-minus-right vector of the
+    pairs in the rest pose; OperationError when there are no pairs or they coincide."""
+    if pairs.shape[0] == 0:
+        raise OperationError("mirror needs left/right joints, and no joint names follow a left/right rule")
+    rest = world_positions(motion.rest_pose())[0]
+    across = np.abs((rest[pairs[:, 0]] - rest[pairs[:, 1]]).mean(axis=0))
+    if not across.max() > 1e-9 * motion.size:
+        raise OperationError("the left and right joints coincide in the rest pose: no lateral axis")
+    return int(np.argmax(across))
+
+
+def mirror(motion: Motion) -> tuple[Motion, tuple[str, ...]]:
+    """The motion mirrored left/right (module docstring) and the names left unmatched.
+
+    Raises OperationError when no joints pair up.
+    """
+    sides = side_partners(motion.names)
+    axis = lateral_axis(motion, sides.pairs)
+    sigma = sides.partner
+    first = world_positions(motion.frame_slice(slice(0, 1)))[0] if motion.n_frames else np.zeros((1, 3))
+    centre = float(first[:, axis].mean())
+    flip = np.ones(3)
+    flip[axis] = -1.0
+    shift = np.zeros(3)
+    shift[axis] = 2.0 * centre
+    parents = motion.parents[sigma]
+    parents = np.where(parents >= 0, sigma[np.maximum(parents, 0)], -1)
+    soft = motion.soft_parents[sigma]
+    soft = np.where(soft >= 0, sigma[np.maximum(soft, 0)], -1)
+    is_root = (parents < 0)[:, None]
+    offsets = motion.offsets[sigma] * flip + np.where(is_root, shift, 0.0)
+    translations = motion.translations[:, sigma] * flip + np.where(is_root, shift, 0.0)
+    # S R S for a diagonal S of +-1: entry (a, b) times flip[a] * flip[b]
+    rotations = motion.rotations[:, sigma] * np.outer(flip, flip)
+    mirrored = motion.replace(
+        names=motion.names,
+        parents=parents,
+        soft_parents=soft,
+        offsets=offsets,
+        rotation_orders=tuple(motion.rotation_orders[s] for s in sigma),
+        has_translation=motion.has_translation[sigma],
+        rotations=rotations,
+        translations=translations,
+    )
+    return mirrored, sides.unmatched

@@ -1,0 +1,116 @@
+"""Unit quaternions for curves and resampling, vectorised over any leading shape.
+
+Convention: components ``(w, x, y, z)``, scalar first; ``q`` and ``-q`` are the same
+rotation. Rotation matrices follow :mod:`core.rotations` (column vectors, active). The
+project stores rotations as matrices (see :mod:`core.motion`); quaternions only appear
+where they are the natural tool: plotting a rotation as four smooth components and
+interpolating between two rotations (slerp).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: below this angle (radians) between two quaternions, slerp falls back to a normalised lerp
+SLERP_LINEAR_BELOW = 1e-6
+
+
+def quaternion_from_matrix(matrices: np.ndarray) -> np.ndarray:
+    """Unit quaternions (w, x, y, z) of rotation matrices, ``w >= 0``: (..., 3, 3) -> (..., 4).
+
+    Shepperd's method: of the four candidate formulas, each entry uses the one with the
+    largest denominator, so the result is accurate for every rotation (including 180 degrees).
+    """
+    m = np.asarray(matrices, dtype=np.float64)
+    m00, m11, m22 = m[..., 0, 0], m[..., 1, 1], m[..., 2, 2]
+    trace = m00 + m11 + m22
+    candidates = np.stack(
+        [
+            np.stack(
+                [1 + trace, m[..., 2, 1] - m[..., 1, 2], m[..., 0, 2] - m[..., 2, 0], m[..., 1, 0] - m[..., 0, 1]], -1
+            ),
+            np.stack(
+                [
+                    m[..., 2, 1] - m[..., 1, 2],
+                    1 + m00 - m11 - m22,
+                    m[..., 0, 1] + m[..., 1, 0],
+                    m[..., 0, 2] + m[..., 2, 0],
+                ],
+                -1,
+            ),
+            np.stack(
+                [
+                    m[..., 0, 2] - m[..., 2, 0],
+                    m[..., 0, 1] + m[..., 1, 0],
+                    1 - m00 + m11 - m22,
+                    m[..., 1, 2] + m[..., 2, 1],
+                ],
+                -1,
+            ),
+            np.stack(
+                [
+                    m[..., 1, 0] - m[..., 0, 1],
+                    m[..., 0, 2] + m[..., 2, 0],
+                    m[..., 1, 2] + m[..., 2, 1],
+                    1 - m00 - m11 + m22,
+                ],
+                -1,
+            ),
+        ],
+        axis=-2,
+    )  # (..., 4 candidates, 4 components); candidate c has 4 q_c^2 on its diagonal entry c
+    best = np.argmax(np.stack([trace, m00, m11, m22], axis=-1), axis=-1)
+    chosen = np.take_along_axis(candidates, best[..., None, None], axis=-2)[..., 0, :]
+    q = chosen / np.linalg.norm(chosen, axis=-1, keepdims=True)
+    return np.where(q[..., :1] < 0, -q, q)
+
+
+def matrix_from_quaternion(quaternions: np.ndarray) -> np.ndarray:
+    """Rotation matrices of quaternions (w, x, y, z), normalised first: (..., 4) -> (..., 3, 3)."""
+    q = np.asarray(quaternions, dtype=np.float64)
+    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    w, x, y, z = np.moveaxis(q, -1, 0)
+    out = np.empty((*q.shape[:-1], 3, 3))
+    out[..., 0, 0] = 1 - 2 * (y * y + z * z)
+    out[..., 0, 1] = 2 * (x * y - w * z)
+    out[..., 0, 2] = 2 * (x * z + w * y)
+    out[..., 1, 0] = 2 * (x * y + w * z)
+    out[..., 1, 1] = 1 - 2 * (x * x + z * z)
+    out[..., 1, 2] = 2 * (y * z - w * x)
+    out[..., 2, 0] = 2 * (x * z - w * y)
+    out[..., 2, 1] = 2 * (y * z + w * x)
+    out[..., 2, 2] = 1 - 2 * (x * x + y * y)
+    return out
+
+
+def continuous_quaternions(quaternions: np.ndarray) -> np.ndarray:
+    """Quaternions over frames (F, ..., 4) with signs chosen so that consecutive frames lie
+    in the same hemisphere (each ``q_f . q_{f-1} >= 0``): the same rotations, smooth curves."""
+    q = np.asarray(quaternions, dtype=np.float64)
+    if q.shape[0] < 2:
+        return q.copy()
+    flips = np.einsum("f...c,f...c->f...", q[1:], q[:-1]) < 0
+    sign = np.concatenate([np.ones((1, *q.shape[1:-1])), np.where(np.cumsum(flips, axis=0) % 2 == 1, -1.0, 1.0)])
+    return q * sign[..., None]
+
+
+def slerp(q0: np.ndarray, q1: np.ndarray, fraction: np.ndarray) -> np.ndarray:
+    """Spherical linear interpolation along the shorter arc: (..., 4), (..., 4), (...) -> (..., 4).
+
+    ``fraction`` 0 gives ``q0`` and 1 gives ``q1`` (up to sign: the shorter arc may end at
+    ``-q1``, the same rotation). Nearly equal quaternions use a normalised lerp.
+    """
+    q0 = np.asarray(q0, dtype=np.float64)
+    q1 = np.asarray(q1, dtype=np.float64)
+    t = np.asarray(fraction, dtype=np.float64)[..., None]
+    dot = np.sum(q0 * q1, axis=-1, keepdims=True)
+    q1 = np.where(dot < 0, -q1, q1)
+    dot = np.abs(dot)
+    angle = np.arccos(np.clip(dot, -1.0, 1.0))
+    sin_angle = np.sin(angle)
+    small = angle < SLERP_LINEAR_BELOW
+    safe = np.where(small, 1.0, sin_angle)
+    w0 = np.where(small, 1.0 - t, np.sin((1.0 - t) * angle) / safe)
+    w1 = np.where(small, t, np.sin(t * angle) / safe)
+    out = w0 * q0 + w1 * q1
+    return out / np.linalg.norm(out, axis=-1, keepdims=True)
