@@ -295,6 +295,31 @@ class FileController(QObject):
         self.state.show_message(text)
         return True
 
+    def export_gltf_dialog(self) -> None:
+        if self.state.motion is None:
+            return
+        stem = self.state.path.with_suffix(".glb").name if self.state.path else "motion.glb"
+        path, _ = QFileDialog.getSaveFileName(
+            self.window, "Export glTF", str(Path(self._folder()) / stem), "glTF binary (*.glb);;glTF JSON (*.gltf)"
+        )
+        if path:
+            self.export_gltf(path if path.lower().endswith((".glb", ".gltf")) else path + ".glb")
+
+    def export_gltf(self, path: str | Path) -> bool:
+        """Write the document as glTF 2.0 (Y up, metres, with the bone-capsule mesh)."""
+        from gmr_studio.core.formats.gltf import export_gltf
+
+        try:
+            result = export_gltf(self.state.motion, path)
+        except (OSError, ValueError) as exc:
+            self._report(f"Cannot export {path}: {exc}")
+            return False
+        except Exception as exc:
+            self._report(describe_unexpected(f"Exporting {path}", exc))
+            return False
+        self.state.show_message(f"Exported {path} ({result.unit_note})")
+        return True
+
     # ------------------------------------------------------------- screenshots, video
     def save_screenshot_dialog(self) -> None:
         path, _ = QFileDialog.getSaveFileName(self.window, "Save screenshot", self._folder(), "PNG images (*.png)")
