@@ -20,6 +20,7 @@ Key = QKeySequence.StandardKey
 #: name -> (text, shortcut(s), status tip, checkable, standard icon or None)
 ACTIONS: dict[str, tuple[str, object, str, bool, str | None]] = {
     "open": ("&Open...", Key.Open, "Open a BVH, ASF/AMC or GMR motion", False, "SP_DialogOpenButton"),
+    "body_model": ("&Body model...", "", "The SMPL/SMPL-H/SMPL-X model AMASS .npz motions are read with", False, None),
     "add_markers": ("Add &markers...", "Ctrl+M", "Show a C3D or TRC marker file over the motion", False, None),
     "align_markers": ("Marker &alignment...", "", "Units, axes, offset and scale of the markers", False, None),
     "remove_markers": ("Remove markers", "", "Hide and forget the markers", False, None),
@@ -119,6 +120,7 @@ def fill_menus(window: QMainWindow, actions: dict[str, QAction], recent_menu: QM
     file_menu = bar.addMenu("&File")
     file_menu.addAction(actions["open"])
     file_menu.addMenu(recent_menu)
+    file_menu.addAction(actions["body_model"])
     file_menu.addSeparator()
     for name in ("save", "save_as", "export_bvh", "export_gltf"):
         file_menu.addAction(actions[name])

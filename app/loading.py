@@ -33,12 +33,13 @@ def file_filter(suffixes: list[str], what: str) -> str:
     return f"{what} ({patterns});;All files (*)"
 
 
-def load_snapshot(path: str | Path) -> Snapshot:
-    """Read a motion file as GMR and compute its forward kinematics for every frame.
+def load_snapshot(path: str | Path, **options) -> Snapshot:
+    """Read a motion file as GMR and compute its forward kinematics for every frame
+    (``options`` go to the reader, e.g. ``body_model`` for AMASS ``.npz``).
 
     Raises MotionFileError for a bad or unknown file.
     """
-    return Snapshot.of(load_gmr(path))
+    return Snapshot.of(load_gmr(path, **options))
 
 
 def load_markers(path: str | Path) -> MarkerSet:

@@ -1,4 +1,5 @@
-"""``gmr convert IN OUT``: .bvh, .amc (+ASF), .gmr in; .gmr, .bvh, .glb/.gltf out; or ``--batch``.
+"""``gmr convert IN OUT``: .bvh, .amc (+ASF), .gmr, AMASS .npz (+``--body-model``) in; .gmr,
+.bvh, .glb/.gltf out; or ``--batch``.
 
 Options, applied in this order: ``--remove-dummies`` (fold zero-offset joints into their
 children), ``--scale S`` (lengths times S), ``--up y|z`` (turn the world so that axis is
@@ -27,7 +28,7 @@ from gmr_studio.core.formats import motion_suffix, read_motion, write_motion
 from gmr_studio.core.motion import Motion
 
 #: formats ``convert`` reads and writes
-INPUT_SUFFIXES = (".bvh", ".amc", ".gmr")
+INPUT_SUFFIXES = (".bvh", ".amc", ".gmr", ".npz")
 OUTPUT_SUFFIXES = (".bvh", ".gmr", ".glb", ".gltf")
 
 
@@ -43,6 +44,7 @@ class ConvertOptions:
     remove_dummies: bool = False
     split_trees: bool = False
     metres_per_unit: float | None = None
+    body_model: str | None = None
 
     @classmethod
     def from_args(cls, args: argparse.Namespace) -> ConvertOptions:
@@ -71,6 +73,7 @@ def add_conversion_options(parser: argparse.ArgumentParser) -> None:
     """The options shared by single and batch conversion."""
     parser.add_argument("--asf", help="skeleton of the .amc input(s) (default: the .asf beside each AMC)")
     parser.add_argument("--frame-rate", type=positive_number, help="frames per second of .amc inputs (default 120)")
+    parser.add_argument("--body-model", help="the SMPL/SMPL-H/SMPL-X model (.npz/.pkl) of AMASS .npz inputs")
     parser.add_argument("--scale", type=positive_number, help="multiply every length by this factor")
     parser.add_argument("--up", choices=UP_AXES, help="make this axis the up axis of the output")
     parser.add_argument("--from-up", choices=UP_AXES, help="the input's up axis (default: its header's, else y)")
@@ -97,7 +100,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         usage="gmr convert IN OUT [options]\n"
         "       gmr convert --batch IN_DIR OUT_DIR [--to gmr|bvh|glb] [--jobs N] [options]",
     )
-    parser.add_argument("input", help="a .bvh, .amc or .gmr file (with --batch: a folder)")
+    parser.add_argument("input", help="a .bvh, .amc, .gmr or AMASS .npz file (with --batch: a folder)")
     parser.add_argument("output", help="the .gmr or .bvh file to write (with --batch: a folder)")
     parser.add_argument("--batch", action="store_true", help="convert every motion file in the folder tree IN_DIR")
     parser.add_argument("--to", choices=("gmr", "bvh", "glb"), default="gmr", help="with --batch: output format (gmr)")
@@ -111,6 +114,8 @@ def read_for_conversion(path: str | Path, options: ConvertOptions) -> Motion:
     extra = {}
     if motion_suffix(path) == ".amc":
         extra = {key: value for key, value in (("asf", options.asf), ("frame_rate", options.frame_rate)) if value}
+    elif motion_suffix(path) == ".npz":
+        extra = {"body_model": options.body_model}
     return read_motion(path, **extra)
 
 
@@ -182,7 +187,7 @@ def convert_file(
     """Read, convert and write one file (outputs written atomically)."""
     suffix = motion_suffix(source)
     if suffix not in INPUT_SUFFIXES:
-        raise OperationError(f"cannot convert '{Path(source).suffix}' files: expected .bvh, .amc or .gmr")
+        raise OperationError(f"cannot convert '{Path(source).suffix}' files: expected .bvh, .amc, .gmr or .npz")
     motion = read_for_conversion(source, options)
     motion, notes = transformed(motion, options)
     if motion_suffix(output) == ".gmr":

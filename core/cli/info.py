@@ -13,13 +13,20 @@ from gmr_studio.core.formats import read_motion
 from gmr_studio.core.motion import Motion
 
 #: what ``info`` calls each format, by suffix
-FORMAT_NAMES = {".bvh": "BVH", ".gmr": "GMR", ".amc": "AMC (Acclaim, with its ASF)", ".asf": "ASF (Acclaim skeleton)"}
+FORMAT_NAMES = {
+    ".bvh": "BVH",
+    ".gmr": "GMR",
+    ".amc": "AMC (Acclaim, with its ASF)",
+    ".asf": "ASF (Acclaim skeleton)",
+    ".npz": "AMASS/SMPL (with its body model)",
+}
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("info", help="joints, roots, soft links, frames, frame rate and channels of a file")
     parser.add_argument("file", help="a .bvh, .gmr, .amc or .asf file, or a .c3d or .trc marker file")
     parser.add_argument("--asf", help="the skeleton of an .amc file (default: the single .asf beside it)")
+    parser.add_argument("--body-model", help="the SMPL/SMPL-H/SMPL-X model (.npz/.pkl) of an AMASS .npz motion")
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
     parser.set_defaults(run=run)
 
@@ -96,6 +103,8 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps(info, indent=2) if args.json else markers_text(info))
         return 0
     options = {"asf": args.asf} if args.asf and args.file.lower().endswith(".amc") else {}
+    if args.file.lower().endswith(".npz"):
+        options = {"body_model": args.body_model}
     info = describe(read_motion(args.file, **options), args.file)
     if args.json:
         json.dump(info, sys.stdout, indent=2)

@@ -21,11 +21,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("file", help="any motion file the project reads")
     parser.add_argument("-o", "--output", required=True, help="the .npz file to write")
+    parser.add_argument("--body-model", help="the SMPL/SMPL-H/SMPL-X model (.npz/.pkl) of an AMASS .npz motion")
     parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    motion = read_motion(args.file)
+    options = {"body_model": args.body_model} if args.file.lower().endswith(".npz") else {}
+    motion = read_motion(args.file, **options)
     buffer = io.BytesIO()
     np.savez(
         buffer,
