@@ -98,13 +98,18 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="convert .bvh/.amc/.gmr to .gmr/.bvh/.glb, one file or a folder tree (--batch)",
         description=__doc__.split("\n\n")[0] if __doc__ else None,
         usage="gmr convert IN OUT [options]\n"
-        "       gmr convert --batch IN_DIR OUT_DIR [--to gmr|bvh|glb] [--jobs N] [options]",
+        "       gmr convert --batch IN_DIR OUT_DIR [--to gmr|bvh|glb] [--jobs N | --scheduler S] [options]",
     )
     parser.add_argument("input", help="a .bvh, .amc, .gmr or AMASS .npz file (with --batch: a folder)")
     parser.add_argument("output", help="the .gmr or .bvh file to write (with --batch: a folder)")
     parser.add_argument("--batch", action="store_true", help="convert every motion file in the folder tree IN_DIR")
     parser.add_argument("--to", choices=("gmr", "bvh", "glb"), default="gmr", help="with --batch: output format (gmr)")
     parser.add_argument("--jobs", type=int, default=None, help="with --batch: parallel processes (default: all cores)")
+    parser.add_argument(
+        "--scheduler",
+        metavar="tcp://HOST:8786|local:N",
+        help="with --batch: run on a Dask cluster (extra 'cluster'; docs/cluster.md) instead of local processes",
+    )
     add_conversion_options(parser)
     parser.set_defaults(run=run)
 
@@ -203,7 +208,7 @@ def run(args: argparse.Namespace) -> int:
     if args.batch:
         from gmr_studio.core.cli.batch import run_batch
 
-        return run_batch(Path(args.input), Path(args.output), args.to, options, args.jobs)
+        return run_batch(Path(args.input), Path(args.output), args.to, options, args.jobs, scheduler=args.scheduler)
     report = convert_file(args.input, args.output, options, quiet=False)
     for note in report.notes:
         for path in report.outputs:
