@@ -37,16 +37,16 @@ def input_suffixes(options: ConvertOptions) -> tuple[str, ...]:
     return INPUT_SUFFIXES if options.body_model else tuple(s for s in INPUT_SUFFIXES if s != ".npz")
 
 
-def find_motion_files(in_dir: Path, out_dir: Path, suffixes: tuple[str, ...] = INPUT_SUFFIXES) -> list[Path]:
+def find_motion_files(in_dir: Path, out_dir: Path | None, suffixes: tuple[str, ...] = INPUT_SUFFIXES) -> list[Path]:
     """Every input file under ``in_dir`` (sorted) with one of ``suffixes``, none from inside
-    ``out_dir``."""
-    out = out_dir.resolve()
+    ``out_dir`` (if given)."""
+    out = out_dir.resolve() if out_dir is not None else None
     files = []
     for path in sorted(in_dir.rglob("*")):
         if path.suffix.lower() not in suffixes or not path.is_file():
             continue
         resolved = path.resolve()
-        if resolved == out or out in resolved.parents:
+        if out is not None and (resolved == out or out in resolved.parents):
             continue
         files.append(path)
     return files
