@@ -30,13 +30,15 @@ class Progress:
             leave=True,
         )
 
-    def message(self, text: str) -> None:
-        """One line above the bar."""
+    def message(self, text: str, stream: TextIO | None = None) -> None:
+        """One line above the bar, on the bar's stream or on ``stream`` (e.g. stdout)."""
         line = " ".join(text.splitlines())
+        target = stream or self.stream
         if self.bar.disable:
-            self.stream.write(line + "\n")
+            target.write(line + "\n")
+            target.flush()
         else:
-            self.bar.write(line, file=self.stream)
+            self.bar.write(line, file=target)
 
     def advance(self, ok: bool = True, count: int = 1) -> None:
         self.done += count
