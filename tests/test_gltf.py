@@ -202,3 +202,12 @@ def test_cli_convert_to_glb(tmp_path, capsys):
     gltf, _ = load_gltf(out)
     assert gltf.asset.extras["metres_per_unit"] == 0.1
     assert "glTF" in capsys.readouterr().out
+
+
+def test_a_single_joint_has_no_mesh(tmp_path, rng):
+    motion = random_motion(rng, [-1], n_frames=4)
+    result = export_gltf(motion, tmp_path / "one.glb", metres_per_unit=1.0)
+    assert not result.skinned
+    check_round_trip(motion, tmp_path / "one.glb", metres_per_unit=1.0)
+    gltf, _ = load_gltf(tmp_path / "one.glb")
+    assert gltf.meshes == [] and gltf.skins == [] and len(gltf.nodes) == 2

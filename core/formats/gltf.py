@@ -219,12 +219,13 @@ def build_gltf(
                     gl.AnimationChannel(sampler=len(samplers) - 1, target=gl.AnimationChannelTarget(node=j, path=path))
                 )
         gltf.animations.append(gl.Animation(name="motion", samplers=samplers, channels=channels))
-    if skin and n_frames:
-        scene_nodes.append(add_capsule_skin(gltf, buffers, scene_motion, skeleton_root=n_joints))
+    mesh_node = add_capsule_skin(gltf, buffers, scene_motion, skeleton_root=n_joints) if skin and n_frames else None
+    if mesh_node is not None:
+        scene_nodes.append(mesh_node)
     gltf.scenes.append(gl.Scene(name="motion", nodes=scene_nodes))
     gltf.scene = 0
     blob = buffers.finish()
-    summary = GltfExport("", factor, unit_note, up_note, len(gltf.nodes), n_frames, skin and n_frames > 0)
+    summary = GltfExport("", factor, unit_note, up_note, len(gltf.nodes), n_frames, mesh_node is not None)
     return gltf, blob, summary
 
 

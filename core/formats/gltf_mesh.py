@@ -77,12 +77,15 @@ def capsule_bones(motion: Motion) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return motion.parents[children], np.zeros_like(offsets), offsets
 
 
-def add_capsule_skin(gltf: gl.GLTF2, buffers, motion: Motion, *, skeleton_root: int) -> int:
+def add_capsule_skin(gltf: gl.GLTF2, buffers, motion: Motion, *, skeleton_root: int) -> int | None:
     """Add the capsule mesh, its skin over nodes ``0..J-1`` and a node holding both to
-    ``gltf`` (``buffers``: the exporter's BufferBuilder); return that node's index."""
+    ``gltf`` (``buffers``: the exporter's BufferBuilder); return that node's index, or None
+    (nothing added) when the skeleton has no bone to draw."""
+    nodes, starts, ends = capsule_bones(motion)
+    if nodes.size == 0:
+        return None
     positions, world = forward_kinematics(motion.frame_slice(slice(0, 1)))
     positions, world = positions[0], world[0]
-    nodes, starts, ends = capsule_bones(motion)
     directions, top, faces = unit_capsule()
     axis = ends - starts
     length = np.linalg.norm(axis, axis=1)
