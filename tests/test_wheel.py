@@ -128,3 +128,16 @@ def test_gmr_studio_screenshot_of_the_demo_from_the_wheel(installed):
         image.convertToFormat(QImage.Format.Format_RGB888).constBits().asstring(640 * 400 * 3), np.uint8
     )
     assert np.unique(pixels.reshape(-1, 3), axis=0).shape[0] > 50  # a drawn scene, not a blank image
+
+
+def test_the_readme_library_example_runs_from_the_wheel(installed):
+    """The README's library example (its imports name gmr_studio) runs as written."""
+    _, bin_folder, work = installed
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    section = readme.split("## The library", 1)[1]
+    example = section.split("```python\n", 1)[1].split("```", 1)[0]
+    assert "from gmr_studio.core" in example and "from core" not in example
+    shutil.copy(shared_path("cmu/subject01/01_01.bvh"), work / "01_01.bvh")
+    ran = run([str(bin_folder / "python"), "-c", example], work)
+    assert ran.returncode == 0, ran.stderr
+    assert (work / "feet.gmr").exists()
