@@ -20,6 +20,7 @@ Key = QKeySequence.StandardKey
 #: name -> (text, shortcut(s), status tip, checkable, standard icon or None)
 ACTIONS: dict[str, tuple[str, object, str, bool, str | None]] = {
     "open": ("&Open...", Key.Open, "Open a BVH, ASF/AMC or GMR motion", False, "SP_DialogOpenButton"),
+    "body_model": ("&Body model...", "", "The SMPL/SMPL-H/SMPL-X model AMASS .npz motions are read with", False, None),
     "add_markers": ("Add &markers...", "Ctrl+M", "Show a C3D or TRC marker file over the motion", False, None),
     "align_markers": ("Marker &alignment...", "", "Units, axes, offset and scale of the markers", False, None),
     "remove_markers": ("Remove markers", "", "Hide and forget the markers", False, None),
@@ -27,6 +28,13 @@ ACTIONS: dict[str, tuple[str, object, str, bool, str | None]] = {
     "save": ("&Save", Key.Save, "Save the motion as GMR", False, "SP_DialogSaveButton"),
     "save_as": ("Save &as GMR...", Key.SaveAs, "Save the motion as another GMR file", False, None),
     "export_bvh": ("&Export BVH...", "Ctrl+E", "Write the motion as BVH (one tree)", False, None),
+    "export_gltf": (
+        "Export &glTF...",
+        "",
+        "Write the motion as glTF 2.0 (.glb): nodes, animation, bone mesh",
+        False,
+        None,
+    ),
     "screenshot": ("Save screens&hot...", "Ctrl+Shift+P", "Save the 3D view as a PNG", False, None),
     "export_video": ("Export &video...", "", "Write an mp4 of the playback", False, None),
     "quit": ("&Quit", Key.Quit, "Close GMR Studio", False, None),
@@ -138,8 +146,9 @@ def fill_menus(window: QMainWindow, actions: dict[str, QAction], recent_menu: QM
     file_menu = bar.addMenu("&File")
     file_menu.addAction(actions["open"])
     file_menu.addMenu(recent_menu)
+    file_menu.addAction(actions["body_model"])
     file_menu.addSeparator()
-    for name in ("save", "save_as", "export_bvh"):
+    for name in ("save", "save_as", "export_bvh", "export_gltf"):
         file_menu.addAction(actions[name])
     file_menu.addSeparator()
     for name in ("add_markers", "align_markers", "recover_pelvis", "remove_markers"):
@@ -206,7 +215,16 @@ def update_enabled(actions: dict[str, QAction], state: StudioState, remove_dummi
     actions["split_all"].setEnabled(bool(has_motion and len(motion.roots) < motion.n_joints))
     actions["join_all"].setEnabled(bool(has_motion and (motion.soft_parents >= 0).any()))
     actions["remove_dummies"].setEnabled(bool(has_motion and remove_dummies_available))
-    for name in ("save", "save_as", "export_bvh", "screenshot", "export_video", "add_markers", "reset_camera"):
+    for name in (
+        "save",
+        "save_as",
+        "export_bvh",
+        "export_gltf",
+        "screenshot",
+        "export_video",
+        "add_markers",
+        "reset_camera",
+    ):
         actions[name].setEnabled(has_motion)
     has_markers = state.marker_overlay is not None
     for name in ("align_markers", "remove_markers"):

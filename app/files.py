@@ -9,6 +9,7 @@ window closes. Recent files and the last folder live in QSettings.
 
 from __future__ import annotations
 
+import functools
 from pathlib import Path
 
 from PyQt6.QtCore import QObject, QSettings, Qt, pyqtSignal
@@ -93,7 +94,29 @@ class FileController(QObject):
         if ask and not self.maybe_save():
             return
         self.pending_markers = str(markers) if markers else None
-        self._run(loading.load_snapshot, path, self._on_motion_loaded, f"Reading {Path(path).name}...", wait)
+        options = {"body_model": self.body_model(ask=True)} if Path(path).suffix.lower() == ".npz" else {}
+        reader = functools.partial(loading.load_snapshot, **options)
+        self._run(reader, path, self._on_motion_loaded, f"Reading {Path(path).name}...", wait)
+
+    def body_model(self, *, ask: bool) -> str | None:
+        """The body model file AMASS/SMPL motions are read with (a setting); when unset and
+        ``ask``, a dialog asks for it (None if cancelled: the reader then says what is missing)."""
+        chosen = str(self.settings.value("body_model", "") or "")
+        if (not chosen or not Path(chosen).exists()) and ask and not self.quiet:
+            self.choose_body_model()
+            chosen = str(self.settings.value("body_model", "") or "")
+        return chosen or None
+
+    def choose_body_model(self) -> None:
+        path, _ = QFileDialog.getOpenFileName(
+            self.window,
+            "Body model for AMASS/SMPL motions (SMPL-H for AMASS)",
+            self._folder(),
+            "Body models (*.npz *.pkl);;All files (*)",
+        )
+        if path:
+            self.settings.setValue("body_model", path)
+            self.state.show_message(f"AMASS/SMPL motions are read with the body model {path}")
 
     def _run(self, function, path, on_loaded, label: str, wait: bool) -> None:
         job = loading.LoadJob(function, path, self)
@@ -293,6 +316,31 @@ class FileController(QObject):
             self._report(describe_unexpected(f"Exporting {path}", exc))
             return False
         self.state.show_message(text)
+        return True
+
+    def export_gltf_dialog(self) -> None:
+        if self.state.motion is None:
+            return
+        stem = self.state.path.with_suffix(".glb").name if self.state.path else "motion.glb"
+        path, _ = QFileDialog.getSaveFileName(
+            self.window, "Export glTF", str(Path(self._folder()) / stem), "glTF binary (*.glb);;glTF JSON (*.gltf)"
+        )
+        if path:
+            self.export_gltf(path if path.lower().endswith((".glb", ".gltf")) else path + ".glb")
+
+    def export_gltf(self, path: str | Path) -> bool:
+        """Write the document as glTF 2.0 (Y up, metres, with the bone-capsule mesh)."""
+        from gmr_studio.core.formats.gltf import export_gltf
+
+        try:
+            result = export_gltf(self.state.motion, path)
+        except (OSError, ValueError) as exc:
+            self._report(f"Cannot export {path}: {exc}")
+            return False
+        except Exception as exc:
+            self._report(describe_unexpected(f"Exporting {path}", exc))
+            return False
+        self.state.show_message(f"Exported {path} ({result.unit_note})")
         return True
 
     # ------------------------------------------------------------- screenshots, video

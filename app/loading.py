@@ -35,15 +35,16 @@ def file_filter(suffixes: list[str], what: str) -> str:
     return f"{what} ({patterns});;All files (*)"
 
 
-def load_snapshot(path: str | Path) -> Snapshot:
-    """Read a motion file as GMR and compute its forward kinematics for every frame.
+def load_snapshot(path: str | Path, **options) -> Snapshot:
+    """Read a motion file as GMR and compute its forward kinematics for every frame
+    (``options`` go to the reader, e.g. ``body_model`` for AMASS ``.npz``).
 
     Raises MotionFileError for a bad or unknown file.
     """
     if motion_suffix(path) == ".bvh":  # keep the file's channel values for the inspector
         motion, channels = read_bvh_with_channels(path)
         return Snapshot.of(pre_from_post(motion), file_channels=channels)
-    return Snapshot.of(load_gmr(path))
+    return Snapshot.of(load_gmr(path, **options))
 
 
 def load_markers(path: str | Path) -> MarkerSet:

@@ -146,6 +146,8 @@ class MainWindow(QMainWindow):
             "save": files.save,
             "save_as": files.save_as,
             "export_bvh": files.export_bvh_dialog,
+            "export_gltf": files.export_gltf_dialog,
+            "body_model": files.choose_body_model,
             "screenshot": files.save_screenshot_dialog,
             "export_video": lambda: files.export_video_dialog(player.speed),
             "quit": self.close,

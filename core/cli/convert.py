@@ -1,4 +1,5 @@
-"""``gmr convert IN OUT``: .bvh, .amc (+ASF), .gmr in; .gmr, .bvh out; or ``--batch``.
+"""``gmr convert IN OUT``: .bvh, .amc (+ASF), .gmr, AMASS .npz (+``--body-model``) in; .gmr,
+.bvh, .glb/.gltf out; or ``--batch``.
 
 Options, applied in this order: ``--remove-dummies`` (fold zero-offset joints into their
 children), ``--scale S`` (lengths times S), ``--up y|z`` (turn the world so that axis is
@@ -8,7 +9,8 @@ for one, reads lines at fixed offsets), so for a BVH they are printed instead.
 
 BVH output is standard whatever the motion holds (:mod:`core.export`): dummy joints for
 independent siblings, a forest under one ``World`` root, or one file per tree with
-``--split-trees``. ``--batch IN_DIR OUT_DIR`` converts a folder tree (:mod:`core.cli.batch`).
+``--split-trees``. ``--batch IN_DIR OUT_DIR`` converts a folder tree (:mod:`core.cli.batch`). glTF output is
+Y up in metres (:mod:`core.formats.gltf`; ``--metres-per-unit``, else inferred).
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ import argparse
 import dataclasses
 from pathlib import Path
 
-from gmr_studio.core.cli.reading import add_reading_options, reader_options
+from gmr_studio.core.cli.reading import add_reading_options, positive_number, reader_options
 from gmr_studio.core.conversions import change_up_axis, scale_lengths
 from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.dummies import remove_dummies
@@ -27,8 +29,8 @@ from gmr_studio.core.formats import motion_suffix, read_motion, write_motion
 from gmr_studio.core.motion import Motion
 
 #: formats ``convert`` reads and writes
-INPUT_SUFFIXES = (".bvh", ".amc", ".gmr")
-OUTPUT_SUFFIXES = (".bvh", ".gmr")
+INPUT_SUFFIXES = (".bvh", ".amc", ".gmr", ".npz")
+OUTPUT_SUFFIXES = (".bvh", ".gmr", ".glb", ".gltf")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -42,6 +44,8 @@ class ConvertOptions:
     from_up: str | None = None
     remove_dummies: bool = False
     split_trees: bool = False
+    metres_per_unit: float | None = None
+    body_model: str | None = None
 
     @classmethod
     def from_args(cls, args: argparse.Namespace) -> ConvertOptions:
@@ -70,28 +74,38 @@ def add_conversion_options(parser: argparse.ArgumentParser) -> None:
         action="store_true",
         help="BVH output: one file per tree (OUT_<root>.bvh) instead of a World root",
     )
+    parser.add_argument(
+        "--metres-per-unit",
+        type=positive_number,
+        help="glTF output: metres per length unit (default: inferred from the skeleton's size)",
+    )
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser(
         "convert",
-        help="convert .bvh/.amc/.gmr to .gmr/.bvh, one file or a folder tree (--batch)",
+        help="convert .bvh/.amc/.gmr to .gmr/.bvh/.glb, one file or a folder tree (--batch)",
         description=__doc__.split("\n\n")[0] if __doc__ else None,
         usage="gmr convert IN OUT [options]\n"
-        "       gmr convert --batch IN_DIR OUT_DIR [--to gmr|bvh] [--jobs N] [options]",
+        "       gmr convert --batch IN_DIR OUT_DIR [--to gmr|bvh|glb] [--jobs N | --scheduler S] [options]",
     )
-    parser.add_argument("input", help="a .bvh, .amc or .gmr file (with --batch: a folder)")
+    parser.add_argument("input", help="a .bvh, .amc, .gmr or AMASS .npz file (with --batch: a folder)")
     parser.add_argument("output", help="the .gmr or .bvh file to write (with --batch: a folder)")
     parser.add_argument("--batch", action="store_true", help="convert every motion file in the folder tree IN_DIR")
-    parser.add_argument("--to", choices=("gmr", "bvh"), default="gmr", help="with --batch: output format (gmr)")
+    parser.add_argument("--to", choices=("gmr", "bvh", "glb"), default="gmr", help="with --batch: output format (gmr)")
     parser.add_argument("--jobs", type=int, default=None, help="with --batch: parallel processes (default: all cores)")
+    parser.add_argument(
+        "--scheduler",
+        metavar="tcp://HOST:8786|local:N",
+        help="with --batch: run on a Dask cluster (extra 'cluster'; docs/cluster.md) instead of local processes",
+    )
     add_conversion_options(parser)
     parser.set_defaults(run=run)
 
 
 def read_for_conversion(path: str | Path, options: ConvertOptions) -> Motion:
     """Read any input file, passing the AMC options to the AMC reader."""
-    return read_motion(path, **reader_options(path, options.asf, options.frame_rate))
+    return read_motion(path, **reader_options(path, options.asf, options.frame_rate, options.body_model))
 
 
 def transformed(motion: Motion, options: ConvertOptions) -> tuple[Motion, list[str]]:
@@ -114,13 +128,27 @@ def transformed(motion: Motion, options: ConvertOptions) -> tuple[Motion, list[s
     return motion, notes
 
 
-def write_converted(motion: Motion, output: str | Path, *, split_trees: bool = False, quiet: bool = False) -> list[str]:
+def write_converted(
+    motion: Motion,
+    output: str | Path,
+    *,
+    split_trees: bool = False,
+    quiet: bool = False,
+    metres_per_unit: float | None = None,
+) -> list[str]:
     """Write ``motion`` (either convention) in the format of ``output``'s suffix; return
     the files written. BVH: the standard form of :func:`core.export.bvh_export` (dummy
     joints where siblings differ, a World root over a forest), or one file per tree."""
     suffix = motion_suffix(output)
     if suffix not in OUTPUT_SUFFIXES:
-        raise OperationError(f"cannot write '{Path(output).suffix}' files: expected .bvh or .gmr")
+        raise OperationError(f"cannot write '{Path(output).suffix}' files: expected .bvh, .gmr, .glb or .gltf")
+    if suffix in (".glb", ".gltf"):
+        from gmr_studio.core.formats.gltf import export_gltf
+
+        result = export_gltf(motion, output, metres_per_unit=metres_per_unit)
+        if not quiet:
+            print(f"{output}: glTF, Y up ({result.up_note}); {result.unit_note}")
+        return [str(output)]
     if suffix == ".gmr":
         gmr = pre_from_post(motion)
         write_motion(gmr, output)
@@ -148,12 +176,14 @@ def convert_file(
     """Read, convert and write one file (outputs written atomically)."""
     suffix = motion_suffix(source)
     if suffix not in INPUT_SUFFIXES:
-        raise OperationError(f"cannot convert '{Path(source).suffix}' files: expected .bvh, .amc or .gmr")
+        raise OperationError(f"cannot convert '{Path(source).suffix}' files: expected .bvh, .amc, .gmr or .npz")
     motion = read_for_conversion(source, options)
     motion, notes = transformed(motion, options)
     if motion_suffix(output) == ".gmr":
         motion = motion.replace(comments=(*motion.comments, f"written by gmr convert from {Path(source).name}"))
-    written = write_converted(motion, output, split_trees=options.split_trees, quiet=quiet)
+    written = write_converted(
+        motion, output, split_trees=options.split_trees, quiet=quiet, metres_per_unit=options.metres_per_unit
+    )
     return ConversionReport(str(source), written, motion.n_frames, motion.n_joints, notes)
 
 
@@ -162,7 +192,7 @@ def run(args: argparse.Namespace) -> int:
     if args.batch:
         from gmr_studio.core.cli.batch import run_batch
 
-        return run_batch(Path(args.input), Path(args.output), args.to, options, args.jobs)
+        return run_batch(Path(args.input), Path(args.output), args.to, options, args.jobs, scheduler=args.scheduler)
     report = convert_file(args.input, args.output, options, quiet=False)
     for note in report.notes:
         for path in report.outputs:

@@ -10,7 +10,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from gmr_studio.core.fuzz.runner import OUTCOMES, print_progress, replay, run_fuzz
+from gmr_studio.core.cli.progress import Progress
+from gmr_studio.core.fuzz.runner import OUTCOMES, replay, run_fuzz
 from gmr_studio.core.fuzz.targets import all_targets
 
 
@@ -43,8 +44,16 @@ def run(args: argparse.Namespace) -> int:
         if unknown:
             print(f"gmr: error: unknown or unavailable formats: {', '.join(unknown)}", file=sys.stderr)
             return 2
-    report = run_fuzz(names, args.cases, args.seed, args.timeout, args.memory_mb, args.jobs, print_progress)
-    print("", file=sys.stderr)
+    bars: list[Progress] = []
+
+    def show(done: int, total: int) -> None:
+        if not bars:
+            bars.append(Progress(total, unit="cases", label="fuzz"))
+        bars[0].advance(count=done - bars[0].done)
+
+    report = run_fuzz(names, args.cases, args.seed, args.timeout, args.memory_mb, args.jobs, show)
+    for bar in bars:
+        bar.close()
     print(f"fuzz run: seed {report.seed}, {report.cases_per_target} cases per format, {report.seconds:.0f} s")
     print(report.table())
     for name in report.unavailable:

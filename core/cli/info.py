@@ -13,7 +13,13 @@ from gmr_studio.core.dummies import find_dummies
 from gmr_studio.core.motion import Motion
 
 #: what ``info`` calls each format, by suffix
-FORMAT_NAMES = {".bvh": "BVH", ".gmr": "GMR", ".amc": "AMC (Acclaim, with its ASF)", ".asf": "ASF (Acclaim skeleton)"}
+FORMAT_NAMES = {
+    ".bvh": "BVH",
+    ".gmr": "GMR",
+    ".amc": "AMC (Acclaim, with its ASF)",
+    ".asf": "ASF (Acclaim skeleton)",
+    ".npz": "AMASS/SMPL (with its body model)",
+}
 
 
 def register(sub: argparse._SubParsersAction) -> None:

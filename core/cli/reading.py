@@ -1,7 +1,8 @@
 """The reading options every ``gmr`` command that reads a motion takes, as one argument group.
 
-``--asf S.asf`` (the skeleton of an ``.amc``; default: the single ``.asf`` beside it) and
-``--frame-rate HZ`` (frames per second of an ``.amc``; default 120). Options that do not
+``--asf S.asf`` (the skeleton of an ``.amc``; default: the single ``.asf`` beside it),
+``--frame-rate HZ`` (frames per second of an ``.amc``; default 120) and ``--body-model M``
+(the SMPL-family model of an AMASS ``.npz``). Options that do not
 apply to a file's format are ignored for it, so ``gmr info``, ``positions``, ``edit``,
 ``convert`` and ``markers`` read ``walk.amc --asf subject.asf`` alike. ``info``,
 ``positions``, ``edit`` and ``convert`` also take ``--scale S`` (lengths times S) and
@@ -37,6 +38,7 @@ def add_reading_options(parser: argparse.ArgumentParser, *, transforms: bool = T
     group = parser.add_argument_group("reading motion files")
     group.add_argument("--asf", help="the skeleton of .amc inputs (default: the single .asf beside each AMC)")
     group.add_argument("--frame-rate", type=positive_number, help="frames per second of .amc inputs (default 120)")
+    group.add_argument("--body-model", help="the SMPL/SMPL-H/SMPL-X model (.npz/.pkl) of AMASS .npz inputs")
     if transforms:
         group.add_argument("--scale", type=positive_number, help="multiply every length by this factor")
         group.add_argument("--up", choices=UP_AXES, help="make this axis the up axis")
@@ -44,17 +46,25 @@ def add_reading_options(parser: argparse.ArgumentParser, *, transforms: bool = T
     return group
 
 
-def reader_options(path: str | Path, asf: str | None = None, frame_rate: float | None = None) -> dict:
+def reader_options(
+    path: str | Path, asf: str | None = None, frame_rate: float | None = None, body_model: str | None = None
+) -> dict:
     """The keyword arguments of :func:`core.formats.read_motion` for ``path``: the AMC
-    options for an ``.amc``, none for other formats."""
-    if motion_suffix(path) != ".amc":
+    options for an ``.amc``, the body model for an AMASS ``.npz`` (None: the reader says
+    what to pass), none for other formats."""
+    suffix = motion_suffix(path)
+    if suffix == ".npz":
+        return {"body_model": body_model}
+    if suffix != ".amc":
         return {}
     return {key: value for key, value in (("asf", asf), ("frame_rate", frame_rate)) if value is not None}
 
 
 def options_from_args(path: str | Path, args: argparse.Namespace) -> dict:
     """:func:`reader_options` from parsed arguments (of a parser with the reading group)."""
-    return reader_options(path, getattr(args, "asf", None), getattr(args, "frame_rate", None))
+    return reader_options(
+        path, getattr(args, "asf", None), getattr(args, "frame_rate", None), getattr(args, "body_model", None)
+    )
 
 
 def transformed_by_args(motion: Motion, args: argparse.Namespace) -> Motion:

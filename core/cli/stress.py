@@ -8,11 +8,13 @@ from __future__ import annotations
 import argparse
 import contextlib
 import resource
+import sys
 import tempfile
 import time
 from pathlib import Path
 
 from gmr_studio.core.benchmark.data import tile_bvh
+from gmr_studio.core.cli.progress import Progress
 from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats.bvh import read_bvh
@@ -42,12 +44,15 @@ def run(args: argparse.Namespace) -> int:
         raise MotionFileError(source, "stress input not found (the shared data folder is missing?)")
     if args.keep:
         Path(args.keep).mkdir(parents=True, exist_ok=True)
+    bar = Progress(5, unit="stages", label="stress")
     with contextlib.nullcontext(args.keep) if args.keep else tempfile.TemporaryDirectory() as folder:
 
         def stage(label, function, *arguments):
             start = time.perf_counter()
             value = function(*arguments)
-            print(f"{label:<44}{time.perf_counter() - start:8.1f} s   peak {peak_gib():6.2f} GiB", flush=True)
+            line = f"{label:<44}{time.perf_counter() - start:8.1f} s   peak {peak_gib():6.2f} GiB"
+            bar.message(line, sys.stdout)
+            bar.advance()
             return value
 
         path = Path(folder) / "large.bvh"
@@ -62,5 +67,6 @@ def run(args: argparse.Namespace) -> int:
         positions, rotations = stage("forward kinematics (positions, rotations)", forward_kinematics, gmr)
         del positions, rotations
         stage("write the GMR file", write_gmr, gmr, Path(folder) / "large.gmr")
+    bar.close()
     print(f"peak resident memory of the whole run: {peak_gib():.2f} GiB")
     return 0

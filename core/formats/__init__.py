@@ -4,7 +4,8 @@
 GMR; Acclaim AMC is read straight into pre-rotation, ``.asf`` alone gives the skeleton's
 rest pose); ``load_gmr`` converts to GMR. The suffix picks the format, case-insensitively.
 Options go to the reader: ``read_motion("walk.amc", asf="subject.asf", frame_rate=120)``
-(by default the AMC's skeleton is the single ``.asf`` beside it).
+(by default the AMC's skeleton is the single ``.asf`` beside it); AMASS/SMPL ``.npz``
+motions need their body model: ``read_motion("walk.npz", body_model="smplh.npz")``.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from pathlib import Path
 from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats.acclaim import read_amc_file, read_asf_file
+from gmr_studio.core.formats.amass import read_amass
 from gmr_studio.core.formats.bvh import read_bvh, write_bvh
 from gmr_studio.core.formats.gmr import read_gmr, write_gmr
 from gmr_studio.core.motion import Motion
@@ -24,6 +26,7 @@ READERS: dict[str, Callable[..., Motion]] = {
     ".gmr": read_gmr,
     ".amc": read_amc_file,
     ".asf": read_asf_file,
+    ".npz": read_amass,  # AMASS/SMPL motions; needs body_model=PATH
 }
 WRITERS: dict[str, Callable[[Motion, Path], None]] = {".bvh": write_bvh, ".gmr": write_gmr}
 
