@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from gmr_studio.core.errors import MotionFileError, OperationError
 
 #: subcommand modules, in the order ``gmr --help`` lists them
-COMMANDS = ("info", "positions", "edit", "convert", "markers", "bench", "fuzz", "stress")
+COMMANDS = ("info", "positions", "edit", "convert", "markers", "compare", "audit", "bench", "fuzz", "stress")
 
 
 def build_parser() -> argparse.ArgumentParser:
