@@ -10,7 +10,7 @@ from PyQt6.QtGui import QCloseEvent, QDragEnterEvent, QDropEvent
 from PyQt6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMenu, QMessageBox, QUndoView, QWidget
 
 from gmr_studio.app import actions as action_table
-from gmr_studio.app import commands, extensions
+from gmr_studio.app import audit_dialog, commands, extensions
 from gmr_studio.app.alignment_dialog import AlignmentDialog
 from gmr_studio.app.classroom import Classroom
 from gmr_studio.app.contact_bars import ContactBars
@@ -72,6 +72,7 @@ class MainWindow(QMainWindow):
         toggle.setText("&History")
         toggle.setShortcut("Ctrl+H")
         self.joint_menu = action_table.fill_menus(self, self.actions, self.recent_menu, toggle)
+        self.audit_action = audit_dialog.install(self, self.state)
         self.forest = ForestTree(self.state)
         self.forest.tree_colors = self.view.scene.tree_colors  # one colour per tree in both
         self.inspector = Inspector(self.state)

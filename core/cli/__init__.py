@@ -14,7 +14,20 @@ from collections.abc import Sequence
 from gmr_studio.core.errors import MotionFileError, OperationError
 
 #: subcommand modules, in the order ``gmr --help`` lists them
-COMMANDS = ("info", "positions", "curves", "edit", "convert", "dataset", "markers", "bench", "fuzz", "stress")
+COMMANDS = (
+    "info",
+    "positions",
+    "curves",
+    "edit",
+    "convert",
+    "dataset",
+    "markers",
+    "compare",
+    "audit",
+    "bench",
+    "fuzz",
+    "stress",
+)
 
 
 def build_parser() -> argparse.ArgumentParser:

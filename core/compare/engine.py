@@ -1,0 +1,220 @@
+"""Compare two tracks (or motions): match, one clock, one space, errors per frame and joint."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+
+from gmr_studio.core.compare.align import ALIGN_KINDS, Alignment, fit_alignment, rms_distance, rms_of_squares
+from gmr_studio.core.compare.clock import find_offset, resample, resample_rotations, take
+from gmr_studio.core.compare.result import Comparison
+from gmr_studio.core.compare.tracks import Track, space_change, track_of_motion
+from gmr_studio.core.jointmap import JointMap, JointMatch, match_joints
+from gmr_studio.core.motion import Motion
+
+#: frame rates closer than this (relative) are one rate: BVH prints its frame time to ~7
+#: digits (0.0083333 s is 120.0005 Hz), which would otherwise drift B by a frame in 2,000 s
+SAME_RATE_TOLERANCE = 1e-5
+#: frames per block of the rotation error (temporaries of ~3 MB for 38 joints)
+ROTATION_BLOCK = 1024
+FramesArg = slice | tuple[int | None, int | None] | np.ndarray | None
+
+
+def compare_motions(
+    a: Motion,
+    b: Motion,
+    *,
+    joint_map: str | Path | JointMap | Mapping[str, str] | None = None,
+    match: JointMatch | None = None,
+    with_rotations: bool = True,
+    label_a: str = "",
+    label_b: str = "",
+    **options,
+) -> Comparison:
+    """Compare motion B with motion A: :func:`compare_tracks` on their joints.
+
+    ``match`` (explicit pairs) wins over ``joint_map``; with neither, equal names pair.
+    ``options`` go to :func:`compare_tracks` (frames, offset, align, scale, up_b).
+    """
+    track_a = track_of_motion(a, with_rotations=with_rotations, label=label_a)
+    track_b = track_of_motion(b, with_rotations=with_rotations, label=label_b)
+    return compare_tracks(track_a, track_b, match or match_joints(a.names, b.names, joint_map), **options)
+
+
+def compare_tracks(
+    a: Track,
+    b: Track,
+    match: JointMatch,
+    *,
+    frames: FramesArg = None,
+    offset: float | str = 0.0,
+    align: str = "none",
+    scale: float | None = None,
+    up_b: str | None = None,
+    max_offset_overlap: float = 0.5,
+) -> Comparison:
+    """B compared with A over A's ``frames``, B put on A's clock and in A's space.
+
+    Parameters
+    ----------
+    a, b : the two tracks; errors come out in A's units, on A's frames.
+    match : which point of A goes with which of B.
+    frames : A's frames to compare: a slice, ``(start, stop)`` (stop excluded, None = end)
+        or an array of indices; default all.
+    offset : B's time minus A's, in A's frames (any real number), or ``"auto"`` to find it
+        from the root trajectories (:func:`core.compare.clock.find_offset`).
+    align : "none", "rigid" or "similarity", fitted over all compared frames.
+    scale, up_b : A units per B unit and B's up axis, when the files do not say (or say
+        wrong); see :func:`core.compare.tracks.space_change`.
+
+    Raises ValueError for nothing matched, frames out of range, a bad option.
+    """
+    if not match.pairs:
+        raise ValueError(
+            "no joints matched: give a joint map (--map) that pairs their names "
+            f"(A has {', '.join(match.unmatched_a[:4])}...; B has {', '.join(match.unmatched_b[:4])}...)"
+        )
+    if align not in ALIGN_KINDS:
+        raise ValueError(f"alignment must be one of {', '.join(ALIGN_KINDS)}, not {align!r}")
+    index_a = np.array([i for i, _ in match.pairs], dtype=np.int64)
+    index_b = np.array([j for _, j in match.pairs], dtype=np.int64)
+    rows = _frames_of(frames, a.n_frames)
+    space = space_change(a, b, scale=scale, up_b=up_b)
+
+    rate_b, notes = b.frame_rate, list(space.notes)
+    if rate_b != a.frame_rate and abs(rate_b / a.frame_rate - 1.0) < SAME_RATE_TOLERANCE:
+        notes.append(
+            f"frame rates {a.frame_rate:.7g} and {rate_b:.7g} Hz taken as equal "
+            "(they differ by the rounding of a printed frame time)"
+        )
+        rate_b = a.frame_rate
+    if isinstance(offset, str):
+        if offset != "auto":
+            raise ValueError(f"the offset must be a number of frames or 'auto', not {offset!r}")
+        lag, _score = find_offset(
+            a.positions[:, index_a[0]], space.scale * b.positions[:, index_b[0]], a.frame_rate, rate_b,
+            min_overlap=max_offset_overlap,
+        )  # fmt: skip
+        offset_frames, found = float(lag), True
+    else:
+        offset_frames, found = float(offset), False
+        if not np.isfinite(offset_frames):
+            raise ValueError(f"the offset must be a finite number of frames, not {offset}")
+    offset_seconds = offset_frames / a.frame_rate
+    times = rows / a.frame_rate
+    at = (times + offset_seconds) * rate_b
+
+    positions_a = take(a.positions, rows, index_a)
+    positions_b = resample(b.positions, at, index_b)
+    q = space.up_rotation
+    pre_fit = positions_b
+    if space.scale != 1.0 or not np.array_equal(q, np.eye(3)):
+        pre_fit = _transformed(positions_b, space.scale * q, np.zeros(3))
+    rotation, translation, fitted_scale = fit_alignment(positions_a, pre_fit, align)
+    aligned_b = pre_fit if align == "none" else _transformed(pre_fit, fitted_scale * rotation, translation)
+    difference = positions_a - aligned_b
+    squared = np.einsum("fjk,fjk->fj", difference, difference)
+    rms_after = rms_of_squares(squared)
+    rms_before = rms_after if align == "none" else rms_distance(positions_a, pre_fit)
+    position_error = np.sqrt(squared, out=squared)
+
+    alignment = Alignment(
+        kind=align,
+        rotation=rotation,
+        translation=translation,
+        scale=fitted_scale,
+        units_scale=space.scale,
+        up_rotation=q,
+        offset_frames=offset_frames,
+        offset_seconds=offset_seconds,
+        offset_found=found,
+        rms_before=rms_before,
+        rms_after=rms_after,
+        notes=tuple(notes),
+    )
+    rotation_error = None
+    if a.rotations is not None and b.rotations is not None:
+        rotation_error = _rotation_error(a, b, rows, at, index_a, index_b, alignment)
+    return Comparison(
+        names_a=tuple(a.names[i] for i in index_a),
+        names_b=tuple(b.names[j] for j in index_b),
+        index_a=index_a,
+        index_b=index_b,
+        unmatched_a=list(match.unmatched_a),
+        unmatched_b=list(match.unmatched_b),
+        frames=rows,
+        times=times,
+        positions_a=positions_a,
+        positions_b=aligned_b,
+        position_error=position_error,
+        rotation_error=rotation_error,
+        alignment=alignment,
+        units=a.units,
+        size_a=a.size,
+        label_a=a.label,
+        label_b=b.label,
+    )
+
+
+def _rotation_error(
+    a: Track,
+    b: Track,
+    rows: np.ndarray,
+    at: np.ndarray,
+    index_a: np.ndarray,
+    index_b: np.ndarray,
+    alignment: Alignment,
+) -> np.ndarray:
+    """(F, J) degrees between A's world rotations and B's, B's moved into A's space.
+
+    The angle comes from the chord ``|W_a - W_b|_F = 2 sqrt(2) sin(angle / 2)``, accurate
+    near 0 where a trace formula loses half the digits. Computed in blocks of frames so
+    that the (block, J, 3, 3) temporaries stay in the cache and no (F, J, 3, 3) copy is made.
+    """
+    turn = None
+    if not (alignment.kind == "none" and np.array_equal(alignment.up_rotation, np.eye(3))):
+        # W_b -> M W_b N on the 9 entries: vec(M W N)[a, d] = sum_bc M[a, b] N[c, d] W[b, c]
+        m, n = alignment.rotation @ alignment.up_rotation, alignment.up_rotation.T
+        turn = np.einsum("ab,cd->adbc", m, n).reshape(9, 9)
+    angle = np.empty((len(rows), len(index_a)))
+    for start in range(0, len(rows), ROTATION_BLOCK):
+        block = slice(start, start + ROTATION_BLOCK)
+        ra = take(a.rotations, rows[block], index_a).reshape(-1, len(index_a), 9)
+        rb = resample_rotations(b.rotations, at[block], index_b).reshape(-1, len(index_b), 9)
+        if turn is not None:
+            rb = np.einsum("fjq,pq->fjp", rb, turn)
+        difference = ra - rb
+        chord = np.sqrt(np.einsum("fjp,fjp->fj", difference, difference))
+        angle[block] = 2.0 * np.arcsin(np.minimum(chord / (2.0 * np.sqrt(2.0)), 1.0))
+    angle = np.degrees(angle, out=angle)
+    oriented = a.has_rotation[index_a] & b.has_rotation[index_b]
+    if not oriented.all():
+        angle[:, ~oriented] = np.nan
+    return angle
+
+
+def _transformed(points: np.ndarray, matrix: np.ndarray, translation: np.ndarray) -> np.ndarray:
+    """``matrix @ p + translation`` for points (..., 3); an einsum, not a BLAS product, whose
+    threads cost more than the work on a busy machine."""
+    out = np.einsum("...k,lk->...l", points, matrix)
+    out += translation
+    return out
+
+
+def _frames_of(frames: FramesArg, n_frames: int) -> np.ndarray:
+    """A's frames to compare as sorted unique indices (F,) int64; ValueError if out of range."""
+    if frames is None:
+        return np.arange(n_frames, dtype=np.int64)
+    if isinstance(frames, tuple):
+        frames = slice(*frames)
+    if isinstance(frames, slice):
+        rows = np.arange(n_frames, dtype=np.int64)[frames]
+    else:
+        rows = np.unique(np.asarray(frames, dtype=np.int64))
+        if rows.size and (rows[0] < 0 or rows[-1] >= n_frames):
+            raise ValueError(f"frames must be within 0..{n_frames - 1} (A's frames)")
+    if not rows.size:
+        raise ValueError(f"no frames to compare: A has {n_frames} frames")
+    return rows
