@@ -17,6 +17,9 @@ do). Many writers (Qualisys, Vicon Nexus exports, the Plug-in Gait sample) write
 residual for every sample: there it means "no residual recorded", and the samples are kept.
 ``"gap"`` and ``"keep"`` force one reading. A sample at exactly (0, 0, 0) with no positive
 residual is a gap (older writers mark missing markers that way).
+
+Long captures: past 65,535 frames ezc3d stops at the 16-bit count; the worker then reads the
+real count from the parameters and decodes every frame (:mod:`core.markers.c3d_frames`).
 """
 
 from __future__ import annotations
@@ -193,7 +196,14 @@ def _marker_set(decoded: dict, where: str, zero_residual: ZeroResidual) -> Marke
         notes.append(f"{int(origin.sum())} samples at exactly (0, 0, 0) with no residual read as gaps")
         gaps |= origin
     points[gaps] = np.nan
-    if meta["announced_frames"] != n_frames and meta["announced_frames"] > 0:
+    long_frames = meta.get("long_frames")
+    if long_frames:
+        notes.append(
+            f"{long_frames['where']} gives {long_frames['announced']} frames, more than the header's 16-bit "
+            f"frame numbers hold: {long_frames['read']} frames read"
+            + ("" if long_frames["read"] == long_frames["announced"] else " (the file ends there: it may be truncated)")
+        )
+    elif meta["announced_frames"] != n_frames and meta["announced_frames"] > 0:
         notes.append(
             f"the header announces {meta['announced_frames']} frames, the file holds {n_frames}: it may be truncated"
         )

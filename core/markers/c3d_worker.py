@@ -23,9 +23,13 @@ def decode_c3d(path: Path) -> dict:
     """What this module needs from ezc3d, as plain arrays and a JSON-ready ``meta`` dict.
 
     Returns ``points`` (F, M, 3) float64 (NaN where ezc3d flags the sample), ``residuals``
-    (F, M) float64 and ``meta`` (labels, units, rate, first_frame).
+    (F, M) float64 and ``meta`` (labels, units, rate, first_frame, and ``long_frames``
+    when the parameters announce more frames than ezc3d read: then every frame is decoded
+    by :func:`core.markers.c3d_frames.read_points`).
     """
     import ezc3d  # imported here: the parent process of an isolated read never loads it
+
+    from gmr_studio.core.markers.c3d_frames import parameter_frame_count, read_points
 
     c3d = ezc3d.c3d(str(path))
     point = c3d["parameters"]["POINT"]
@@ -47,6 +51,10 @@ def decode_c3d(path: Path) -> dict:
         "rate": float(rate[0]) if len(rate) else float(header["frame_rate"]),
         "first_frame": int(header["first_frame"]),
     }
+    counted = parameter_frame_count(c3d["parameters"])
+    if counted is not None and counted[0] > xyz.shape[0]:  # past 65,535 frames: ezc3d stops there
+        xyz, residuals, read = read_points(path, c3d["parameters"], counted[0])
+        meta["long_frames"] = {"announced": counted[0], "where": counted[1], "read": read}
     return {"points": xyz, "residuals": residuals, "meta": meta}
 
 
