@@ -17,6 +17,38 @@ import numpy as np
 
 #: exit status when ezc3d raised (the same number as core.markers.c3d.REJECTED)
 REJECTED = 3
+#: POINT parameters that list analysis outputs stored as points (the C3D standard's groups;
+#: POINT:TYPE_GROUPS may name more)
+OUTPUT_GROUPS = ("ANGLES", "FORCES", "MOMENTS", "POWERS", "SCALARS", "REACTIONS")
+#: POINT parameters that are never output groups, whatever TYPE_GROUPS says
+_NOT_GROUPS = ("LABELS", "DESCRIPTIONS", "UNITS", "TYPE_GROUPS")
+
+
+def output_groups(point) -> tuple[dict[str, list[str]], dict[str, str]]:
+    """The analysis-output groups of ezc3d's POINT parameters: group name -> the point labels
+    it lists, and group name -> its unit (``POINT:ANGLE_UNITS`` for ANGLES...).
+
+    The groups are :data:`OUTPUT_GROUPS` and every POINT parameter that ``POINT:TYPE_GROUPS``
+    names (pairs such as ``Angles ANGLES``; names are compared upper-case) and that holds text.
+    """
+    names = list(OUTPUT_GROUPS)
+    if "TYPE_GROUPS" in point:
+        for entry in np.asarray(point["TYPE_GROUPS"]["value"]).reshape(-1):
+            name = str(entry).strip().upper()
+            if name and name not in names and not name.startswith(_NOT_GROUPS) and not name.endswith("_UNITS"):
+                names.append(name)
+    groups: dict[str, list[str]] = {}
+    units: dict[str, str] = {}
+    for name in names:
+        if name not in point or point[name]["type"] != -1:  # ezc3d type -1: text
+            continue
+        labels = [str(label).strip() for label in np.asarray(point[name]["value"]).reshape(-1) if str(label).strip()]
+        if labels:
+            groups[name] = labels
+            unit = point.get(f"{name.removesuffix('S')}_UNITS")
+            values = np.asarray(unit["value"]).reshape(-1) if unit is not None else []
+            units[name] = str(values[0]).strip() if len(values) else ""
+    return groups, units
 
 
 def decode_c3d(path: Path) -> dict:
@@ -45,7 +77,10 @@ def decode_c3d(path: Path) -> dict:
     header = c3d["header"]["points"]
     units = point["UNITS"]["value"] if "UNITS" in point else []
     rate = point["RATE"]["value"] if "RATE" in point else []
+    groups, group_units = output_groups(point)
     meta = {
+        "output_groups": groups,
+        "output_units": group_units,
         "labels": labels,
         "units": str(units[0]) if len(units) else "",
         "rate": float(rate[0]) if len(rate) else float(header["frame_rate"]),

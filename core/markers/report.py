@@ -25,6 +25,17 @@ def describe_markers(markers: MarkerSet, path: str) -> dict:
         "markers": table,
         "missing_fraction": float((~markers.present).mean()) if markers.present.size else 0.0,
         "notes": list(markers.notes),
+        "outputs": _outputs(markers),
+    }
+
+
+def _outputs(markers: MarkerSet) -> dict:
+    """Analysis outputs by kind: ``{kind: {"units": ..., "labels": [...]}}`` (empty if none)."""
+    if markers.outputs is None:
+        return {}
+    units = markers.outputs.units
+    return {
+        kind: {"units": units.get(kind, ""), "labels": labels} for kind, labels in markers.outputs.by_kind().items()
     }
 
 
@@ -40,6 +51,9 @@ def markers_text(info: dict) -> str:
         f"gaps:       {100 * info['missing_fraction']:.2f}% of all samples",
     ]
     lines += [f"note:       {n}" for n in info["notes"]]
+    for kind, group in info.get("outputs", {}).items():  # not markers: listed, never drawn
+        unit = f" ({group['units']})" if group["units"] else ""
+        lines.append(f"output:     {len(group['labels'])} {kind}{unit}: {', '.join(group['labels'])}")
     width = max([len(m["label"]) for m in info["markers"]] + [6])
     lines += ["", f"{'marker':<{width}}  {'missing':>8}  {'gaps':>5}  {'longest':>7}"]
     for m in info["markers"]:
