@@ -124,6 +124,7 @@ class MarkerMap:
     calibration: dict = dataclasses.field(default_factory=dict)
     source: str = ""
     joints: bool = False
+    pelvis_note: str = ""  # how the pelvis triple was chosen, when the map did not name it
 
     @property
     def names(self) -> tuple[str, ...]:

@@ -165,7 +165,7 @@ def recover_pelvis(
     from gmr_studio.core.markers.virtual import compute_virtual_markers, resolve_map
 
     loaded = load_marker_map(marker_map)
-    resolved = resolve_map(loaded, markers, skeleton.names if skeleton is not None else None)
+    resolved = resolve_map(loaded, markers, skeleton=skeleton)
     if resolved.pelvis is None:
         raise OperationError(
             f"marker map {resolved.name!r} names no pelvis markers (root, left femur, lower back) "
