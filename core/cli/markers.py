@@ -171,6 +171,12 @@ def run(args: argparse.Namespace) -> int:
     for reason in result.reasons:
         print(f"  note: {reason}")
     print(conversion_text(rows, unit))
+    if resolved.pelvis:
+        from gmr_studio.core.markers.pelvis import recover_pelvis
+        from gmr_studio.core.markers.report import pelvis_fit_summary, pelvis_fit_text
+
+        shown = markers.frame_slice(args.frames) if args.frames is not None else markers
+        print(pelvis_fit_text(pelvis_fit_summary(recover_pelvis(shown, resolved, skeleton=skeleton))))
     return 0
 
 
