@@ -35,3 +35,30 @@ def test_the_window_draws_and_aligns_only_markers(qtbot, studio, tmp_path):
     np.testing.assert_allclose(overlay.alignment.rotation, alone.rotation, atol=1e-9)
     np.testing.assert_allclose(overlay.alignment.offset, alone.offset, rtol=1e-6, atol=1e-6)
     assert overlay.alignment.scale == pytest.approx(alone.scale, rel=1e-9)
+
+
+def test_pelvis_frames_on_the_cmu_bvh_and_a_message_when_the_map_cannot_apply(qtbot, tmp_path):
+    from gmr_studio.app import extensions
+    from gmr_studio.app.state import Snapshot, StudioState
+    from gmr_studio.core.formats import load_gmr
+    from gmr_studio.core.markers import read_markers
+    from tests.test_markers_pelvis_guess import write_rig
+
+    markers = read_markers(shared_path("cmu/subject01/01_01.c3d"))
+    messages: list[str] = []
+    state = StudioState()
+    state.message.connect(messages.append)
+    state.open_document(Snapshot.of(load_gmr(shared_path("cmu/subject01/01_01.bvh"))), None)
+    state.set_markers(markers)
+    assert extensions.recover_pelvis_frames(state, quiet=True)
+    assert state.pelvis is not None and int(state.pelvis.source.valid.sum()) == 2750
+    assert "marker map 'cmu' (Hips, LeftUpLeg, RightUpLeg) (fitted on LFWT, RFWT, LBWT)" in messages[-1]
+    # a skeleton no joint map pairs with CMU's: said, even though the recovery is quiet
+    rig = write_rig(tmp_path / "rig.bvh", root="pelvis", left="l_hip", right="r_hip", back="belly")
+    state.open_document(Snapshot.of(rig), None)
+    state.set_markers(markers)
+    messages.clear()
+    assert not extensions.recover_pelvis_frames(state, quiet=True)
+    assert state.pelvis is None
+    assert messages and "marker map 'cmu' fits these markers but cannot apply to this skeleton" in messages[-1]
+    assert "does not pair them with this skeleton's joints" in messages[-1]

@@ -166,6 +166,8 @@ def run(args: argparse.Namespace) -> int:
         f"roots {', '.join(motion.names[r] for r in motion.roots)}; map {resolved.name}, "
         f"twists {'from ' + args.reference if reference is not None else 'changing least from frame to frame'}"
     )
+    if resolved.renamed:
+        print(f"  joints: {resolved.renamed}")
     if result.pelvis_note:
         print(f"  pelvis: {result.pelvis_note}")
     for reason in result.reasons:

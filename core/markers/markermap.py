@@ -125,6 +125,7 @@ class MarkerMap:
     source: str = ""
     joints: bool = False
     pelvis_note: str = ""  # how the pelvis triple was chosen, when the map did not name it
+    renamed: str = ""  # how its joint names were renamed for another skeleton (core.markers.joint_names)
 
     @property
     def names(self) -> tuple[str, ...]:

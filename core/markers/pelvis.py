@@ -190,7 +190,7 @@ def recover_pelvis(
     virtual = compute_virtual_markers(markers, resolved)
     index = [virtual.index(name) for name in resolved.pelvis]
     triple = virtual.positions[:, index]
-    if home is None and skeleton is not None:
+    if home is None and skeleton is not None and all(name in skeleton.names for name in resolved.pelvis):
         home = rest_positions(skeleton, resolved.pelvis)
     if home is None:
         home = resolved.pelvis_home

@@ -72,7 +72,12 @@ class VirtualMarkers:
 
 
 def resolve_map(
-    marker_map: MarkerMap, markers: MarkerSet, joint_names: Sequence[str] | None = None, *, skeleton=None
+    marker_map: MarkerMap,
+    markers: MarkerSet,
+    joint_names: Sequence[str] | None = None,
+    *,
+    skeleton=None,
+    joint_map=None,
 ) -> MarkerMap:
     """The built-in ``joints`` map made concrete: one virtual marker per joint name that the
     marker set has (every label when no names are given; the skeleton's names when a
@@ -82,9 +87,18 @@ def resolve_map(
     :func:`core.markers.pelvis_guess.choose_pelvis` (the note's root, left femur, lower back
     first; with the skeleton, any non-collinear triple of pelvis joints after) and
     ``pelvis_note`` says which and why.
+
+    Other maps name the joints of the skeleton they were made for; given a skeleton whose
+    joints are named otherwise (CMU's BVH for the ``cmu`` map made on CMU's ASF), they are
+    renamed through a joint-name map (``joint_map``, or the shipped one that pairs them):
+    :func:`core.markers.joint_names.through_joint_map`.
     """
     if not marker_map.joints:
-        return marker_map
+        if skeleton is None and joint_map is None:
+            return marker_map
+        from gmr_studio.core.markers.joint_names import through_joint_map
+
+        return through_joint_map(marker_map, skeleton.names if skeleton is not None else joint_names, joint_map)
     from gmr_studio.core.markers.markermap import guess_pelvis, joints_map
     from gmr_studio.core.markers.pelvis_guess import choose_pelvis
 
