@@ -45,7 +45,7 @@ def test_the_bvh_workflow_is_the_amc_one():
     error = np.linalg.norm(world_positions(through_bvh.motion) - world_positions(bvh)[1:][TEST], axis=2) * MM
     per_joint = dict(zip(bvh.names, error.mean(axis=0)))
     body = [n for n in bvh.names if not any(k in n for k in ("Arm", "Hand", "Finger", "Thumb", "LFing", "RFing"))]
-    assert np.mean([per_joint[n] for n in body]) < 20.0  # measured 14.7
+    assert np.mean([per_joint[n] for n in body]) < 20.0  # measured 14.9
     amc = load_gmr(shared_path("cmu/subject01/01_01.amc"), asf=shared_path("cmu/subject01/01.asf"))
     asf_error = np.linalg.norm(world_positions(through_asf.motion) - world_positions(amc)[TEST], axis=2) * MM
     asf_per_joint = dict(zip(asf.names, asf_error.mean(axis=0)))
