@@ -17,6 +17,11 @@ growing with marker noise, skin motion or a calibration that does not fit. Witho
 pose the frame ``P`` itself is the rotation (``H = I``) and the residual is measured against
 the triangle's median shape over the valid frames.
 
+When the three virtual markers all come from one rigid cluster (the ``cmu`` map's root and
+hips), a Procrustes on them fits by construction; :func:`recover_pelvis` then fits three of
+the cluster's real markers, and reports the real markers' fit to the cluster template and
+each virtual marker's distance from its fitted home as well.
+
 :class:`PelvisFrames` is the result the app draws over the markers: one frame per motion
 frame, with the fit residual and a flag for frames that could not be recovered.
 """
@@ -220,6 +225,7 @@ def recover_pelvis(
                 "cluster's fit to its other markers (no three-marker residual)"
             )
     valid &= np.isfinite(triple[:, 0]).all(axis=1)
+    rotations[~valid] = np.eye(3)
     if not valid.any():
         reasons.append("no frame has a usable pelvis")
     virtual_residuals = None
