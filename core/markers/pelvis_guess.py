@@ -13,10 +13,12 @@ in order:
    zero-length bones at the root, such as CMU's ``LHipJoint``), in skeleton order;
 
 and takes the first whose three markers form a triangle that is not collinear (sine of the
-angle at X1 at least :data:`MIN_SINE`) and keeps its shape over the frames (pairwise
-distances within :data:`MAX_SHAPE_CHANGE` of the triangle's size: the three points move with
-the pelvis; ASF's ``lowerback`` turns with the spine and is refused where the data show it).
-If none keeps its shape, the non-collinear triple that changes least is taken, and said.
+angle at X1 at least :data:`MIN_SINE`) and keeps its shape over the frames: the three points
+move with the pelvis. The shape is measured on the skeleton's own motion when it has several
+frames (exact positions: side lengths within :data:`EXACT_SHAPE_CHANGE` of the size), else on
+the markers (within :data:`MAX_SHAPE_CHANGE`: marker noise passes). ASF's ``lowerback`` turns
+with the spine and is refused. If none keeps its shape, the non-collinear triple that
+changes least is taken, and said.
 """
 
 from __future__ import annotations
@@ -30,8 +32,13 @@ import numpy as np
 #: the smallest sine of the angle at X1 between X2 and X3 accepted (about 3 degrees)
 MIN_SINE = 0.05
 #: the largest change of the triangle's side lengths accepted (5th to 95th percentile over the
-#: frames), as a fraction of its longest side: marker noise passes, a turning spine does not
+#: frames), as a fraction of its longest side, when measured on the markers: noise passes, a
+#: spine turning by tens of degrees does not
 MAX_SHAPE_CHANGE = 0.02
+#: the same when measured on the skeleton's own motion (exact positions): rigid, or not
+EXACT_SHAPE_CHANGE = 1e-6
+#: frames of the skeleton's motion sampled for that measure
+MOTION_SAMPLES = 2000
 
 _LEG_WORDS = ("upleg", "upperleg", "thigh", "femur", "hip")
 _BACK_WORDS = ("lowerback", "spine", "lumbar", "abdomen", "back", "waist", "torso", "chest")
@@ -138,7 +145,13 @@ def triangle_quality(points: np.ndarray) -> tuple[float, float]:
     return sine, float(spread.max() / size)
 
 
-def choose_pelvis(names: Sequence[str], positions: np.ndarray, parents=None, offsets=None) -> PelvisChoice | None:
+def choose_pelvis(
+    names: Sequence[str],
+    positions: np.ndarray,
+    parents=None,
+    offsets=None,
+    motion_positions: np.ndarray | None = None,
+) -> PelvisChoice | None:
     """The pelvis triple for markers labelled with joint names (see the module docstring).
 
     Parameters
@@ -147,19 +160,34 @@ def choose_pelvis(names: Sequence[str], positions: np.ndarray, parents=None, off
     positions : (F, N, 3) their marker positions (NaN gaps).
     parents, offsets : the skeleton's (J,) parents and (J, 3) offsets, indexed like ``names``
         when given (then ``names`` are all J joints and ``positions`` (F, J, 3)).
+    motion_positions : (S, J, 3) the skeleton's own joint positions over S frames (its motion),
+        where rigidity is measured exactly when S >= 2.
 
     Returns
     -------
     PelvisChoice, or None when every candidate is missing or collinear.
     """
     index = {n: k for k, n in enumerate(names)}
+    exact = motion_positions is not None and motion_positions.shape[0] >= 2
+    limit = EXACT_SHAPE_CHANGE if exact else MAX_SHAPE_CHANGE
     fallback = None
     for triple, how in candidates(names, parents, offsets):
-        sine, change = triangle_quality(positions[:, [index[n] for n in triple]])
+        columns = [index[n] for n in triple]
+        sine, change = triangle_quality(positions[:, columns])
         if sine < MIN_SINE:
             continue
-        if change <= MAX_SHAPE_CHANGE:
+        if exact:
+            change = triangle_quality(motion_positions[:, columns])[1]
+        if change <= limit:
             return PelvisChoice(triple, how, sine, change)
         if fallback is None or change < fallback.shape_change:
             fallback = PelvisChoice(triple, f"{how}; no triple keeps its shape, this one changes least", sine, change)
     return fallback
+
+
+def sampled_positions(skeleton) -> np.ndarray:
+    """(S, J, 3) world positions of at most :data:`MOTION_SAMPLES` frames of a skeleton's motion."""
+    from gmr_studio.core.kinematics import world_positions
+
+    step = skeleton.n_frames // MOTION_SAMPLES + 1
+    return world_positions(skeleton if step == 1 else skeleton.frame_slice(slice(None, None, step)))

@@ -100,7 +100,7 @@ def resolve_map(
 
         return through_joint_map(marker_map, skeleton.names if skeleton is not None else joint_names, joint_map)
     from gmr_studio.core.markers.markermap import guess_pelvis, joints_map
-    from gmr_studio.core.markers.pelvis_guess import choose_pelvis
+    from gmr_studio.core.markers.pelvis_guess import choose_pelvis, sampled_positions
 
     if joint_names is None and skeleton is not None:
         joint_names = skeleton.names
@@ -124,6 +124,7 @@ def resolve_map(
             positions,
             skeleton.parents if structure else None,
             np.asarray(skeleton.offsets) if structure else None,
+            sampled_positions(skeleton) if structure and skeleton.n_frames >= 2 else None,
         )
         if choice is not None:
             pelvis, note = choice.triple, choice.describe()
