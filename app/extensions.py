@@ -2,7 +2,8 @@
 
 - Remove dummy joints: ``core.dummies.remove_dummies(motion) -> Motion`` (formats branch).
 - Pelvis frames: ``core.markers.pelvis.recover_pelvis(markers, marker_map) -> PelvisFrames``
-  (markers branch).
+  (markers branch); a shipped map made for the markers shown that cannot apply to the
+  skeleton (no joint-name map pairs them) is said, even when the recovery is quiet.
 - ASF/AMC and C3D: whatever suffixes ``core.formats.READERS`` and
   ``core.markers.MARKER_READERS`` list are offered by the dialogs and accepted by drops.
 """
@@ -90,23 +91,45 @@ def recover_pelvis_frames(state: StudioState, *, quiet: bool = False) -> bool:
         return False
     from gmr_studio.core.errors import MotionFileError, OperationError
 
-    problems = []
+    problems, relevant = [], []
     for marker_map in candidate_marker_maps(state):
         name = getattr(marker_map, "name", marker_map)
         try:
             pelvis = recover(overlay.markers, marker_map, skeleton=state.motion)
         except (OperationError, MotionFileError, ValueError, KeyError) as exc:
             problems.append(f"{name}: {exc}")
+            if map_fits_markers(marker_map, overlay.markers):
+                relevant.append(f"marker map '{name}' fits these markers but cannot apply to this skeleton: {exc}")
             continue
         if pelvis.valid.any():
             state.set_pelvis(pelvis)
             valid = state.pelvis.residuals[np.isfinite(state.pelvis.residuals)]
+            fitted = f" (fitted on {', '.join(pelvis.fit_labels)})" if pelvis.fit_labels != pelvis.labels else ""
             state.show_message(
-                f"Pelvis frames from marker map '{name}' ({', '.join(pelvis.labels)}) on {int(pelvis.valid.sum())} "
-                f"of {pelvis.n_frames} frames; median residual {np.median(valid):.3g} {pelvis.units}"
+                f"Pelvis frames from marker map '{name}' ({', '.join(pelvis.labels)}){fitted} on "
+                f"{int(pelvis.valid.sum())} of {pelvis.n_frames} frames; median residual "
+                f"{np.median(valid) if valid.size else float('nan'):.3g} {pelvis.units}"
             )
             return True
         problems.append(f"{name}: {'; '.join(pelvis.reasons)}")
-    if not quiet:
+        if map_fits_markers(marker_map, overlay.markers):
+            relevant.append(f"marker map '{name}' fits these markers but gives no pelvis: {'; '.join(pelvis.reasons)}")
+    if relevant:  # said even when quiet: a map for these markers that cannot apply is news
+        state.show_message(" | ".join(relevant))
+    elif not quiet:
         state.show_message("No marker map gives pelvis frames: " + " | ".join(problems[:3]))
     return False
+
+
+def map_fits_markers(marker_map, markers, share: float = 0.8) -> bool:
+    """The map reads real markers, and the marker set has at least ``share`` of them: it was
+    made for markers like these (the built-in ``joints`` map never counts)."""
+    from gmr_studio.core.errors import MotionFileError
+    from gmr_studio.core.markers.markermap import load_marker_map
+
+    try:
+        loaded = load_marker_map(marker_map)
+    except MotionFileError:
+        return False
+    labels = set(loaded.labels())
+    return bool(labels) and not loaded.joints and len(labels & set(markers.labels)) >= share * len(labels)

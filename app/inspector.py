@@ -178,7 +178,7 @@ class Inspector(QScrollArea):
             residual = pelvis.residuals[f]
             units = html.escape(pelvis.source.units)
             text = f"{residual:.3g} {units}" if np.isfinite(residual) else "not recovered at this frame"
-            labels = html.escape(", ".join(pelvis.source.labels)) or "X1, X2, X3"
+            labels = html.escape(", ".join(pelvis.source.fit_labels or pelvis.source.labels)) or "X1, X2, X3"
             out.append(f"<p><b>Pelvis fit residual</b> (RMS of {labels}): {text}</p>")
             if np.isfinite(residual):
                 out.append("<p style='margin-bottom:2px'><b>Pelvis rotation</b> (recovered, motion axes)</p>")

@@ -235,3 +235,74 @@ def test_a_reader_killed_mid_read_leaves_no_ezc3d_child_behind(tmp_path):
     while _processes_reading(path) and time.monotonic() < deadline:
         time.sleep(0.1)
     assert _processes_reading(path) == []
+
+
+def write_long_c3d(path, n_frames: int, count_in: str, announced: int | None = None):
+    """A C3D of ``n_frames`` frames written by ezc3d, whose 16-bit header and POINT:FRAMES
+    saturate at 65535; the real count (``announced``, default ``n_frames``) goes where
+    ``count_in`` says: POINT:LONG_FRAMES (float) or TRIAL:ACTUAL_START_FIELD/END_FIELD.
+    Marker A is at (f, 2f, 3f) in frame f; B at f + 0.5 with gaps and zero residuals."""
+    ezc3d = pytest.importorskip("ezc3d")
+    announced = announced or n_frames
+    c3d = ezc3d.c3d()
+    c3d["parameters"]["POINT"]["RATE"]["value"] = [100.0]
+    c3d["parameters"]["POINT"]["LABELS"]["value"] = ["A", "B"]
+    c3d["parameters"]["POINT"]["UNITS"]["value"] = ["mm"]
+    frame = np.arange(n_frames, dtype=float)
+    points = np.stack([np.stack([frame, 2 * frame, 3 * frame], -1), np.stack([frame + 0.5] * 3, -1)], axis=1)
+    residuals = np.ones((n_frames, 2))
+    residuals[65_600::1000, 1] = -1  # invalid, all past 65,535
+    residuals[66_001, 1] = 0  # interpolated: a gap, since the file records residuals
+    data = np.ones((4, 2, n_frames))
+    data[:3] = points.transpose(2, 1, 0)
+    c3d["data"]["points"] = data
+    c3d["data"]["meta_points"]["residuals"] = residuals.T[None]
+    if count_in == "LONG_FRAMES":
+        c3d.add_parameter("POINT", "LONG_FRAMES", float(announced))
+    else:
+        words = {"type": ezc3d.ezc3d.INT, "description": "", "is_locked": False}
+        c3d["parameters"]["TRIAL"] = {
+            "__METADATA__": {"DESCRIPTION": "", "IS_LOCKED": False},
+            "ACTUAL_START_FIELD": {**words, "value": np.array([1, 0])},
+            "ACTUAL_END_FIELD": {**words, "value": np.array([announced & 0xFFFF, announced >> 16])},
+        }
+    c3d.write(str(path))
+    expected = points.copy()
+    expected[residuals[:, :, None].repeat(3, 2) <= 0] = np.nan
+    return path, expected
+
+
+@pytest.mark.parametrize(("count_in", "announced"), [("LONG_FRAMES", None), ("TRIAL", None), ("TRIAL", 80_000)])
+def test_captures_longer_than_65535_frames_read_completely(tmp_path, count_in, announced):
+    path, expected = write_long_c3d(tmp_path / "long.c3d", 70_000, count_in, announced)
+    ezc3d = pytest.importorskip("ezc3d")
+    assert ezc3d.c3d(str(path))["data"]["points"].shape[2] == 65_535  # what ezc3d alone reads
+    markers = read_c3d(path)
+    # a file shorter than announced: the whole frames it holds (ezc3d ends the data with zeros
+    # to a 512-byte block boundary and one more block: read as gaps), and a note
+    n_read = markers.n_frames
+    assert n_read == 70_000 if announced is None else 70_000 <= n_read <= 70_000 + 512 // 32
+    np.testing.assert_array_equal(markers.positions[:70_000], expected)  # integers, halves: exact in float32
+    assert np.isnan(markers.positions[70_000:]).all()
+    assert int((~markers.present[:70_000]).sum()) == 6
+    note = next(n for n in markers.notes if "more than the header's 16-bit" in n)
+    assert f"gives {announced or 70_000} frames" in note and f"{n_read} frames read" in note
+    assert ("truncated" in note) == (announced is not None)
+    in_process = read_c3d(path, isolate=False)
+    np.testing.assert_array_equal(in_process.positions, markers.positions)
+
+
+@pytest.mark.parametrize("path", shared_files("**/*.c3d"))
+def test_numpy_point_decoder_agrees_with_ezc3d(path):
+    """The decoder used past 65,535 frames gives ezc3d's numbers on every shared file (Intel
+    float and integer, analog channels interleaved), gaps and residuals included."""
+    ezc3d = pytest.importorskip("ezc3d")
+    from gmr_studio.core.markers.c3d_frames import parameter_frame_count, read_points
+
+    c3d = ezc3d.c3d(str(path))
+    xyz = np.asarray(c3d["data"]["points"], dtype=float)[:3].transpose(2, 1, 0)
+    residuals = np.asarray(c3d["data"]["meta_points"]["residuals"], dtype=float)[0].T
+    points, decoded_residuals, count = read_points(Path(path), c3d["parameters"], xyz.shape[0])
+    assert count == xyz.shape[0] == parameter_frame_count(c3d["parameters"])[0]
+    np.testing.assert_array_equal(points, xyz)
+    np.testing.assert_array_equal(decoded_residuals, residuals)

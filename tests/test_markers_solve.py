@@ -277,8 +277,9 @@ def test_real_cmu_markers_against_the_amc():
     pelvis = recover_pelvis(markers, "cmu")
     assert list(np.flatnonzero(~pelvis.valid)) == [944]  # LBWT and RBWT are both missing there
     assert "pelvis marker root missing in frames 944" in pelvis.reasons[0]
-    # one rigid cluster places all three: the triangle keeps one shape, within 0.1 mm of the skeleton's
-    assert np.nanmax(pelvis.residuals) < 0.1 and np.nanstd(pelvis.residuals) < 1e-9
+    # one rigid cluster places all three virtual markers: the Procrustes fits three of its real
+    # markers instead, whose residual varies (tests/test_markers_pelvis_fit.py checks its values)
+    assert pelvis.fit_labels == ("LFWT", "RFWT", "LBWT") and np.nanstd(pelvis.residuals) > 0.5
     np.testing.assert_allclose(np.linalg.det(pelvis.rotations), 1.0)
     # in the file's axes (Z up): the home pelvis is the skeleton's rest pose, so the
     # recovered rotation agrees with the AMC root rotation seen through the alignment

@@ -82,3 +82,37 @@ def test_one_nan_coordinate_makes_the_whole_sample_a_gap():
     markers = MarkerSet(labels=["A"], positions=[[[1.0, np.nan, 3.0]]], rate=1, units="m")
     assert np.isnan(markers.positions).all()
     assert split_subject("Daphnee:ASISr") == ("Daphnee", "ASISr") and split_subject("LASI") == ("", "LASI")
+
+
+def repeated_tabs(text: str) -> str:
+    """The same TRC with the header's value row (and the column-name row) separated by
+    doubled tabs, as some OpenSim examples are written: ``100.0<TAB><TAB>100.0<TAB><TAB>...``."""
+    lines = text.split("\n")
+    lines[2] = "\t\t".join(field.strip() for field in lines[2].split("\t"))
+    lines[3] = "\t\t".join(field for field in lines[3].split("\t") if field)
+    return "\n".join(lines)
+
+
+@pytest.mark.parametrize("path", shared_files("trc/opensim_*.trc"))
+def test_header_rows_with_repeated_tabs_read_by_key_names(path, tmp_path):
+    original = path.read_text()
+    layout = repeated_tabs(original)
+    assert "60.00\t\t60.00\t\t151\t\t41\t\tmm" in layout  # the layout that was refused
+    (tmp_path / "tabs.trc").write_text(layout)
+    markers, expected = read_markers(tmp_path / "tabs.trc"), read_markers(path)
+    assert (markers.rate, markers.units, markers.n_markers) == (60.0, "mm", 41)
+    assert markers.labels == expected.labels and markers.notes == expected.notes == ()
+    np.testing.assert_array_equal(markers.positions, expected.positions)
+
+
+def test_header_keys_and_values_both_with_repeated_tabs_and_an_empty_value():
+    doubled = TRC.replace("NumFrames\tNumMarkers", "NumFrames\t\t\tNumMarkers").replace(
+        "100\t100\t3\t2\tmm", "100\t\t100\t3\t\t\t2\t\tmm"
+    )
+    markers = read_trc("t.trc", doubled.encode())
+    assert (markers.rate, markers.units, markers.n_markers, markers.n_frames) == (100.0, "mm", 2, 3)
+    # a value left empty on purpose: fields pair by position, the error points at its column
+    empty = TRC.replace("100\t100\t3\t2\tmm\t100\t1\t3", "100\t100\t3\t2\tfurlong\t100\t\t3")
+    with pytest.raises(MotionFileError) as info:
+        read_trc("e.trc", empty.encode())
+    assert (info.value.line, info.value.column) == (3, 13) and "unknown Units 'furlong'" in info.value.message

@@ -156,11 +156,12 @@ def run(args: argparse.Namespace) -> int:
         truth = truth.frame_slice(frames)
         truth_positions = forward_kinematics(truth, with_rotations=False)[0][:, order]
         truth_rotations = truth.rotations[:, order]
-    resolved = resolve_map(marker_map, markers, skeleton.names)
+    resolved = resolve_map(marker_map, markers, skeleton=skeleton)
     unit = resolved.units or markers.units  # errors are printed in the markers' unit
     rows = conversion_table(result, 1.0 / resolved.alignment.scale, truth_positions, truth_rotations)
     if args.json:
-        json.dump({"output": str(output), "reasons": list(result.reasons), "joints": rows}, sys.stdout, indent=2)
+        report = {"output": str(output), "pelvis": result.pelvis_note, "reasons": list(result.reasons), "joints": rows}
+        json.dump(report, sys.stdout, indent=2)
         print()
         return 0
     print(
@@ -168,9 +169,19 @@ def run(args: argparse.Namespace) -> int:
         f"roots {', '.join(motion.names[r] for r in motion.roots)}; map {resolved.name}, "
         f"twists {'from ' + args.reference if reference is not None else 'changing least from frame to frame'}"
     )
+    if resolved.renamed:
+        print(f"  joints: {resolved.renamed}")
+    if result.pelvis_note:
+        print(f"  pelvis: {result.pelvis_note}")
     for reason in result.reasons:
         print(f"  note: {reason}")
     print(conversion_text(rows, unit))
+    if resolved.pelvis:
+        from gmr_studio.core.markers.pelvis import recover_pelvis
+        from gmr_studio.core.markers.report import pelvis_fit_summary, pelvis_fit_text
+
+        shown = markers.frame_slice(args.frames) if args.frames is not None else markers
+        print(pelvis_fit_text(pelvis_fit_summary(recover_pelvis(shown, resolved, skeleton=skeleton))))
     return 0
 
 
@@ -183,7 +194,7 @@ def _calibrate(args, markers: MarkerSet, skeleton: Motion, marker_map, reference
         raise OperationError("--calibrate needs --reference: the pose of the calibration frames")
     order = [reference.joint_index(n) for n in skeleton.names]
     positions = forward_kinematics(reference, with_rotations=False)[0][:, order]
-    resolved = resolve_map(marker_map, markers, skeleton.names)
+    resolved = resolve_map(marker_map, markers, skeleton=skeleton)
     calibrated = calibrate_marker_map(
         resolved,
         markers,

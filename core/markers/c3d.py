@@ -17,6 +17,15 @@ do). Many writers (Qualisys, Vicon Nexus exports, the Plug-in Gait sample) write
 residual for every sample: there it means "no residual recorded", and the samples are kept.
 ``"gap"`` and ``"keep"`` force one reading. A sample at exactly (0, 0, 0) with no positive
 residual is a gap (older writers mark missing markers that way).
+
+Analysis outputs: joint angles, forces, moments, powers and scalars that a model (Vicon Plug-in
+Gait, pyCGM2) stores among the POINT entries are named in ``POINT:ANGLES``, ``FORCES``,
+``MOMENTS``, ``POWERS``, ``SCALARS`` (and any group ``POINT:TYPE_GROUPS`` names): they are
+kept out of the markers, in ``MarkerSet.outputs`` (:class:`~core.markers.markerset.PointOutputs`,
+only invalid samples are gaps there), and a note counts them.
+
+Long captures: past 65,535 frames ezc3d stops at the 16-bit count; the worker then reads the
+real count from the parameters and decodes every frame (:mod:`core.markers.c3d_frames`).
 """
 
 from __future__ import annotations
@@ -33,7 +42,7 @@ from typing import Literal
 import numpy as np
 
 from gmr_studio.core.errors import MotionFileError
-from gmr_studio.core.markers.markerset import MarkerSet, split_subject
+from gmr_studio.core.markers.markerset import MarkerSet, PointOutputs, split_subject
 
 #: exit status of the worker when ezc3d raised (its message is on stderr); see c3d_worker
 REJECTED = 3
@@ -169,7 +178,7 @@ def _marker_set(decoded: dict, where: str, zero_residual: ZeroResidual) -> Marke
     meta = decoded["meta"]
     points = np.array(decoded["points"], dtype=np.float64)
     residuals = np.asarray(decoded["residuals"], dtype=np.float64)
-    n_frames, n_markers = points.shape[:2]
+    n_frames, n_points = points.shape[:2]
     notes: list[str] = []
     rate = meta["rate"]
     if not np.isfinite(rate) or rate <= 0:
@@ -178,9 +187,12 @@ def _marker_set(decoded: dict, where: str, zero_residual: ZeroResidual) -> Marke
     if units is None:
         units = "mm"
         notes.append(f"POINT:UNITS is '{meta['units'].strip()}', not a length unit known here: read as mm")
+    kinds = _output_kinds(meta["labels"], n_points, meta.get("output_groups", {}))
+    is_marker = np.array([not kind for kind in kinds], dtype=bool)
     gaps = (residuals < 0) | ~np.isfinite(points).all(axis=2)
-    recorded = bool((residuals > 0).any())
-    zero = (residuals == 0) & ~gaps
+    # the residual rules are the markers': analysis outputs are computed, never measured
+    recorded = bool((residuals[:, is_marker] > 0).any())
+    zero = (residuals == 0) & ~gaps & is_marker
     if zero_residual == "gap" or (zero_residual == "auto" and recorded):
         if zero.any():
             notes.append(
@@ -193,11 +205,32 @@ def _marker_set(decoded: dict, where: str, zero_residual: ZeroResidual) -> Marke
         notes.append(f"{int(origin.sum())} samples at exactly (0, 0, 0) with no residual read as gaps")
         gaps |= origin
     points[gaps] = np.nan
-    if meta["announced_frames"] != n_frames and meta["announced_frames"] > 0:
+    long_frames = meta.get("long_frames")
+    if long_frames:
+        notes.append(
+            f"{long_frames['where']} gives {long_frames['announced']} frames, more than the header's 16-bit "
+            f"frame numbers hold: {long_frames['read']} frames read"
+            + ("" if long_frames["read"] == long_frames["announced"] else " (the file ends there: it may be truncated)")
+        )
+    elif meta["announced_frames"] != n_frames and meta["announced_frames"] > 0:
         notes.append(
             f"the header announces {meta['announced_frames']} frames, the file holds {n_frames}: it may be truncated"
         )
-    subjects, labels = _labels(meta["labels"], n_markers, notes)
+    subjects, labels = _labels(meta["labels"], n_points, notes)
+    outputs = None
+    if not is_marker.all():
+        index = np.flatnonzero(~is_marker)
+        outputs = PointOutputs(
+            labels=tuple(labels[m] for m in index),
+            subjects=tuple(subjects[m] for m in index),
+            kinds=tuple(kinds[m] for m in index),
+            values=points[:, index],
+            units={group.lower(): unit for group, unit in meta.get("output_units", {}).items()},
+        )
+        counts = ", ".join(f"{len(group)} {kind}" for kind, group in outputs.by_kind().items())
+        notes.append(f"{outputs.n_outputs} analysis outputs ({counts}) kept out of the markers")
+        keep = np.flatnonzero(is_marker)
+        points, subjects, labels = points[:, keep], [subjects[m] for m in keep], [labels[m] for m in keep]
     return MarkerSet(
         labels=labels,
         subjects=subjects,
@@ -207,7 +240,23 @@ def _marker_set(decoded: dict, where: str, zero_residual: ZeroResidual) -> Marke
         first_frame=meta["first_frame"],
         source=where,
         notes=notes,
+        outputs=outputs,
     )
+
+
+def _output_kinds(raw: list[str], n_points: int, groups: dict[str, list[str]]) -> list[str]:
+    """Per point, the analysis-output group that lists it (lower case), "" for markers.
+
+    A group may name a point with or without its subject prefix."""
+    kind_of: dict[str, str] = {}
+    for group, members in groups.items():
+        for member in members:
+            kind_of.setdefault(member, group.lower())
+    kinds = []
+    for m in range(n_points):
+        text = raw[m].strip() if m < len(raw) else ""
+        kinds.append((kind_of.get(text) or kind_of.get(split_subject(text)[1], "")) if text else "")
+    return kinds
 
 
 def _labels(raw: list[str], n_markers: int, notes: list[str]) -> tuple[list[str], list[str]]:

@@ -17,15 +17,51 @@ import numpy as np
 
 #: exit status when ezc3d raised (the same number as core.markers.c3d.REJECTED)
 REJECTED = 3
+#: POINT parameters that list analysis outputs stored as points (the C3D standard's groups;
+#: POINT:TYPE_GROUPS may name more)
+OUTPUT_GROUPS = ("ANGLES", "FORCES", "MOMENTS", "POWERS", "SCALARS", "REACTIONS")
+#: POINT parameters that are never output groups, whatever TYPE_GROUPS says
+_NOT_GROUPS = ("LABELS", "DESCRIPTIONS", "UNITS", "TYPE_GROUPS")
+
+
+def output_groups(point) -> tuple[dict[str, list[str]], dict[str, str]]:
+    """The analysis-output groups of ezc3d's POINT parameters: group name -> the point labels
+    it lists, and group name -> its unit (``POINT:ANGLE_UNITS`` for ANGLES...).
+
+    The groups are :data:`OUTPUT_GROUPS` and every POINT parameter that ``POINT:TYPE_GROUPS``
+    names (pairs such as ``Angles ANGLES``; names are compared upper-case) and that holds text.
+    """
+    names = list(OUTPUT_GROUPS)
+    if "TYPE_GROUPS" in point:
+        for entry in np.asarray(point["TYPE_GROUPS"]["value"]).reshape(-1):
+            name = str(entry).strip().upper()
+            if name and name not in names and not name.startswith(_NOT_GROUPS) and not name.endswith("_UNITS"):
+                names.append(name)
+    groups: dict[str, list[str]] = {}
+    units: dict[str, str] = {}
+    for name in names:
+        if name not in point or point[name]["type"] != -1:  # ezc3d type -1: text
+            continue
+        labels = [str(label).strip() for label in np.asarray(point[name]["value"]).reshape(-1) if str(label).strip()]
+        if labels:
+            groups[name] = labels
+            unit = point.get(f"{name.removesuffix('S')}_UNITS")
+            values = np.asarray(unit["value"]).reshape(-1) if unit is not None else []
+            units[name] = str(values[0]).strip() if len(values) else ""
+    return groups, units
 
 
 def decode_c3d(path: Path) -> dict:
     """What this module needs from ezc3d, as plain arrays and a JSON-ready ``meta`` dict.
 
     Returns ``points`` (F, M, 3) float64 (NaN where ezc3d flags the sample), ``residuals``
-    (F, M) float64 and ``meta`` (labels, units, rate, first_frame).
+    (F, M) float64 and ``meta`` (labels, units, rate, first_frame, and ``long_frames``
+    when the parameters announce more frames than ezc3d read: then every frame is decoded
+    by :func:`core.markers.c3d_frames.read_points`).
     """
     import ezc3d  # imported here: the parent process of an isolated read never loads it
+
+    from gmr_studio.core.markers.c3d_frames import parameter_frame_count, read_points
 
     c3d = ezc3d.c3d(str(path))
     point = c3d["parameters"]["POINT"]
@@ -41,12 +77,19 @@ def decode_c3d(path: Path) -> dict:
     header = c3d["header"]["points"]
     units = point["UNITS"]["value"] if "UNITS" in point else []
     rate = point["RATE"]["value"] if "RATE" in point else []
+    groups, group_units = output_groups(point)
     meta = {
+        "output_groups": groups,
+        "output_units": group_units,
         "labels": labels,
         "units": str(units[0]) if len(units) else "",
         "rate": float(rate[0]) if len(rate) else float(header["frame_rate"]),
         "first_frame": int(header["first_frame"]),
     }
+    counted = parameter_frame_count(c3d["parameters"])
+    if counted is not None and counted[0] > xyz.shape[0]:  # past 65,535 frames: ezc3d stops there
+        xyz, residuals, read = read_points(path, c3d["parameters"], counted[0])
+        meta["long_frames"] = {"announced": counted[0], "where": counted[1], "read": read}
     return {"points": xyz, "residuals": residuals, "meta": meta}
 
 

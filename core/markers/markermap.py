@@ -124,6 +124,8 @@ class MarkerMap:
     calibration: dict = dataclasses.field(default_factory=dict)
     source: str = ""
     joints: bool = False
+    pelvis_note: str = ""  # how the pelvis triple was chosen, when the map did not name it
+    renamed: str = ""  # how its joint names were renamed for another skeleton (core.markers.joint_names)
 
     @property
     def names(self) -> tuple[str, ...]:

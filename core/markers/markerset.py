@@ -13,6 +13,8 @@ subjects          tuple of M str     the subject prefix split off each label
 first_frame       int                the file's number for frame 0
 source            str                the file read, for messages
 notes             tuple of str       what the reader noticed but tolerated
+outputs           PointOutputs       model outputs the file stores as points (C3D
+                  or None            POINT:ANGLES, FORCES...): not markers, kept apart
 ================  =================  ==================================================
 
 Axes are the file's. Conversions return new marker sets: :meth:`MarkerSet.in_units`,
@@ -75,6 +77,40 @@ def split_subject(label: str) -> tuple[str, str]:
 
 
 @dataclasses.dataclass(frozen=True, eq=False, kw_only=True)
+class PointOutputs:
+    """Analysis outputs a C3D stores among its POINT entries (joint angles, forces, moments,
+    powers, scalars of a biomechanical model: ``LHipAngles``, ``RHipMoment_CGM_2.4``...),
+    which the standard names in ``POINT:ANGLES``, ``POINT:FORCES``... and ``POINT:TYPE_GROUPS``.
+    They are not markers: no marker set, alignment or drawing uses them.
+
+    labels : tuple of N str (subject prefix removed); subjects : tuple of N str.
+    kinds : tuple of N str, the group naming each ("angles", "forces", "moments", ...).
+    values : (F, N, 3) float64, NaN where invalid, same frames as the markers.
+    units : dict kind -> the unit the file gives (POINT:ANGLE_UNITS...), "" if none.
+    """
+
+    labels: tuple[str, ...]
+    subjects: tuple[str, ...]
+    kinds: tuple[str, ...]
+    values: np.ndarray
+    units: dict = dataclasses.field(default_factory=dict)
+
+    @property
+    def n_outputs(self) -> int:
+        return len(self.labels)
+
+    def by_kind(self) -> dict[str, list[str]]:
+        """kind -> its labels (``subject:label`` where there is a subject), in file order."""
+        out: dict[str, list[str]] = {}
+        for subject, label, kind in zip(self.subjects, self.labels, self.kinds):
+            out.setdefault(kind, []).append(f"{subject}:{label}" if subject else label)
+        return out
+
+    def frame_slice(self, frames: slice) -> PointOutputs:
+        return dataclasses.replace(self, values=self.values[frames])
+
+
+@dataclasses.dataclass(frozen=True, eq=False, kw_only=True)
 class MarkerSet:
     """Marker trajectories; see the module docstring for the fields."""
 
@@ -86,6 +122,7 @@ class MarkerSet:
     first_frame: int = 1
     source: str = ""
     notes: tuple[str, ...] = ()
+    outputs: PointOutputs | None = None
 
     def __post_init__(self) -> None:
         labels = tuple(str(label) for label in self.labels)
@@ -100,6 +137,8 @@ class MarkerSet:
             raise ValueError(f"the frame rate must be a positive number, not {rate}")
         if self.units not in UNIT_SCALE:
             raise ValueError(f"unknown length unit {self.units!r}: expected one of {', '.join(UNIT_SCALE)}")
+        if self.outputs is not None and self.outputs.values.shape[0] != positions.shape[0]:
+            raise ValueError("the analysis outputs must have the markers' frames")
         # a marker is missing as a whole: a NaN in any coordinate makes the sample a gap
         gaps = ~np.isfinite(positions).all(axis=2)
         if gaps.any() and np.isfinite(positions[gaps]).any():
@@ -158,7 +197,8 @@ class MarkerSet:
 
     def frame_slice(self, frames: slice) -> MarkerSet:
         start = range(self.n_frames)[frames].start if self.n_frames else 0
-        return self.replace(positions=self.positions[frames], first_frame=self.first_frame + start)
+        outputs = self.outputs.frame_slice(frames) if self.outputs is not None else None
+        return self.replace(positions=self.positions[frames], first_frame=self.first_frame + start, outputs=outputs)
 
     def in_units(self, units: str) -> MarkerSet:
         """The same markers measured in other units (mm, cm, m, in, ft)."""
@@ -219,11 +259,11 @@ class MarkerSet:
 
     def resampled(self, rate: float) -> MarkerSet:
         """Linear interpolation in time to another rate; a sample between a gap and a good
-        sample is a gap."""
+        sample is a gap. Analysis outputs are left behind (``outputs`` None)."""
         if rate <= 0:
             raise ValueError("the frame rate must be positive")
         if self.n_frames < 2 or rate == self.rate:
-            return self.replace(rate=rate) if self.n_frames < 2 else self
+            return self.replace(rate=rate, outputs=None) if self.n_frames < 2 else self
         duration = (self.n_frames - 1) / self.rate
         times = np.arange(int(np.floor(duration * rate + 1e-9)) + 1) / rate
         position = times * self.rate
@@ -233,4 +273,4 @@ class MarkerSet:
         exact = weight[:, 0, 0] == 0
         out = (1 - weight) * before + weight * after  # NaN spreads: a gap on either side is a gap
         out[exact] = before[exact]
-        return self.replace(positions=out, rate=rate)
+        return self.replace(positions=out, rate=rate, outputs=None)

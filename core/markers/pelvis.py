@@ -17,6 +17,11 @@ growing with marker noise, skin motion or a calibration that does not fit. Witho
 pose the frame ``P`` itself is the rotation (``H = I``) and the residual is measured against
 the triangle's median shape over the valid frames.
 
+When the three virtual markers all come from one rigid cluster (the ``cmu`` map's root and
+hips), a Procrustes on them fits by construction; :func:`recover_pelvis` then fits three of
+the cluster's real markers, and reports the real markers' fit to the cluster template and
+each virtual marker's distance from its fitted home as well.
+
 :class:`PelvisFrames` is the result the app draws over the markers: one frame per motion
 frame, with the fit residual and a flag for frames that could not be recovered.
 """
@@ -54,6 +59,17 @@ class PelvisFrames:
     reasons : tuple of str, for each distinct cause of invalid frames, a message naming it
         and the frames it spoiled.
     labels : the names of the three virtual markers (X1, X2, X3).
+    fit_labels : the three points the Procrustes fitted: ``labels``, or three real markers
+        of the cluster when X1, X2, X3 all come from one rigid cluster (see
+        :func:`recover_pelvis`); ``residuals`` are theirs.
+    virtual_residuals : (F, 3) float64 or None, distance (``units``) of each virtual marker
+        X1, X2, X3 from its home position placed by the fit.
+    virtual_fit : (F, 3) float64 or None, for each virtual marker made by a cluster, the RMS
+        distance of the cluster's real markers from its template placed by the cluster fit
+        (NaN for other kinds): how rigid the markers that make it were in that frame.
+    marker_fit : (F,) float64 or None, the same over the distinct clusters of X1, X2, X3: the
+        fit of the real markers to the cluster template(s).
+    note : how the fit was made, when it was not on the three virtual markers.
     """
 
     rotations: np.ndarray
@@ -63,6 +79,11 @@ class PelvisFrames:
     units: str = "mm"
     reasons: tuple[str, ...] = ()
     labels: tuple[str, ...] = ()
+    fit_labels: tuple[str, ...] = ()
+    virtual_residuals: np.ndarray | None = None
+    virtual_fit: np.ndarray | None = None
+    marker_fit: np.ndarray | None = None
+    note: str = ""
 
     @property
     def n_frames(self) -> int:
@@ -165,7 +186,7 @@ def recover_pelvis(
     from gmr_studio.core.markers.virtual import compute_virtual_markers, resolve_map
 
     loaded = load_marker_map(marker_map)
-    resolved = resolve_map(loaded, markers, skeleton.names if skeleton is not None else None)
+    resolved = resolve_map(loaded, markers, skeleton=skeleton)
     if resolved.pelvis is None:
         raise OperationError(
             f"marker map {resolved.name!r} names no pelvis markers (root, left femur, lower back) "
@@ -174,26 +195,101 @@ def recover_pelvis(
     virtual = compute_virtual_markers(markers, resolved)
     index = [virtual.index(name) for name in resolved.pelvis]
     triple = virtual.positions[:, index]
-    if home is None and skeleton is not None:
+    if home is None and skeleton is not None and all(name in skeleton.names for name in resolved.pelvis):
         home = rest_positions(skeleton, resolved.pelvis)
     if home is None:
         home = resolved.pelvis_home
     home_markers = None if home is None else resolved.alignment.to_markers(np.asarray(home, dtype=np.float64))
+    sources = [resolved.virtual[resolved.names.index(name)] for name in resolved.pelvis]
+    fit_points, fit_home, fit_labels, note = triple, home_markers, tuple(resolved.pelvis), ""
+    raw = _raw_triple(sources, home_markers, markers, virtual.units) if home_markers is not None else None
+    if raw is not None:
+        fit_points, fit_home, fit_labels = raw
+        note = (
+            f"{', '.join(resolved.pelvis)} all come from one rigid cluster ({', '.join(sources[0].markers)}), "
+            f"which fits them by construction: the Procrustes fits its real markers {', '.join(fit_labels)}"
+        )
     rotations, residuals, valid, reasons = pelvis_rotations(
-        triple, home_markers, method=method, min_sine=min_sine, labels=resolved.pelvis
+        fit_points, fit_home, method=method, min_sine=min_sine, labels=fit_labels
     )
+    if raw is not None:  # where a real marker lacks but the cluster fit holds, the virtual triple serves
+        by_cluster, _, cluster_ok, reasons = pelvis_rotations(
+            triple, home_markers, method=method, min_sine=min_sine, labels=resolved.pelvis
+        )
+        fallback = cluster_ok & ~valid
+        if fallback.any():
+            rotations[fallback], valid = by_cluster[fallback], valid | fallback
+            fit_points = np.where(fallback[:, None, None], np.nan, fit_points)
+            reasons.append(
+                f"{', '.join(fit_labels)} incomplete in frames {frame_ranges(fallback)}: the pelvis there is the "
+                "cluster's fit to its other markers (no three-marker residual)"
+            )
+    valid &= np.isfinite(triple[:, 0]).all(axis=1)
+    rotations[~valid] = np.eye(3)
     if not valid.any():
         reasons.append("no frame has a usable pelvis")
-    origins = np.where(valid[:, None], triple[:, 0], np.nan)
+    virtual_residuals = None
+    if fit_home is not None:  # the virtual markers' home, carried by the fit anchored at the first fitted point
+        placed = fit_points[:, :1] + np.einsum("fab,kb->fka", rotations, home_markers - fit_home[0])
+        virtual_residuals = np.where(valid[:, None], np.linalg.norm(placed - triple, axis=2), np.nan)
+    virtual_fit = np.where(valid[:, None], virtual.fit_rms[:, index], np.nan)
     return PelvisFrames(
         rotations=rotations,
-        origins=origins,
-        residuals=residuals,
+        origins=np.where(valid[:, None], triple[:, 0], np.nan),
+        residuals=np.where(valid, residuals, np.nan),
         valid=valid,
         units=virtual.units,
         reasons=tuple(reasons),
         labels=resolved.pelvis,
+        fit_labels=fit_labels,
+        virtual_residuals=virtual_residuals,
+        virtual_fit=virtual_fit,
+        marker_fit=_distinct_cluster_rms(sources, virtual_fit),
+        note=note,
     )
+
+
+def _raw_triple(sources, home: np.ndarray, markers: MarkerSet, units: str):
+    """When the three pelvis virtual markers are one calibrated cluster's, three of its real
+    markers (the template triangle of largest area) with their home positions (the template
+    carried to the home pose by the rigid motion that takes the virtual markers' offsets onto
+    their home), as ((F, 3, 3) positions in ``units``, (3, 3) home, labels); else None."""
+    first = sources[0]
+    same = all(v.kind == "cluster" and v.markers == first.markers and v.calibrated for v in sources)
+    real = [k for k, label in enumerate(first.markers) if not label.startswith("@")]
+    if not same or len(real) < 3:
+        return None
+    best, best_area = None, 0.0
+    for a in range(len(real)):
+        for b in range(a + 1, len(real)):
+            for c in range(b + 1, len(real)):
+                t = first.template[[real[a], real[b], real[c]]]
+                area = float(np.linalg.norm(np.cross(t[1] - t[0], t[2] - t[0])))
+                if area > best_area:
+                    best, best_area = (real[a], real[b], real[c]), area
+    if best is None:
+        return None
+    offsets = np.stack([v.offset for v in sources])
+    rotation, translation, _, ok = fit_rigid(offsets, home[None])
+    if not ok[0]:
+        return None
+    raw_home = first.template[list(best)] @ rotation[0].T + translation[0]
+    labels = tuple(first.markers[k] for k in best)
+    in_units = markers.in_units(units) if units != markers.units else markers
+    points = np.stack([in_units.positions[:, in_units.index(label)] for label in labels], axis=1)
+    return points, raw_home, labels
+
+
+def _distinct_cluster_rms(sources, virtual_fit: np.ndarray) -> np.ndarray | None:
+    """(F,) RMS of the cluster fit over the distinct clusters among the three sources."""
+    columns, seen = [], set()
+    for k, v in enumerate(sources):
+        if v.kind == "cluster" and v.markers not in seen:
+            seen.add(v.markers)
+            columns.append(k)
+    if not columns:
+        return None
+    return np.sqrt(np.mean(virtual_fit[:, columns] ** 2, axis=1))
 
 
 def rest_positions(skeleton, names) -> np.ndarray:

@@ -25,6 +25,17 @@ def describe_markers(markers: MarkerSet, path: str) -> dict:
         "markers": table,
         "missing_fraction": float((~markers.present).mean()) if markers.present.size else 0.0,
         "notes": list(markers.notes),
+        "outputs": _outputs(markers),
+    }
+
+
+def _outputs(markers: MarkerSet) -> dict:
+    """Analysis outputs by kind: ``{kind: {"units": ..., "labels": [...]}}`` (empty if none)."""
+    if markers.outputs is None:
+        return {}
+    units = markers.outputs.units
+    return {
+        kind: {"units": units.get(kind, ""), "labels": labels} for kind, labels in markers.outputs.by_kind().items()
     }
 
 
@@ -40,6 +51,9 @@ def markers_text(info: dict) -> str:
         f"gaps:       {100 * info['missing_fraction']:.2f}% of all samples",
     ]
     lines += [f"note:       {n}" for n in info["notes"]]
+    for kind, group in info.get("outputs", {}).items():  # not markers: listed, never drawn
+        unit = f" ({group['units']})" if group["units"] else ""
+        lines.append(f"output:     {len(group['labels'])} {kind}{unit}: {', '.join(group['labels'])}")
     width = max([len(m["label"]) for m in info["markers"]] + [6])
     lines += ["", f"{'marker':<{width}}  {'missing':>8}  {'gaps':>5}  {'longest':>7}"]
     for m in info["markers"]:
@@ -116,4 +130,57 @@ def conversion_text(rows: list[dict], unit: str) -> str:
     if has_truth:
         values = [r["position_error"] for r in rows if r.get("position_error") is not None]
         lines.append(f"{'overall':<{width}}  {'':>8}  {'':>28}  {np.mean(values):>12.1f}")
+    return "\n".join(lines)
+
+
+def pelvis_fit_summary(pelvis) -> dict:
+    """Min, median, 95th percentile and max over the valid frames (``pelvis.units``) of the
+    pelvis fit: ``procrustes`` (the three points fitted, ``fit_labels``), ``markers`` (the
+    real markers against their cluster templates) and each virtual marker's distance from
+    its fitted home (``virtual``: name -> figures)."""
+
+    def figures(values) -> dict | None:
+        if values is None:
+            return None
+        finite = np.asarray(values)[np.isfinite(values)]
+        if not finite.size:
+            return None
+        quantiles = np.percentile(finite, [0, 50, 95, 100])
+        return dict(zip(("min", "median", "p95", "max"), (float(q) for q in quantiles)))
+
+    virtual = {}
+    for k, name in enumerate(pelvis.labels):
+        virtual[name] = {
+            "residual": figures(None if pelvis.virtual_residuals is None else pelvis.virtual_residuals[:, k]),
+            "cluster_fit": figures(None if pelvis.virtual_fit is None else pelvis.virtual_fit[:, k]),
+        }
+    return {
+        "units": pelvis.units,
+        "fit_labels": list(pelvis.fit_labels or pelvis.labels),
+        "procrustes": figures(pelvis.residuals),
+        "markers": figures(pelvis.marker_fit),
+        "virtual": virtual,
+        "note": pelvis.note,
+    }
+
+
+def pelvis_fit_text(summary: dict) -> str:
+    """:func:`pelvis_fit_summary` as lines of text."""
+
+    def cells(values: dict | None) -> str:
+        if values is None:
+            return "-"
+        return " / ".join(f"{values[key]:.2f}" for key in ("min", "median", "p95", "max"))
+
+    unit = summary["units"]
+    lines = [f"pelvis fit ({unit}, min / median / 95% / max over the frames):"]
+    lines.append(f"  Procrustes on {', '.join(summary['fit_labels'])}: {cells(summary['procrustes'])}")
+    if summary["markers"] is not None:
+        lines.append(f"  real markers to the cluster template: {cells(summary['markers'])}")
+    for name, values in summary["virtual"].items():
+        lines.append(
+            f"  {name}: from its fitted home {cells(values['residual'])}; cluster fit {cells(values['cluster_fit'])}"
+        )
+    if summary["note"]:
+        lines.append(f"  ({summary['note']})")
     return "\n".join(lines)

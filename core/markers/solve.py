@@ -66,6 +66,7 @@ class MarkerMotion:
     matches : (F,) int64, the matched reference frame (-1: none); match_distances (F,) its
         RMS joint distance in skeleton units.
     reasons : what was missing or degenerate, with the frames.
+    pelvis_note : which pelvis triple was used and why, when the map did not name it.
     """
 
     motion: Motion
@@ -76,6 +77,7 @@ class MarkerMotion:
     matches: np.ndarray
     match_distances: np.ndarray
     reasons: tuple[str, ...] = ()
+    pelvis_note: str = ""
 
     def position_errors(self) -> np.ndarray:
         """(F, J) distance between each joint of the motion and its virtual marker (NaN: none)."""
@@ -140,7 +142,7 @@ def markers_to_motion(
         raise OperationError("there are no marker frames to convert")
     if fill_gaps:
         markers = markers.filled(fill_gaps)
-    resolved = resolve_map(load_marker_map(marker_map), markers, skeleton.names)
+    resolved = resolve_map(load_marker_map(marker_map), markers, skeleton=skeleton)
     virtual = compute_virtual_markers(markers, resolved)
     measured = np.full((markers.n_frames, skeleton.n_joints, 3), np.nan)
     aligned = virtual.skeleton_positions()
@@ -162,7 +164,9 @@ def markers_to_motion(
     )
     note = f"from markers {markers.source or '(memory)'} with map {resolved.name}"
     motion = result.motion.replace(comments=(note, *result.motion.comments))
-    return dataclasses.replace(result, motion=motion, reasons=(*virtual.reasons, *result.reasons))
+    return dataclasses.replace(
+        result, motion=motion, reasons=(*virtual.reasons, *result.reasons), pelvis_note=resolved.pelvis_note
+    )
 
 
 def solve_positions(

@@ -3,7 +3,8 @@
 Layout: a ``PathFileType`` line, a line of keys (DataRate, CameraRate, NumFrames, NumMarkers,
 Units, ...) and one of their values, a line ``Frame# Time label ...`` (each label followed
 by two empty fields), a line ``X1 Y1 Z1 X2 ...``, then one row per frame. Empty fields are
-gaps. Rows beyond ``NumFrames``, or fewer of them, are read as they are and noted (real
+gaps in data rows; header rows are read by key names, tolerant of repeated separators (see
+:func:`_header`). Rows beyond ``NumFrames``, or fewer of them, are read as they are and noted (real
 files disagree with their header); everything else that is wrong raises
 :class:`~core.errors.MotionFileError` with the line and column.
 """
@@ -41,42 +42,38 @@ def read_trc(path: str | Path, data: bytes | None = None) -> MarkerSet:
     if not first.startswith("PathFileType"):
         raise fail("expected 'PathFileType' on the first line of a TRC file", 1)
     delimiter = "\t" if "\t" in first else ","
-    keys = [k.strip() for k in _text(lines[1], where, 2).split(delimiter)]
-    values = [v.strip() for v in _text(lines[2], where, 3).split(delimiter)]
-    header = {k: v for k, v in zip(keys, values) if k}
+    header = _header(_text(lines[1], where, 2), _text(lines[2], where, 3), delimiter)
     for key in ("NumMarkers", "Units"):
         if key not in header:
             raise fail(f"the header has no {key}", 2)
-    rate_text = header.get("DataRate") or header.get("CameraRate")
-    if rate_text is None:
+    rate_key = "DataRate" if "DataRate" in header else "CameraRate"
+    if rate_key not in header:
         raise fail("the header has no DataRate", 2)
-    column = keys.index("DataRate" if "DataRate" in header else "CameraRate")
+    rate_text, rate_column = header[rate_key]
     try:
         rate = float(rate_text)
     except ValueError:
         rate = -1.0
     if not np.isfinite(rate) or rate <= 0:
-        raise fail(f"expected a positive DataRate, found '{rate_text}'", 3, _field_column(values, column, delimiter))
-    units = _UNIT_ALIASES.get(header["Units"].lower())
+        raise fail(f"expected a positive DataRate, found '{rate_text}'", 3, rate_column)
+    units_text, units_column = header["Units"]
+    units = _UNIT_ALIASES.get(units_text.lower())
     if units is None:
-        raise fail(
-            f"unknown Units '{header['Units']}': expected one of {', '.join(UNIT_SCALE)}",
-            3,
-            _field_column(values, keys.index("Units"), delimiter),
-        )
-    if not header["NumMarkers"].isdigit():
-        raise fail(f"expected a whole NumMarkers, found '{header['NumMarkers']}'", 3)
-    n_markers = int(header["NumMarkers"])
-    names = _text(lines[3], where, 4).split(delimiter)
+        raise fail(f"unknown Units '{units_text}': expected one of {', '.join(UNIT_SCALE)}", 3, units_column)
+    markers_text, markers_column = header["NumMarkers"]
+    if not markers_text.isdigit():
+        raise fail(f"expected a whole NumMarkers, found '{markers_text}'", 3, markers_column)
+    n_markers = int(markers_text)
+    names = [name for name, _ in _fields(_text(lines[3], where, 4), delimiter)]
     if names[:2] != ["Frame#", "Time"]:
         raise fail("expected 'Frame#' and 'Time' to start the fourth line", 4)
-    full_labels = [n.strip() for n in names[2:] if n.strip()]
+    full_labels = names[2:]
     if len(full_labels) != n_markers:
         raise fail(f"NumMarkers says {n_markers}, but the fourth line names {len(full_labels)} markers", 4)
     split = [split_subject(label) for label in full_labels]
     positions, first_frame, rows = _read_rows(lines, 5, 2 + 3 * n_markers, delimiter, where)
     notes = []
-    claimed = header.get("NumFrames", "")
+    claimed = header.get("NumFrames", ("", 0))[0]
     if claimed.isdigit() and int(claimed) != rows:
         notes.append(f"the header says NumFrames {claimed}; the file holds {rows} frames")
     return MarkerSet(
@@ -98,8 +95,30 @@ def _text(line: bytes, path: str, number: int) -> str:
         raise MotionFileError(path, "bytes that are not UTF-8 text", number, exc.start + 1) from None
 
 
-def _field_column(fields: list[str], index: int, delimiter: str) -> int:
-    return sum(len(f) + len(delimiter) for f in fields[:index]) + 1
+def _fields(line: str, delimiter: str, keep_empty: bool = False) -> list[tuple[str, int]]:
+    """The fields of a line with their 1-based columns, stripped; empty ones dropped unless
+    ``keep_empty`` (so repeated separators count as one, as OpenSim's tokenizer reads them)."""
+    out, column = [], 1
+    for field in line.split(delimiter):
+        if field.strip() or keep_empty:
+            out.append((field.strip(), column + len(field) - len(field.lstrip())))
+        column += len(field) + len(delimiter)
+    return out
+
+
+def _header(keys_line: str, values_line: str, delimiter: str) -> dict[str, tuple[str, int]]:
+    """The header's values by key name, each with its column on the values line.
+
+    Keys and values are paired by name: OpenSim pairs the n-th non-empty key with the n-th
+    non-empty value, so writers that separate the values by several tabs
+    (``100.0<TAB><TAB>100.0<TAB><TAB>238``) are read as intended. When the two rows do not
+    hold as many non-empty fields (a value left empty on purpose), fields pair by position.
+    """
+    keys, values = _fields(keys_line, delimiter), _fields(values_line, delimiter)
+    if len(keys) != len(values):
+        keys = _fields(keys_line, delimiter, keep_empty=True)
+        values = _fields(values_line, delimiter, keep_empty=True)
+    return {key: value for (key, _), value in zip(keys, values) if key}
 
 
 def _read_rows(

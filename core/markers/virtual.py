@@ -71,21 +71,65 @@ class VirtualMarkers:
         return self.alignment.to_skeleton(self.positions)
 
 
-def resolve_map(marker_map: MarkerMap, markers: MarkerSet, joint_names: Sequence[str] | None = None) -> MarkerMap:
+def resolve_map(
+    marker_map: MarkerMap,
+    markers: MarkerSet,
+    joint_names: Sequence[str] | None = None,
+    *,
+    skeleton=None,
+    joint_map=None,
+) -> MarkerMap:
     """The built-in ``joints`` map made concrete: one virtual marker per joint name that the
-    marker set has (every label when no names are given); other maps are returned as they are."""
-    if not marker_map.joints:
-        return marker_map
-    from gmr_studio.core.markers.markermap import guess_pelvis, joints_map
+    marker set has (every label when no names are given; the skeleton's names when a
+    skeleton is given); other maps are returned as they are.
 
+    Without a pelvis named by the map, the triple is chosen by
+    :func:`core.markers.pelvis_guess.choose_pelvis` (the note's root, left femur, lower back
+    first; with the skeleton, any non-collinear triple of pelvis joints after) and
+    ``pelvis_note`` says which and why.
+
+    Other maps name the joints of the skeleton they were made for; given a skeleton whose
+    joints are named otherwise (CMU's BVH for the ``cmu`` map made on CMU's ASF), they are
+    renamed through a joint-name map (``joint_map``, or the shipped one that pairs them):
+    :func:`core.markers.joint_names.through_joint_map`.
+    """
+    if not marker_map.joints:
+        if skeleton is None and joint_map is None:
+            return marker_map
+        from gmr_studio.core.markers.joint_names import through_joint_map
+
+        return through_joint_map(marker_map, skeleton.names if skeleton is not None else joint_names, joint_map)
+    from gmr_studio.core.markers.markermap import guess_pelvis, joints_map
+    from gmr_studio.core.markers.pelvis_guess import choose_pelvis, sampled_positions
+
+    if joint_names is None and skeleton is not None:
+        joint_names = skeleton.names
+    all_names = list(joint_names if joint_names is not None else markers.labels)
     labels = set(markers.labels)
-    names = [n for n in (joint_names if joint_names is not None else markers.labels) if n in labels]
+    names = [n for n in all_names if n in labels]
     if not names:
         raise OperationError(
             f"the 'joints' map needs markers labelled with joint names; {markers.source or 'the marker set'} has none"
         )
     pelvis = marker_map.pelvis if marker_map.pelvis and all(p in names for p in marker_map.pelvis) else None
-    return joints_map(names, pelvis or guess_pelvis(names)).replace(alignment=marker_map.alignment)
+    note = ""
+    if pelvis is None:
+        positions = np.full((markers.n_frames, len(all_names), 3), np.nan)
+        for k, name in enumerate(all_names):
+            if name in labels:
+                positions[:, k] = markers.positions[:, markers.index(name)]
+        structure = skeleton is not None and list(skeleton.names) == all_names
+        choice = choose_pelvis(
+            all_names,
+            positions,
+            skeleton.parents if structure else None,
+            np.asarray(skeleton.offsets) if structure else None,
+            sampled_positions(skeleton) if structure and skeleton.n_frames >= 2 else None,
+        )
+        if choice is not None:
+            pelvis, note = choice.triple, choice.describe()
+    resolved = joints_map(names, pelvis or guess_pelvis(names))
+    return resolved.replace(alignment=marker_map.alignment, pelvis_note=note)
 
 
 def _in_map_units(markers: MarkerSet, marker_map: MarkerMap) -> MarkerSet:

@@ -1,0 +1,64 @@
+"""Markers in the real window (under Xvfb): analysis outputs of a C3D are never drawn nor used
+by the automatic alignment; marker-map messages."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from gmr_studio.app.alignment import auto_alignment
+from tests import app_fixtures
+from tests.app_fixtures import open_file
+from tests.conftest import shared_path
+from tests.test_markers_c3d_outputs import write_with_outputs
+
+pytestmark = pytest.mark.gui
+studio = app_fixtures.studio  # the fixture: a main window that must not leak
+
+
+def test_the_window_draws_and_aligns_only_markers(qtbot, studio, tmp_path):
+    cmu, _, _ = write_with_outputs(tmp_path / "gait.c3d")
+    open_file(studio, shared_path("cmu/subject01/01_01.bvh"), tmp_path / "gait.c3d")
+    state, scene = studio.state, studio.view.scene
+    overlay = state.marker_overlay
+    assert overlay.markers.labels == cmu.labels and overlay.positions.shape[1] == 42
+    for frame in (0, 60):
+        state.set_frame(frame)
+        shown = np.isfinite(overlay.positions[frame]).all(axis=1)
+        assert scene.parts["markers"].mesh.n_points == int(shown.sum()) > 30
+        np.testing.assert_allclose(scene.parts["markers"].mesh.points, overlay.positions[frame][shown], atol=1e-4)
+    # the automatic alignment is the one of the markers alone
+    resampled = cmu.resampled(state.motion.frame_rate)
+    alone = auto_alignment(
+        resampled.positions, resampled.labels, state.snapshot.positions, state.motion.names, cmu.units
+    )
+    np.testing.assert_allclose(overlay.alignment.rotation, alone.rotation, atol=1e-9)
+    np.testing.assert_allclose(overlay.alignment.offset, alone.offset, rtol=1e-6, atol=1e-6)
+    assert overlay.alignment.scale == pytest.approx(alone.scale, rel=1e-9)
+
+
+def test_pelvis_frames_on_the_cmu_bvh_and_a_message_when_the_map_cannot_apply(qtbot, tmp_path):
+    from gmr_studio.app import extensions
+    from gmr_studio.app.state import Snapshot, StudioState
+    from gmr_studio.core.formats import load_gmr
+    from gmr_studio.core.markers import read_markers
+    from tests.test_markers_pelvis_guess import write_rig
+
+    markers = read_markers(shared_path("cmu/subject01/01_01.c3d"))
+    messages: list[str] = []
+    state = StudioState()
+    state.message.connect(messages.append)
+    state.open_document(Snapshot.of(load_gmr(shared_path("cmu/subject01/01_01.bvh"))), None)
+    state.set_markers(markers)
+    assert extensions.recover_pelvis_frames(state, quiet=True)
+    assert state.pelvis is not None and int(state.pelvis.source.valid.sum()) == 2750
+    assert "marker map 'cmu' (Hips, LeftUpLeg, RightUpLeg) (fitted on LFWT, RFWT, LBWT)" in messages[-1]
+    # a skeleton no joint map pairs with CMU's: said, even though the recovery is quiet
+    rig = write_rig(tmp_path / "rig.bvh", root="pelvis", left="l_hip", right="r_hip", back="belly")
+    state.open_document(Snapshot.of(rig), None)
+    state.set_markers(markers)
+    messages.clear()
+    assert not extensions.recover_pelvis_frames(state, quiet=True)
+    assert state.pelvis is None
+    assert messages and "marker map 'cmu' fits these markers but cannot apply to this skeleton" in messages[-1]
+    assert "does not pair them with this skeleton's joints" in messages[-1]
