@@ -148,6 +148,10 @@ class FileController(QObject):
             markers, self.pending_markers = self.pending_markers, None
             self.add_markers_path(markers, wait=wait)
 
+    def show_error(self, exc: BaseException) -> None:
+        """Tell the user a file could not be read (file, line, column, what); nothing changes."""
+        self._on_failed(exc)
+
     def _on_failed(self, exc: BaseException) -> None:
         self.pending_markers = None
         short, details = error_text(exc)
