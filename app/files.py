@@ -188,8 +188,11 @@ class FileController(QObject):
                 f"Added {markers.n_markers} markers from {Path(path).name} ({markers.rate:g} Hz, {markers.units}); "
                 f"aligned: {overlay.alignment.method}"
             )
-            if extensions.recover_pelvis_frames(self.state, quiet=True):
-                text += "; pelvis frames recovered"
+            try:
+                if extensions.recover_pelvis_frames(self.state, quiet=True):
+                    text += "; pelvis frames recovered"
+            except ValueError as exc:  # e.g. an automatic alignment the pelvis fit cannot use
+                text += f"; pelvis frames not recovered: {exc}"
             self.state.show_message(text)
         self.load_finished.emit(True)
 

@@ -13,7 +13,9 @@ from pathlib import Path
 
 from PyQt6.QtCore import QThread, pyqtSignal
 
+from gmr_studio.app import memory
 from gmr_studio.app.state import Snapshot
+from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats import READERS, load_gmr
 from gmr_studio.core.markers import MARKER_READERS, MarkerSet, read_markers
 
@@ -36,9 +38,14 @@ def file_filter(suffixes: list[str], what: str) -> str:
 def load_snapshot(path: str | Path) -> Snapshot:
     """Read a motion file as GMR and compute its forward kinematics for every frame.
 
-    Raises MotionFileError for a bad or unknown file.
+    Raises MotionFileError for a bad or unknown file, and for a motion whose caches would
+    not fit in the memory available (:mod:`app.memory`), before allocating them.
     """
-    return Snapshot.of(load_gmr(path))
+    motion = load_gmr(path)
+    refusal = memory.too_large(motion.n_frames, motion.n_joints)
+    if refusal is not None:  # before the caches are allocated
+        raise MotionFileError(path, refusal)
+    return Snapshot.of(motion)
 
 
 def load_markers(path: str | Path) -> MarkerSet:

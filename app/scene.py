@@ -114,7 +114,8 @@ class SkeletonScene:
         """Rebuild the skeleton's actors for ``snapshot``; a new document also gets a new
         ground grid, up axis and camera, an edit keeps them."""
         self.snapshot = snapshot
-        for name in [n for n in self.parts if not n.startswith(("marker", "pelvis"))]:
+        # the ground grid stays through an edit (the skeleton does not move); a new document rebuilds it
+        for name in [n for n in self.parts if not n.startswith(("marker", "pelvis", "ground"))]:
             self._remove(name)
         if snapshot is None:
             self.render()
