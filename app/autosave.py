@@ -57,6 +57,7 @@ class Autosaver(QObject):
         self.current: Path | None = None  # the copy this document has on disk (or will have)
         self._worker = concurrent.futures.ThreadPoolExecutor(max_workers=1, thread_name_prefix="autosave")
         self._pending: list[concurrent.futures.Future] = []
+        self._closed = False
         self.timer = QTimer(self)
         self.timer.setSingleShot(True)
         self.timer.setInterval(interval_ms)
@@ -124,10 +125,13 @@ class Autosaver(QObject):
     def shutdown(self) -> None:
         """Finish what was asked and stop the worker (the window is closing)."""
         self.timer.stop()
+        self._closed = True
         self._worker.shutdown(wait=True)
 
     # ------------------------------------------------------------------------- worker
     def _submit(self, what: str, path: Path, motion: Motion | None, edits: int) -> None:
+        if self._closed:  # the window closed: nothing more is written or removed
+            return
         original = self.state.path
         future = self._worker.submit(self._work, what, path, motion, original, edits)
         self._pending = [f for f in self._pending if not f.done()] + [future]
