@@ -171,6 +171,10 @@ class FileController(QObject):
             markers, self.pending_markers = self.pending_markers, None
             self.add_markers_path(markers, wait=wait)
 
+    def show_error(self, exc: BaseException) -> None:
+        """Tell the user a file could not be read (file, line, column, what); nothing changes."""
+        self._on_failed(exc)
+
     def _on_failed(self, exc: BaseException) -> None:
         self.pending_markers = None
         short, details = error_text(exc)
@@ -207,8 +211,11 @@ class FileController(QObject):
                 f"Added {markers.n_markers} markers from {Path(path).name} ({markers.rate:g} Hz, {markers.units}); "
                 f"aligned: {overlay.alignment.method}"
             )
-            if extensions.recover_pelvis_frames(self.state, quiet=True):
-                text += "; pelvis frames recovered"
+            try:
+                if extensions.recover_pelvis_frames(self.state, quiet=True):
+                    text += "; pelvis frames recovered"
+            except ValueError as exc:  # e.g. an automatic alignment the pelvis fit cannot use
+                text += f"; pelvis frames not recovered: {exc}"
             self.state.show_message(text)
         self.load_finished.emit(True)
 

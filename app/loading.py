@@ -13,8 +13,10 @@ from pathlib import Path
 
 from PyQt6.QtCore import QThread, pyqtSignal
 
+from gmr_studio.app import memory
 from gmr_studio.app.state import Snapshot
 from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats import READERS, load_gmr, motion_suffix
 from gmr_studio.core.formats.bvh import read_bvh_with_channels
 from gmr_studio.core.markers import MARKER_READERS, MarkerSet, read_markers
@@ -39,12 +41,18 @@ def load_snapshot(path: str | Path, **options) -> Snapshot:
     """Read a motion file as GMR and compute its forward kinematics for every frame
     (``options`` go to the reader, e.g. ``body_model`` for AMASS ``.npz``).
 
-    Raises MotionFileError for a bad or unknown file.
+    Raises MotionFileError for a bad or unknown file, and for a motion whose caches would
+    not fit in the memory available (:mod:`app.memory`), before allocating them.
     """
     if motion_suffix(path) == ".bvh":  # keep the file's channel values for the inspector
         motion, channels = read_bvh_with_channels(path)
-        return Snapshot.of(pre_from_post(motion), file_channels=channels)
-    return Snapshot.of(load_gmr(path, **options))
+        motion = pre_from_post(motion)
+    else:
+        motion, channels = load_gmr(path, **options), None
+    refusal = memory.too_large(motion.n_frames, motion.n_joints)
+    if refusal is not None:  # before the caches are allocated
+        raise MotionFileError(path, refusal)
+    return Snapshot.of(motion, file_channels=channels)
 
 
 def load_markers(path: str | Path) -> MarkerSet:

@@ -46,6 +46,11 @@ def build_arguments() -> argparse.ArgumentParser:
     parser.add_argument(
         "--layout", choices=("path", "side"), default="path", help="with --filmstrip: along the path or side by side"
     )
+    parser.add_argument(
+        "--recover", action="store_true", help="list the recovery files of unsaved work and exit (no window)"
+    )
+    # test-only (tests/test_app_recovery.py): make N edits after opening, as a user would
+    parser.add_argument("--test-edits", type=int, default=0, help=argparse.SUPPRESS)
     # for app.bench: print the wall-clock time when the file's first frame is drawn, then quit
     parser.add_argument("--first-frame-time", action="store_true", help=argparse.SUPPRESS)
     return parser
@@ -88,6 +93,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         size = parse_size(args.size)
     except argparse.ArgumentTypeError as exc:
         parser.error(str(exc))
+    if args.recover:
+        from gmr_studio.app.recovery import print_recoveries
+
+        return print_recoveries()
     motion_path, markers_path = default_files(args)
     if args.filmstrip:
         from gmr_studio.app.filmstrip import filmstrip_command
@@ -123,7 +132,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         _apply_steps_once_loaded(window, args.steps)
     if args.first_frame_time:
         window.files.load_finished.connect(lambda ok: _report_first_frame(app, window, ok))
-    window.files.open_path(motion_path, markers=markers_path, ask=False)
+    from gmr_studio.app.recovery_dialog import offer_recovery
+
+    if not offer_recovery(window):
+        window.files.open_path(motion_path, markers=markers_path, ask=False, wait=bool(args.test_edits))
+    if args.test_edits:
+        make_test_edits(window.state, args.test_edits)
     return app.exec()
 
 
@@ -177,6 +191,20 @@ def apply_steps(state, steps: list) -> str | None:
         if not done and not (messages and messages[-1].endswith(": nothing to change")):
             return f"{flag}: {messages[-1] if messages else 'refused'}"
     return None
+
+
+def make_test_edits(state, count: int) -> None:
+    """Test only (``--test-edits N``): split the tree at joints 1, 2, ... of the motion as
+    it is after each edit (joints that are roots already are skipped); prints their names."""
+    from gmr_studio.app import commands
+
+    names, joint = [], 1
+    while len(names) < count and joint < state.motion.n_joints:
+        name = state.motion.names[joint]
+        if state.motion.parents[joint] >= 0 and commands.split_here(state, joint):
+            names.append(name)
+        joint += 1
+    print(f"made {len(names)} edits: split at {','.join(names)}", flush=True)
 
 
 def _report_first_frame(app, window, loaded: bool) -> None:

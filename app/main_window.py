@@ -12,6 +12,7 @@ from PyQt6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMenu, QMessageBox
 from gmr_studio.app import actions as action_table
 from gmr_studio.app import audit_dialog, commands, extensions
 from gmr_studio.app.alignment_dialog import AlignmentDialog
+from gmr_studio.app.autosave import Autosaver
 from gmr_studio.app.classroom import Classroom
 from gmr_studio.app.contact_bars import ContactBars
 from gmr_studio.app.curves_dock import CurvesDock
@@ -60,6 +61,7 @@ class MainWindow(QMainWindow):
         self.view = SkeletonView(self.state, self)
         self.setCentralWidget(self.view)
         self.files = FileController(self.state, lambda: self.view.scene, self.settings, self)
+        self.autosave = Autosaver(self.state, self)  # a recovery copy of unsaved edits
         self.setAcceptDrops(True)
         self.actions = action_table.build_actions(self, self._handlers(), self.state.undo_stack)
         self.actions["play"].setShortcutContext(Qt.ShortcutContext.WindowShortcut)
@@ -303,6 +305,8 @@ class MainWindow(QMainWindow):
             event.ignore()
             return
         self.player.pause()
+        self.autosave.discard()  # saved, or the user chose to drop the edits
+        self.autosave.shutdown()
         self.state.undo_stack.blockSignals(True)  # its actions go away with the window
         self._save_settings()
         self.view.close_view()
