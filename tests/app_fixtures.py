@@ -44,6 +44,14 @@ def studio(qtbot, tmp_path):
     assert live_windows() <= windows_before, "a window was left open"
 
 
+@pytest.fixture
+def crash_folder(tmp_path, monkeypatch):
+    """The app's config folder (its crash log) moved into the test's temporary folder."""
+    folder = tmp_path / "config"
+    monkeypatch.setenv("GMR_STUDIO_CONFIG", str(folder))
+    return folder
+
+
 def open_file(window: MainWindow, path, markers=None) -> None:
     """Open a file the way the app does (worker thread), and wait until it is shown."""
     window.files.open_path(str(path), markers=str(markers) if markers else None, ask=False, wait=True)

@@ -14,12 +14,7 @@ from tests.app_fixtures import open_file
 pytestmark = pytest.mark.gui
 studio = app_fixtures.studio
 
-
-@pytest.fixture
-def crash_folder(tmp_path, monkeypatch):
-    folder = tmp_path / "config"
-    monkeypatch.setenv("GMR_STUDIO_CONFIG", str(folder))
-    return folder
+crash_folder = app_fixtures.crash_folder  # the fixture: the crash log's folder, emptied per test
 
 
 @pytest.mark.parametrize("per_tree", [False, True])
