@@ -45,7 +45,6 @@ from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, pr
 from PyQt6.QtCore import Qt
 
 from gmr_studio.app import commands, extensions
-from gmr_studio.app.scene import tree_colors
 from gmr_studio.app.state import OVERLAYS
 from gmr_studio.core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
 from gmr_studio.core.shared_data import shared_data_dir
@@ -297,7 +296,9 @@ class StudioModel(RuleBasedStateMachine):
     def forest_view_and_inspector_agree_with_the_state(self) -> None:
         state, snapshot = self.state, self.state.snapshot
         motion = snapshot.motion
-        colors = tree_colors(snapshot)
+        # the colour book the forest and the view share (app.tree_colors): one colour per tree
+        colors = self.window.forest.tree_colors.colors(motion)
+        np.testing.assert_array_equal(colors, colors[motion.tree_roots])
         forest = self.window.forest
         roots = [forest.topLevelItem(i).data(0, Qt.ItemDataRole.UserRole) for i in range(forest.topLevelItemCount())]
         assert sorted(roots) == sorted(motion.roots.tolist())
