@@ -45,6 +45,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m gmr_studio.app.curves_bench", description=__doc__.splitlines()[0])
     parser.add_argument("--frames", type=int, default=100_000, help="frames of the motion plotted")
     parser.add_argument("--updates", type=int, default=300, help="frame updates timed")
+    parser.add_argument("--warmup", type=int, default=10, help="untimed frame updates before each timed block")
     parser.add_argument("--repeats", type=int, default=3, help="shown/hidden comparisons of the window's updates")
     parser.add_argument("--profile", action="store_true", help="print a profile of the window's frame updates")
     args = parser.parse_args(argv)
@@ -121,7 +122,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     curves_dock = window.findChild(type(window.history_dock), "curves")
     added = {"wall": [], "cpu": []}
     for repeat in range(args.repeats):
-        wall, cpu = _window_updates(app, state, curves_dock, args.updates, first=2000 + repeat * 6 * args.updates)
+        wall, cpu = _window_updates(
+            app, state, curves_dock, args.updates, args.warmup, first=2000 + repeat * 6 * args.updates
+        )
         for clock, samples in (("wall", wall), ("cpu", cpu)):
             shown, hidden = (float(np.median(samples[v])) * 1000 for v in (True, False))
             added[clock].append(shown - hidden)
@@ -140,7 +143,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     return 0
 
 
-def _window_updates(app, state, curves_dock, updates: int, first: int) -> tuple[dict, dict]:
+def _window_updates(app, state, curves_dock, updates: int, warmup: int, first: int) -> tuple[dict, dict]:
     """Time ``state.set_frame`` + the events that follow, dock shown and hidden in turns
     (so that the machine's load hits both alike): wall (``perf_counter``) and CPU
     (``process_time``, every thread of this process) seconds per update, keyed by shown."""
@@ -149,7 +152,7 @@ def _window_updates(app, state, curves_dock, updates: int, first: int) -> tuple[
     for block in range(6):
         shown = block % 2 == 0
         curves_dock.setVisible(shown)
-        for f in range(10):  # warm up
+        for f in range(warmup):
             state.set_frame(f)
             app.processEvents()
         for f in range(updates // 3):
