@@ -115,8 +115,10 @@ def test_mirror_from_the_menu_swaps_sides_twice_to_the_identity_and_undoes(studi
 
 def test_mirror_is_disabled_when_no_joint_names_a_side(studio):
     open_file(studio, shared_path(WALK))
+    assert studio.curves.mirror_button.isEnabled()
     motion = studio.state.motion
     anonymous = motion.replace(names=tuple(f"joint{j}" for j in range(motion.n_joints)))
     studio.state.open_document(Snapshot.of(anonymous), None)
     assert not edit_menu_action(studio, "Mirror left/right").isEnabled()
-    assert edit_menu_action(studio, "Resample...").isEnabled()
+    assert not studio.curves.mirror_button.isEnabled()  # the dock's button follows the same rule
+    assert edit_menu_action(studio, "Resample...").isEnabled() and studio.curves.resample_button.isEnabled()
