@@ -10,10 +10,13 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from PyQt6.QtGui import QAction, QKeySequence, QUndoStack
-from PyQt6.QtWidgets import QMainWindow, QMenu, QStyle, QToolBar
+from PyQt6.QtWidgets import QInputDialog, QMainWindow, QMenu, QStyle, QToolBar
 
+from gmr_studio.app import commands
 from gmr_studio.app.commands import can_join
+from gmr_studio.app.range_slider import range_ending_at, range_starting_at
 from gmr_studio.app.state import StudioState
+from gmr_studio.core.mirror import side_partners
 
 Key = QKeySequence.StandardKey
 
@@ -44,6 +47,12 @@ ACTIONS: dict[str, tuple[str, object, str, bool, str | None]] = {
     "split_all": ("Split a&ll", "Ctrl+Shift+T", "Every joint its own root", False, None),
     "join_all": ("Join al&l", "Ctrl+Shift+J", "Join every soft link (restores the original trees)", False, None),
     "remove_dummies": ("Remove &dummy joints", "", "Fold zero-offset dummy joints into their children", False, None),
+    "trim_range": ("&Trim to range", "", "Keep only the selected frame range (an undoable edit)", False, None),
+    "resample": ("Res&ample...", "", "Resample the motion to another frame rate (an undoable edit)", False, None),
+    "mirror": ("&Mirror left/right", "", "Swap left and right across the sagittal plane (undoable)", False, None),
+    "range_start": ("Set range &start", "I", "Start the frame range at the current frame", False, None),
+    "range_end": ("Set range &end", "O", "End the frame range at the current frame (included)", False, None),
+    "clear_range": ("&Clear range", "", "Forget the frame range", False, None),
     "play": ("&Play", "Space", "Play or pause", False, "SP_MediaPlay"),
     "step_back": ("Step &back", "Left", "Previous frame", False, "SP_MediaSeekBackward"),
     "step_forward": ("Step &forward", "Right", "Next frame", False, "SP_MediaSeekForward"),
@@ -81,6 +90,8 @@ ACTIONS: dict[str, tuple[str, object, str, bool, str | None]] = {
 }
 
 SELECTION_EDITS = ("make_root", "split", "join")
+CLIP_EDITS = ("trim_range", "resample", "mirror")
+RANGE_ACTIONS = ("range_start", "range_end", "clear_range")
 #: longest undo/redo label shown in the menu and the toolbar (the full one is the tooltip),
 #: so that an edit of a long joint name does not widen the toolbar
 UNDO_LABEL_CHARS = 28
@@ -165,6 +176,9 @@ def fill_menus(window: QMainWindow, actions: dict[str, QAction], recent_menu: QM
     edit_menu.addSeparator()
     for name in ("make_root", "split", "join", "split_all", "join_all", "remove_dummies"):
         edit_menu.addAction(actions[name])
+    edit_menu.addSeparator()
+    for name in CLIP_EDITS:
+        edit_menu.addAction(actions[name])
     view_menu = bar.addMenu("&View")
     view_menu.addAction(actions["reset_camera"])
     view_menu.addSeparator()
@@ -177,6 +191,9 @@ def fill_menus(window: QMainWindow, actions: dict[str, QAction], recent_menu: QM
         play_menu.addAction(actions[name])
     play_menu.addSeparator()
     for name in ("loop", "slower", "faster"):
+        play_menu.addAction(actions[name])
+    play_menu.addSeparator()
+    for name in RANGE_ACTIONS:
         play_menu.addAction(actions[name])
     help_menu = bar.addMenu("&Help")
     help_menu.addAction(actions["keys"])
@@ -230,3 +247,49 @@ def update_enabled(actions: dict[str, QAction], state: StudioState, remove_dummi
     for name in ("align_markers", "remove_markers"):
         actions[name].setEnabled(has_markers)
     actions["recover_pelvis"].setEnabled(has_markers)
+    selected = state.frame_range
+    actions["trim_range"].setEnabled(bool(has_motion and selected is not None and selected != (0, motion.n_frames)))
+    actions["resample"].setEnabled(bool(has_motion and motion.n_frames >= 2))
+    actions["mirror"].setEnabled(bool(has_motion and side_partners(motion.names).pairs.size))
+    for name in ("range_start", "range_end"):
+        actions[name].setEnabled(has_motion)
+    actions["clear_range"].setEnabled(selected is not None)
+
+
+def clip_handlers(window: QMainWindow, state: StudioState) -> dict[str, Callable]:
+    """Handlers of the clip edits (:data:`CLIP_EDITS`) and of the range keys (:data:`RANGE_ACTIONS`)."""
+
+    def trim_to_range() -> bool:
+        return state.frame_range is not None and commands.trim_to_range(state, *state.frame_range)
+
+    def set_start() -> None:
+        state.set_frame_range(*range_starting_at(state.frame_range, state.frame, state.n_frames))
+
+    def set_end() -> None:
+        state.set_frame_range(*range_ending_at(state.frame_range, state.frame))
+
+    return {
+        "trim_range": trim_to_range,
+        "resample": lambda: ask_and_resample(window, state),
+        "mirror": lambda: commands.mirror_left_right(state),
+        "range_start": set_start,
+        "range_end": set_end,
+        "clear_range": lambda: state.set_frame_range(-1, -1),
+    }
+
+
+def ask_and_resample(window: QMainWindow, state: StudioState) -> bool:
+    """Ask for a frame rate (half the current one offered) and resample to it, undoably."""
+    motion = state.motion
+    if motion is None:
+        return False
+    rate, accepted = QInputDialog.getDouble(
+        window,
+        "Resample",
+        f"New frame rate in Hz (now {motion.frame_rate:g} Hz):",
+        round(motion.frame_rate / 2, 3),
+        1.0,
+        1000.0,
+        3,
+    )
+    return bool(accepted) and commands.resample_to(state, rate)

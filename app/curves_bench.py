@@ -9,7 +9,10 @@ RightHand and Head plotted (9 curves of 100,000 points each, the whole range in 
    view makes every repaint of any widget in it a full composition under Xvfb).
 3. The whole window during playback: ``state.set_frame(f)`` and the events that follow (3D
    view, timeline, inspector, contact bars, curves) with the curves dock shown and hidden;
-   the difference of the medians is what the curves add to a frame update.
+   the difference of the medians is what the curves add to a frame update. Reported as wall
+   time (``time.perf_counter``) and as the CPU time of the process (``time.process_time``, all
+   its threads, the 3D view's llvmpipe rasteriser included), which waiting for a core on a
+   loaded machine does not inflate; ``--repeats`` comparisons in one run.
 """
 
 from __future__ import annotations
@@ -42,6 +45,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m gmr_studio.app.curves_bench", description=__doc__.splitlines()[0])
     parser.add_argument("--frames", type=int, default=100_000, help="frames of the motion plotted")
     parser.add_argument("--updates", type=int, default=300, help="frame updates timed")
+    parser.add_argument("--warmup", type=int, default=10, help="untimed frame updates before each timed block")
+    parser.add_argument("--repeats", type=int, default=3, help="shown/hidden comparisons of the window's updates")
     parser.add_argument("--profile", action="store_true", help="print a profile of the window's frame updates")
     args = parser.parse_args(argv)
     if not (shared_data_dir() / BVH).exists():
@@ -95,13 +100,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     alone.show()
     alone.autoscale()
     app.processEvents()
-    moves = []
+    moves, moves_cpu = [], []
     for f in range(args.updates):
-        start = time.perf_counter()
+        start, start_cpu = time.perf_counter(), time.process_time()
         alone.set_cursor(1000 + f)
         app.processEvents()  # the view repaints the strips of the cursor's old and new places
         moves.append(time.perf_counter() - start)
+        moves_cpu.append(time.process_time() - start_cpu)
     _print("the same plot in its own window: move the cursor + repaint", moves)
+    _print("  the same, CPU time", moves_cpu)
     alone.close()
     if args.profile:
         import cProfile
@@ -112,28 +119,49 @@ def main(argv: Sequence[str] | None = None) -> int:
                 state.set_frame(3000 + f)
                 app.processEvents()
         pstats.Stats(profile).sort_stats("cumulative").print_stats(25)
-    times: dict[bool, list[float]] = {True: [], False: []}
     curves_dock = window.findChild(type(window.history_dock), "curves")
-    for block in range(6):  # shown and hidden in turns, so that the machine's load hits both alike
-        shown = block % 2 == 0
-        curves_dock.setVisible(shown)
-        for f in range(10):  # warm up
-            state.set_frame(f)
-            app.processEvents()
-        for f in range(args.updates // 3):
-            start = time.perf_counter()
-            state.set_frame(2000 + block * args.updates + f)
-            app.processEvents()
-            times[shown].append(time.perf_counter() - start)
-    medians = {
-        shown: _print(f"window frame update, curves dock {'shown' if shown else 'hidden'}", times[shown])
-        for shown in (True, False)
-    }
-    added = medians[True] - medians[False]
-    print(f"{'the curves dock adds to a frame update (difference of medians)':<58} {added:7.2f} ms")
+    added = {"wall": [], "cpu": []}
+    for repeat in range(args.repeats):
+        wall, cpu = _window_updates(
+            app, state, curves_dock, args.updates, args.warmup, first=2000 + repeat * 6 * args.updates
+        )
+        for clock, samples in (("wall", wall), ("cpu", cpu)):
+            shown, hidden = (float(np.median(samples[v])) * 1000 for v in (True, False))
+            added[clock].append(shown - hidden)
+            print(
+                f"repeat {repeat + 1}, {clock:>4}: window frame update, dock shown {shown:7.2f} ms, "
+                f"hidden {hidden:7.2f} ms, added {shown - hidden:+7.2f} ms"
+            )
+    for clock in ("wall", "cpu"):
+        values = ", ".join(f"{v:+.2f}" for v in added[clock])
+        print(
+            f"the curves dock adds to a frame update, {clock} time: median {np.median(added[clock]):+.2f} ms "
+            f"over {args.repeats} repeats ({values})"
+        )
     state.undo_stack.setClean()
     window.close()
     return 0
+
+
+def _window_updates(app, state, curves_dock, updates: int, warmup: int, first: int) -> tuple[dict, dict]:
+    """Time ``state.set_frame`` + the events that follow, dock shown and hidden in turns
+    (so that the machine's load hits both alike): wall (``perf_counter``) and CPU
+    (``process_time``, every thread of this process) seconds per update, keyed by shown."""
+    wall: dict[bool, list[float]] = {True: [], False: []}
+    cpu: dict[bool, list[float]] = {True: [], False: []}
+    for block in range(6):
+        shown = block % 2 == 0
+        curves_dock.setVisible(shown)
+        for f in range(warmup):
+            state.set_frame(f)
+            app.processEvents()
+        for f in range(updates // 3):
+            start_wall, start_cpu = time.perf_counter(), time.process_time()
+            state.set_frame(first + block * updates + f)
+            app.processEvents()
+            wall[shown].append(time.perf_counter() - start_wall)
+            cpu[shown].append(time.process_time() - start_cpu)
+    return wall, cpu
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -29,6 +29,7 @@ from gmr_studio.app.playback import Player
 from gmr_studio.app.state import StudioState
 from gmr_studio.app.timeplot import PALETTE, TimePlot
 from gmr_studio.core.curves import UNITS, Curves, gap_spans, joint_curves, marker_curves
+from gmr_studio.core.mirror import side_partners
 
 #: (label, core quantity) in the order the combo box lists them
 QUANTITY_LABELS = (
@@ -121,6 +122,7 @@ class CurvesDock(QWidget):
         state.range_changed.connect(self._on_range_changed)
         state.document_changed.connect(self._on_document_changed)
         state.motion_changed.connect(lambda: self.refresh(autoscale=False))
+        state.motion_changed.connect(self._update_edit_buttons)
         state.selection_changed.connect(lambda _: self.refresh(autoscale=True))
         state.marker_selection_changed.connect(lambda _: self.refresh(autoscale=True))
         state.markers_changed.connect(lambda: self.refresh(autoscale=False))
@@ -193,6 +195,13 @@ class CurvesDock(QWidget):
         self._on_x_unit_changed()
         self.refresh(autoscale=True)
         self._on_range_changed(-1, -1)
+        self._update_edit_buttons()
+
+    def _update_edit_buttons(self) -> None:
+        """Resample and mirror enabled when they apply, as their Edit menu actions."""
+        motion = self.state.motion
+        self.resample_button.setEnabled(motion is not None and motion.n_frames >= 2)
+        self.mirror_button.setEnabled(motion is not None and side_partners(motion.names).pairs.size > 0)
 
     def _on_x_unit_changed(self, *_args) -> None:
         motion = self.state.motion

@@ -30,6 +30,7 @@ KEYS_HELP = """<table>
 <tr><td><b>Left / Right</b></td><td>previous / next frame (Shift: one second)</td></tr>
 <tr><td><b>Home / End</b></td><td>first / last frame</td></tr>
 <tr><td><b>[ / ]</b></td><td>slower / faster (0.25x to 4x)</td></tr>
+<tr><td><b>I / O</b></td><td>frame range start / end here (Shift+drag on the slider: a range)</td></tr>
 <tr><td><b>Click</b></td><td>select a joint (or a marker); right click: joint menu</td></tr>
 <tr><td><b>Drag</b></td><td>turn the camera (Shift: pan, wheel or right drag: zoom)</td></tr>
 <tr><td><b>Ctrl+R / Ctrl+T / Ctrl+J</b></td><td>make root / split here / join to parent</td></tr>
@@ -174,6 +175,7 @@ class MainWindow(QMainWindow):
             "about": self._about,
             "keys": lambda: QMessageBox.information(self, "Keyboard shortcuts", KEYS_HELP),
         }
+        handlers.update(action_table.clip_handlers(self, state))
         for name in state.overlays:
             handlers[f"overlay_{name}"] = lambda shown, name=name: state.set_overlay(name, shown)
         return handlers
@@ -186,7 +188,13 @@ class MainWindow(QMainWindow):
         state.message.connect(self.status.setText)
         state.path_changed.connect(self._on_path_changed)
         state.modified_changed.connect(self.setWindowModified)
-        for signal in (state.document_changed, state.motion_changed, state.selection_changed, state.markers_changed):
+        for signal in (
+            state.document_changed,
+            state.motion_changed,
+            state.selection_changed,
+            state.markers_changed,
+            state.range_changed,
+        ):
             signal.connect(self._on_enabled_changed)
         self.player.playing_changed.connect(self._on_playing_changed)
         self.player.loop_changed.connect(self.actions["loop"].setChecked)

@@ -1,16 +1,19 @@
 """The timeline dock: slider, play/pause, step, loop, speed, frame number and time.
 
 The keys (space, arrows, Home/End) are window shortcuts defined with the actions; the
-buttons here trigger the same actions, so both stay in step.
+buttons here trigger the same actions, so both stay in step. The slider also shows the
+state's frame range and selects it with Shift+drag (:mod:`app.range_slider`); the I and O
+buttons (and keys) set its start and end at the current frame.
 """
 
 from __future__ import annotations
 
 from PyQt6.QtCore import Qt
 from PyQt6.QtGui import QAction, QValidator
-from PyQt6.QtWidgets import QComboBox, QHBoxLayout, QLabel, QSlider, QSpinBox, QToolButton, QWidget
+from PyQt6.QtWidgets import QComboBox, QHBoxLayout, QLabel, QSpinBox, QToolButton, QWidget
 
 from gmr_studio.app.playback import SPEEDS, Player
+from gmr_studio.app.range_slider import RangeSlider
 from gmr_studio.app.state import StudioState
 
 
@@ -49,10 +52,22 @@ class Timeline(QWidget):
             button.setDefaultAction(actions[name])
             button.setAutoRaise(True)
             layout.addWidget(button)
-        self.slider = QSlider(Qt.Orientation.Horizontal, self)
+        self.slider = RangeSlider(self)
         self.slider.setFocusPolicy(Qt.FocusPolicy.NoFocus)  # arrows belong to the window shortcuts
+        self.slider.setToolTip("Drag: frame; Shift+drag: frame range (I / O: its start / end)")
         self.slider.valueChanged.connect(state.set_frame)
+        self.slider.range_selected.connect(state.set_frame_range)
+        state.range_changed.connect(self.slider.set_frame_range)
         layout.addWidget(self.slider, 1)
+        self.range_buttons = {}
+        for name, text in (("range_start", "I"), ("range_end", "O")):
+            button = QToolButton(self)  # short text; the action (and its key) does the work
+            button.setText(text)
+            button.setToolTip(f"{actions[name].text().replace('&', '')} ({text})")
+            button.setAutoRaise(True)
+            button.clicked.connect(actions[name].trigger)
+            layout.addWidget(button)
+            self.range_buttons[name] = button
         self.frame_box = FrameBox(self)
         self.frame_box.setKeyboardTracking(False)
         self.frame_box.setToolTip("Frame number (0-based)")

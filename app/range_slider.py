@@ -1,0 +1,113 @@
+"""The timeline's frame slider, which also shows and selects the state's frame range.
+
+A plain drag or click moves the frame as in any QSlider; Shift+drag (or Shift+click) selects
+the half-open frame range ``[start, stop)`` under the pointer, shaded over the groove, the
+same :attr:`StudioState.frame_range` the curves plot and the contact bars select. The keys I
+and O (window actions) set the range's start and end at the current frame through
+:func:`range_starting_at` and :func:`range_ending_at`.
+"""
+
+from __future__ import annotations
+
+from PyQt6.QtCore import QRectF, Qt, pyqtSignal
+from PyQt6.QtGui import QColor, QMouseEvent, QPainter, QPaintEvent
+from PyQt6.QtWidgets import QSlider, QStyle, QStyleOptionSlider, QWidget
+
+RANGE_COLOUR = QColor(255, 212, 0, 90)
+RANGE_EDGE = QColor(255, 212, 0)
+
+
+def range_starting_at(selected: tuple[int, int] | None, frame: int, n_frames: int) -> tuple[int, int]:
+    """The range ``selected`` with its start moved to ``frame``: its stop is kept when it lies
+    after the frame, else the range runs to the end of the motion (``n_frames``)."""
+    stop = selected[1] if selected is not None and selected[1] > frame else n_frames
+    return frame, stop
+
+
+def range_ending_at(selected: tuple[int, int] | None, frame: int) -> tuple[int, int]:
+    """The range ``selected`` ending with ``frame`` (included): its start is kept when it is
+    not after the frame, else the range starts at frame 0."""
+    start = selected[0] if selected is not None and selected[0] <= frame else 0
+    return start, frame + 1
+
+
+class RangeSlider(QSlider):
+    """A horizontal frame slider that shades :attr:`frame_range` and selects it with Shift+drag."""
+
+    range_selected = pyqtSignal(int, int)  # half-open [start, stop), emitted while Shift-dragging
+
+    def __init__(self, parent: QWidget | None = None) -> None:
+        super().__init__(Qt.Orientation.Horizontal, parent)
+        self.frame_range: tuple[int, int] | None = None
+        self._anchor: int | None = None
+
+    def set_frame_range(self, start: int, stop: int) -> None:
+        """Show ``[start, stop)`` (start < 0: no range); no signal."""
+        self.frame_range = (int(start), int(stop)) if 0 <= start < stop else None
+        self.update()
+
+    # ------------------------------------------------------------------ geometry
+    def _option(self) -> QStyleOptionSlider:
+        option = QStyleOptionSlider()
+        self.initStyleOption(option)
+        return option
+
+    def _span(self) -> tuple[float, float]:
+        """The x of the handle's centre at the first frame and the length to the last one."""
+        option = self._option()
+        style = self.style()
+        groove = style.subControlRect(QStyle.ComplexControl.CC_Slider, option, QStyle.SubControl.SC_SliderGroove, self)
+        handle = style.subControlRect(QStyle.ComplexControl.CC_Slider, option, QStyle.SubControl.SC_SliderHandle, self)
+        return groove.x() + handle.width() / 2, max(groove.width() - handle.width(), 1)
+
+    def x_of_frame(self, frame: float) -> float:
+        """The x (widget pixels) of the handle's centre at ``frame`` (fractions allowed)."""
+        left, length = self._span()
+        count = max(self.maximum() - self.minimum(), 1)
+        return left + length * (frame - self.minimum()) / count
+
+    def frame_at(self, x: float) -> int:
+        """The frame whose handle position is nearest ``x``, clamped to the slider's range."""
+        left, length = self._span()
+        count = max(self.maximum() - self.minimum(), 1)
+        frame = round(self.minimum() + (x - left) / length * count)
+        return int(min(max(frame, self.minimum()), self.maximum()))
+
+    # -------------------------------------------------------------------- events
+    def paintEvent(self, event: QPaintEvent) -> None:  # noqa: N802 (Qt's name)
+        super().paintEvent(event)
+        if self.frame_range is None:
+            return
+        start, stop = self.frame_range
+        x0, x1 = self.x_of_frame(start - 0.5), self.x_of_frame(stop - 0.5)
+        band = QRectF(x0, 1, max(x1 - x0, 2.0), self.height() - 2)
+        painter = QPainter(self)
+        painter.fillRect(band, RANGE_COLOUR)
+        painter.setPen(RANGE_EDGE)
+        painter.drawLine(band.topLeft(), band.bottomLeft())
+        painter.drawLine(band.topRight(), band.bottomRight())
+        painter.end()
+
+    def mousePressEvent(self, event: QMouseEvent) -> None:  # noqa: N802
+        if event.button() == Qt.MouseButton.LeftButton and event.modifiers() & Qt.KeyboardModifier.ShiftModifier:
+            self._anchor = self.frame_at(event.position().x())
+            self.range_selected.emit(self._anchor, self._anchor + 1)
+            event.accept()
+            return
+        self._anchor = None
+        super().mousePressEvent(event)
+
+    def mouseMoveEvent(self, event: QMouseEvent) -> None:  # noqa: N802
+        if self._anchor is None:
+            super().mouseMoveEvent(event)
+            return
+        frame = self.frame_at(event.position().x())
+        self.range_selected.emit(min(frame, self._anchor), max(frame, self._anchor) + 1)
+        event.accept()
+
+    def mouseReleaseEvent(self, event: QMouseEvent) -> None:  # noqa: N802
+        if self._anchor is None:
+            super().mouseReleaseEvent(event)
+            return
+        self._anchor = None
+        event.accept()

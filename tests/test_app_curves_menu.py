@@ -1,0 +1,124 @@
+"""The clip edits from the Edit menu: Trim to range, Resample..., Mirror left/right.
+
+Each is triggered through the menu's own QAction (the Resample dialog is answered as a user
+would), checked against the core, and undone to the very same snapshot.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PyQt6.QtCore import QTimer
+from PyQt6.QtGui import QAction
+from PyQt6.QtWidgets import QApplication, QInputDialog
+
+from gmr_studio.app.state import Snapshot
+from gmr_studio.core.clip import resample
+from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.mirror import mirror
+from tests import app_fixtures
+from tests.app_fixtures import open_file
+from tests.conftest import shared_path
+
+pytestmark = pytest.mark.gui
+studio = app_fixtures.studio
+
+WALK = "cmu/subject02/02_01.amc"
+
+
+def edit_menu_action(window, text: str) -> QAction:
+    """The Edit menu's action whose text (without '&') is ``text``."""
+    menu = next(a.menu() for a in window.menuBar().actions() if a.text().replace("&", "") == "Edit")
+    return next(a for a in menu.actions() if a.text().replace("&", "") == text)
+
+
+def answer_rate_dialog(rate: float | None) -> None:
+    """Answer the next QInputDialog with ``rate`` (None: cancel it) once it is shown."""
+
+    def answer() -> None:
+        dialog = QApplication.activeModalWidget()
+        if not isinstance(dialog, QInputDialog):
+            QTimer.singleShot(20, answer)
+            return
+        if rate is None:
+            dialog.reject()
+        else:
+            dialog.setDoubleValue(rate)
+            dialog.accept()
+
+    QTimer.singleShot(0, answer)
+
+
+def test_the_clip_edits_are_disabled_without_a_motion(studio):
+    for text in ("Trim to range", "Resample...", "Mirror left/right"):
+        assert not edit_menu_action(studio, text).isEnabled()
+
+
+def test_trim_to_range_from_the_menu_applies_only_to_a_range_and_undoes(studio):
+    open_file(studio, shared_path(WALK))
+    state, trim = studio.state, edit_menu_action(studio, "Trim to range")
+    assert not trim.isEnabled()  # no range yet
+    state.set_frame_range(0, state.n_frames)
+    assert not trim.isEnabled()  # the whole motion: nothing to trim
+    before = state.snapshot
+    state.set_frame_range(57, 210)
+    assert trim.isEnabled()
+    trim.trigger()
+    assert state.motion.n_frames == 153 and state.frame_range is None and not trim.isEnabled()
+    np.testing.assert_array_equal(state.positions, before.positions[57:210])
+    np.testing.assert_array_equal(state.motion.rotations, before.motion.rotations[57:210])
+    state.undo_stack.undo()
+    assert state.snapshot is before
+    np.testing.assert_array_equal(state.positions, world_positions(before.motion))
+
+
+def test_resample_from_the_menu_asks_the_rate_and_undoes(studio):
+    open_file(studio, shared_path(WALK))
+    state, action = studio.state, edit_menu_action(studio, "Resample...")
+    before = state.snapshot
+    assert action.isEnabled() and state.motion.frame_rate == pytest.approx(120.0)
+    answer_rate_dialog(None)
+    action.trigger()
+    assert state.snapshot is before and state.undo_stack.count() == 0  # cancelled: nothing done
+    answer_rate_dialog(40.0)
+    action.trigger()
+    expected = resample(before.motion, 40.0)
+    assert state.motion.frame_rate == pytest.approx(40.0) and state.motion.n_frames == expected.n_frames
+    np.testing.assert_array_equal(state.positions, before.positions[::3])  # 120 -> 40 Hz keeps every third frame
+    np.testing.assert_array_equal(state.motion.rotations, expected.rotations)
+    state.undo_stack.undo()
+    assert state.snapshot is before
+    state.undo_stack.redo()
+    np.testing.assert_array_equal(state.positions, before.positions[::3])
+
+
+def test_mirror_from_the_menu_swaps_sides_twice_to_the_identity_and_undoes(studio):
+    open_file(studio, shared_path("cmu/subject01/01_01.bvh"))
+    state, action = studio.state, edit_menu_action(studio, "Mirror left/right")
+    before = state.snapshot
+    assert action.isEnabled()
+    action.trigger()
+    expected, _ = mirror(before.motion)
+    np.testing.assert_array_equal(state.positions, world_positions(expected))
+    left, right = state.motion.joint_index("LeftFoot"), state.motion.joint_index("RightFoot")
+    lateral = np.abs(before.positions[:, left] - before.positions[:, right]).mean(axis=0).argmax()
+    keep = [a for a in range(3) if a != lateral]
+    np.testing.assert_allclose(
+        state.positions[:, left, keep], before.positions[:, right, keep], atol=1e-12 * state.motion.size
+    )
+    action.trigger()
+    np.testing.assert_allclose(state.positions, before.positions, atol=1e-12 * state.motion.size)
+    state.undo_stack.undo()
+    state.undo_stack.undo()
+    assert state.snapshot is before
+
+
+def test_mirror_is_disabled_when_no_joint_names_a_side(studio):
+    open_file(studio, shared_path(WALK))
+    assert studio.curves.mirror_button.isEnabled()
+    motion = studio.state.motion
+    anonymous = motion.replace(names=tuple(f"joint{j}" for j in range(motion.n_joints)))
+    studio.state.open_document(Snapshot.of(anonymous), None)
+    assert not edit_menu_action(studio, "Mirror left/right").isEnabled()
+    assert not studio.curves.mirror_button.isEnabled()  # the dock's button follows the same rule
+    assert edit_menu_action(studio, "Resample...").isEnabled() and studio.curves.resample_button.isEnabled()
