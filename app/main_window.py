@@ -30,6 +30,7 @@ KEYS_HELP = """<table>
 <tr><td><b>Left / Right</b></td><td>previous / next frame (Shift: one second)</td></tr>
 <tr><td><b>Home / End</b></td><td>first / last frame</td></tr>
 <tr><td><b>[ / ]</b></td><td>slower / faster (0.25x to 4x)</td></tr>
+<tr><td><b>Shift+O</b></td><td>onion skin: ghost poses around the current frame</td></tr>
 <tr><td><b>I / O</b></td><td>frame range start / end here (Shift+drag on the slider: a range)</td></tr>
 <tr><td><b>Click</b></td><td>select a joint (or a marker); right click: joint menu</td></tr>
 <tr><td><b>Drag</b></td><td>turn the camera (Shift: pan, wheel or right drag: zoom)</td></tr>

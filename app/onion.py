@@ -106,7 +106,7 @@ class OnionMenu:
         self.skins = OnionSkins(scene.plotter, scene.render)
         self.step, self.count = 10, 3
         sub = menu.addMenu("&Onion skin")
-        self.toggle = QAction("&Show onion skin", window, checkable=True, shortcut="O")
+        self.toggle = QAction("&Show onion skin", window, checkable=True, shortcut="Shift+O")
         self.toggle.toggled.connect(lambda _: self.update())
         sub.addAction(self.toggle)
         window.addAction(self.toggle)
