@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import functools
 
-from PyQt6.QtCore import pyqtSignal
+from PyQt6.QtCore import Qt, pyqtSignal
 from PyQt6.QtGui import QColor
 from PyQt6.QtWidgets import (
     QCheckBox,
@@ -119,9 +119,9 @@ class LayersDock(QWidget):
 
 def install(window, state, scene, files, beside) -> tuple[Layers, GhostLayers, LayersDock]:
     """Comparison layers in ``window``: the model, its drawing in ``scene``, the Layers dock
-    (tabbed with the dock ``beside``) and the Error dock (tabbed with Curves), both hidden
-    until a layer is added, File > Compare with... (Ctrl+Shift+O)."""
-    from PyQt6.QtCore import Qt
+    (to be tabbed with the dock ``beside``) and the Error dock (with Curves), both hidden
+    until the first layer is added, File > Compare with... (Ctrl+Shift+O), the inspector's
+    comparison section."""
     from PyQt6.QtGui import QAction
     from PyQt6.QtWidgets import QDockWidget
 
@@ -131,13 +131,25 @@ def install(window, state, scene, files, beside) -> tuple[Layers, GhostLayers, L
     panel = LayersDock(layers)
     panel.compare_requested.connect(files.compare_dialog)
     panel.errors_toggled.connect(ghosts.set_show_errors)
-    dock = QDockWidget("Layers", window)
-    dock.setObjectName("layers")
-    dock.setWidget(panel)
-    window.addDockWidget(Qt.DockWidgetArea.RightDockWidgetArea, dock)
-    window.tabifyDockWidget(beside, dock)
-    beside.raise_()
-    dock.hide()  # until a layer is added (View > Layers shows it): no tab squeezing the docks
+    errors = ErrorDock(layers)
+    window.error_plot = errors
+    docks = [_hidden_dock(window, "Layers", panel, Qt.DockWidgetArea.RightDockWidgetArea)]
+    docks.append(_hidden_dock(window, "Error", errors, Qt.DockWidgetArea.BottomDockWidgetArea))
+    # tabbed only when first shown: tabbing hidden docks before the window is shown leaves
+    # stray tab bars behind in Qt's layout
+    partners = [beside, window.findChild(QDockWidget, "curves")]
+    count = [0]
+
+    def on_layers_changed() -> None:  # a layer added: show the docks, the plot in front
+        if len(layers) > count[0]:
+            for dock, partner in zip(docks, partners):
+                if dock.isHidden() and partner is not None and partner.isVisible() and not partner.isFloating():
+                    window.tabifyDockWidget(partner, dock)
+                dock.show()
+                dock.raise_()
+        count[0] = len(layers)
+
+    layers.changed.connect(on_layers_changed)
     action = QAction("&Compare with...", window, shortcut="Ctrl+Shift+O")
     action.setStatusTip("show another motion as a ghost compared with the document, joint by joint")
     action.triggered.connect(files.compare_dialog)
@@ -145,32 +157,20 @@ def install(window, state, scene, files, beside) -> tuple[Layers, GhostLayers, L
     file_menu.insertAction(file_menu.actions()[2], action)  # after Open and Open recent
     window.addAction(action)
     window.compare_action = action
-    errors = ErrorDock(layers)
-    error_dock = QDockWidget("Error", window)
-    error_dock.setObjectName("error")
-    error_dock.setWidget(errors)
-    window.addDockWidget(Qt.DockWidgetArea.BottomDockWidgetArea, error_dock)
-    curves = window.findChild(QDockWidget, "curves")
-    if curves is not None:
-        window.tabifyDockWidget(curves, error_dock)
-        curves.raise_()
-    error_dock.hide()
-    window.error_plot = errors
-    count = [0]
-
-    def on_layers_changed() -> None:  # a layer added: show the docks, the plot in front
-        if len(layers) > count[0]:
-            for shown in (dock, error_dock):
-                shown.show()
-                shown.raise_()
-        count[0] = len(layers)
-
-    layers.changed.connect(on_layers_changed)
-    for widget in (panel, errors):  # like the other docks: they give way to the 3D view
-        widget.setMinimumWidth(DOCK_MINIMUM)
-    for shown in (dock, error_dock):
-        window.view_menu.addAction(shown.toggleViewAction())
-    inspector = window.inspector
-    inspector.sections.append(functools.partial(inspector_section, layers))
-    layers.changed.connect(inspector._on_changed)
+    window.inspector.sections.append(functools.partial(inspector_section, layers))
+    layers.changed.connect(window.inspector._on_changed)
     return layers, ghosts, panel
+
+
+def _hidden_dock(window, title: str, widget: QWidget, area: Qt.DockWidgetArea):
+    """A hidden dock in ``area`` listed in View; it gives way to the 3D view like the others."""
+    from PyQt6.QtWidgets import QDockWidget
+
+    dock = QDockWidget(title, window)
+    dock.setObjectName(title.lower())
+    dock.setWidget(widget)
+    widget.setMinimumWidth(DOCK_MINIMUM)
+    window.addDockWidget(area, dock)
+    dock.hide()
+    window.view_menu.addAction(dock.toggleViewAction())
+    return dock
