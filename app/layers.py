@@ -102,7 +102,7 @@ class Layers(QObject):
         super().__init__(parent)
         self.state = state
         self.layers: list[ComparisonLayer] = []
-        state.document_changed.connect(self.recompute)
+        state.document_changed.connect(self._on_document_changed)
         state.motion_changed.connect(self.recompute)
 
     def __len__(self) -> int:
@@ -147,6 +147,12 @@ class Layers(QObject):
     def set_colour(self, index: int, colour: tuple[float, float, float]) -> None:
         self.layers[index].colour = tuple(float(c) for c in colour)
         self.appearance_changed.emit(index)
+
+    def _on_document_changed(self) -> None:
+        """Another document: each layer's offset is found again for it."""
+        for layer in self.layers:
+            layer.offset = "auto"
+        self.recompute()
 
     def recompute(self) -> None:
         """Compare every layer with the document as it now is; a layer that no longer

@@ -28,7 +28,9 @@ def build_arguments() -> argparse.ArgumentParser:
     parser.add_argument("file", nargs="?", help="a .bvh, .gmr (or .amc) motion; default: the demo walk")
     parser.add_argument("--markers", metavar="M", help="a .trc (or .c3d) marker file to show over the motion")
     add_edit_arguments(parser)
-    parser.add_argument("--compare", metavar="B", help="show motion B as a ghost compared with FILE (window only)")
+    parser.add_argument(
+        "--compare", metavar="B", help="show motion B as a ghost compared with FILE (a screenshot needs --window)"
+    )
     parser.add_argument("--map", metavar="M", help="with --compare: a joint-name map (e.g. cmu, or a .toml)")
     parser.add_argument("--screenshot", metavar="OUT.png", help="render the view to a PNG and exit")
     parser.add_argument("--frame", type=int, default=0, metavar="N", help="frame to render (with --screenshot)")
@@ -100,6 +102,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             print("gmr-studio: --window needs a display (run under xvfb-run)", file=sys.stderr)
             return 2
         return window_screenshot(motion_path, markers_path, args, size)
+    if args.screenshot and args.compare:
+        print("gmr-studio: --compare draws in the window: add --window and run under xvfb-run", file=sys.stderr)
+        return 2
     if args.screenshot:
         return offscreen_screenshot(motion_path, markers_path, args, size)
     if not has_display():

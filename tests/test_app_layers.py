@@ -196,3 +196,27 @@ def test_a_shift_drop_compares_with_the_shipped_map(studio, qtbot):
     assert studio.state.snapshot is document and studio.state.path.name == "01_01.bvh"
     assert len(studio.layers) == 1
     assert studio.layers[0].joint_map == "cmu" and studio.layers[0].comparison.n_pairs == 28
+
+
+def test_command_line_compare_to_a_window_screenshot(tmp_path):
+    """gmr-studio A --compare B --map cmu --screenshot OUT --window: the ghost is in the picture;
+    an unreadable B is refused with status 2."""
+    import subprocess
+    import sys
+
+    from tests.test_app_cli import read_png
+
+    studio_cmd = [sys.executable, "-m", "gmr_studio.app.main", str(shared_path(BVH))]
+    out = tmp_path / "compare.png"
+    options = ["--map", "cmu", "--screenshot", str(out), "--window", "--size", "900x600", "--frame", "1518"]
+    result = subprocess.run(
+        [*studio_cmd, "--compare", str(shared_path(AMC)), *options], capture_output=True, text=True, timeout=180
+    )
+    assert result.returncode == 0, result.stderr
+    image = read_png(out).astype(int)
+    magenta = (image[..., 0] > 170) & (image[..., 1] < 140) & (image[..., 2] > 150)
+    assert magenta.sum() > 30
+    bad = tmp_path / "broken.bvh"
+    bad.write_text("HIERARCHY\nROOT Hips\n")
+    result = subprocess.run([*studio_cmd, "--compare", str(bad), *options], capture_output=True, text=True, timeout=180)
+    assert result.returncode == 2 and "--compare" in result.stderr and "broken.bvh" in result.stderr
