@@ -7,7 +7,10 @@
    default overlays and a selected joint, once with axes, trail and labels on too.
 2. Launch to first frame: a fresh ``gmr-studio 01_01.bvh`` process, from before it starts
    to the first rendered frame of the file (interpreter, imports, window, reading, FK).
-3. Edits on a 100,000-frame motion (01_01 tiled): shift root, split and join, each as the
+3. Frame update with and without a comparison layer (01_01.amc over 01_01.bvh, the ghost,
+   error colours, lines, legend, error plot): measured in alternating blocks in one run, so
+   that the load of a busy machine falls on both alike; medians and their ratio.
+4. Edits on a 100,000-frame motion (01_01 tiled): shift root, split and join, each as the
    core operation alone and as the app's undoable edit (operation + forward kinematics of
    every frame for the cache).
 """
@@ -27,6 +30,7 @@ from gmr_studio.core.shared_data import shared_data_dir
 
 BVH = "cmu/subject01/01_01.bvh"
 C3D = "cmu/subject01/01_01.c3d"
+AMC = "cmu/subject01/01_01.amc"
 
 
 def _summary(label: str, seconds: np.ndarray) -> None:
@@ -82,6 +86,52 @@ def bench_frames(frames: int) -> None:
             times.append(time.perf_counter() - start)
         _summary(label, np.array(times))
         print(f"{'  of which VTK rendering (the rest: Qt)':<46} median {1000 * np.median(renders):6.2f} ms")
+    state.undo_stack.setClean()
+    window.close()
+
+
+def bench_comparison(frames: int, rounds: int = 4) -> None:
+    """Frame update without and with a comparison layer, alternating blocks (item 3)."""
+    from PyQt6.QtCore import QSettings
+    from PyQt6.QtWidgets import QApplication
+
+    from gmr_studio.app.loading import load_snapshot
+    from gmr_studio.app.main_window import MainWindow
+
+    data = shared_data_dir()
+    app = QApplication.instance() or QApplication(sys.argv[:1])
+    scratch = os.path.join(os.environ.get("TMPDIR", "/tmp"), "gmr-studio-bench.ini")
+    window = MainWindow(settings=QSettings(scratch, QSettings.Format.IniFormat))
+    window.settings.clear()
+    window.files.quiet = True
+    window.resize(1280, 800)
+    window.show()
+    app.processEvents()
+    window.files.open_path(str(data / BVH), ask=False, wait=True)
+    state = window.state
+    state.select(state.motion.joint_index("LeftHand"))
+    other = load_snapshot(data / AMC)
+    times: dict[bool, list[float]] = {False: [], True: []}
+    block = max(frames // rounds, 10)
+    for round_ in range(rounds):
+        for with_layer in (False, True):
+            if with_layer:
+                window.layers.add(other, data / AMC, "cmu")
+            first = 1 + (2 * round_ + with_layer) * block
+            for f in range(first - 10, first):  # warm up
+                state.set_frame(f % state.n_frames)
+                app.processEvents()
+            for f in range(first, first + block):
+                start = time.perf_counter()
+                state.set_frame(f % state.n_frames)
+                app.processEvents()
+                times[with_layer].append(time.perf_counter() - start)
+            if with_layer:
+                window.layers.remove(0)
+    _summary("set frame + render, no comparison", np.array(times[False]))
+    _summary("set frame + render, comparison layer (amc)", np.array(times[True]))
+    ratio = np.median(times[True]) / np.median(times[False])
+    print(f"{'  with / without (medians)':<46} {ratio:6.3f}")
     state.undo_stack.setClean()
     window.close()
 
@@ -146,6 +196,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"the CMU files are not in {shared_data_dir()}: nothing to measure", file=sys.stderr)
         return 2
     bench_frames(args.frames)
+    bench_comparison(args.frames)
     bench_launch()
     bench_edits(args.edit_frames)
     return 0

@@ -50,6 +50,7 @@ class FileController(QObject):
         self._jobs: dict[loading.LoadJob, tuple] = {}
         self.pending_markers: str | None = None
         self.quiet = False  # tests: errors go to the status bar only, no modal dialog
+        self.layers = None  # the window's comparison layers (app.layers.Layers)
 
     # ------------------------------------------------------------------- settings
     def recent_files(self) -> list[str]:
@@ -189,6 +190,37 @@ class FileController(QObject):
             )
             box.setDetailedText(details)
             box.exec()
+
+    # ---------------------------------------------------------------- comparisons
+    def compare_dialog(self) -> None:
+        """File > Compare with...: a motion to show as a ghost layer compared with the document."""
+        if self.state.motion is None or self.layers is None:
+            return
+        path, _ = QFileDialog.getOpenFileName(
+            self.window, "Compare with", self._folder(), loading.file_filter(loading.motion_suffixes(), "Motion files")
+        )
+        if path:
+            self.compare_path(path)
+
+    def compare_path(self, path: str | Path, *, joint_map: str | None = None, wait: bool = False) -> None:
+        """Read ``path`` (worker thread; a bad file: the same dialog as opening, the document
+        untouched) and add it as a comparison layer, joints matched through ``joint_map``."""
+        on_loaded = functools.partial(self._on_compare_loaded, joint_map=joint_map)
+        self._run(loading.load_snapshot, path, on_loaded, f"Reading {Path(path).name}...", wait)
+
+    def _on_compare_loaded(self, snapshot: Snapshot, path: str, _wait: bool, *, joint_map: str | None) -> None:
+        try:
+            layer = self.layers.add(snapshot, path, joint_map)
+        except ValueError as exc:
+            self._report(f"Cannot compare with {Path(path).name}: {exc}")
+            self.load_finished.emit(False)
+            return
+        c = layer.comparison
+        self.state.show_message(
+            f"Comparing with {layer.name}: {c.n_pairs} joints matched, MPJPE {c.position.mean:.4g} {c.units_text} "
+            f"({layer.alignment_text})"
+        )
+        self.load_finished.emit(True)
 
     # ------------------------------------------------------------------- markers
     def add_markers_dialog(self) -> None:

@@ -59,6 +59,7 @@ class Inspector(QScrollArea):
         # 100 ms, which is what made it lag ~10 frames), and it is painted in the same pass as
         # the timeline, so the two never disagree; a hidden inspector only notes it is stale
         self._stale = False
+        self.sections: list = []  # more sections: (frame, joint or None) -> list of HTML parts
         self._on_changed()
 
     def text(self) -> str:
@@ -107,6 +108,8 @@ class Inspector(QScrollArea):
         else:
             parts += self._joint_html(j, f)
         parts += self._overlay_html(f)
+        for section in self.sections:
+            parts += section(f, j)
         return "".join(parts)
 
     def _joint_html(self, j: int, f: int) -> list[str]:

@@ -28,6 +28,10 @@ def build_arguments() -> argparse.ArgumentParser:
     parser.add_argument("file", nargs="?", help="a .bvh, .gmr (or .amc) motion; default: the demo walk")
     parser.add_argument("--markers", metavar="M", help="a .trc (or .c3d) marker file to show over the motion")
     add_edit_arguments(parser)
+    parser.add_argument(
+        "--compare", metavar="B", help="show motion B as a ghost compared with FILE (a screenshot needs --window)"
+    )
+    parser.add_argument("--map", metavar="M", help="with --compare: a joint-name map (e.g. cmu, or a .toml)")
     parser.add_argument("--screenshot", metavar="OUT.png", help="render the view to a PNG and exit")
     parser.add_argument("--frame", type=int, default=0, metavar="N", help="frame to render (with --screenshot)")
     parser.add_argument("--size", default="1280x800", metavar="WxH", help="image size (with --screenshot)")
@@ -107,6 +111,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             print("gmr-studio: --window needs a display (run under xvfb-run)", file=sys.stderr)
             return 2
         return window_screenshot(motion_path, markers_path, args, size)
+    if args.screenshot and args.compare:
+        print("gmr-studio: --compare draws in the window: add --window and run under xvfb-run", file=sys.stderr)
+        return 2
     if args.screenshot:
         return offscreen_screenshot(motion_path, markers_path, args, size)
     if not has_display():
@@ -132,6 +139,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         _apply_steps_once_loaded(window, args.steps)
     if args.first_frame_time:
         window.files.load_finished.connect(lambda ok: _report_first_frame(app, window, ok))
+    if args.compare:
+        _compare_once_loaded(window, args.compare, args.map)
     from gmr_studio.app.recovery_dialog import offer_recovery
 
     if not offer_recovery(window):
@@ -139,6 +148,17 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.test_edits:
         make_test_edits(window.state, args.test_edits)
     return app.exec()
+
+
+def _compare_once_loaded(window, path: str, joint_map: str | None) -> None:
+    """Add ``path`` as a comparison layer once the first document is shown."""
+
+    def compare(loaded: bool) -> None:
+        window.files.load_finished.disconnect(compare)
+        if loaded:
+            window.files.compare_path(path, joint_map=joint_map)
+
+    window.files.load_finished.connect(compare)
 
 
 def _apply_steps_once_loaded(window, steps: list) -> None:
@@ -230,6 +250,20 @@ def _load_or_report(motion_path: str, markers_path: str | None):
     return snapshot, markers
 
 
+def _add_comparison(window, args: argparse.Namespace) -> str | None:
+    """--compare B [--map M]: B as a comparison layer of the window; an error message, or None."""
+    if not args.compare:
+        return None
+    from gmr_studio.app.loading import load_snapshot
+    from gmr_studio.core.errors import MotionFileError
+
+    try:
+        window.layers.add(load_snapshot(args.compare), args.compare, args.map)
+    except (MotionFileError, ValueError) as exc:
+        return f"--compare: {exc}"
+    return None
+
+
 def _prepare(state, args: argparse.Namespace) -> str | None:
     """Apply the edit flags, --select and --show to a state; an error message, or None."""
     problem = apply_steps(state, args.steps)
@@ -313,7 +347,7 @@ def window_screenshot(motion_path: str, markers_path: str | None, args: argparse
     if markers is not None:
         window.state.set_markers(markers)
         extensions.recover_pelvis_frames(window.state, quiet=True)
-    problem = _prepare(window.state, args)
+    problem = _prepare(window.state, args) or _add_comparison(window, args)
     if problem:
         print(f"gmr-studio: {problem}", file=sys.stderr)
         window.state.undo_stack.setClean()  # edits made before the refusal: nothing to save

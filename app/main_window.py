@@ -19,6 +19,7 @@ from gmr_studio.app.curves_dock import CurvesDock
 from gmr_studio.app.files import FileController
 from gmr_studio.app.forest import ForestTree
 from gmr_studio.app.inspector import Inspector
+from gmr_studio.app.layers_dock import install as install_layers
 from gmr_studio.app.onion import OnionMenu
 from gmr_studio.app.playback import SPEEDS, Player
 from gmr_studio.app.state import StudioState
@@ -102,6 +103,9 @@ class MainWindow(QMainWindow):
         self.classroom = Classroom(self, self.state, self.view.scene, beside=self.inspector_dock)
         self.view_menu.addAction(self.classroom.dock.toggleViewAction())
         self.onion = OnionMenu(self, self.state, self.view.scene, self.view_menu)
+        self.layers, self.ghosts, self.layers_panel = install_layers(
+            self, self.state, self.view.scene, self.files, beside=self.forest_dock
+        )
         self.status = QLabel()
         self.statusBar().addWidget(self.status, 1)
         self._wire()
@@ -264,7 +268,9 @@ class MainWindow(QMainWindow):
         paths = [url.toLocalFile() for url in event.mimeData().urls() if url.isLocalFile()]
         motions = [p for p in paths if Path(p).suffix.lower() in extensions.motion_suffixes()]
         markers = [p for p in paths if Path(p).suffix.lower() in extensions.marker_suffixes()]
-        if motions:
+        if motions and event.modifiers() & Qt.KeyboardModifier.ShiftModifier and self.state.motion is not None:
+            self.files.compare_path(motions[0])  # Shift: add as a comparison layer
+        elif motions:
             self.files.open_path(motions[0], markers=markers[0] if markers else None)
         elif markers and self.state.motion is not None:
             self.files.add_markers_path(markers[0])

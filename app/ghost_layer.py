@@ -1,0 +1,177 @@
+"""Drawing the comparison layers: ghosts, and the document's error at the current frame.
+
+:class:`GhostLayers` owns its actors (added to the plotter's renderer directly, like the
+onion skins), so the scene's rebuilds after an edit never remove them:
+
+- each visible layer (:mod:`app.layers`) as a ghost skeleton: translucent bones and joints
+  in the layer's colour, at the document's frame (B on A's clock and in A's space);
+- the error view of the active layer: the document's matched joints coloured by their
+  position error at the current frame (:func:`error_colours`, a green-yellow-red map from 0
+  to the comparison's largest error, with a legend in the view titled in the document's
+  units), and a thin line from each matched joint to its match.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+import pyvista as pv
+from vtkmodules.vtkCommonCore import vtkLookupTable
+from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
+
+from gmr_studio.app import vtk_parts as parts
+from gmr_studio.app.layers import ComparisonLayer, Layers
+from gmr_studio.app.onion import bone_pairs
+from gmr_studio.app.state import StudioState
+
+#: the error colour map: anchors (position in [0, 1], RGB), interpolated linearly
+COLOUR_MAP = np.array([(0.0, 0.2, 0.75, 0.35), (0.5, 1.0, 0.85, 0.1), (1.0, 0.9, 0.15, 0.1)])
+NO_ERROR_COLOUR = (0.5, 0.5, 0.5)  # a matched joint not compared at this frame
+LINE_COLOUR = (0.95, 0.95, 0.95)
+GHOST_JOINT_RADIUS = 0.012  # of the document's size
+GHOST_BONE_RADIUS = 0.005
+ERROR_JOINT_RADIUS = 0.021  # just larger than the document's joints, so the colour shows
+
+
+def error_colours(errors: np.ndarray, top: float) -> np.ndarray:
+    """(J,) errors -> (J, 3) RGB in [0, 1] on :data:`COLOUR_MAP` over ``[0, top]``; NaN grey."""
+    t = np.clip(np.nan_to_num(errors, nan=0.0) / max(top, 1e-300), 0.0, 1.0)
+    rgb = np.stack([np.interp(t, COLOUR_MAP[:, 0], COLOUR_MAP[:, k]) for k in (1, 2, 3)], axis=-1)
+    rgb[~np.isfinite(errors)] = NO_ERROR_COLOUR
+    return rgb
+
+
+def error_scale_top(layer: ComparisonLayer, size: float) -> float:
+    """The top of the colour scale: the comparison's largest error (or a thousandth of the
+    document's size when everything agrees, so zero stays green)."""
+    top = layer.comparison.position.max
+    return float(top) if np.isfinite(top) and top > 1e-6 * size else 1e-3 * size
+
+
+class GhostLayers:
+    """The actors of every layer and of the error view, kept in step with ``layers``."""
+
+    def __init__(self, plotter: pv.BasePlotter, state: StudioState, layers: Layers, render: Callable[[], None]):
+        self.plotter = plotter
+        self.state = state
+        self.layers = layers
+        self.render = render
+        self.show_errors = True
+        self.ghosts: list[tuple[parts.Part, parts.Part]] = []  # (bones, joints) per layer
+        self.error_joints: parts.Part | None = None
+        self.error_lines: parts.Part | None = None
+        self.legend: vtkScalarBarActor | None = None
+        self.top = 1.0
+        layers.changed.connect(self.rebuild)
+        layers.appearance_changed.connect(lambda _index: self.rebuild())
+        state.frame_changed.connect(self.show_frame)
+
+    # ------------------------------------------------------------------ building
+    def rebuild(self) -> None:
+        self._remove_all()
+        document = self.state.snapshot
+        if document is None:
+            self.render()
+            return
+        size = document.motion.size
+        for layer in self.layers.layers:
+            motion = layer.snapshot.motion
+            bones = parts.segments_part(
+                motion.n_joints, bone_pairs(motion.parents), color=layer.colour, tube_radius=GHOST_BONE_RADIUS * size
+            )
+            sphere = pv.Sphere(radius=GHOST_JOINT_RADIUS * size, theta_resolution=10, phi_resolution=10)
+            joints = parts.glyph_part(motion.n_joints, sphere, color=layer.colour)
+            for part in (bones, joints):
+                part.actor.GetProperty().SetOpacity(layer.opacity)
+                part.set_visible(layer.visible)
+                self.plotter.renderer.AddActor(part.actor)
+            self.ghosts.append((bones, joints))
+        active = self.layers.active
+        if active is not None and self.show_errors:
+            self._build_error_view(active, size)
+        self.show_frame(self.state.frame)
+
+    def _build_error_view(self, layer: ComparisonLayer, size: float) -> None:
+        n = layer.comparison.n_pairs
+        sphere = pv.Sphere(radius=ERROR_JOINT_RADIUS * size, theta_resolution=12, phi_resolution=12)
+        self.error_joints = parts.glyph_part(n, sphere, colors=np.zeros((n, 3)))
+        pairs = np.column_stack([np.arange(n), n + np.arange(n)])
+        self.error_lines = parts.segments_part(2 * n, pairs, color=LINE_COLOUR, width=1.5)
+        self.top = error_scale_top(layer, size)
+        self.legend = _legend(self.top, layer.comparison.units_text)
+        for part in (self.error_joints, self.error_lines):
+            self.plotter.renderer.AddActor(part.actor)
+        self.plotter.renderer.AddViewProp(self.legend)
+
+    def _remove_all(self) -> None:
+        for bones, joints in self.ghosts:
+            self.plotter.renderer.RemoveActor(bones.actor)
+            self.plotter.renderer.RemoveActor(joints.actor)
+        self.ghosts = []
+        for part in (self.error_joints, self.error_lines):
+            if part is not None:
+                self.plotter.renderer.RemoveActor(part.actor)
+        if self.legend is not None:
+            self.plotter.renderer.RemoveViewProp(self.legend)
+        self.error_joints = self.error_lines = self.legend = None
+
+    def set_show_errors(self, shown: bool) -> None:
+        self.show_errors = bool(shown)
+        self.rebuild()
+
+    # -------------------------------------------------------------------- frames
+    def show_frame(self, frame: int) -> None:
+        """Write frame ``frame`` into the ghosts and the error view."""
+        if not self.ghosts:
+            return
+        for layer, (bones, joints) in zip(self.layers.layers, self.ghosts, strict=True):
+            points = layer.ghost[min(frame, len(layer.ghost) - 1)]
+            sampled = bool(np.isfinite(points).all())  # outside B's time range: not drawn
+            for part in (bones, joints):
+                part.set_visible(layer.visible and sampled)
+                if sampled:
+                    part.set_points(points)
+        active = self.layers.active
+        if self.error_joints is not None and active is not None:
+            comparison = active.comparison
+            row = comparison.row_of_frame(frame)
+            if row is None:
+                errors = np.full(comparison.n_pairs, np.nan)
+                a = b = self.state.snapshot.positions[frame, comparison.index_a]
+            else:
+                errors = comparison.position_error[row]
+                a, b = comparison.positions_a[row], comparison.positions_b[row]
+            self.error_joints.set_points(a)
+            colours = self.error_joints.mesh.point_data["colors"]
+            colours[:] = parts.rgb_bytes(error_colours(errors, self.top))
+            self.error_lines.set_points(np.concatenate([a, np.where(np.isfinite(b), b, a)]))
+        self.render()
+
+
+def _legend(top: float, units: str) -> vtkScalarBarActor:
+    """A vertical colour bar from 0 to ``top`` titled with the units, at the view's right."""
+    table = vtkLookupTable()
+    table.SetNumberOfTableValues(256)
+    table.SetRange(0.0, top)
+    rgb = error_colours(np.linspace(0.0, top, 256), top)
+    for i, (r, g, b) in enumerate(rgb):
+        table.SetTableValue(i, r, g, b, 1.0)
+    table.Build()
+    bar = vtkScalarBarActor()
+    bar.SetLookupTable(table)
+    bar.SetTitle(f"error ({units})")
+    bar.UnconstrainedFontSizeOn()
+    bar.SetNumberOfLabels(5)
+    bar.SetLabelFormat("%.3g")
+    bar.SetMaximumWidthInPixels(70)
+    bar.SetMaximumHeightInPixels(260)
+    bar.GetPositionCoordinate().SetValue(0.86, 0.08)
+    bar.SetWidth(0.08)
+    bar.SetHeight(0.4)
+    for text in (bar.GetTitleTextProperty(), bar.GetLabelTextProperty()):
+        text.SetFontSize(13)
+        text.SetBold(False)
+        text.SetItalic(False)
+        text.SetColor(0.9, 0.9, 0.9)
+    return bar

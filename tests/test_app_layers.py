@@ -1,0 +1,222 @@
+"""Comparison layers in the window: ghosts, the error view, the error plot, live after edits."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+from PyQt6.QtWidgets import QApplication
+
+from gmr_studio.app import commands
+from gmr_studio.app.ghost_layer import error_colours
+from gmr_studio.app.vtk_parts import rgb_bytes
+from gmr_studio.core.compare import compare_motions
+from gmr_studio.core.formats import read_motion
+from tests import app_fixtures
+from tests.app_fixtures import open_file, screen_image
+from tests.conftest import shared_path
+
+studio = app_fixtures.studio
+pytestmark = pytest.mark.gui
+
+BVH = "cmu/subject01/01_01.bvh"
+AMC = "cmu/subject01/01_01.amc"
+
+
+def _compare(window, path, joint_map=None) -> None:
+    window.files.compare_path(str(path), joint_map=joint_map, wait=True)
+    QApplication.processEvents()
+
+
+def _changed_pixels(before: np.ndarray, after: np.ndarray) -> int:
+    return int((np.abs(before.astype(int) - after.astype(int)).max(axis=-1) > 20).sum())
+
+
+def test_bvh_against_its_amc_as_a_ghost(studio):
+    open_file(studio, shared_path(BVH))
+    document = studio.state.snapshot
+    studio.state.set_frame(1518)
+    _compare(studio, shared_path(AMC), "cmu")
+    assert studio.layers_panel.isVisible() and studio.error_plot.isVisible()  # shown once a layer is added
+    layers = studio.layers
+    assert len(layers) == 1 and studio.state.snapshot is document  # the document untouched
+    layer = layers[0]
+    c = layer.comparison
+    # what gmr compare measures (docs/compare.md): 28 pairs, offset -1 found, MPJPE 1.0641
+    a, b = read_motion(shared_path(BVH)), read_motion(shared_path(AMC))
+    expected = compare_motions(a, b, joint_map="cmu", offset="auto")
+    assert c.n_pairs == expected.n_pairs == 28
+    assert c.alignment.offset_frames == -1.0
+    assert c.position.mean == pytest.approx(expected.position.mean, rel=1e-9)
+    assert c.position.mean == pytest.approx(1.0641, abs=1e-4)
+    # the ghost is B on A's frames: its matched joints are the comparison's B positions
+    rows = c.frames
+    np.testing.assert_allclose(layer.ghost[rows][:, c.index_b], c.positions_b, atol=1e-9, equal_nan=True)
+    assert np.isnan(layer.ghost[0]).all()  # A's frame 0 is before B's first frame (offset -1)
+    # the dock: the document and the layer, with the alignment
+    table = studio.layers_panel.table
+    assert table.rowCount() == 2 and table.item(1, 2).text() == "01_01.amc"
+    assert "offset -1 frames (found)" in table.item(1, 4).text()
+    # pixels: the ghost and the error view change the picture; hiding the layer takes it away
+    shown = screen_image(studio)
+    magenta = (shown[..., 0] > 170) & (shown[..., 1] < 140) & (shown[..., 2] > 150)
+    assert magenta.sum() > 30  # the ghost's own colour
+    layers.set_visible(0, False)
+    without = screen_image(studio)  # no ghost, no error view
+    assert _changed_pixels(without, shown) > 300
+    magenta = (without[..., 0] > 170) & (without[..., 1] < 140) & (without[..., 2] > 150)
+    assert magenta.sum() == 0
+    layers.set_visible(0, True)
+    assert _changed_pixels(shown, screen_image(studio)) < 10
+    layers.set_opacity(0, 1.0)
+    assert _changed_pixels(shown, screen_image(studio)) > 20
+    layers.remove(0)
+    assert len(layers) == 0 and table.rowCount() == 1
+    assert _changed_pixels(without, screen_image(studio)) < 10
+
+
+def test_error_view_inspector_and_plot(studio, qtbot):
+    open_file(studio, shared_path(BVH))
+    _compare(studio, shared_path(AMC), "cmu")
+    layer, state = studio.layers[0], studio.state
+    c = layer.comparison
+    frame = 1518
+    state.set_frame(frame)
+    # joint colours: the error recomputed here from the document and the ghost
+    positions = state.snapshot.positions[frame, c.index_a]
+    errors = np.linalg.norm(positions - layer.ghost[frame][c.index_b], axis=1)
+    np.testing.assert_allclose(c.position_error[c.row_of_frame(frame)], errors, atol=1e-9)
+    ghosts = studio.ghosts
+    assert ghosts.top == pytest.approx(c.position.max)
+    shown = np.asarray(ghosts.error_joints.mesh.point_data["colors"])
+    np.testing.assert_array_equal(shown, rgb_bytes(error_colours(errors, c.position.max)))
+    # the worst joint of the frame is red, the legs (agreeing to 1e-4) green
+    worst = int(np.argmax(errors))
+    assert shown[worst, 0] > 200 and shown[worst, 1] < 60
+    foot = c.names_a.index("LeftFoot")
+    assert shown[foot, 1] > 150 and shown[foot, 0] < 80
+    # the legend: a colour bar with red and green pixels at the view's right; gone when switched off
+    image = screen_image(studio)
+    right = image[:, int(0.8 * image.shape[1]) :].astype(int)
+    red = (right[..., 0] > 200) & (right[..., 1] < 80) & (right[..., 2] < 80)
+    assert red.sum() > 100
+    studio.layers_panel.errors.setChecked(False)
+    right = screen_image(studio)[:, int(0.8 * image.shape[1]) :].astype(int)
+    assert ((right[..., 0] > 200) & (right[..., 1] < 80) & (right[..., 2] < 80)).sum() < 5
+    studio.layers_panel.errors.setChecked(True)
+    # the inspector: both positions, the error and the rotation error of the selected joint
+    hand = state.motion.joint_index("LeftHand")
+    state.select(hand)
+    pair = list(c.index_a).index(hand)
+    text = " ".join(studio.inspector.text().split())
+    assert "Compared with 01_01.amc" in text and f"Match {c.names_b[pair]}" in text
+    assert f"Position error {errors[pair]:.4g} file units" in text
+    assert f"Rotation error {c.rotation_error[c.row_of_frame(frame), pair]:.4g} deg" in text
+    # the error plot: MPJPE and the selected joint, cursor at the frame, a click seeks
+    plot = studio.error_plot.plot
+    assert plot.columns == ("MPJPE", "LeftHand")
+    np.testing.assert_allclose(plot.values[:, 0], c.position.per_frame, equal_nan=True)
+    np.testing.assert_allclose(plot.values[:, 1], c.position_error[:, pair], equal_nan=True)
+    assert plot.cursor_frame == frame
+    plot.frame_requested.emit(400)
+    assert state.frame == 400 and plot.cursor_frame == 400
+    picture = plot.plot_widget.grab().toImage()
+    colours = {picture.pixelColor(x, y).name() for x in range(0, picture.width(), 2) for y in range(picture.height())}
+    assert "#4e79a7" in colours or any(_near(c_, (0x4E, 0x79, 0xA7)) for c_ in colours)
+
+
+def _near(name: str, rgb: tuple[int, int, int]) -> bool:
+    value = tuple(int(name[i : i + 2], 16) for i in (1, 3, 5))
+    return max(abs(a - b) for a, b in zip(value, rgb)) < 25
+
+
+def test_edits_keep_the_comparison_live(studio):
+    """A motion against itself: zero everywhere, also after shift root, split and join."""
+    open_file(studio, shared_path(BVH))
+    _compare(studio, shared_path(BVH))
+    state, layers = studio.state, studio.layers
+    size = state.motion.size
+    assert layers[0].comparison.alignment.offset_frames == 0.0
+    assert layers[0].comparison.position.max <= 1e-9 * size
+    assert np.nanmax(layers[0].comparison.rotation_error) <= 1e-6  # degrees
+    for edit, joint in (
+        (commands.make_root, "LeftHand"),
+        (commands.split_here, "Spine1"),
+        (commands.join_to_parent, "Spine1"),
+        (commands.make_root, "RightFoot"),
+    ):
+        before = layers[0].comparison
+        assert edit(state, state.motion.joint_index(joint))
+        c = layers[0].comparison
+        assert c is not before  # recomputed
+        assert c.n_pairs == state.motion.n_joints  # every joint still pairs by name
+        assert c.position.max <= 1e-9 * size
+    state.undo_stack.undo()
+    assert layers[0].comparison.position.max <= 1e-9 * size
+    np.testing.assert_array_equal(studio.error_plot.plot.values[:, 0] <= 1e-9 * size, True)
+
+
+def test_a_bad_file_leaves_everything_as_it_was(studio, tmp_path):
+    open_file(studio, shared_path(BVH))
+    document = studio.state.snapshot
+    bad = tmp_path / "broken.bvh"
+    bad.write_text("HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0\n")
+    messages: list[str] = []
+    studio.state.message.connect(messages.append)
+    _compare(studio, bad)
+    assert len(studio.layers) == 0 and studio.state.snapshot is document
+    assert any("broken.bvh" in m for m in messages)
+    # no joint in common: refused with a message, nothing added
+    from gmr_studio.app.state import Snapshot
+
+    motion = document.motion
+    renamed = dataclasses.replace(motion, names=tuple(f"other_{n}" for n in motion.names))
+    studio.files._on_compare_loaded(Snapshot.of(renamed), "renamed.gmr", False, joint_map=None)
+    assert len(studio.layers) == 0 and studio.state.snapshot is document
+    assert "Cannot compare with renamed.gmr: no joints matched" in messages[-1]
+
+
+def test_a_shift_drop_compares_with_the_shipped_map(studio, qtbot):
+    """A file dropped with Shift is compared, not opened; without a map, the shipped map
+    that pairs the most joints is used."""
+    from PyQt6.QtCore import QMimeData, QPointF, Qt, QUrl
+    from PyQt6.QtGui import QDropEvent
+
+    open_file(studio, shared_path(BVH))
+    document = studio.state.snapshot
+    data = QMimeData()
+    data.setUrls([QUrl.fromLocalFile(str(shared_path(AMC)))])
+    event = QDropEvent(
+        QPointF(10, 10), Qt.DropAction.CopyAction, data, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.ShiftModifier
+    )
+    studio.dropEvent(event)
+    qtbot.waitUntil(lambda: not studio.files.busy(), timeout=60000)
+    QApplication.processEvents()
+    assert studio.state.snapshot is document and studio.state.path.name == "01_01.bvh"
+    assert len(studio.layers) == 1
+    assert studio.layers[0].joint_map == "cmu" and studio.layers[0].comparison.n_pairs == 28
+
+
+def test_command_line_compare_to_a_window_screenshot(tmp_path):
+    """gmr-studio A --compare B --map cmu --screenshot OUT --window: the ghost is in the picture;
+    an unreadable B is refused with status 2."""
+    import subprocess
+    import sys
+
+    from tests.test_app_cli import read_png
+
+    studio_cmd = [sys.executable, "-m", "gmr_studio.app.main", str(shared_path(BVH))]
+    out = tmp_path / "compare.png"
+    options = ["--map", "cmu", "--screenshot", str(out), "--window", "--size", "900x600", "--frame", "1518"]
+    result = subprocess.run(
+        [*studio_cmd, "--compare", str(shared_path(AMC)), *options], capture_output=True, text=True, timeout=180
+    )
+    assert result.returncode == 0, result.stderr
+    image = read_png(out).astype(int)
+    magenta = (image[..., 0] > 170) & (image[..., 1] < 140) & (image[..., 2] > 150)
+    assert magenta.sum() > 30
+    bad = tmp_path / "broken.bvh"
+    bad.write_text("HIERARCHY\nROOT Hips\n")
+    result = subprocess.run([*studio_cmd, "--compare", str(bad), *options], capture_output=True, text=True, timeout=180)
+    assert result.returncode == 2 and "--compare" in result.stderr and "broken.bvh" in result.stderr
