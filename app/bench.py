@@ -1,4 +1,4 @@
-"""``python -m app.bench``: how fast the app is, measured (prints only; run under xvfb-run).
+"""``python -m gmr_studio.app.bench``: how fast the app is, measured (prints only; run under xvfb-run).
 
 1. Frame update during playback of CMU 01_01 (BVH) with its C3D markers: the time from
    ``state.set_frame(f)`` (every actor moved, timeline and inspector updated) until Qt has
@@ -188,7 +188,7 @@ def bench_edits(n_frames: int) -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m app.bench", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="python -m gmr_studio.app.bench", description=__doc__.splitlines()[0])
     parser.add_argument("--frames", type=int, default=600, help="frames played for the frame-update timing")
     parser.add_argument("--edit-frames", type=int, default=100_000, help="frames of the motion edited")
     args = parser.parse_args(argv)

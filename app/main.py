@@ -6,7 +6,7 @@ the app's own undoable commands: to the picture with ``--screenshot``, else to t
 which opens with them applied and unsaved (Edit > Undo takes them back).
 
 With no FILE the demo opens (``resources/demo/``: a walk and its markers, made by
-``python -m core.demo``). ``--screenshot`` renders the 3D view to a PNG and exits; it
+``python -m gmr_studio.core.demo``). ``--screenshot`` renders the 3D view to a PNG and exits; it
 works without a display (off-screen rendering). Without a display and without
 ``--screenshot`` the app says how to run it and exits with status 2 instead of letting Qt
 abort.

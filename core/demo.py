@@ -1,6 +1,6 @@
 """The demo: a humanoid walk with arm swing and matching markers, made by this project.
 
-``python -m core.demo [FOLDER]`` writes ``walk.gmr`` (the motion) and ``walk.trc`` (its
+``python -m gmr_studio.core.demo [FOLDER]`` writes ``walk.gmr`` (the motion) and ``walk.trc`` (its
 markers) into ``resources/demo/`` (or FOLDER). Everything here is pure numpy, seeded and
 deterministic: the same call always gives the same arrays (a test regenerates the files
 and compares them with the committed ones).
@@ -226,7 +226,7 @@ def write_demo(folder: str | Path | None = None) -> tuple[Path, Path]:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m core.demo", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="python -m gmr_studio.core.demo", description=__doc__.splitlines()[0])
     parser.add_argument("folder", nargs="?", help="where to write (default: resources/demo/)")
     args = parser.parse_args(argv)
     for path in write_demo(args.folder):

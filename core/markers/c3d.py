@@ -5,7 +5,7 @@ ezc3d reads every C3D flavour (Intel, DEC and SGI byte orders; integer and float
 does not always raise: fuzzing the real files of this project (random bytes in the
 parameter section) made it hang for minutes or die with a segmentation fault in about 5%
 of the cases. A reader in a desktop app must not take the app down with it, so by default
-the decoding runs in a child Python process (``python -m core.markers.c3d_worker FILE``) with a
+the decoding runs in a child Python process (``python -m gmr_studio.core.markers.c3d_worker FILE``) with a
 time and memory limit; it costs about 0.15 s per file. A C3D that ezc3d rejects, or that
 makes it crash or hang, becomes a :class:`~core.errors.MotionFileError` naming the file.
 

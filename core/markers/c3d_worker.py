@@ -1,6 +1,6 @@
 """The child process of :func:`core.markers.c3d.read_c3d`: ezc3d decodes one file.
 
-``python -m core.markers.c3d_worker FILE [MEMORY_BYTES]`` writes the decoded file to stdout
+``python -m gmr_studio.core.markers.c3d_worker FILE [MEMORY_BYTES]`` writes the decoded file to stdout
 as an .npz archive, or its error to stderr with exit status 3. Nothing in the package
 imports this module at import time, so ``-m`` runs it without a second copy.
 """
@@ -109,7 +109,7 @@ def _die_with_parent(parent: int | None) -> None:
 
 
 def _worker(argv: list[str]) -> int:
-    """``python -m core.markers.c3d_worker FILE [MEMORY_BYTES [SECONDS [PARENT_PID]]]``: the
+    """``python -m gmr_studio.core.markers.c3d_worker FILE [MEMORY_BYTES [SECONDS [PARENT_PID]]]``: the
     decoded file as .npz on stdout."""
     _die_with_parent(int(argv[3]) if len(argv) > 3 else None)
     try:
