@@ -178,16 +178,21 @@ def _rotation_error(
         # W_b -> M W_b N on the 9 entries: vec(M W N)[a, d] = sum_bc M[a, b] N[c, d] W[b, c]
         m, n = alignment.rotation @ alignment.up_rotation, alignment.up_rotation.T
         turn = np.einsum("ab,cd->adbc", m, n).reshape(9, 9)
-    angle = np.empty((len(rows), len(index_a)))
+    n_pairs = len(index_a)
+    angle = np.empty((len(rows), n_pairs))
     for start in range(0, len(rows), ROTATION_BLOCK):
         block = slice(start, start + ROTATION_BLOCK)
-        ra = take(a.rotations, rows[block], index_a).reshape(-1, len(index_a), 9)
-        rb = resample_rotations(b.rotations, at[block], index_b).reshape(-1, len(index_b), 9)
+        ra = take(a.rotations, rows[block], index_a).reshape(-1, 9)
+        rb = resample_rotations(b.rotations, at[block], index_b).reshape(-1, 9)
         if turn is not None:
-            rb = np.einsum("fjq,pq->fjp", rb, turn)
-        difference = ra - rb
-        chord = np.sqrt(np.einsum("fjp,fjp->fj", difference, difference))
-        angle[block] = 2.0 * np.arcsin(np.minimum(chord / (2.0 * np.sqrt(2.0)), 1.0))
+            difference = np.einsum("nq,pq->np", rb, turn)  # a new (n, 9) array, turned B
+            np.subtract(ra, difference, out=difference)
+        else:
+            difference = ra - rb
+        chord = np.sqrt(np.einsum("np,np->n", difference, difference))
+        chord *= 1.0 / (2.0 * np.sqrt(2.0))
+        np.minimum(chord, 1.0, out=chord)
+        angle[block] = (2.0 * np.arcsin(chord, out=chord)).reshape(-1, n_pairs)
     angle = np.degrees(angle, out=angle)
     oriented = a.has_rotation[index_a] & b.has_rotation[index_b]
     if not oriented.all():
