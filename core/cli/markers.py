@@ -5,7 +5,8 @@ are the joint centres; ``cmu``: the CMU 41-marker set on the CMU ASF skeleton), 
 comes by Procrustes, the limbs by their bone directions, the twists from ``--reference``
 (or least change from frame to frame). Prints what was missing and a per-joint table: the
 share of frames each joint was measured, its distance from its virtual marker and, with
-``--truth`` (a motion of the same trial, frame for frame), its position and angle errors.
+``--truth`` (a motion of the same trial, put on the markers' clock by the comparison
+engine: ``--truth-offset``, found when the frame counts differ), its position and angle errors.
 
 ``--calibrate A:B --save-map FILE`` first fits the map's clusters on those frames against
 ``--reference`` (the same trial, or a one-frame static pose) and writes the calibrated map.
