@@ -112,6 +112,66 @@ def test_cmu_markers_report_errors_against_the_amc(capsys, tmp_path):
     assert "Procrustes on LFWT, RFWT, LBWT: " in out
 
 
+def _truth_rows(capsys, tmp_path, skeleton, truth, *extra) -> tuple[dict, dict]:
+    d = shared_path(CMU01 + "01_01.c3d").parent
+    code, out, _ = run(
+        capsys, "markers", d / "01_01.c3d", "--skeleton", d / skeleton, "--map", "cmu", "--truth", d / truth,
+        "--frames", "1100:1700", "--json", "-o", tmp_path / "out.gmr", *extra,
+    )  # fmt: skip
+    assert code == 0
+    report = json.loads(out)
+    return report, {row["joint"]: row for row in report["joints"]}
+
+
+def _mean_distances(written, truth, first_truth_frame: int) -> np.ndarray:
+    """(J,) mean distance of each joint from the truth's, truth frames from first_truth_frame."""
+    true = world_positions(truth)[first_truth_frame : first_truth_frame + written.n_frames]
+    order = [truth.joint_index(name) for name in written.names]
+    return np.linalg.norm(world_positions(written) - true[:, order], axis=-1).mean(axis=0)
+
+
+def test_truth_amc_is_frame_for_frame(capsys, tmp_path):
+    """The AMC has the C3D's 2,751 frames: offset 0, no note, errors against the same frames."""
+    report, rows = _truth_rows(capsys, tmp_path, "01.asf", "01_01.amc")
+    assert "truth" not in report  # the output is as it was before the comparison engine
+    written = load_gmr(tmp_path / "out.gmr")
+    mine = _mean_distances(written, read_motion(shared_path(CMU01 + "01_01.amc")), 1100)
+    printed = np.array([rows[name]["position_error"] for name in written.names])
+    factor = printed / mine  # millimetres per skeleton unit, the same for every joint
+    assert np.ptp(factor) <= 1e-9 * factor.mean() and factor.mean() == pytest.approx(25.4 / 0.45, rel=1e-6)
+
+
+def test_truth_bvh_is_put_on_the_markers_clock(capsys, tmp_path):
+    """01_01.bvh has a T-pose frame more than the C3D: the offset +1 is found, MPJPE printed."""
+    report, rows = _truth_rows(capsys, tmp_path, "01_01.bvh", "01_01.bvh")
+    assert report["truth"].startswith("truth frame = marker frame +1 (found from the root speeds); 38 joints")
+    written = load_gmr(tmp_path / "out.gmr")
+    truth = load_gmr(shared_path(CMU01 + "01_01.bvh"))  # as the command reads it
+    printed = np.array([rows[name]["position_error"] for name in written.names])
+    factor = printed / _mean_distances(written, truth, 1101)
+    assert np.ptp(factor) <= 1e-9 * factor.mean()
+    assert np.all(printed / _mean_distances(written, truth, 1100) != pytest.approx(factor.mean(), rel=1e-6))
+    # the local angles are taken from the same truth frames
+    true_local = truth.rotations[1101 : 1101 + written.n_frames]
+    angle = np.degrees(rotation_angle(np.swapaxes(written.rotations, -1, -2) @ true_local)).mean(axis=0)
+    for j, name in enumerate(written.names):
+        if written.parents[j] >= 0:
+            assert rows[name]["angle_error_deg"] == pytest.approx(angle[j], abs=1e-9)
+    given, rows_given = _truth_rows(capsys, tmp_path, "01_01.bvh", "01_01.bvh", "--truth-offset", "1")
+    assert given["truth"].startswith("truth frame = marker frame +1 (given)") and rows_given == rows
+
+
+def test_truth_bvh_prints_an_mpjpe(capsys, tmp_path):
+    d = shared_path(CMU01 + "01_01.c3d").parent
+    code, out, _ = run(
+        capsys, "markers", d / "01_01.c3d", "--skeleton", d / "01_01.bvh", "--map", "cmu", "--truth",
+        d / "01_01.bvh", "--frames", "1100:1700", "-o", tmp_path / "out.gmr",
+    )  # fmt: skip
+    assert code == 0 and "  truth: truth frame = marker frame +1" in out
+    overall = float(next(line for line in out.splitlines() if line.startswith("overall")).split()[-1])
+    assert 5.0 < overall < 60.0
+
+
 @pytest.mark.parametrize(
     ("argv", "message"),
     [

@@ -5,7 +5,8 @@ are the joint centres; ``cmu``: the CMU 41-marker set on the CMU ASF skeleton), 
 comes by Procrustes, the limbs by their bone directions, the twists from ``--reference``
 (or least change from frame to frame). Prints what was missing and a per-joint table: the
 share of frames each joint was measured, its distance from its virtual marker and, with
-``--truth`` (a motion of the same trial, frame for frame), its position and angle errors.
+``--truth`` (a motion of the same trial, put on the markers' clock by the comparison
+engine: ``--truth-offset``, found when the frame counts differ), its position and angle errors.
 
 ``--calibrate A:B --save-map FILE`` first fits the map's clusters on those frames against
 ``--reference`` (the same trial, or a one-frame static pose) and writes the calibrated map.
@@ -40,7 +41,16 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--skeleton", required=True, help="the skeleton: .asf, .bvh or .gmr")
     parser.add_argument("--map", default="joints", help="marker map: joints, cmu, or a .toml file (default joints)")
     parser.add_argument("--reference", help="a motion of the same skeleton whose best-matching poses give the twists")
-    parser.add_argument("--truth", help="the true motion of the same trial, frame for frame: errors are printed")
+    parser.add_argument(
+        "--truth", help="the true motion of the same trial (any skeleton form, e.g. .amc, .bvh): errors are printed"
+    )
+    parser.add_argument(
+        "--truth-offset",
+        type=truth_offset,
+        metavar="N|auto",
+        help="truth frame minus marker frame (default 0 for as many frames as the markers, else auto)",
+    )
+    parser.add_argument("--truth-map", help="joint-name map between skeleton and truth (cmu, or .toml; default names)")
     parser.add_argument("--roots", default="", help="joints that stay roots at their measured positions: J1,J2")
     parser.add_argument("--frames", type=frame_slice, help="marker frames A:B to convert (from 0, B excluded)")
     parser.add_argument(
@@ -71,6 +81,16 @@ def frame_slice(text: str) -> slice:
         return slice(int(start) if start.strip() else None, int(stop) if stop.strip() else None)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected frames as A:B, not {text!r}") from None
+
+
+def truth_offset(text: str) -> int | str:
+    """``"auto"`` or a whole number of frames."""
+    if text.strip().lower() == "auto":
+        return "auto"
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number of frames or auto, not {text!r}") from None
 
 
 def parse_axes(text: str) -> np.ndarray:
@@ -106,7 +126,6 @@ def load_motion_of(path: str, skeleton_path: str, args: argparse.Namespace | Non
 
 
 def run(args: argparse.Namespace) -> int:
-    from gmr_studio.core.kinematics import forward_kinematics
     from gmr_studio.core.markers.report import conversion_table, conversion_text
     from gmr_studio.core.markers.solve import markers_to_motion
     from gmr_studio.core.markers.virtual import resolve_map
@@ -144,23 +163,19 @@ def run(args: argparse.Namespace) -> int:
 
         motion = bvh_export(motion).motion  # dummies where GMR siblings turn independently
     write_motion(motion, output)
-    truth_positions = truth_rotations = None
+    truth_positions = truth_rotations = truth_note = None
     if args.truth:
         truth = load_motion_of(args.truth, args.skeleton, args)
-        order = [truth.joint_index(n) for n in skeleton.names]
-        frames = args.frames or slice(None)
-        if truth.n_frames != markers.n_frames:
-            raise OperationError(
-                f"--truth has {truth.n_frames} frames and the markers {markers.n_frames}: it must be the same trial"
-            )
-        truth = truth.frame_slice(frames)
-        truth_positions = forward_kinematics(truth, with_rotations=False)[0][:, order]
-        truth_rotations = truth.rotations[:, order]
+        truth_positions, truth_rotations, truth_note = truth_on_markers_clock(
+            result.motion, truth, markers.n_frames, args.frames, args.truth_offset, args.truth_map
+        )
     resolved = resolve_map(marker_map, markers, skeleton=skeleton)
     unit = resolved.units or markers.units  # errors are printed in the markers' unit
     rows = conversion_table(result, 1.0 / resolved.alignment.scale, truth_positions, truth_rotations)
     if args.json:
         report = {"output": str(output), "pelvis": result.pelvis_note, "reasons": list(result.reasons), "joints": rows}
+        if truth_note:
+            report["truth"] = truth_note
         json.dump(report, sys.stdout, indent=2)
         print()
         return 0
@@ -175,6 +190,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"  pelvis: {result.pelvis_note}")
     for reason in result.reasons:
         print(f"  note: {reason}")
+    if truth_note:
+        print(f"  truth: {truth_note}")
     print(conversion_text(rows, unit))
     if resolved.pelvis:
         from gmr_studio.core.markers.pelvis import recover_pelvis
@@ -183,6 +200,66 @@ def run(args: argparse.Namespace) -> int:
         shown = markers.frame_slice(args.frames) if args.frames is not None else markers
         print(pelvis_fit_text(pelvis_fit_summary(recover_pelvis(shown, resolved, skeleton=skeleton))))
     return 0
+
+
+def truth_on_markers_clock(
+    motion: Motion,
+    truth: Motion,
+    n_marker_frames: int,
+    frames: slice | None,
+    offset: int | str | None,
+    joint_map: str | None,
+) -> tuple[np.ndarray, np.ndarray | None, str | None]:
+    """The truth sampled on the converted motion's frames, through the comparison engine.
+
+    motion : the converted motion (F frames: marker frames ``frames`` of ``n_marker_frames``).
+    offset : truth frame minus marker frame; None: 0 when the truth has as many frames as
+    the markers (the same trial frame for frame, as an AMC), else found (``auto``: the lag
+    at which the root speeds agree best, as ``gmr compare --offset auto``; a BVH adds a
+    T-pose frame, +1). joint_map : pairs the skeleton's joints with the truth's (None: names).
+    Returns truth positions (F, J, 3) and local rotations (F, J, 3, 3) in the motion's joint
+    order (NaN where unmatched or outside the truth; rotations None when the truth is on
+    another skeleton or clock), and a note for the report (None when the offset is 0 as
+    assumed). Raises OperationError when too little of the truth overlaps.
+    """
+    from gmr_studio.core.compare import compare_motions
+
+    start = (frames or slice(None)).indices(n_marker_frames)[0]
+    if offset is None:
+        offset = 0 if truth.n_frames == n_marker_frames else "auto"
+    try:
+        comparison = compare_motions(
+            motion,
+            truth,
+            joint_map=joint_map,
+            with_rotations=False,
+            offset="auto" if offset == "auto" else start + offset,
+        )
+    except ValueError as error:
+        raise OperationError(f"--truth: {error}") from None
+    lag = comparison.alignment.offset_frames - start  # truth frame minus marker frame
+    positions = np.full((motion.n_frames, motion.n_joints, 3), np.nan)
+    positions[:, comparison.index_a] = comparison.positions_b
+    overlap = int(np.isfinite(positions[:, comparison.index_a[0], 0]).sum())
+    if overlap < max(1, motion.n_frames // 2):
+        raise OperationError(
+            f"--truth ({truth.n_frames} frames) overlaps {overlap} of the {motion.n_frames} converted frames "
+            f"at offset {lag:g}: it must be the same trial (or give --truth-offset)"
+        )
+    rotations = None
+    same_skeleton = [motion.names[i] for i in comparison.index_a] == [truth.names[j] for j in comparison.index_b]
+    if same_skeleton and lag == round(lag) and abs(truth.frame_rate / motion.frame_rate - 1.0) < 1e-5:
+        rows = np.arange(motion.n_frames) + start + round(lag)
+        inside = (rows >= 0) & (rows < truth.n_frames)
+        rotations = np.full((motion.n_frames, motion.n_joints, 3, 3), np.nan)
+        rotations[np.ix_(inside, comparison.index_a)] = truth.rotations[rows[inside]][:, comparison.index_b]
+    note = None
+    if lag != 0 or offset == "auto":
+        how = "found from the root speeds" if comparison.alignment.offset_found else "given"
+        note = f"truth frame = marker frame {lag:+g} ({how}); {comparison.n_pairs} joints matched" + (
+            f", unmatched {', '.join(comparison.unmatched_a)}" if comparison.unmatched_a else ""
+        )
+    return positions, rotations, note
 
 
 def _calibrate(args, markers: MarkerSet, skeleton: Motion, marker_map, reference: Motion | None):

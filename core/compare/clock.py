@@ -16,6 +16,8 @@ import numpy as np
 
 #: a fractional frame this close to a whole number is that frame (rounding of i / rate)
 WHOLE_FRAME_TOLERANCE = 1e-6
+#: the two other axes of each axis, in cyclic order (cross products by components)
+_NEXT = ((1, 2), (2, 0), (0, 1))
 
 
 def sample_frames(n_frames_a: int, rate_a: float, rate_b: float, offset_seconds: float, frames_a=None) -> np.ndarray:
@@ -53,7 +55,8 @@ def resample(values: np.ndarray, at: np.ndarray, columns: np.ndarray | None = No
         high = np.minimum(low + 1, n - 1)
         first, second = take(values, low, columns), take(values, high, columns)
         weight = np.clip(at - low, 0.0, 1.0).reshape((-1,) + (1,) * (first.ndim - 1))
-        out = first * (1.0 - weight) + second * weight
+        out = first * (1.0 - weight)
+        out += second * weight
     if not inside.all():
         out = np.array(out, dtype=np.float64)
         out[~inside] = np.nan
@@ -63,7 +66,13 @@ def resample(values: np.ndarray, at: np.ndarray, columns: np.ndarray | None = No
 def resample_rotations(rotations: np.ndarray, at: np.ndarray, columns: np.ndarray | None = None) -> np.ndarray:
     """Rotations (N, J, 3, 3) at fractional frames (F,) -> (F, J, 3, 3), along the geodesic.
 
-    ``R(w) = R_0 exp(w log(R_0^T R_1))``, by Rodrigues' formula; NaN outside B's range.
+    ``R(w) = R_0 exp(w log(R_0^T R_1)) = exp(w angle [v]) R_0`` with ``v`` the unit axis in
+    world coordinates, by Rodrigues' formula on the columns of ``R_0``. Neither the relative
+    rotation nor any other (F, J, 3, 3) product is formed: ``cos(angle) = (R_0 : R_1 - 1) / 2``
+    (the trace of ``R_0^T R_1`` as an elementwise sum) and ``2 sin(angle) v = sum_k R_0[:, k]
+    x R_1[:, k]`` (the axis of ``R_1 R_0^T``), the angle by ``arctan2`` of both, accurate at
+    every angle. An axis shorter than 1e-12 (angle 0 or pi) leaves ``R_0``. NaN outside B's
+    range.
     """
     n = rotations.shape[0]
     nearest = np.rint(at)
@@ -71,29 +80,40 @@ def resample_rotations(rotations: np.ndarray, at: np.ndarray, columns: np.ndarra
         return resample(rotations, at, columns)
     low = np.clip(np.floor(at).astype(np.int64), 0, max(n - 2, 0))
     high = np.minimum(low + 1, n - 1)
-    weight = np.clip(at - low, 0.0, 1.0)[:, None]
     first = take(rotations, low, columns)
-    relative = np.swapaxes(first, -1, -2) @ take(rotations, high, columns)
-    axis = np.stack(
-        [
-            relative[..., 2, 1] - relative[..., 1, 2],
-            relative[..., 0, 2] - relative[..., 2, 0],
-            relative[..., 1, 0] - relative[..., 0, 1],
-        ],
-        axis=-1,
-    )
-    sin = 0.5 * np.linalg.norm(axis, axis=-1)
-    angle = np.arctan2(sin, 0.5 * (np.trace(relative, axis1=-2, axis2=-1) - 1.0))
+    shape = first.shape
+    # component-major (3, 3, M) copies: every operation below runs along the M samples
+    r0 = np.ascontiguousarray(first.reshape(-1, 9).T).reshape(3, 3, -1)
+    r1 = np.ascontiguousarray(take(rotations, high, columns).reshape(-1, 9).T).reshape(3, 3, -1)
+    weight = np.repeat(np.clip(at - low, 0.0, 1.0), r0.shape[-1] // len(at))
+    axis = np.empty((3, r0.shape[-1]))  # 2 sin(angle) v = sum_k R_0[:, k] x R_1[:, k]
+    for i, (j, k) in enumerate(_NEXT):
+        axis[i] = np.einsum("cm,cm->m", r0[j], r1[k])
+        axis[i] -= np.einsum("cm,cm->m", r0[k], r1[j])
+    sin = 0.5 * np.sqrt(np.einsum("km,km->m", axis, axis))
+    cos = 0.5 * (np.einsum("ijm,ijm->m", r0, r1) - 1.0)
+    turn = np.arctan2(sin, cos)
+    turn *= weight  # the angle of the step
     with np.errstate(invalid="ignore", divide="ignore"):
-        unit = np.where(sin[..., None] > 1e-12, axis / (2.0 * sin[..., None]), 0.0)
-    part = angle * weight
-    k = np.zeros((*unit.shape[:-1], 3, 3))
-    k[..., 0, 1], k[..., 0, 2], k[..., 1, 2] = -unit[..., 2], unit[..., 1], -unit[..., 0]
-    k[..., 1, 0], k[..., 2, 0], k[..., 2, 1] = unit[..., 2], -unit[..., 1], unit[..., 0]
-    step = np.eye(3) + np.sin(part)[..., None, None] * k + (1.0 - np.cos(part))[..., None, None] * (k @ k)
-    out = first @ step
+        unit = np.where(sin > 1e-12, axis / (2.0 * sin), 0.0)
+    across = _cross_columns(unit, r0)  # v x each column of R_0
+    twice = _cross_columns(unit, across)  # v x (v x column)
+    across *= np.sin(turn)
+    twice *= 1.0 - np.cos(turn)
+    across += r0
+    across += twice
+    out = np.ascontiguousarray(across.reshape(9, -1).T).reshape(shape)
     inside = (at >= -WHOLE_FRAME_TOLERANCE) & (at <= n - 1 + WHOLE_FRAME_TOLERANCE)
     out[~inside] = np.nan
+    return out
+
+
+def _cross_columns(vector: np.ndarray, matrices: np.ndarray) -> np.ndarray:
+    """``vector`` (3, M) crossed with each column of ``matrices`` (3, 3, M), component-major."""
+    out = np.empty(matrices.shape)
+    for i, (j, k) in enumerate(_NEXT):
+        np.multiply(vector[j], matrices[k], out=out[i])
+        out[i] -= vector[k] * matrices[j]
     return out
 
 
