@@ -46,9 +46,9 @@ def bench_frames(frames: int) -> None:
 
     data = shared_data_dir()
     app = QApplication.instance() or QApplication(sys.argv[:1])
-    scratch = os.path.join(os.environ.get("TMPDIR", "/tmp"), "gmr-studio-bench.ini")
+    # a fresh settings file: a layout saved by an earlier run would change the view's size
+    scratch = os.path.join(os.environ.get("TMPDIR", "/tmp"), f"gmr-studio-bench-{os.getpid()}.ini")
     window = MainWindow(settings=QSettings(scratch, QSettings.Format.IniFormat))
-    window.settings.clear()
     window.files.quiet = True
     window.resize(1280, 800)
     window.show()
@@ -92,6 +92,8 @@ def bench_frames(frames: int) -> None:
         )
     state.undo_stack.setClean()
     window.close()
+    if os.path.exists(scratch):
+        os.remove(scratch)
 
 
 def bench_launch() -> None:
