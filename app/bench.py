@@ -3,8 +3,10 @@
 1. Frame update during playback of CMU 01_01 (BVH) with its C3D markers: the time from
    ``state.set_frame(f)`` (every actor moved, timeline and inspector updated) until Qt has
    processed the events that follow, the view's render and the window's repaint included,
-   over consecutive frames; median, 95th percentile and the fps they imply. Once with the
-   default overlays and a selected joint, once with axes, trail and labels on too.
+   over consecutive frames; median, 95th percentile and the fps they imply, and the CPU
+   time per frame (``time.process_time``: every thread, Mesa's rasterisers included; and
+   the main thread's alone), less sensitive than wall time to other jobs on the machine.
+   Once with the default overlays and a selected joint, once with axes, trail and labels on.
 2. Launch to first frame: a fresh ``gmr-studio 01_01.bvh`` process, from before it starts
    to the first rendered frame of the file (interpreter, imports, window, reading, FK).
 3. Frame update with and without a comparison layer (01_01.amc over 01_01.bvh, the ghost,
@@ -48,9 +50,9 @@ def bench_frames(frames: int) -> None:
 
     data = shared_data_dir()
     app = QApplication.instance() or QApplication(sys.argv[:1])
-    scratch = os.path.join(os.environ.get("TMPDIR", "/tmp"), "gmr-studio-bench.ini")
+    # a fresh settings file: a layout saved by an earlier run would change the view's size
+    scratch = os.path.join(os.environ.get("TMPDIR", "/tmp"), f"gmr-studio-bench-{os.getpid()}.ini")
     window = MainWindow(settings=QSettings(scratch, QSettings.Format.IniFormat))
-    window.settings.clear()
     window.files.quiet = True
     window.resize(1280, 800)
     window.show()
@@ -77,17 +79,25 @@ def bench_frames(frames: int) -> None:
         for f in range(30):  # warm up (first renders compile shaders, fill caches)
             state.set_frame(f)
             app.processEvents()
-        times = []
+        times, cpu, main_thread = [], [], []
         renders.clear()
         for f in range(1, frames + 1):
-            start = time.perf_counter()
+            start, start_cpu, start_thread = time.perf_counter(), time.process_time(), time.thread_time()
             state.set_frame(f % state.n_frames)
             app.processEvents()  # the repaint: VTK renders in the widget's paint event
             times.append(time.perf_counter() - start)
+            cpu.append(time.process_time() - start_cpu)
+            main_thread.append(time.thread_time() - start_thread)
         _summary(label, np.array(times))
         print(f"{'  of which VTK rendering (the rest: Qt)':<46} median {1000 * np.median(renders):6.2f} ms")
+        print(
+            f"{'  CPU per frame: all threads / main thread':<46} median {1000 * np.median(cpu):6.2f} ms"
+            f" / {1000 * np.median(main_thread):6.2f} ms"
+        )
     state.undo_stack.setClean()
     window.close()
+    if os.path.exists(scratch):
+        os.remove(scratch)
 
 
 def bench_comparison(frames: int, rounds: int = 4) -> None:
@@ -191,11 +201,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m gmr_studio.app.bench", description=__doc__.splitlines()[0])
     parser.add_argument("--frames", type=int, default=600, help="frames played for the frame-update timing")
     parser.add_argument("--edit-frames", type=int, default=100_000, help="frames of the motion edited")
+    parser.add_argument("--frames-only", action="store_true", help="only the frame-update timing")
     args = parser.parse_args(argv)
     if not (shared_data_dir() / BVH).exists():
         print(f"the CMU files are not in {shared_data_dir()}: nothing to measure", file=sys.stderr)
         return 2
     bench_frames(args.frames)
+    if args.frames_only:
+        return 0
     bench_comparison(args.frames)
     bench_launch()
     bench_edits(args.edit_frames)

@@ -11,7 +11,7 @@ the curves plot.
 from __future__ import annotations
 
 import numpy as np
-from PyQt6.QtCore import QRectF, Qt
+from PyQt6.QtCore import QRect, QRectF, Qt
 from PyQt6.QtGui import QColor, QImage, QMouseEvent, QPainter, QPaintEvent
 from PyQt6.QtWidgets import QDoubleSpinBox, QHBoxLayout, QLabel, QSizePolicy, QVBoxLayout, QWidget
 
@@ -40,8 +40,19 @@ class ContactStrip(QWidget):
         self._image: QImage | None = None
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
         self._range_anchor: int | None = None
-        state.frame_changed.connect(lambda _: self.update())
+        self._cursor_x: int | None = None  # where the cursor was last drawn
+        state.frame_changed.connect(self._on_frame_changed)
         state.range_changed.connect(lambda *_: self.update())
+
+    def _on_frame_changed(self, frame: int) -> None:
+        """Repaint only the columns of the old and the new cursor (not the whole bars)."""
+        x = int(self.x_of_frame(frame + 0.5))
+        if self._cursor_x is None:
+            self.update()
+        elif x != self._cursor_x:
+            for column in (self._cursor_x, x):
+                self.update(QRect(column - 1, 0, 3, self.height()))
+        self._cursor_x = x
 
     def set_contacts(self, contacts: Contacts | None) -> None:
         self.contacts = contacts
@@ -78,6 +89,7 @@ class ContactStrip(QWidget):
             x0, x1 = self.x_of_frame(start), self.x_of_frame(stop)
             painter.fillRect(QRectF(x0, 0, max(x1 - x0, 1.0), self.height()), RANGE_COLOUR)
         x = self.x_of_frame(self.state.frame + 0.5)
+        self._cursor_x = int(x)
         painter.setPen(CURSOR_COLOUR)
         painter.drawLine(int(x), 0, int(x), self.height())
         painter.end()

@@ -242,9 +242,9 @@ class SkeletonScene:
         point = self._follow_point(frame)
         if self._followed is not None:
             delta = point - self._followed
-            camera = self.plotter.camera
-            camera.position = tuple(np.asarray(camera.position) + delta)
-            camera.focal_point = tuple(np.asarray(camera.focal_point) + delta)
+            camera = self.plotter.camera  # VTK's setters: pyvista's also refit the clipping range, as render does
+            camera.SetPosition(*(np.asarray(camera.GetPosition()) + delta))
+            camera.SetFocalPoint(*(np.asarray(camera.GetFocalPoint()) + delta))
         self._followed = point
 
     def reset_camera(self) -> None:

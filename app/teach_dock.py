@@ -149,8 +149,13 @@ class TeachDock(QWidget):
         return self.amount.value() / 100.0
 
     def schedule(self) -> None:
-        if not self._refresh_timer.isActive():
+        # hidden (by default a tab behind the inspector) it is refreshed when shown
+        if self.isVisible() and not self._refresh_timer.isActive():
             self._refresh_timer.start()
+
+    def showEvent(self, event) -> None:  # noqa: N802 (Qt's name)
+        self._refresh_timer.start()
+        super().showEvent(event)
 
     def _on_amount(self, value: int) -> None:
         joint = self.state.selected

@@ -86,3 +86,34 @@ def test_the_inspector_shows_the_timelines_frame_while_playing(qtbot, studio):
     studio.player.pause()
     assert not behind, f"the inspector lagged: {behind[:5]}"
     assert f"Frame {state.frame} of" in studio.inspector.text()
+
+
+@pytest.mark.gui
+def test_text_is_selectable_by_mouse_and_copied(qtbot, studio):
+    from PyQt6.QtCore import QPoint, Qt
+    from PyQt6.QtWidgets import QApplication
+
+    open_file(studio, shared_path(CMU))
+    studio.state.select(studio.state.motion.joint_index("LeftLeg"))
+    label = studio.inspector.label
+    top_left = label.document.documentLayout().blockBoundingRect(label.document.firstBlock()).topLeft()
+    start = QPoint(round(top_left.x()) + label.MARGIN, round(top_left.y()) + label.MARGIN + 2)
+    qtbot.mousePress(label, Qt.MouseButton.LeftButton, pos=start)
+    qtbot.mouseMove(label, start + QPoint(60, 0))  # no button down in the move event: send it
+    label.mouseMoveEvent(_move(start + QPoint(60, 0)))
+    selected = label.selected_text()  # the first ~60 px of "Frame 0 of 2752"
+    assert len(selected) >= 4 and "Frame 0 of 2752".startswith(selected)
+    label.select_all()
+    label.copy()
+    assert flat(QApplication.clipboard().text()) == flat(studio.inspector.text())
+
+
+def _move(point):
+    from PyQt6.QtCore import QEvent, QPointF, Qt
+    from PyQt6.QtGui import QMouseEvent
+
+    where = QPointF(point)
+    left = Qt.MouseButton.LeftButton
+    return QMouseEvent(
+        QEvent.Type.MouseMove, where, where, Qt.MouseButton.NoButton, left, Qt.KeyboardModifier.NoModifier
+    )
