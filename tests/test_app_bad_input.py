@@ -31,11 +31,15 @@ pytestmark = pytest.mark.gui
 studio = app_fixtures.studio
 MARKER_FORMATS = {"trc", "c3d"}
 TEXT_FORMATS = {"bvh", "gmr", "trc", "asf", "amc"}
-#: tries per category to find a mutation the reader refuses
-TRIES = 12
-#: formats whose categories are fed here (C3D, read by ezc3d in a child process at ~1 s a
-#: case, is left to tests/test_markers_c3d.py and the add-markers test below)
-FED_FORMATS = ("amc", "asf", "bvh", "gmr", "trc")
+#: tries per category to find a mutation the reader refuses (C3D: ~1 s a try; its header
+#: counts and a cut inside the data are read from the parameters and what is left)
+TRIES = {"c3d": 4}
+DEFAULT_TRIES = 12
+#: formats whose categories are fed here, each its own test (C3D's reader runs ezc3d in a
+#: child process at about 1 s a case)
+FED_FORMATS = ("amc", "asf", "bvh", "gmr", "trc", "c3d")
+#: categories each format must have explained at least (the rest may all still read)
+EXPLAINED_AT_LEAST = {"c3d": 2}
 
 
 @pytest.fixture
@@ -62,7 +66,7 @@ def refused_case(target, category: str, number: int, folder: Path) -> tuple[byte
     seeds = target.seeds()
     folder.mkdir(parents=True, exist_ok=True)
     probe = folder / f"probe{target.suffix}"
-    for attempt in range(TRIES):
+    for attempt in range(TRIES.get(target.name, DEFAULT_TRIES)):
         rng = np.random.default_rng([number, attempt])
         label, data = seeds[int(rng.integers(len(seeds)))]
         mutated = target.mutations[category](data, rng)
@@ -109,32 +113,30 @@ def document(window):
     return state.snapshot, state.path, state.undo_stack.count(), state.undo_stack.index()
 
 
-def test_every_fuzz_category_through_the_open_path(qtbot, edited, dialogs, tmp_path):
+@pytest.mark.parametrize("name", FED_FORMATS)
+def test_every_fuzz_category_through_the_open_path(qtbot, edited, dialogs, tmp_path, name):
     if not shared_data_dir().is_dir():
         pytest.skip(f"the real data folder {shared_data_dir()} is absent")
     before = document(edited)
     explained, read = [], []
-    targets = all_targets()
-    for name, target in [(n, targets[n]) for n in FED_FORMATS]:
-        for number, category in enumerate(sorted(target.mutations)):
-            case = refused_case(target, category, number, tmp_path / "probe")
-            if case is None:  # this category's mutations all still read (e.g. frame numbers changed)
-                read.append(f"{name}: {category}")
-                continue
-            data, label = case
-            path = write_case(tmp_path / name / str(number), target, data, label)
-            if name in MARKER_FORMATS:
-                edited.files.add_markers_path(path, wait=True)
-            else:
-                edited.files.open_path(path, ask=False, wait=True)
-            assert_explained(dialogs, path, name in TEXT_FORMATS)
-            assert_untouched(edited, before)
-            explained.append(f"{name}: {category}")
+    target = all_targets()[name]
+    for number, category in enumerate(sorted(target.mutations)):
+        case = refused_case(target, category, number, tmp_path / "probe")
+        if case is None:  # this category's mutations all still read (e.g. frame numbers changed)
+            read.append(category)
+            continue
+        data, label = case
+        path = write_case(tmp_path / name / str(number), target, data, label)
+        if name in MARKER_FORMATS:
+            edited.files.add_markers_path(path, wait=True)
+        else:
+            edited.files.open_path(path, ask=False, wait=True)
+        assert_explained(dialogs, path, name in TEXT_FORMATS)
+        assert_untouched(edited, before)
+        explained.append(category)
     assert edited.state.marker_overlay is None
     assert not (tmp_path / "config" / "crash.log").exists()
-    formats = {entry.split(":")[0] for entry in explained}
-    assert formats == set(FED_FORMATS), formats
-    assert len(explained) >= 5 * len(formats), (explained, read)
+    assert len(explained) >= EXPLAINED_AT_LEAST.get(name, 5), (explained, read)
 
 
 @pytest.fixture
