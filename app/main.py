@@ -44,6 +44,13 @@ def build_arguments() -> argparse.ArgumentParser:
         help="with --screenshot: overlays to switch on, e.g. axes,trails,labels",
     )
     parser.add_argument(
+        "--onion",
+        nargs="?",
+        const="10,3",
+        metavar="STEP,COUNT",
+        help="with --screenshot: show the onion skin, every STEP frames, COUNT poses each side (default 10,3)",
+    )
+    parser.add_argument(
         "--filmstrip", metavar="OUT.png", help="render several poses in one picture (with --frames) and exit"
     )
     parser.add_argument("--frames", metavar="A:B:STEP", help="with --filmstrip: the frames, as a Python slice")
@@ -68,6 +75,19 @@ def parse_size(text: str) -> tuple[int, int]:
     if not (16 <= width <= 8192 and 16 <= height <= 8192):
         raise argparse.ArgumentTypeError(f"--size {text}: each side must be 16 to 8192 pixels")
     return width, height
+
+
+def parse_onion(text: str | None) -> tuple[int, int] | None:
+    """``--onion STEP,COUNT`` -> (step, count), None without the flag."""
+    if text is None:
+        return None
+    try:
+        step, count = (int(v) for v in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--onion must look like 10,3 (STEP,COUNT), not {text!r}") from None
+    if step < 1 or count < 1:
+        raise argparse.ArgumentTypeError(f"--onion {text}: STEP and COUNT must be at least 1")
+    return step, count
 
 
 def has_display() -> bool:
@@ -95,6 +115,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         size = parse_size(args.size)
+        args.onion = parse_onion(args.onion)
     except argparse.ArgumentTypeError as exc:
         parser.error(str(exc))
     if args.recover:
@@ -315,6 +336,10 @@ def offscreen_screenshot(motion_path: str, markers_path: str | None, args: argpa
         scene.set_markers(state.marker_overlay)
         scene.set_pelvis(state.pelvis)
         scene.show_frame(frame)
+        if args.onion:
+            from gmr_studio.app.onion import OnionSkins
+
+            OnionSkins(plotter, lambda: None).show(state.snapshot, scene.frame, *args.onion)
         width, height = save_screenshot(scene, out)
     finally:
         plotter.close()
@@ -357,6 +382,9 @@ def window_screenshot(motion_path: str, markers_path: str | None, args: argparse
         window.resize(*size)
     else:
         window.view.interactor.setFixedSize(*size)
+    if args.onion:
+        window.onion.step, window.onion.count = args.onion
+        window.onion.toggle.setChecked(True)
     window.show()
     app.processEvents()
     window.state.set_frame(frame)

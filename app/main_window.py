@@ -19,6 +19,7 @@ from gmr_studio.app.curves_dock import CurvesDock
 from gmr_studio.app.files import FileController
 from gmr_studio.app.forest import ForestTree
 from gmr_studio.app.inspector import Inspector
+from gmr_studio.app.layer_onion import LayerOnions
 from gmr_studio.app.layers_dock import install as install_layers
 from gmr_studio.app.onion import OnionMenu
 from gmr_studio.app.playback import SPEEDS, Player
@@ -106,6 +107,7 @@ class MainWindow(QMainWindow):
         self.layers, self.ghosts, self.layers_panel = install_layers(
             self, self.state, self.view.scene, self.files, beside=self.forest_dock
         )
+        self.onion.attach(LayerOnions(self.view.scene.plotter, self.layers, self.view.scene.render))
         self.status = QLabel()
         self.statusBar().addWidget(self.status, 1)
         self._wire()

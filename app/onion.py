@@ -2,13 +2,15 @@
 
 :func:`onion_frames` is pure (which frames, how opaque); :class:`OnionSkins` draws them in a
 plotter with their own actors (they survive the scene's rebuilds); :class:`OnionMenu` puts
-View > Onion skin (show, spacing, poses each side) in a window and keeps it in step with the
-state.
+View > Onion skin (show, spacing, poses each side, comparison layers too) in a window and
+keeps it in step with the state; the comparison layers' onion poses are drawn by
+:class:`~app.layer_onion.LayerOnions`, given with :meth:`OnionMenu.attach`.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pyvista as pv
@@ -17,6 +19,9 @@ from PyQt6.QtWidgets import QMainWindow
 
 from gmr_studio.app import vtk_parts as parts
 from gmr_studio.app.state import Snapshot, StudioState
+
+if TYPE_CHECKING:
+    from gmr_studio.app.layer_onion import LayerOnions
 
 BEFORE_COLOR = np.array([0.35, 0.65, 1.0])  # poses earlier than the current frame
 AFTER_COLOR = np.array([1.0, 0.6, 0.3])  # later ones
@@ -99,17 +104,23 @@ class OnionSkins:
 
 
 class OnionMenu:
-    """View > Onion skin: show (O), every N frames, poses each side; draws with OnionSkins."""
+    """View > Onion skin: show (Shift+O), comparison layers too, every N frames, poses each
+    side; draws the document's with OnionSkins and the layers' with the attached LayerOnions."""
 
     def __init__(self, window: QMainWindow, state: StudioState, scene, menu) -> None:
         self.state = state
         self.skins = OnionSkins(scene.plotter, scene.render)
+        self.layer_onions: LayerOnions | None = None
         self.step, self.count = 10, 3
         sub = menu.addMenu("&Onion skin")
         self.toggle = QAction("&Show onion skin", window, checkable=True, shortcut="Shift+O")
         self.toggle.toggled.connect(lambda _: self.update())
         sub.addAction(self.toggle)
         window.addAction(self.toggle)
+        self.include_layers = QAction("Include &comparison layers", window, checkable=True, checked=True)
+        self.include_layers.setStatusTip("onion poses of every shown comparison layer too, in the layer's colour")
+        self.include_layers.toggled.connect(lambda _: self.update())
+        sub.addAction(self.include_layers)
         for title, values, current, setter in (
             ("Every {} frames", STEPS, self.step, self._set_step),
             ("{} poses each side", COUNTS, self.count, self._set_count),
@@ -125,6 +136,20 @@ class OnionMenu:
         for signal in (state.frame_changed, state.document_changed, state.motion_changed):
             signal.connect(lambda *_: self.update())
 
+    def attach(self, layer_onions: LayerOnions) -> None:
+        """Draw the comparison layers' onion poses with ``layer_onions`` from now on, following
+        its layers (added, removed, recomputed, shown, colour, opacity)."""
+        self.layer_onions = layer_onions
+        layers = layer_onions.layers
+        layers.changed.connect(self.update)
+        layers.appearance_changed.connect(self._on_layer_appearance_changed)
+        self.update()
+
+    def _on_layer_appearance_changed(self, index: int) -> None:
+        if self.layer_onions is not None:
+            self.layer_onions.restyle(index)
+        self.update()
+
     def _set_step(self, value: int) -> None:
         self.step = value
         self.update()
@@ -134,7 +159,20 @@ class OnionMenu:
         self.update()
 
     def update(self) -> None:
+        snapshot = self.state.snapshot
         if not self.toggle.isChecked():
             self.skins.clear()
+        else:
+            self.skins.show(snapshot, self.state.frame, self.step, self.count)
+        if self.layer_onions is None:
             return
-        self.skins.show(self.state.snapshot, self.state.frame, self.step, self.count)
+        if (
+            self.toggle.isChecked()
+            and self.include_layers.isChecked()
+            and snapshot is not None
+            and snapshot.motion.n_frames
+        ):
+            frames, distance = onion_frames(self.state.frame, snapshot.motion.n_frames, self.step, self.count)
+            self.layer_onions.show(frames, distance, self.count)
+        else:
+            self.layer_onions.clear()

@@ -2,13 +2,18 @@
 
 from __future__ import annotations
 
+import argparse
 import subprocess
 import sys
 
 import numpy as np
 import pytest
+from PyQt6.QtWidgets import QApplication
 
+from gmr_studio.app import commands
 from gmr_studio.app.filmstrip import parse_frame_steps, side_by_side, travel_axis
+from gmr_studio.app.layer_onion import layer_slot_frames, slot_of
+from gmr_studio.app.main import parse_onion
 from gmr_studio.app.onion import ghost_opacity, onion_frames
 from gmr_studio.app.scene import BACKGROUND
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
@@ -65,6 +70,177 @@ def test_onion_skin_draws_the_ghost_poses_and_goes_away(studio, qtbot):
     again = screen_image(studio)
     changed = np.abs(again.astype(int) - plain.astype(int)).max(axis=-1) > 0
     assert changed.mean() < 1e-4  # the same picture but for a few antialiased pixels
+
+
+BVH = "cmu/subject01/01_01.bvh"
+AMC = "cmu/subject01/01_01.amc"
+
+
+def layer_mask(image: np.ndarray) -> np.ndarray:
+    """(H, W) pixels of the first layer's magenta (1, 0.45, 0.9), also faded over the
+    background: red and blue well above green (no tree, onion or error colour of a one-tree
+    document is)."""
+    rgb = image[..., :3].astype(int)
+    return (rgb[..., 0] - rgb[..., 1] > 40) & (rgb[..., 2] - rgb[..., 1] > 30)
+
+
+def green_mask(image: np.ndarray) -> np.ndarray:
+    rgb = image[..., :3].astype(int)
+    return (rgb[..., 1] - rgb[..., 0] > 40) & (rgb[..., 1] - rgb[..., 2] > 40)
+
+
+def _compare_amc(window) -> None:
+    open_file(window, shared_path(BVH))
+    window.files.compare_path(str(shared_path(AMC)), joint_map="cmu", wait=True)
+    QApplication.processEvents()
+    assert len(window.layers) == 1
+
+
+def _drawn(layer_onions, index: int) -> dict[int, object]:
+    """frame -> part of what layer ``index`` shows; every other slot hidden."""
+    drawn = {}
+    for part, frame in zip(layer_onions.pools[index], layer_onions.slot_frames[index], strict=True):
+        assert part.visible == (frame >= 0)
+        if frame >= 0:
+            drawn[int(frame)] = part
+    return drawn
+
+
+def test_layer_onion_slots_skip_frames_without_samples():
+    assert slot_of(np.array([-1, 1, -2, 2, -3, 3])).tolist() == [0, 1, 2, 3, 4, 5]
+    ghost = np.arange(50 * 2 * 3, dtype=float).reshape(50, 2, 3)
+    ghost[:5] = np.nan  # B starts at A's frame 5
+    ghost[30, 1] = np.nan  # one joint missing is no pose either
+    frames, distance = onion_frames(20, 60, 10, 3)  # 10, 30, 0, 40, (-10), 50
+    assert frames.tolist() == [10, 30, 0, 40, 50]
+    assert layer_slot_frames(ghost, frames, distance, 3).tolist() == [10, -1, -1, 40, -1, -1]
+    # a ghost of a document that has just grown (not recomputed yet): frame 50 is past its end
+    assert layer_slot_frames(ghost[:45], frames, distance, 3).tolist() == [10, -1, -1, 40, -1, -1]
+    frames, distance = onion_frames(45, 50, 10, 1)  # only 35: 55 is past the end
+    assert layer_slot_frames(ghost, frames, distance, 1).tolist() == [35, -1]
+
+
+def test_onion_flag_parses():
+    assert parse_onion(None) is None
+    assert parse_onion("30,2") == (30, 2)
+    for bad in ("30", "a,b", "0,3", "10,0"):
+        with pytest.raises(argparse.ArgumentTypeError):
+            parse_onion(bad)
+
+
+@pytest.mark.gui
+def test_layer_onion_poses_are_the_layer_ghost_at_the_onion_frames(studio):
+    _compare_amc(studio)
+    state, onion, layers = studio.state, studio.onion, studio.layers
+    layer_onions = onion.layer_onions
+    assert onion.include_layers.isChecked()  # on by default
+    state.set_frame(1518)
+    onion._set_step(30)
+    assert not layer_onions.pools  # nothing drawn while the onion skin is off
+    onion.toggle.setChecked(True)
+    layer = layers[0]
+    expected = [1488, 1548, 1458, 1578, 1428, 1608]
+    assert onion.skins.frames.tolist() == expected
+    drawn = _drawn(layer_onions, 0)
+    assert sorted(drawn) == sorted(expected)
+    doc_opacity = dict(zip(onion.skins.frames.tolist(), onion.skins.opacities, strict=True))
+    for frame, part in drawn.items():
+        np.testing.assert_array_equal(np.asarray(part.mesh.points), layer.ghost[frame])
+        # the document's fading (the layer at its default opacity)
+        assert part.actor.GetProperty().GetOpacity() == pytest.approx(doc_opacity[frame])
+        assert part.actor.GetProperty().GetColor() == pytest.approx(layer.colour)
+    # a frame change writes points into the same actors
+    actors = [id(part.actor) for part in layer_onions.pools[0]]
+    state.set_frame(1600)
+    assert [id(part.actor) for part in layer_onions.pools[0]] == actors
+    drawn = _drawn(layer_onions, 0)
+    assert sorted(drawn) == [1510, 1540, 1570, 1630, 1660, 1690]
+    for frame, part in drawn.items():
+        np.testing.assert_array_equal(np.asarray(part.mesh.points), layer.ghost[frame])
+    # frames where B has no sample are skipped: A's frame 0 comes before B's first (offset -1)
+    assert np.isnan(layer.ghost[0]).all()
+    onion._set_step(10)
+    state.set_frame(20)
+    assert 0 in onion.skins.frames.tolist()  # the document's onion pose at frame 0 is drawn
+    assert sorted(_drawn(layer_onions, 0)) == [10, 30, 40, 50]
+    assert layer_onions.slot_frames[0][slot_of(np.array([-2]))[0]] == -1
+    # colour and opacity follow the Layers dock, without new actors
+    state.set_frame(1518)
+    layers.set_colour(0, (0.3, 1.0, 0.3))
+    layers.set_opacity(0, 0.25)
+    assert [id(part.actor) for part in layer_onions.pools[0]] == actors
+    doc_opacity = dict(zip(onion.skins.frames.tolist(), onion.skins.opacities, strict=True))
+    for frame, part in _drawn(layer_onions, 0).items():
+        assert part.actor.GetProperty().GetColor() == pytest.approx((0.3, 1.0, 0.3))
+        assert part.actor.GetProperty().GetOpacity() == pytest.approx(0.5 * doc_opacity[frame])  # 0.25 of 0.5
+    # an edit recomputes the layer: the onion poses are its new ghost
+    before = layer.ghost
+    assert commands.make_root(state, state.motion.joint_index("LeftHand"))
+    assert layers[0].ghost is not before
+    for frame, part in _drawn(layer_onions, 0).items():
+        np.testing.assert_array_equal(np.asarray(part.mesh.points), layers[0].ghost[frame])
+    # removing the layer removes its actors
+    renderer = studio.view.scene.plotter.renderer
+    pool = layer_onions.pools[0]
+    layers.remove(0)
+    assert layer_onions.pools == []
+    assert not any(renderer.HasViewProp(part.actor) for part in pool)
+
+
+@pytest.mark.gui
+def test_layer_onion_pixels_follow_the_switches(studio):
+    _compare_amc(studio)
+    state, onion, layers = studio.state, studio.onion, studio.layers
+    state.set_frame(0)  # the layer's own ghost is not drawn here (no sample of B): only its onion
+    onion._set_step(60)
+    assert layer_mask(screen_image(studio)).sum() == 0
+    onion.toggle.setChecked(True)
+    shown = layer_mask(screen_image(studio)).sum()
+    assert shown > 400
+    onion.include_layers.setChecked(False)  # the option leaves them out
+    assert not layer_onions_drawn(onion)
+    image = screen_image(studio)
+    assert layer_mask(image).sum() == 0
+    assert figure_mask(image).sum() > 0  # the document's onion poses stay
+    onion.include_layers.setChecked(True)
+    assert layer_mask(screen_image(studio)).sum() == shown
+    layers.set_visible(0, False)
+    assert layer_mask(screen_image(studio)).sum() == 0
+    layers.set_visible(0, True)
+    assert layer_mask(screen_image(studio)).sum() == shown
+    layers.set_colour(0, (0.3, 1.0, 0.3))  # drawn in the layer's new colour
+    image = screen_image(studio)
+    assert layer_mask(image).sum() == 0 and green_mask(image).sum() > 400
+    layers.set_colour(0, (1.0, 0.45, 0.9))
+    onion.toggle.setChecked(False)
+    assert layer_mask(screen_image(studio)).sum() == 0
+    onion.toggle.setChecked(True)
+    state.set_frame(1518)  # with the live ghost: the onion poses add to its pixels
+    with_onion = layer_mask(screen_image(studio)).sum()
+    onion.include_layers.setChecked(False)
+    assert with_onion > 1.5 * layer_mask(screen_image(studio)).sum()
+    onion.include_layers.setChecked(True)
+    layers.remove(0)
+    assert layer_mask(screen_image(studio)).sum() == 0
+
+
+@pytest.mark.gui
+def test_screenshot_with_the_onion_flag_shows_the_layer_onion(tmp_path):
+    """Frame 0 of 01_01.bvh has no sample of 01_01.amc: the magenta is the layer's onion."""
+    out = tmp_path / "onion.png"
+    command = [*STUDIO, str(shared_path(BVH)), "--compare", str(shared_path(AMC)), "--map", "cmu"]
+    command += ["--screenshot", str(out), "--frame", "0", "--onion", "60,3", "--size", "640x420"]
+    result = subprocess.run(command, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    from tests.test_app_cli import read_png
+
+    image = read_png(out)
+    assert image.shape == (420, 640, 3)
+    assert layer_mask(image).sum() > 100
+
+
+def layer_onions_drawn(onion) -> bool:
+    return any(part.visible for pool in onion.layer_onions.pools for part in pool)
 
 
 def test_frames_are_python_slices():
