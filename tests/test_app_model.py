@@ -84,6 +84,8 @@ class LightStudio:
         from gmr_studio.app.files import FileController
         from gmr_studio.app.forest import ForestTree
         from gmr_studio.app.inspector import Inspector
+        from gmr_studio.app.layers import Layers
+        from gmr_studio.app.layers_dock import LayersDock
         from gmr_studio.app.state import StudioState
 
         self.host = QWidget()
@@ -94,6 +96,9 @@ class LightStudio:
         self.autosave = Autosaver(self.state, self.host)
         self.forest = ForestTree(self.state, self.host)
         self.inspector = Inspector(self.state, self.host)
+        self.layers = Layers(self.state, self.host)
+        self.files.layers = self.layers
+        self.layers_panel = LayersDock(self.layers, self.host)
         self.history = QUndoView(self.state.undo_stack, self.host)
         self.status = type("Status", (), {"text": lambda _self: ""})()
         self.state.message.connect(lambda text: setattr(self, "last_message", text))
@@ -135,12 +140,15 @@ class StudioModel(RuleBasedStateMachine):
     # ------------------------------------------------------------------ documents
     @initialize(path=st.sampled_from(source_files()))
     def open_first(self, path: Path) -> None:
+        while len(self.window.layers):  # each sequence starts without comparisons (replayable)
+            self.window.layers.remove(0)
         self._open(path)
         motion = self.state.motion
         self.reference_names = list(motion.names)
         self.reference = self.state.positions
         self.size = max(motion.size, 1e-12)
         self.saves = 0
+        self.reference_path = Path(path)
 
     @property
     def state(self):
@@ -207,7 +215,27 @@ class StudioModel(RuleBasedStateMachine):
         self.window.files.add_markers_path(demo_folder() / MARKERS_FILE, wait=True)
         assert self.state.marker_overlay is not None, self.window.status.text()
 
-    # -------------------------------------------------------------------- edits
+    # --------------------------------------------------------------- comparison
+    @precondition(lambda self: len(self.window.layers) < 2 and self.io_allowed())
+    @rule()
+    def compare_with_the_first_file(self) -> None:
+        """File > Compare with... the file first opened, on the same clock (offset 0)."""
+        self.since_io = 0
+        layers = self.window.layers
+        count = len(layers)
+        self.window.files.compare_path(self.reference_path, wait=True)
+        assert len(layers) == count + 1, self.window.status.text()
+        layers[count].offset = 0  # given, not found: a periodic walk agrees at other lags too
+        layers.recompute()
+
+    @precondition(lambda self: len(self.window.layers) > 0)
+    @rule(data=st.data())
+    def remove_a_comparison(self, data) -> None:
+        layers = self.window.layers
+        count = len(layers)
+        layers.remove(data.draw(st.integers(0, count - 1)))
+        assert len(layers) == count - 1
+
     @rule(action=st.sampled_from(["make_root", "split", "join"]))
     def joint_edit(self, action: str) -> None:
         if self.state.selected is None:
@@ -329,6 +357,25 @@ class StudioModel(RuleBasedStateMachine):
             assert self.window.actions[f"overlay_{name}"].isChecked() == shown
             if name in ("axes", "labels", "ground"):
                 assert scene.is_shown(name) == shown
+
+    @invariant()
+    def comparisons_with_the_first_file_are_zero(self) -> None:
+        """A layer of the first opened file, on the same clock, matches every joint the
+        document still has from it with zero error (positions are invariant under the edits);
+        every layer is compared with the document as it now is; the Layers dock lists them."""
+        state = self.state
+        panel = self.window.layers_panel
+        assert panel.table.rowCount() == 1 + len(self.window.layers)
+        for layer in self.window.layers:
+            c = layer.comparison
+            assert layer.ghost.shape == (state.n_frames, layer.snapshot.motion.n_joints, 3)
+            assert c.position_error.shape == (state.n_frames, len(c.index_a))
+            assert [state.motion.names[j] for j in c.index_a] == list(c.names_a)
+            if layer.name != self.reference_path.name or c.alignment.offset_frames != 0:
+                continue  # another file, or a reopened document's offset found again
+            assert c.alignment.kind == "none"
+            assert len(c.index_a) == int(np.isin(state.motion.names, self.reference_names).sum())
+            assert np.nanmax(c.position_error) <= POSITION_TOLERANCE * self.size
 
     @invariant()
     def nothing_reached_the_crash_log(self) -> None:
