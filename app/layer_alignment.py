@@ -26,6 +26,7 @@ from gmr_studio.app.layers import ComparisonLayer, Layers
 from gmr_studio.core.compare import ALIGN_KINDS
 
 OFFSET_LIMIT = 1e6  # frames either way
+DETAIL_LINES = 5  # room kept for the parameters under the controls
 
 
 class LayerAlignmentBox(QGroupBox):
@@ -45,6 +46,7 @@ class LayerAlignmentBox(QGroupBox):
         self.offset.setToolTip("B's time minus the document's, in the document's frames")
         self.details = QLabel()
         self.details.setWordWrap(True)
+        self.details.setMinimumHeight(DETAIL_LINES * self.details.fontMetrics().lineSpacing() + 4)
         self.controls = QWidget()  # hidden for a marker-set layer
         row = QHBoxLayout(self.controls)
         row.setContentsMargins(0, 0, 0, 0)

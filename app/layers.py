@@ -69,7 +69,7 @@ class ComparisonLayer:
 
     @property
     def alignment_details(self) -> tuple[str, str]:
-        """(detail line, tooltip) of the alignment used: RMS before and after the fit, the
+        """(detail lines, tooltip) of the alignment used: RMS before and after the fit, the
         fitted turn (angle about an axis), translation and scale; the tooltip adds the
         matrices, the offset in seconds and how units and up axis were decided."""
         if self.comparison is None:
@@ -78,9 +78,9 @@ class ComparisonLayer:
         units = self.comparison.units_text
         turn, axis = rotation_angle_axis(a.rotation)
         line = (
-            f"{a.kind}: RMS {a.rms_before:.4g} -> {a.rms_after:.4g} {units}; "
-            f"turn {turn:.3g} deg about ({_numbers(axis, '.3f')}), "
-            f"translation ({_numbers(a.translation, '.4g')}), scale {a.scale:.6g}; "
+            f"{a.kind}: RMS {a.rms_before:.4g} -> {a.rms_after:.4g} {units}\n"
+            f"turn {turn:.3g} deg about ({_numbers(axis, '.3f')})\n"
+            f"translation ({_numbers(a.translation, '.4g')})\nscale {a.scale:.6g}, "
             f"offset {a.offset_frames:+g} frames ({a.offset_seconds:+.4g} s), units x{a.units_scale:g}"
         )
         rows = "\n".join(f"  [{_numbers(row, '+.6f')}]" for row in a.rotation)

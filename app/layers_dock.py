@@ -50,6 +50,7 @@ class LayersDock(QWidget):
         self.table.verticalHeader().hide()
         self.table.setEditTriggers(QTableWidget.EditTrigger.NoEditTriggers)
         self.table.horizontalHeader().setStretchLastSection(False)
+        self.table.setMinimumHeight(60)  # gives way to the alignment box below
         self.table.setSelectionBehavior(QTableWidget.SelectionBehavior.SelectRows)
         self.table.setSelectionMode(QTableWidget.SelectionMode.SingleSelection)
         self.chosen = None  # the layer whose alignment the box shows (kept across rebuilds)

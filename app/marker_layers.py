@@ -54,15 +54,15 @@ class MarkerLayer:
 
     @property
     def alignment_details(self) -> tuple[str, str]:
-        """(detail line, tooltip): the marker alignment, as the marker overlay shows it."""
+        """(detail lines, tooltip): the marker alignment, as the marker overlay shows it."""
         if self.overlay is None:
             return "not aligned", ""
         a = self.overlay.alignment
         m = self.markers
         line = (
-            f"markers aligned like the marker overlay: scale {a.scale:.6g} ({m.units} -> document), "
-            f"offset ({' '.join(f'{v:.4g}' for v in a.offset)}), frame offset {a.frame_offset:+d}; "
-            f"{m.rate:g} Hz resampled to the document's rate"
+            f"aligned as the marker overlay: scale {a.scale:.6g} ({m.units} -> document)\n"
+            f"offset ({' '.join(f'{v:.4g}' for v in a.offset)})\n"
+            f"frame offset {a.frame_offset:+d}, {m.rate:g} Hz resampled to the document's rate"
         )
         rows = "\n".join("  [" + " ".join(f"{v:+.4f}" for v in row) + "]" for row in a.rotation)
         return line, f"p_document = scale * rotation @ p_marker + offset\nrotation:\n{rows}\n{a.method}"
