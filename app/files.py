@@ -193,24 +193,49 @@ class FileController(QObject):
 
     # ---------------------------------------------------------------- comparisons
     def compare_dialog(self) -> None:
-        """File > Compare with...: a motion to show as a ghost layer compared with the document."""
+        """File > Compare with...: a motion to show as a ghost layer compared with the
+        document, or a marker file (TRC, C3D) to show as a marker-set layer."""
         if self.state.motion is None or self.layers is None:
             return
+        suffixes = loading.motion_suffixes() + loading.marker_suffixes()
         path, _ = QFileDialog.getOpenFileName(
-            self.window, "Compare with", self._folder(), loading.file_filter(loading.motion_suffixes(), "Motion files")
+            self.window, "Compare with", self._folder(), loading.file_filter(suffixes, "Motion and marker files")
         )
         if path:
             self.compare_path(path)
 
-    def compare_path(self, path: str | Path, *, joint_map: str | None = None, wait: bool = False) -> None:
+    def compare_path(
+        self,
+        path: str | Path,
+        *,
+        joint_map: str | None = None,
+        align: str = "none",
+        offset: float | str = "auto",
+        wait: bool = False,
+    ) -> None:
         """Read ``path`` (worker thread; a bad file: the same dialog as opening, the document
-        untouched) and add it as a comparison layer, joints matched through ``joint_map``."""
-        on_loaded = functools.partial(self._on_compare_loaded, joint_map=joint_map)
-        self._run(loading.load_snapshot, path, on_loaded, f"Reading {Path(path).name}...", wait)
+        untouched) and add it as a comparison layer: a motion with its joints matched through
+        ``joint_map``, aligned by ``align`` at ``offset``; a marker file (TRC, C3D) as a
+        marker-set layer, aligned as the marker overlay is."""
+        label = f"Reading {Path(path).name}..."
+        if Path(path).suffix.lower() in loading.marker_suffixes():
+            self._run(loading.load_markers, path, self._on_compare_markers_loaded, label, wait)
+            return
+        on_loaded = functools.partial(self._on_compare_loaded, joint_map=joint_map, align=align, offset=offset)
+        self._run(loading.load_snapshot, path, on_loaded, label, wait)
 
-    def _on_compare_loaded(self, snapshot: Snapshot, path: str, _wait: bool, *, joint_map: str | None) -> None:
+    def _on_compare_loaded(
+        self,
+        snapshot: Snapshot,
+        path: str,
+        _wait: bool,
+        *,
+        joint_map: str | None,
+        align: str = "none",
+        offset: float | str = "auto",
+    ) -> None:
         try:
-            layer = self.layers.add(snapshot, path, joint_map)
+            layer = self.layers.add(snapshot, path, joint_map, align=align, offset=offset)
         except ValueError as exc:
             self._report(f"Cannot compare with {Path(path).name}: {exc}")
             self.load_finished.emit(False)
@@ -220,6 +245,16 @@ class FileController(QObject):
             f"Comparing with {layer.name}: {c.n_pairs} joints matched, MPJPE {c.position.mean:.4g} {c.units_text} "
             f"({layer.alignment_text})"
         )
+        self.load_finished.emit(True)
+
+    def _on_compare_markers_loaded(self, markers: MarkerSet, path: str, _wait: bool) -> None:
+        try:
+            layer = self.layers.add_markers(markers, path)
+        except ValueError as exc:
+            self._report(f"Cannot compare with {Path(path).name}: {exc}")
+            self.load_finished.emit(False)
+            return
+        self.state.show_message(f"Showing {layer.name} as a layer: {layer.alignment_text}")
         self.load_finished.emit(True)
 
     # ------------------------------------------------------------------- markers

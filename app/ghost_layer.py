@@ -5,6 +5,8 @@ onion skins), so the scene's rebuilds after an edit never remove them:
 
 - each visible layer (:mod:`app.layers`) as a ghost skeleton: translucent bones and joints
   in the layer's colour, at the document's frame (B on A's clock and in A's space);
+- each visible marker-set layer (:mod:`app.marker_layers`) as small spheres in its colour
+  at the document's frame (gaps not drawn);
 - the error view of the active layer: the document's matched joints coloured by their
   position error at the current frame (:func:`error_colours`, a green-yellow-red map from 0
   to the comparison's largest error, with a legend in the view titled in the document's
@@ -22,6 +24,7 @@ from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
 
 from gmr_studio.app import vtk_parts as parts
 from gmr_studio.app.layers import ComparisonLayer, Layers
+from gmr_studio.app.marker_layers import MARKER_LAYER_RADIUS, MarkerLayer
 from gmr_studio.app.onion import bone_pairs
 from gmr_studio.app.state import StudioState
 
@@ -58,7 +61,8 @@ class GhostLayers:
         self.layers = layers
         self.render = render
         self.show_errors = True
-        self.ghosts: list[tuple[parts.Part, parts.Part]] = []  # (bones, joints) per layer
+        # per layer: (bones, joints) of a motion, (spheres,) of a marker set
+        self.ghosts: list[tuple[parts.Part, ...]] = []
         self.error_joints: parts.Part | None = None
         self.error_lines: parts.Part | None = None
         self.legend: vtkScalarBarActor | None = None
@@ -76,17 +80,22 @@ class GhostLayers:
             return
         size = document.motion.size
         for layer in self.layers.layers:
-            motion = layer.snapshot.motion
-            bones = parts.segments_part(
-                motion.n_joints, bone_pairs(motion.parents), color=layer.colour, tube_radius=GHOST_BONE_RADIUS * size
-            )
-            sphere = pv.Sphere(radius=GHOST_JOINT_RADIUS * size, theta_resolution=10, phi_resolution=10)
-            joints = parts.glyph_part(motion.n_joints, sphere, color=layer.colour)
-            for part in (bones, joints):
+            if isinstance(layer, MarkerLayer):
+                sphere = pv.Sphere(radius=MARKER_LAYER_RADIUS * size, theta_resolution=10, phi_resolution=8)
+                built = (parts.glyph_part(layer.markers.n_markers, sphere, color=layer.colour),)
+            else:
+                motion = layer.snapshot.motion
+                pairs = bone_pairs(motion.parents)
+                bones = parts.segments_part(
+                    motion.n_joints, pairs, color=layer.colour, tube_radius=GHOST_BONE_RADIUS * size
+                )
+                sphere = pv.Sphere(radius=GHOST_JOINT_RADIUS * size, theta_resolution=10, phi_resolution=10)
+                built = (bones, parts.glyph_part(motion.n_joints, sphere, color=layer.colour))
+            for part in built:
                 part.actor.GetProperty().SetOpacity(layer.opacity)
                 part.set_visible(layer.visible)
                 self.plotter.renderer.AddActor(part.actor)
-            self.ghosts.append((bones, joints))
+            self.ghosts.append(built)
         active = self.layers.active
         if active is not None and self.show_errors:
             self._build_error_view(active, size)
@@ -105,9 +114,9 @@ class GhostLayers:
         self.plotter.renderer.AddViewProp(self.legend)
 
     def _remove_all(self) -> None:
-        for bones, joints in self.ghosts:
-            self.plotter.renderer.RemoveActor(bones.actor)
-            self.plotter.renderer.RemoveActor(joints.actor)
+        for built in self.ghosts:
+            for part in built:
+                self.plotter.renderer.RemoveActor(part.actor)
         self.ghosts = []
         for part in (self.error_joints, self.error_lines):
             if part is not None:
@@ -125,10 +134,15 @@ class GhostLayers:
         """Write frame ``frame`` into the ghosts and the error view."""
         if not self.ghosts:
             return
-        for layer, (bones, joints) in zip(self.layers.layers, self.ghosts, strict=True):
+        for layer, built in zip(self.layers.layers, self.ghosts, strict=True):
+            if isinstance(layer, MarkerLayer):
+                positions = layer.positions
+                parts.set_some_points(built[0], positions[min(frame, len(positions) - 1)])
+                built[0].set_visible(layer.visible)
+                continue
             points = layer.ghost[min(frame, len(layer.ghost) - 1)]
             sampled = bool(np.isfinite(points).all())  # outside B's time range: not drawn
-            for part in (bones, joints):
+            for part in built:
                 part.set_visible(layer.visible and sampled)
                 if sampled:
                     part.set_points(points)

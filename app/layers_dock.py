@@ -1,5 +1,7 @@
-"""The Layers dock: the document and its comparison layers, each with colour, visibility,
-opacity, remove, and the alignment it was compared with (offset, units, fit, RMS).
+"""The Layers dock: the document and its comparison layers (motions and marker sets), each
+with colour, visibility, opacity, remove, and the alignment it was compared with (offset,
+units, fit, RMS); under the table, the alignment of the chosen layer, adjustable
+(:class:`~app.layer_alignment.LayerAlignmentBox`).
 
 Rows are rebuilt from :class:`~app.layers.Layers` whenever it changes; the widgets only call
 its methods. "Error colours" switches the error view (:class:`~app.ghost_layer.GhostLayers`).
@@ -26,7 +28,9 @@ from PyQt6.QtWidgets import (
 
 from gmr_studio.app.error_dock import ErrorDock, inspector_section
 from gmr_studio.app.ghost_layer import GhostLayers
+from gmr_studio.app.layer_alignment import LayerAlignmentBox
 from gmr_studio.app.layers import Layers
+from gmr_studio.app.marker_layers import MarkerLayer
 
 COLUMNS = ("", "shown", "layer", "opacity %", "alignment", "")
 DOCK_MINIMUM = 100  # pixels: as app.main_window.DOCK_MINIMUM
@@ -46,6 +50,11 @@ class LayersDock(QWidget):
         self.table.verticalHeader().hide()
         self.table.setEditTriggers(QTableWidget.EditTrigger.NoEditTriggers)
         self.table.horizontalHeader().setStretchLastSection(False)
+        self.table.setMinimumHeight(60)  # gives way to the alignment box below
+        self.table.setSelectionBehavior(QTableWidget.SelectionBehavior.SelectRows)
+        self.table.setSelectionMode(QTableWidget.SelectionMode.SingleSelection)
+        self.chosen = None  # the layer whose alignment the box shows (kept across rebuilds)
+        self.alignment = LayerAlignmentBox(layers)
         self.add_button = QPushButton("Compare with...")
         self.add_button.clicked.connect(self.compare_requested)
         self.errors = QCheckBox("Error colours")
@@ -61,7 +70,9 @@ class LayersDock(QWidget):
         layout.setContentsMargins(4, 4, 4, 4)
         layout.addLayout(row)
         layout.addWidget(self.table, 1)
+        layout.addWidget(self.alignment)
         layout.addWidget(self.summary)
+        self.table.itemSelectionChanged.connect(self._on_selection_changed)
         layers.changed.connect(self.refresh)
         layers.appearance_changed.connect(lambda _index: self.refresh())
         layers.state.document_changed.connect(self.refresh)
@@ -69,9 +80,12 @@ class LayersDock(QWidget):
 
     def refresh(self) -> None:
         document = self.layers.state.snapshot
+        self.table.blockSignals(True)
         self.table.setRowCount(0)
+        self.table.blockSignals(False)
         if document is None:
             self.summary.setText("No document.")
+            self.alignment.show_layer(None)
             return
         name = self.layers.state.path.name if self.layers.state.path else "document"
         self.table.setRowCount(1 + len(self.layers))
@@ -87,18 +101,22 @@ class LayersDock(QWidget):
             shown.setChecked(layer.visible)
             shown.toggled.connect(lambda on, k=index: self.layers.set_visible(k, on))
             self.table.setCellWidget(i, 1, shown)
-            self.table.setItem(i, 2, QTableWidgetItem(layer.name))
+            kind = " (markers)" if isinstance(layer, MarkerLayer) else ""
+            self.table.setItem(i, 2, QTableWidgetItem(layer.name + kind))
             opacity = QSpinBox()
             opacity.setRange(5, 100)
             opacity.setSingleStep(5)
             opacity.setValue(round(layer.opacity * 100))
             opacity.valueChanged.connect(lambda v, k=index: self.layers.set_opacity(k, v / 100))
             self.table.setCellWidget(i, 3, opacity)
-            self.table.setItem(i, 4, QTableWidgetItem(layer.alignment_text))
+            alignment = QTableWidgetItem(layer.alignment_text)
+            alignment.setToolTip(layer.alignment_details[1])
+            self.table.setItem(i, 4, alignment)
             remove = QPushButton("Remove")
             remove.clicked.connect(lambda _=False, k=index: self.layers.remove(k))
             self.table.setCellWidget(i, 5, remove)
         self.table.resizeColumnsToContents()
+        self.choose(self.chosen if self.chosen in self.layers.layers else (self.layers.layers or [None])[-1])
         active = self.layers.active
         if active is None:
             self.summary.setText("No comparison: File > Compare with... (or drop a file with Shift).")
@@ -110,6 +128,25 @@ class LayersDock(QWidget):
             f"max {p.max:.4g} ({p.max_joint}, frame {p.max_frame}); "
             f"unmatched: {len(c.unmatched_a)} of the document, {len(c.unmatched_b)} of the layer"
         )
+
+    def choose(self, layer) -> None:
+        """Select ``layer``'s row (None: none) and show its alignment under the table."""
+        self.chosen = layer
+        index = self.layers.layers.index(layer) if layer is not None else None
+        self.table.blockSignals(True)
+        self.table.clearSelection()
+        if index is not None:
+            self.table.selectRow(index + 1)
+        self.table.blockSignals(False)
+        self.alignment.show_layer(index)
+
+    def _on_selection_changed(self) -> None:
+        rows = {item.row() for item in self.table.selectedItems()} | {
+            index.row() for index in self.table.selectionModel().selectedRows()
+        }
+        row = min(rows) if rows else 0
+        if row >= 1:  # row 0 is the document: keep the chosen layer
+            self.choose(self.layers[row - 1])
 
     def _choose_colour(self, index: int) -> None:
         colour = QColorDialog.getColor(QColor.fromRgbF(*self.layers[index].colour), self, "Layer colour")

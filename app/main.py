@@ -1,4 +1,5 @@
-"""``gmr-studio [FILE] [--markers M] [EDITS] [--screenshot OUT.png [--frame N] [--size WxH]]``.
+"""``gmr-studio [FILE] [--markers M] [--compare B [--map M] [--compare-align KIND] [--compare-offset N|auto]]
+[EDITS] [--screenshot OUT.png [--frame N] [--size WxH] [--window]]``.
 
 EDITS are ``gmr edit``'s flags (``--shift-root J``, ``--split J``, ``--join J``,
 ``--split-all``, ``--join-all``, ``--remove-dummies``), applied in the order given through
@@ -20,6 +21,7 @@ import sys
 from collections.abc import Sequence
 
 from gmr_studio.core.cli.edit import add_edit_arguments
+from gmr_studio.core.compare import ALIGN_KINDS
 from gmr_studio.core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
 
 
@@ -29,9 +31,26 @@ def build_arguments() -> argparse.ArgumentParser:
     parser.add_argument("--markers", metavar="M", help="a .trc (or .c3d) marker file to show over the motion")
     add_edit_arguments(parser)
     parser.add_argument(
-        "--compare", metavar="B", help="show motion B as a ghost compared with FILE (a screenshot needs --window)"
+        "--compare",
+        metavar="B",
+        help="show motion B as a ghost compared with FILE, or marker file B (.trc, .c3d) as a marker layer "
+        "(a screenshot needs --window)",
     )
     parser.add_argument("--map", metavar="M", help="with --compare: a joint-name map (e.g. cmu, or a .toml)")
+    parser.add_argument(
+        "--compare-align",
+        choices=ALIGN_KINDS,
+        default="none",
+        metavar="KIND",
+        help="with --compare: align B onto FILE by none (default), rigid or similarity",
+    )
+    parser.add_argument(
+        "--compare-offset",
+        type=parse_offset,
+        default="auto",
+        metavar="N|auto",
+        help="with --compare: B's time minus FILE's in FILE's frames, or auto (default: found)",
+    )
     parser.add_argument("--screenshot", metavar="OUT.png", help="render the view to a PNG and exit")
     parser.add_argument("--frame", type=int, default=0, metavar="N", help="frame to render (with --screenshot)")
     parser.add_argument("--size", default="1280x800", metavar="WxH", help="image size (with --screenshot)")
@@ -65,6 +84,19 @@ def build_arguments() -> argparse.ArgumentParser:
     # for app.bench: print the wall-clock time when the file's first frame is drawn, then quit
     parser.add_argument("--first-frame-time", action="store_true", help=argparse.SUPPRESS)
     return parser
+
+
+def parse_offset(text: str) -> float | str:
+    """``--compare-offset``: "auto" or a finite number of frames."""
+    if text.strip().lower() == "auto":
+        return "auto"
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number of frames or auto, not {text!r}") from None
+    if value != value or value in (float("inf"), float("-inf")):
+        raise argparse.ArgumentTypeError(f"expected a finite number of frames, not {text!r}")
+    return value
 
 
 def parse_size(text: str) -> tuple[int, int]:
@@ -113,6 +145,8 @@ def default_files(args: argparse.Namespace) -> tuple[str, str | None]:
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_arguments()
     args = parser.parse_args(argv)
+    if not args.compare and (args.compare_align != "none" or args.compare_offset != "auto"):
+        parser.error("--compare-align and --compare-offset go with --compare B")
     try:
         size = parse_size(args.size)
         args.onion = parse_onion(args.onion)
@@ -161,7 +195,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.first_frame_time:
         window.files.load_finished.connect(lambda ok: _report_first_frame(app, window, ok))
     if args.compare:
-        _compare_once_loaded(window, args.compare, args.map)
+        _compare_once_loaded(window, args)
     from gmr_studio.app.recovery_dialog import offer_recovery
 
     if not offer_recovery(window):
@@ -171,13 +205,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     return app.exec()
 
 
-def _compare_once_loaded(window, path: str, joint_map: str | None) -> None:
-    """Add ``path`` as a comparison layer once the first document is shown."""
+def _compare_once_loaded(window, args: argparse.Namespace) -> None:
+    """Add ``--compare B`` as a comparison layer once the first document is shown."""
 
     def compare(loaded: bool) -> None:
         window.files.load_finished.disconnect(compare)
         if loaded:
-            window.files.compare_path(path, joint_map=joint_map)
+            window.files.compare_path(
+                args.compare, joint_map=args.map, align=args.compare_align, offset=args.compare_offset
+            )
 
     window.files.load_finished.connect(compare)
 
@@ -272,14 +308,21 @@ def _load_or_report(motion_path: str, markers_path: str | None):
 
 
 def _add_comparison(window, args: argparse.Namespace) -> str | None:
-    """--compare B [--map M]: B as a comparison layer of the window; an error message, or None."""
+    """--compare B [--map M] [--compare-align K] [--compare-offset N|auto]: B as a comparison
+    layer of the window (a marker file as a marker-set layer); an error message, or None."""
     if not args.compare:
         return None
-    from gmr_studio.app.loading import load_snapshot
+    from pathlib import Path
+
+    from gmr_studio.app.loading import load_markers, load_snapshot, marker_suffixes
     from gmr_studio.core.errors import MotionFileError
 
     try:
-        window.layers.add(load_snapshot(args.compare), args.compare, args.map)
+        if Path(args.compare).suffix.lower() in marker_suffixes():
+            window.layers.add_markers(load_markers(args.compare), args.compare)
+        else:
+            snapshot = load_snapshot(args.compare)
+            window.layers.add(snapshot, args.compare, args.map, align=args.compare_align, offset=args.compare_offset)
     except (MotionFileError, ValueError) as exc:
         return f"--compare: {exc}"
     return None

@@ -270,8 +270,9 @@ class MainWindow(QMainWindow):
         paths = [url.toLocalFile() for url in event.mimeData().urls() if url.isLocalFile()]
         motions = [p for p in paths if Path(p).suffix.lower() in extensions.motion_suffixes()]
         markers = [p for p in paths if Path(p).suffix.lower() in extensions.marker_suffixes()]
-        if motions and event.modifiers() & Qt.KeyboardModifier.ShiftModifier and self.state.motion is not None:
-            self.files.compare_path(motions[0])  # Shift: add as a comparison layer
+        shift = bool(event.modifiers() & Qt.KeyboardModifier.ShiftModifier)
+        if (motions or markers) and shift and self.state.motion is not None:
+            self.files.compare_path((motions or markers)[0])  # Shift: add as a comparison layer
         elif motions:
             self.files.open_path(motions[0], markers=markers[0] if markers else None)
         elif markers and self.state.motion is not None:

@@ -271,13 +271,7 @@ class StudioState(QObject):
         if markers is None or self.snapshot is None:
             self.marker_overlay = None
         else:
-            resampled = markers.resampled(self.snapshot.motion.frame_rate)
-            if alignment is None:
-                alignment = auto_alignment(
-                    resampled.positions, resampled.labels, self.snapshot.positions, self.motion.names, markers.units
-                )
-            alignment = alignment.replace(units=markers.units)
-            self.marker_overlay = _marker_overlay(markers, resampled, alignment, self.n_frames)
+            self.marker_overlay = marker_overlay_on(markers, self.snapshot, alignment)
         self.markers_changed.emit()
         self.marker_selection_changed.emit(-1)
         self.pelvis_changed.emit()
@@ -286,10 +280,7 @@ class StudioState(QObject):
         """Re-align the markers shown (and the pelvis frames recovered from them)."""
         if self.marker_overlay is None:
             return
-        markers = self.marker_overlay.markers
-        resampled = markers.resampled(self.motion.frame_rate)
-        alignment = alignment.replace(units=markers.units)
-        self.marker_overlay = _marker_overlay(markers, resampled, alignment, self.n_frames)
+        self.marker_overlay = marker_overlay_on(self.marker_overlay.markers, self.snapshot, alignment)
         self.markers_changed.emit()
         if self.pelvis is not None:
             self.set_pelvis(self.pelvis.source)
@@ -313,12 +304,21 @@ class StudioState(QObject):
         self.pelvis_changed.emit()
 
 
-def _marker_overlay(
-    markers: MarkerSet, resampled: MarkerSet, alignment: MarkerAlignment, n_frames: int
+def marker_overlay_on(
+    markers: MarkerSet, snapshot: Snapshot, alignment: MarkerAlignment | None = None
 ) -> MarkerOverlay:
-    on_frames = markers_on_motion_frames(resampled.positions, n_frames, alignment.frame_offset)
-    positions = alignment.apply(on_frames)
-    return MarkerOverlay(markers, alignment, _readonly(positions))
+    """``markers`` on the frames and in the space of ``snapshot``'s motion: resampled to its
+    rate (same clock, by time), shifted by the alignment's frame offset and aligned; without
+    an alignment, the automatic one (:func:`app.alignment.auto_alignment`). The marker
+    overlay and the marker-set comparison layers (:mod:`app.marker_layers`) both use it."""
+    resampled = markers.resampled(snapshot.motion.frame_rate)
+    if alignment is None:
+        alignment = auto_alignment(
+            resampled.positions, resampled.labels, snapshot.positions, snapshot.motion.names, markers.units
+        )
+    alignment = alignment.replace(units=markers.units)
+    on_frames = markers_on_motion_frames(resampled.positions, snapshot.motion.n_frames, alignment.frame_offset)
+    return MarkerOverlay(markers, alignment, _readonly(alignment.apply(on_frames)))
 
 
 def pelvis_on_motion(pelvis: PelvisFrames, rate: float, alignment: MarkerAlignment, motion: Motion) -> PelvisOverlay:
