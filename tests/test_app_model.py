@@ -124,6 +124,8 @@ class StudioModel(RuleBasedStateMachine):
     window = None
     folder: Path = Path()
     steps = 0
+    #: steps at which a comparison with the first file was checked for zero error
+    zero_checks = 0
 
     def __init__(self) -> None:
         super().__init__()
@@ -149,6 +151,7 @@ class StudioModel(RuleBasedStateMachine):
         self.size = max(motion.size, 1e-12)
         self.saves = 0
         self.reference_path = Path(path)
+        self.foreign: set[str] = set()  # names that left the document with other trees
 
     @property
     def state(self):
@@ -192,6 +195,10 @@ class StudioModel(RuleBasedStateMachine):
             known = np.isin(motion.names, self.reference_names)
             root = max(motion.roots, key=lambda r: int(known[motion.tree_roots == r].sum()))
             target = tree_file_name(target, motion.names[root])
+            # a joint of another tree can come back only as the zero-offset End Site of its
+            # former parent, left a leaf by the split, which readers name <parent>_End (CMU's
+            # LFingers_End split off: the file's LFingers_End sits at LFingers); not compared
+            self.foreign |= {motion.names[j] for j in range(motion.n_joints) if motion.tree_roots[j] != root}
         self.state.undo_stack.setClean()  # exported, not saved: the user discards the edits
         self._open(target)
         if not per_tree:
@@ -225,8 +232,8 @@ class StudioModel(RuleBasedStateMachine):
         count = len(layers)
         self.window.files.compare_path(self.reference_path, wait=True)
         assert len(layers) == count + 1, self.window.status.text()
-        layers[count].offset = 0  # given, not found: a periodic walk agrees at other lags too
-        layers.recompute()
+        # the offset given, not found (a periodic walk agrees at other lags too), as the dock does
+        assert layers.set_alignment(count, offset=0)
 
     @precondition(lambda self: len(self.window.layers) > 0)
     @rule(data=st.data())
@@ -302,9 +309,13 @@ class StudioModel(RuleBasedStateMachine):
         StudioModel.steps += 1
         self.since_io += 1
         if StudioModel.steps % 5000 == 0:  # the long run's progress
-            print(f"model-based run: {StudioModel.steps} steps, no failure", file=sys.stderr, flush=True)
+            print(
+                f"model-based run: {StudioModel.steps} steps, {StudioModel.zero_checks} zero-error checks, no failure",
+                file=sys.stderr,
+                flush=True,
+            )
         motion = self.state.motion
-        kept = [j for j, name in enumerate(motion.names) if name in self.reference_names]
+        kept = [j for j, name in enumerate(motion.names) if name in self.reference_names and name not in self.foreign]
         assert kept  # (a tree exported on its own holds only that tree's joints)
         order = [self.reference_names.index(motion.names[j]) for j in kept]
         error = np.abs(self.state.positions[:, kept] - self.reference[:, order]).max()
@@ -375,7 +386,9 @@ class StudioModel(RuleBasedStateMachine):
                 continue  # another file, or a reopened document's offset found again
             assert c.alignment.kind == "none"
             assert len(c.index_a) == int(np.isin(state.motion.names, self.reference_names).sum())
-            assert np.nanmax(c.position_error) <= POSITION_TOLERANCE * self.size
+            own = [k for k, name in enumerate(c.names_a) if name not in self.foreign]
+            assert np.nanmax(c.position_error[:, own]) <= POSITION_TOLERANCE * self.size
+            StudioModel.zero_checks += 1
 
     @invariant()
     def nothing_reached_the_crash_log(self) -> None:
@@ -388,6 +401,7 @@ def run_model(window, folder: Path, steps: int) -> int:
     from hypothesis.stateful import run_state_machine_as_test
 
     StudioModel.window, StudioModel.folder, StudioModel.steps = window, folder, 0
+    StudioModel.zero_checks = 0
     examples = max(1, math.ceil(steps / SEQUENCE_STEPS))
     started = time.perf_counter()
     run_state_machine_as_test(
@@ -405,7 +419,11 @@ def run_model(window, folder: Path, steps: int) -> int:
     )
     elapsed = time.perf_counter() - started
     kind = "window" if StudioModel().full else "light"
-    print(f"\nmodel-based run ({kind}): {StudioModel.steps} steps checked in {elapsed:.1f} s ({examples} sequences)")
+    print(
+        f"\nmodel-based run ({kind}): {StudioModel.steps} steps checked in {elapsed:.1f} s ({examples} sequences, "
+        f"{StudioModel.zero_checks} comparisons checked for zero error)"
+    )
+    assert StudioModel.zero_checks > 0  # the comparison invariant was exercised
     return StudioModel.steps
 
 
