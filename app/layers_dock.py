@@ -89,7 +89,9 @@ class LayersDock(QWidget):
             return
         name = self.layers.state.path.name if self.layers.state.path else "document"
         self.table.setRowCount(1 + len(self.layers))
-        self.table.setItem(0, 2, QTableWidgetItem(f"{name} (document, edited)"))
+        document_item = QTableWidgetItem(f"{name} (the document)")
+        document_item.setToolTip("the motion you edit; the layers below are read-only")
+        self.table.setItem(0, 2, document_item)
         for i, layer in enumerate(self.layers.layers, start=1):
             index = i - 1
             swatch = QPushButton()
