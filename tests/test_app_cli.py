@@ -27,7 +27,8 @@ def read_png(path) -> np.ndarray:
     bits = image.constBits()
     bits.setsize(image.sizeInBytes())
     rows = np.frombuffer(bits, np.uint8).reshape(image.height(), image.bytesPerLine())
-    return rows[:, : 3 * image.width()].reshape(image.height(), image.width(), 3)
+    # a copy: the rows live in ``image``, which is freed when this function returns
+    return rows[:, : 3 * image.width()].reshape(image.height(), image.width(), 3).copy()
 
 
 def test_without_a_display_it_says_how_to_run_and_exits_2():

@@ -56,7 +56,8 @@ def image_array(image: QImage) -> np.ndarray:
     pointer = image.constBits()
     pointer.setsize(image.sizeInBytes())
     rows = np.frombuffer(pointer, np.uint8).reshape(image.height(), image.bytesPerLine())
-    return rows[:, : 3 * image.width()].reshape(image.height(), image.width(), 3)
+    # a copy: the rows live in the converted image, freed when this function returns
+    return rows[:, : 3 * image.width()].reshape(image.height(), image.width(), 3).copy()
 
 
 def cursor_column(plot: TimePlot) -> int:

@@ -199,8 +199,8 @@ def test_a_shift_drop_compares_with_the_shipped_map(studio, qtbot):
 
 
 def test_command_line_compare_to_a_window_screenshot(tmp_path):
-    """gmr-studio A --compare B --map cmu --screenshot OUT --window: the ghost is in the picture;
-    an unreadable B is refused with status 2."""
+    """gmr-studio A --compare B --map cmu --screenshot OUT [--window]: the ghost is in the
+    picture (window and view alone); an unreadable B is refused with status 2."""
     import subprocess
     import sys
 
@@ -216,6 +216,18 @@ def test_command_line_compare_to_a_window_screenshot(tmp_path):
     image = read_png(out).astype(int)
     magenta = (image[..., 0] > 170) & (image[..., 1] < 140) & (image[..., 2] > 150)
     assert magenta.sum() > 30
+    # off screen (the view alone, no window): the ghost and the error legend are drawn too
+    view_only = tmp_path / "compare-view.png"
+    view_options = ["--map", "cmu", "--screenshot", str(view_only), "--size", "900x600", "--frame", "1518"]
+    result = subprocess.run(
+        [*studio_cmd, "--compare", str(shared_path(AMC)), *view_options], capture_output=True, text=True, timeout=180
+    )
+    assert result.returncode == 0, result.stderr
+    image = read_png(view_only).astype(int)
+    assert image.shape[:2] == (600, 900)
+    magenta = (image[..., 0] > 170) & (image[..., 1] < 140) & (image[..., 2] > 150)
+    red = (image[..., 0] > 200) & (image[..., 1] < 80) & (image[..., 2] < 80)  # the worst joints, the legend's top
+    assert magenta.sum() > 30 and red.sum() > 30, (magenta.sum(), red.sum())
     bad = tmp_path / "broken.bvh"
     bad.write_text("HIERARCHY\nROOT Hips\n")
     result = subprocess.run([*studio_cmd, "--compare", str(bad), *options], capture_output=True, text=True, timeout=180)
