@@ -80,3 +80,18 @@ def test_a_frame_change_updates_the_layer_in_place(studio):
     QApplication.processEvents()
     # the layer's four actors and the legend gone, the renderer's own blending back
     assert renderer.GetUseOIT() == ghosts._oit and len(_props(renderer)) == len(props) - 5
+
+
+def test_the_comparison_bench_reports_wall_and_main_thread_ratios(capsys):
+    """app.bench.bench_comparison: medians with and without a layer, and both ratios."""
+    from gmr_studio.app import bench
+
+    bench.bench_comparison(20, rounds=1)
+    lines = capsys.readouterr().out.splitlines()
+    wall = [float(line.split("median")[1].split()[0]) for line in lines[:2]]
+    assert lines[0].startswith("set frame + render, no comparison") and "comparison layer (amc)" in lines[1]
+    assert float(lines[2].split()[-1]) == pytest.approx(wall[1] / wall[0], abs=2e-3)
+    assert "main-thread CPU" in lines[3]
+    cpu = [float(value) for value in lines[3].split("median")[1].replace("ms", "").split("/")]
+    assert all(value > 0 for value in wall + cpu)
+    assert float(lines[4].split()[-1]) == pytest.approx(cpu[1] / cpu[0], abs=2e-3)
