@@ -53,7 +53,12 @@ def test_a_frame_change_updates_the_layer_in_place(studio):
     pictures = {}
     for frame in (401, 1518, 0, 2000, 400):
         state.set_frame(frame)
+        assert studio.view.scene._clipping_stale  # near and far fitted once, when the repaint starts
         QApplication.processEvents()
+        camera = renderer.GetActiveCamera()
+        fitted = camera.GetClippingRange()
+        renderer.ResetCameraClippingRange()  # ... to everything drawn, the ghost included
+        assert camera.GetClippingRange() == pytest.approx(fitted) and not studio.view.scene._clipping_stale
         # the same actors, poly data, points and colour arrays as before, nothing added
         assert _props(renderer) == props and ghosts.legend.__this__ == legend
         assert [(p.actor.__this__, p.mesh.__this__, p.mesh.GetPoints().__this__) for p in parts] == objects
