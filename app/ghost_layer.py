@@ -11,6 +11,14 @@ onion skins), so the scene's rebuilds after an edit never remove them:
   position error at the current frame (:func:`error_colours`, a green-yellow-red map from 0
   to the comparison's largest error, with a legend in the view titled in the document's
   units), and a thin line from each matched joint to its match.
+
+Everything is built once per change of the layers (added, removed, recomputed, restyled); a
+frame change only writes points and colours into the existing poly data (the colours of
+every compared frame are computed once, :attr:`GhostLayers.error_rgb`) and asks for one
+render. The translucent ghosts are blended in drawing order rather than through VTK's
+order-independent translucency, whose extra full-view passes cost more than the ghosts
+themselves on a software renderer (the ghost is one colour per layer, so the two differ
+only where a ghost's surfaces overlap, by a few levels of shading).
 """
 
 from __future__ import annotations
@@ -38,7 +46,7 @@ ERROR_JOINT_RADIUS = 0.021  # just larger than the document's joints, so the col
 
 
 def error_colours(errors: np.ndarray, top: float) -> np.ndarray:
-    """(J,) errors -> (J, 3) RGB in [0, 1] on :data:`COLOUR_MAP` over ``[0, top]``; NaN grey."""
+    """(..., J) errors -> (..., J, 3) RGB in [0, 1] on :data:`COLOUR_MAP` over ``[0, top]``; NaN grey."""
     t = np.clip(np.nan_to_num(errors, nan=0.0) / max(top, 1e-300), 0.0, 1.0)
     rgb = np.stack([np.interp(t, COLOUR_MAP[:, 0], COLOUR_MAP[:, k]) for k in (1, 2, 3)], axis=-1)
     rgb[~np.isfinite(errors)] = NO_ERROR_COLOUR
@@ -67,6 +75,11 @@ class GhostLayers:
         self.error_lines: parts.Part | None = None
         self.legend: vtkScalarBarActor | None = None
         self.top = 1.0
+        #: (R, P, 3) uint8: the error colour of each matched joint at each compared frame
+        #: (rows of the active comparison), what a frame change writes into the error view
+        self.error_rgb = np.zeros((0, 0, 3), np.uint8)
+        self._no_error_rgb = np.zeros((0, 3), np.uint8)  # (P, 3): a frame not compared
+        self._oit = bool(plotter.renderer.GetUseOIT())  # the renderer's own setting, restored
         layers.changed.connect(self.rebuild)
         layers.appearance_changed.connect(lambda _index: self.rebuild())
         state.frame_changed.connect(self.show_frame)
@@ -96,6 +109,8 @@ class GhostLayers:
                 part.set_visible(layer.visible)
                 self.plotter.renderer.AddActor(part.actor)
             self.ghosts.append(built)
+        # blended in drawing order while ghosts are shown (see the module docstring)
+        self.plotter.renderer.SetUseOIT(self._oit and not self.ghosts)
         active = self.layers.active
         if active is not None and self.show_errors:
             self._build_error_view(active, size)
@@ -108,6 +123,8 @@ class GhostLayers:
         pairs = np.column_stack([np.arange(n), n + np.arange(n)])
         self.error_lines = parts.segments_part(2 * n, pairs, color=LINE_COLOUR, width=1.5)
         self.top = error_scale_top(layer, size)
+        self.error_rgb = parts.rgb_bytes(error_colours(layer.comparison.position_error, self.top))
+        self._no_error_rgb = parts.rgb_bytes(np.broadcast_to(NO_ERROR_COLOUR, (n, 3)))
         self.legend = _legend(self.top, layer.comparison.units_text)
         for part in (self.error_joints, self.error_lines):
             self.plotter.renderer.AddActor(part.actor)
@@ -124,6 +141,7 @@ class GhostLayers:
         if self.legend is not None:
             self.plotter.renderer.RemoveViewProp(self.legend)
         self.error_joints = self.error_lines = self.legend = None
+        self.plotter.renderer.SetUseOIT(self._oit)
 
     def set_show_errors(self, shown: bool) -> None:
         self.show_errors = bool(shown)
@@ -151,14 +169,13 @@ class GhostLayers:
             comparison = active.comparison
             row = comparison.row_of_frame(frame)
             if row is None:
-                errors = np.full(comparison.n_pairs, np.nan)
+                rgb = self._no_error_rgb
                 a = b = self.state.snapshot.positions[frame, comparison.index_a]
             else:
-                errors = comparison.position_error[row]
+                rgb = self.error_rgb[row]
                 a, b = comparison.positions_a[row], comparison.positions_b[row]
             self.error_joints.set_points(a)
-            colours = self.error_joints.mesh.point_data["colors"]
-            colours[:] = parts.rgb_bytes(error_colours(errors, self.top))
+            self.error_joints.mesh.point_data["colors"][:] = rgb
             self.error_lines.set_points(np.concatenate([a, np.where(np.isfinite(b), b, a)]))
         self.render()
 

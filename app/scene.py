@@ -27,6 +27,7 @@ stand upright.
 from __future__ import annotations
 
 import re
+import weakref
 
 import numpy as np
 import pyvista as pv
@@ -98,6 +99,10 @@ class SkeletonScene:
         self.request_repaint = None  # a callable that schedules a repaint of the view widget
         self._followed: np.ndarray | None = None  # where the followed figure was last drawn
         self.tree_colors = TreeColors()  # shared with the forest dock: the same colour per tree
+        # near and far planes to fit again just before the next render (see render)
+        self._clipping_stale = False
+        fit = weakref.WeakMethod(self._fit_clipping_range)  # the render window must not keep the scene
+        plotter.ren_win.AddObserver("StartEvent", lambda *_: (method := fit()) is not None and method())
 
     # ------------------------------------------------------------------- building
     def set_snapshot(self, snapshot: Snapshot | None, *, reset_camera: bool) -> None:
@@ -406,12 +411,21 @@ class SkeletonScene:
         its paint event anyway, so rendering here as well would draw every frame twice).
 
         The near and far planes are fitted to what is drawn first: kept from an earlier
-        render, they clip a skeleton whose actors were rebuilt (an edit) down to fragments."""
-        self.plotter.renderer.ResetCameraClippingRange()
+        render, they clip a skeleton whose actors were rebuilt (an edit) down to fragments.
+        For a repaint they are fitted once when it starts, after everything that asked for
+        it (the skeleton, the comparison layers) has moved, not once per request."""
         if self.request_repaint is not None and not now:
+            self._clipping_stale = True
             self.request_repaint()
         else:
+            self.plotter.renderer.ResetCameraClippingRange()
+            self._clipping_stale = False
             self.plotter.render()
+
+    def _fit_clipping_range(self) -> None:
+        if self._clipping_stale:
+            self._clipping_stale = False
+            self.plotter.renderer.ResetCameraClippingRange()
 
     # ------------------------------------------------------------------- picking
     def view_projection(self) -> np.ndarray:

@@ -1,0 +1,102 @@
+"""A comparison layer on a frame change: the same VTK objects, updated in place, drawn."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PyQt6.QtWidgets import QApplication
+
+from gmr_studio.app.ghost_layer import NO_ERROR_COLOUR, error_colours
+from gmr_studio.app.vtk_parts import rgb_bytes
+from tests import app_fixtures
+from tests.app_fixtures import open_file, screen_image
+from tests.conftest import shared_path
+
+studio = app_fixtures.studio
+pytestmark = pytest.mark.gui
+
+BVH = "cmu/subject01/01_01.bvh"
+AMC = "cmu/subject01/01_01.amc"
+
+
+def _props(renderer) -> list[str]:
+    """The address of every prop of ``renderer`` (actors and 2D props, the legend included)."""
+    props = renderer.GetViewProps()
+    props.InitTraversal()
+    return [props.GetNextProp().__this__ for _ in range(props.GetNumberOfItems())]
+
+
+def _magenta(image: np.ndarray) -> np.ndarray:
+    """(H, W) pixels of the first layer's colour (1, 0.45, 0.9), also faded over the background."""
+    return (image[..., 0] > 170) & (image[..., 1] < 140) & (image[..., 2] > 150)
+
+
+def test_a_frame_change_updates_the_layer_in_place(studio):
+    open_file(studio, shared_path(BVH))
+    state, renderer = studio.state, studio.view.scene.plotter.renderer
+    state.set_frame(400)
+    studio.files.compare_path(str(shared_path(AMC)), joint_map="cmu", wait=True)
+    QApplication.processEvents()
+    ghosts, layer = studio.ghosts, studio.layers[0]
+    c = layer.comparison
+    (bones, joints), error_joints, error_lines = ghosts.ghosts[0], ghosts.error_joints, ghosts.error_lines
+    parts = (bones, joints, error_joints, error_lines)
+    objects = [(part.actor.__this__, part.mesh.__this__, part.mesh.GetPoints().__this__) for part in parts]
+    inputs = [part.actor.GetMapper().GetInputDataObject(0, 0).__this__ for part in (joints, error_joints)]
+    colours = error_joints.mesh.point_data.VTKObject.GetArray("colors").__this__
+    props, legend = _props(renderer), ghosts.legend.__this__
+    # the colours of every compared frame, computed once when the layer was drawn
+    assert ghosts.error_rgb.shape == (len(c.frames), c.n_pairs, 3)
+    np.testing.assert_array_equal(ghosts.error_rgb, rgb_bytes(error_colours(c.position_error, c.position.max)))
+    # translucent ghosts blended in drawing order while shown, the renderer's own setting after
+    assert not renderer.GetUseOIT()
+    pictures = {}
+    for frame in (401, 1518, 0, 2000, 400):
+        state.set_frame(frame)
+        assert studio.view.scene._clipping_stale  # near and far fitted once, when the repaint starts
+        QApplication.processEvents()
+        camera = renderer.GetActiveCamera()
+        fitted = camera.GetClippingRange()
+        renderer.ResetCameraClippingRange()  # ... to everything drawn, the ghost included
+        assert camera.GetClippingRange() == pytest.approx(fitted) and not studio.view.scene._clipping_stale
+        # the same actors, poly data, points and colour arrays as before, nothing added
+        assert _props(renderer) == props and ghosts.legend.__this__ == legend
+        assert [(p.actor.__this__, p.mesh.__this__, p.mesh.GetPoints().__this__) for p in parts] == objects
+        assert [p.actor.GetMapper().GetInputDataObject(0, 0).__this__ for p in (joints, error_joints)] == inputs
+        assert error_joints.mesh.point_data.VTKObject.GetArray("colors").__this__ == colours
+        # ... holding this frame's values
+        shown = np.asarray(error_joints.mesh.point_data["colors"])
+        row = c.row_of_frame(frame)
+        np.testing.assert_array_equal(shown, rgb_bytes(error_colours(c.position_error[row], c.position.max)))
+        if frame == 0:  # before B's first frame (offset -1): no ghost, the error joints grey
+            assert np.isnan(layer.ghost[0]).all() and not bones.visible and not joints.visible
+            assert (shown == rgb_bytes(np.array(NO_ERROR_COLOUR))).all()
+            continue
+        np.testing.assert_allclose(joints.mesh.points, layer.ghost[frame], atol=1e-6)
+        np.testing.assert_allclose(bones.mesh.points, layer.ghost[frame], atol=1e-6)
+        np.testing.assert_allclose(error_joints.mesh.points, c.positions_a[row], atol=1e-6)
+        assert bones.visible and joints.visible
+        pictures[frame] = screen_image(studio)
+    # and drawn: the ghost's colour where the ghost is at each frame, elsewhere as it moves
+    masks = {frame: _magenta(image) for frame, image in pictures.items()}
+    assert all(mask.sum() > 30 for mask in masks.values())
+    assert (masks[401] != masks[2000]).sum() > 30
+    studio.layers.remove(0)
+    QApplication.processEvents()
+    # the layer's four actors and the legend gone, the renderer's own blending back
+    assert renderer.GetUseOIT() == ghosts._oit and len(_props(renderer)) == len(props) - 5
+
+
+def test_the_comparison_bench_reports_wall_and_main_thread_ratios(capsys):
+    """app.bench.bench_comparison: medians with and without a layer, and both ratios."""
+    from gmr_studio.app import bench
+
+    bench.bench_comparison(20, rounds=1)
+    lines = capsys.readouterr().out.splitlines()
+    wall = [float(line.split("median")[1].split()[0]) for line in lines[:2]]
+    assert lines[0].startswith("set frame + render, no comparison") and "comparison layer (amc)" in lines[1]
+    assert float(lines[2].split()[-1]) == pytest.approx(wall[1] / wall[0], abs=2e-3)
+    assert "main-thread CPU" in lines[3]
+    cpu = [float(value) for value in lines[3].split("median")[1].replace("ms", "").split("/")]
+    assert all(value > 0 for value in wall + cpu)
+    assert float(lines[4].split()[-1]) == pytest.approx(cpu[1] / cpu[0], abs=2e-3)
