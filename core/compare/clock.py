@@ -55,12 +55,15 @@ def resample(values: np.ndarray, at: np.ndarray, columns: np.ndarray | None = No
     if inside.all():
         return _resample_inside(values, at, columns)
     shape = (len(at), *values.shape[1:]) if columns is None else (len(at), len(columns), *values.shape[2:])
-    out = np.full(shape, np.nan)
     where = np.flatnonzero(inside)
     if where.size and where[-1] - where[0] == where.size - 1:  # one run of samples
-        run = slice(where[0], where[-1] + 1)
-        _resample_inside(values, at[run], columns, out=out[run])
-    elif where.size:
+        out = np.empty(shape)
+        out[: where[0]] = np.nan
+        out[where[-1] + 1 :] = np.nan
+        _resample_inside(values, at[where[0] : where[-1] + 1], columns, out=out[where[0] : where[-1] + 1])
+        return out
+    out = np.full(shape, np.nan)
+    if where.size:
         out[inside] = _resample_inside(values, at[inside], columns)
     return out
 
