@@ -8,7 +8,14 @@ from pathlib import Path
 import numpy as np
 
 from gmr_studio.core.compare.align import ALIGN_KINDS, Alignment, fit_alignment, rms_of_squares
-from gmr_studio.core.compare.clock import find_offset, resample, rotations_component_major, take, whole_frames
+from gmr_studio.core.compare.clock import (
+    WHOLE_FRAME_TOLERANCE,
+    find_offset,
+    resample,
+    rotations_component_major,
+    take,
+    whole_frames,
+)
 from gmr_studio.core.compare.result import Comparison
 from gmr_studio.core.compare.tracks import Track, space_change, track_of_motion
 from gmr_studio.core.jointmap import JointMap, JointMatch, match_joints
@@ -116,7 +123,10 @@ def compare_tracks(
     pre_fit = positions_b
     if space.scale != 1.0 or not np.array_equal(q, np.eye(3)):
         pre_fit = _transformed(positions_b, space.scale * q, np.zeros(3))
-    rotation, translation, fitted_scale = fit_alignment(positions_a, pre_fit, align)
+    # B's frames outside its time range are NaN: fit on the run of the others (views, so
+    # that the fit need not gather the points present on both sides when none else is missing)
+    fit_rows = _run_inside(at, b.n_frames)
+    rotation, translation, fitted_scale = fit_alignment(positions_a[fit_rows], pre_fit[fit_rows], align)
     aligned_b = pre_fit if align == "none" else _transformed(pre_fit, fitted_scale * rotation, translation)
     difference = np.subtract(positions_a, pre_fit)
     if align != "none":
@@ -260,6 +270,16 @@ def _times_transposed(rows: np.ndarray, matrix: np.ndarray) -> np.ndarray:
         chunk = slice(start, start + PRODUCT_CHUNK)
         np.matmul(rows[chunk], right, out=out[chunk])
     return out
+
+
+def _run_inside(at: np.ndarray, n_frames_b: int) -> slice:
+    """The rows of ``at`` (F,) from the first inside B's range to the last, if all between are
+    inside (``at`` increasing); else all rows."""
+    inside = (at >= -WHOLE_FRAME_TOLERANCE) & (at <= n_frames_b - 1 + WHOLE_FRAME_TOLERANCE)
+    where = np.flatnonzero(inside)
+    if where.size and where[-1] - where[0] == where.size - 1:
+        return slice(int(where[0]), int(where[-1]) + 1)
+    return slice(None)
 
 
 def _frames_of(frames: FramesArg, n_frames: int) -> np.ndarray:
