@@ -237,3 +237,17 @@ def test_refusals(walk):
         compare_motions(walk, walk, offset="later")
     part = compare_motions(walk, walk, frames=(10, 20))
     assert part.frames.tolist() == list(range(10, 20)) and part.row_of_frame(12) == 2 and part.row_of_frame(3) is None
+
+
+def test_quantiles_are_numpys_to_the_bit():
+    """The summaries' median and p95 (a partition per index and a minimum) are np.quantile's."""
+    from gmr_studio.core.compare.result import quantiles
+
+    rng = np.random.default_rng(5)
+    for trial in range(400):
+        n = int(rng.integers(1, 40)) if trial % 2 else int(rng.integers(40, 3000))
+        values = rng.random(n) if trial % 3 else rng.integers(0, 4, n).astype(float)  # ties too
+        for q in [(0.5, 0.95), (0.0, 1.0), (0.25,), (0.5, 0.5000001, 0.99)]:
+            assert np.array_equal(np.array(quantiles(values, q)), np.quantile(values, q))
+            copy = values.copy()
+            assert np.array_equal(np.array(quantiles(copy, q, overwrite=True)), np.quantile(values, q))

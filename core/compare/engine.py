@@ -8,7 +8,14 @@ from pathlib import Path
 import numpy as np
 
 from gmr_studio.core.compare.align import ALIGN_KINDS, Alignment, fit_alignment, rms_of_squares
-from gmr_studio.core.compare.clock import find_offset, resample, resample_rotations, take
+from gmr_studio.core.compare.clock import (
+    WHOLE_FRAME_TOLERANCE,
+    find_offset,
+    resample,
+    rotations_component_major,
+    take,
+    whole_frames,
+)
 from gmr_studio.core.compare.result import Comparison
 from gmr_studio.core.compare.tracks import Track, space_change, track_of_motion
 from gmr_studio.core.jointmap import JointMap, JointMatch, match_joints
@@ -19,6 +26,8 @@ from gmr_studio.core.motion import Motion
 SAME_RATE_TOLERANCE = 1e-5
 #: frames per block of the rotation error (temporaries of ~3 MB for 38 joints)
 ROTATION_BLOCK = 1024
+#: frames per block when B is resampled between its frames (component-major temporaries)
+ROTATION_BLOCK_INTERPOLATED = 256
 #: rows per matrix product (:func:`_times_transposed`)
 PRODUCT_CHUNK = 2048
 FramesArg = slice | tuple[int | None, int | None] | np.ndarray | None
@@ -114,7 +123,10 @@ def compare_tracks(
     pre_fit = positions_b
     if space.scale != 1.0 or not np.array_equal(q, np.eye(3)):
         pre_fit = _transformed(positions_b, space.scale * q, np.zeros(3))
-    rotation, translation, fitted_scale = fit_alignment(positions_a, pre_fit, align)
+    # B's frames outside its time range are NaN: fit on the run of the others (views, so
+    # that the fit need not gather the points present on both sides when none else is missing)
+    fit_rows = _run_inside(at, b.n_frames)
+    rotation, translation, fitted_scale = fit_alignment(positions_a[fit_rows], pre_fit[fit_rows], align)
     aligned_b = pre_fit if align == "none" else _transformed(pre_fit, fitted_scale * rotation, translation)
     difference = np.subtract(positions_a, pre_fit)
     if align != "none":
@@ -176,8 +188,15 @@ def _rotation_error(
     """(F, J) degrees between A's world rotations and B's, B's moved into A's space.
 
     The angle comes from the chord ``|W_a - W_b|_F = 2 sqrt(2) sin(angle / 2)``, accurate
-    near 0 where a trace formula loses half the digits. Computed in blocks of frames so
-    that the (block, J, 3, 3) temporaries stay in the cache and no (F, J, 3, 3) copy is made.
+    near 0 where a trace formula loses half the digits; above 90 degrees, where the chord's
+    arcsin amplifies rounding, from ``arctan2`` of the axis and the trace
+    (:func:`angle_between`). Computed in blocks of frames so that the temporaries stay in
+    the cache and no (F, J, 3, 3) copy is made.
+
+    B's whole frames are taken as they are (row-major); B between its frames is resampled
+    component-major (:func:`core.compare.clock.rotations_component_major`) and A is put in
+    the same order, turned by the inverse of B's turn instead of B (``|W_a - M W_b N| =
+    |M^T W_a N^T - W_b|`` for rotations M, N).
     """
     turn = None
     if not (alignment.kind == "none" and np.array_equal(alignment.up_rotation, np.eye(3))):
@@ -186,24 +205,50 @@ def _rotation_error(
         turn = np.einsum("ab,cd->adbc", m, n).reshape(9, 9)
     n_pairs = len(index_a)
     angle = np.empty((len(rows), n_pairs))
-    for start in range(0, len(rows), ROTATION_BLOCK):
-        block = slice(start, start + ROTATION_BLOCK)
+    whole = whole_frames(at)
+    block_frames = ROTATION_BLOCK if whole else ROTATION_BLOCK_INTERPOLATED
+    for start in range(0, len(rows), block_frames):
+        block = slice(start, start + block_frames)
         ra = take(a.rotations, rows[block], index_a).reshape(-1, 9)
-        rb = resample_rotations(b.rotations, at[block], index_b).reshape(-1, 9)
-        if turn is not None:
-            difference = _times_transposed(rb, turn)  # a new (n, 9) array, turned B
-            np.subtract(ra, difference, out=difference)
+        if whole:
+            rb = resample(b.rotations, at[block], index_b).reshape(-1, 9)
+            if turn is not None:
+                rb = _times_transposed(rb, turn)  # a new (n, 9) array, turned B
+            difference = np.subtract(ra, rb, out=rb if turn is not None else None)
+            chord2 = np.einsum("np,np->n", difference, difference)
         else:
-            difference = ra - rb
-        chord = np.sqrt(np.einsum("np,np->n", difference, difference))
-        chord *= 1.0 / (2.0 * np.sqrt(2.0))
-        np.minimum(chord, 1.0, out=chord)
-        angle[block] = (2.0 * np.arcsin(chord, out=chord)).reshape(-1, n_pairs)
+            rb = rotations_component_major(b.rotations, at[block], index_b).reshape(9, -1)
+            if turn is not None:
+                ra = _times_transposed(ra, turn.T)  # A turned back: M^T W_a N^T
+            ra = np.ascontiguousarray(ra.T)  # (9, n), component-major
+            difference = np.subtract(ra, rb)
+            chord2 = np.einsum("pn,pn->n", difference, difference)
+        result = np.sqrt(chord2)
+        result *= 1.0 / (2.0 * np.sqrt(2.0))
+        np.minimum(result, 1.0, out=result)
+        np.arcsin(result, out=result)
+        result *= 2.0
+        far = chord2 > 4.0  # above 90 degrees
+        if far.any():
+            if whole:
+                result[far] = angle_between(ra[far], ra[far] - difference[far])
+            else:
+                result[far] = angle_between(ra[:, far].T, rb[:, far].T)
+        angle[block] = result.reshape(-1, n_pairs)
     angle = np.degrees(angle, out=angle)
     oriented = a.has_rotation[index_a] & b.has_rotation[index_b]
     if not oriented.all():
         angle[:, ~oriented] = np.nan
     return angle
+
+
+def angle_between(first: np.ndarray, second: np.ndarray) -> np.ndarray:
+    """Geodesic angle (radians) between rotations given as rows (K, 9) of row-major 3 x 3
+    matrices: ``arctan2(|sum_k A[:, k] x B[:, k]|, A : B - 1)`` (twice the sine and cosine),
+    accurate at every angle, 0 and 180 degrees included."""
+    a, b = first.reshape(-1, 3, 3), second.reshape(-1, 3, 3)
+    axis = np.cross(a, b, axis=1).sum(axis=-1)
+    return np.arctan2(np.linalg.norm(axis, axis=-1), np.einsum("kij,kij->k", a, b) - 1.0)
 
 
 def _transformed(points: np.ndarray, matrix: np.ndarray, translation: np.ndarray) -> np.ndarray:
@@ -225,6 +270,16 @@ def _times_transposed(rows: np.ndarray, matrix: np.ndarray) -> np.ndarray:
         chunk = slice(start, start + PRODUCT_CHUNK)
         np.matmul(rows[chunk], right, out=out[chunk])
     return out
+
+
+def _run_inside(at: np.ndarray, n_frames_b: int) -> slice:
+    """The rows of ``at`` (F,) from the first inside B's range to the last, if all between are
+    inside (``at`` increasing); else all rows."""
+    inside = (at >= -WHOLE_FRAME_TOLERANCE) & (at <= n_frames_b - 1 + WHOLE_FRAME_TOLERANCE)
+    where = np.flatnonzero(inside)
+    if where.size and where[-1] - where[0] == where.size - 1:
+        return slice(int(where[0]), int(where[-1]) + 1)
+    return slice(None)
 
 
 def _frames_of(frames: FramesArg, n_frames: int) -> np.ndarray:

@@ -51,7 +51,8 @@ def summarize(errors: np.ndarray, frames: np.ndarray, names: tuple[str, ...]) ->
             per_frame = zeroed.sum(axis=1) / finite.sum(axis=1)
             masked = np.where(finite, errors, -np.inf)
     if errors.size:
-        rows = masked.argmax(axis=0)
+        # along rows of the transposed copy: numpy's argmax along axis 0 is twice as slow
+        rows = np.ascontiguousarray(masked.T).argmax(axis=1)
         per_joint_max = masked[rows, np.arange(errors.shape[1])]
     else:
         rows, per_joint_max = np.zeros(errors.shape[1], dtype=np.int64), np.full(errors.shape[1], -np.inf)
@@ -62,7 +63,7 @@ def summarize(errors: np.ndarray, frames: np.ndarray, names: tuple[str, ...]) ->
         nan = float("nan")
         per_joint = (per_joint_mean, per_joint_max, per_joint_max_frame)
         return ErrorSummary(nan, nan, nan, nan, -1, "", 0, *per_joint, per_frame)
-    median, p95 = np.quantile(values, [0.5, 0.95])
+    median, p95 = quantiles(values, (0.5, 0.95), overwrite=not everywhere)
     worst = int(np.nanargmax(per_joint_max))
     return ErrorSummary(
         mean=float(values.mean()),
@@ -77,6 +78,41 @@ def summarize(errors: np.ndarray, frames: np.ndarray, names: tuple[str, ...]) ->
         per_joint_max_frame=per_joint_max_frame,
         per_frame=per_frame,
     )
+
+
+def quantiles(values: np.ndarray, q: tuple[float, ...], *, overwrite: bool = False) -> tuple[float, ...]:
+    """``np.quantile(values, q)`` (its default, linear method: the same numbers) of finite
+    values (N,), N >= 1, with fewer passes.
+
+    ``np.quantile`` partitions a copy at every index it needs (both neighbours of each
+    quantile, the first and the last) at once, which costs three times a partition at one
+    index. Here each lower neighbour is found by a partition at that index alone, of the part
+    left of the previous one, and the upper neighbour as the minimum of what lies between.
+    ``overwrite``: values may be reordered (no copy is made).
+    """
+    n = values.size
+    virtual = (n - 1) * np.asarray(q, dtype=np.float64)
+    previous = np.floor(virtual)
+    gamma = virtual - previous
+    above = virtual >= n - 1  # np.quantile takes the largest value there
+    low = np.where(above, n - 1, previous).astype(np.int64)
+    high = np.where(above, n - 1, low + 1)
+    work = values.reshape(-1) if overwrite else values.ravel().copy()
+    order: dict[int, float] = {}
+    end = n  # work[:end] holds the values up to order[end]
+    for k in sorted(set(low.tolist()), reverse=True):
+        part = work[:end]
+        part.partition(k)
+        order[k] = float(part[k])
+        if k + 1 < end:
+            order[k + 1] = float(part[k + 1 :].min())
+        end = k
+    result = []
+    for a_index, b_index, t in zip(low.tolist(), high.tolist(), gamma.tolist()):
+        a, b = order[a_index], order[b_index]
+        # numpy's _lerp, operation by operation
+        result.append(b - (b - a) * (1 - t) if t >= 0.5 else a + (b - a) * t)
+    return tuple(result)
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
