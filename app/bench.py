@@ -43,21 +43,39 @@ def _summary(label: str, seconds: np.ndarray) -> None:
     print(f"{label:<46} median {median:6.2f} ms   p95 {p95:6.2f} ms   -> {rates}")
 
 
-def bench_frames(frames: int) -> None:
+def bench_window(width: int, height: int):
+    """(app, window, settings path): a main window of that size, shown, quiet, on a fresh
+    settings file (a layout saved by an earlier run would change the view's size or hide a
+    dock). :func:`close_bench_window` closes it and removes the file."""
     from PyQt6.QtCore import QSettings
     from PyQt6.QtWidgets import QApplication
 
     from gmr_studio.app.main_window import MainWindow
 
-    data = shared_data_dir()
     app = QApplication.instance() or QApplication(sys.argv[:1])
-    # a fresh settings file: a layout saved by an earlier run would change the view's size
     scratch = os.path.join(os.environ.get("TMPDIR", "/tmp"), f"gmr-studio-bench-{os.getpid()}.ini")
+    if os.path.exists(scratch):
+        os.remove(scratch)
     window = MainWindow(settings=QSettings(scratch, QSettings.Format.IniFormat))
+    window.settings.clear()
     window.files.quiet = True
-    window.resize(1280, 800)
+    window.resize(width, height)
     window.show()
     app.processEvents()
+    return app, window, scratch
+
+
+def close_bench_window(window, scratch: str) -> None:
+    """Close a :func:`bench_window` without asking to save, and remove its settings file."""
+    window.state.undo_stack.setClean()
+    window.close()
+    if os.path.exists(scratch):
+        os.remove(scratch)
+
+
+def bench_frames(frames: int) -> None:
+    data = shared_data_dir()
+    app, window, scratch = bench_window(1280, 800)
     window.files.open_path(str(data / BVH), markers=str(data / C3D), ask=False, wait=True)
     state = window.state
     overlay = state.marker_overlay
@@ -95,29 +113,15 @@ def bench_frames(frames: int) -> None:
             f"{'  CPU per frame: all threads / main thread':<46} median {1000 * np.median(cpu):6.2f} ms"
             f" / {1000 * np.median(main_thread):6.2f} ms"
         )
-    state.undo_stack.setClean()
-    window.close()
-    if os.path.exists(scratch):
-        os.remove(scratch)
+    close_bench_window(window, scratch)
 
 
 def bench_comparison(frames: int, rounds: int = 4) -> None:
     """Frame update without and with a comparison layer, alternating blocks (item 3)."""
-    from PyQt6.QtCore import QSettings
-    from PyQt6.QtWidgets import QApplication
-
     from gmr_studio.app.loading import load_snapshot
-    from gmr_studio.app.main_window import MainWindow
 
     data = shared_data_dir()
-    app = QApplication.instance() or QApplication(sys.argv[:1])
-    scratch = os.path.join(os.environ.get("TMPDIR", "/tmp"), "gmr-studio-bench.ini")
-    window = MainWindow(settings=QSettings(scratch, QSettings.Format.IniFormat))
-    window.settings.clear()
-    window.files.quiet = True
-    window.resize(1280, 800)
-    window.show()
-    app.processEvents()
+    app, window, scratch = bench_window(1280, 800)
     window.files.open_path(str(data / BVH), ask=False, wait=True)
     state = window.state
     state.select(state.motion.joint_index("LeftHand"))
@@ -148,8 +152,7 @@ def bench_comparison(frames: int, rounds: int = 4) -> None:
     cpu_without, cpu_with = (1000 * np.median(main_thread[key]) for key in (False, True))
     print(f"{'  main-thread CPU per frame: without / with':<46} median {cpu_without:6.2f} ms / {cpu_with:6.2f} ms")
     print(f"{'  with / without (main-thread CPU medians)':<46} {cpu_with / cpu_without:6.3f}")
-    state.undo_stack.setClean()
-    window.close()
+    close_bench_window(window, scratch)
 
 
 def bench_launch() -> None:

@@ -52,27 +52,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     if not (shared_data_dir() / BVH).exists():
         print(f"the CMU files are not in {shared_data_dir()}: nothing to measure", file=sys.stderr)
         return 2
-    from PyQt6.QtCore import QSettings
-    from PyQt6.QtWidgets import QApplication
-
-    from gmr_studio.app.main_window import MainWindow
+    from gmr_studio.app.bench import bench_window, close_bench_window
     from gmr_studio.app.state import Snapshot
     from gmr_studio.app.timeplot import TimePlot
     from gmr_studio.core.formats import load_gmr
 
-    app = QApplication.instance() or QApplication(sys.argv[:1])
     base = load_gmr(shared_data_dir() / BVH)
     index = np.tile(np.arange(base.n_frames), -(-args.frames // base.n_frames))[: args.frames]
     motion = base.frame_slice(index)
-    scratch = os.path.join(os.environ.get("TMPDIR", "/tmp"), "gmr-studio-curves-bench.ini")
-    if os.path.exists(scratch):
-        os.remove(scratch)  # a layout saved by an earlier run may hide the dock
-    window = MainWindow(settings=QSettings(scratch, QSettings.Format.IniFormat))
-    window.settings.clear()
-    window.files.quiet = True
-    window.resize(1400, 1000)
-    window.show()
-    app.processEvents()
+    app, window, scratch = bench_window(1400, 1000)
     state, dock = window.state, window.curves
     state.open_document(Snapshot.of(motion), None)
     state.select(motion.joint_index("Head"))
@@ -138,8 +126,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             f"the curves dock adds to a frame update, {clock} time: median {np.median(added[clock]):+.2f} ms "
             f"over {args.repeats} repeats ({values})"
         )
-    state.undo_stack.setClean()
-    window.close()
+    close_bench_window(window, scratch)
     return 0
 
 

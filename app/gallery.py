@@ -28,7 +28,7 @@ from gmr_studio.app.loading import load_markers, load_snapshot, motion_suffixes
 from gmr_studio.app.main import has_display
 from gmr_studio.app.scene import BACKGROUND, GROUND_COLOR, SkeletonScene
 from gmr_studio.app.state import Snapshot, StudioState
-from gmr_studio.app.video import save_png, scene_image
+from gmr_studio.app.video import image_pixels, save_png, scene_image
 from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
 from gmr_studio.core.markers.markerset import MarkerSet
@@ -239,10 +239,7 @@ def contact_sheet(rows: list[list[Picture]]) -> np.ndarray:
             text = f"{picture.case}: {picture.edit}" + ("" if picture.applied else " (refused)")
             painter.drawText(QRect(c * width + 4, top, width - 8, label), Qt.AlignmentFlag.AlignVCenter, text)
     painter.end()
-    bits = sheet.constBits()
-    bits.setsize(sheet.sizeInBytes())
-    rows_bytes = np.frombuffer(bits, np.uint8).reshape(sheet.height(), sheet.bytesPerLine())
-    return rows_bytes[:, : 3 * sheet.width()].reshape(sheet.height(), sheet.width(), 3).copy()
+    return image_pixels(sheet)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

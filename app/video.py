@@ -27,6 +27,17 @@ def scene_image(scene: SkeletonScene) -> np.ndarray:
     return np.asarray(scene.plotter.screenshot(return_img=True, transparent_background=False))[..., :3]
 
 
+def image_pixels(image) -> np.ndarray:
+    """(H, W, 3) uint8 RGB copy of a QImage's pixels (any format; the copy outlives it)."""
+    from PyQt6.QtGui import QImage
+
+    rgb = image.convertToFormat(QImage.Format.Format_RGB888)
+    bits = rgb.constBits()
+    bits.setsize(rgb.sizeInBytes())
+    rows = np.frombuffer(bits, np.uint8).reshape(rgb.height(), rgb.bytesPerLine())
+    return rows[:, : 3 * rgb.width()].reshape(rgb.height(), rgb.width(), 3).copy()
+
+
 def save_png(image: np.ndarray, path: str | Path) -> None:
     """Write an (H, W, 3) uint8 image as PNG, atomically."""
     from PyQt6.QtCore import QBuffer, QByteArray, QIODevice
@@ -60,10 +71,7 @@ def window_image(window, interactor) -> np.ndarray:
     target = patch.scaled(round(interactor.width() * ratio), round(interactor.height() * ratio))
     painter.drawImage(round(corner.x() * ratio), round(corner.y() * ratio), target)
     painter.end()
-    bits = picture.constBits()
-    bits.setsize(picture.sizeInBytes())
-    rows = np.frombuffer(bits, np.uint8).reshape(picture.height(), picture.bytesPerLine())
-    return rows[:, : 3 * picture.width()].reshape(picture.height(), picture.width(), 3).copy()
+    return image_pixels(picture)
 
 
 def save_screenshot(scene: SkeletonScene, path: str | Path) -> tuple[int, int]:

@@ -21,14 +21,12 @@ def headless_env() -> dict[str, str]:
 
 
 def read_png(path) -> np.ndarray:
+    """(H, W, 3) uint8 pixels of a PNG file."""
     from PyQt6.QtGui import QImage
 
-    image = QImage(str(path)).convertToFormat(QImage.Format.Format_RGB888)
-    bits = image.constBits()
-    bits.setsize(image.sizeInBytes())
-    rows = np.frombuffer(bits, np.uint8).reshape(image.height(), image.bytesPerLine())
-    # a copy: the rows live in ``image``, which is freed when this function returns
-    return rows[:, : 3 * image.width()].reshape(image.height(), image.width(), 3).copy()
+    from gmr_studio.app.video import image_pixels
+
+    return image_pixels(QImage(str(path)))
 
 
 def test_without_a_display_it_says_how_to_run_and_exits_2():

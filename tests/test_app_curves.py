@@ -12,6 +12,7 @@ from PyQt6.QtGui import QImage, QMouseEvent
 from PyQt6.QtWidgets import QApplication
 
 from gmr_studio.app.timeplot import CURSOR_COLOUR, TimePlot
+from gmr_studio.app.video import image_pixels
 from gmr_studio.core.contacts import foot_contacts
 from gmr_studio.core.curves import joint_curves
 from tests import app_fixtures
@@ -50,19 +51,9 @@ def pixel_of_frame(plot: TimePlot, frame: float, y: float = 0.5) -> QPointF:
     return QPointF(plot.plot_widget.mapFromScene(scene))
 
 
-def image_array(image: QImage) -> np.ndarray:
-    """(H, W, 3) uint8 RGB pixels of a QImage."""
-    image = image.convertToFormat(QImage.Format.Format_RGB888)
-    pointer = image.constBits()
-    pointer.setsize(image.sizeInBytes())
-    rows = np.frombuffer(pointer, np.uint8).reshape(image.height(), image.bytesPerLine())
-    # a copy: the rows live in the converted image, freed when this function returns
-    return rows[:, : 3 * image.width()].reshape(image.height(), image.width(), 3).copy()
-
-
 def cursor_column(plot: TimePlot) -> int:
     """The x pixel of the plot image where the cursor's colour is most present."""
-    pixels = image_array(plot.plot_widget.grab().toImage())
+    pixels = image_pixels(plot.plot_widget.grab().toImage())
     height = pixels.shape[0]
     target = np.array([int(CURSOR_COLOUR[i : i + 2], 16) for i in (1, 3, 5)])
     match = (np.abs(pixels.astype(int) - target).max(axis=2) < 40).sum(axis=0)

@@ -8,11 +8,12 @@ import pytest
 from PyQt6.QtWidgets import QApplication
 
 from gmr_studio.app.timeplot import SPAN_BRUSH
+from gmr_studio.app.video import image_pixels
 from gmr_studio.core.curves import gap_spans
 from tests import app_fixtures
 from tests.app_fixtures import open_file
 from tests.conftest import shared_path
-from tests.test_app_curves import image_array, pixel_of_frame
+from tests.test_app_curves import pixel_of_frame
 
 pytestmark = pytest.mark.gui
 studio = app_fixtures.studio
@@ -43,7 +44,7 @@ def test_the_longest_gap_of_a_marker_is_shaded_over_its_frames(studio):
     plot.view_box.setXRange(start - margin, stop + margin, padding=0)
     state.set_frame(max(start - margin - 50, 0))  # the cursor out of view
     QApplication.processEvents()
-    pixels = image_array(plot.plot_widget.viewport().grab().toImage()).astype(float)
+    pixels = image_pixels(plot.plot_widget.viewport().grab().toImage()).astype(float)
     box = plot.plot_widget.mapFromScene(plot.view_box.sceneBoundingRect()).boundingRect()
     rows = pixels[box.top() + 2 : box.bottom() - 1, box.left() + 2 : box.right() - 1]
     column_colour = np.median(rows, axis=0)  # (W, 3): a column is background or band, with a curve across

@@ -16,6 +16,7 @@ from gmr_studio.app.layer_onion import layer_slot_frames, slot_of
 from gmr_studio.app.main import parse_onion
 from gmr_studio.app.onion import ghost_opacity, onion_frames
 from gmr_studio.app.scene import BACKGROUND
+from gmr_studio.app.video import image_pixels
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from gmr_studio.core.formats import load_gmr
 from gmr_studio.core.kinematics import world_positions
@@ -279,11 +280,7 @@ def test_filmstrip_command_renders_every_pose(tmp_path, layout):
     image = QImage(str(out))
     assert (image.width(), image.height()) == (1200, 400)
     if layout == "side":
-        rgb8 = image.convertToFormat(QImage.Format.Format_RGB888)
-        bits = rgb8.constBits()
-        bits.setsize(rgb8.sizeInBytes())
-        rows = np.frombuffer(bits, np.uint8).reshape(400, rgb8.bytesPerLine())
-        rgb = rows[:, : 1200 * 3].reshape(400, 1200, 3).astype(int)
+        rgb = image_pixels(image).astype(int)
         mask = rgb.max(axis=-1) - rgb.min(axis=-1) > 60  # the poses are coloured, the grid grey
         columns = mask.any(axis=0).astype(int)
         runs = int((np.diff(np.concatenate([[0], columns])) == 1).sum())

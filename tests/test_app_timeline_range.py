@@ -11,10 +11,10 @@ from PyQt6.QtGui import QKeySequence, QMouseEvent
 from PyQt6.QtWidgets import QApplication
 
 from gmr_studio.app.range_slider import RANGE_COLOUR, range_ending_at, range_starting_at
+from gmr_studio.app.video import image_pixels
 from tests import app_fixtures
 from tests.app_fixtures import open_file
 from tests.conftest import shared_path
-from tests.test_app_curves import image_array
 
 pytestmark = pytest.mark.gui
 studio = app_fixtures.studio
@@ -57,7 +57,7 @@ def test_shift_drag_on_the_slider_selects_the_range_and_shades_it(studio):
     assert plot.range == (60, 121) and slider.frame_range == (60, 121)
     assert studio.actions["trim_range"].isEnabled()
     # the band is drawn over the selected frames only
-    pixels = image_array(slider.grab().toImage()).astype(int)
+    pixels = image_pixels(slider.grab().toImage()).astype(int)
     tint = pixels[:, :, 0] - pixels[:, :, 2]  # the range colour is yellow: red well above blue
     inside = [int(slider.x_of_frame(f)) for f in (70, 90, 110)]
     outside = [int(slider.x_of_frame(f)) for f in (20, 200)]

@@ -16,23 +16,12 @@ from gmr_studio.core.operations import shift_root, split, split_all
 from tests import app_fixtures
 from tests.app_fixtures import open_file
 from tests.conftest import shared_path
-from tests.test_app_cli import STUDIO
+from tests.test_app_cli import STUDIO, read_png
 
 pytestmark = pytest.mark.gui
 studio = app_fixtures.studio
 
 CMU = "cmu/subject01/01_01.bvh"
-
-
-def read_png(path) -> np.ndarray:
-    """(H, W, 3) uint8, a copy (the QImage's buffer goes away with it)."""
-    from PyQt6.QtGui import QImage
-
-    image = QImage(str(path)).convertToFormat(QImage.Format.Format_RGB888)
-    bits = image.constBits()
-    bits.setsize(image.sizeInBytes())
-    rows = np.frombuffer(bits, np.uint8).reshape(image.height(), image.bytesPerLine())
-    return rows[:, : 3 * image.width()].reshape(image.height(), image.width(), 3).copy()
 
 
 def _studio(*args) -> subprocess.CompletedProcess:

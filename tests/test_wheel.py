@@ -122,11 +122,11 @@ def test_gmr_studio_screenshot_of_the_demo_from_the_wheel(installed):
     assert made.returncode == 0, made.stderr
     from PyQt6.QtGui import QImage
 
+    from gmr_studio.app.video import image_pixels
+
     image = QImage(str(shot))
     assert (image.width(), image.height()) == (640, 400)
-    pixels = np.frombuffer(
-        image.convertToFormat(QImage.Format.Format_RGB888).constBits().asstring(640 * 400 * 3), np.uint8
-    )
+    pixels = image_pixels(image)
     assert np.unique(pixels.reshape(-1, 3), axis=0).shape[0] > 50  # a drawn scene, not a blank image
 
 
