@@ -109,10 +109,7 @@ def bvh_export(motion: Motion, *, world_root: str = WORLD_ROOT) -> BvhExport:
             parents[r] = len(names) - 1
     for j in roots:  # tree roots: 6 channels, positions = world positions
         flags[j] = True
-    children: list[list[int]] = [[] for _ in names]
-    for j, p in enumerate(parents):
-        if p >= 0:
-            children[p].append(j)
+    children = _children_in_file_order(names, parents, world)
     all_names = set(names)
     read_back: set[str] = set()  # names a reader has given, in file order
     for j in _depth_first(parents, children):
@@ -131,7 +128,14 @@ def bvh_export(motion: Motion, *, world_root: str = WORLD_ROOT) -> BvhExport:
             orders[j] = complete_order(orders[j])
         if leaf:  # a leaf with channels: a zero-offset End Site below it
             end = _unique(f"{names[j]}_End", read_back)
-            if end not in all_names:
+            if end in all_names and end not in read_back:
+                # a joint later in the file has the name a reader gives this End Site (the
+                # End Site split off as a tree of its own): that joint is renamed in the
+                # export (``names`` maps it back), else the reader would see the name twice
+                later = names.index(end)
+                names[later] = _unique(end, all_names | read_back)
+                all_names.add(names[later])
+            if end not in read_back:
                 read_back.add(end)
                 names.append(end)
                 parents.append(j)
@@ -140,19 +144,41 @@ def bvh_export(motion: Motion, *, world_root: str = WORLD_ROOT) -> BvhExport:
                 offsets.append(np.zeros(3))
                 rotations.append(np.broadcast_to(np.eye(3), (n_frames, 3, 3)))
                 translations.append(np.zeros((n_frames, 3)))
+    source_names = tuple(names[:n_source])
+    # the joints in the order the writer prints them and the loop above read them back
+    order = _depth_first(parents, _children_in_file_order(names, parents, world))
+    new_index = {old: new for new, old in enumerate(order)}
     result = Motion(
-        names=names,
-        parents=parents,
-        offsets=np.array(offsets),
-        rotation_orders=orders,
-        has_translation=np.array(flags),
-        rotations=np.stack(rotations, axis=1),
-        translations=np.stack(translations, axis=1),
+        names=[names[j] for j in order],
+        parents=[new_index[parents[j]] if parents[j] >= 0 else -1 for j in order],
+        offsets=np.array([offsets[j] for j in order]),
+        rotation_orders=[orders[j] for j in order],
+        has_translation=np.array([flags[j] for j in order]),
+        rotations=np.stack([rotations[j] for j in order], axis=1),
+        translations=np.stack([translations[j] for j in order], axis=1),
         frame_time=post.frame_time,
         convention="post",
         comments=post.comments,
     )
-    return BvhExport(result, tuple(names[:n_source]), tuple(dummies), world)
+    return BvhExport(result, source_names, tuple(dummies), world)
+
+
+#: a name a BVH reader may give an End Site (``<parent>_End``, maybe numbered)
+_END_SITE_NAME = re.compile(r"_End\d*$")
+
+
+def _children_in_file_order(names: list[str], parents: list[int], world: str | None) -> list[list[int]]:
+    """Each joint's children by index, except that the trees of a forest whose root is named
+    like an End Site (``Toes_End``, split off as a tree of its own) come first under the
+    synthetic root: then a reader has seen that name before it names the End Site below the
+    former parent (``Toes``), numbers that one ``Toes_End2``, and every joint keeps its name."""
+    children: list[list[int]] = [[] for _ in names]
+    for j, p in enumerate(parents):
+        if p >= 0:
+            children[p].append(j)
+    if world is not None:
+        children[names.index(world)].sort(key=lambda r: (_END_SITE_NAME.search(names[r]) is None, r))
+    return children
 
 
 def _single_word_names(names: tuple[str, ...]) -> list[str]:

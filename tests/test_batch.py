@@ -26,8 +26,10 @@ def motion_folder(tmp_path):
     shared_path("cmu/subject01/01_01.amc")
     data = shared_data_dir()
     folder = tmp_path / "in"
-    for relative in ("cmu/subject01", "cmu/subject02", "bvh"):
+    for relative in ("cmu/subject01", "cmu/subject02"):
         shutil.copytree(data / relative, folder / relative)
+    (folder / "bvh").mkdir()  # one BVH of the folder (the test's counts are of this set)
+    shutil.copy(data / "bvh" / "cmu_cgspeed_npybvh_example_75f.bvh", folder / "bvh")
     for path in folder.rglob("*"):
         path.chmod(0o644 if path.is_file() else 0o755)
     (folder / "broken").mkdir()

@@ -9,7 +9,7 @@ from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats.bvh import read_bvh
 from gmr_studio.core.kinematics import world_positions
 from gmr_studio.core.rotations import matrix_from_euler
-from tests.conftest import shared_files
+from tests.conftest import shared_files, shared_path
 
 SMALL = """HIERARCHY
 ROOT Hips
@@ -173,9 +173,39 @@ def test_fewer_frames_than_promised():
     assert_error(error_of(text), 21, 1, "ends after 2 frames", "'Frames:' on line 17 promised 5")
 
 
-def test_more_frames_than_promised():
-    text = SMALL.replace("Frames: 2", "Frames: 1")
-    assert_error(error_of(text), 20, 1, "more frame lines than the 1 promised")
+def test_more_frames_than_promised_are_read_and_said():
+    """assimp's Boxing_Toes.bvh holds one row more than ``Frames:`` counts; Blender reads every
+    row, and so do we, saying so in the motion's comments (the GMR header and ``gmr info``)."""
+    motion = read(SMALL.replace("Frames: 2", "Frames: 1"))
+    assert motion.n_frames == 2
+    np.testing.assert_allclose(world_positions(motion), world_positions(read(SMALL)), rtol=0, atol=0)
+    assert motion.comments == (
+        "the MOTION section holds 2 frame lines, 1 more than the 1 that 'Frames:' on line 17 promises: "
+        "all 2 were read (as Blender does)",
+    )
+    assert read(SMALL).comments == ()
+
+
+def test_an_extra_frame_line_with_the_wrong_count_is_still_an_error():
+    text = SMALL.replace("Frames: 2", "Frames: 1").replace("4 5 6 90 0 0 0 0 0", "4 5 6 90 0 0 0 0")
+    assert_error(error_of(text), 20, 17, "frame 2 has 8 values, expected 9")
+
+
+def test_a_gmr_file_with_more_frames_than_promised_is_refused():
+    """GMR is the project's own format: its writer counts right, so extra rows mean damage."""
+    from gmr_studio.core.convert import pre_from_post
+    from gmr_studio.core.formats.gmr import read_gmr
+    from gmr_studio.core.formats.textmotion import format_text_motion
+
+    text = "".join(format_text_motion(pre_from_post(read(SMALL)), "gmr")).replace("Frames: 2", "Frames: 1")
+    with pytest.raises(MotionFileError, match="more frame lines than the 1 promised"):
+        read_gmr("test.gmr", text.encode())
+
+
+def test_the_assimp_boxing_take_with_one_row_too_many_reads_every_row():
+    motion = read_bvh(shared_path("bvh/assimp_Boxing_Toes.bvh"))
+    assert motion.n_frames == 3070 and motion.frame_rate == pytest.approx(100)
+    assert "3070 frame lines, 1 more than the 3069" in motion.comments[-1]
 
 
 def test_non_numeric_value():

@@ -49,6 +49,25 @@ def test_a_joint_left_childless_by_a_split_keeps_its_name(split_feet, tmp_path):
     assert_names_and_positions_kept(split_feet, read_bvh(tmp_path / "feet.bvh"))
 
 
+def test_an_end_site_split_off_as_its_own_tree_keeps_its_name_and_the_file_stays_valid(split_feet):
+    """Splitting off ``LeftToeBase_End`` leaves ``LeftToeBase`` a leaf with channels: the export
+    gives it a zero-offset End Site (every JOINT has a child, as strict readers require), and
+    writes the ``LeftToeBase_End`` tree first, so that a reader numbers that End Site
+    ``LeftToeBase_End2`` instead of meeting the name twice (it did: no End Site was written)."""
+    from tests.test_export import validate_bvh
+
+    motion = split(split_feet, "LeftToeBase_End")
+    export = bvh_export(motion)
+    assert export.names == motion.names
+    text = export.text()
+    validate_bvh(text)
+    again = read_bvh("end.bvh", text.encode())
+    assert "LeftToeBase_End2" in again.names and again.parents[again.names.index("LeftToeBase_End2")] == (
+        again.names.index("LeftToeBase")
+    )
+    assert_names_and_positions_kept(motion, again)
+
+
 def test_names_kept_one_file_per_tree(split_feet, tmp_path):
     for root, export in bvh_export_trees(split_feet):
         path = tmp_path / f"{root}.bvh"

@@ -86,7 +86,14 @@ def test_positions_from_euler_angles_match(motion):
 def test_real_files_in_both_conventions_and_as_forests(path, backend):
     post = read_bvh(path)
     gmr = pre_from_post(post)
-    forest = split(split(shift_root(gmr, "LeftHand"), "RightFoot"), "Head")
+    # joints picked by structure, not by name (the files name them LeftHand, LeftWrist,
+    # mixamorig:LeftHand...): the root moves to the deepest joint, then two others split off
+    deepest = int(np.argmax(gmr.depths))
+    others = [j for j in (gmr.n_joints // 3, 2 * gmr.n_joints // 3) if j != deepest]
+    forest = shift_root(gmr, deepest)
+    for joint in others:
+        forest = split(forest, joint)
+    assert len(forest.roots) == 1 + len(others)
     # measured over the shared files: positions 8.0e-16 of the size, rotations 6.7e-16,
     # positions from Euler angles 5.4e-16 of the size (the bounds were 1e-12, 1e-12, 1e-11)
     for motion in (post, gmr, forest):

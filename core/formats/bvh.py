@@ -54,10 +54,17 @@ def read_bvh_with_channels(path: str | Path, data: bytes | None = None) -> tuple
     data = normalise_newlines(read_input(path, data))
     header = parse_header(data, path_text, "bvh")
     n_values = sum(len(j.channels) for j in header.joints)
-    values = parse_frames(
-        data, header.data_offset, header.data_line, n_values, header.n_frames, header.frames_token.line, path_text
+    values, note = parse_frames(
+        data,
+        header.data_offset,
+        header.data_line,
+        n_values,
+        header.n_frames,
+        header.frames_token.line,
+        path_text,
+        allow_extra=True,
     )
-    motion = _motion_from_header(header, values, "bvh", path_text)
+    motion = _motion_from_header(header, values, "bvh", path_text, note)
     values.flags.writeable = False
     orders, angles, column = {}, {}, 0
     for joint in header.joints:

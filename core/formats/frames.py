@@ -38,8 +38,16 @@ _NUMBER = re.compile(rb"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?\Z")
 
 
 def parse_frames(
-    data: bytes, offset: int, first_line: int, n_values: int, n_frames: int, frames_line: int, path: str
-) -> np.ndarray:
+    data: bytes,
+    offset: int,
+    first_line: int,
+    n_values: int,
+    n_frames: int,
+    frames_line: int,
+    path: str,
+    *,
+    allow_extra: bool = False,
+) -> tuple[np.ndarray, str | None]:
     """Parse the frame lines that start at byte ``offset`` of normalised ``data``.
 
     Parameters
@@ -47,22 +55,26 @@ def parse_frames(
     first_line : 1-based line number of ``data[offset]``.
     n_values : numbers per frame (the total channel count).
     n_frames : frames the header promised (``Frames:`` on line ``frames_line``).
+    allow_extra : complete frame lines beyond ``n_frames`` are read too, and the returned
+        note says so (BVH: other exporters write one row more than they count, and Blender
+        and assimp read such files); otherwise they are an error (GMR, our own format).
 
     Returns
     -------
-    (n_frames, n_values) float64, finite.
+    values : (F, n_values) float64, finite; F is ``n_frames``, or more with ``allow_extra``.
+    note : what was tolerated (extra rows kept), or None.
 
     Raises
     ------
     MotionFileError at the first line that has the wrong count of values, a value that
-    is not a finite number, a frame beyond ``n_frames``, or at the end of the file when
-    there are fewer frames than promised.
+    is not a finite number, a frame beyond ``n_frames`` (unless ``allow_extra``), or at the
+    end of the file when there are fewer frames than promised.
     """
     block = data[offset:]
     values = None
     if not block or block.isspace():
         if n_values == 0 or n_frames == 0:
-            return np.zeros((n_frames, n_values))
+            return np.zeros((n_frames, n_values)), None
     elif n_values:
         try:
             with warnings.catch_warnings():
@@ -71,21 +83,30 @@ def parse_frames(
         except ValueError:
             values = None
     if values is not None and values.shape == (n_frames, n_values) and within_range(values):
-        return values  # NaN fails the comparison too
-    _raise_first_problem(block, first_line, n_values, n_frames, frames_line, path)
+        return values, None  # NaN fails the comparison too
+    if allow_extra and values is not None and values.shape[0] > n_frames and values.shape[1] == n_values:
+        if within_range(values):
+            extra = values.shape[0] - n_frames
+            note = (
+                f"the MOTION section holds {values.shape[0]} frame lines, {extra} more than the {n_frames} "
+                f"that 'Frames:' on line {frames_line} promises: all {values.shape[0]} were read (as Blender does)"
+            )
+            return values, note
+    _raise_first_problem(block, first_line, n_values, n_frames, frames_line, path, allow_extra)
     raise MotionFileError(path, "the frame data could not be read", first_line, 1)  # pragma: no cover
 
 
 def _raise_first_problem(
-    block: bytes, first_line: int, n_values: int, n_frames: int, frames_line: int, path: str
+    block: bytes, first_line: int, n_values: int, n_frames: int, frames_line: int, path: str, allow_extra: bool
 ) -> None:
+    """Raise at the first bad line (``allow_extra``: lines past ``n_frames`` are not an error)."""
     frame = 0
     line_number = first_line - 1
     for line_number, line in enumerate(block.split(b"\n"), start=first_line):
         values = list(_VALUE.finditer(line))
         if not values:
             continue
-        if frame == n_frames:
+        if frame == n_frames and not allow_extra:
             raise MotionFileError(
                 path,
                 f"more frame lines than the {n_frames} promised by 'Frames:' on line {frames_line}",

@@ -41,13 +41,24 @@ def read_text_motion(path: str | Path, dialect: str, data: bytes | None = None) 
     data = normalise_newlines(read_input(path, data))
     header = parse_header(data, path_text, dialect)
     n_values = sum(len(j.channels) for j in header.joints)
-    values = parse_frames(
-        data, header.data_offset, header.data_line, n_values, header.n_frames, header.frames_token.line, path_text
+    values, note = parse_frames(
+        data,
+        header.data_offset,
+        header.data_line,
+        n_values,
+        header.n_frames,
+        header.frames_token.line,
+        path_text,
+        allow_extra=dialect == "bvh",
     )
-    return _motion_from_header(header, values, dialect, path_text)
+    return _motion_from_header(header, values, dialect, path_text, note)
 
 
-def _motion_from_header(header: ParsedHeader, values: np.ndarray, dialect: str, path: str) -> Motion:
+def _motion_from_header(
+    header: ParsedHeader, values: np.ndarray, dialect: str, path: str, note: str | None = None
+) -> Motion:
+    """The motion of a parsed header and its (F, V) frame values; ``note`` (what the reader
+    tolerated) is added to the comments."""
     joints = header.joints
     n_frames, n_joints = values.shape[0], len(joints)
     offsets = np.array([j.offset for j in joints], dtype=np.float64)
@@ -113,7 +124,7 @@ def _motion_from_header(header: ParsedHeader, values: np.ndarray, dialect: str, 
             translations=translations,
             frame_time=header.frame_time,
             convention="post" if dialect == "bvh" else "pre",
-            comments=header.comments,
+            comments=(*header.comments, note) if note else header.comments,
         )
     except ValueError as exc:
         token = first_link or header.frames_token

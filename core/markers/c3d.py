@@ -107,7 +107,10 @@ def read_c3d(
         try:
             decoded = decode_c3d(Path(path))
         except (OSError, RuntimeError, ValueError, MemoryError, IndexError) as exc:
-            raise MotionFileError(where, f"ezc3d rejects the file: {_clean(str(exc))}") from None
+            from gmr_studio.core.markers.c3d_worker import OWN_PREFIX, OwnError
+
+            text = OWN_PREFIX + str(exc) if isinstance(exc, OwnError) else str(exc)
+            raise MotionFileError(where, rejection(_clean(text))) from None
     decoded["meta"]["announced_frames"] = announced
     return _marker_set(decoded, where, zero_residual)
 
@@ -157,7 +160,7 @@ def _decode_in_child(path: Path, where: str, size: int, timeout: float | None) -
         ) from None
     message = _clean(done.stderr.decode("utf-8", "replace"))
     if done.returncode == REJECTED:
-        raise MotionFileError(where, f"ezc3d rejects the file: {message}")
+        raise MotionFileError(where, rejection(message))
     if done.returncode != 0:
         cause = f"signal {-done.returncode}" if done.returncode < 0 else f"exit status {done.returncode}"
         detail = f" ({message})" if done.stderr.strip() else ""
@@ -166,6 +169,22 @@ def _decode_in_child(path: Path, where: str, size: int, timeout: float | None) -
         decoded = {key: archive[key] for key in archive.files}
     decoded["meta"] = json.loads(str(decoded["meta"]))
     return decoded
+
+
+def rejection(message: str) -> str:
+    """The error message for a file the worker refused: the project's own reasons as they
+    are; ezc3d's prefixed with its name, and, where ezc3d asks its user to report a missing
+    feature, what the user can do instead."""
+    own = "gmr: "  # c3d_worker.OWN_PREFIX (the worker module is not imported here)
+    if message.startswith(own):
+        return message[len(own) :]
+    if "github issue" in message.lower():
+        what = message.split(",")[0].split(". ")[0].strip().rstrip(".")
+        return (
+            f"this kind of C3D cannot be read here (ezc3d: {what}); export the trial again from the "
+            "capture software as a PC (Intel) C3D, or convert it with a C3D editor such as Mokka"
+        )
+    return f"ezc3d rejects the file: {message}"
 
 
 def _clean(message: str) -> str:
@@ -179,7 +198,7 @@ def _marker_set(decoded: dict, where: str, zero_residual: ZeroResidual) -> Marke
     points = np.array(decoded["points"], dtype=np.float64)
     residuals = np.asarray(decoded["residuals"], dtype=np.float64)
     n_frames, n_points = points.shape[:2]
-    notes: list[str] = []
+    notes: list[str] = list(meta.get("notes", []))
     rate = meta["rate"]
     if not np.isfinite(rate) or rate <= 0:
         raise MotionFileError(where, f"the point rate is {rate}: expected a positive number of frames per second")

@@ -64,6 +64,15 @@ def _word_pair(values: np.ndarray) -> int:
     return (int(values[0]) & SATURATED) + ((int(values[1]) & SATURATED) << 16)
 
 
+def analog_values_per_frame(path: Path) -> int:
+    """Header word 3: the analog samples stored with each 3D frame (channels x samples)."""
+    with path.open("rb") as stream:
+        header = stream.read(512)
+        stream.seek((header[0] - 1) * 512 + 3)
+        processor = stream.read(1)[0]
+    return int(np.frombuffer(header[4:6], dtype=">u2" if processor == SGI else "<u2")[0])
+
+
 def read_points(path: Path, parameters, n_frames: int) -> tuple[np.ndarray, np.ndarray, int]:
     """The 3D points of the first ``n_frames`` frames, read from the file's data section.
 

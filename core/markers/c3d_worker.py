@@ -24,6 +24,14 @@ OUTPUT_GROUPS = ("ANGLES", "FORCES", "MOMENTS", "POWERS", "SCALARS", "REACTIONS"
 _NOT_GROUPS = ("LABELS", "DESCRIPTIONS", "UNITS", "TYPE_GROUPS")
 
 
+#: what the worker prints before a message of the project's own (not ezc3d's)
+OWN_PREFIX = "gmr: "
+
+
+class OwnError(ValueError):
+    """A reason of the project's own for refusing the file (printed after OWN_PREFIX)."""
+
+
 def output_groups(point) -> tuple[dict[str, list[str]], dict[str, str]]:
     """The analysis-output groups of ezc3d's POINT parameters: group name -> the point labels
     it lists, and group name -> its unit (``POINT:ANGLE_UNITS`` for ANGLES...).
@@ -59,11 +67,9 @@ def decode_c3d(path: Path) -> dict:
     when the parameters announce more frames than ezc3d read: then every frame is decoded
     by :func:`core.markers.c3d_frames.read_points`).
     """
-    import ezc3d  # imported here: the parent process of an isolated read never loads it
-
     from gmr_studio.core.markers.c3d_frames import parameter_frame_count, read_points
 
-    c3d = ezc3d.c3d(str(path))
+    c3d, notes = _ezc3d_read(path)
     point = c3d["parameters"]["POINT"]
     data = c3d["data"]
     xyz = np.ascontiguousarray(np.asarray(data["points"], dtype=np.float64)[:3].transpose(2, 1, 0))
@@ -90,7 +96,65 @@ def decode_c3d(path: Path) -> dict:
     if counted is not None and counted[0] > xyz.shape[0]:  # past 65,535 frames: ezc3d stops there
         xyz, residuals, read = read_points(path, c3d["parameters"], counted[0])
         meta["long_frames"] = {"announced": counted[0], "where": counted[1], "read": read}
+    elif (layout := _analog_layout_note(path, c3d)) is not None:
+        xyz, residuals, _ = read_points(path, c3d["parameters"], xyz.shape[0])
+        notes.append(layout)
+    meta["notes"] = notes
     return {"points": xyz, "residuals": residuals, "meta": meta}
+
+
+def _ezc3d_read(path: Path):
+    """ezc3d's reading of the file and what was done to make it readable: an SGI/MIPS file,
+    which ezc3d refuses, is rewritten in Intel byte order first (:mod:`core.markers.c3d_byteorder`)."""
+    import tempfile
+
+    import ezc3d  # imported here: the parent process of an isolated read never loads it
+
+    from gmr_studio.core.markers.c3d_byteorder import SGI, C3DLayoutError, intel_from_sgi, processor_of
+
+    data = path.read_bytes()
+    try:
+        sgi = processor_of(data) == SGI
+    except C3DLayoutError:
+        sgi = False  # ezc3d says what is wrong
+    if not sgi:
+        return ezc3d.c3d(str(path)), []
+    try:
+        intel = intel_from_sgi(data)
+    except C3DLayoutError as exc:
+        raise OwnError(
+            f"this SGI/MIPS (big-endian) C3D is damaged: {exc}; export the trial again from the capture software"
+        ) from None
+    with tempfile.TemporaryDirectory(prefix="gmr-c3d-") as folder:
+        copy = Path(folder) / "intel.c3d"
+        copy.write_bytes(intel)
+        c3d = ezc3d.c3d(str(copy))
+    return c3d, ["written on an SGI/MIPS machine (big-endian): read in Intel byte order, numbers unchanged"]
+
+
+def _analog_layout_note(path: Path, c3d) -> str | None:
+    """A note when ezc3d's frame layout disagrees with the header's, else None.
+
+    ezc3d sizes a frame's analog block as ANALOG:USED x (ANALOG:RATE / POINT:RATE, rounded
+    down); the header's word 3 holds the analog values per 3D frame that the writer used.
+    Where they differ (Motion Analysis' EVaRT sample 11: ANALOG:RATE 1000 at 60 Hz gives
+    ezc3d 16 samples, the header and the file's size say 17), ezc3d reads every frame after
+    the first from the wrong place; the points are then decoded by the header's layout
+    (:func:`core.markers.c3d_frames.read_points`), which the file's size confirms."""
+    from gmr_studio.core.markers.c3d_frames import analog_values_per_frame
+
+    analogs = c3d["header"]["analogs"]
+    point_rate = float(c3d["header"]["points"]["frame_rate"])
+    if not analogs["size"] or point_rate <= 0:
+        return None
+    ezc3d_values = int(analogs["size"]) * round(float(analogs["frame_rate"]) / point_rate)
+    header_values = analog_values_per_frame(path)
+    if ezc3d_values == header_values:
+        return None
+    return (
+        f"the header stores {header_values} analog values per frame, ezc3d expected {ezc3d_values} "
+        "(from ANALOG:RATE / POINT:RATE): points decoded by the header's layout"
+    )
 
 
 def _die_with_parent(parent: int | None) -> None:
@@ -127,6 +191,9 @@ def _worker(argv: list[str]) -> int:
         decoded = decode_c3d(Path(argv[0]))
     except MemoryError:
         print("the file asks for more memory than any C3D needs", file=sys.stderr)
+        return REJECTED
+    except OwnError as exc:
+        print(OWN_PREFIX + str(exc), file=sys.stderr)
         return REJECTED
     except Exception as exc:  # ezc3d raises OSError, RuntimeError, ValueError...
         print(str(exc), file=sys.stderr)
