@@ -153,12 +153,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     except argparse.ArgumentTypeError as exc:
         parser.error(str(exc))
     if args.recover:
-        from gmr_studio.app.recovery import print_recoveries
+        from gmr_studio.app.reliability.recovery import print_recoveries
 
         return print_recoveries()
     motion_path, markers_path = default_files(args)
     if args.filmstrip:
-        from gmr_studio.app.filmstrip import filmstrip_command
+        from gmr_studio.app.media.filmstrip import filmstrip_command
 
         return filmstrip_command(motion_path, args.filmstrip, args.frames, args.layout, size)
     if args.screenshot and (args.window or has_display()):
@@ -180,9 +180,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     from PyQt6.QtWidgets import QApplication
 
-    from gmr_studio.app.crash import install_hooks
-    from gmr_studio.app.main_window import MainWindow
-    from gmr_studio.app.theme import apply_theme
+    from gmr_studio.app.reliability.crash import install_hooks
+    from gmr_studio.app.window.main_window import MainWindow
+    from gmr_studio.app.window.theme import apply_theme
 
     app = QApplication.instance() or QApplication(sys.argv[:1])
     app.setApplicationName("GMR Studio")
@@ -196,7 +196,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         window.files.load_finished.connect(lambda ok: _report_first_frame(app, window, ok))
     if args.compare:
         _compare_once_loaded(window, args)
-    from gmr_studio.app.recovery_dialog import offer_recovery
+    from gmr_studio.app.dialogs.recovery_dialog import offer_recovery
 
     if not offer_recovery(window):
         window.files.open_path(motion_path, markers=markers_path, ask=False, wait=bool(args.test_edits))
@@ -232,7 +232,7 @@ def _apply_steps_once_loaded(window, steps: list) -> None:
 
 def _edit_command(operation: str):
     """The app's command for one of ``gmr edit``'s operations: (state, joint index) -> pushed."""
-    from gmr_studio.app import commands, extensions
+    from gmr_studio.app.model import commands, extensions
 
     return {
         "shift_root": commands.make_root,
@@ -273,7 +273,7 @@ def apply_steps(state, steps: list) -> str | None:
 def make_test_edits(state, count: int) -> None:
     """Test only (``--test-edits N``): split the tree at joints 1, 2, ... of the motion as
     it is after each edit (joints that are roots already are skipped); prints their names."""
-    from gmr_studio.app import commands
+    from gmr_studio.app.model import commands
 
     names, joint = [], 1
     while len(names) < count and joint < state.motion.n_joints:
@@ -295,7 +295,7 @@ def _report_first_frame(app, window, loaded: bool) -> None:
 
 
 def _load_or_report(motion_path: str, markers_path: str | None):
-    from gmr_studio.app.loading import load_markers, load_snapshot
+    from gmr_studio.app.model.loading import load_markers, load_snapshot
     from gmr_studio.core.errors import MotionFileError
 
     try:
@@ -314,7 +314,7 @@ def _add_comparison(window, args: argparse.Namespace) -> str | None:
         return None
     from pathlib import Path
 
-    from gmr_studio.app.loading import load_markers, load_snapshot, marker_suffixes
+    from gmr_studio.app.model.loading import load_markers, load_snapshot, marker_suffixes
     from gmr_studio.core.errors import MotionFileError
 
     try:
@@ -349,10 +349,10 @@ def offscreen_screenshot(motion_path: str, markers_path: str | None, args: argpa
     import pyvista as pv
     from PyQt6.QtCore import QCoreApplication
 
-    from gmr_studio.app import extensions
-    from gmr_studio.app.scene import SkeletonScene
-    from gmr_studio.app.state import StudioState
-    from gmr_studio.app.video import save_screenshot
+    from gmr_studio.app.media.video import save_screenshot
+    from gmr_studio.app.model import extensions
+    from gmr_studio.app.model.state import StudioState
+    from gmr_studio.app.scene.scene import SkeletonScene
 
     loaded = _load_or_report(motion_path, markers_path)
     if loaded is None:
@@ -380,7 +380,7 @@ def offscreen_screenshot(motion_path: str, markers_path: str | None, args: argpa
         scene.set_pelvis(state.pelvis)
         scene.show_frame(frame)
         if args.onion:
-            from gmr_studio.app.onion import OnionSkins
+            from gmr_studio.app.scene.onion import OnionSkins
 
             OnionSkins(plotter, lambda: None).show(state.snapshot, scene.frame, *args.onion)
         width, height = save_screenshot(scene, out)
@@ -394,9 +394,9 @@ def window_screenshot(motion_path: str, markers_path: str | None, args: argparse
     """Open the real window, show the frame, save its view (or the whole window) and exit."""
     from PyQt6.QtWidgets import QApplication
 
-    from gmr_studio.app import extensions
-    from gmr_studio.app.main_window import MainWindow
-    from gmr_studio.app.video import save_screenshot, window_image
+    from gmr_studio.app.media.video import save_screenshot, window_image
+    from gmr_studio.app.model import extensions
+    from gmr_studio.app.window.main_window import MainWindow
 
     loaded = _load_or_report(motion_path, markers_path)
     if loaded is None:
@@ -434,7 +434,7 @@ def window_screenshot(motion_path: str, markers_path: str | None, args: argparse
     window.view.scene.reset_camera()
     app.processEvents()
     if whole_window:
-        from gmr_studio.app.video import save_png
+        from gmr_studio.app.media.video import save_png
 
         image = window_image(window, window.view.interactor)
         save_png(image, out)

@@ -15,7 +15,7 @@ from PyQt6.QtCore import QEvent, QSettings
 from PyQt6.QtWidgets import QApplication
 from pyvista.plotting.plotter import _ALL_PLOTTERS
 
-from gmr_studio.app.main_window import MainWindow
+from gmr_studio.app.window.main_window import MainWindow
 
 
 def live_windows() -> set[int]:
@@ -59,6 +59,6 @@ def open_file(window: MainWindow, path, markers=None) -> None:
 
 
 def screen_image(window: MainWindow) -> np.ndarray:
-    from gmr_studio.app.video import scene_image
+    from gmr_studio.app.media.video import scene_image
 
     return scene_image(window.view.scene)

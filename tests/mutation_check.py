@@ -68,7 +68,7 @@ MUTATIONS = [
     ),
     (
         "app: no except Exception around export",
-        "app/files.py",
+        "app/window/files.py",
         '            self._report(describe_unexpected(f"Exporting {path}", exc))\n            return False\n',
         "            raise\n",
         ["tests/test_export_app.py"],

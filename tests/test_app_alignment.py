@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from gmr_studio.app.alignment import (
+from gmr_studio.app.model.alignment import (
     MarkerAlignment,
     auto_alignment,
     axis_rotations,

@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.app.alignment import MarkerAlignment, figure_centre_joint, rotation_about, turned_about
-from gmr_studio.app.alignment_dialog import PIVOT_COLOR, AlignmentDialog
+from gmr_studio.app.dialogs.alignment_dialog import PIVOT_COLOR, AlignmentDialog
+from gmr_studio.app.model.alignment import MarkerAlignment, figure_centre_joint, rotation_about, turned_about
 from gmr_studio.core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
 from tests import app_fixtures
 from tests.app_fixtures import open_file, screen_image

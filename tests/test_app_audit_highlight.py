@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from PyQt6.QtWidgets import QApplication
 
-from gmr_studio.app import audit_dialog
+from gmr_studio.app.dialogs import audit_dialog
 from gmr_studio.core.compare.audit import AuditPath
 from tests import app_fixtures
 from tests.app_fixtures import open_file, screen_image

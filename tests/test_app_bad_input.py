@@ -19,7 +19,7 @@ from PyQt6.QtCore import QMimeData, QPointF, Qt, QUrl
 from PyQt6.QtGui import QDropEvent
 from PyQt6.QtWidgets import QFileDialog, QMessageBox
 
-from gmr_studio.app import commands
+from gmr_studio.app.model import commands
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.fuzz.targets import all_targets

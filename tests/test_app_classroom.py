@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.app import commands
-from gmr_studio.app.teach_overlay import POST_COLOR, PRE_COLOR
+from gmr_studio.app.model import commands
+from gmr_studio.app.scene.teach_overlay import POST_COLOR, PRE_COLOR
 from tests import app_fixtures
 from tests.app_fixtures import open_file, screen_image
 from tests.conftest import shared_path

@@ -24,7 +24,7 @@ def read_png(path) -> np.ndarray:
     """(H, W, 3) uint8 pixels of a PNG file."""
     from PyQt6.QtGui import QImage
 
-    from gmr_studio.app.video import image_pixels
+    from gmr_studio.app.media.video import image_pixels
 
     return image_pixels(QImage(str(path)))
 

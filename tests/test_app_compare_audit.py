@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 from PyQt6.QtWidgets import QApplication
 
-from gmr_studio.app import audit_dialog
+from gmr_studio.app.dialogs import audit_dialog
 from gmr_studio.core.compare.audit import AuditPath
 from tests.app_fixtures import open_file, studio  # noqa: F401 (fixture)
 from tests.conftest import shared_path

@@ -11,8 +11,8 @@ from PyQt6.QtCore import QEvent, QPointF, Qt
 from PyQt6.QtGui import QImage, QMouseEvent
 from PyQt6.QtWidgets import QApplication
 
-from gmr_studio.app.timeplot import CURSOR_COLOUR, TimePlot
-from gmr_studio.app.video import image_pixels
+from gmr_studio.app.docks.timeplot import CURSOR_COLOUR, TimePlot
+from gmr_studio.app.media.video import image_pixels
 from gmr_studio.core.contacts import foot_contacts
 from gmr_studio.core.curves import joint_curves
 from tests import app_fixtures

@@ -1,4 +1,4 @@
-"""``python -m gmr_studio.app.curves_bench`` on a short motion: it prints the wall and CPU
+"""``python -m gmr_studio.app.tools.curves_bench`` on a short motion: it prints the wall and CPU
 figures of every repeat and their medians (the figures themselves are never asserted)."""
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ def test_the_bench_reports_wall_and_cpu_time_for_each_repeat():
     command = [
         sys.executable,
         "-m",
-        "gmr_studio.app.curves_bench",
+        "gmr_studio.app.tools.curves_bench",
         "--frames",
         "3000",
         "--updates",

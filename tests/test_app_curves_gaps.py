@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from PyQt6.QtWidgets import QApplication
 
-from gmr_studio.app.timeplot import SPAN_BRUSH
-from gmr_studio.app.video import image_pixels
+from gmr_studio.app.docks.timeplot import SPAN_BRUSH
+from gmr_studio.app.media.video import image_pixels
 from gmr_studio.core.curves import gap_spans
 from tests import app_fixtures
 from tests.app_fixtures import open_file

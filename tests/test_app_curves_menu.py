@@ -12,7 +12,7 @@ from PyQt6.QtCore import QTimer
 from PyQt6.QtGui import QAction
 from PyQt6.QtWidgets import QApplication, QInputDialog
 
-from gmr_studio.app.state import Snapshot
+from gmr_studio.app.model.state import Snapshot
 from gmr_studio.core.clip import resample
 from gmr_studio.core.kinematics import world_positions
 from gmr_studio.core.mirror import mirror

@@ -34,7 +34,7 @@ def test_save_as_gmr_and_export_bvh_round_trip(qtbot, studio, tmp_path):
 
     open_file(studio, demo_folder() / MOTION_FILE)
     state = studio.state
-    from gmr_studio.app import commands
+    from gmr_studio.app.model import commands
 
     commands.split_here(state, state.motion.joint_index("lfoot"))
     assert studio.isWindowModified()
@@ -65,7 +65,7 @@ def test_save_as_gmr_and_export_bvh_round_trip(qtbot, studio, tmp_path):
 def test_unsaved_edits_are_offered_for_saving(qtbot, studio, monkeypatch, tmp_path):
     from PyQt6.QtWidgets import QMessageBox
 
-    from gmr_studio.app import commands
+    from gmr_studio.app.model import commands
 
     open_file(studio, demo_folder() / MOTION_FILE)
     commands.split_everything(studio.state)
@@ -81,7 +81,7 @@ def test_unsaved_edits_are_offered_for_saving(qtbot, studio, monkeypatch, tmp_pa
 def test_closing_with_unsaved_edits_asks_and_cancel_keeps_the_window(qtbot, studio, monkeypatch):
     from PyQt6.QtWidgets import QMessageBox
 
-    from gmr_studio.app import commands
+    from gmr_studio.app.model import commands
 
     open_file(studio, demo_folder() / MOTION_FILE)
     commands.split_everything(studio.state)
@@ -115,7 +115,7 @@ def test_dropping_a_file_opens_it(qtbot, studio):
 def test_video_export_writes_every_sampled_frame(qtbot, studio, tmp_path):
     import imageio_ffmpeg
 
-    from gmr_studio.app.video import export_video, video_frames
+    from gmr_studio.app.media.video import export_video, video_frames
 
     open_file(studio, demo_folder() / MOTION_FILE)
     studio.view.interactor.setFixedSize(320, 240)
@@ -152,7 +152,7 @@ def test_a_long_load_shows_progress_and_keeps_the_window_responsive(qtbot, studi
     from PyQt6.QtCore import QTimer
     from PyQt6.QtWidgets import QProgressDialog
 
-    from gmr_studio.app import loading
+    from gmr_studio.app.model import loading
 
     real = loading.load_snapshot
 
@@ -203,7 +203,7 @@ def test_a_bad_file_is_explained_in_a_dialog(qtbot, studio, tmp_path):
 def test_overlays_and_playback_settings_are_remembered(qtbot, tmp_path):
     from PyQt6.QtCore import QSettings
 
-    from gmr_studio.app.main_window import MainWindow
+    from gmr_studio.app.window.main_window import MainWindow
 
     path = str(tmp_path / "settings.ini")
     first = MainWindow(settings=QSettings(path, QSettings.Format.IniFormat))

@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.app import commands
-from gmr_studio.app.formatting import format_angles, format_lengths, format_number, length_decimals
+from gmr_studio.app.model import commands
+from gmr_studio.app.model.formatting import format_angles, format_lengths, format_number, length_decimals
 from gmr_studio.core.formats.bvh import read_bvh_with_channels
 from tests import app_fixtures
 from tests.app_fixtures import open_file

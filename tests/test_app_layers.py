@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from PyQt6.QtWidgets import QApplication
 
-from gmr_studio.app import commands
-from gmr_studio.app.ghost_layer import error_colours
-from gmr_studio.app.vtk_parts import rgb_bytes
+from gmr_studio.app.model import commands
+from gmr_studio.app.scene.ghost_layer import error_colours
+from gmr_studio.app.scene.vtk_parts import rgb_bytes
 from gmr_studio.core.compare import compare_motions
 from gmr_studio.core.formats import read_motion
 from tests import app_fixtures
@@ -168,7 +168,7 @@ def test_a_bad_file_leaves_everything_as_it_was(studio, tmp_path):
     assert len(studio.layers) == 0 and studio.state.snapshot is document
     assert any("broken.bvh" in m for m in messages)
     # no joint in common: refused with a message, nothing added
-    from gmr_studio.app.state import Snapshot
+    from gmr_studio.app.model.state import Snapshot
 
     motion = document.motion
     renamed = dataclasses.replace(motion, names=tuple(f"other_{n}" for n in motion.names))

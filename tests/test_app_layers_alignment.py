@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from PyQt6.QtWidgets import QApplication
 
-from gmr_studio.app import commands
 from gmr_studio.app.main import _add_comparison, build_arguments
+from gmr_studio.app.model import commands
 from gmr_studio.core.compare import compare_motions
 from tests import app_fixtures
 from tests.app_fixtures import open_file, screen_image

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from PyQt6.QtWidgets import QApplication
 
-from gmr_studio.app.ghost_layer import NO_ERROR_COLOUR, error_colours
-from gmr_studio.app.vtk_parts import rgb_bytes
+from gmr_studio.app.scene.ghost_layer import NO_ERROR_COLOUR, error_colours
+from gmr_studio.app.scene.vtk_parts import rgb_bytes
 from tests import app_fixtures
 from tests.app_fixtures import open_file, screen_image
 from tests.conftest import shared_path
@@ -89,7 +89,7 @@ def test_a_frame_change_updates_the_layer_in_place(studio):
 
 def test_the_comparison_bench_reports_wall_and_main_thread_ratios(capsys):
     """app.bench.bench_comparison: medians with and without a layer, and both ratios."""
-    from gmr_studio.app import bench
+    from gmr_studio.app.tools import bench
 
     for name in (bench.BVH, bench.AMC):  # the bench reads both: skipped without the data folder
         shared_path(name)

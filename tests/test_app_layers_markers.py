@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from PyQt6.QtWidgets import QApplication, QMessageBox
 
-from gmr_studio.app.marker_layers import MarkerLayer
+from gmr_studio.app.model.marker_layers import MarkerLayer
 from gmr_studio.core.markers import read_markers
 from tests import app_fixtures
 from tests.app_fixtures import open_file, screen_image

@@ -44,8 +44,8 @@ from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, precondition, rule
 from PyQt6.QtCore import Qt
 
-from gmr_studio.app import commands, extensions
-from gmr_studio.app.state import OVERLAYS
+from gmr_studio.app.model import commands, extensions
+from gmr_studio.app.model.state import OVERLAYS
 from gmr_studio.core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
 from gmr_studio.core.shared_data import shared_data_dir
 from tests import app_fixtures
@@ -80,13 +80,13 @@ class LightStudio:
         from PyQt6.QtCore import QSettings
         from PyQt6.QtWidgets import QUndoView, QWidget
 
-        from gmr_studio.app.autosave import Autosaver
-        from gmr_studio.app.files import FileController
-        from gmr_studio.app.forest import ForestTree
-        from gmr_studio.app.inspector import Inspector
-        from gmr_studio.app.layers import Layers
-        from gmr_studio.app.layers_dock import LayersDock
-        from gmr_studio.app.state import StudioState
+        from gmr_studio.app.docks.forest import ForestTree
+        from gmr_studio.app.docks.inspector import Inspector
+        from gmr_studio.app.docks.layers_dock import LayersDock
+        from gmr_studio.app.model.layers import Layers
+        from gmr_studio.app.model.state import StudioState
+        from gmr_studio.app.reliability.autosave import Autosaver
+        from gmr_studio.app.window.files import FileController
 
         self.host = QWidget()
         self.state = StudioState(self.host)

@@ -10,13 +10,13 @@ import numpy as np
 import pytest
 from PyQt6.QtWidgets import QApplication
 
-from gmr_studio.app import commands
-from gmr_studio.app.filmstrip import parse_frame_steps, side_by_side, travel_axis
-from gmr_studio.app.layer_onion import layer_slot_frames, slot_of
 from gmr_studio.app.main import parse_onion
-from gmr_studio.app.onion import ghost_opacity, onion_frames
-from gmr_studio.app.scene import BACKGROUND
-from gmr_studio.app.video import image_pixels
+from gmr_studio.app.media.filmstrip import parse_frame_steps, side_by_side, travel_axis
+from gmr_studio.app.media.video import image_pixels
+from gmr_studio.app.model import commands
+from gmr_studio.app.scene.layer_onion import layer_slot_frames, slot_of
+from gmr_studio.app.scene.onion import ghost_opacity, onion_frames
+from gmr_studio.app.scene.scene import BACKGROUND
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from gmr_studio.core.formats import load_gmr
 from gmr_studio.core.kinematics import world_positions

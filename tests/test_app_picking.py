@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from gmr_studio.app.picking import pick_point, project_points
+from gmr_studio.app.scene.picking import pick_point, project_points
 
 
 def perspective(fov_deg: float, aspect: float, near: float, far: float) -> np.ndarray:

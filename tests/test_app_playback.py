@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from gmr_studio.app.playback import frame_at
+from gmr_studio.app.model.playback import frame_at
 
 
 def test_frame_follows_the_clock_at_any_speed():

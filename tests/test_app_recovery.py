@@ -19,8 +19,9 @@ import numpy as np
 import pytest
 from PyQt6.QtCore import QTimer
 
-from gmr_studio.app import commands, recovery
-from gmr_studio.app.recovery_dialog import RecoveryDialog, item_text, offer_recovery, restore
+from gmr_studio.app.dialogs.recovery_dialog import RecoveryDialog, item_text, offer_recovery, restore
+from gmr_studio.app.model import commands
+from gmr_studio.app.reliability import recovery
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from gmr_studio.core.formats import load_gmr
 from gmr_studio.core.kinematics import forward_kinematics

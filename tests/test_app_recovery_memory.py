@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.app import loading, memory
-from gmr_studio.app.state import Snapshot
+from gmr_studio.app.model import loading, memory
+from gmr_studio.app.model.state import Snapshot
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats import load_gmr

@@ -9,7 +9,8 @@ import threading
 import pytest
 from PyQt6.QtCore import QObject, QTimer, pyqtSignal
 
-from gmr_studio.app import commands, crash
+from gmr_studio.app.model import commands
+from gmr_studio.app.reliability import crash
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from tests import app_fixtures
 from tests.app_fixtures import open_file
@@ -76,7 +77,7 @@ def test_a_save_that_fails_midway_keeps_the_old_file_and_the_edits(qtbot, studio
 
 
 def test_a_loader_that_fails_unexpectedly_keeps_the_document(qtbot, studio, crash_folder, monkeypatch):
-    from gmr_studio.app import loading
+    from gmr_studio.app.model import loading
 
     open_file(studio, demo_folder() / MOTION_FILE)
     before = studio.state.snapshot

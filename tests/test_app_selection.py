@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.app import commands, extensions
+from gmr_studio.app.model import commands, extensions
 from tests import app_fixtures
 from tests.app_fixtures import open_file
 from tests.conftest import shared_path

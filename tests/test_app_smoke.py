@@ -24,7 +24,7 @@ def test_window_opens_on_a_small_file(qtbot, studio, tmp_path):
 
 @pytest.mark.gui
 def test_the_theme_gives_an_icon_and_a_style(qapp):
-    from gmr_studio.app.theme import ICON, STYLE, apply_theme
+    from gmr_studio.app.window.theme import ICON, STYLE, apply_theme
 
     previous = qapp.styleSheet(), qapp.windowIcon()
     try:

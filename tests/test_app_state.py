@@ -9,8 +9,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.app import commands
-from gmr_studio.app.state import UNDO_MEMORY_BUDGET, Snapshot, StudioState, undo_limit_for
+from gmr_studio.app.model import commands
+from gmr_studio.app.model.state import UNDO_MEMORY_BUDGET, Snapshot, StudioState, undo_limit_for
 from gmr_studio.core.demo import demo_markers, demo_motion
 from gmr_studio.core.kinematics import world_positions
 from gmr_studio.core.markers.pelvis import PelvisFrames
@@ -222,7 +222,7 @@ def test_pelvis_frames_follow_the_marker_alignment():
 def test_recovered_pelvis_turns_with_the_root(case):
     """The pelvis frames recovered from markers (demo: markers named like joints; CMU: the
     shipped CMU map on the C3D) turn with the skeleton's root, to a degree or two."""
-    from gmr_studio.app import extensions
+    from gmr_studio.app.model import extensions
     from gmr_studio.core.formats import load_gmr
     from gmr_studio.core.markers import read_markers
     from gmr_studio.core.rotations import rotation_angle

@@ -7,8 +7,8 @@ import pytest
 from PyQt6.QtCore import Qt
 from PyQt6.QtWidgets import QToolBar
 
-from gmr_studio.app.actions import UNDO_LABEL_CHARS
-from gmr_studio.app.commands import run_edit
+from gmr_studio.app.model.commands import run_edit
+from gmr_studio.app.window.actions import UNDO_LABEL_CHARS
 from gmr_studio.core.operations import split
 from tests import app_fixtures
 from tests.app_fixtures import open_file

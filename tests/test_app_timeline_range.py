@@ -10,8 +10,8 @@ from PyQt6.QtCore import QEvent, QPointF, Qt
 from PyQt6.QtGui import QKeySequence, QMouseEvent
 from PyQt6.QtWidgets import QApplication
 
-from gmr_studio.app.range_slider import RANGE_COLOUR, range_ending_at, range_starting_at
-from gmr_studio.app.video import image_pixels
+from gmr_studio.app.docks.range_slider import RANGE_COLOUR, range_ending_at, range_starting_at
+from gmr_studio.app.media.video import image_pixels
 from tests import app_fixtures
 from tests.app_fixtures import open_file
 from tests.conftest import shared_path

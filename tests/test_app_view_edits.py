@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.app import commands
-from gmr_studio.app.gallery import dilate, figure_mask, ground_mask
+from gmr_studio.app.model import commands
+from gmr_studio.app.tools.gallery import dilate, figure_mask, ground_mask
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from tests import app_fixtures
 from tests.app_fixtures import open_file, screen_image

@@ -9,8 +9,15 @@ import pytest
 from PyQt6.QtCore import QEvent, QSettings, Qt
 from PyQt6.QtWidgets import QApplication
 
-from gmr_studio.app.gallery import figure_mask
-from gmr_studio.app.main_window import DOCK_MINIMUM, DOCK_WIDTHS, SLIDER_MINIMUM, VIEW_MINIMUM, VIEW_SHARE, MainWindow
+from gmr_studio.app.tools.gallery import figure_mask
+from gmr_studio.app.window.main_window import (
+    DOCK_MINIMUM,
+    DOCK_WIDTHS,
+    SLIDER_MINIMUM,
+    VIEW_MINIMUM,
+    VIEW_SHARE,
+    MainWindow,
+)
 from tests import app_fixtures
 from tests.app_fixtures import open_file, screen_image
 from tests.conftest import shared_path

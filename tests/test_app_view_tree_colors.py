@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.app import commands
-from gmr_studio.app.tree_colors import PALETTE, TreeColors
+from gmr_studio.app.model import commands
+from gmr_studio.app.model.tree_colors import PALETTE, TreeColors
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import load_gmr
 from gmr_studio.core.operations import join, join_all, shift_root, split, split_all

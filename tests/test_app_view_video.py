@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from PyQt6.QtWidgets import QFileDialog
 
-from gmr_studio.app import video
-from gmr_studio.app.video import suggested_name, video_frames
+from gmr_studio.app.media import video
+from gmr_studio.app.media.video import suggested_name, video_frames
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from tests import app_fixtures
 from tests.app_fixtures import open_file

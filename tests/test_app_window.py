@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from PyQt6.QtCore import QEvent, QPoint, Qt
 
-from gmr_studio.app.scene import TREE_COLORS
+from gmr_studio.app.scene.scene import TREE_COLORS
 from gmr_studio.core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
 from tests import app_fixtures
 from tests.app_fixtures import open_file, screen_image
@@ -146,7 +146,7 @@ def test_joining_the_last_root_is_refused_in_the_status_bar(qtbot, studio):
     studio.state.select(0)
     assert not studio.actions["join"].isEnabled()
     studio.actions["join_all"].setEnabled(True)
-    from gmr_studio.app import commands
+    from gmr_studio.app.model import commands
 
     commands.join_to_parent(studio.state, 0)
     assert "last root of the forest" in studio.status.text()
@@ -292,7 +292,7 @@ def test_the_joint_menu_opens_on_a_right_click(qtbot, studio):
 
 
 def test_the_alignment_dialog_adjusts_live_and_cancel_restores(qtbot, studio):
-    from gmr_studio.app.alignment_dialog import AlignmentDialog
+    from gmr_studio.app.dialogs.alignment_dialog import AlignmentDialog
 
     open_file(studio, demo_folder() / MOTION_FILE, demo_folder() / MARKERS_FILE)
     state = studio.state

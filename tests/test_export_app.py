@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 import gmr_studio.core.export as export_module
-from gmr_studio.app import commands
+from gmr_studio.app.model import commands
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from tests import app_fixtures
 from tests.app_fixtures import open_file

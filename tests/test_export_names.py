@@ -121,7 +121,7 @@ def test_other_readers_read_the_names_back(split_feet, tmp_path):
 @pytest.mark.gui
 def test_names_kept_by_the_apps_export(qtbot, studio, tmp_path):
     """File > Export BVH (one file and one file per tree) after Split here at both feet."""
-    from gmr_studio.app import commands
+    from gmr_studio.app.model import commands
 
     open_file(studio, shared_path("cmu/subject01/01_01.bvh"))
     state = studio.state

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.app.gallery import (
+from gmr_studio.app.tools.gallery import (
     EDITS,
     all_cases,
     dilate,

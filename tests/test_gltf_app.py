@@ -17,7 +17,7 @@ studio = app_fixtures.studio
 
 
 def test_export_gltf_from_the_file_menu(qtbot, studio, tmp_path, monkeypatch):
-    from gmr_studio.app import commands
+    from gmr_studio.app.model import commands
 
     open_file(studio, demo_folder() / MOTION_FILE)
     state = studio.state

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.app.joint_transforms import bvh_local, gmr_local
+from gmr_studio.app.model.joint_transforms import bvh_local, gmr_local
 from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.formats.bvh import read_bvh_with_channels
 from gmr_studio.core.operations import shift_root, split

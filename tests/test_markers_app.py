@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.app.alignment import auto_alignment
+from gmr_studio.app.model.alignment import auto_alignment
 from tests import app_fixtures
 from tests.app_fixtures import open_file
 from tests.conftest import shared_path
@@ -38,8 +38,8 @@ def test_the_window_draws_and_aligns_only_markers(qtbot, studio, tmp_path):
 
 
 def test_pelvis_frames_on_the_cmu_bvh_and_a_message_when_the_map_cannot_apply(qtbot, tmp_path):
-    from gmr_studio.app import extensions
-    from gmr_studio.app.state import Snapshot, StudioState
+    from gmr_studio.app.model import extensions
+    from gmr_studio.app.model.state import Snapshot, StudioState
     from gmr_studio.core.formats import load_gmr
     from gmr_studio.core.markers import read_markers
     from tests.test_markers_pelvis_guess import write_rig

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.app.alignment import detect_up_axis
+from gmr_studio.app.model.alignment import detect_up_axis
 from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.kinematics import world_positions
 from gmr_studio.core.operations import join, join_all, shift_root, split, split_all

@@ -122,7 +122,7 @@ def test_gmr_studio_screenshot_of_the_demo_from_the_wheel(installed):
     assert made.returncode == 0, made.stderr
     from PyQt6.QtGui import QImage
 
-    from gmr_studio.app.video import image_pixels
+    from gmr_studio.app.media.video import image_pixels
 
     image = QImage(str(shot))
     assert (image.width(), image.height()) == (640, 400)

@@ -1,0 +1,181 @@
+"""Tools > Audit round trips: the open document through every path (core.compare.audit), as a table.
+
+One row per path: worst position error, relative to the skeleton's size, the documented
+tolerance, ok or FAIL (failing rows in red), and the worst joint. Choosing a row selects its
+worst joint in the view (and goes to its frame), and rings every joint the path moved beyond
+its tolerance (:attr:`AuditPath.failing_joints`) in red in the view
+(:class:`FailingJointsHighlight`, its own actors), so a failing path points at where it fails.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pyvista as pv
+from PyQt6.QtCore import Qt
+from PyQt6.QtGui import QAction, QBrush, QColor
+from PyQt6.QtWidgets import (
+    QApplication,
+    QDialog,
+    QDialogButtonBox,
+    QLabel,
+    QMainWindow,
+    QTableWidget,
+    QTableWidgetItem,
+    QVBoxLayout,
+    QWidget,
+)
+
+from gmr_studio.app.model.state import StudioState
+from gmr_studio.app.scene import vtk_parts as parts
+from gmr_studio.core.compare.audit import AuditPath, audit_motion
+
+COLUMNS = ("path", "max error", "relative", "tolerance", "result", "worst joint", "frame")
+FAIL_COLOUR = QColor(200, 60, 60)
+
+
+HIGHLIGHT_COLOUR = (1.0, 0.15, 0.15)
+HIGHLIGHT_RADIUS = 0.04  # of the motion's size: around the document's joints (0.016)
+
+
+class FailingJointsHighlight:
+    """Red translucent spheres around some joints of the document, following the frame."""
+
+    def __init__(self, state: StudioState, scene) -> None:
+        self.state = state
+        self.scene = scene
+        self.joints = np.zeros(0, dtype=np.int64)
+        self.part: parts.Part | None = None
+        state.frame_changed.connect(self._on_frame_changed)
+
+    def show(self, names: tuple[str, ...]) -> None:
+        """Ring the joints named ``names`` (those the document has); an empty tuple clears."""
+        self.clear()
+        motion = self.state.motion
+        if motion is None or self.scene is None:
+            return
+        self.joints = np.array([motion.joint_index(n) for n in names if n in motion.names], dtype=np.int64)
+        if not self.joints.size:
+            return
+        sphere = pv.Sphere(radius=HIGHLIGHT_RADIUS * motion.size, theta_resolution=14, phi_resolution=14)
+        self.part = parts.glyph_part(len(self.joints), sphere, color=HIGHLIGHT_COLOUR)
+        self.part.actor.GetProperty().SetOpacity(0.7)
+        self.scene.plotter.renderer.AddActor(self.part.actor)
+        self._on_frame_changed(self.state.frame)
+
+    def clear(self) -> None:
+        if self.part is not None:
+            self.scene.plotter.renderer.RemoveActor(self.part.actor)
+            self.part = None
+            self.scene.render()
+        self.joints = np.zeros(0, dtype=np.int64)
+
+    def _on_frame_changed(self, frame: int) -> None:
+        if self.part is not None and self.state.snapshot is not None:
+            self.part.set_points(self.state.snapshot.positions[frame, self.joints])
+            self.scene.render()
+
+    def disconnect(self) -> None:
+        self.clear()
+        self.state.frame_changed.disconnect(self._on_frame_changed)
+
+
+class AuditDialog(QDialog):
+    """The audit of ``state``'s document; ``paths`` holds the results shown."""
+
+    def __init__(self, state: StudioState, parent: QWidget | None = None, scene=None) -> None:
+        super().__init__(parent)
+        self.setWindowTitle("Audit round trips")
+        self.state = state
+        self.highlight = FailingJointsHighlight(state, scene)
+        self.finished.connect(lambda _result: self.highlight.disconnect())
+        self.paths: list[AuditPath] = []
+        self.summary = QLabel()
+        self.table = QTableWidget(0, len(COLUMNS))
+        self.table.setHorizontalHeaderLabels(COLUMNS)
+        self.table.setSelectionBehavior(QTableWidget.SelectionBehavior.SelectRows)
+        self.table.setSelectionMode(QTableWidget.SelectionMode.SingleSelection)
+        self.table.setEditTriggers(QTableWidget.EditTrigger.NoEditTriggers)
+        self.table.horizontalHeader().setStretchLastSection(True)
+        self.table.itemSelectionChanged.connect(self._on_row_chosen)
+        buttons = QDialogButtonBox(QDialogButtonBox.StandardButton.Close)
+        buttons.rejected.connect(self.reject)
+        layout = QVBoxLayout(self)
+        layout.addWidget(self.summary)
+        layout.addWidget(self.table)
+        layout.addWidget(buttons)
+        self.resize(820, 520)
+
+    def run_audit(self) -> list[AuditPath]:
+        """Audit the document now (seconds on a long motion: a wait cursor meanwhile)."""
+        motion = self.state.motion
+        if motion is None:
+            self.paths = []
+            self.summary.setText("No document open.")
+            self.table.setRowCount(0)
+            return self.paths
+        QApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)
+        try:
+            # the file's own paths (the ASF rest pose of an AMC) only while the document is the file
+            source = self.state.path if not self.state.modified else None
+            self.paths = audit_motion(motion, source)
+        finally:
+            QApplication.restoreOverrideCursor()
+        self._fill()
+        return self.paths
+
+    def _fill(self) -> None:
+        failed = [p for p in self.paths if not p.ok]
+        self.summary.setText(
+            f"{len(self.paths) - len(failed)} of {len(self.paths)} paths keep every joint within tolerance"
+            + (f"; failing: {', '.join(p.name for p in failed)}" if failed else ".")
+        )
+        self.table.setRowCount(len(self.paths))
+        for row, p in enumerate(self.paths):
+            cells = (
+                p.name,
+                f"{p.max_error:.3g}",
+                f"{p.relative_error:.2e}",
+                f"{p.tolerance:.0e}",
+                "ok" if p.ok else "FAIL",
+                p.worst_joint or p.error,
+                str(p.worst_frame) if p.worst_frame >= 0 else "-",
+            )
+            for column, text in enumerate(cells):
+                item = QTableWidgetItem(text)
+                if not p.ok:
+                    item.setForeground(QBrush(FAIL_COLOUR))
+                self.table.setItem(row, column, item)
+        self.table.resizeColumnsToContents()
+
+    def _on_row_chosen(self) -> None:
+        rows = {index.row() for index in self.table.selectedIndexes()}
+        motion = self.state.motion
+        if len(rows) != 1 or motion is None:
+            return
+        path = self.paths[rows.pop()]
+        self.highlight.show(tuple(path.failing_joints))
+        if path.worst_joint in motion.names:
+            if path.worst_frame >= 0:
+                self.state.set_frame(path.worst_frame)
+            self.state.select(motion.joint_index(path.worst_joint))
+
+
+def install(window: QMainWindow, state: StudioState) -> QAction:
+    """Add Tools > Audit round trips... to the window's menu bar (before Help)."""
+    bar = window.menuBar()
+    help_action = next((a for a in bar.actions() if a.text().replace("&", "") == "Help"), None)
+    tools = bar.addMenu("&Tools")
+    if help_action is not None:
+        bar.insertMenu(help_action, tools)
+    action = tools.addAction("&Audit round trips...")
+    action.setStatusTip("run the document through every conversion and edit and check that no joint moves")
+
+    def show() -> None:
+        dialog = AuditDialog(state, window, scene=window.view.scene)
+        dialog.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
+        window.audit_dialog = dialog
+        dialog.show()
+        dialog.run_audit()
+
+    action.triggered.connect(show)
+    return action

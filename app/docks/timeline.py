@@ -1,0 +1,124 @@
+"""The timeline dock: slider, play/pause, step, loop, speed, frame number and time.
+
+The keys (space, arrows, Home/End) are window shortcuts defined with the actions; the
+buttons here trigger the same actions, so both stay in step. The slider also shows the
+state's frame range and selects it with Shift+drag (:mod:`app.range_slider`); the I and O
+buttons (and keys) set its start and end at the current frame.
+"""
+
+from __future__ import annotations
+
+from PyQt6.QtCore import Qt
+from PyQt6.QtGui import QAction, QValidator
+from PyQt6.QtWidgets import QComboBox, QHBoxLayout, QLabel, QSpinBox, QToolButton, QWidget
+
+from gmr_studio.app.docks.range_slider import RangeSlider
+from gmr_studio.app.model.playback import SPEEDS, Player
+from gmr_studio.app.model.state import StudioState
+
+
+class FrameBox(QSpinBox):
+    """The frame number: any whole number may be typed, and one past the last frame lands
+    on the last frame (a plain QSpinBox refuses the digit that passes the maximum, so
+    typing 99999999 in a 2,752-frame take left 999)."""
+
+    def validate(self, text: str, position: int) -> tuple[QValidator.State, str, int]:
+        digits = text.strip()
+        if digits.isdigit():
+            inside = self.minimum() <= int(digits) <= self.maximum()
+            return (QValidator.State.Acceptable if inside else QValidator.State.Intermediate), text, position
+        return super().validate(text, position)
+
+    def fixup(self, text: str) -> str:
+        digits = text.strip()
+        if digits.isdigit():
+            return str(min(max(int(digits), self.minimum()), self.maximum()))
+        return super().fixup(text)
+
+
+class Timeline(QWidget):
+    """Frame slider and transport controls."""
+
+    def __init__(
+        self, state: StudioState, player: Player, actions: dict[str, QAction], parent: QWidget | None = None
+    ) -> None:
+        super().__init__(parent)
+        self.state = state
+        self.player = player
+        layout = QHBoxLayout(self)
+        layout.setContentsMargins(6, 2, 6, 2)
+        for name in ("first_frame", "step_back", "play", "step_forward", "last_frame"):
+            button = QToolButton(self)
+            button.setDefaultAction(actions[name])
+            button.setAutoRaise(True)
+            layout.addWidget(button)
+        self.slider = RangeSlider(self)
+        self.slider.setFocusPolicy(Qt.FocusPolicy.NoFocus)  # arrows belong to the window shortcuts
+        self.slider.setToolTip("Drag: frame; Shift+drag: frame range (I / O: its start / end)")
+        self.slider.valueChanged.connect(state.set_frame)
+        self.slider.range_selected.connect(state.set_frame_range)
+        state.range_changed.connect(self.slider.set_frame_range)
+        layout.addWidget(self.slider, 1)
+        self.range_buttons = {}
+        for name, text in (("range_start", "I"), ("range_end", "O")):
+            button = QToolButton(self)  # short text; the action (and its key) does the work
+            button.setText(text)
+            button.setToolTip(f"{actions[name].text().replace('&', '')} ({text})")
+            button.setAutoRaise(True)
+            button.clicked.connect(actions[name].trigger)
+            layout.addWidget(button)
+            self.range_buttons[name] = button
+        self.frame_box = FrameBox(self)
+        self.frame_box.setKeyboardTracking(False)
+        self.frame_box.setToolTip("Frame number (0-based)")
+        self.frame_box.valueChanged.connect(state.set_frame)
+        layout.addWidget(self.frame_box)
+        self.time_label = QLabel(self)
+        self.time_label.setMinimumWidth(150)
+        layout.addWidget(self.time_label)
+        loop = QToolButton(self)
+        loop.setDefaultAction(actions["loop"])
+        loop.setToolButtonStyle(Qt.ToolButtonStyle.ToolButtonTextOnly)
+        layout.addWidget(loop)
+        self.speed_box = QComboBox(self)
+        self.speed_box.setToolTip("Playback speed")
+        for speed in SPEEDS:
+            self.speed_box.addItem(f"{speed:g}x", speed)
+        self.speed_box.setCurrentIndex(SPEEDS.index(1.0))
+        self.speed_box.currentIndexChanged.connect(lambda i: player.set_speed(self.speed_box.itemData(i)))
+        layout.addWidget(self.speed_box)
+        state.document_changed.connect(self._on_document_changed)
+        state.motion_changed.connect(self._on_document_changed)
+        state.frame_changed.connect(self._on_frame_changed)
+        player.speed_changed.connect(self._on_speed_changed)
+        self._on_document_changed()
+
+    def _on_document_changed(self) -> None:
+        last = max(self.state.n_frames - 1, 0)
+        for widget in (self.slider, self.frame_box):
+            widget.blockSignals(True)
+            widget.setRange(0, last)
+            widget.blockSignals(False)
+        self.slider.setPageStep(max(1, round(self.state.motion.frame_rate)) if self.state.motion else 10)
+        self.setEnabled(self.state.motion is not None)
+        self._on_frame_changed(self.state.frame)
+
+    def _on_frame_changed(self, frame: int) -> None:
+        for widget in (self.slider, self.frame_box):
+            widget.blockSignals(True)
+            widget.setValue(frame)
+            widget.blockSignals(False)
+        motion = self.state.motion
+        if motion is None:
+            self.time_label.setText("")
+            return
+        total = (motion.n_frames - 1) * motion.frame_time
+        count = f"{frame + 1}/{motion.n_frames} @ {motion.frame_rate:g} Hz"
+        self.time_label.setText(f"{frame * motion.frame_time:7.3f} s / {total:.3f} s  ({count})")
+
+    def _on_speed_changed(self, speed: float) -> None:
+        index = self.speed_box.findData(speed)
+        if index >= 0 and index != self.speed_box.currentIndex():
+            self.speed_box.blockSignals(True)
+            self.speed_box.setCurrentIndex(index)
+            self.speed_box.blockSignals(False)

@@ -1,0 +1,169 @@
+"""Filmstrips: several poses of a motion in one picture, for papers and bug reports.
+
+``gmr-studio FILE --filmstrip OUT.png --frames A:B:STEP [--layout path|side] [--size WxH]``
+renders frames ``A, A+STEP, ...`` up to B (exclusive, as a Python slice) either where they
+are along the path (``path``: the motion's own positions, later poses more opaque) or side by
+side (``side``: each pose moved along the direction of travel so that none overlaps), coloured
+from blue (first) through violet to orange (last), each labelled with its frame. The last pose is drawn as the
+app draws a figure (joints and bones), on the app's ground grid, with the app's camera.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from gmr_studio.app.model.state import Snapshot
+from gmr_studio.app.scene.onion import bone_pairs
+
+FIRST_HUE, LAST_HUE = 0.58, 1.08  # blue through violet and red to orange: saturated all the way
+
+
+def parse_frame_steps(text: str, n_frames: int) -> np.ndarray:
+    """Frames (K,) of ``"A:B:STEP"`` (Python slice rules: B exclusive, parts may be left out,
+    negative counts from the end) within ``n_frames``; ValueError when the text is not a slice
+    or selects no frame."""
+    parts = text.split(":")
+    if not 1 <= len(parts) <= 3:
+        raise ValueError(f"--frames {text!r}: expected A:B:STEP")
+    try:
+        values = [int(p) if p.strip() else None for p in parts]
+    except ValueError:
+        raise ValueError(f"--frames {text!r}: A, B and STEP must be whole numbers") from None
+    if len(values) == 1:
+        values = [values[0], None if values[0] is None else values[0] + 1]
+    if len(values) == 3 and values[2] is not None and values[2] <= 0:
+        raise ValueError(f"--frames {text!r}: STEP must be positive")
+    frames = np.arange(n_frames)[slice(*values)]
+    if len(frames) == 0:
+        raise ValueError(f"--frames {text!r} selects no frame of the {n_frames}")
+    return frames
+
+
+def travel_axis(positions: np.ndarray, up: int) -> np.ndarray:
+    """(3,) unit horizontal direction of the figure's main travel over ``positions`` (K, J, 3)
+    (the first horizontal axis when it stands still)."""
+    across = [a for a in (0, 1, 2) if a != up]
+    path = positions[:, :, across].mean(axis=1)
+    spread = path - path.mean(axis=0)
+    axis = np.zeros(3)
+    if len(path) > 1 and np.abs(spread).max() > 0:
+        _, _, vt = np.linalg.svd(spread, full_matrices=False)
+        axis[across] = vt[0]
+        if axis @ (positions[-1].mean(axis=0) - positions[0].mean(axis=0)) < 0:
+            axis = -axis
+    else:
+        axis[across[0]] = 1.0
+    return axis
+
+
+def side_by_side(positions: np.ndarray, up: int, gap: float = 0.25) -> np.ndarray:
+    """(K, J, 3) poses moved along the travel axis so that each sits beside the previous one
+    (``gap`` of the widest pose between them), keeping their own heights."""
+    axis = travel_axis(positions, up)
+    along = positions @ axis  # (K, J)
+    width = float((along.max(axis=1) - along.min(axis=1)).max())
+    spacing = width * (1.0 + gap) if width > 0 else 1.0
+    centre = (along.max(axis=1) + along.min(axis=1)) / 2
+    shift = (np.arange(len(positions)) * spacing - centre)[:, None, None] * axis
+    return positions + shift
+
+
+def pose_colors(count: int) -> np.ndarray:
+    """(count, 3) colours from the first pose's blue through violet to the last one's orange."""
+    import colorsys
+
+    hues = np.linspace(FIRST_HUE, LAST_HUE, count) if count > 1 else np.array([LAST_HUE])
+    return np.array([colorsys.hsv_to_rgb(h % 1.0, 0.65, 1.0) for h in hues])
+
+
+def render_filmstrip(
+    snapshot: Snapshot, frames: np.ndarray, out: str | Path, size: tuple[int, int], layout: str = "path"
+) -> tuple[int, int]:
+    """Render ``frames`` of ``snapshot`` to the PNG ``out`` (atomically); returns its size."""
+    import pyvista as pv
+
+    from gmr_studio.app.media.video import save_screenshot
+    from gmr_studio.app.scene import vtk_parts as parts
+    from gmr_studio.app.scene.scene import SkeletonScene, up_axis_of
+
+    if layout not in ("path", "side"):
+        raise ValueError(f"unknown filmstrip layout {layout!r}: expected path or side")
+    up = up_axis_of(snapshot)
+    positions = np.asarray(snapshot.positions[frames])
+    if layout == "side":
+        positions = side_by_side(positions, up)
+    strip = Snapshot(snapshot.motion.frame_slice(frames), positions, np.asarray(snapshot.rotations[frames]))
+    plotter = pv.Plotter(off_screen=True, window_size=size)
+    try:
+        scene = SkeletonScene(plotter)
+        scene.frame = len(frames) - 1
+        scene.set_snapshot(strip, reset_camera=True)  # the app's ground grid under every pose
+        for name, part in scene.parts.items():
+            part.set_visible(name == "ground")
+        pairs = bone_pairs(snapshot.motion.parents)
+        colors = pose_colors(len(frames))
+        opacity = np.ones(len(frames)) if layout == "side" else np.linspace(0.35, 1.0, len(frames))
+        for k in range(len(frames)):
+            part = parts.segments_part(snapshot.motion.n_joints, pairs, color=tuple(colors[k]), width=3.0)
+            part.set_points(positions[k])
+            part.actor.GetProperty().SetOpacity(float(opacity[k]))
+            plotter.renderer.AddActor(part.actor)
+        below = positions.min(axis=(0, 1))[up] - 0.08 * snapshot.motion.size
+        anchors = positions.mean(axis=1)
+        anchors[:, up] = below
+        plotter.add_point_labels(
+            anchors, [f"{f}" for f in frames], font_size=14, text_color="white", shape=None, show_points=False
+        )
+        _side_camera(plotter, positions, up, anchors)
+        return save_screenshot(scene, out)
+    finally:
+        plotter.close()
+
+
+def _side_camera(plotter, positions: np.ndarray, up: int, labels: np.ndarray) -> None:
+    """A parallel projection from the side of the travel, a little from above, with the
+    travel running left to right and every pose and ``labels`` (K, 3) in the picture."""
+    travel = travel_axis(positions, up)
+    up_vector = np.eye(3)[up]
+    side = np.cross(travel, up_vector)
+    flat = np.concatenate([positions.reshape(-1, 3), labels])  # the frame labels must show too
+    low, high = flat.min(axis=0), flat.max(axis=0)
+    centre = (low + high) / 2
+    plotter.enable_parallel_projection()
+    direction = side + 0.3 * up_vector
+    plotter.camera_position = [tuple(centre + direction), tuple(centre), tuple(up_vector)]
+    plotter.reset_camera(bounds=np.column_stack([low, high]).ravel())
+    # fit the poses (not their bounding sphere): half the visible height, with a margin
+    view = -direction / np.linalg.norm(direction)
+    screen_up = up_vector - (up_vector @ view) * view
+    screen_up /= np.linalg.norm(screen_up)
+    screen_right = np.cross(view, screen_up)
+    extent_right = np.ptp(flat @ screen_right)
+    extent_up = np.ptp(flat @ screen_up)
+    width, height = plotter.window_size
+    plotter.camera.parallel_scale = 0.6 * max(extent_up, extent_right * height / max(width, 1), 1e-9)
+
+
+def filmstrip_command(motion_path: str, out: str, frames_text: str | None, layout: str, size: tuple[int, int]) -> int:
+    """``gmr-studio FILE --filmstrip OUT.png --frames A:B:STEP``: 0 when written, 2 when the
+    file cannot be read or the frames are wrong (the reason on stderr)."""
+    import sys
+
+    from gmr_studio.app.model.loading import load_snapshot
+    from gmr_studio.core.errors import MotionFileError
+
+    try:
+        snapshot = load_snapshot(motion_path)
+        if frames_text is None:
+            step = max(1, snapshot.motion.n_frames // 8)
+            frames = np.arange(0, snapshot.motion.n_frames, step)
+        else:
+            frames = parse_frame_steps(frames_text, snapshot.motion.n_frames)
+    except (MotionFileError, ValueError) as exc:
+        print(f"gmr-studio: {exc}", file=sys.stderr)
+        return 2
+    width, height = render_filmstrip(snapshot, frames, out, size, layout)
+    print(f"wrote {out} ({width}x{height}, {len(frames)} poses: frames {frames[0]} to {frames[-1]})")
+    return 0

@@ -1,0 +1,125 @@
+"""Every edit of the document is a :class:`QUndoCommand` that swaps immutable snapshots.
+
+The core operations never change their input, so a command keeps the snapshot before and
+the one after (motion plus its cached kinematics) and its redo and undo just hand one or
+the other to the state: undo restores the very same arrays. An edit that the core refuses
+(:class:`~core.errors.OperationError`, e.g. joining the last root) is never pushed; its
+message goes to the status bar and nothing changes. Neither is an edit that fails
+unexpectedly (a bug, out of memory): it is logged to the crash log and reported, and the
+document and history stay as they were.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from PyQt6.QtGui import QUndoCommand
+
+from gmr_studio.app.model.state import Snapshot, StudioState
+from gmr_studio.app.reliability.crash import report_unexpected
+from gmr_studio.core.clip import resample, trim
+from gmr_studio.core.errors import OperationError
+from gmr_studio.core.mirror import mirror
+from gmr_studio.core.motion import Motion
+from gmr_studio.core.operations import join, join_all, shift_root, split, split_all
+
+
+class MotionEdit(QUndoCommand):
+    """One edit: redo shows ``after``, undo shows ``before``."""
+
+    def __init__(self, state: StudioState, text: str, before: Snapshot, after: Snapshot) -> None:
+        super().__init__(text)
+        self.state = state
+        self.before = before
+        self.after = after
+
+    def redo(self) -> None:
+        self.state.apply_snapshot(self.after)
+
+    def undo(self) -> None:
+        self.state.apply_snapshot(self.before)
+
+
+def run_edit(state: StudioState, text: str, operation: Callable[[Motion], Motion]) -> bool:
+    """Apply ``operation`` to the document as an undoable edit named ``text``.
+
+    Returns True if the edit was pushed. A refused operation (OperationError) or one that
+    changes nothing is reported in the status bar and leaves the document and history as
+    they were.
+    """
+    before = state.snapshot
+    if before is None:
+        state.show_message(f"{text}: no motion is open")
+        return False
+    try:
+        motion = operation(before.motion)
+        after = None if motion is before.motion else Snapshot.of(motion)
+    except OperationError as exc:
+        state.show_message(f"{text} refused: {exc}")
+        return False
+    except Exception as exc:
+        report_unexpected(text, exc, state.show_message)
+        return False
+    if after is None:
+        state.show_message(f"{text}: nothing to change")
+        return False
+    state.undo_stack.push(MotionEdit(state, text, before, after))
+    state.show_message(text)
+    return True
+
+
+def _name(state: StudioState, joint: int) -> str:
+    return state.motion.names[joint] if state.motion is not None else str(joint)
+
+
+def make_root(state: StudioState, joint: int) -> bool:
+    """Shift the root of the joint's tree to the joint."""
+    return run_edit(state, f"Make '{_name(state, joint)}' root", lambda m: shift_root(m, joint))
+
+
+def split_here(state: StudioState, joint: int) -> bool:
+    """Split the tree at the joint (it becomes a root with a soft link to its parent)."""
+    return run_edit(state, f"Split at '{_name(state, joint)}'", lambda m: split(m, joint))
+
+
+def join_to_parent(state: StudioState, joint: int) -> bool:
+    """Join the split root back under its soft-link parent."""
+    return run_edit(state, f"Join '{_name(state, joint)}' to its parent", lambda m: join(m, joint))
+
+
+def split_everything(state: StudioState) -> bool:
+    return run_edit(state, "Split all", split_all)
+
+
+def join_everything(state: StudioState) -> bool:
+    return run_edit(state, "Join all", join_all)
+
+
+def can_join(motion: Motion | None, joint: int | None) -> bool:
+    """Join to parent applies: the joint is a split root (a root holding a soft link)."""
+    return motion is not None and joint is not None and motion.parents[joint] < 0 and motion.soft_parents[joint] >= 0
+
+
+def trim_to_range(state: StudioState, start: int, stop: int) -> bool:
+    """Keep frames ``[start, stop)`` (:func:`core.clip.trim`)."""
+    return run_edit(state, f"Trim to frames {start}-{stop - 1}", lambda m: trim(m, start, stop))
+
+
+def resample_to(state: StudioState, rate: float) -> bool:
+    """Resample to ``rate`` frames per second (:func:`core.clip.resample`)."""
+    return run_edit(state, f"Resample to {rate:g} Hz", lambda m: resample(m, rate))
+
+
+def mirror_left_right(state: StudioState) -> bool:
+    """Swap left and right (:func:`core.mirror.mirror`); names without a partner are reported."""
+    unmatched: list[str] = []
+
+    def operation(motion: Motion) -> Motion:
+        result, names = mirror(motion)
+        unmatched.extend(names)
+        return result
+
+    done = run_edit(state, "Mirror left/right", operation)
+    if done and unmatched:
+        state.show_message(f"Mirror left/right: no partner for {', '.join(unmatched)} (left as they are)")
+    return done

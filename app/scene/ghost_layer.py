@@ -1,0 +1,208 @@
+"""Drawing the comparison layers: ghosts, and the document's error at the current frame.
+
+:class:`GhostLayers` owns its actors (added to the plotter's renderer directly, like the
+onion skins), so the scene's rebuilds after an edit never remove them:
+
+- each visible layer (:mod:`app.layers`) as a ghost skeleton: translucent bones and joints
+  in the layer's colour, at the document's frame (B on A's clock and in A's space);
+- each visible marker-set layer (:mod:`app.marker_layers`) as small spheres in its colour
+  at the document's frame (gaps not drawn);
+- the error view of the active layer: the document's matched joints coloured by their
+  position error at the current frame (:func:`error_colours`, a green-yellow-red map from 0
+  to the comparison's largest error, with a legend in the view titled in the document's
+  units), and a thin line from each matched joint to its match.
+
+Everything is built once per change of the layers (added, removed, recomputed, restyled); a
+frame change only writes points and colours into the existing poly data (the colours of
+every compared frame are computed once, :attr:`GhostLayers.error_rgb`) and asks for one
+render. The translucent ghosts are blended in drawing order rather than through VTK's
+order-independent translucency, whose extra full-view passes cost more than the ghosts
+themselves on a software renderer (the ghost is one colour per layer, so the two differ
+only where a ghost's surfaces overlap, by a few levels of shading).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+import pyvista as pv
+from vtkmodules.vtkCommonCore import vtkLookupTable
+from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
+
+from gmr_studio.app.model.layers import ComparisonLayer, Layers
+from gmr_studio.app.model.marker_layers import MARKER_LAYER_RADIUS, MarkerLayer
+from gmr_studio.app.model.state import StudioState
+from gmr_studio.app.scene import vtk_parts as parts
+from gmr_studio.app.scene.onion import bone_pairs
+
+#: the error colour map: anchors (position in [0, 1], RGB), interpolated linearly
+COLOUR_MAP = np.array([(0.0, 0.2, 0.75, 0.35), (0.5, 1.0, 0.85, 0.1), (1.0, 0.9, 0.15, 0.1)])
+NO_ERROR_COLOUR = (0.5, 0.5, 0.5)  # a matched joint not compared at this frame
+LINE_COLOUR = (0.95, 0.95, 0.95)
+GHOST_JOINT_RADIUS = 0.012  # of the document's size
+GHOST_BONE_RADIUS = 0.005
+ERROR_JOINT_RADIUS = 0.021  # just larger than the document's joints, so the colour shows
+
+
+def error_colours(errors: np.ndarray, top: float) -> np.ndarray:
+    """(..., J) errors -> (..., J, 3) RGB in [0, 1] on :data:`COLOUR_MAP` over ``[0, top]``; NaN grey."""
+    t = np.clip(np.nan_to_num(errors, nan=0.0) / max(top, 1e-300), 0.0, 1.0)
+    rgb = np.stack([np.interp(t, COLOUR_MAP[:, 0], COLOUR_MAP[:, k]) for k in (1, 2, 3)], axis=-1)
+    rgb[~np.isfinite(errors)] = NO_ERROR_COLOUR
+    return rgb
+
+
+def error_scale_top(layer: ComparisonLayer, size: float) -> float:
+    """The top of the colour scale: the comparison's largest error (or a thousandth of the
+    document's size when everything agrees, so zero stays green)."""
+    top = layer.comparison.position.max
+    return float(top) if np.isfinite(top) and top > 1e-6 * size else 1e-3 * size
+
+
+class GhostLayers:
+    """The actors of every layer and of the error view, kept in step with ``layers``."""
+
+    def __init__(self, plotter: pv.BasePlotter, state: StudioState, layers: Layers, render: Callable[[], None]):
+        self.plotter = plotter
+        self.state = state
+        self.layers = layers
+        self.render = render
+        self.show_errors = True
+        # per layer: (bones, joints) of a motion, (spheres,) of a marker set
+        self.ghosts: list[tuple[parts.Part, ...]] = []
+        self.error_joints: parts.Part | None = None
+        self.error_lines: parts.Part | None = None
+        self.legend: vtkScalarBarActor | None = None
+        self.top = 1.0
+        #: (R, P, 3) uint8: the error colour of each matched joint at each compared frame
+        #: (rows of the active comparison), what a frame change writes into the error view
+        self.error_rgb = np.zeros((0, 0, 3), np.uint8)
+        self._no_error_rgb = np.zeros((0, 3), np.uint8)  # (P, 3): a frame not compared
+        self._oit = bool(plotter.renderer.GetUseOIT())  # the renderer's own setting, restored
+        layers.changed.connect(self.rebuild)
+        layers.appearance_changed.connect(lambda _index: self.rebuild())
+        state.frame_changed.connect(self.show_frame)
+
+    # ------------------------------------------------------------------ building
+    def rebuild(self) -> None:
+        self._remove_all()
+        document = self.state.snapshot
+        if document is None:
+            self.render()
+            return
+        size = document.motion.size
+        for layer in self.layers.layers:
+            if isinstance(layer, MarkerLayer):
+                sphere = pv.Sphere(radius=MARKER_LAYER_RADIUS * size, theta_resolution=10, phi_resolution=8)
+                built = (parts.glyph_part(layer.markers.n_markers, sphere, color=layer.colour),)
+            else:
+                motion = layer.snapshot.motion
+                pairs = bone_pairs(motion.parents)
+                bones = parts.segments_part(
+                    motion.n_joints, pairs, color=layer.colour, tube_radius=GHOST_BONE_RADIUS * size
+                )
+                sphere = pv.Sphere(radius=GHOST_JOINT_RADIUS * size, theta_resolution=10, phi_resolution=10)
+                built = (bones, parts.glyph_part(motion.n_joints, sphere, color=layer.colour))
+            for part in built:
+                part.actor.GetProperty().SetOpacity(layer.opacity)
+                part.set_visible(layer.visible)
+                self.plotter.renderer.AddActor(part.actor)
+            self.ghosts.append(built)
+        # blended in drawing order while ghosts are shown (see the module docstring)
+        self.plotter.renderer.SetUseOIT(self._oit and not self.ghosts)
+        active = self.layers.active
+        if active is not None and self.show_errors:
+            self._build_error_view(active, size)
+        self.show_frame(self.state.frame)
+
+    def _build_error_view(self, layer: ComparisonLayer, size: float) -> None:
+        n = layer.comparison.n_pairs
+        sphere = pv.Sphere(radius=ERROR_JOINT_RADIUS * size, theta_resolution=12, phi_resolution=12)
+        self.error_joints = parts.glyph_part(n, sphere, colors=np.zeros((n, 3)))
+        pairs = np.column_stack([np.arange(n), n + np.arange(n)])
+        self.error_lines = parts.segments_part(2 * n, pairs, color=LINE_COLOUR, width=1.5)
+        self.top = error_scale_top(layer, size)
+        self.error_rgb = parts.rgb_bytes(error_colours(layer.comparison.position_error, self.top))
+        self._no_error_rgb = parts.rgb_bytes(np.broadcast_to(NO_ERROR_COLOUR, (n, 3)))
+        self.legend = _legend(self.top, layer.comparison.units_text)
+        for part in (self.error_joints, self.error_lines):
+            self.plotter.renderer.AddActor(part.actor)
+        self.plotter.renderer.AddViewProp(self.legend)
+
+    def _remove_all(self) -> None:
+        for built in self.ghosts:
+            for part in built:
+                self.plotter.renderer.RemoveActor(part.actor)
+        self.ghosts = []
+        for part in (self.error_joints, self.error_lines):
+            if part is not None:
+                self.plotter.renderer.RemoveActor(part.actor)
+        if self.legend is not None:
+            self.plotter.renderer.RemoveViewProp(self.legend)
+        self.error_joints = self.error_lines = self.legend = None
+        self.plotter.renderer.SetUseOIT(self._oit)
+
+    def set_show_errors(self, shown: bool) -> None:
+        self.show_errors = bool(shown)
+        self.rebuild()
+
+    # -------------------------------------------------------------------- frames
+    def show_frame(self, frame: int) -> None:
+        """Write frame ``frame`` into the ghosts and the error view."""
+        if not self.ghosts:
+            return
+        for layer, built in zip(self.layers.layers, self.ghosts, strict=True):
+            if isinstance(layer, MarkerLayer):
+                positions = layer.positions
+                parts.set_some_points(built[0], positions[min(frame, len(positions) - 1)])
+                built[0].set_visible(layer.visible)
+                continue
+            points = layer.ghost[min(frame, len(layer.ghost) - 1)]
+            sampled = bool(np.isfinite(points).all())  # outside B's time range: not drawn
+            for part in built:
+                part.set_visible(layer.visible and sampled)
+                if sampled:
+                    part.set_points(points)
+        active = self.layers.active
+        if self.error_joints is not None and active is not None:
+            comparison = active.comparison
+            row = comparison.row_of_frame(frame)
+            if row is None:
+                rgb = self._no_error_rgb
+                a = b = self.state.snapshot.positions[frame, comparison.index_a]
+            else:
+                rgb = self.error_rgb[row]
+                a, b = comparison.positions_a[row], comparison.positions_b[row]
+            self.error_joints.set_points(a)
+            self.error_joints.mesh.point_data["colors"][:] = rgb
+            self.error_lines.set_points(np.concatenate([a, np.where(np.isfinite(b), b, a)]))
+        self.render()
+
+
+def _legend(top: float, units: str) -> vtkScalarBarActor:
+    """A vertical colour bar from 0 to ``top`` titled with the units, at the view's right."""
+    table = vtkLookupTable()
+    table.SetNumberOfTableValues(256)
+    table.SetRange(0.0, top)
+    rgb = error_colours(np.linspace(0.0, top, 256), top)
+    for i, (r, g, b) in enumerate(rgb):
+        table.SetTableValue(i, r, g, b, 1.0)
+    table.Build()
+    bar = vtkScalarBarActor()
+    bar.SetLookupTable(table)
+    bar.SetTitle(f"error ({units})")
+    bar.UnconstrainedFontSizeOn()
+    bar.SetNumberOfLabels(5)
+    bar.SetLabelFormat("%.3g")
+    bar.SetMaximumWidthInPixels(70)
+    bar.SetMaximumHeightInPixels(260)
+    bar.GetPositionCoordinate().SetValue(0.86, 0.08)
+    bar.SetWidth(0.08)
+    bar.SetHeight(0.4)
+    for text in (bar.GetTitleTextProperty(), bar.GetLabelTextProperty()):
+        text.SetFontSize(13)
+        text.SetBold(False)
+        text.SetItalic(False)
+        text.SetColor(0.9, 0.9, 0.9)
+    return bar

@@ -1,0 +1,129 @@
+"""Onion skins of the comparison layers: each shown layer's ghost at the document's onion frames.
+
+:class:`LayerOnions` keeps, for every layer of :class:`~app.layers.Layers`, a pool of
+``2 count`` skeleton actors, one per onion slot (distance ``-1, +1, -2, +2, ...`` steps from
+the current frame, as :func:`~app.onion.onion_frames` orders them). A frame change only
+writes points, opacities and visibilities into that pool; the pools are built again only
+when the layers change (added, removed, recomputed after an edit) or the number of poses
+each side does. A layer's onion pose at frame ``f`` is ``layer.ghost[f]`` (B on A's frames
+and in A's space), drawn in the layer's colour as lines with a dot at every joint (the
+document's onion poses are lines only, blue before and orange after), fading with distance
+like the document's; frames where B has no sample (NaN) are not drawn.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+import pyvista as pv
+
+from gmr_studio.app.model.layers import GHOST_OPACITY, ComparisonLayer, Layers
+from gmr_studio.app.scene import vtk_parts as parts
+from gmr_studio.app.scene.onion import bone_pairs, ghost_opacity
+
+LINE_WIDTH = 2.5  # as the document's onion poses
+JOINT_DOT = 5.0  # pixels: what tells a layer's onion pose from the document's
+
+
+def slot_of(distance: np.ndarray) -> np.ndarray:
+    """Slot (K,) of each signed distance in steps: ``-1 -> 0, +1 -> 1, -2 -> 2, +2 -> 3, ...``."""
+    distance = np.asarray(distance, dtype=np.int64)
+    return 2 * (np.abs(distance) - 1) + (distance > 0)
+
+
+def layer_slot_frames(ghost: np.ndarray, frames: np.ndarray, distance: np.ndarray, count: int) -> np.ndarray:
+    """Which frame each of the ``2 count`` slots of a layer shows, -1 for none.
+
+    ghost : (F_A, J_B, 3), NaN where B has no sample. frames, distance : (K,) from
+    :func:`~app.onion.onion_frames`. A frame past the ghost's end (a stale ghost, before
+    the layer is recomputed after an edit) or with any NaN joint is left out.
+
+    Returns (2 count,) int64.
+    """
+    shown = np.full(2 * count, -1, dtype=np.int64)
+    frames = np.asarray(frames, dtype=np.int64)
+    inside = frames < len(ghost)
+    sampled = np.zeros(len(frames), dtype=bool)
+    sampled[inside] = np.isfinite(ghost[frames[inside]]).all(axis=(1, 2))
+    shown[slot_of(distance[sampled])] = frames[sampled]
+    return shown
+
+
+def _onion_part(layer: ComparisonLayer) -> parts.Part:
+    """Lines along B's bones and a dot at each of its joints, in the layer's colour."""
+    motion = layer.snapshot.motion
+    part = parts.segments_part(motion.n_joints, bone_pairs(motion.parents), color=layer.colour, width=LINE_WIDTH)
+    if motion.n_joints:
+        part.mesh.verts = np.column_stack([np.ones(motion.n_joints, np.int64), np.arange(motion.n_joints)]).ravel()
+    prop = part.actor.GetProperty()
+    prop.SetPointSize(JOINT_DOT)
+    prop.SetRenderPointsAsSpheres(True)
+    return part
+
+
+class LayerOnions:
+    """The onion poses of every layer, in pools of actors reused from frame to frame."""
+
+    def __init__(self, plotter: pv.BasePlotter, layers: Layers, request_render: Callable[[], None]) -> None:
+        self.plotter = plotter
+        self.layers = layers
+        self.request_render = request_render
+        self.pools: list[list[parts.Part]] = []  # per layer, 2 count slots
+        self.slot_frames: list[np.ndarray] = []  # per layer, (2 count,) frame of each slot, -1 none
+        self.count = 0
+        self._stale = True
+        layers.changed.connect(self._on_layers_changed)
+
+    def _on_layers_changed(self) -> None:
+        self._stale = True
+
+    def _build(self, count: int) -> None:
+        self._remove_all()
+        for layer in self.layers.layers:
+            pool = [_onion_part(layer) for _ in range(2 * count)]
+            for part in pool:
+                part.set_visible(False)
+                self.plotter.renderer.AddActor(part.actor)
+            self.pools.append(pool)
+            self.slot_frames.append(np.full(2 * count, -1, dtype=np.int64))
+        self.count, self._stale = count, False
+
+    def show(self, frames: np.ndarray, distance: np.ndarray, count: int) -> None:
+        """Draw each shown layer at ``frames`` (K,) ``distance`` (K,) steps from the current
+        frame (:func:`~app.onion.onion_frames` with ``count`` poses each side)."""
+        if self._stale or count != self.count or len(self.pools) != len(self.layers):
+            self._build(count)
+        opacity = np.zeros(2 * count)
+        opacity[slot_of(distance)] = ghost_opacity(distance, count)
+        hidden = np.full(2 * count, -1, dtype=np.int64)
+        for index, (layer, pool) in enumerate(zip(self.layers.layers, self.pools, strict=True)):
+            shown = layer_slot_frames(layer.ghost, frames, distance, count) if layer.visible else hidden
+            scale = min(1.0, layer.opacity / GHOST_OPACITY)  # a fainter layer, fainter onion poses
+            for part, frame, alpha in zip(pool, shown, opacity, strict=True):
+                part.set_visible(frame >= 0)
+                if frame >= 0:
+                    part.set_points(layer.ghost[frame])
+                    part.actor.GetProperty().SetOpacity(float(alpha * scale))
+            self.slot_frames[index] = shown
+        self.request_render()
+
+    def restyle(self, index: int) -> None:
+        """Give layer ``index``'s actors its colour (after a change in the Layers dock)."""
+        if self._stale or index >= len(self.pools):
+            return
+        for part in self.pools[index]:
+            part.actor.GetProperty().SetColor(*self.layers[index].colour)
+
+    def _remove_all(self) -> None:
+        for pool in self.pools:
+            for part in pool:
+                self.plotter.renderer.RemoveActor(part.actor)
+        self.pools, self.slot_frames = [], []
+
+    def clear(self) -> None:
+        had = any(self.pools)
+        self._remove_all()
+        self.count, self._stale = 0, True
+        if had:
+            self.request_render()

@@ -1,0 +1,228 @@
+"""``python -m gmr_studio.app.tools.bench``: how fast the app is, measured (prints only; run under xvfb-run).
+
+1. Frame update during playback of CMU 01_01 (BVH) with its C3D markers: the time from
+   ``state.set_frame(f)`` (every actor moved, timeline and inspector updated) until Qt has
+   processed the events that follow, the view's render and the window's repaint included,
+   over consecutive frames; median, 95th percentile and the fps they imply, and the CPU
+   time per frame (``time.process_time``: every thread, Mesa's rasterisers included; and
+   the main thread's alone), less sensitive than wall time to other jobs on the machine.
+   Once with the default overlays and a selected joint, once with axes, trail and labels on.
+2. Launch to first frame: a fresh ``gmr-studio 01_01.bvh`` process, from before it starts
+   to the first rendered frame of the file (interpreter, imports, window, reading, FK).
+3. Frame update with and without a comparison layer (01_01.amc over 01_01.bvh, the ghost,
+   error colours, lines, legend, error plot): measured in alternating blocks in one run, so
+   that the load of a busy machine falls on both alike; medians and their ratio, for wall time
+   and for the main thread's CPU time (``time.thread_time``, less sensitive to other jobs).
+4. Edits on a 100,000-frame motion (01_01 tiled): shift root, split and join, each as the
+   core operation alone and as the app's undoable edit (operation + forward kinematics of
+   every frame for the cache).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import time
+from collections.abc import Sequence
+
+import numpy as np
+
+from gmr_studio.core.shared_data import shared_data_dir
+
+BVH = "cmu/subject01/01_01.bvh"
+C3D = "cmu/subject01/01_01.c3d"
+AMC = "cmu/subject01/01_01.amc"
+
+
+def _summary(label: str, seconds: np.ndarray) -> None:
+    ms = 1000 * np.asarray(seconds)
+    median, p95 = np.median(ms), np.percentile(ms, 95)
+    rates = f"{1000 / median:5.0f} fps (p95: {1000 / p95:4.0f})"
+    print(f"{label:<46} median {median:6.2f} ms   p95 {p95:6.2f} ms   -> {rates}")
+
+
+def bench_window(width: int, height: int):
+    """(app, window, settings path): a main window of that size, shown, quiet, on a fresh
+    settings file (a layout saved by an earlier run would change the view's size or hide a
+    dock). :func:`close_bench_window` closes it and removes the file."""
+    from PyQt6.QtCore import QSettings
+    from PyQt6.QtWidgets import QApplication
+
+    from gmr_studio.app.window.main_window import MainWindow
+
+    app = QApplication.instance() or QApplication(sys.argv[:1])
+    scratch = os.path.join(os.environ.get("TMPDIR", "/tmp"), f"gmr-studio-bench-{os.getpid()}.ini")
+    if os.path.exists(scratch):
+        os.remove(scratch)
+    window = MainWindow(settings=QSettings(scratch, QSettings.Format.IniFormat))
+    window.settings.clear()
+    window.files.quiet = True
+    window.resize(width, height)
+    window.show()
+    app.processEvents()
+    return app, window, scratch
+
+
+def close_bench_window(window, scratch: str) -> None:
+    """Close a :func:`bench_window` without asking to save, and remove its settings file."""
+    window.state.undo_stack.setClean()
+    window.close()
+    if os.path.exists(scratch):
+        os.remove(scratch)
+
+
+def bench_frames(frames: int) -> None:
+    data = shared_data_dir()
+    app, window, scratch = bench_window(1280, 800)
+    window.files.open_path(str(data / BVH), markers=str(data / C3D), ask=False, wait=True)
+    state = window.state
+    overlay = state.marker_overlay
+    print(
+        f"CMU 01_01: {state.motion.n_joints} joints, {state.motion.n_frames} frames; "
+        f"{overlay.markers.n_markers} markers ({overlay.alignment.method}); view "
+        f"{window.view.interactor.width()}x{window.view.interactor.height()} px"
+    )
+    state.select(state.motion.joint_index("LeftHand"))
+    render_window = window.view.scene.plotter.ren_win
+    started, renders = [0.0], []
+    render_window.AddObserver("StartEvent", lambda *_: started.__setitem__(0, time.perf_counter()))
+    render_window.AddObserver("EndEvent", lambda *_: renders.append(time.perf_counter() - started[0]))
+    for label, extra in (
+        ("set frame + render (default overlays)", ()),
+        ("... with axes, trail, labels", ("axes", "trails", "labels")),
+    ):
+        for name in extra:
+            state.set_overlay(name, True)
+        for f in range(30):  # warm up (first renders compile shaders, fill caches)
+            state.set_frame(f)
+            app.processEvents()
+        times, cpu, main_thread = [], [], []
+        renders.clear()
+        for f in range(1, frames + 1):
+            start, start_cpu, start_thread = time.perf_counter(), time.process_time(), time.thread_time()
+            state.set_frame(f % state.n_frames)
+            app.processEvents()  # the repaint: VTK renders in the widget's paint event
+            times.append(time.perf_counter() - start)
+            cpu.append(time.process_time() - start_cpu)
+            main_thread.append(time.thread_time() - start_thread)
+        _summary(label, np.array(times))
+        print(f"{'  of which VTK rendering (the rest: Qt)':<46} median {1000 * np.median(renders):6.2f} ms")
+        print(
+            f"{'  CPU per frame: all threads / main thread':<46} median {1000 * np.median(cpu):6.2f} ms"
+            f" / {1000 * np.median(main_thread):6.2f} ms"
+        )
+    close_bench_window(window, scratch)
+
+
+def bench_comparison(frames: int, rounds: int = 4) -> None:
+    """Frame update without and with a comparison layer, alternating blocks (item 3)."""
+    from gmr_studio.app.model.loading import load_snapshot
+
+    data = shared_data_dir()
+    app, window, scratch = bench_window(1280, 800)
+    window.files.open_path(str(data / BVH), ask=False, wait=True)
+    state = window.state
+    state.select(state.motion.joint_index("LeftHand"))
+    other = load_snapshot(data / AMC)
+    times: dict[bool, list[float]] = {False: [], True: []}
+    main_thread: dict[bool, list[float]] = {False: [], True: []}
+    block = max(frames // rounds, 10)
+    for round_ in range(rounds):
+        for with_layer in (False, True):
+            if with_layer:
+                window.layers.add(other, data / AMC, "cmu")
+            first = 1 + (2 * round_ + with_layer) * block
+            for f in range(first - 10, first):  # warm up
+                state.set_frame(f % state.n_frames)
+                app.processEvents()
+            for f in range(first, first + block):
+                start, start_thread = time.perf_counter(), time.thread_time()
+                state.set_frame(f % state.n_frames)
+                app.processEvents()
+                times[with_layer].append(time.perf_counter() - start)
+                main_thread[with_layer].append(time.thread_time() - start_thread)
+            if with_layer:
+                window.layers.remove(0)
+    _summary("set frame + render, no comparison", np.array(times[False]))
+    _summary("set frame + render, comparison layer (amc)", np.array(times[True]))
+    ratio = np.median(times[True]) / np.median(times[False])
+    print(f"{'  with / without (medians)':<46} {ratio:6.3f}")
+    cpu_without, cpu_with = (1000 * np.median(main_thread[key]) for key in (False, True))
+    print(f"{'  main-thread CPU per frame: without / with':<46} median {cpu_without:6.2f} ms / {cpu_with:6.2f} ms")
+    print(f"{'  with / without (main-thread CPU medians)':<46} {cpu_with / cpu_without:6.3f}")
+    close_bench_window(window, scratch)
+
+
+def bench_launch() -> None:
+    path = shared_data_dir() / BVH
+    start = time.time()
+    result = subprocess.run(
+        [sys.executable, "-m", "gmr_studio.app.main", str(path), "--first-frame-time"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    if result.returncode != 0:
+        print(f"launch: failed: {result.stderr.strip()}")
+        return
+    shown = float(result.stdout.strip().splitlines()[-1])
+    print(f"{'launch to first frame of 01_01.bvh':<46} {shown - start:6.2f} s (new process, window shown)")
+
+
+def bench_edits(n_frames: int) -> None:
+    from gmr_studio.app.model import commands
+    from gmr_studio.app.model.state import Snapshot, StudioState
+    from gmr_studio.core.formats import load_gmr
+    from gmr_studio.core.operations import join, shift_root, split
+
+    base = load_gmr(shared_data_dir() / BVH)
+    repeat = -(-n_frames // base.n_frames)
+    index = np.tile(np.arange(base.n_frames), repeat)[:n_frames]
+    motion = base.frame_slice(index)
+    print(f"edits on {motion.n_frames} frames x {motion.n_joints} joints (01_01 tiled)")
+    foot, forearm = motion.joint_index("LeftFoot"), motion.joint_index("RightForeArm")
+    start = time.perf_counter()
+    snapshot = Snapshot.of(motion)
+    print(f"{'  forward kinematics of every frame (cache)':<46} {time.perf_counter() - start:6.3f} s")
+    split_motion = split(motion, forearm)
+    for label, operation, source in (
+        ("shift root to LeftFoot", lambda m: shift_root(m, foot), motion),
+        ("split at RightForeArm", lambda m: split(m, forearm), motion),
+        ("join RightForeArm", lambda m: join(m, forearm), split_motion),
+    ):
+        start = time.perf_counter()
+        operation(source)
+        core_time = time.perf_counter() - start
+        state = StudioState()
+        state.open_document(snapshot if source is motion else Snapshot.of(source), None)
+        start = time.perf_counter()
+        assert commands.run_edit(state, label, operation)
+        edit_time = time.perf_counter() - start
+        start = time.perf_counter()
+        state.undo_stack.undo()
+        undo_time = time.perf_counter() - start
+        print(f"  {label:<44} core {core_time:6.3f} s   app edit {edit_time:6.3f} s   undo {1000 * undo_time:5.2f} ms")
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m gmr_studio.app.tools.bench", description=__doc__.splitlines()[0])
+    parser.add_argument("--frames", type=int, default=600, help="frames played for the frame-update timing")
+    parser.add_argument("--edit-frames", type=int, default=100_000, help="frames of the motion edited")
+    parser.add_argument("--frames-only", action="store_true", help="only the frame-update timing")
+    args = parser.parse_args(argv)
+    if not (shared_data_dir() / BVH).exists():
+        print(f"the CMU files are not in {shared_data_dir()}: nothing to measure", file=sys.stderr)
+        return 2
+    bench_frames(args.frames)
+    if args.frames_only:
+        return 0
+    bench_comparison(args.frames)
+    bench_launch()
+    bench_edits(args.edit_frames)
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

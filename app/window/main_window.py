@@ -1,0 +1,337 @@
+"""The main window: lays out the view and the docks and wires the actions. No math here."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+from PyQt6.QtCore import QSettings, Qt, QTimer
+from PyQt6.QtGui import QCloseEvent, QDragEnterEvent, QDropEvent
+from PyQt6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMenu, QMessageBox, QUndoView, QWidget
+
+from gmr_studio.app.dialogs import audit_dialog
+from gmr_studio.app.dialogs.alignment_dialog import AlignmentDialog
+from gmr_studio.app.docks.contact_bars import ContactBars
+from gmr_studio.app.docks.curves_dock import CurvesDock
+from gmr_studio.app.docks.forest import ForestTree
+from gmr_studio.app.docks.inspector import Inspector
+from gmr_studio.app.docks.layers_dock import install as install_layers
+from gmr_studio.app.docks.timeline import Timeline
+from gmr_studio.app.model import commands, extensions
+from gmr_studio.app.model.playback import SPEEDS, Player
+from gmr_studio.app.model.state import StudioState
+from gmr_studio.app.reliability.autosave import Autosaver
+from gmr_studio.app.scene.layer_onion import LayerOnions
+from gmr_studio.app.scene.onion import OnionMenu
+from gmr_studio.app.scene.view import SkeletonView
+from gmr_studio.app.window import actions as action_table
+from gmr_studio.app.window.classroom import Classroom
+from gmr_studio.app.window.files import FileController
+
+KEYS_HELP = """<table>
+<tr><td><b>Space</b></td><td>play / pause</td></tr>
+<tr><td><b>Left / Right</b></td><td>previous / next frame (Shift: one second)</td></tr>
+<tr><td><b>Home / End</b></td><td>first / last frame</td></tr>
+<tr><td><b>[ / ]</b></td><td>slower / faster (0.25x to 4x)</td></tr>
+<tr><td><b>Shift+O</b></td><td>onion skin: ghost poses around the current frame</td></tr>
+<tr><td><b>I / O</b></td><td>frame range start / end here (Shift+drag on the slider: a range)</td></tr>
+<tr><td><b>Click</b></td><td>select a joint (or a marker); right click: joint menu</td></tr>
+<tr><td><b>Drag</b></td><td>turn the camera (Shift: pan, wheel or right drag: zoom)</td></tr>
+<tr><td><b>Ctrl+R / Ctrl+T / Ctrl+J</b></td><td>make root / split here / join to parent</td></tr>
+<tr><td><b>Ctrl+Z / Ctrl+Shift+Z</b></td><td>undo / redo</td></tr>
+<tr><td><b>G K A T L M B P</b></td><td>ground, soft links, axes, trail, labels, markers, marker labels, pelvis</td></tr>
+</table>"""
+
+# layout: the widths the side docks (forest, inspector) are usable at, and their least; the share of the
+# window's width the 3D view keeps, and its least size; the timeline slider's least width
+DOCK_WIDTHS = (300, 370)
+DOCK_MINIMUM = 100
+VIEW_SHARE = 0.4
+VIEW_MINIMUM = (200, 150)
+SLIDER_MINIMUM = 120
+
+
+def default_settings() -> QSettings:
+    return QSettings(QSettings.Format.IniFormat, QSettings.Scope.UserScope, "gmr-studio", "gmr-studio")
+
+
+class MainWindow(QMainWindow):
+    """GMR Studio's window: 3D view in the centre; forest, inspector, timeline, history docks."""
+
+    def __init__(self, settings: QSettings | None = None, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.settings = settings if settings is not None else default_settings()
+        self.state = StudioState(self)
+        self.player = Player(self.state, self)
+        self.view = SkeletonView(self.state, self)
+        self.setCentralWidget(self.view)
+        self.files = FileController(self.state, lambda: self.view.scene, self.settings, self)
+        self.autosave = Autosaver(self.state, self)  # a recovery copy of unsaved edits
+        self.setAcceptDrops(True)
+        self.actions = action_table.build_actions(self, self._handlers(), self.state.undo_stack)
+        self.actions["play"].setShortcutContext(Qt.ShortcutContext.WindowShortcut)
+        self.recent_menu = QMenu("Open &recent", self)
+        self.history = QUndoView(self.state.undo_stack)
+        self.history.setEmptyLabel("<opened>")
+        self.history_dock = self._dock("History", self.history, Qt.DockWidgetArea.RightDockWidgetArea)
+        self.history_dock.hide()
+        toggle = self.history_dock.toggleViewAction()
+        toggle.setText("&History")
+        toggle.setShortcut("Ctrl+H")
+        self.joint_menu = action_table.fill_menus(self, self.actions, self.recent_menu, toggle)
+        self.audit_action = audit_dialog.install(self, self.state)
+        self.forest = ForestTree(self.state)
+        self.forest.tree_colors = self.view.scene.tree_colors  # one colour per tree in both
+        self.inspector = Inspector(self.state)
+        self.timeline = Timeline(self.state, self.player, self.actions)
+        self.forest.context_menu = self.view.context_menu = self.joint_menu
+        self.forest_dock = self._dock("Forest", self.forest, Qt.DockWidgetArea.LeftDockWidgetArea)
+        self.inspector_dock = self._dock("Inspector", self.inspector, Qt.DockWidgetArea.RightDockWidgetArea)
+        self.resizeDocks([self.forest_dock, self.inspector_dock], list(DOCK_WIDTHS), Qt.Orientation.Horizontal)
+        timeline_dock = self._dock("Timeline", self.timeline, Qt.DockWidgetArea.BottomDockWidgetArea)
+        self.contact_bars = ContactBars(self.state)
+        contacts_dock = self._dock("Foot contacts", self.contact_bars, Qt.DockWidgetArea.BottomDockWidgetArea)
+        self.curves = CurvesDock(self.state, self.player)
+        curves_dock = self._dock("Curves", self.curves, Qt.DockWidgetArea.BottomDockWidgetArea)
+        self.splitDockWidget(timeline_dock, contacts_dock, Qt.Orientation.Vertical)
+        self.splitDockWidget(contacts_dock, curves_dock, Qt.Orientation.Vertical)
+        self.resizeDocks([curves_dock], [260], Qt.Orientation.Vertical)
+        self.view.setMinimumSize(*VIEW_MINIMUM)
+        for dock in (self.forest_dock, self.inspector_dock):  # they may give way to the view
+            dock.widget().setMinimumWidth(DOCK_MINIMUM)
+        self.timeline.slider.setMinimumWidth(SLIDER_MINIMUM)  # never squeezed into a square
+        self._fit_pending = QTimer(self, singleShot=True, interval=0)
+        self._fit_pending.timeout.connect(self.fit_docks)
+        self.classroom = Classroom(self, self.state, self.view.scene, beside=self.inspector_dock)
+        self.view_menu.addAction(self.classroom.dock.toggleViewAction())
+        self.onion = OnionMenu(self, self.state, self.view.scene, self.view_menu)
+        self.layers, self.ghosts, self.layers_panel = install_layers(
+            self, self.state, self.view.scene, self.files, beside=self.forest_dock
+        )
+        self.onion.attach(LayerOnions(self.view.scene.plotter, self.layers, self.view.scene.render))
+        self.status = QLabel()
+        self.statusBar().addWidget(self.status, 1)
+        self._wire()
+        self._restore_settings()
+        self._on_path_changed("")
+
+    # ------------------------------------------------------------------ layout
+    def fit_docks(self) -> None:
+        """Keep the layout usable at any window size: the side docks (forest, inspector)
+        get back :data:`DOCK_WIDTHS` when there is room, and give way when the 3D view would
+        have less than :data:`VIEW_SHARE` of the window's width. Docks a user made wider
+        than that are left alone while the view keeps its share."""
+        docks = [d for d in (self.forest_dock, self.inspector_dock) if d.isVisible() and not d.isFloating()]
+        if not docks:
+            return
+        shared = self.view.width() + sum(d.width() for d in docks)  # less splitters and margins
+        room = max(0.0, shared - math.ceil(VIEW_SHARE * self.width())) / len(docks)
+        usable = dict(zip((self.forest_dock, self.inspector_dock), DOCK_WIDTHS))
+        targets = [int(min(usable[d], room)) for d in docks]
+        squeezed = self.view.width() < VIEW_SHARE * self.width() - 1
+        narrow = any(d.width() < t - 1 for d, t in zip(docks, targets))
+        if squeezed or narrow:
+            widths = [t if squeezed or d.width() < t else d.width() for d, t in zip(docks, targets)]
+            self.resizeDocks(docks, widths, Qt.Orientation.Horizontal)
+
+    def resizeEvent(self, event) -> None:  # noqa: N802 (Qt's name)
+        super().resizeEvent(event)
+        self._fit_pending.start()  # once the layout has settled at the new size
+
+    def _dock(self, title: str, widget: QWidget, area: Qt.DockWidgetArea) -> QDockWidget:
+        dock = QDockWidget(title, self)
+        dock.setObjectName(title.lower())
+        dock.setWidget(widget)
+        self.addDockWidget(area, dock)
+        if hasattr(self, "view_menu"):
+            self.view_menu.addAction(dock.toggleViewAction())
+        return dock
+
+    def _handlers(self) -> dict:
+        state, player, files = self.state, self.player, self.files
+        handlers = {
+            "open": files.open_dialog,
+            "add_markers": files.add_markers_dialog,
+            "align_markers": self._align_markers,
+            "remove_markers": lambda: state.set_markers(None),
+            "recover_pelvis": self._recover_pelvis,
+            "save": files.save,
+            "save_as": files.save_as,
+            "export_bvh": files.export_bvh_dialog,
+            "export_gltf": files.export_gltf_dialog,
+            "body_model": files.choose_body_model,
+            "screenshot": files.save_screenshot_dialog,
+            "export_video": lambda: files.export_video_dialog(player.speed),
+            "quit": self.close,
+            "make_root": lambda: commands.make_root(state, state.selected),
+            "split": lambda: commands.split_here(state, state.selected),
+            "join": lambda: commands.join_to_parent(state, state.selected),
+            "split_all": lambda: commands.split_everything(state),
+            "join_all": lambda: commands.join_everything(state),
+            "remove_dummies": lambda: extensions.remove_dummy_joints(state),
+            "play": player.toggle,
+            "step_back": lambda: (player.pause(), state.step(-1)),
+            "step_forward": lambda: (player.pause(), state.step(1)),
+            "back_second": lambda: state.step(-self._second()),
+            "forward_second": lambda: state.step(self._second()),
+            "first_frame": lambda: state.set_frame(0),
+            "last_frame": lambda: state.set_frame(state.n_frames - 1),
+            "loop": player.set_loop,
+            "slower": lambda: player.set_speed(_next_speed(player.speed, -1)),
+            "faster": lambda: player.set_speed(_next_speed(player.speed, 1)),
+            "reset_camera": lambda: self.view.scene.reset_camera(),
+            "about": self._about,
+            "keys": lambda: QMessageBox.information(self, "Keyboard shortcuts", KEYS_HELP),
+        }
+        handlers.update(action_table.clip_handlers(self, state))
+        for name in state.overlays:
+            handlers[f"overlay_{name}"] = lambda shown, name=name: state.set_overlay(name, shown)
+        return handlers
+
+    def _second(self) -> int:
+        return max(1, round(self.state.motion.frame_rate)) if self.state.motion else 1
+
+    def _wire(self) -> None:
+        state = self.state
+        state.message.connect(self.status.setText)
+        state.path_changed.connect(self._on_path_changed)
+        state.modified_changed.connect(self.setWindowModified)
+        for signal in (
+            state.document_changed,
+            state.motion_changed,
+            state.selection_changed,
+            state.markers_changed,
+            state.range_changed,
+        ):
+            signal.connect(self._on_enabled_changed)
+        self.player.playing_changed.connect(self._on_playing_changed)
+        self.player.loop_changed.connect(self.actions["loop"].setChecked)
+        self.files.recent_changed.connect(self._on_recent_changed)
+        for name, shown in state.overlays.items():
+            self.actions[f"overlay_{name}"].setChecked(shown)
+        state.overlay_changed.connect(self._on_overlay_changed)
+        self.actions["loop"].setChecked(self.player.loop)
+        self._on_recent_changed(self.files.recent_files())
+        self._on_enabled_changed()
+
+    # ----------------------------------------------------------------- handlers
+    def _on_path_changed(self, path: str) -> None:
+        name = Path(path).name if path else ("demo" if self.state.motion is not None else "no motion")
+        self.setWindowTitle(f"{name}[*] \u2014 GMR Studio")
+        self.setWindowModified(self.state.modified)
+
+    def _on_overlay_changed(self, name: str, shown: bool) -> None:
+        self.actions[f"overlay_{name}"].setChecked(shown)
+
+    def _on_enabled_changed(self, *_args) -> None:
+        action_table.update_enabled(
+            self.actions,
+            self.state,
+            self.state.motion is not None and extensions.remove_dummies_available(self.state.motion),
+        )
+        self.actions["recover_pelvis"].setEnabled(
+            self.state.marker_overlay is not None and extensions.pelvis_recovery_available()
+        )
+
+    def _on_playing_changed(self, playing: bool) -> None:
+        icon = "SP_MediaPause" if playing else "SP_MediaPlay"
+        from PyQt6.QtWidgets import QStyle
+
+        self.actions["play"].setIcon(self.style().standardIcon(getattr(QStyle.StandardPixmap, icon)))
+        self.actions["play"].setText("&Pause" if playing else "&Play")
+
+    def _on_recent_changed(self, paths: list) -> None:
+        self.recent_menu.clear()
+        for path in paths:
+            self.recent_menu.addAction(Path(path).name, lambda p=path: self.files.open_path(p)).setStatusTip(path)
+        self.recent_menu.addSeparator()
+        self.recent_menu.addAction("Clear the list", self.files.clear_recent)
+        self.recent_menu.setEnabled(bool(paths))
+
+    def _align_markers(self) -> None:
+        AlignmentDialog(self.state, self, self.view.scene).exec()
+
+    def _recover_pelvis(self) -> None:
+        extensions.recover_pelvis_frames(self.state)
+
+    def _about(self) -> None:
+        QMessageBox.about(
+            self,
+            "About GMR Studio",
+            "<b>GMR Studio</b><br/>Look at, edit and convert skeletal motion in the General Motion "
+            "Representation: shift root, split and join trees, with undo.",
+        )
+
+    # ------------------------------------------------------------ drops, settings, close
+    def dragEnterEvent(self, event: QDragEnterEvent) -> None:  # noqa: N802
+        if event.mimeData().hasUrls():
+            event.acceptProposedAction()
+
+    def dropEvent(self, event: QDropEvent) -> None:  # noqa: N802
+        paths = [url.toLocalFile() for url in event.mimeData().urls() if url.isLocalFile()]
+        motions = [p for p in paths if Path(p).suffix.lower() in extensions.motion_suffixes()]
+        markers = [p for p in paths if Path(p).suffix.lower() in extensions.marker_suffixes()]
+        shift = bool(event.modifiers() & Qt.KeyboardModifier.ShiftModifier)
+        if (motions or markers) and shift and self.state.motion is not None:
+            self.files.compare_path((motions or markers)[0])  # Shift: add as a comparison layer
+        elif motions:
+            self.files.open_path(motions[0], markers=markers[0] if markers else None)
+        elif markers and self.state.motion is not None:
+            self.files.add_markers_path(markers[0])
+        event.acceptProposedAction()
+
+    def _restore_settings(self) -> None:
+        geometry = self.settings.value("window/geometry")
+        if geometry is not None:
+            self.restoreGeometry(geometry)
+        else:
+            self.resize(1400, 900)
+        layout = self.settings.value("window/state")
+        if layout is not None:
+            self.restoreState(layout)
+        self.fit_docks()  # a layout saved squeezed comes back usable
+        for name in self.state.overlays:
+            value = self.settings.value(f"overlays/{name}")
+            if value is not None:
+                self.state.set_overlay(name, str(value).lower() == "true")
+        speed = self.settings.value("playback/speed")
+        if speed is not None:
+            self.player.set_speed(float(speed))
+        loop = self.settings.value("playback/loop")
+        if loop is not None:
+            self.player.set_loop(str(loop).lower() == "true")
+
+    def _save_settings(self) -> None:
+        self.settings.setValue("window/geometry", self.saveGeometry())
+        self.settings.setValue("window/state", self.saveState())
+        for name, shown in self.state.overlays.items():
+            self.settings.setValue(f"overlays/{name}", shown)
+        self.settings.setValue("playback/speed", self.player.speed)
+        self.settings.setValue("playback/loop", self.player.loop)
+        self.settings.sync()
+
+    def report_problem(self, text: str) -> None:
+        """Tell the user about an unexpected error (status bar, and a dialog that does not
+        block what was running)."""
+        self.state.show_message(text)
+        if not self.files.quiet:
+            box = QMessageBox(QMessageBox.Icon.Warning, "GMR Studio", text, QMessageBox.StandardButton.Ok, self)
+            box.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
+            box.open()
+
+    def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802
+        if not self.files.maybe_save():
+            event.ignore()
+            return
+        self.player.pause()
+        self.autosave.discard()  # saved, or the user chose to drop the edits
+        self.autosave.shutdown()
+        self.state.undo_stack.blockSignals(True)  # its actions go away with the window
+        self._save_settings()
+        self.view.close_view()
+        event.accept()
+
+
+def _next_speed(speed: float, direction: int) -> float:
+    index = min(range(len(SPEEDS)), key=lambda i: abs(SPEEDS[i] - speed))
+    return SPEEDS[min(max(index + direction, 0), len(SPEEDS) - 1)]
