@@ -133,6 +133,14 @@ def has_display() -> bool:
     return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY") or platform)
 
 
+def render_without_display() -> None:
+    """With no display, have VTK render off screen through EGL (Mesa's, or the GPU's) rather
+    than try X first and print its 'bad X server connection' warning; a choice already made
+    in ``VTK_DEFAULT_OPENGL_WINDOW`` is kept."""
+    if not has_display():
+        os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+
+
 def default_files(args: argparse.Namespace) -> tuple[str, str | None]:
     """The motion and markers to open: the arguments, or the demo."""
     if args.file:
@@ -157,6 +165,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
         return print_recoveries()
     motion_path, markers_path = default_files(args)
+    render_without_display()
     if args.filmstrip:
         from gmr_studio.app.media.filmstrip import filmstrip_command
 
@@ -378,11 +387,12 @@ def offscreen_screenshot(motion_path: str, markers_path: str | None, args: argpa
         scene.set_snapshot(state.snapshot, reset_camera=True)
         scene.set_markers(state.marker_overlay)
         scene.set_pelvis(state.pelvis)
-        scene.show_frame(frame)
         if args.onion:
-            from gmr_studio.app.scene.onion import OnionSkins
+            from gmr_studio.app.scene.onion import OnionSettings, OnionSkins
 
-            OnionSkins(plotter, lambda: None).show(state.snapshot, scene.frame, *args.onion)
+            step, count = args.onion
+            scene.add_drawable(OnionSkins(OnionSettings(shown=True, step=step, count=count)), before=scene.figure)
+        scene.show_frame(frame)
         width, height = save_screenshot(scene, out)
     finally:
         plotter.close()
@@ -426,7 +436,8 @@ def window_screenshot(motion_path: str, markers_path: str | None, args: argparse
     else:
         window.view.interactor.setFixedSize(*size)
     if args.onion:
-        window.onion.step, window.onion.count = args.onion
+        window.onion.set_step(args.onion[0])
+        window.onion.set_count(args.onion[1])
         window.onion.toggle.setChecked(True)
     window.show()
     app.processEvents()

@@ -55,19 +55,19 @@ def test_onion_skin_draws_the_ghost_poses_and_goes_away(studio, qtbot):
     plain = screen_image(studio)
     onion.toggle.setChecked(True)
     assert onion.skins.frames.tolist() == [190, 210, 180, 220, 170, 230]
-    for part, frame in zip(onion.skins.parts, onion.skins.frames, strict=True):
+    for part, frame in zip(onion.skins.poses, onion.skins.frames, strict=True):
         np.testing.assert_array_equal(np.asarray(part.mesh.points), state.snapshot.positions[frame])
     studio.view.scene.render(now=True)
     ghosts = screen_image(studio)
     assert figure_mask(ghosts).sum() > 1.15 * figure_mask(plain).sum()
     state.set_frame(300)  # the ghosts follow the frame
     assert onion.skins.frames.tolist()[:2] == [290, 310]
-    onion._set_step(30)
+    onion.set_step(30)
     assert onion.skins.frames.tolist()[:2] == [270, 330]
     onion.toggle.setChecked(False)
     state.set_frame(200)
     studio.view.scene.render(now=True)
-    assert not onion.skins.parts
+    assert not any(part.visible for part in onion.skins.pool)
     again = screen_image(studio)
     changed = np.abs(again.astype(int) - plain.astype(int)).max(axis=-1) > 0
     assert changed.mean() < 1e-4  # the same picture but for a few antialiased pixels
@@ -136,7 +136,7 @@ def test_layer_onion_poses_are_the_layer_ghost_at_the_onion_frames(studio):
     layer_onions = onion.layer_onions
     assert onion.include_layers.isChecked()  # on by default
     state.set_frame(1518)
-    onion._set_step(30)
+    onion.set_step(30)
     assert not layer_onions.pools  # nothing drawn while the onion skin is off
     onion.toggle.setChecked(True)
     layer = layers[0]
@@ -160,7 +160,7 @@ def test_layer_onion_poses_are_the_layer_ghost_at_the_onion_frames(studio):
         np.testing.assert_array_equal(np.asarray(part.mesh.points), layer.ghost[frame])
     # frames where B has no sample are skipped: A's frame 0 comes before B's first (offset -1)
     assert np.isnan(layer.ghost[0]).all()
-    onion._set_step(10)
+    onion.set_step(10)
     state.set_frame(20)
     assert 0 in onion.skins.frames.tolist()  # the document's onion pose at frame 0 is drawn
     assert sorted(_drawn(layer_onions, 0)) == [10, 30, 40, 50]
@@ -193,7 +193,7 @@ def test_layer_onion_pixels_follow_the_switches(studio):
     _compare_amc(studio)
     state, onion, layers = studio.state, studio.onion, studio.layers
     state.set_frame(0)  # the layer's own ghost is not drawn here (no sample of B): only its onion
-    onion._set_step(60)
+    onion.set_step(60)
     assert layer_mask(screen_image(studio)).sum() == 0
     onion.toggle.setChecked(True)
     shown = layer_mask(screen_image(studio)).sum()

@@ -24,11 +24,12 @@ from PyQt6.QtWidgets import (
 
 from gmr_studio.app.model.alignment import MarkerAlignment, auto_alignment, figure_centre_joint, turned_about
 from gmr_studio.app.model.state import StudioState
+from gmr_studio.app.scene.highlight import PIVOT_COLOR, PivotMarker
 from gmr_studio.app.scene.scene import up_axis_of
 
+__all__ = ["PIVOT_COLOR", "AlignmentDialog"]
+
 #: name and colour of the pivot drawn in the view while the dialog is open
-PIVOT_ACTOR = "alignment_pivot"
-PIVOT_COLOR = (1.0, 0.25, 0.85)
 
 
 class AlignmentDialog(QDialog):
@@ -68,6 +69,7 @@ class AlignmentDialog(QDialog):
         self.pivot_label = QLabel()
         layout.addRow("Turns about", self.pivot_label)
         self.scene = scene
+        self._pivot_marker = PivotMarker()
         self._show_pivot()
         self.frames = QSpinBox(minimum=-100000, maximum=100000, value=self.original.frame_offset)
         self.frames.setToolTip("Marker frame shown at motion frame f is f + this")
@@ -104,25 +106,18 @@ class AlignmentDialog(QDialog):
     def _show_pivot(self) -> None:
         """Say where the pivot is, and draw it (a sphere on a vertical line) in the view."""
         pivot = self.pivot()
-        size = self.state.motion.size
         where = " ".join(f"{v:.4g}" for v in pivot)
         self.pivot_label.setText(f"{self.state.motion.names[self.pivot_joint]} at frame {self.state.frame} ({where})")
         if self.scene is None:
             return
-        import pyvista as pv
-
-        up = np.zeros(3)
-        up[self.up_axis] = 0.6 * size
-        line = pv.Line(pivot - up, pivot + up)
-        marker = pv.Sphere(radius=0.03 * size, center=pivot).merge(line.tube(radius=0.006 * size))
-        options = {"color": PIVOT_COLOR, "lighting": False, "pickable": False, "reset_camera": False}
-        self.scene.plotter.add_mesh(marker, name=PIVOT_ACTOR, render=False, **options)
-        self.scene.render()
+        if self._pivot_marker not in self.scene.drawables:
+            self.scene.add_drawable(self._pivot_marker)
+        self._pivot_marker.point = pivot
+        self.scene.redraw(self._pivot_marker)
 
     def _hide_pivot(self) -> None:
         if self.scene is not None:
-            self.scene.plotter.remove_actor(PIVOT_ACTOR, render=False)
-            self.scene.render()
+            self.scene.remove_drawable(self._pivot_marker)
 
     def done(self, result: int) -> None:
         self._hide_pivot()

@@ -10,7 +10,6 @@ its tolerance (:attr:`AuditPath.failing_joints`) in red in the view
 from __future__ import annotations
 
 import numpy as np
-import pyvista as pv
 from PyQt6.QtCore import Qt
 from PyQt6.QtGui import QAction, QBrush, QColor
 from PyQt6.QtWidgets import (
@@ -26,57 +25,44 @@ from PyQt6.QtWidgets import (
 )
 
 from gmr_studio.app.model.state import StudioState
-from gmr_studio.app.scene import vtk_parts as parts
+from gmr_studio.app.scene.highlight import JointsHighlight
 from gmr_studio.core.compare.audit import AuditPath, audit_motion
 
 COLUMNS = ("path", "max error", "relative", "tolerance", "result", "worst joint", "frame")
 FAIL_COLOUR = QColor(200, 60, 60)
 
 
-HIGHLIGHT_COLOUR = (1.0, 0.15, 0.15)
-HIGHLIGHT_RADIUS = 0.04  # of the motion's size: around the document's joints (0.016)
-
-
 class FailingJointsHighlight:
-    """Red translucent spheres around some joints of the document, following the frame."""
+    """The failing joints ringed in the scene (a :class:`~app.scene.highlight.JointsHighlight`
+    drawable added while the dialog is open)."""
 
     def __init__(self, state: StudioState, scene) -> None:
         self.state = state
         self.scene = scene
-        self.joints = np.zeros(0, dtype=np.int64)
-        self.part: parts.Part | None = None
-        state.frame_changed.connect(self._on_frame_changed)
+        self.drawing = JointsHighlight()
+        if scene is not None:
+            scene.add_drawable(self.drawing)
+
+    @property
+    def part(self):
+        return self.drawing.part
+
+    @property
+    def joints(self) -> np.ndarray:
+        return self.drawing.joints
 
     def show(self, names: tuple[str, ...]) -> None:
         """Ring the joints named ``names`` (those the document has); an empty tuple clears."""
-        self.clear()
-        motion = self.state.motion
-        if motion is None or self.scene is None:
-            return
-        self.joints = np.array([motion.joint_index(n) for n in names if n in motion.names], dtype=np.int64)
-        if not self.joints.size:
-            return
-        sphere = pv.Sphere(radius=HIGHLIGHT_RADIUS * motion.size, theta_resolution=14, phi_resolution=14)
-        self.part = parts.glyph_part(len(self.joints), sphere, color=HIGHLIGHT_COLOUR)
-        self.part.actor.GetProperty().SetOpacity(0.7)
-        self.scene.plotter.renderer.AddActor(self.part.actor)
-        self._on_frame_changed(self.state.frame)
+        self.drawing.names = tuple(names)
+        if self.scene is not None:
+            self.scene.redraw(self.drawing)
 
     def clear(self) -> None:
-        if self.part is not None:
-            self.scene.plotter.renderer.RemoveActor(self.part.actor)
-            self.part = None
-            self.scene.render()
-        self.joints = np.zeros(0, dtype=np.int64)
-
-    def _on_frame_changed(self, frame: int) -> None:
-        if self.part is not None and self.state.snapshot is not None:
-            self.part.set_points(self.state.snapshot.positions[frame, self.joints])
-            self.scene.render()
+        self.show(())
 
     def disconnect(self) -> None:
-        self.clear()
-        self.state.frame_changed.disconnect(self._on_frame_changed)
+        if self.scene is not None:
+            self.scene.remove_drawable(self.drawing)
 
 
 class AuditDialog(QDialog):

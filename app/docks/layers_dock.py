@@ -4,14 +4,13 @@ units, fit, RMS); under the table, the alignment of the chosen layer, adjustable
 (:class:`~app.layer_alignment.LayerAlignmentBox`).
 
 Rows are rebuilt from :class:`~app.layers.Layers` whenever it changes; the widgets only call
-its methods. "Error colours" switches the error view (:class:`~app.ghost_layer.GhostLayers`).
+its methods. "Error colours" asks for the error view (:attr:`LayersDock.errors_toggled`; the window
+wires it to :class:`~app.scene.ghost_layer.GhostLayers`).
 """
 
 from __future__ import annotations
 
-import functools
-
-from PyQt6.QtCore import Qt, pyqtSignal
+from PyQt6.QtCore import pyqtSignal
 from PyQt6.QtGui import QColor
 from PyQt6.QtWidgets import (
     QCheckBox,
@@ -26,11 +25,9 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
-from gmr_studio.app.docks.error_dock import ErrorDock, inspector_section
 from gmr_studio.app.docks.layer_alignment import LayerAlignmentBox
 from gmr_studio.app.model.layers import Layers
 from gmr_studio.app.model.marker_layers import MarkerLayer
-from gmr_studio.app.scene.ghost_layer import GhostLayers
 
 COLUMNS = ("", "shown", "layer", "opacity %", "alignment", "")
 DOCK_MINIMUM = 100  # pixels: as app.main_window.DOCK_MINIMUM
@@ -154,62 +151,3 @@ class LayersDock(QWidget):
         colour = QColorDialog.getColor(QColor.fromRgbF(*self.layers[index].colour), self, "Layer colour")
         if colour.isValid():
             self.layers.set_colour(index, (colour.redF(), colour.greenF(), colour.blueF()))
-
-
-def install(window, state, scene, files, beside) -> tuple[Layers, GhostLayers, LayersDock]:
-    """Comparison layers in ``window``: the model, its drawing in ``scene``, the Layers dock
-    (to be tabbed with the dock ``beside``) and the Error dock (with Curves), both hidden
-    until the first layer is added, File > Compare with... (Ctrl+Shift+O), the inspector's
-    comparison section."""
-    from PyQt6.QtGui import QAction
-    from PyQt6.QtWidgets import QDockWidget
-
-    layers = Layers(state, window)
-    files.layers = layers
-    ghosts = GhostLayers(scene.plotter, state, layers, scene.render)
-    panel = LayersDock(layers)
-    panel.compare_requested.connect(files.compare_dialog)
-    panel.errors_toggled.connect(ghosts.set_show_errors)
-    errors = ErrorDock(layers)
-    window.error_plot = errors
-    docks = [_hidden_dock(window, "Layers", panel, Qt.DockWidgetArea.RightDockWidgetArea)]
-    docks.append(_hidden_dock(window, "Error", errors, Qt.DockWidgetArea.BottomDockWidgetArea))
-    # tabbed only when first shown: tabbing hidden docks before the window is shown leaves
-    # stray tab bars behind in Qt's layout
-    partners = [beside, window.findChild(QDockWidget, "curves")]
-    count = [0]
-
-    def on_layers_changed() -> None:  # a layer added: show the docks, the plot in front
-        if len(layers) > count[0]:
-            for dock, partner in zip(docks, partners):
-                if dock.isHidden() and partner is not None and partner.isVisible() and not partner.isFloating():
-                    window.tabifyDockWidget(partner, dock)
-                dock.show()
-                dock.raise_()
-        count[0] = len(layers)
-
-    layers.changed.connect(on_layers_changed)
-    action = QAction("&Compare with...", window, shortcut="Ctrl+Shift+O")
-    action.setStatusTip("show another motion as a ghost compared with the document, joint by joint")
-    action.triggered.connect(files.compare_dialog)
-    file_menu = window.menuBar().actions()[0].menu()
-    file_menu.insertAction(file_menu.actions()[2], action)  # after Open and Open recent
-    window.addAction(action)
-    window.compare_action = action
-    window.inspector.sections.append(functools.partial(inspector_section, layers))
-    layers.changed.connect(window.inspector._on_changed)
-    return layers, ghosts, panel
-
-
-def _hidden_dock(window, title: str, widget: QWidget, area: Qt.DockWidgetArea):
-    """A hidden dock in ``area`` listed in View; it gives way to the 3D view like the others."""
-    from PyQt6.QtWidgets import QDockWidget
-
-    dock = QDockWidget(title, window)
-    dock.setObjectName(title.lower())
-    dock.setWidget(widget)
-    widget.setMinimumWidth(DOCK_MINIMUM)
-    window.addDockWidget(area, dock)
-    dock.hide()
-    window.view_menu.addAction(dock.toggleViewAction())
-    return dock

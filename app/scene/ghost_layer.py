@@ -1,7 +1,7 @@
 """Drawing the comparison layers: ghosts, and the document's error at the current frame.
 
-:class:`GhostLayers` owns its actors (added to the plotter's renderer directly, like the
-onion skins), so the scene's rebuilds after an edit never remove them:
+:class:`GhostLayers` is one of the scene's drawables (:mod:`app.scene.drawable`), rebuilt
+when the layers change (the scene rebuilds it after an edit too):
 
 - each visible layer (:mod:`app.layers`) as a ghost skeleton: translucent bones and joints
   in the layer's colour, at the document's frame (B on A's clock and in A's space);
@@ -14,16 +14,14 @@ onion skins), so the scene's rebuilds after an edit never remove them:
 
 Everything is built once per change of the layers (added, removed, recomputed, restyled); a
 frame change only writes points and colours into the existing poly data (the colours of
-every compared frame are computed once, :attr:`GhostLayers.error_rgb`) and asks for one
-render. The translucent ghosts are blended in drawing order rather than through VTK's
+every compared frame are computed once, :attr:`GhostLayers.error_rgb`); the scene renders
+once for all its drawables. The translucent ghosts are blended in drawing order rather than through VTK's
 order-independent translucency, whose extra full-view passes cost more than the ghosts
 themselves on a software renderer (the ghost is one colour per layer, so the two differ
 only where a ghost's surfaces overlap, by a few levels of shading).
 """
 
 from __future__ import annotations
-
-from collections.abc import Callable
 
 import numpy as np
 import pyvista as pv
@@ -34,6 +32,7 @@ from gmr_studio.app.model.layers import ComparisonLayer, Layers
 from gmr_studio.app.model.marker_layers import MARKER_LAYER_RADIUS, MarkerLayer
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.app.scene import vtk_parts as parts
+from gmr_studio.app.scene.drawable import Drawing
 from gmr_studio.app.scene.onion import bone_pairs
 
 #: the error colour map: anchors (position in [0, 1], RGB), interpolated linearly
@@ -60,14 +59,13 @@ def error_scale_top(layer: ComparisonLayer, size: float) -> float:
     return float(top) if np.isfinite(top) and top > 1e-6 * size else 1e-3 * size
 
 
-class GhostLayers:
+class GhostLayers(Drawing):
     """The actors of every layer and of the error view, kept in step with ``layers``."""
 
-    def __init__(self, plotter: pv.BasePlotter, state: StudioState, layers: Layers, render: Callable[[], None]):
-        self.plotter = plotter
+    def __init__(self, state: StudioState, layers: Layers) -> None:
+        super().__init__()
         self.state = state
         self.layers = layers
-        self.render = render
         self.show_errors = True
         # per layer: (bones, joints) of a motion, (spheres,) of a marker set
         self.ghosts: list[tuple[parts.Part, ...]] = []
@@ -79,73 +77,75 @@ class GhostLayers:
         #: (rows of the active comparison), what a frame change writes into the error view
         self.error_rgb = np.zeros((0, 0, 3), np.uint8)
         self._no_error_rgb = np.zeros((0, 3), np.uint8)  # (P, 3): a frame not compared
-        self._oit = bool(plotter.renderer.GetUseOIT())  # the renderer's own setting, restored
-        layers.changed.connect(self.rebuild)
-        layers.appearance_changed.connect(lambda _index: self.rebuild())
-        state.frame_changed.connect(self.show_frame)
+        self._oit: bool | None = None  # the renderer's own setting, restored
+        layers.changed.connect(self._on_layers_changed)
+        layers.appearance_changed.connect(lambda _index: self._on_layers_changed())
+
+    def _on_layers_changed(self) -> None:
+        if self.scene is not None:
+            self.scene.redraw(self)
 
     # ------------------------------------------------------------------ building
-    def rebuild(self) -> None:
-        self._remove_all()
-        document = self.state.snapshot
+    def build(self, scene) -> None:
+        super().build(scene)
+        renderer = scene.plotter.renderer
+        if self._oit is None:
+            self._oit = bool(renderer.GetUseOIT())
+        self.ghosts = []
+        self.error_joints = self.error_lines = self.legend = None
+        document = scene.snapshot
+        renderer.SetUseOIT(self._oit)
         if document is None:
-            self.render()
             return
         size = document.motion.size
-        for layer in self.layers.layers:
+        for index, layer in enumerate(self.layers.layers):
             if isinstance(layer, MarkerLayer):
                 sphere = pv.Sphere(radius=MARKER_LAYER_RADIUS * size, theta_resolution=10, phi_resolution=8)
                 built = (parts.glyph_part(layer.markers.n_markers, sphere, color=layer.colour),)
             else:
                 motion = layer.snapshot.motion
-                pairs = bone_pairs(motion.parents)
-                bones = parts.segments_part(
-                    motion.n_joints, pairs, color=layer.colour, tube_radius=GHOST_BONE_RADIUS * size
-                )
+                bones = parts.bone_part(bone_pairs(motion.parents), GHOST_BONE_RADIUS * size, color=layer.colour)
                 sphere = pv.Sphere(radius=GHOST_JOINT_RADIUS * size, theta_resolution=10, phi_resolution=10)
                 built = (bones, parts.glyph_part(motion.n_joints, sphere, color=layer.colour))
-            for part in built:
+            for k, part in enumerate(built):
                 part.actor.GetProperty().SetOpacity(layer.opacity)
+                part.actor.GetProperty().SetAmbient(0.6)  # translucent over a dark ground: lit brighter
+                self.add(f"ghost_{index}_{k}", part)
                 part.set_visible(layer.visible)
-                self.plotter.renderer.AddActor(part.actor)
             self.ghosts.append(built)
         # blended in drawing order while ghosts are shown (see the module docstring)
-        self.plotter.renderer.SetUseOIT(self._oit and not self.ghosts)
+        renderer.SetUseOIT(self._oit and not self.ghosts)
         active = self.layers.active
         if active is not None and self.show_errors:
             self._build_error_view(active, size)
-        self.show_frame(self.state.frame)
 
     def _build_error_view(self, layer: ComparisonLayer, size: float) -> None:
         n = layer.comparison.n_pairs
         sphere = pv.Sphere(radius=ERROR_JOINT_RADIUS * size, theta_resolution=12, phi_resolution=12)
-        self.error_joints = parts.glyph_part(n, sphere, colors=np.zeros((n, 3)))
+        self.error_joints = self.add("error_joints", parts.glyph_part(n, sphere, colors=np.zeros((n, 3))))
         pairs = np.column_stack([np.arange(n), n + np.arange(n)])
-        self.error_lines = parts.segments_part(2 * n, pairs, color=LINE_COLOUR, width=1.5)
+        self.error_lines = self.add("error_lines", parts.segments_part(2 * n, pairs, color=LINE_COLOUR, width=1.5))
         self.top = error_scale_top(layer, size)
         self.error_rgb = parts.rgb_bytes(error_colours(layer.comparison.position_error, self.top))
         self._no_error_rgb = parts.rgb_bytes(np.broadcast_to(NO_ERROR_COLOUR, (n, 3)))
         self.legend = _legend(self.top, layer.comparison.units_text)
-        for part in (self.error_joints, self.error_lines):
-            self.plotter.renderer.AddActor(part.actor)
-        self.plotter.renderer.AddViewProp(self.legend)
+        holder = parts.Part(0)
+        holder.actor = self.legend
+        self.add("error_legend", holder)
 
-    def _remove_all(self) -> None:
-        for built in self.ghosts:
-            for part in built:
-                self.plotter.renderer.RemoveActor(part.actor)
-        self.ghosts = []
-        for part in (self.error_joints, self.error_lines):
-            if part is not None:
-                self.plotter.renderer.RemoveActor(part.actor)
-        if self.legend is not None:
-            self.plotter.renderer.RemoveViewProp(self.legend)
-        self.error_joints = self.error_lines = self.legend = None
-        self.plotter.renderer.SetUseOIT(self._oit)
+    def remove(self) -> None:
+        if self.scene is not None and self._oit is not None:
+            self.scene.plotter.renderer.SetUseOIT(self._oit)
+        super().remove()
 
     def set_show_errors(self, shown: bool) -> None:
         self.show_errors = bool(shown)
-        self.rebuild()
+        self._on_layers_changed()
+
+    def set_visible(self, shown: bool) -> None:
+        super().set_visible(shown)
+        if shown and self.scene is not None and self.scene.snapshot is not None:
+            self.show_frame(self.scene.frame)
 
     # -------------------------------------------------------------------- frames
     def show_frame(self, frame: int) -> None:
@@ -156,14 +156,16 @@ class GhostLayers:
             if isinstance(layer, MarkerLayer):
                 positions = layer.positions
                 parts.set_some_points(built[0], positions[min(frame, len(positions) - 1)])
-                built[0].set_visible(layer.visible)
+                built[0].set_visible(layer.visible and self._visible)
                 continue
             points = layer.ghost[min(frame, len(layer.ghost) - 1)]
             sampled = bool(np.isfinite(points).all())  # outside B's time range: not drawn
-            for part in built:
-                part.set_visible(layer.visible and sampled)
-                if sampled:
-                    part.set_points(points)
+            bones, joints = built
+            bones.set_visible(layer.visible and sampled and self._visible)
+            joints.set_visible(layer.visible and sampled and self._visible)
+            if sampled:
+                bones.set_joints(points)
+                joints.set_points(points)
         active = self.layers.active
         if self.error_joints is not None and active is not None:
             comparison = active.comparison
@@ -177,7 +179,6 @@ class GhostLayers:
             self.error_joints.set_points(a)
             self.error_joints.mesh.point_data["colors"][:] = rgb
             self.error_lines.set_points(np.concatenate([a, np.where(np.isfinite(b), b, a)]))
-        self.render()
 
 
 def _legend(top: float, units: str) -> vtkScalarBarActor:

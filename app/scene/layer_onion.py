@@ -5,7 +5,8 @@
 the current frame, as :func:`~app.onion.onion_frames` orders them). A frame change only
 writes points, opacities and visibilities into that pool; the pools are built again only
 when the layers change (added, removed, recomputed after an edit) or the number of poses
-each side does. A layer's onion pose at frame ``f`` is ``layer.ghost[f]`` (B on A's frames
+each side does (it is one of the scene's drawables, :mod:`app.scene.drawable`). A
+layer's onion pose at frame ``f`` is ``layer.ghost[f]`` (B on A's frames
 and in A's space), drawn in the layer's colour as lines with a dot at every joint (the
 document's onion poses are lines only, blue before and orange after), fading with distance
 like the document's; frames where B has no sample (NaN) are not drawn.
@@ -13,23 +14,15 @@ like the document's; frames where B has no sample (NaN) are not drawn.
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
 import numpy as np
-import pyvista as pv
 
 from gmr_studio.app.model.layers import GHOST_OPACITY, ComparisonLayer, Layers
 from gmr_studio.app.scene import vtk_parts as parts
-from gmr_studio.app.scene.onion import bone_pairs, ghost_opacity
+from gmr_studio.app.scene.drawable import Drawing
+from gmr_studio.app.scene.onion import OnionSettings, bone_pairs, ghost_opacity, slot_of
 
 LINE_WIDTH = 2.5  # as the document's onion poses
 JOINT_DOT = 5.0  # pixels: what tells a layer's onion pose from the document's
-
-
-def slot_of(distance: np.ndarray) -> np.ndarray:
-    """Slot (K,) of each signed distance in steps: ``-1 -> 0, +1 -> 1, -2 -> 2, +2 -> 3, ...``."""
-    distance = np.asarray(distance, dtype=np.int64)
-    return 2 * (np.abs(distance) - 1) + (distance > 0)
 
 
 def layer_slot_frames(ghost: np.ndarray, frames: np.ndarray, distance: np.ndarray, count: int) -> np.ndarray:
@@ -62,68 +55,68 @@ def _onion_part(layer: ComparisonLayer) -> parts.Part:
     return part
 
 
-class LayerOnions:
+class LayerOnions(Drawing):
     """The onion poses of every layer, in pools of actors reused from frame to frame."""
 
-    def __init__(self, plotter: pv.BasePlotter, layers: Layers, request_render: Callable[[], None]) -> None:
-        self.plotter = plotter
+    def __init__(self, layers: Layers, settings: OnionSettings) -> None:
+        super().__init__()
         self.layers = layers
-        self.request_render = request_render
+        self.settings = settings
         self.pools: list[list[parts.Part]] = []  # per layer, 2 count slots
         self.slot_frames: list[np.ndarray] = []  # per layer, (2 count,) frame of each slot, -1 none
-        self.count = 0
-        self._stale = True
         layers.changed.connect(self._on_layers_changed)
+        layers.appearance_changed.connect(self.restyle)
 
     def _on_layers_changed(self) -> None:
-        self._stale = True
+        if self.scene is not None:
+            self.scene.redraw(self)
 
-    def _build(self, count: int) -> None:
-        self._remove_all()
-        for layer in self.layers.layers:
-            pool = [_onion_part(layer) for _ in range(2 * count)]
+    def wanted(self, scene) -> bool:
+        return self.settings.shown and self.settings.include_layers
+
+    def build(self, scene) -> None:
+        super().build(scene)
+        self.pools, self.slot_frames = [], []
+        if scene.snapshot is None or not self.wanted(scene):
+            return
+        count = self.settings.count
+        for index, layer in enumerate(self.layers.layers):
+            pool = [self.add(f"layer_onion_{index}_{slot}", _onion_part(layer)) for slot in range(2 * count)]
             for part in pool:
                 part.set_visible(False)
-                self.plotter.renderer.AddActor(part.actor)
             self.pools.append(pool)
             self.slot_frames.append(np.full(2 * count, -1, dtype=np.int64))
-        self.count, self._stale = count, False
 
-    def show(self, frames: np.ndarray, distance: np.ndarray, count: int) -> None:
-        """Draw each shown layer at ``frames`` (K,) ``distance`` (K,) steps from the current
-        frame (:func:`~app.onion.onion_frames` with ``count`` poses each side)."""
-        if self._stale or count != self.count or len(self.pools) != len(self.layers):
-            self._build(count)
+    def set_visible(self, shown: bool) -> None:
+        self._visible = bool(shown)
+        if not shown:
+            for part in self.parts.values():
+                part.set_visible(False)
+
+    def show_frame(self, frame: int) -> None:
+        """Draw each shown layer at the onion frames around ``frame``."""
+        if not self.pools:
+            return
+        count = self.settings.count
+        frames, distance = self.settings.frames(frame, self.scene.snapshot.motion.n_frames)
         opacity = np.zeros(2 * count)
         opacity[slot_of(distance)] = ghost_opacity(distance, count)
         hidden = np.full(2 * count, -1, dtype=np.int64)
         for index, (layer, pool) in enumerate(zip(self.layers.layers, self.pools, strict=True)):
             shown = layer_slot_frames(layer.ghost, frames, distance, count) if layer.visible else hidden
             scale = min(1.0, layer.opacity / GHOST_OPACITY)  # a fainter layer, fainter onion poses
-            for part, frame, alpha in zip(pool, shown, opacity, strict=True):
-                part.set_visible(frame >= 0)
-                if frame >= 0:
-                    part.set_points(layer.ghost[frame])
+            for part, f, alpha in zip(pool, shown, opacity, strict=True):
+                part.set_visible(f >= 0 and self._visible)
+                if f >= 0:
+                    part.set_points(layer.ghost[f])
                     part.actor.GetProperty().SetOpacity(float(alpha * scale))
             self.slot_frames[index] = shown
-        self.request_render()
 
     def restyle(self, index: int) -> None:
         """Give layer ``index``'s actors its colour (after a change in the Layers dock)."""
-        if self._stale or index >= len(self.pools):
-            return
-        for part in self.pools[index]:
-            part.actor.GetProperty().SetColor(*self.layers[index].colour)
-
-    def _remove_all(self) -> None:
-        for pool in self.pools:
-            for part in pool:
-                self.plotter.renderer.RemoveActor(part.actor)
-        self.pools, self.slot_frames = [], []
-
-    def clear(self) -> None:
-        had = any(self.pools)
-        self._remove_all()
-        self.count, self._stale = 0, True
-        if had:
-            self.request_render()
+        if index < len(self.pools):
+            for part in self.pools[index]:
+                part.actor.GetProperty().SetColor(*self.layers[index].colour)
+        if self.scene is not None and self.scene.snapshot is not None and self._visible:
+            self.show_frame(self.scene.frame)
+            self.scene.render()

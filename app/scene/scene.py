@@ -1,23 +1,15 @@
-"""The 3D scene: a skeleton forest and its overlays in a PyVista plotter (no Qt here).
+"""The 3D scene: a list of drawables in a PyVista plotter (no Qt here).
 
-Actors are built once per motion (:meth:`SkeletonScene.set_snapshot`); a frame only writes
-coordinates from the state's caches into the existing point arrays and renders once
-(:meth:`SkeletonScene.show_frame`). An edit rebuilds the actors in place and never moves
+Everything drawn in the view is a :class:`~app.scene.drawable.Drawable` held in
+:attr:`SkeletonScene.drawables`: the figure (:mod:`app.scene.figure`), its overlays
+(:mod:`app.scene.overlays`) and what the window adds with :meth:`SkeletonScene.add_drawable`
+(comparison ghosts, onion skins, the classroom's overlay, an audit's highlight). Drawables
+are built once per motion (:meth:`SkeletonScene.set_snapshot`) or when their own data change
+(:meth:`SkeletonScene.redraw`); a frame asks every visible drawable to write its points from
+the state's caches into the existing arrays, then renders once
+(:meth:`SkeletonScene.show_frame`). An edit rebuilds the drawables in place and never moves
 the camera: positions are invariant under the operations, so the skeleton stays exactly
 where it was while its colours, root marks and soft links change.
-
-What is drawn (sizes are fractions of ``Motion.size``, so any unit works):
-
-- joints as spheres, each tree of the forest in its own colour, kept across edits and undo
-  (:mod:`app.tree_colors`);
-  roots as cubes of their tree's colour; bones as tubes; soft links as thin dashed lines,
-  and so is the bone from an anchor (:attr:`core.motion.Motion.anchors`, e.g. a ``Root``
-  left at the origin while the hips walk away), which is no part of the figure: the size,
-  ground, camera, up axis and followed point are the figure's;
-- a ground grid under the lowest point of the whole motion, as large as its path;
-- switchable: joint axes (world rotation triads, X red, Y green, Z blue), the trail of the
-  selected joint (its last second), joint labels, markers (gaps not drawn; labels of the
-  hovered and selected marker), the recovered pelvis frame as an RGB triad.
 
 The up axis (Y or Z) is the one the file's comments state, else the one detected from the
 motion (:func:`up_axis_of`), and the camera's up follows it, so Y-up and Z-up files both
@@ -36,28 +28,43 @@ from gmr_studio.app.model.alignment import detect_up_axis
 from gmr_studio.app.model.state import OVERLAYS, MarkerOverlay, PelvisOverlay, Snapshot
 from gmr_studio.app.model.tree_colors import PALETTE, TreeColors
 from gmr_studio.app.scene import vtk_parts as parts
+from gmr_studio.app.scene.drawable import Drawable
+from gmr_studio.app.scene.figure import JOINT_RADIUS, SELECTION_COLOR, SOFT_LINK_COLOR, SkeletonFigure, SoftLinks
+from gmr_studio.app.scene.overlays import (
+    GROUND_COLOR,
+    MARKER_COLOR,
+    Ground,
+    JointAxes,
+    JointLabels,
+    Markers,
+    PelvisTriad,
+    Trail,
+    nice_step,
+)
 from gmr_studio.app.scene.picking import project_points
+
+__all__ = [
+    "BACKGROUND",
+    "GROUND_COLOR",
+    "JOINT_RADIUS",
+    "MARKER_COLOR",
+    "SELECTION_COLOR",
+    "SOFT_LINK_COLOR",
+    "TREE_COLORS",
+    "SkeletonScene",
+    "actor_positions",
+    "nice_step",
+    "up_axis_of",
+]
 
 TREE_COLORS = PALETTE  # the trees' colours, in the order new trees get them
 BACKGROUND = (0.16, 0.17, 0.20)
-GROUND_COLOR = (0.36, 0.38, 0.42)
 # everything is opaque: translucency costs a separate pass, several ms a frame in software GL
-SELECTION_COLOR = (1.0, 0.85, 0.1)
-SOFT_LINK_COLOR = (0.62, 0.62, 0.66)  # faded: dashed and grey
-MARKER_COLOR = (0.92, 0.92, 0.95)
-AXIS_COLORS = np.eye(3) * 0.9 + 0.05
-JOINT_RADIUS = 0.016  # of Motion.size
-BONE_RADIUS = 0.0065
-MARKER_RADIUS = 0.009
-AXIS_LENGTH = 0.06
-PELVIS_AXIS_LENGTH = 0.16
-TRAIL_SECONDS = 1.0
-DASHES = 8
 
 
 def up_axis_of(snapshot: Snapshot) -> int:
     """1 (Y) or 2 (Z): what the file's comments state (``up axis: z``, as ``gmr convert``
-    writes), else what the motion shows (:func:`app.alignment.detect_up_axis`)."""
+    writes), else what the motion shows (:func:`app.model.alignment.detect_up_axis`)."""
     from gmr_studio.core.conversions import up_axis_of as stated_up_axis
 
     if any(re.match(r"\s*up axis:\s*[yz]\b", comment, re.IGNORECASE) for comment in snapshot.motion.comments):
@@ -72,16 +79,8 @@ def actor_positions(snapshot: Snapshot) -> np.ndarray:
     return snapshot.positions[:, ~anchors] if anchors.any() else snapshot.positions
 
 
-def nice_step(length: float) -> float:
-    """1, 2 or 5 times a power of ten, near ``length``."""
-    if not np.isfinite(length) or length <= 0:
-        return 1.0
-    power = 10 ** np.floor(np.log10(length))
-    return float(min((1, 2, 5, 10), key=lambda m: abs(np.log(m * power / length))) * power)
-
-
 class SkeletonScene:
-    """Builds and updates the actors of a motion and its overlays in ``plotter``."""
+    """The drawables of a document in ``plotter``, updated together and rendered once."""
 
     def __init__(self, plotter: pv.BasePlotter) -> None:
         self.plotter = plotter
@@ -91,111 +90,214 @@ class SkeletonScene:
         self.selected: int | None = None
         self.overlays = dict(OVERLAYS)
         self.up_axis = 1
-        self.parts: dict[str, parts.Part] = {}
-        self.markers: MarkerOverlay | None = None
-        self.hovered_marker: int | None = None
-        self.selected_marker: int | None = None
-        self.pelvis: PelvisOverlay | None = None
+        self.new_document = True  # the drawables are being built for a new document
         self.request_repaint = None  # a callable that schedules a repaint of the view widget
         self._followed: np.ndarray | None = None  # where the followed figure was last drawn
         self.tree_colors = TreeColors()  # shared with the forest dock: the same colour per tree
-        # near and far planes to fit again just before the next render (see render)
+        self._front = None
+        self.ground = Ground()
+        self.figure = SkeletonFigure()
+        self.marker_drawing = Markers()
+        self.pelvis_drawing = PelvisTriad()
+        #: everything drawn, in drawing order; the window adds its own (:meth:`add_drawable`)
+        self.drawables: list[Drawable] = [
+            self.ground,
+            self.figure,
+            SoftLinks(),
+            JointAxes(),
+            Trail(),
+            JointLabels(),
+            self.marker_drawing,
+            self.pelvis_drawing,
+        ]
+        # near and far planes to fit again just before the next render (see render), and the
+        # screen-space labels placed for the camera of that render
         self._clipping_stale = False
-        fit = weakref.WeakMethod(self._fit_clipping_range)  # the render window must not keep the scene
-        plotter.ren_win.AddObserver("StartEvent", lambda *_: (method := fit()) is not None and method())
+        before = weakref.WeakMethod(self._before_render)  # the render window must not keep the scene
+        plotter.ren_win.AddObserver("StartEvent", lambda *_: (method := before()) is not None and method())
+
+    # ------------------------------------------------------------------ lookups
+    @property
+    def parts(self) -> dict[str, parts.Part]:
+        """Every part of the scene's drawables by name (``joints``, ``bones``, ``markers``...)."""
+        merged: dict[str, parts.Part] = {}
+        for drawable in self.drawables:
+            merged.update(getattr(drawable, "parts", {}) if isinstance(getattr(drawable, "parts", None), dict) else {})
+        return merged
+
+    def is_shown(self, name: str) -> bool:
+        """The part named ``name`` exists and is visible."""
+        part = self.parts.get(name)
+        return part is not None and part.visible
+
+    @property
+    def markers(self) -> MarkerOverlay | None:
+        return self.marker_drawing.overlay
+
+    @property
+    def pelvis(self) -> PelvisOverlay | None:
+        return self.pelvis_drawing.pelvis
+
+    @property
+    def hovered_marker(self) -> int | None:
+        return self.marker_drawing.hovered
+
+    @property
+    def selected_marker(self) -> int | None:
+        return self.marker_drawing.selected
+
+    @property
+    def ground_bounds(self) -> tuple:
+        return self.ground.bounds
+
+    @property
+    def front_renderer(self):
+        """A transparent renderer drawn over the scene with the scene's camera (made on first
+        use): what is drawn there stays visible in front of the figure."""
+        if self._front is None:
+            from vtkmodules.vtkRenderingCore import vtkRenderer
+
+            window = self.plotter.render_window
+            front = vtkRenderer()
+            front.SetLayer(1)
+            window.SetNumberOfLayers(max(2, window.GetNumberOfLayers()))
+            front.SetActiveCamera(self.plotter.renderer.GetActiveCamera())
+            front.InteractiveOff()
+            front.SetViewport(self.plotter.renderer.GetViewport())
+            window.AddRenderer(front)
+            self._front = front
+        return self._front
+
+    def figure_positions(self) -> np.ndarray:
+        """(F, A, 3) the positions that make the figure (:func:`actor_positions`)."""
+        return actor_positions(self.snapshot)
 
     # ------------------------------------------------------------------- building
     def set_snapshot(self, snapshot: Snapshot | None, *, reset_camera: bool) -> None:
-        """Rebuild the skeleton's actors for ``snapshot``; a new document also gets a new
-        ground grid, up axis and camera, an edit keeps them."""
+        """Build every drawable for ``snapshot``; a new document also gets a new ground grid,
+        up axis and camera, an edit keeps them."""
         self.snapshot = snapshot
-        # the ground, markers and pelvis belong to the document, not to the skeleton's structure
-        for name in [n for n in self.parts if n != "ground" and not n.startswith(("marker", "pelvis"))]:
-            self._remove(name)
+        self.new_document = reset_camera or not self.ground.parts
         if snapshot is None:
+            for drawable in self.drawables:
+                drawable.remove()
             self.render()
             return
-        motion = snapshot.motion
-        size = motion.size
-        self.frame = min(self.frame, motion.n_frames - 1)
-        colors = self.tree_colors.colors(motion)
-        r = JOINT_RADIUS * size
-        self._add(
-            "joints",
-            parts.glyph_part(motion.n_joints, pv.Sphere(radius=r, theta_resolution=16, phi_resolution=12), colors),
-        )
-        roots = motion.roots
-        cube = pv.Cube(x_length=3.0 * r, y_length=3.0 * r, z_length=3.0 * r)
-        self._add("roots", parts.glyph_part(len(roots), cube, colors[roots]))
-        # a bone from an anchor (a joint pinned at the origin) is no part of the figure:
-        # it is drawn as the soft, thin kind of link it is
-        anchored = motion.anchors | motion.anchors[np.maximum(motion.parents, 0)]
-        bones = np.flatnonzero((motion.parents >= 0) & ~anchored)
-        pairs = np.column_stack([bones, motion.parents[bones]])
-        self._add(
-            "bones", parts.segments_part(motion.n_joints, pairs, 0.85 * colors[bones], tube_radius=BONE_RADIUS * size)
-        )
-        links = np.flatnonzero(motion.soft_parents >= 0)
-        anchor_bones = np.flatnonzero((motion.parents >= 0) & anchored)
-        self._soft_links = np.vstack(
-            [
-                np.column_stack([links, motion.soft_parents[links]]),
-                np.column_stack([anchor_bones, motion.parents[anchor_bones]]),
-            ]
-        )
-        dash_pairs = np.arange(2 * DASHES * len(self._soft_links)).reshape(-1, 2)
-        self._add(
-            "soft_links",
-            parts.segments_part(len(dash_pairs) * 2, dash_pairs, color=SOFT_LINK_COLOR, width=1.5),
-        )
-        axis_pairs = np.arange(6 * motion.n_joints).reshape(-1, 2)
-        self._add(
-            "axes",
-            parts.segments_part(6 * motion.n_joints, axis_pairs, np.tile(AXIS_COLORS, (motion.n_joints, 1)), width=2.5),
-        )
-        self._trail_length = int(min(motion.n_frames, round(TRAIL_SECONDS * motion.frame_rate) + 1))
-        trail_pairs = np.column_stack([np.arange(self._trail_length - 1), np.arange(1, self._trail_length)])
-        self._add(
-            "trails",
-            parts.segments_part(self._trail_length, trail_pairs, color=SELECTION_COLOR, width=2.5),
-        )
-        self._add("labels", parts.label_part(motion.n_joints, list(motion.names)))
-        self._add("selection", parts.glyph_part(1, pv.Sphere(radius=1.9 * r), color=SELECTION_COLOR))
-        self.parts["selection"].actor.GetProperty().SetRepresentationToWireframe()
-        if reset_camera or "ground" not in self.parts:
+        self.frame = min(self.frame, snapshot.motion.n_frames - 1)
+        if self.new_document:
             self.up_axis = up_axis_of(snapshot)
-            self._build_ground(actor_positions(snapshot), size)
+        for drawable in self.drawables:
+            drawable.build(self)
+        self.new_document = False
         if reset_camera:
             self._reset_camera()
         self._apply_visibility()
         self.show_frame(self.frame)
 
-    def _build_ground(self, positions: np.ndarray, size: float) -> None:
-        self._remove("ground")
-        up = self.up_axis
-        across = [a for a in (0, 1, 2) if a != up]
-        flat = positions.reshape(-1, 3)
-        flat = flat[np.isfinite(flat).all(axis=1)]
-        low, high = flat.min(axis=0), flat.max(axis=0)
-        step = nice_step(size / 4)
-        margin = 0.4 * size
-        start = np.floor((low[across] - margin) / step) * step
-        stop = np.ceil((high[across] + margin) / step) * step
-        lines_a = np.arange(start[0], stop[0] + step / 2, step)
-        lines_b = np.arange(start[1], stop[1] + step / 2, step)
-        points = []
-        for value in lines_a:
-            points += [(value, start[1]), (value, stop[1])]
-        for value in lines_b:
-            points += [(start[0], value), (stop[0], value)]
-        coords = np.zeros((len(points), 3))
-        coords[:, across] = np.array(points)
-        coords[:, up] = low[up]
-        pairs = np.arange(len(points)).reshape(-1, 2)
-        ground = parts.segments_part(len(points), pairs, color=GROUND_COLOR, width=1.0)
-        ground.set_points(coords)
-        self._add("ground", ground)
-        self.ground_bounds = (low, high, low[up])
+    def add_drawable(self, drawable: Drawable, *, before: Drawable | None = None) -> None:
+        """Draw ``drawable`` from now on (before ``before`` in drawing order, else last)."""
+        index = self.drawables.index(before) if before is not None else len(self.drawables)
+        self.drawables.insert(index, drawable)
+        self.redraw(drawable, render=False)
+
+    def remove_drawable(self, drawable: Drawable) -> None:
+        if drawable in self.drawables:
+            self.drawables.remove(drawable)
+            drawable.remove()
+            self.render()
+
+    def redraw(self, drawable: Drawable, *, render: bool = True) -> None:
+        """Build ``drawable`` again (its own data changed), show this frame, render."""
+        drawable.build(self)
+        drawable.set_visible(drawable.wanted(self))
+        if self.snapshot is not None and drawable.visible:
+            drawable.show_frame(self.frame)
+        if render:
+            self.render()
+
+    def set_markers(self, overlay: MarkerOverlay | None) -> None:
+        """Show the marker overlay (or none)."""
+        self.marker_drawing.overlay = overlay
+        self.marker_drawing.hovered = self.marker_drawing.selected = None
+        self.redraw(self.marker_drawing)
+
+    def set_pelvis(self, pelvis: PelvisOverlay | None) -> None:
+        self.pelvis_drawing.pelvis = pelvis
+        self.redraw(self.pelvis_drawing)
+
+    # ----------------------------------------------------------------- switching
+    def set_overlay(self, name: str, shown: bool) -> None:
+        self.overlays[name] = bool(shown)
+        if name == "follow" and self.snapshot is not None:
+            self._followed = self._follow_point(self.frame) if shown else None
+        self._apply_visibility()
+        self.show_frame(self.frame)
+
+    def set_selection(self, joint: int | None) -> None:
+        self.selected = joint
+        self._apply_visibility()
+        self.show_frame(self.frame)
+
+    def set_marker_highlight(self, hovered: int | None, selected: int | None) -> None:
+        self.marker_drawing.set_highlight(hovered, selected)
+        self._apply_visibility()
+        self.show_frame(self.frame)
+
+    def _apply_visibility(self) -> None:
+        """Show what the overlays and the selection ask for (every part re-checked)."""
+        for drawable in self.drawables:
+            drawable.set_visible(self.snapshot is not None and drawable.wanted(self))
+
+    # -------------------------------------------------------------------- frames
+    def show_frame(self, frame: int, render: bool = True) -> None:
+        """Write frame ``frame`` into every visible drawable (and render once)."""
+        if self.snapshot is None:
+            return
+        frame = int(min(max(frame, 0), self.snapshot.motion.n_frames - 1))
+        self.frame = frame
+        if self.overlays.get("follow"):
+            self._follow(frame)
+        for drawable in self.drawables:
+            if drawable.visible:
+                drawable.show_frame(frame)
+        if render:
+            self.render()
+
+    def render(self, now: bool = False) -> None:
+        """Draw the scene: at once (``now``, e.g. before a screenshot), or by asking the
+        widget to repaint when it has set ``request_repaint`` (requests before the repaint
+        coalesce into one render).
+
+        Just before every render (:meth:`_before_render`) the near and far planes are fitted
+        to what is drawn (kept from an earlier render, they clip a skeleton whose actors were
+        rebuilt down to fragments) and screen-space labels are placed for the camera."""
+        if self.request_repaint is not None and not now:
+            self._clipping_stale = True
+            self.request_repaint()
+        else:
+            self._clipping_stale = True
+            self.plotter.render()
+
+    def _before_render(self) -> None:
+        if self._clipping_stale:
+            self._clipping_stale = False
+            self.plotter.renderer.ResetCameraClippingRange()
+        for drawable in self.drawables:
+            hook = getattr(drawable, "before_render", None)
+            if hook is not None and drawable.visible:
+                hook()
+
+    def display_positions(self, points: np.ndarray) -> np.ndarray:
+        """(N, 2) display pixels (x right, y up from the bottom left of the render window)
+        of world ``points`` (N, 3) under the current camera; NaN for points behind it."""
+        width, height = (int(v) for v in self.plotter.render_window.GetSize())
+        screen = project_points(
+            np.asarray(points, dtype=np.float64).reshape(-1, 3), self.view_projection(), (width, height)
+        )
+        behind = ~((screen[:, 2] >= -1) & (screen[:, 2] <= 1))
+        xy = np.column_stack([screen[:, 0], height - screen[:, 1]])
+        xy[behind] = np.nan
+        return xy
 
     def _follow_point(self, frame: int) -> np.ndarray:
         """(3,) the point the camera follows: the joints' centroid, on the floor."""
@@ -256,176 +358,6 @@ class SkeletonScene:
         if self.snapshot is not None:
             self._reset_camera()
             self.render()
-
-    def _add(self, name: str, part: parts.Part) -> None:
-        self._remove(name)
-        self.parts[name] = part
-        self.plotter.renderer.AddActor(part.actor)
-
-    def _remove(self, name: str) -> None:
-        part = self.parts.pop(name, None)
-        if part is not None:
-            self.plotter.renderer.RemoveActor(part.actor)
-
-    def set_markers(self, overlay: MarkerOverlay | None) -> None:
-        """Build the marker actors (or remove them)."""
-        for name in ("markers", "marker_labels", "marker_selection"):
-            self._remove(name)
-        self.markers = overlay
-        self.hovered_marker = self.selected_marker = None
-        if overlay is not None and self.snapshot is not None:
-            size = self.snapshot.motion.size
-            sphere = pv.Sphere(radius=MARKER_RADIUS * size, theta_resolution=10, phi_resolution=8)
-            self._add("markers", parts.glyph_part(overlay.positions.shape[1], sphere, color=MARKER_COLOR))
-            self._add("marker_labels", parts.label_part(2, ["", ""], color=(1.0, 0.95, 0.6)))
-            self._add(
-                "marker_selection",
-                parts.glyph_part(1, pv.Sphere(radius=2.0 * MARKER_RADIUS * size), color=SELECTION_COLOR),
-            )
-            self.parts["marker_selection"].actor.GetProperty().SetRepresentationToWireframe()
-        self._apply_visibility()
-        self.show_frame(self.frame)
-
-    def set_pelvis(self, pelvis: PelvisOverlay | None) -> None:
-        self._remove("pelvis")
-        self.pelvis = pelvis
-        if pelvis is not None:
-            self._add("pelvis", parts.segments_part(6, np.arange(6).reshape(3, 2), AXIS_COLORS, width=5.0))
-        self._apply_visibility()
-        self.show_frame(self.frame)
-
-    # ----------------------------------------------------------------- switching
-    def set_overlay(self, name: str, shown: bool) -> None:
-        self.overlays[name] = bool(shown)
-        if name == "follow" and self.snapshot is not None:
-            self._followed = self._follow_point(self.frame) if shown else None
-        self._apply_visibility()
-        self.show_frame(self.frame)
-
-    def set_selection(self, joint: int | None) -> None:
-        self.selected = joint
-        self._apply_visibility()
-        self.show_frame(self.frame)
-
-    def set_marker_highlight(self, hovered: int | None, selected: int | None) -> None:
-        self.hovered_marker, self.selected_marker = hovered, selected
-        if "marker_labels" in self.parts and self.markers is not None:
-            labels = self.markers.markers.labels
-            parts.set_labels(
-                self.parts["marker_labels"], [labels[m] if m is not None else "" for m in (hovered, selected)]
-            )
-        self._apply_visibility()
-        self.show_frame(self.frame)
-
-    def _apply_visibility(self) -> None:
-        shown = self.overlays
-        has_selection = self.selected is not None
-        rules = {
-            "ground": shown["ground"],
-            "soft_links": shown["soft_links"],
-            "axes": shown["axes"],
-            "trails": shown["trails"] and has_selection,
-            "labels": shown["labels"],
-            "selection": has_selection,
-            "markers": shown["markers"],
-            "marker_labels": shown["markers"] and shown["marker_labels"],
-            "marker_selection": shown["markers"] and self.selected_marker is not None,
-            "pelvis": shown["pelvis"],
-        }
-        for name, part in self.parts.items():
-            part.set_visible(rules.get(name, True))
-
-    def is_shown(self, name: str) -> bool:
-        """The actor named ``name`` exists and is visible."""
-        return name in self.parts and self.parts[name].visible
-
-    # -------------------------------------------------------------------- frames
-    def show_frame(self, frame: int, render: bool = True) -> None:
-        """Write frame ``frame`` of the caches into the actors (and render once)."""
-        if self.snapshot is None:
-            return
-        motion = self.snapshot.motion
-        frame = int(min(max(frame, 0), motion.n_frames - 1))
-        self.frame = frame
-        if self.overlays.get("follow"):
-            self._follow(frame)
-        points = self.snapshot.positions[frame]
-        size = motion.size
-        self.parts["joints"].set_points(points)
-        self.parts["bones"].set_points(points)
-        self.parts["roots"].set_points(points[motion.roots])
-        if self.parts["labels"].visible:
-            self.parts["labels"].set_points(points)
-        if len(self._soft_links) and self.parts["soft_links"].visible:
-            a, b = points[self._soft_links[:, 0]], points[self._soft_links[:, 1]]
-            t = np.arange(2 * DASHES) / (2 * DASHES - 1)
-            self.parts["soft_links"].set_points((a[:, None] + (b - a)[:, None] * t[None, :, None]).reshape(-1, 3))
-        if self.parts["axes"].visible:
-            self._update_axes(self.parts["axes"], points, self.snapshot.rotations[frame], AXIS_LENGTH * size)
-        if self.selected is not None:
-            self.parts["selection"].set_points(points[self.selected][None])
-            if self.parts["trails"].visible:
-                first = frame - self._trail_length + 1
-                index = np.clip(np.arange(first, frame + 1), 0, None)
-                self.parts["trails"].set_points(self.snapshot.positions[index, self.selected])
-        self._show_overlays(frame, size)
-        if render:
-            self.render()
-
-    def _show_overlays(self, frame: int, size: float) -> None:
-        if self.markers is not None and "markers" in self.parts and self.parts["markers"].visible:
-            positions = self.markers.positions[frame]
-            present = np.isfinite(positions).all(axis=1)
-            parts.set_some_points(self.parts["markers"], positions)
-            label_points = np.array(
-                [
-                    positions[m] if m is not None else np.full(3, np.nan)
-                    for m in (self.hovered_marker, self.selected_marker)
-                ]
-            )
-            self.parts["marker_labels"].set_points(label_points)
-            if self.selected_marker is not None:
-                self.parts["marker_selection"].set_points(positions[self.selected_marker][None])
-                self.parts["marker_selection"].set_visible(bool(present[self.selected_marker]))
-        if self.pelvis is not None and "pelvis" in self.parts:
-            origin = self.pelvis.origins[frame]
-            valid = bool(np.isfinite(origin).all())
-            self.parts["pelvis"].actor.SetVisibility(valid and self.overlays["pelvis"])
-            if valid:
-                self._update_axes(
-                    self.parts["pelvis"], origin[None], self.pelvis.rotations[frame][None], PELVIS_AXIS_LENGTH * size
-                )
-
-    @staticmethod
-    def _update_axes(part: parts.Part, origins: np.ndarray, rotations: np.ndarray, length: float) -> None:
-        """Triads: for each origin (N, 3) and rotation (N, 3, 3), segments along its columns."""
-        n = len(origins)
-        coords = np.empty((n, 3, 2, 3))
-        coords[:, :, 0] = origins[:, None]
-        coords[:, :, 1] = origins[:, None] + length * np.swapaxes(rotations, 1, 2)
-        part.set_points(coords.reshape(-1, 3))
-
-    def render(self, now: bool = False) -> None:
-        """Draw the scene: at once (``now``, e.g. before a screenshot), or by asking the
-        widget to repaint when it has set ``request_repaint`` (a Qt OpenGL widget renders in
-        its paint event anyway, so rendering here as well would draw every frame twice).
-
-        The near and far planes are fitted to what is drawn first: kept from an earlier
-        render, they clip a skeleton whose actors were rebuilt (an edit) down to fragments.
-        For a repaint they are fitted once when it starts, after everything that asked for
-        it (the skeleton, the comparison layers) has moved, not once per request."""
-        if self.request_repaint is not None and not now:
-            self._clipping_stale = True
-            self.request_repaint()
-        else:
-            self.plotter.renderer.ResetCameraClippingRange()
-            self._clipping_stale = False
-            self.plotter.render()
-
-    def _fit_clipping_range(self) -> None:
-        if self._clipping_stale:
-            self._clipping_stale = False
-            self.plotter.renderer.ResetCameraClippingRange()
 
     # ------------------------------------------------------------------- picking
     def view_projection(self) -> np.ndarray:

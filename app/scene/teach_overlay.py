@@ -9,20 +9,19 @@
 - ``post``: (2K, 3) the bones that BVH's post-rotation turns: from the joint to each of its K
   children, with the rotation the children share in BVH scaled (``p_j + W_j R_c(a) t_c``).
 
-At amount 1 both equal the posed skeleton. :class:`TeachOverlay` draws them with its own
-actors (they survive the scene's rebuilds).
+At amount 1 both equal the posed skeleton. :class:`TeachOverlay` is the scene's drawable of
+them, in the front layer (over the figure's tubes and spheres).
 """
 
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
 
 import numpy as np
-import pyvista as pv
 
 from gmr_studio.app.model.state import Snapshot
 from gmr_studio.app.scene import vtk_parts as parts
+from gmr_studio.app.scene.drawable import Drawing
 from gmr_studio.core.classroom import scaled_rotation
 
 CHAIN_COLOR = (1.0, 0.85, 0.2)
@@ -57,65 +56,54 @@ def teaching_geometry(snapshot: Snapshot, joint: int, frame: int, amount: float)
     return TeachingGeometry(chain, pre, post_points)
 
 
-def _front_layer(plotter: pv.BasePlotter):
-    """A transparent renderer drawn over the scene with the scene's camera: what the
-    classroom draws stays visible in front of the figure's tubes and spheres."""
-    from vtkmodules.vtkRenderingCore import vtkRenderer
+class TeachOverlay(Drawing):
+    """The classroom's drawing: the chain, the pre-rotation bone, the post-rotation bones of
+    :attr:`joint` with the slider's :attr:`amount`, while :attr:`shown` (the Teach dock is)."""
 
-    window = plotter.render_window
-    front = vtkRenderer()
-    front.SetLayer(1)
-    window.SetNumberOfLayers(max(2, window.GetNumberOfLayers()))
-    front.SetActiveCamera(plotter.renderer.GetActiveCamera())
-    front.InteractiveOff()
-    front.SetViewport(plotter.renderer.GetViewport())
-    window.AddRenderer(front)
-    return front
+    front = True
 
-
-class TeachOverlay:
-    """The classroom's actors in a plotter: the chain, the pre-rotation bone, the post-rotation
-    bones. ``request_render`` schedules a render."""
-
-    def __init__(self, plotter: pv.BasePlotter, request_render: Callable[[], None]) -> None:
-        self.plotter = plotter
-        self.request_render = request_render
-        self.renderer = _front_layer(plotter)
-        self.parts: dict[str, parts.Part] = {}
+    def __init__(self) -> None:
+        super().__init__()
+        self.shown = False
+        self.joint: int | None = None
+        self.amount = 1.0
         self.geometry: TeachingGeometry | None = None
-        self._shapes: dict[str, int] = {}
 
-    def _replace(self, name: str, part: parts.Part) -> None:
-        old = self.parts.pop(name, None)
-        if old is not None:
-            self.renderer.RemoveActor(old.actor)
-        self.parts[name] = part
-        self.renderer.AddActor(part.actor)
+    def _joint(self, scene) -> int | None:
+        if scene.snapshot is None or self.joint is None or not 0 <= self.joint < scene.snapshot.motion.n_joints:
+            return None
+        return self.joint
 
-    def show(self, snapshot: Snapshot | None, joint: int | None, frame: int, amount: float) -> None:
-        """Draw for ``joint`` (None or no snapshot: hide everything)."""
-        if snapshot is None or joint is None or not 0 <= joint < snapshot.motion.n_joints:
-            self.clear()
+    def wanted(self, scene) -> bool:
+        return self.shown and self._joint(scene) is not None
+
+    def build(self, scene) -> None:
+        super().build(scene)
+        self.geometry = None
+        joint = self._joint(scene)
+        if not self.shown or joint is None:
             return
-        geometry = teaching_geometry(snapshot, joint, frame, amount)
-        chain_pairs = np.column_stack([np.arange(len(geometry.chain) - 1), np.arange(1, len(geometry.chain))])
-        for name, points, pairs, color, width in (
-            ("chain", geometry.chain, chain_pairs, CHAIN_COLOR, 4.0),
-            ("pre", geometry.pre, np.array([[0, 1]]), PRE_COLOR, 7.0),
-            ("post", geometry.post, np.arange(len(geometry.post)).reshape(-1, 2), POST_COLOR, 7.0),
+        geometry = teaching_geometry(scene.snapshot, joint, min(scene.frame, scene.snapshot.motion.n_frames - 1), 1.0)
+        n = len(geometry.chain)
+        chain_pairs = np.column_stack([np.arange(n - 1), np.arange(1, n)])
+        for name, count, pairs, color, width in (  # flat lines: their colours are exact on screen
+            ("chain", n, chain_pairs, CHAIN_COLOR, 4.0),
+            ("pre", 2, np.array([[0, 1]]), PRE_COLOR, 7.0),
+            ("post", len(geometry.post), np.arange(len(geometry.post)).reshape(-1, 2), POST_COLOR, 7.0),
         ):
-            if self._shapes.get(name) != len(points):  # flat lines: their colours are exact on screen
-                self._replace(name, parts.segments_part(len(points), pairs, color=color, width=width))
-                self._shapes[name] = len(points)
-            self.parts[name].set_points(points)
-        self.geometry = geometry
-        self.request_render()
+            self.add(name, parts.segments_part(count, pairs, color=color, width=width))
 
-    def clear(self) -> None:
-        for part in self.parts.values():
-            self.renderer.RemoveActor(part.actor)
-        self.parts.clear()
-        self._shapes.clear()
-        if self.geometry is not None:
+    def show_frame(self, frame: int) -> None:
+        joint = self._joint(self.scene)
+        if not self.parts or joint is None:
+            return
+        geometry = teaching_geometry(self.scene.snapshot, joint, frame, self.amount)
+        self.parts["chain"].set_points(geometry.chain)
+        self.parts["pre"].set_points(geometry.pre)
+        self.parts["post"].set_points(geometry.post)
+        self.geometry = geometry
+
+    def set_visible(self, shown: bool) -> None:
+        super().set_visible(shown)
+        if not shown:
             self.geometry = None
-            self.request_render()

@@ -1,4 +1,7 @@
-"""The central 3D view: a pyvistaqt interactor showing the :class:`~app.scene.SkeletonScene`.
+"""The central 3D view: a pyvistaqt interactor showing the :class:`~app.scene.scene.SkeletonScene`.
+
+The interactor renders into a native window where the platform allows it, else through a
+framebuffer (:mod:`app.scene.render_widget`).
 
 It follows the state (document, frame, selection, overlays, markers, pelvis) and writes back
 only through it: a left click selects the joint under the mouse (or else a marker), a right
@@ -12,9 +15,9 @@ from __future__ import annotations
 from PyQt6.QtCore import QEvent, QObject, QPoint, Qt
 from PyQt6.QtGui import QMouseEvent
 from PyQt6.QtWidgets import QMenu, QVBoxLayout, QWidget
-from pyvistaqt import QtInteractor
 
 from gmr_studio.app.model.state import StudioState
+from gmr_studio.app.scene import render_widget
 from gmr_studio.app.scene.picking import pick_point
 from gmr_studio.app.scene.scene import SkeletonScene
 
@@ -28,12 +31,16 @@ class SkeletonView(QWidget):
         super().__init__(parent)
         self.state = state
         # no multisampling: it quadruples the cost of a frame in software OpenGL (Xvfb, VMs)
-        self.interactor = QtInteractor(self, auto_update=False, multi_samples=0)
+        self.kind = render_widget.preferred_kind()
+        self.interactor = render_widget.interactor_class(self.kind)(self, auto_update=False, multi_samples=0)
         self.interactor.setAcceptDrops(False)  # files dropped here go to the main window
         for key in ("q", "e", "v", "b", "r", "plus", "minus"):  # pyvista's default key bindings
             self.interactor.clear_events_for_key(key, raise_on_missing=False)
         self.scene = SkeletonScene(self.interactor)
-        self.scene.request_repaint = self.interactor.update  # one render per frame, in paintGL
+        # one render per drawn frame: a native window renders in its paint event, which
+        # update() coalesces; a framebuffer widget renders when asked
+        native = self.kind == render_widget.NATIVE
+        self.scene.request_repaint = self.interactor.update if native else self.interactor.render
         self.context_menu: QMenu | None = None
         self._press: QPoint | None = None
         layout = QVBoxLayout(self)

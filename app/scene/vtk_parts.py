@@ -2,16 +2,31 @@
 
 Each part owns a :class:`pyvista.PolyData` with a fixed number of points and the actor that
 draws it; :meth:`Part.set_points` writes new coordinates into the existing VTK array and
-marks it modified, so a frame costs a copy of a few hundred floats and one render.
+marks it modified, so a frame costs a copy of a few hundred floats and one render. No VTK
+filter runs on a frame change: spheres, cubes and bones are templates that the mapper
+places (:func:`glyph_part`, :func:`bone_part`: instanced by ``vtkGlyph3DMapper``), lines are
+drawn as they are, and labels are quads of one texture, drawn in screen space
+(:class:`LabelPart`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 import pyvista as pv
-from vtkmodules.vtkFiltersCore import vtkTubeFilter
-from vtkmodules.vtkRenderingCore import vtkActor, vtkActor2D, vtkGlyph3DMapper, vtkPolyDataMapper, vtkProp
-from vtkmodules.vtkRenderingLabel import vtkLabeledDataMapper
+import vtkmodules.vtkRenderingFreeType  # noqa: F401 (the text renderer's implementation)
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkRenderingCore import (
+    vtkActor,
+    vtkGlyph3DMapper,
+    vtkPolyDataMapper,
+    vtkPolyDataMapper2D,
+    vtkProp,
+    vtkTextProperty,
+    vtkTextRenderer,
+    vtkTexture,
+    vtkTexturedActor2D,
+)
 
 
 def rgb_bytes(colors: np.ndarray) -> np.ndarray:
@@ -100,10 +115,10 @@ def segments_part(
     *,
     width: float = 2.0,
     opacity: float = 1.0,
-    tube_radius: float | None = None,
 ) -> Part:
     """Line segments between point pairs ((S, 2) indices), one colour per segment
-    (``colors`` (S, 3)) or one ``color``; as tubes of ``tube_radius`` when given."""
+    (``colors`` (S, 3)) or one ``color``, ``width`` pixels wide (bones with a thickness in
+    the scene's units: :func:`bone_part`)."""
     part = Part(n_points)
     pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
     if n_points and len(pairs):
@@ -112,22 +127,14 @@ def segments_part(
         part.mesh.cell_data["colors"] = rgb_bytes(colors)
         part.mesh.cell_data.active_scalars_name = "colors"
     mapper = vtkPolyDataMapper()
-    if tube_radius is not None and len(pairs):
-        tubes = vtkTubeFilter()
-        tubes.SetInputData(part.mesh)
-        tubes.SetRadius(tube_radius)
-        tubes.SetNumberOfSides(12)
-        tubes.CappingOn()
-        mapper.SetInputConnection(tubes.GetOutputPort())
-    else:
-        mapper.SetInputData(part.mesh)
+    mapper.SetInputData(part.mesh)
     if colors is not None and len(pairs):
         mapper.SetScalarModeToUseCellData()
         mapper.SetColorModeToDirectScalars()
         mapper.ScalarVisibilityOn()
     else:
         mapper.ScalarVisibilityOff()
-    part.actor = _surface_actor(mapper, ambient=0.35 if tube_radius else 1.0, diffuse=0.65 if tube_radius else 0.0)
+    part.actor = _surface_actor(mapper, ambient=1.0, diffuse=0.0)
     part.actor.GetProperty().SetLineWidth(width)
     part.actor.GetProperty().SetOpacity(opacity)
     if colors is None:
@@ -135,33 +142,166 @@ def segments_part(
     return part
 
 
-def label_part(n_points: int, texts: list[str], color=(1.0, 1.0, 1.0), size: int = 13) -> Part:
-    """A text label at each point (the label follows the point)."""
-    part = Part(n_points)
-    mapper = vtkLabeledDataMapper()
-    if n_points:
-        array = pv.convert_array(np.array(texts, dtype=str), name="label")
-        part.mesh.GetPointData().AddArray(array)
-        mapper.SetInputData(part.mesh)
-        mapper.SetLabelModeToLabelFieldData()
-        mapper.SetFieldDataName("label")
-    text = mapper.GetLabelTextProperty()
-    text.SetColor(*color)
-    text.SetFontSize(size)
-    text.SetBold(False)
-    text.SetShadow(True)
-    text.SetJustificationToLeft()
-    text.SetVerticalJustificationToBottom()
-    actor = vtkActor2D()
-    actor.SetMapper(mapper)
-    part.actor = actor
-    return part
+class BonePart(Part):
+    """Bones between point pairs as cylinders of a fixed radius (the scene's units), each
+    the template :func:`bone_template` placed, turned and stretched by the glyph mapper.
+
+    The points of the mesh are the bones' midpoints (B,); :meth:`set_joints` computes them,
+    the directions and the lengths from the joints' positions, in place.
+    """
+
+    def __init__(self, pairs: np.ndarray, radius: float, colors: np.ndarray | None, color) -> None:
+        self.pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
+        super().__init__(len(self.pairs))
+        n = len(self.pairs)
+        if n:  # pyvista refuses empty arrays; a one-joint figure has no bones
+            self.mesh.point_data["direction"] = np.tile([1.0, 0.0, 0.0], (n, 1))
+            self.mesh.point_data["scale"] = np.zeros((n, 3))
+            self._direction = self.mesh.point_data["direction"]
+            self._scale = self.mesh.point_data["scale"]
+            self._scale[:, 1:] = 1.0
+        mapper = vtkGlyph3DMapper()
+        mapper.SetInputData(self.mesh)
+        mapper.SetSourceData(bone_template(radius))
+        mapper.SetOrientationArray("direction")
+        mapper.SetOrientationModeToDirection()
+        mapper.SetScaleArray("scale")
+        mapper.SetScaleModeToScaleByVectorComponents()
+        mapper.SetScaling(True)
+        if colors is not None and n:
+            self.mesh.point_data["colors"] = rgb_bytes(colors)
+            mapper.SetScalarModeToUsePointFieldData()
+            mapper.SelectColorArray("colors")
+            mapper.SetColorModeToDirectScalars()
+            mapper.ScalarVisibilityOn()
+        else:
+            mapper.ScalarVisibilityOff()
+        self.actor = _surface_actor(mapper)
+        if colors is None:
+            self.actor.GetProperty().SetColor(*color)
+
+    def set_joints(self, joints: np.ndarray) -> None:
+        """Place every bone between its two joints: ``joints`` (J, 3), NaN-free."""
+        if not len(self.pairs):
+            return
+        a, b = joints[self.pairs[:, 0]], joints[self.pairs[:, 1]]
+        along = b - a
+        self._view[:] = 0.5 * (a + b)
+        self._direction[:] = along
+        self._scale[:, 0] = np.sqrt(np.einsum("ij,ij->i", along, along))
+        self.mesh.GetPoints().Modified()
+        self.mesh.GetPointData().Modified()
 
 
-def set_labels(part: Part, texts: list[str]) -> None:
-    """Replace the label texts (same number of points)."""
-    if part.n_points:
-        array = pv.convert_array(np.array(texts, dtype=str), name="label")
-        part.mesh.GetPointData().RemoveArray("label")
-        part.mesh.GetPointData().AddArray(array)
-        part.mesh.Modified()
+def bone_template(radius: float) -> pv.PolyData:
+    """A capped cylinder of ``radius`` and length 1 along X, centred at the origin."""
+    return pv.Cylinder(center=(0.0, 0.0, 0.0), direction=(1.0, 0.0, 0.0), radius=radius, height=1.0, resolution=12)
+
+
+def bone_part(pairs: np.ndarray, radius: float, colors: np.ndarray | None = None, color=(1.0, 1.0, 1.0)) -> BonePart:
+    """Bones between joint pairs ((B, 2) indices), one colour per bone (``colors`` (B, 3)) or
+    one ``color``; update with :meth:`BonePart.set_joints`."""
+    return BonePart(pairs, radius, colors, color)
+
+
+class LabelPart(Part):
+    """Text labels that follow points: every text rendered once into one texture, and drawn
+    as one quad per label in screen space (one mapper, one draw, no text layout per frame).
+
+    :meth:`place` takes the labels' anchors in display pixels (x right, y up, from the
+    bottom left); an anchor with NaN hides its label.
+    """
+
+    def __init__(self, texts: list[str], color=(1.0, 1.0, 1.0), size: int = 13) -> None:
+        self.texts = list(texts)
+        super().__init__(4 * len(self.texts))
+        self.size = size
+        self.color = color
+        self.actor = vtkTexturedActor2D()
+        mapper = vtkPolyDataMapper2D()
+        mapper.SetInputData(self.mesh)
+        mapper.ScalarVisibilityOff()
+        self.actor.SetMapper(mapper)
+        n = len(self.texts)
+        if n:
+            self.mesh.faces = np.column_stack([np.full(n, 4), np.arange(4 * n).reshape(-1, 4)]).ravel()
+        self._boxes = np.zeros((n, 2))
+        self._build_texture()
+
+    def _build_texture(self) -> None:
+        tiles, dims = _render_texts(self.texts, self.color, self.size)
+        pad = 2  # empty texels between the rows: a quad's edge never samples its neighbour
+        width = max([w for w, _ in dims] + [1]) + pad
+        height = max(sum(h + pad for _, h in dims), 1)
+        atlas = np.zeros((height, width, 4), np.uint8)
+        coords = np.zeros((len(self.texts), 4, 2))
+        row = 0
+        for k, (tile, (w, h)) in enumerate(zip(tiles, dims, strict=True)):
+            atlas[row : row + h, :w] = tile
+            u, v0, v1 = w / width, row / height, (row + h) / height
+            coords[k] = [(0.0, v0), (u, v0), (u, v1), (0.0, v1)]
+            self._boxes[k] = (w, h)
+            row += h + pad
+        image = vtkImageData()
+        image.SetDimensions(width, height, 1)
+        image.GetPointData().SetScalars(numpy_to_vtk(atlas.reshape(-1, 4), deep=True))
+        texture = vtkTexture()
+        texture.SetInputData(image)
+        texture.InterpolateOff()
+        self.actor.SetTexture(texture)
+        if len(self.texts):
+            self.mesh.active_texture_coordinates = coords.reshape(-1, 2)
+
+    def widths(self) -> np.ndarray:
+        """(N,) each label's width in pixels."""
+        return self._boxes[:, 0].copy()
+
+    def set_texts(self, texts: list[str]) -> None:
+        """Other texts (as many as before)."""
+        self.texts = list(texts)
+        self._build_texture()
+        self.mesh.Modified()
+
+    def place(self, anchors: np.ndarray, offset: tuple[float, float] = (6.0, 4.0)) -> None:
+        """Put label k with its bottom left corner ``offset`` pixels from ``anchors[k]`` ((N, 2))."""
+        if not self.n_points:
+            return
+        anchors = np.asarray(anchors, dtype=np.float64).reshape(-1, 2)
+        hidden = ~np.isfinite(anchors).all(axis=1)
+        x0 = np.where(hidden, -1e4, anchors[:, 0] + offset[0])
+        y0 = np.where(hidden, -1e4, anchors[:, 1] + offset[1])
+        w, h = self._boxes[:, 0], self._boxes[:, 1]
+        quads = self._view.reshape(-1, 4, 3)
+        quads[:, :, 0] = np.column_stack([x0, x0 + w, x0 + w, x0])
+        quads[:, :, 1] = np.column_stack([y0, y0, y0 + h, y0 + h])
+        quads[:, :, 2] = 0.0
+        self.mesh.GetPoints().Modified()
+
+
+def _render_texts(texts: list[str], color, size: int) -> tuple[list[np.ndarray], list[tuple[int, int]]]:
+    """Each text as an (h, w, 4) RGBA image (VTK's rows: bottom first) and its (w, h)."""
+    renderer = vtkTextRenderer()
+    prop = vtkTextProperty()
+    prop.SetFontSize(size)
+    prop.SetColor(*color)
+    prop.SetBold(False)
+    prop.SetShadow(True)
+    tiles, dims = [], []
+    for text in texts:
+        if not text:
+            tiles.append(np.zeros((1, 1, 4), np.uint8))
+            dims.append((1, 1))
+            continue
+        image, extent = vtkImageData(), [0, 0]
+        renderer.RenderString(prop, text, image, extent, 72)
+        w_img, h_img, _ = image.GetDimensions()
+        pixels = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h_img, w_img, -1)
+        w, h = max(int(extent[0]), 1), max(int(extent[1]), 1)
+        tiles.append(np.ascontiguousarray(pixels[:h, :w, :4]))
+        dims.append((w, h))
+    return tiles, dims
+
+
+def label_part(texts: list[str], color=(1.0, 1.0, 1.0), size: int = 13) -> LabelPart:
+    """Labels for ``texts``, placed each render with :meth:`LabelPart.place`."""
+    return LabelPart(texts, color, size)

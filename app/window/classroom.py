@@ -23,7 +23,9 @@ class Classroom:
         self.state = state
         self.window = window
         self.panel = TeachDock(state)
-        self.overlay = TeachOverlay(scene.plotter, scene.render)
+        self.scene = scene
+        self.overlay = TeachOverlay()
+        scene.add_drawable(self.overlay)
         self.dock = QDockWidget("Teach", window)
         self.dock.setObjectName("teach")
         self.dock.setWidget(self.panel)
@@ -31,10 +33,9 @@ class Classroom:
         if beside is not None:  # a tab beside the inspector: the 3D view keeps its width
             window.tabifyDockWidget(beside, self.dock)
         self.dock.hide()
-        for signal in (state.selection_changed, state.frame_changed):
+        # the scene draws the overlay at every frame; a new joint, amount or dock rebuilds it
+        for signal in (state.selection_changed, state.document_changed, state.motion_changed):
             signal.connect(lambda *_: self.update())
-        for signal in (state.document_changed, state.motion_changed):
-            signal.connect(self.update)
         self.panel.amount_changed.connect(lambda _: self.update())
         self.dock.visibilityChanged.connect(lambda _: self.update())
 
@@ -45,8 +46,7 @@ class Classroom:
         self.window.resizeDocks([self.dock], [WIDTH], Qt.Orientation.Horizontal)
 
     def update(self) -> None:
-        if not self.dock.isVisible():
-            self.overlay.clear()
-            return
-        frame = min(self.state.frame, max(0, self.state.n_frames - 1))
-        self.overlay.show(self.state.snapshot, self.state.selected, frame, self.panel.amount_value)
+        self.overlay.shown = self.dock.isVisible()
+        self.overlay.joint = self.state.selected
+        self.overlay.amount = self.panel.amount_value
+        self.scene.redraw(self.overlay)
