@@ -63,6 +63,7 @@ def cursor_column(plot: TimePlot) -> int:
 
 @pytest.fixture
 def walk(qtbot, studio):
+    studio.curves_dock.show()  # hidden in the default layout until asked for
     open_file(studio, shared_path(WALK))
     studio.state.select(studio.state.motion.joint_index("lfemur"))
     QApplication.processEvents()
@@ -177,6 +178,8 @@ def test_export_csv_of_the_visible_range_and_png(walk, tmp_path):
 
 
 def test_contact_bars_show_the_core_contacts_and_seek(walk):
+    walk.contacts_dock.show()
+    QApplication.processEvents()
     bars, state = walk.contact_bars, walk.state
     expected = foot_contacts(state.motion, state.positions)
     assert bars.strip.contacts.names == expected.names
@@ -213,3 +216,21 @@ def test_the_selected_marker_is_plotted_with_its_gaps_shaded(qtbot, studio):
     np.testing.assert_array_equal(plot.values[:, -3:], overlay.positions[:, marker])
     np.testing.assert_array_equal(plot._span_frames, gap_spans(overlay.positions[:, marker]))
     assert len(plot._spans) == len(plot._span_frames) > 0
+
+
+def test_a_hidden_dock_costs_nothing_and_catches_up_when_shown(walk):
+    """Issue 26, item 4: frame changes reach the curves only while the dock is seen."""
+    dock, plot, state = walk.curves, walk.curves.plot, walk.state
+    follower = dock.frame_follower
+    walk.curves_dock.hide()
+    QApplication.processEvents()
+    calls = follower.calls
+    for frame in (10, 20, 30):
+        state.set_frame(frame)
+    assert follower.calls == calls and follower.stale  # nothing ran while hidden
+    walk.curves_dock.show()
+    QApplication.processEvents()
+    assert follower.calls == calls + 1 and not follower.stale  # one update, to the frame shown
+    assert plot.cursor.value() == pytest.approx(30 * plot.scale)
+    state.set_frame(40)
+    assert follower.calls == calls + 2 and plot.cursor.value() == pytest.approx(40 * plot.scale)

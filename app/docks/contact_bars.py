@@ -15,6 +15,7 @@ from PyQt6.QtCore import QRect, QRectF, Qt
 from PyQt6.QtGui import QColor, QImage, QMouseEvent, QPainter, QPaintEvent
 from PyQt6.QtWidgets import QDoubleSpinBox, QHBoxLayout, QLabel, QSizePolicy, QVBoxLayout, QWidget
 
+from gmr_studio.app.docks.frame_follow import follow_frame
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.core.contacts import DEFAULT_HEIGHT, DEFAULT_SPEED, Contacts, foot_contacts
 
@@ -41,7 +42,7 @@ class ContactStrip(QWidget):
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
         self._range_anchor: int | None = None
         self._cursor_x: int | None = None  # where the cursor was last drawn
-        state.frame_changed.connect(self._on_frame_changed)
+        self.frame_follower = follow_frame(self, state, self._on_frame_changed)  # only while shown
         state.range_changed.connect(lambda *_: self.update())
 
     def _on_frame_changed(self, frame: int) -> None:

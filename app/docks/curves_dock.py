@@ -25,6 +25,7 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
+from gmr_studio.app.docks.frame_follow import follow_frame
 from gmr_studio.app.docks.timeplot import PALETTE, TimePlot
 from gmr_studio.app.model import commands
 from gmr_studio.app.model.playback import Player
@@ -46,6 +47,14 @@ QUANTITY_LABELS = (
 #: line styles of a joint's successive axes
 AXIS_STYLES = (Qt.PenStyle.SolidLine, Qt.PenStyle.DashLine, Qt.PenStyle.DotLine, Qt.PenStyle.DashDotLine)
 MARKER_COLOUR = "#e8e8e8"
+AXIS_HUE_STEP = 55  # degrees of hue between a joint's successive axes
+
+
+def axis_colour(base: QColor, axis: int) -> str:
+    """The colour of a joint's ``axis``-th curve: its joint's colour turned ``AXIS_HUE_STEP``
+    degrees of hue per axis (and its own line style), so axes differ by colour, not only dash."""
+    hue = (base.hsvHue() + AXIS_HUE_STEP * axis) % 360
+    return QColor.fromHsv(hue, max(base.hsvSaturation(), 120), max(base.value(), 200)).name()
 
 
 class CurvesDock(QWidget):
@@ -119,7 +128,7 @@ class CurvesDock(QWidget):
         self.mirror_button.clicked.connect(lambda: commands.mirror_left_right(state))
         plot.frame_requested.connect(state.set_frame)
         plot.range_selected.connect(state.set_frame_range)
-        state.frame_changed.connect(plot.set_cursor)
+        self.frame_follower = follow_frame(self, state, plot.set_cursor)  # only while shown
         # the axes draw the grid, so their bounds cover the plot and every cursor move
         # repainted them (~3 ms a frame): cached as pixmaps, a move only blits two strips
         for side in ("left", "bottom"):
@@ -170,7 +179,7 @@ class CurvesDock(QWidget):
             block = joint_curves(motion, joint, self.quantity, snapshot.positions)
             blocks.append(block)
             base = QColor(PALETTE[n % len(PALETTE)])
-            colours += [base.lighter(100 + 40 * a).name() for a in range(len(block.columns))]
+            colours += [axis_colour(base, a) for a in range(len(block.columns))]
             styles += [AXIS_STYLES[a % len(AXIS_STYLES)] for a in range(len(block.columns))]
         spans = np.zeros((0, 2), np.int64)
         overlay, marker = self.state.marker_overlay, self.state.selected_marker

@@ -12,6 +12,7 @@ import html
 import numpy as np
 from PyQt6.QtWidgets import QLabel, QVBoxLayout, QWidget
 
+from gmr_studio.app.docks.frame_follow import follow_frame
 from gmr_studio.app.docks.timeplot import TimePlot
 from gmr_studio.app.model.formatting import format_lengths
 from gmr_studio.app.model.layers import Layers
@@ -34,7 +35,7 @@ class ErrorDock(QWidget):
         layout.addWidget(self.title)
         layout.addWidget(self.plot, 1)
         self.plot.frame_requested.connect(self.state.set_frame)
-        self.state.frame_changed.connect(self.plot.set_cursor)
+        self.frame_follower = follow_frame(self, self.state, self.plot.set_cursor)  # only while shown
         self.state.selection_changed.connect(lambda _joint: self.refresh())
         layers.changed.connect(self.refresh)
         layers.appearance_changed.connect(lambda _index: self.refresh())

@@ -19,6 +19,7 @@ from PyQt6.QtCore import QObject, QRunnable, Qt, QThreadPool, QTimer, pyqtSignal
 from PyQt6.QtGui import QFontDatabase
 from PyQt6.QtWidgets import QGroupBox, QLabel, QSlider, QTextBrowser, QVBoxLayout, QWidget
 
+from gmr_studio.app.docks.frame_follow import follow_frame
 from gmr_studio.app.model.commands import MotionEdit
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.core.classroom import JointChain, TradeoffPoint, explain_shift_root, joint_chain, roots_tradeoff
@@ -69,6 +70,9 @@ def chain_html(chain: JointChain, size: float) -> str:
     return "".join(out)
 
 
+MATRIX_LINES = 12  # lines of the chain view always visible
+
+
 class _Signals(QObject):
     done = pyqtSignal(object, object)  # (Snapshot measured, TradeoffPoint)
     failed = pyqtSignal(str)
@@ -105,6 +109,10 @@ class TeachDock(QWidget):
         self.title.setWordWrap(True)
         self.chain_view = QTextBrowser()
         self.chain_view.setFont(QFontDatabase.systemFont(QFontDatabase.SystemFont.FixedFont))
+        # a matrix and its neighbours readable at once in the side column: no sideways
+        # scrolling, at least MATRIX_LINES lines tall
+        self.chain_view.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        self.chain_view.setMinimumHeight(MATRIX_LINES * self.chain_view.fontMetrics().lineSpacing() + 12)
         self.amount = QSlider(Qt.Orientation.Horizontal)
         self.amount.setRange(0, 100)
         self.amount.setValue(100)
@@ -137,7 +145,7 @@ class TeachDock(QWidget):
         self.amount.valueChanged.connect(self._on_amount)
         self.roots.valueChanged.connect(lambda _: self._measure_timer.start())
         state.selection_changed.connect(lambda _: self.schedule())
-        state.frame_changed.connect(lambda _: self.schedule())
+        self.frame_follower = follow_frame(self, state, lambda _: self.schedule())  # only while shown
         state.document_changed.connect(self._on_new_motion)
         state.motion_changed.connect(self._on_new_motion)
         state.undo_stack.indexChanged.connect(self._on_history)

@@ -1,32 +1,33 @@
-"""The main window: lays out the view and the docks and wires the actions. No math here."""
+"""The main window, the app's composition root: it makes the state, the view and every
+dock, menu and drawable, lays them out (:mod:`app.window.layout`) and wires them. Nothing
+else in the app adds a dock, a menu or a drawable to the window. No math here."""
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 from PyQt6.QtCore import QSettings, Qt, QTimer
 from PyQt6.QtGui import QCloseEvent, QDragEnterEvent, QDropEvent
 from PyQt6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMenu, QMessageBox, QUndoView, QWidget
 
-from gmr_studio.app.dialogs import audit_dialog
 from gmr_studio.app.dialogs.alignment_dialog import AlignmentDialog
+from gmr_studio.app.dialogs.audit_dialog import AuditDialog
 from gmr_studio.app.docks.contact_bars import ContactBars
 from gmr_studio.app.docks.curves_dock import CurvesDock
 from gmr_studio.app.docks.forest import ForestTree
 from gmr_studio.app.docks.inspector import Inspector
-from gmr_studio.app.docks.layers_dock import install as install_layers
 from gmr_studio.app.docks.timeline import Timeline
 from gmr_studio.app.model import commands, extensions
 from gmr_studio.app.model.playback import SPEEDS, Player
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.app.reliability.autosave import Autosaver
-from gmr_studio.app.scene.layer_onion import LayerOnions
-from gmr_studio.app.scene.onion import OnionMenu
 from gmr_studio.app.scene.view import SkeletonView
 from gmr_studio.app.window import actions as action_table
+from gmr_studio.app.window import layout
 from gmr_studio.app.window.classroom import Classroom
+from gmr_studio.app.window.comparison import install_comparison
 from gmr_studio.app.window.files import FileController
+from gmr_studio.app.window.onion_menu import OnionMenu
 
 KEYS_HELP = """<table>
 <tr><td><b>Space</b></td><td>play / pause</td></tr>
@@ -42,13 +43,9 @@ KEYS_HELP = """<table>
 <tr><td><b>G K A T L M B P</b></td><td>ground, soft links, axes, trail, labels, markers, marker labels, pelvis</td></tr>
 </table>"""
 
-# layout: the widths the side docks (forest, inspector) are usable at, and their least; the share of the
-# window's width the 3D view keeps, and its least size; the timeline slider's least width
-DOCK_WIDTHS = (300, 370)
-DOCK_MINIMUM = 100
-VIEW_SHARE = 0.4
-VIEW_MINIMUM = (200, 150)
-SLIDER_MINIMUM = 120
+DOCK_MINIMUM = layout.DOCK_MINIMUM
+VIEW_MINIMUM = layout.VIEW_MINIMUM
+SLIDER_MINIMUM = layout.SLIDER_MINIMUM
 
 
 def default_settings() -> QSettings:
@@ -79,23 +76,31 @@ class MainWindow(QMainWindow):
         toggle.setText("&History")
         toggle.setShortcut("Ctrl+H")
         self.joint_menu = action_table.fill_menus(self, self.actions, self.recent_menu, toggle)
-        self.audit_action = audit_dialog.install(self, self.state)
+        self.audit_action = self._add_audit_menu()
         self.forest = ForestTree(self.state)
         self.forest.tree_colors = self.view.scene.tree_colors  # one colour per tree in both
         self.inspector = Inspector(self.state)
         self.timeline = Timeline(self.state, self.player, self.actions)
         self.forest.context_menu = self.view.context_menu = self.joint_menu
-        self.forest_dock = self._dock("Forest", self.forest, Qt.DockWidgetArea.LeftDockWidgetArea)
-        self.inspector_dock = self._dock("Inspector", self.inspector, Qt.DockWidgetArea.RightDockWidgetArea)
-        self.resizeDocks([self.forest_dock, self.inspector_dock], list(DOCK_WIDTHS), Qt.Orientation.Horizontal)
-        timeline_dock = self._dock("Timeline", self.timeline, Qt.DockWidgetArea.BottomDockWidgetArea)
+        # beside the view: Forest above Inspector in one column (layout.side_width wide)
+        right = Qt.DockWidgetArea.RightDockWidgetArea
+        self.forest_dock = self._dock("Forest", self.forest, right)
+        self.inspector_dock = self._dock("Inspector", self.inspector, right)
+        self.splitDockWidget(self.forest_dock, self.inspector_dock, Qt.Orientation.Vertical)
+        self.tabifyDockWidget(self.inspector_dock, self.history_dock)
+        self.inspector_dock.raise_()
+        # under it: the timeline strip, and the analysis tabs shown when asked (View menu)
+        bottom = Qt.DockWidgetArea.BottomDockWidgetArea
+        self.timeline_dock = self._dock("Timeline", self.timeline, bottom)
+        layout.make_strip(self.timeline_dock)
         self.contact_bars = ContactBars(self.state)
-        contacts_dock = self._dock("Foot contacts", self.contact_bars, Qt.DockWidgetArea.BottomDockWidgetArea)
         self.curves = CurvesDock(self.state, self.player)
-        curves_dock = self._dock("Curves", self.curves, Qt.DockWidgetArea.BottomDockWidgetArea)
-        self.splitDockWidget(timeline_dock, contacts_dock, Qt.Orientation.Vertical)
-        self.splitDockWidget(contacts_dock, curves_dock, Qt.Orientation.Vertical)
-        self.resizeDocks([curves_dock], [260], Qt.Orientation.Vertical)
+        self.curves_dock = self._dock("Curves", self.curves, bottom)
+        self.contacts_dock = self._dock("Foot contacts", self.contact_bars, bottom)
+        self.splitDockWidget(self.curves_dock, self.timeline_dock, Qt.Orientation.Vertical)
+        self.splitDockWidget(self.curves_dock, self.contacts_dock, Qt.Orientation.Horizontal)
+        for dock in (self.curves_dock, self.contacts_dock):
+            dock.hide()
         self.view.setMinimumSize(*VIEW_MINIMUM)
         for dock in (self.forest_dock, self.inspector_dock):  # they may give way to the view
             dock.widget().setMinimumWidth(DOCK_MINIMUM)
@@ -104,11 +109,12 @@ class MainWindow(QMainWindow):
         self._fit_pending.timeout.connect(self.fit_docks)
         self.classroom = Classroom(self, self.state, self.view.scene, beside=self.inspector_dock)
         self.view_menu.addAction(self.classroom.dock.toggleViewAction())
-        self.onion = OnionMenu(self, self.state, self.view.scene, self.view_menu)
-        self.layers, self.ghosts, self.layers_panel = install_layers(
+        self.layers, self.ghosts, self.layers_panel, self.error_dock = install_comparison(
             self, self.state, self.view.scene, self.files, beside=self.forest_dock
         )
-        self.onion.attach(LayerOnions(self.view.scene.plotter, self.layers, self.view.scene.render))
+        self.onion = OnionMenu(self, self.view.scene, self.layers, self.view_menu)
+        self.analysis_docks = [self.curves_dock, self.contacts_dock, self.error_dock]
+        layout.tab_when_shown(self, self.analysis_docks)
         self.status = QLabel()
         self.statusBar().addWidget(self.status, 1)
         self._wire()
@@ -117,26 +123,49 @@ class MainWindow(QMainWindow):
 
     # ------------------------------------------------------------------ layout
     def fit_docks(self) -> None:
-        """Keep the layout usable at any window size: the side docks (forest, inspector)
-        get back :data:`DOCK_WIDTHS` when there is room, and give way when the 3D view would
-        have less than :data:`VIEW_SHARE` of the window's width. Docks a user made wider
-        than that are left alone while the view keeps its share."""
-        docks = [d for d in (self.forest_dock, self.inspector_dock) if d.isVisible() and not d.isFloating()]
-        if not docks:
-            return
-        shared = self.view.width() + sum(d.width() for d in docks)  # less splitters and margins
-        room = max(0.0, shared - math.ceil(VIEW_SHARE * self.width())) / len(docks)
-        usable = dict(zip((self.forest_dock, self.inspector_dock), DOCK_WIDTHS))
-        targets = [int(min(usable[d], room)) for d in docks]
-        squeezed = self.view.width() < VIEW_SHARE * self.width() - 1
-        narrow = any(d.width() < t - 1 for d, t in zip(docks, targets))
-        if squeezed or narrow:
-            widths = [t if squeezed or d.width() < t else d.width() for d, t in zip(docks, targets)]
-            self.resizeDocks(docks, widths, Qt.Orientation.Horizontal)
+        """Keep the view its share of the window (:func:`app.window.layout.fit_docks`)."""
+        side = [self.forest_dock, self.inspector_dock, self.classroom.dock]
+        layout.fit_docks(self, self.view, side, self.analysis_docks)
+
+    def default_layout(self) -> None:
+        """The side column at its width for this window (the rest is set up in ``__init__``)."""
+        width = layout.side_width(self.width())
+        self.resizeDocks([self.forest_dock, self.inspector_dock], [width, width], Qt.Orientation.Horizontal)
+        self.resizeDocks([self.forest_dock, self.inspector_dock], [1, 2], Qt.Orientation.Vertical)
+        self.resizeDocks(self.analysis_docks, [layout.BOTTOM_HEIGHT] * 3, Qt.Orientation.Vertical)
+
+    def showEvent(self, event) -> None:  # noqa: N802 (Qt's name)
+        super().showEvent(event)
+        if not self._laid_out:
+            self._laid_out = True
+            if not self._restored:
+                self.default_layout()
+            self._fit_pending.start()
 
     def resizeEvent(self, event) -> None:  # noqa: N802 (Qt's name)
         super().resizeEvent(event)
         self._fit_pending.start()  # once the layout has settled at the new size
+
+    def _add_audit_menu(self):
+        """Tools > Audit round trips... (before Help): the audit dialog, its failing joints
+        ringed in the view."""
+        bar = self.menuBar()
+        help_action = next((a for a in bar.actions() if a.text().replace("&", "") == "Help"), None)
+        tools = bar.addMenu("&Tools")
+        if help_action is not None:
+            bar.insertMenu(help_action, tools)
+        action = tools.addAction("&Audit round trips...")
+        action.setStatusTip("run the document through every conversion and edit and check that no joint moves")
+
+        def show() -> None:
+            dialog = AuditDialog(self.state, self, scene=self.view.scene)
+            dialog.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
+            self.audit_dialog = dialog
+            dialog.show()
+            dialog.run_audit()
+
+        action.triggered.connect(show)
+        return action
 
     def _dock(self, title: str, widget: QWidget, area: Qt.DockWidgetArea) -> QDockWidget:
         dock = QDockWidget(title, self)
@@ -201,6 +230,7 @@ class MainWindow(QMainWindow):
             state.motion_changed,
             state.selection_changed,
             state.markers_changed,
+            state.pelvis_changed,
             state.range_changed,
         ):
             signal.connect(self._on_enabled_changed)
@@ -221,7 +251,8 @@ class MainWindow(QMainWindow):
         self.setWindowModified(self.state.modified)
 
     def _on_overlay_changed(self, name: str, shown: bool) -> None:
-        self.actions[f"overlay_{name}"].setChecked(shown)
+        action = self.actions[f"overlay_{name}"]
+        action_table.show_overlay_switch(action, shown, action.isEnabled())
 
     def _on_enabled_changed(self, *_args) -> None:
         action_table.update_enabled(
@@ -286,10 +317,8 @@ class MainWindow(QMainWindow):
             self.restoreGeometry(geometry)
         else:
             self.resize(1400, 900)
-        layout = self.settings.value("window/state")
-        if layout is not None:
-            self.restoreState(layout)
-        self.fit_docks()  # a layout saved squeezed comes back usable
+        self._restored = layout.restore_layout(self, self.settings)  # an older one: the default
+        self._laid_out = False
         for name in self.state.overlays:
             value = self.settings.value(f"overlays/{name}")
             if value is not None:
@@ -303,7 +332,7 @@ class MainWindow(QMainWindow):
 
     def _save_settings(self) -> None:
         self.settings.setValue("window/geometry", self.saveGeometry())
-        self.settings.setValue("window/state", self.saveState())
+        layout.save_layout(self, self.settings)
         for name, shown in self.state.overlays.items():
             self.settings.setValue(f"overlays/{name}", shown)
         self.settings.setValue("playback/speed", self.player.speed)

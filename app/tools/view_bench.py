@@ -1,0 +1,240 @@
+"""``python -m gmr_studio.app.tools.view_bench``: the 3D view's frame rate against a bare VTK widget.
+
+Run under ``xvfb-run`` (software OpenGL). For each window size (1280x800, 1920x1080), in
+the default layout, with CMU 01_01 (BVH), its 42 C3D markers and the pelvis triads, a joint
+selected and the Curves dock shown, it prints side by side:
+
+- **bare**: VTK's own Qt widget (``vtkmodules.qt.QVTKRenderWindowInteractor``, a native
+  ``QWidget``) of the app's view size with 38 joints as spheres and a grid, no docks and
+  no multisampling, its points moved every frame: the reference every ratio is taken to;
+- **default**: ``state.set_frame(f)`` until Qt has processed what follows (every drawable
+  moved, the docks updated, the view's render), median over consecutive frames;
+- **+ axes, trail, labels**, and **+ one comparison layer** (01_01.amc), as ratios to default;
+- the docks' own costs, each timed alone: the inspector's text, the curves' cursor (moved
+  and repainted), the foot contacts' bars (cursor moved and repainted).
+
+The view's widget is native unless ``--kind framebuffer`` (the Wayland fallback,
+:mod:`app.scene.render_widget`); the base is fixed per process, so the bench runs the
+framebuffer kind in a child process and prints it in the same table.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+from collections.abc import Sequence
+
+import numpy as np
+
+from gmr_studio.core.shared_data import shared_data_dir
+
+BVH = "cmu/subject01/01_01.bvh"
+C3D = "cmu/subject01/01_01.c3d"
+AMC = "cmu/subject01/01_01.amc"
+SIZES = ((1280, 800), (1920, 1080))
+
+
+def _median_ms(seconds: list[float]) -> float:
+    return float(1000 * np.median(seconds))
+
+
+def _frames(app, state, first: int, count: int) -> list[float]:
+    """Seconds per frame update of ``count`` consecutive frames from ``first`` (after 20 warm-up)."""
+    for f in range(first - 20, first):
+        state.set_frame(f % state.n_frames)
+        app.processEvents()
+    times = []
+    for f in range(first, first + count):
+        start = time.perf_counter()
+        state.set_frame(f % state.n_frames)
+        app.processEvents()
+        times.append(time.perf_counter() - start)
+    return times
+
+
+def bare_reference(app, width: int, height: int, frames: int, motion_positions: np.ndarray) -> float:
+    """Median ms a frame of VTK's native Qt widget showing 38 spheres and a grid."""
+    import pyvista as pv
+    from PyQt6.QtWidgets import QWidget
+    from vtkmodules.qt.QVTKRenderWindowInteractor import QVTKRenderWindowInteractor
+    from vtkmodules.vtkRenderingCore import vtkActor, vtkGlyph3DMapper, vtkPolyDataMapper, vtkRenderer
+
+    window = QWidget()
+    widget = QVTKRenderWindowInteractor(window)
+    widget.resize(width, height)
+    window.resize(width, height)
+    renderer = vtkRenderer()
+    renderer.SetBackground(0.16, 0.17, 0.20)
+    widget.GetRenderWindow().AddRenderer(renderer)
+    widget.GetRenderWindow().SetMultiSamples(0)
+    joints = pv.PolyData(np.array(motion_positions[0, :38]))
+    mapper = vtkGlyph3DMapper()
+    mapper.SetInputData(joints)
+    size = float(np.ptp(motion_positions[0], axis=0).max())
+    mapper.SetSourceData(pv.Sphere(radius=0.016 * size, theta_resolution=16, phi_resolution=12))
+    mapper.SetScaling(False)
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    renderer.AddActor(actor)
+    grid = pv.Plane(
+        center=(0, float(motion_positions[..., 1].min()), 0),
+        direction=(0, 1, 0),
+        i_size=6 * size,
+        j_size=6 * size,
+        i_resolution=24,
+        j_resolution=24,
+    )
+    grid_actor = vtkActor()
+    grid_mapper = vtkPolyDataMapper()
+    grid_mapper.SetInputData(grid.extract_all_edges())
+    grid_actor.SetMapper(grid_mapper)
+    renderer.AddActor(grid_actor)
+    window.show()
+    widget.show()
+    widget.Initialize()
+    renderer.ResetCamera()
+    app.processEvents()
+    points = joints.points
+    times = []
+    for f in range(frames + 20):
+        start = time.perf_counter()
+        points[:] = motion_positions[f % len(motion_positions), :38]
+        joints.GetPoints().Modified()
+        widget.update()
+        app.processEvents()
+        if f >= 20:
+            times.append(time.perf_counter() - start)
+    widget.Finalize()
+    window.close()
+    return _median_ms(times)
+
+
+def _dock_costs(app, window, frames: int) -> dict[str, float]:
+    """Median ms of each dock's own frame update, called alone (and repainted at once)."""
+    state = window.state
+    window.contacts_dock.show()
+    app.processEvents()
+    costs: dict[str, list[float]] = {"inspector text": [], "curves cursor": [], "contact bars": []}
+    strip = window.contact_bars.strip
+    plot = window.curves.plot
+    for f in range(100, 100 + frames):
+        state.frame = f  # the state's frame without its signal: only the dock runs
+        for name, update in (
+            ("inspector text", lambda: window.inspector._refresh()),
+            ("curves cursor", lambda f=f: (plot.set_cursor(f), plot.plot_widget.viewport().repaint())),
+            ("contact bars", lambda f=f: (strip._on_frame_changed(f), strip.repaint())),
+        ):
+            start = time.perf_counter()
+            update()
+            costs[name].append(time.perf_counter() - start)
+    window.contacts_dock.hide()
+    app.processEvents()
+    return {name: _median_ms(values) for name, values in costs.items()}
+
+
+def measure(width: int, height: int, frames: int, bare: float | None) -> dict:
+    """Every figure at one window size, in this process (the view of this process's kind)."""
+    from gmr_studio.app.model import extensions
+    from gmr_studio.app.model.loading import load_snapshot
+    from gmr_studio.app.scene import render_widget
+    from gmr_studio.app.tools.bench import bench_window, close_bench_window
+
+    data = shared_data_dir()
+    app, window, scratch = bench_window(width, height)
+    window.files.open_path(str(data / BVH), markers=str(data / C3D), ask=False, wait=True)
+    state = window.state
+    extensions.recover_pelvis_frames(state, quiet=True)
+    state.select(state.motion.joint_index("LeftHand"))
+    window.curves_dock.show()
+    app.processEvents()
+    view = window.view.interactor
+    figures = {
+        "kind": render_widget.current_kind(),
+        "view": (view.width(), view.height()),
+        "share": view.width() * view.height() / (window.width() * window.height()),
+        "markers": state.marker_overlay.markers.n_markers,
+        "pelvis": state.pelvis is not None,
+    }
+    if bare is None:
+        bare = bare_reference(app, view.width(), view.height(), frames, state.positions)
+    figures["bare"] = bare
+    figures["default"] = _median_ms(_frames(app, state, 100, frames))
+    for name in ("axes", "trails", "labels"):
+        state.set_overlay(name, True)
+    figures["overlays"] = _median_ms(_frames(app, state, 100 + frames, frames))
+    for name in ("axes", "trails", "labels"):
+        state.set_overlay(name, False)
+    window.layers.add(load_snapshot(data / AMC), data / AMC, "cmu")
+    app.processEvents()
+    figures["layer"] = _median_ms(_frames(app, state, 100 + 2 * frames, frames))
+    window.layers.remove(0)
+    app.processEvents()
+    figures["default again"] = _median_ms(_frames(app, state, 100 + 3 * frames, frames))
+    figures["docks"] = _dock_costs(app, window, min(frames, 200))
+    close_bench_window(window, scratch)
+    return figures
+
+
+def report(figures: dict) -> None:
+    bare = figures["bare"]
+    default = min(figures["default"], figures["default again"])  # the two blocks bracket the others
+    width, height = figures["view"]
+    print(
+        f"  view {width}x{height} ({figures['share']:.0%} of the window, {figures['kind']} widget), "
+        f"{figures['markers']} markers, pelvis triads {'on' if figures['pelvis'] else 'off'}"
+    )
+    rows = (
+        ("bare VTK widget, 38 spheres + grid", bare, ""),
+        ("default overlays, Curves shown", default, f"{default / bare:5.2f}x bare"),
+        ("+ axes, trail, labels", figures["overlays"], f"{figures['overlays'] / default:5.2f}x default"),
+        ("+ one comparison layer", figures["layer"], f"{figures['layer'] / default:5.2f}x default"),
+    )
+    for label, ms, ratio in rows:
+        print(f"  {label:<38} {ms:7.2f} ms  {1000 / ms:5.0f} fps  {ratio}")
+    docks = ", ".join(f"{name} {ms:.2f} ms" for name, ms in figures["docks"].items())
+    print(f"  docks, each alone: {docks}")
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(
+        prog="python -m gmr_studio.app.tools.view_bench", description=__doc__.splitlines()[0]
+    )
+    parser.add_argument("--frames", type=int, default=300, help="frames timed per figure")
+    parser.add_argument("--kind", choices=("native", "framebuffer"), default="native")
+    parser.add_argument("--size", help="one WxH instead of both sizes")
+    parser.add_argument("--bare", type=float, help="(internal) the bare reference measured by the parent")
+    parser.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if not (shared_data_dir() / BVH).exists():
+        print(f"the CMU files are not in {shared_data_dir()}: nothing to measure", file=sys.stderr)
+        return 2
+    from gmr_studio.app.scene import render_widget
+
+    render_widget.interactor_class(args.kind)
+    sizes = [tuple(int(v) for v in args.size.split("x"))] if args.size else list(SIZES)
+    for width, height in sizes:
+        figures = measure(width, height, args.frames, args.bare)
+        if args.child:
+            print(json.dumps(figures, default=float))
+            continue
+        print(f"{width}x{height} window:")
+        report(figures)
+        if args.kind == "native":
+            command = [sys.executable, "-m", "gmr_studio.app.tools.view_bench", "--kind", "framebuffer", "--child"]
+            command += ["--size", f"{width}x{height}", "--frames", str(args.frames), "--bare", str(figures["bare"])]
+            child = subprocess.run(command, capture_output=True, text=True, env=dict(os.environ))
+            if child.returncode == 0:
+                framebuffer = json.loads(child.stdout.strip().splitlines()[-1])
+                print("  the same in the framebuffer widget (the Wayland fallback):")
+                report(framebuffer)
+            else:
+                print(f"  framebuffer widget: failed ({child.stderr.strip().splitlines()[-1:]})")
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
