@@ -92,3 +92,14 @@ def test_screenshot_of_the_whole_window_under_a_display(tmp_path):
     blue = np.array([31, 119, 180])
     assert (np.abs(image - blue).max(axis=2) < 40).sum() > 50
     assert (image.reshape(-1, 3).std(axis=0) > 10).all()  # docks and the view, not one flat colour
+
+
+def test_a_screenshot_without_a_display_prints_no_x_warning(tmp_path):
+    """Issue 21, item 10: VTK renders through EGL without trying X first."""
+    out = tmp_path / "demo.png"
+    env = headless_env()
+    env.pop("VTK_DEFAULT_OPENGL_WINDOW", None)
+    result = subprocess.run([*STUDIO, "--screenshot", str(out)], capture_output=True, text=True, env=env, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert "X server" not in result.stderr and "WARN" not in result.stderr, result.stderr
+    assert read_png(out).shape[2] == 3

@@ -31,6 +31,8 @@ from PyQt6.QtWidgets import QGraphicsItem, QVBoxLayout, QWidget
 
 from gmr_studio.core.atomic import atomic_write_bytes, atomic_write_text
 
+LEGEND_TEXT = "#e6e6e6"
+LEGEND_BOX = (20, 21, 24, 210)
 #: colours of successive columns (colour-blind-safe Tableau 10)
 PALETTE = ("#4e79a7", "#f28e2b", "#e15759", "#76b7b2", "#59a14f", "#edc948", "#b07aa1", "#ff9da7", "#9c755f")
 CURSOR_COLOUR = "#ffd400"
@@ -78,7 +80,10 @@ class TimePlot(QWidget):
         self.plot_item = self.plot_widget.getPlotItem()
         self.plot_item.showGrid(x=True, y=True, alpha=0.25)
         self.plot_item.setMenuEnabled(False)
-        self.legend = self.plot_item.addLegend(offset=(8, 8), labelTextSize="8pt")
+        # light text on a dark box: readable over the dark plot and its grid
+        self.legend = self.plot_item.addLegend(
+            offset=(8, 8), labelTextSize="8pt", labelTextColor=LEGEND_TEXT, brush=pg.mkBrush(LEGEND_BOX)
+        )
         layout = QVBoxLayout(self)
         layout.setContentsMargins(0, 0, 0, 0)
         layout.addWidget(self.plot_widget)

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from gmr_studio.app.model.state import Snapshot
-from gmr_studio.app.scene.onion import bone_pairs
+from gmr_studio.app.scene.onion import pose_lines, pose_points
 
 FIRST_HUE, LAST_HUE = 0.58, 1.08  # blue through violet and red to orange: saturated all the way
 
@@ -41,10 +41,13 @@ def parse_frame_steps(text: str, n_frames: int) -> np.ndarray:
     return frames
 
 
-def travel_axis(positions: np.ndarray, up: int) -> np.ndarray:
+def travel_axis(positions: np.ndarray, up: int, figure: np.ndarray | None = None) -> np.ndarray:
     """(3,) unit horizontal direction of the figure's main travel over ``positions`` (K, J, 3)
-    (the first horizontal axis when it stands still)."""
+    (the first horizontal axis when it stands still); ``figure`` (J,) bool: the joints that
+    make the figure (default all; an anchor pinned at the origin is no part of it)."""
     across = [a for a in (0, 1, 2) if a != up]
+    if figure is not None:
+        positions = positions[:, figure]
     path = positions[:, :, across].mean(axis=1)
     spread = path - path.mean(axis=0)
     axis = np.zeros(3)
@@ -58,11 +61,13 @@ def travel_axis(positions: np.ndarray, up: int) -> np.ndarray:
     return axis
 
 
-def side_by_side(positions: np.ndarray, up: int, gap: float = 0.25) -> np.ndarray:
-    """(K, J, 3) poses moved along the travel axis so that each sits beside the previous one
-    (``gap`` of the widest pose between them), keeping their own heights."""
-    axis = travel_axis(positions, up)
-    along = positions @ axis  # (K, J)
+def side_by_side(positions: np.ndarray, up: int, gap: float = 0.25, figure: np.ndarray | None = None) -> np.ndarray:
+    """(K, J, 3) poses moved along the travel axis so that each figure sits beside the previous
+    one (``gap`` of the widest figure between them), keeping their own heights; ``figure``
+    (J,) bool as for :func:`travel_axis` (every joint moves, only the figure's are spaced)."""
+    figure = np.ones(positions.shape[1], dtype=bool) if figure is None else figure
+    axis = travel_axis(positions, up, figure)
+    along = positions[:, figure] @ axis  # (K, A)
     width = float((along.max(axis=1) - along.min(axis=1)).max())
     spacing = width * (1.0 + gap) if width > 0 else 1.0
     centre = (along.max(axis=1) + along.min(axis=1)) / 2
@@ -79,9 +84,16 @@ def pose_colors(count: int) -> np.ndarray:
 
 
 def render_filmstrip(
-    snapshot: Snapshot, frames: np.ndarray, out: str | Path, size: tuple[int, int], layout: str = "path"
+    snapshot: Snapshot,
+    frames: np.ndarray,
+    out: str | Path,
+    size: tuple[int, int],
+    layout: str = "path",
+    drawn: dict | None = None,
 ) -> tuple[int, int]:
-    """Render ``frames`` of ``snapshot`` to the PNG ``out`` (atomically); returns its size."""
+    """Render ``frames`` of ``snapshot`` to the PNG ``out`` (atomically); returns its size.
+    ``drawn``, when given, receives ``labels``: (K, 4) each frame label's box in pixels
+    (left, bottom, width, height; y up from the bottom)."""
     import pyvista as pv
 
     from gmr_studio.app.media.video import save_screenshot
@@ -91,9 +103,10 @@ def render_filmstrip(
     if layout not in ("path", "side"):
         raise ValueError(f"unknown filmstrip layout {layout!r}: expected path or side")
     up = up_axis_of(snapshot)
+    figure = ~snapshot.motion.anchors  # an anchor at the origin is no part of the picture
     positions = np.asarray(snapshot.positions[frames])
     if layout == "side":
-        positions = side_by_side(positions, up)
+        positions = side_by_side(positions, up, figure=figure)
     strip = Snapshot(snapshot.motion.frame_slice(frames), positions, np.asarray(snapshot.rotations[frames]))
     plotter = pv.Plotter(off_screen=True, window_size=size)
     try:
@@ -102,21 +115,29 @@ def render_filmstrip(
         scene.set_snapshot(strip, reset_camera=True)  # the app's ground grid under every pose
         for name, part in scene.parts.items():
             part.set_visible(name == "ground")
-        pairs = bone_pairs(snapshot.motion.parents)
+        # each pose drawn as the view draws the figure: soft links and bones from an anchor dashed
+        pairs, links, n_points = pose_lines(snapshot.motion)
         colors = pose_colors(len(frames))
         opacity = np.ones(len(frames)) if layout == "side" else np.linspace(0.35, 1.0, len(frames))
         for k in range(len(frames)):
-            part = parts.segments_part(snapshot.motion.n_joints, pairs, color=tuple(colors[k]), width=3.0)
-            part.set_points(positions[k])
+            part = parts.segments_part(n_points, pairs, color=tuple(colors[k]), width=3.0)
+            part.set_points(pose_points(positions[k], links))
             part.actor.GetProperty().SetOpacity(float(opacity[k]))
             plotter.renderer.AddActor(part.actor)
-        below = positions.min(axis=(0, 1))[up] - 0.08 * snapshot.motion.size
-        anchors = positions.mean(axis=1)
+        shown = positions[:, figure]
+        below = shown.min(axis=(0, 1))[up] - 0.08 * snapshot.motion.size
+        anchors = shown.mean(axis=1)
         anchors[:, up] = below
-        plotter.add_point_labels(
-            anchors, [f"{f}" for f in frames], font_size=14, text_color="white", shape=None, show_points=False
-        )
-        _side_camera(plotter, positions, up, anchors)
+        _side_camera(plotter, shown, up, anchors)
+        # every pose labelled (screen-space labels never hide one another as VTK's placer does)
+        labels = parts.label_part([f"{f}" for f in frames], size=14)
+        plotter.renderer.AddViewProp(labels.actor)
+        plotter.render()
+        centres = scene.display_positions(anchors)
+        centres[:, 0] -= labels.widths() / 2 + 6.0  # centred under the pose
+        labels.place(centres)
+        if drawn is not None:
+            drawn["labels"] = np.column_stack([centres + np.array([6.0, 4.0]), labels.widths(), labels._boxes[:, 1]])
         return save_screenshot(scene, out)
     finally:
         plotter.close()
@@ -124,7 +145,8 @@ def render_filmstrip(
 
 def _side_camera(plotter, positions: np.ndarray, up: int, labels: np.ndarray) -> None:
     """A parallel projection from the side of the travel, a little from above, with the
-    travel running left to right and every pose and ``labels`` (K, 3) in the picture."""
+    travel running left to right and every pose and ``labels`` (K, 3) in the picture, the
+    poses filling it (a tenth of it for margins and labels)."""
     travel = travel_axis(positions, up)
     up_vector = np.eye(3)[up]
     side = np.cross(travel, up_vector)
@@ -143,7 +165,7 @@ def _side_camera(plotter, positions: np.ndarray, up: int, labels: np.ndarray) ->
     extent_right = np.ptp(flat @ screen_right)
     extent_up = np.ptp(flat @ screen_up)
     width, height = plotter.window_size
-    plotter.camera.parallel_scale = 0.6 * max(extent_up, extent_right * height / max(width, 1), 1e-9)
+    plotter.camera.parallel_scale = 0.55 * max(extent_up, extent_right * height / max(width, 1), 1e-9)
 
 
 def filmstrip_command(motion_path: str, out: str, frames_text: str | None, layout: str, size: tuple[int, int]) -> int:

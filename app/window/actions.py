@@ -116,6 +116,17 @@ def _short_labels(action: QAction, prefix: str, text_changed) -> None:
     update("")
 
 
+def redo_shortcuts() -> list[QKeySequence]:
+    """Ctrl+Shift+Z and the platform's own Redo keys, each once: on X11 the platform's Redo
+    is Ctrl+Shift+Z too, and one key given twice to an action is an ambiguous shortcut that
+    Qt refuses to trigger."""
+    keys: list[QKeySequence] = []
+    for key in [QKeySequence("Ctrl+Shift+Z"), *QKeySequence.keyBindings(Key.Redo)]:
+        if not key.isEmpty() and all(key != other for other in keys):
+            keys.append(key)
+    return keys
+
+
 def build_actions(window: QMainWindow, handlers: dict[str, Callable], stack: QUndoStack) -> dict[str, QAction]:
     """All actions of the window, connected to ``handlers[name]`` (triggered or toggled);
     undo and redo are the undo stack's own (their text names the edit)."""
@@ -126,7 +137,7 @@ def build_actions(window: QMainWindow, handlers: dict[str, Callable], stack: QUn
     _short_labels(actions["undo"], "&Undo", stack.undoTextChanged)
     _short_labels(actions["redo"], "&Redo", stack.redoTextChanged)
     actions["undo"].setShortcut(QKeySequence(Key.Undo))
-    actions["redo"].setShortcuts([QKeySequence("Ctrl+Shift+Z"), QKeySequence(Key.Redo)])
+    actions["redo"].setShortcuts(redo_shortcuts())
     style = window.style()
     for name, icon in (("undo", "SP_ArrowBack"), ("redo", "SP_ArrowForward")):
         # an icon: the toolbar shows it alone, whatever the edit's name (the tooltip names it)
@@ -221,6 +232,15 @@ def fill_menus(window: QMainWindow, actions: dict[str, QAction], recent_menu: QM
     return joint_menu
 
 
+def show_overlay_switch(action: QAction, shown: bool, available: bool) -> None:
+    """An overlay's switch: enabled when there is something to show, checked when it is shown
+    (without emitting: the state already holds the choice)."""
+    action.setEnabled(available)
+    action.blockSignals(True)
+    action.setChecked(shown and available)
+    action.blockSignals(False)
+
+
 def update_enabled(actions: dict[str, QAction], state: StudioState, remove_dummies_available: bool) -> None:
     """Enable what applies: edits on the selection, document actions when a motion is open."""
     motion, joint = state.motion, state.selected
@@ -247,6 +267,14 @@ def update_enabled(actions: dict[str, QAction], state: StudioState, remove_dummi
     for name in ("align_markers", "remove_markers"):
         actions[name].setEnabled(has_markers)
     actions["recover_pelvis"].setEnabled(has_markers)
+    # the marker and pelvis switches look off (and are) while there is nothing to show;
+    # the user's choice is kept in the state and shows again when markers are loaded
+    for name, available in (
+        ("markers", has_markers),
+        ("marker_labels", has_markers),
+        ("pelvis", state.pelvis is not None),
+    ):
+        show_overlay_switch(actions[f"overlay_{name}"], state.overlays[name], available)
     selected = state.frame_range
     actions["trim_range"].setEnabled(bool(has_motion and selected is not None and selected != (0, motion.n_frames)))
     actions["resample"].setEnabled(bool(has_motion and motion.n_frames >= 2))
