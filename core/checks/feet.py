@@ -1,0 +1,117 @@
+"""Foot skating and ground penetration, on the foot contacts of :mod:`core.contacts`.
+
+Feet. The foot joints (:func:`core.contacts.foot_joints`: foot, toe, ankle, heel) joined by
+bones make one foot (CMU ``LeftFoot`` + ``LeftToeBase``); contacts are
+:func:`core.contacts.foot_contacts` with the settings' ``contact_height`` and
+``contact_speed``.
+
+Foot skate. Per foot, with ``H`` the horizontal position (across the up axis) of each of
+its joints and ``w`` the frames of 0.1 s: a window ``f .. f+w`` slides when every foot
+joint planted throughout it moved more than ``skate_speed * size * w * frame_time`` in it
+(``|H_{f+w} - H_f|``: a foot rolling over its toes keeps one joint still and does not
+slide; capture noise does not add up over a window as it does frame by frame). The frame
+steps covered by sliding windows, joined across gaps of 0.1 s and trimmed at both ends to
+steps where the stillest planted joint moves more than ``skate_speed * size *
+frame_time``, make one finding ``a .. b``. Its value is the distance slid: the smallest
+``|H_b - H_a|`` of the joints planted at both ends (the sum of the stillest joint's steps
+when none is), reported when it reaches ``skate_limits[0] * size``.
+
+Penetration. Each foot joint's contact level is the median of its heights (along the up
+axis) over its planted frames; a frame where the joint is more than
+``penetration_limits[0] * size`` below that level penetrates. Runs per joint, valued by the
+deepest point. The contact level rests on the contacts' ground (the joint's lowest point
+plus ``contact_height * size``): a foot pushed deeper than that band below its usual contacts
+moves the level itself and is underestimated.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from gmr_studio.core.checks.context import CheckData, joint_runs, levels_for, merge_runs, runs
+from gmr_studio.core.checks.model import CheckSettings, Finding
+from gmr_studio.core.contacts import foot_contacts, foot_joints
+
+#: the window (seconds) over which a planted foot must move to slide; gaps joined
+SKATE_WINDOW_SECONDS = 0.1
+
+
+def foot_groups(parents: np.ndarray, joints: list[int]) -> list[list[int]]:
+    """Positions in ``joints`` grouped into feet: a joint whose parent is a foot joint is
+    in its parent's foot."""
+    position = {j: k for k, j in enumerate(joints)}
+    group = list(range(len(joints)))
+    for k, j in enumerate(joints):
+        parent = int(parents[j])
+        if parent in position:
+            group[k] = group[position[parent]]
+    feet: dict[int, list[int]] = {}
+    for k, g in enumerate(group):
+        feet.setdefault(g, []).append(k)
+    return list(feet.values())
+
+
+def _contacts(data: CheckData, settings: CheckSettings):
+    joints = foot_joints(data.motion)
+    if not joints or data.n_frames < 2:
+        return None
+    return foot_contacts(
+        data.motion, data.positions, joints, height=settings.contact_height, speed=settings.contact_speed
+    )
+
+
+def foot_skate(data: CheckData, settings: CheckSettings) -> list[Finding]:
+    contacts = _contacts(data, settings)
+    if contacts is None:
+        return []
+    across = [a for a in range(3) if a != data.up]
+    feet = data.positions[:, contacts.joints][..., across]  # (F, K, 2) horizontal positions
+    planted = contacts.planted
+    w = max(1, min(round(SKATE_WINDOW_SECONDS / data.frame_time), data.n_frames - 1))
+    speed = settings.skate_speed * data.size * data.frame_time  # per frame
+    count = np.concatenate([np.zeros((1, planted.shape[1]), np.int64), np.cumsum(planted, axis=0)])
+    throughout = count[w + 1 :] - count[: -w - 1] == w + 1  # (F-w, K): planted over f..f+w
+    moved = np.linalg.norm(feet[w:] - feet[:-w], axis=-1)  # (F-w, K)
+    both = planted[1:] & planted[:-1]
+    steps = np.linalg.norm(np.diff(feet, axis=0), axis=-1)  # (F-1, K)
+    findings = []
+    for group in foot_groups(data.motion.parents, list(contacts.joints)):
+        window = np.where(throughout[:, group], moved[:, group], np.inf).min(axis=1) > w * speed
+        window &= throughout[:, group].any(axis=1)
+        covered = np.convolve(window.astype(np.int64), np.ones(w, np.int64))[: data.n_frames - 1] > 0
+        stillest = np.where(both[:, group], steps[:, group], np.inf).min(axis=1)  # (F-1,)
+        for start, stop in merge_runs(runs(covered), w):
+            moving = np.flatnonzero(np.isfinite(stillest[start:stop]) & (stillest[start:stop] > speed))
+            if not moving.size:
+                continue
+            a, b = start + int(moving[0]), start + int(moving[-1]) + 1  # frames a..b
+            ends = [k for k in group if planted[a, k] and planted[b, k]]
+            if ends:
+                distance = float(np.linalg.norm(feet[b, ends] - feet[a, ends], axis=-1).min())
+            else:
+                slid = stillest[a:b]
+                distance = float(np.sum(slid[np.isfinite(slid)]))
+            level = levels_for(distance / data.size, settings.skate_limits)
+            if level:
+                joints = [int(contacts.joints[k]) for k in group if both[a:b, k].any()]
+                findings.append(data.finding("foot-skate", joints, a, b, level, distance, data.units))
+    return findings
+
+
+def penetration(data: CheckData, settings: CheckSettings) -> list[Finding]:
+    contacts = _contacts(data, settings)
+    if contacts is None:
+        return []
+    heights = data.positions[:, contacts.joints, data.up]  # (F, K)
+    planted = contacts.planted
+    seen = planted.any(axis=0)
+    level = np.array([np.median(heights[planted[:, k], k]) if seen[k] else np.nan for k in range(heights.shape[1])])
+    depth = level - heights
+    below = seen & (depth > settings.penetration_limits[0] * data.size)
+    findings = []
+    for k, start, stop in joint_runs(below):
+        deepest = float(depth[start:stop, k].max())
+        severity = levels_for(deepest / data.size, settings.penetration_limits)
+        joint = int(contacts.joints[k])
+        findings.append(data.finding("penetration", [joint], start, stop - 1, severity, deepest, data.units))
+    return findings

@@ -1,0 +1,56 @@
+"""Run the checks: :func:`run_checks` (all frames once, every kind asked for)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from gmr_studio.core.checks import feet, frames, joints, spikes
+from gmr_studio.core.checks.context import CheckData
+from gmr_studio.core.checks.model import KINDS, CheckSettings, Finding
+from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.motion import Motion
+
+#: kind -> the check that finds it
+CHECKS: dict[str, Callable[[CheckData, CheckSettings], list[Finding]]] = {
+    "foot-skate": feet.foot_skate,
+    "penetration": feet.penetration,
+    "pop": spikes.pop,
+    "jitter": spikes.jitter,
+    "flip": joints.flip,
+    "bone-length": joints.bone_length,
+    "frozen": frames.frozen,
+    "duplicate": frames.duplicate,
+    "teleport": spikes.teleport,
+    "rest-pose": frames.rest_pose,
+}
+
+
+def run_checks(
+    motion: Motion, settings: CheckSettings | None = None, positions: np.ndarray | None = None
+) -> list[Finding]:
+    """Every check of ``settings.kinds`` on a motion, findings sorted by frame then kind.
+
+    Parameters
+    ----------
+    motion : the motion in its own convention (as read; flips are judged on its rotations).
+    settings : which checks and their thresholds (default :class:`CheckSettings`).
+    positions : optional (F, J, 3) world positions of the motion already computed.
+
+    Rest-pose frames at the ends (:func:`core.checks.frames.rest_frames`) are reported as
+    ``rest-pose`` only; every other check looks at the frames between them.
+    """
+    settings = settings or CheckSettings()
+    if positions is None:
+        positions = world_positions(motion)
+    size = motion.size
+    lead, trail = frames.rest_frames(motion, settings)
+    stop = motion.n_frames - trail
+    whole = CheckData(motion, positions, size)
+    inner = CheckData(motion.frame_slice(slice(lead, stop)), positions[lead:stop], size, first=lead)
+    found: list[Finding] = []
+    for kind in settings.kinds:
+        found.extend(CHECKS[kind](whole if kind == "rest-pose" else inner, settings))
+    order = {kind: k for k, kind in enumerate(KINDS)}
+    return sorted(found, key=lambda f: (f.start, order[f.kind], f.end, f.joints))
