@@ -39,7 +39,8 @@ def run_checks(
     positions : optional (F, J, 3) world positions of the motion already computed.
 
     Rest-pose frames at the ends (:func:`core.checks.frames.rest_frames`) are reported as
-    ``rest-pose`` only; every other check looks at the frames between them.
+    ``rest-pose`` only; every other check looks at the frames between them. A pop of joints
+    that hang from a joint flipping at that frame is the flip's doing and is not reported.
     """
     settings = settings or CheckSettings()
     if positions is None:
@@ -52,5 +53,20 @@ def run_checks(
     found: list[Finding] = []
     for kind in settings.kinds:
         found.extend(CHECKS[kind](whole if kind == "rest-pose" else inner, settings))
+    found = _without_flipped_pops(found, motion)
     order = {kind: k for k, kind in enumerate(KINDS)}
     return sorted(found, key=lambda f: (f.start, order[f.kind], f.end, f.joints))
+
+
+def _without_flipped_pops(found: list[Finding], motion: Motion) -> list[Finding]:
+    """The findings without the pops a flip explains: pops of joints in the subtree of a
+    joint whose rotation flips at that frame (turning a joint moves what hangs from it)."""
+    flipped: dict[int, set[int]] = {}  # frame -> joints moved by a flip
+    for finding in found:
+        if finding.kind == "flip":
+            moved = set(motion.subtree(finding.joints[0]))
+            for frame in range(finding.start, finding.end + 1):
+                flipped.setdefault(frame, set()).update(moved)
+    if not flipped:
+        return found
+    return [f for f in found if f.kind != "pop" or not set(f.joints) <= flipped.get(f.start, set())]

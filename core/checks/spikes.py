@@ -12,15 +12,17 @@ joints whose parent does not pop at that frame (children follow their parent), l
 first; the value is the largest ``e_f``.
 
 Jitter. Noise makes a path zigzag: consecutive deviations point opposite ways, while smooth
-motion, however fast, bends one way over many frames. With ``m_f = P_f - (P_{f-1} +
-P_{f+1}) / 2`` (the vector of ``e_f``), white noise of variance ``σ²`` per axis gives
-``m_f · m_{f+1}`` a mean of ``-3 σ²`` and a median of ``-2.2474 σ²``; smooth motion makes it
-positive. Frames are cut into blocks of ``jitter_window`` seconds (at least 6 frames); a
-block's noise is ``sqrt(max(0, -1.3349 * median(m_f · m_{f+1})))``, the RMS length of the
-noise vector (``sqrt(3) σ``; a median, so one pop or step in a block does not count, and
-fast smooth motion at 24 Hz reads as no noise). Blocks whose noise reaches
-``jitter_limits[0] * size`` are jittery; runs of them are one finding per joint, frames
-from the first block's start to the last block's end, valued by the RMS noise over the run.
+motion bends one way over several frames. With ``m_f = P_f - (P_{f-1} + P_{f+1}) / 2`` (the
+vector of ``e_f``), white noise of variance ``σ²`` per axis gives ``m_f · m_{f+1}`` a mean
+of ``-3 σ²`` and a median of ``-2.2474 σ²``; smooth motion makes it positive. Frames are
+cut into blocks of ``jitter_window`` seconds (at least 10 frames); a block's noise is
+``sqrt(max(0, -1.3349 * median(m_f · m_{f+1})))``, the RMS length of the noise vector
+(``sqrt(3) σ``; a median, so one pop or step in a block does not count, and fast smooth
+motion at 24 Hz reads as no noise; third differences, blind to constant jerk, were tried
+and read the 24 Hz swing of a foot as noise). Blocks whose noise reaches
+``jitter_limits[0] * size`` are jittery; runs of them (across gaps of one block) are one
+finding per joint, frames from the first block's start to the last block's end, valued by
+the same estimate over all the products of its jittery blocks.
 
 Teleport. For each root that carries the figure (a root, or the child of an anchor root:
 :attr:`core.motion.Motion.anchors`), with steps ``V_f = P_{f+1} - P_f``: the jump at step
@@ -34,7 +36,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from gmr_studio.core.checks.context import CheckData, joint_runs, levels_for
+from gmr_studio.core.checks.context import CheckData, joint_runs, levels_for, merge_runs
 from gmr_studio.core.checks.model import CheckSettings, Finding
 
 #: 1.4826 * MAD estimates a normal standard deviation
@@ -42,7 +44,7 @@ MAD_SCALE = 1.4826
 #: white noise: 3 σ² (the mean square of the noise vector) over -median(m_f · m_{f+1})
 NOISE_FROM_MEDIAN = 3.0 / 2.247362
 #: shortest jitter block, frames
-MIN_BLOCK = 6
+MIN_BLOCK = 10
 
 
 def robust_level(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -87,15 +89,19 @@ def jitter(data: CheckData, settings: CheckSettings) -> list[Finding]:
     n_blocks = (data.n_frames - 3) // block
     if n_blocks < 1:
         return []
-    middles = data.middles
+    middles = data.middles  # row i: frames i..i+2
     products = np.einsum("fja,fja->fj", middles[:-1], middles[1:])[: n_blocks * block]  # row i: frames i..i+3
     blocks = products.reshape(n_blocks, block, -1)
     middle = block // 2
     noise = np.sqrt(np.maximum(0.0, -NOISE_FROM_MEDIAN * np.partition(blocks, middle, axis=1)[:, middle]))  # (B, J)
     jittery = noise >= settings.jitter_limits[0] * data.size
     findings = []
-    for joint, start, stop in joint_runs(jittery):
-        value = float(np.sqrt(np.mean(noise[start:stop, joint] ** 2)))
+    found = joint_runs(jittery)
+    for joint, start, stop in (
+        (k, *run) for k in np.unique(found[:, 0]) for run in merge_runs(found[found[:, 0] == k, 1:], 1)
+    ):
+        inside = blocks[start:stop, :, joint][jittery[start:stop, joint]]  # the products of its jittery blocks
+        value = float(np.sqrt(max(0.0, -NOISE_FROM_MEDIAN * np.median(inside))))
         level = levels_for(value / data.size, settings.jitter_limits)
         first, last = start * block, min(stop * block + 2, data.n_frames - 1)
         findings.append(data.finding("jitter", [joint], first, last, level, value, data.units))
