@@ -34,6 +34,14 @@ class CheckData:
     positions: np.ndarray
     size: float
     first: int = 0
+    #: results shared by several checks (contacts, same-pose runs), keyed by what they used
+    shared: dict = dataclasses.field(default_factory=dict, repr=False)
+
+    def cached(self, key, compute):
+        """``compute()``, once per ``key`` for this data."""
+        if key not in self.shared:
+            self.shared[key] = compute()
+        return self.shared[key]
 
     @property
     def frame_time(self) -> float:
@@ -53,7 +61,10 @@ class CheckData:
         """(F-2, J, 3): ``P_f - (P_{f-1} + P_{f+1}) / 2`` for frames 1..F-2 (half the second
         difference, :mod:`.spikes`)."""
         p = self.positions
-        return p[1:-1] - 0.5 * (p[:-2] + p[2:])
+        out = np.add(p[:-2], p[2:])
+        out *= -0.5
+        out += p[1:-1]
+        return out
 
     @cached_property
     def deviations(self) -> np.ndarray:

@@ -55,8 +55,12 @@ def _contacts(data: CheckData, settings: CheckSettings):
     joints = foot_joints(data.motion)
     if not joints or data.n_frames < 2:
         return None
-    return foot_contacts(
-        data.motion, data.positions, joints, height=settings.contact_height, speed=settings.contact_speed
+    key = ("contacts", settings.contact_height, settings.contact_speed)
+    return data.cached(
+        key,
+        lambda: foot_contacts(
+            data.motion, data.positions, joints, height=settings.contact_height, speed=settings.contact_speed
+        ),
     )
 
 

@@ -33,14 +33,20 @@ def same_pose_runs(data: CheckData, settings: CheckSettings) -> np.ndarray:
     frames ``a .. b`` show one pose."""
     if data.n_frames < 2:
         return np.zeros((0, 2), np.int64)
-    steps = np.diff(data.positions, axis=0)
-    moved = np.einsum("fja,fja->fj", steps, steps).max(axis=1)  # (F-1,) largest squared move
-    return runs(moved <= (settings.same_pose * data.size) ** 2)
+    p, tolerance = data.positions, (settings.same_pose * data.size) ** 2
+    leaves = [j for j, kids in enumerate(data.motion.children) if not kids] + list(data.motion.roots)
+    steps = p[1:, leaves] - p[:-1, leaves]  # a first screen: the leaves and roots
+    same = np.einsum("fja,fja->fj", steps, steps).max(axis=1) <= tolerance  # (F-1,)
+    candidates = np.flatnonzero(same)
+    if candidates.size:  # then every joint, at the steps that passed the screen
+        steps = p[candidates + 1] - p[candidates]
+        same[candidates] = np.einsum("fja,fja->fj", steps, steps).max(axis=1) <= tolerance
+    return runs(same)
 
 
 def _held(data: CheckData, settings: CheckSettings, frozen: bool) -> list[Finding]:
     findings = []
-    for a, b in same_pose_runs(data, settings):
+    for a, b in data.cached(("same pose", settings.same_pose), lambda: same_pose_runs(data, settings)):
         n = int(b - a + 1)
         seconds = n * data.frame_time
         if frozen and seconds >= settings.frozen_limits[0]:
@@ -61,27 +67,50 @@ def duplicate(data: CheckData, settings: CheckSettings) -> list[Finding]:
     return _held(data, settings, frozen=False)
 
 
-def rest_mask(motion: Motion, settings: CheckSettings) -> np.ndarray:
-    """(F,) bool: frames in the rest pose (module docstring)."""
-    inner = motion.parents >= 0
-    rotating = np.flatnonzero(inner & np.array([bool(o) for o in motion.rotation_orders]))
-    rotations = motion.rotations[:, rotating].reshape(motion.n_frames, rotating.size, 9)
-    moving = np.ptp(rotations, axis=0).max(axis=1) > 0 if motion.n_frames else np.zeros(0, bool)
-    if not moving.any():
-        return np.zeros(motion.n_frames, bool)
-    diagonal = rotations[:, moving][..., [0, 4, 8]].sum(axis=-1)  # (F, K) traces
+#: frames compared to tell the joints that move from those that never do
+MOVING_SAMPLES = 64
+
+
+def _moving_joints(motion: Motion) -> np.ndarray:
+    """(K,) int64: the non-root joints with rotation channels whose rotation differs among
+    :data:`MOVING_SAMPLES` frames spread over the take."""
+    inner = np.array([p >= 0 and bool(o) for p, o in zip(motion.parents, motion.rotation_orders)])
+    sample = np.unique(np.linspace(0, motion.n_frames - 1, MOVING_SAMPLES).round().astype(np.int64))
+    rotations = motion.rotations[sample]  # (S, J, 3, 3)
+    return np.flatnonzero(inner & (rotations != rotations[:1]).any(axis=(0, 2, 3)))
+
+
+def rest_mask(motion: Motion, settings: CheckSettings, frames: slice | np.ndarray = slice(None)) -> np.ndarray:
+    """(N,) bool: which of ``frames`` are in the rest pose (module docstring)."""
+    moving = _moving_joints(motion)
+    rotations = motion.rotations[frames]
+    if not moving.size:
+        return np.zeros(rotations.shape[0], bool)
+    diagonal = np.stack([np.trace(rotations[:, j], axis1=-2, axis2=-1) for j in moving], axis=1)  # (N, K)
     at_rest = diagonal >= 1.0 + 2.0 * np.cos(np.radians(settings.rest_angle))
     return at_rest.mean(axis=1) >= settings.rest_fraction
 
 
+def _run_from_start(motion: Motion, settings: CheckSettings, backwards: bool) -> int:
+    """How many frames from one end are in the rest pose, looking at growing chunks."""
+    n, chunk = motion.n_frames, 16
+    while True:
+        count = min(chunk, n)
+        frames = np.arange(n - 1, n - 1 - count, -1) if backwards else np.arange(count)
+        rest = rest_mask(motion, settings, frames)
+        if not rest.all() or count == n:
+            return int(np.argmin(rest)) if not rest.all() else n
+        chunk *= 4
+
+
 def rest_frames(motion: Motion, settings: CheckSettings) -> tuple[int, int]:
     """How many frames at the start and at the end are in the rest pose ((0, 0) when all are)."""
-    rest = rest_mask(motion, settings)
-    if not rest.size or rest.all() or not (rest[0] or rest[-1]):
+    if not motion.n_frames:
         return 0, 0
-    lead = int(np.argmin(rest))
-    trail = int(np.argmin(rest[::-1]))
-    return lead, trail
+    lead = _run_from_start(motion, settings, backwards=False)
+    if lead == motion.n_frames:
+        return 0, 0
+    return lead, _run_from_start(motion, settings, backwards=True)
 
 
 def rest_pose(data: CheckData, settings: CheckSettings) -> list[Finding]:

@@ -47,8 +47,8 @@ def flip(data: CheckData, settings: CheckSettings) -> list[Finding]:
     rotating = np.array([j for j, order in enumerate(motion.rotation_orders) if order], dtype=np.int64)
     if data.n_frames < 2 or not rotating.size:
         return []
-    rotations = motion.rotations[:, rotating]
-    steps = rotation_steps(rotations)  # (F-1, K)
+    rotations = motion.rotations  # (F, J, 3, 3), all joints (a copy of some would cost more)
+    steps = rotation_steps(rotations)[:, rotating]  # (F-1, K)
     limit = max(settings.flip_limits[0], settings.flip_speed * data.frame_time)
     flagged = steps > limit
     pair = round(FLIP_PAIR_SECONDS / data.frame_time)
@@ -59,7 +59,7 @@ def flip(data: CheckData, settings: CheckSettings) -> list[Finding]:
         while i < len(found):
             a = int(found[i])
             b = int(found[i + 1]) if i + 1 < len(found) else -1
-            if b >= 0 and b - a <= pair and _angle(rotations[a, k], rotations[b + 1, k]) <= limit:
+            if b >= 0 and b - a <= pair and _angle(rotations[a, rotating[k]], rotations[b + 1, rotating[k]]) <= limit:
                 start, end, value, i = a + 1, b, max(steps[a, k], steps[b, k]), i + 2
             else:
                 start, end, value, i = a, a + 1, steps[a, k], i + 1
