@@ -179,7 +179,7 @@ def test_foot_below_its_contact_level(rate, unit):
 
     motion = with_translation(clean_walk(rate, unit=unit), "RightFoot", sink)
     findings = only(run_checks(motion), "penetration")
-    assert {f.names[0] for f in findings} == {"RightFoot", "RightToe", "RightToeEnd"}
+    assert {f.names[0] for f in findings} == {"RightToe", "RightToeEnd"}  # the ankle is above them
     for finding in findings:
         assert (finding.start, finding.end) == (a, b)
         assert finding.value == pytest.approx(cm(4.0, unit), rel=0.1)

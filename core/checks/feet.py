@@ -5,18 +5,28 @@ bones make one foot (CMU ``LeftFoot`` + ``LeftToeBase``); contacts are
 :func:`core.contacts.foot_contacts` with the settings' ``contact_height`` and
 ``contact_speed``.
 
+Touching joints. The joints of a foot that touch the ground are those typically (median
+over the frames) less than ``skate_height * size`` above the lowest joint of their foot:
+the ball and toes, not the ankle of a foot that has toes (a heel striking the ground rolls
+the ankle forward a few centimetres while the toes are still up). A foot of one joint keeps
+it. CMU's BVH ``LeftFoot`` is the ankle, typically 0.6 units (3.4 cm, 2.2% of the size)
+above ``LeftToeBase``, and is left out; its ASF ``lfoot`` ends at the ball and touches.
+
 Foot skate. Per foot, with ``H`` the horizontal position (across the up axis) of each of
-its joints and ``w`` the frames of 0.1 s: a window ``f .. f+w`` slides when every foot
-joint planted throughout it moved more than ``skate_speed * size * w * frame_time`` in it
-(``|H_{f+w} - H_f|``: a foot rolling over its toes keeps one joint still and does not
-slide; capture noise does not add up over a window as it does frame by frame). The frame
-steps covered by sliding windows, joined across gaps of 0.1 s and trimmed at both ends to
-steps where the stillest planted joint moves more than ``skate_speed * size *
+its touching joints and ``w`` the frames of 0.1 s. For skating a joint counts as planted when the
+contacts say so and it is within ``skate_height * size`` of its lowest point (a foot
+shuffled a few centimetres above the floor, as a boxer's, is moving, not sliding). A window
+``f .. f+w`` slides when every foot joint planted throughout it moved more than
+``skate_speed * size * w * frame_time`` in it (``|H_{f+w} - H_f|``: a foot rolling over its
+toes keeps one joint still and does not slide; capture noise does not add up over a window
+as it does frame by frame). The frame steps covered by sliding windows, joined across gaps
+of 0.1 s, cut where no joint of the foot is planted at both ends of a step, and trimmed at
+both ends to steps where the stillest planted joint moves more than ``skate_speed * size *
 frame_time``, make one finding ``a .. b``. Its value is the distance slid: the smallest
 ``|H_b - H_a|`` of the joints planted at both ends (the sum of the stillest joint's steps
 when none is), reported when it reaches ``skate_limits[0] * size``.
 
-Penetration. Each foot joint's contact level is the median of its heights (along the up
+Penetration. Each touching joint has a contact level: the median of its heights (along the up
 axis) over its planted frames; a frame where the joint is more than
 ``penetration_limits[0] * size`` below that level penetrates. Runs per joint, valued by the
 deepest point. The contact level rests on the contacts' ground (the joint's lowest point
@@ -69,8 +79,10 @@ def foot_skate(data: CheckData, settings: CheckSettings) -> list[Finding]:
     if contacts is None:
         return []
     across = [a for a in range(3) if a != data.up]
-    feet = data.positions[:, contacts.joints][..., across]  # (F, K, 2) horizontal positions
-    planted = contacts.planted
+    positions = data.positions[:, contacts.joints]  # (F, K, 3)
+    feet = positions[..., across]  # (F, K, 2) horizontal positions
+    heights = positions[..., data.up] - positions[..., data.up].min(axis=0)
+    planted = contacts.planted & (heights < settings.skate_height * data.size)
     w = max(1, min(round(SKATE_WINDOW_SECONDS / data.frame_time), data.n_frames - 1))
     speed = settings.skate_speed * data.size * data.frame_time  # per frame
     count = np.concatenate([np.zeros((1, planted.shape[1]), np.int64), np.cumsum(planted, axis=0)])
@@ -79,12 +91,15 @@ def foot_skate(data: CheckData, settings: CheckSettings) -> list[Finding]:
     both = planted[1:] & planted[:-1]
     steps = np.linalg.norm(np.diff(feet, axis=0), axis=-1)  # (F-1, K)
     findings = []
-    for group in foot_groups(data.motion.parents, list(contacts.joints)):
+    touching = _touching(data, contacts, settings)
+    for whole in foot_groups(data.motion.parents, list(contacts.joints)):
+        group = [k for k in whole if touching[k]]
         window = np.where(throughout[:, group], moved[:, group], np.inf).min(axis=1) > w * speed
         window &= throughout[:, group].any(axis=1)
         covered = np.convolve(window.astype(np.int64), np.ones(w, np.int64))[: data.n_frames - 1] > 0
         stillest = np.where(both[:, group], steps[:, group], np.inf).min(axis=1)  # (F-1,)
-        for start, stop in merge_runs(runs(covered), w):
+        on_ground = np.isfinite(stillest)
+        for start, stop in _split_off_ground(merge_runs(runs(covered), w), on_ground):
             moving = np.flatnonzero(np.isfinite(stillest[start:stop]) & (stillest[start:stop] > speed))
             if not moving.size:
                 continue
@@ -97,7 +112,7 @@ def foot_skate(data: CheckData, settings: CheckSettings) -> list[Finding]:
                 distance = float(np.sum(slid[np.isfinite(slid)]))
             level = levels_for(distance / data.size, settings.skate_limits)
             if level:
-                joints = [int(contacts.joints[k]) for k in group if both[a:b, k].any()]
+                joints = [int(contacts.joints[k]) for k in whole if both[a:b, k].any()]
                 findings.append(data.finding("foot-skate", joints, a, b, level, distance, data.units))
     return findings
 
@@ -108,7 +123,7 @@ def penetration(data: CheckData, settings: CheckSettings) -> list[Finding]:
         return []
     heights = data.positions[:, contacts.joints, data.up]  # (F, K)
     planted = contacts.planted
-    seen = planted.any(axis=0)
+    seen = planted.any(axis=0) & _touching(data, contacts, settings)
     level = np.array([np.median(heights[planted[:, k], k]) if seen[k] else np.nan for k in range(heights.shape[1])])
     depth = level - heights
     below = seen & (depth > settings.penetration_limits[0] * data.size)
@@ -119,3 +134,23 @@ def penetration(data: CheckData, settings: CheckSettings) -> list[Finding]:
         joint = int(contacts.joints[k])
         findings.append(data.finding("penetration", [joint], start, stop - 1, severity, deepest, data.units))
     return findings
+
+
+def _split_off_ground(found: np.ndarray, on_ground: np.ndarray) -> list[tuple[int, int]]:
+    """Half-open runs of steps cut wherever no foot joint is planted at both ends of a step."""
+    out = []
+    for start, stop in found:
+        for a, b in runs(on_ground[start:stop]):
+            out.append((int(start + a), int(start + b)))
+    return out
+
+
+def _touching(data: CheckData, contacts, settings: CheckSettings) -> np.ndarray:
+    """(K,) bool: the foot joints that touch the ground: typically (median over the frames)
+    less than ``skate_height * size`` above the lowest joint of their foot."""
+    heights = data.positions[:, contacts.joints, data.up]  # (F, K)
+    touching = np.ones(len(contacts.joints), bool)
+    for group in foot_groups(data.motion.parents, list(contacts.joints)):
+        above = heights[:, group] - heights[:, group].min(axis=1, keepdims=True)
+        touching[group] = np.median(above, axis=0) < settings.skate_height * data.size
+    return touching

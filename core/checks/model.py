@@ -86,6 +86,9 @@ class CheckSettings:
     contact_speed: float = 0.4
     #: a planted foot faster than this (size per second) slides; limits: distance slid / size
     skate_speed: float = 0.02
+    #: ... and is within this height (fraction of the size) of its lowest point; joints
+    #: typically higher than this above the lowest of their foot never touch the ground
+    skate_height: float = 0.015
     skate_limits: Limits = (0.01, 0.03, 0.08)
     #: limits: depth below the foot's contact level / size
     penetration_limits: Limits = (0.02, 0.04, 0.08)
