@@ -33,7 +33,7 @@ from gmr_studio.core.cli.batch import find_motion_files
 from gmr_studio.core.cli.convert import INPUT_SUFFIXES
 from gmr_studio.core.cli.progress import Progress
 from gmr_studio.core.cli.reading import add_reading_options, reader_options
-from gmr_studio.core.errors import MotionFileError, OperationError
+from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import read_motion
 
 
@@ -86,14 +86,8 @@ def check_file(path: str | Path, settings: CheckSettings, reading: dict | None =
 
 def _check_task(source: str, settings: dict, reading: dict) -> tuple[str, str, dict | None]:
     """One file, in a worker: (file, error or "", document or None). Never raises."""
-    try:
-        return source, "", check_file(source, CheckSettings.from_dict(settings), reading)
-    except MotionFileError as exc:
-        return source, str(exc), None
-    except (OperationError, OSError, ValueError) as exc:
-        return source, f"{source}: {exc}", None
-    except Exception as exc:  # one bad file must not stop the batch
-        return source, f"{source}: {type(exc).__name__}: {exc}", None
+    error, document = workers.file_task(check_file, source, CheckSettings.from_dict(settings), reading)
+    return source, error, document
 
 
 def _write_json(target: str, value: dict) -> None:
