@@ -80,15 +80,20 @@ def _moving_joints(motion: Motion) -> np.ndarray:
     return np.flatnonzero(inner & (rotations != rotations[:1]).any(axis=(0, 2, 3)))
 
 
-def rest_mask(motion: Motion, settings: CheckSettings, frames: slice | np.ndarray = slice(None)) -> np.ndarray:
-    """(N,) bool: which of ``frames`` are in the rest pose (module docstring)."""
+def rest_fractions(motion: Motion, settings: CheckSettings, frames: slice | np.ndarray = slice(None)) -> np.ndarray:
+    """(N,) the fraction of the moving joints within ``rest_angle`` of the identity at each
+    of ``frames`` (0 when no joint moves)."""
     moving = _moving_joints(motion)
     rotations = motion.rotations[frames]
     if not moving.size:
-        return np.zeros(rotations.shape[0], bool)
+        return np.zeros(rotations.shape[0])
     diagonal = np.stack([np.trace(rotations[:, j], axis1=-2, axis2=-1) for j in moving], axis=1)  # (N, K)
-    at_rest = diagonal >= 1.0 + 2.0 * np.cos(np.radians(settings.rest_angle))
-    return at_rest.mean(axis=1) >= settings.rest_fraction
+    return (diagonal >= 1.0 + 2.0 * np.cos(np.radians(settings.rest_angle))).mean(axis=1)
+
+
+def rest_mask(motion: Motion, settings: CheckSettings, frames: slice | np.ndarray = slice(None)) -> np.ndarray:
+    """(N,) bool: which of ``frames`` are in the rest pose (module docstring)."""
+    return rest_fractions(motion, settings, frames) >= settings.rest_fraction
 
 
 def _run_from_start(motion: Motion, settings: CheckSettings, backwards: bool) -> int:

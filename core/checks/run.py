@@ -27,6 +27,20 @@ CHECKS: dict[str, Callable[[CheckData, CheckSettings], list[Finding]]] = {
 }
 
 
+def check_data(
+    motion: Motion, settings: CheckSettings, positions: np.ndarray | None = None
+) -> tuple[CheckData, CheckData]:
+    """What the checks read: the whole motion (for ``rest-pose``) and the frames between
+    the rest frames at its ends (for every other check)."""
+    if positions is None:
+        positions = world_positions(motion)
+    lead, trail = frames.rest_frames(motion, settings)
+    stop = motion.n_frames - trail
+    whole = CheckData(motion, positions, motion.size)
+    inner = CheckData(motion.frame_slice(slice(lead, stop)), positions[lead:stop], motion.size, first=lead)
+    return whole, inner
+
+
 def run_checks(
     motion: Motion, settings: CheckSettings | None = None, positions: np.ndarray | None = None
 ) -> list[Finding]:
@@ -43,13 +57,7 @@ def run_checks(
     that hang from a joint flipping at that frame is the flip's doing and is not reported.
     """
     settings = settings or CheckSettings()
-    if positions is None:
-        positions = world_positions(motion)
-    size = motion.size
-    lead, trail = frames.rest_frames(motion, settings)
-    stop = motion.n_frames - trail
-    whole = CheckData(motion, positions, size)
-    inner = CheckData(motion.frame_slice(slice(lead, stop)), positions[lead:stop], size, first=lead)
+    whole, inner = check_data(motion, settings, positions)
     found: list[Finding] = []
     for kind in settings.kinds:
         found.extend(CHECKS[kind](whole if kind == "rest-pose" else inner, settings))
