@@ -109,7 +109,7 @@ class CheckSettings:
     frozen_limits: Limits = (0.2, 0.5, 2.0)
     duplicate_limits: Limits = (1.0, 1.0, 3.0)
     #: limits: the jump of a root beyond its own velocity / size
-    teleport_limits: Limits = (0.05, 0.1, 0.3)
+    teleport_limits: Limits = (0.05, 0.1, 0.2)
     #: rest pose: this fraction of the moving non-root joints within this many degrees
     #: of their rest rotation; limits: frames at the start or end
     rest_angle: float = 0.5

@@ -20,9 +20,11 @@ cut into blocks of ``jitter_window`` seconds (at least 10 frames); a block's noi
 (``sqrt(3) σ``; a median, so one pop or step in a block does not count, and fast smooth
 motion at 24 Hz reads as no noise; third differences, blind to constant jerk, were tried
 and read the 24 Hz swing of a foot as noise). Blocks whose noise reaches
-``jitter_limits[0] * size`` are jittery; runs of them (across gaps of one block) are one
-finding per joint, frames from the first block's start to the last block's end, valued by
-the same estimate over all the products of its jittery blocks.
+``jitter_limits[0] * size`` are jittery. A joint's runs of them (across gaps of one block)
+make a finding, joined by the jittery joints below it whose runs overlap it (a child shakes
+with its parent): frames from the first block's start to the last block's end, valued by
+the largest of its joints' noise, each the same estimate over all the products of that
+joint's jittery blocks.
 
 Teleport. For each root that carries the figure (a root, or the child of an anchor root:
 :attr:`core.motion.Motion.anchors`), with steps ``V_f = P_{f+1} - P_f``: the jump at step
@@ -100,16 +102,28 @@ def jitter(data: CheckData, settings: CheckSettings) -> list[Finding]:
     middle = block // 2
     noise = np.sqrt(np.maximum(0.0, -NOISE_FROM_MEDIAN * np.partition(blocks, middle, axis=1)[:, middle]))  # (B, J)
     jittery = noise >= settings.jitter_limits[0] * data.size
-    findings = []
     found = joint_runs(jittery)
-    for joint, start, stop in (
-        (k, *run) for k in np.unique(found[:, 0]) for run in merge_runs(found[found[:, 0] == k, 1:], 1)
-    ):
-        inside = blocks[start:stop, :, joint][jittery[start:stop, joint]]  # the products of its jittery blocks
-        value = float(np.sqrt(max(0.0, -NOISE_FROM_MEDIAN * np.median(inside))))
-        level = levels_for(value / data.size, settings.jitter_limits)
-        first, last = start * block, min(stop * block + 2, data.n_frames - 1)
-        findings.append(data.finding("jitter", [joint], first, last, level, value, data.units))
+    runs_of = {int(k): merge_runs(found[found[:, 0] == k, 1:], 1) for k in np.unique(found[:, 0])}
+    groups: list[dict] = []  # a jittery joint, the jittery joints below it, their block range
+    held: dict[int, list[dict]] = {}  # joint -> the groups it is in
+    parents = data.motion.parents
+    for k in data.motion.topological_order:
+        for start, stop in runs_of.get(int(k), ()):
+            above = [g for g in held.get(int(parents[k]), []) if g["start"] < stop and start < g["stop"]]
+            group = above[0] if above else {"joints": [], "start": start, "stop": stop, "value": 0.0}
+            if not above:
+                groups.append(group)
+            inside = blocks[start:stop, :, k][jittery[start:stop, k]]  # the products of its jittery blocks
+            value = float(np.sqrt(max(0.0, -NOISE_FROM_MEDIAN * np.median(inside))))
+            group["joints"].append(int(k))
+            group.update(start=min(group["start"], start), stop=max(group["stop"], stop))
+            group["value"] = max(group["value"], value)
+            held.setdefault(int(k), []).append(group)
+    findings = []
+    for g in groups:
+        level = levels_for(g["value"] / data.size, settings.jitter_limits)
+        first, last = g["start"] * block, min(g["stop"] * block + 2, data.n_frames - 1)
+        findings.append(data.finding("jitter", g["joints"], first, last, level, g["value"], data.units))
     return findings
 
 
