@@ -2,7 +2,8 @@
 
 Same pose. Frames f and f+1 show the same pose when no joint moves more than
 ``same_pose * size`` between them (1e-7: a frame copied in the file, not a subject holding
-still, whose capture noise is far larger). A run of n consecutive frames showing one pose
+still, whose capture noise is far larger; a marker missing at either frame, NaN, is left
+out, and a step with none present never keeps the pose). A run of n consecutive frames showing one pose
 is *frozen* when it lasts ``n * frame_time >= frozen_limits[0]`` seconds (frames
 ``a .. a+n-1``, valued in seconds), otherwise its ``n-1`` copies are *duplicates* (frames
 ``a+1 .. a+n-1``, valued in frames). Both have no joints: the whole pose.
@@ -36,11 +37,11 @@ def same_pose_runs(data: CheckData, settings: CheckSettings) -> np.ndarray:
     p, tolerance = data.positions, (settings.same_pose * data.size) ** 2
     leaves = [j for j, kids in enumerate(data.motion.children) if not kids] + list(data.motion.roots)
     steps = p[1:, leaves] - p[:-1, leaves]  # a first screen: the leaves and roots
-    same = np.einsum("fja,fja->fj", steps, steps).max(axis=1) <= tolerance  # (F-1,)
+    same = np.fmax.reduce(np.einsum("fja,fja->fj", steps, steps), axis=1) <= tolerance  # (F-1,); NaN: a gap
     candidates = np.flatnonzero(same)
     if candidates.size:  # then every joint, at the steps that passed the screen
         steps = p[candidates + 1] - p[candidates]
-        same[candidates] = np.einsum("fja,fja->fj", steps, steps).max(axis=1) <= tolerance
+        same[candidates] = np.fmax.reduce(np.einsum("fja,fja->fj", steps, steps), axis=1) <= tolerance
     return runs(same)
 
 

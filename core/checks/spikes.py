@@ -36,6 +36,8 @@ The finding covers the frames on both sides of the jump, ``f .. f+1``.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from gmr_studio.core.checks.context import CheckData, joint_runs, levels_for, merge_runs
@@ -57,6 +59,12 @@ def robust_level(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     row when there are more than :data:`ROBUST_SAMPLES`)."""
     step = -(-values.shape[0] // ROBUST_SAMPLES)
     columns = np.ascontiguousarray(values[::step].T)
+    if np.isnan(columns).any():  # markers' gaps: NaN, and a column without a value gives NaN
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            median = np.nanmedian(columns, axis=1)
+            spread = np.nanmedian(np.abs(columns - median[:, None]), axis=1)
+        return median, MAD_SCALE * spread
     median = np.median(columns, axis=1)
     spread = np.median(np.abs(columns - median[:, None]), axis=1)
     return median, MAD_SCALE * spread
@@ -114,7 +122,7 @@ def jitter(data: CheckData, settings: CheckSettings) -> list[Finding]:
             if not above:
                 groups.append(group)
             inside = blocks[start:stop, :, k][jittery[start:stop, k]]  # the products of its jittery blocks
-            value = float(np.sqrt(max(0.0, -NOISE_FROM_MEDIAN * np.median(inside))))
+            value = float(np.sqrt(max(0.0, -NOISE_FROM_MEDIAN * np.nanmedian(inside))))
             group["joints"].append(int(k))
             group.update(start=min(group["start"], start), stop=max(group["stop"], stop))
             group["value"] = max(group["value"], value)

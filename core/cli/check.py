@@ -2,10 +2,12 @@
 
 - ``gmr check FILE [--json OUT] [--only KINDS] [--settings S.json] [--strict [--fail-on S]]``:
   runs :func:`core.checks.run_checks` and prints a table of findings; ``--json OUT`` writes
-  the document of :mod:`core.checks.report` (``-`` for stdout).
+  the document of :mod:`core.checks.report` (``-`` for stdout). A marker file (``.c3d``,
+  ``.trc``) gets the checks of points (:mod:`core.checks.markers`), its markers as joints.
 - ``gmr check --batch DIR [--table OUT.csv|OUT.parquet] [--json OUT] [--jobs N | --scheduler S]``:
   every motion file of a folder tree (``.bvh``, ``.amc`` with its ``.asf``, ``.gmr``, AMASS
-  ``.npz`` with ``--body-model``; :func:`core.cli.batch.find_motion_files`), checked in
+  ``.npz`` with ``--body-model``; :func:`core.cli.batch.find_motion_files`) and marker file
+  (``.c3d``, ``.trc``), checked in
   ``--jobs`` processes or on a Dask cluster (:mod:`core.cli.workers`), one summary line per
   file on stdout (in path order) and, with ``--table``, one row per file
   (:data:`core.checks.report.SUMMARY_COLUMNS` then one count per kind); ``--json`` then
@@ -27,6 +29,7 @@ from pathlib import Path
 
 from gmr_studio.core.atomic import atomic_write_bytes, atomic_write_text
 from gmr_studio.core.checks import KINDS, SEVERITIES, CheckSettings, run_checks
+from gmr_studio.core.checks.markers import run_marker_checks
 from gmr_studio.core.checks.report import SUMMARY_COLUMNS, check_document, failing, findings_text, summary_row
 from gmr_studio.core.cli import workers
 from gmr_studio.core.cli.batch import find_motion_files
@@ -35,6 +38,10 @@ from gmr_studio.core.cli.progress import Progress
 from gmr_studio.core.cli.reading import add_reading_options, reader_options
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import read_motion
+from gmr_studio.core.markers import MARKER_READERS, read_markers
+
+#: marker files, checked as points (pops, jitter, frozen and duplicated frames)
+MARKER_SUFFIXES = tuple(MARKER_READERS)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -45,7 +52,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         usage="gmr check FILE [--json OUT] [--only KINDS] [--strict [--fail-on S]]\n"
         "       gmr check --batch DIR [--table OUT.csv|OUT.parquet] [--json OUT] [--jobs N | --scheduler S]",
     )
-    parser.add_argument("input", help="a motion file (with --batch: a folder, searched recursively)")
+    parser.add_argument("input", help="a motion or marker file (with --batch: a folder, searched recursively)")
     parser.add_argument("--json", metavar="OUT", help="write the findings as JSON (- for stdout)")
     parser.add_argument("--only", metavar="KINDS", help=f"comma-separated kinds to run (of {', '.join(KINDS)})")
     parser.add_argument("--settings", metavar="S.json", help="thresholds as CheckSettings.to_dict() writes them")
@@ -79,7 +86,11 @@ def settings_from_args(args: argparse.Namespace) -> CheckSettings:
 
 
 def check_file(path: str | Path, settings: CheckSettings, reading: dict | None = None) -> dict:
-    """Read one motion file and return its JSON document (MotionFileError if unreadable)."""
+    """Read one motion or marker file and return its JSON document (MotionFileError if
+    unreadable). Markers get the checks of points only (:mod:`core.checks.markers`)."""
+    if Path(path).suffix.lower() in MARKER_SUFFIXES:
+        motion, findings = run_marker_checks(read_markers(path), settings)
+        return check_document(str(path), motion, findings)
     motion = read_motion(path, **(reading or {}))
     return check_document(str(path), motion, run_checks(motion, settings))
 
@@ -128,7 +139,8 @@ def run_batch(args: argparse.Namespace, settings: CheckSettings) -> int:
     folder = Path(args.input)
     if not folder.is_dir():
         raise OperationError(f"{folder} is not a folder")
-    suffixes = INPUT_SUFFIXES if args.body_model else tuple(s for s in INPUT_SUFFIXES if s != ".npz")
+    motions = INPUT_SUFFIXES if args.body_model else tuple(s for s in INPUT_SUFFIXES if s != ".npz")
+    suffixes = (*motions, *MARKER_SUFFIXES)
     files = find_motion_files(folder, None, suffixes)
     if not files:
         raise OperationError(f"no motion files ({', '.join(suffixes)}) under {folder}")
