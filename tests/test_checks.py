@@ -11,6 +11,7 @@ import pytest
 from gmr_studio.core.checks import KINDS, CheckSettings, joint_flags, run_checks
 from gmr_studio.core.kinematics import world_rotations
 from gmr_studio.core.motion import Motion
+from gmr_studio.core.rigs import RIGS, make_rig
 from gmr_studio.core.rotations import rotation_about_axis
 from tests.checks_walk import clean_walk
 
@@ -242,3 +243,13 @@ def test_joint_flags_mark_the_frames_and_joints():
     expected[251, :] = 2  # the duplicate: a warning on the whole pose
     expected[301, j] = 3  # the flip (one frame later after the copy): an error on the forearm
     np.testing.assert_array_equal(flags, expected)
+
+
+@pytest.mark.parametrize("name", [n for n in RIGS if n != "long_take"])
+def test_the_convention_rigs_have_no_warning(name):
+    """core.rigs: a Root pinned at the origin (its hips translate), Z-up millimetres, six
+    channels on every joint, 250 joints, one joint, one frame: infos at most (the rigs'
+    knee curves have kinks, small pops)."""
+    findings = run_checks(make_rig(name))
+    assert [f for f in findings if f.severity != "info"] == []
+    assert {f.kind for f in findings} <= {"pop", "foot-skate"}

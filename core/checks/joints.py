@@ -11,7 +11,9 @@ flipped step alone marks the two frames of the jump. The value is the largest st
 
 Bone length. The length of the bone ending at a non-root joint with translation channels
 is ``|t_j|`` (in either convention the world offset is a rotation of ``t_j``), and a split
-root's soft link is ``|P_j - P_soft(j)|``; rigid bones cannot change and are not examined.
+root's soft link is ``|P_j - P_soft(j)|``; rigid bones cannot change and are not examined,
+nor is the link from an anchor root (a ``Root`` pinned at the origin,
+:attr:`core.motion.Motion.anchors`) to the hips whose translation carries the walk.
 Each length's reference is its median over the frames; frames where it differs by more
 than ``bone_limits[0]`` percent make runs (joined across gaps of 0.1 s), valued by the
 largest difference in percent.
@@ -71,7 +73,9 @@ def flip(data: CheckData, settings: CheckSettings) -> list[Finding]:
 def bone_lengths(data: CheckData) -> tuple[np.ndarray, np.ndarray]:
     """(joints (K,), lengths (F, K)) of the bones that can change length (module docstring)."""
     motion = data.motion
-    moving = np.flatnonzero(motion.has_translation & (motion.parents >= 0))
+    inner = motion.parents >= 0
+    under_anchor = inner & motion.anchors[np.maximum(motion.parents, 0)]  # hips that carry the walk
+    moving = np.flatnonzero(motion.has_translation & inner & ~under_anchor)
     linked = np.flatnonzero(motion.soft_parents >= 0)
     lengths = [np.linalg.norm(motion.translations[:, moving], axis=-1)]
     if linked.size:
