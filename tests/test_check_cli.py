@@ -164,3 +164,11 @@ def test_real_files_say_what_the_docs_say(capsys):
     warnings = [(f["kind"], f["start"], f["end"], f["joints"]) for f in findings if f["severity"] != "info"]
     assert ("foot-skate", 2018, 2123, ["RightFoot", "RightToeBase"]) in warnings
     assert not [f for f in findings if f["severity"] == "error"]
+
+
+def test_batch_on_a_dask_cluster(files, capsys):
+    pytest.importorskip("distributed")
+    assert main(["check", "--batch", str(files), "--scheduler", "local:1"]) == 0
+    captured = capsys.readouterr()
+    assert captured.out.splitlines()[1].endswith("3 findings (2 warning, 1 info): 1 frozen, 1 duplicate, 1 teleport")
+    assert "(Dask local:1)" in captured.err
