@@ -216,6 +216,9 @@ def test_settings_round_trip_through_json():
         CheckSettings(pop_limits=(0.1, 0.05, 0.2))
     with pytest.raises(ValueError, match="unknown check setting"):
         CheckSettings.from_dict({"pop_max": 3})
+    with pytest.raises(ValueError, match="positive"):
+        CheckSettings(pop_mad=-1.0)
+    assert CheckSettings.from_dict({"pop_mad": "6"}).pop_mad == 6.0
 
 
 def test_only_the_kinds_asked_for_run():

@@ -76,7 +76,10 @@ class CheckData:
         return units_of(self.motion) or FILE_UNITS
 
     def finding(self, kind: str, joints, start: int, end: int, level: int, value: float, units: str) -> Finding:
-        """A finding at this data's frames ``start..end`` (shifted to the file's frames)."""
+        """A finding at this data's frames ``start..end`` (shifted to the file's frames);
+        ``level`` 1 (info) to 3 (error)."""
+        if not 1 <= int(level) <= 3:
+            raise ValueError(f"a {kind} finding needs a severity level of 1 to 3, not {level}")
         joints = tuple(int(j) for j in joints)
         return Finding(
             kind=kind,

@@ -128,8 +128,11 @@ class CheckSettings:
                 if len(limits) != 3 or not (0 <= limits[0] <= limits[1] <= limits[2]):
                     raise ValueError(f"{field.name} must be three increasing numbers (info, warning, error)")
                 object.__setattr__(self, field.name, limits)
-            elif field.name != "kinds" and not (float(value) > 0 and math.isfinite(float(value))):
-                raise ValueError(f"{field.name} must be a positive number, not {value!r}")
+            elif field.name != "kinds":
+                number = float(value)
+                if not (number > 0 and math.isfinite(number)):
+                    raise ValueError(f"{field.name} must be a positive number, not {value!r}")
+                object.__setattr__(self, field.name, number)
 
     def with_kinds(self, kinds: tuple[str, ...] | list[str]) -> CheckSettings:
         return dataclasses.replace(self, kinds=tuple(kinds))

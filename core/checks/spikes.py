@@ -129,7 +129,7 @@ def jitter(data: CheckData, settings: CheckSettings) -> list[Finding]:
             held.setdefault(int(k), []).append(group)
     findings = []
     for g in groups:
-        level = levels_for(g["value"] / data.size, settings.jitter_limits)
+        level = max(1, levels_for(g["value"] / data.size, settings.jitter_limits))  # its blocks passed
         first, last = g["start"] * block, min(g["stop"] * block + 2, data.n_frames - 1)
         findings.append(data.finding("jitter", g["joints"], first, last, level, g["value"], data.units))
     return findings
