@@ -256,3 +256,19 @@ def test_the_convention_rigs_have_no_warning(name):
     findings = run_checks(make_rig(name))
     assert [f for f in findings if f.severity != "info"] == []
     assert {f.kind for f in findings} <= {"pop", "foot-skate"}
+
+
+def test_a_flip_in_the_gmr_form_names_the_children_together():
+    """In GMR (pre) form each child carries its BVH parent's rotation: a flip of the BVH's
+    Hips is one finding on the three bones that hang from them."""
+    from gmr_studio.core.convert import pre_from_post
+
+    motion = clean_walk(120.0, unit=CM)
+    rotations = motion.rotations.copy()
+    rotations[300, 0] = rotations[300, 0] @ rotation_about_axis("Y", np.array(np.pi / 2))
+    turned = motion.replace(rotations=rotations)
+    (post,) = run_checks(turned)
+    (pre,) = run_checks(pre_from_post(turned))
+    assert (post.kind, post.start, post.end, post.names) == ("flip", 300, 300, ("Hips",))
+    assert (pre.kind, pre.start, pre.end, set(pre.names)) == ("flip", 300, 300, {"Spine", "LeftUpLeg", "RightUpLeg"})
+    assert pre.value == pytest.approx(post.value) == pytest.approx(90.0)

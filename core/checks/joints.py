@@ -6,7 +6,9 @@ flips when ``theta`` exceeds both ``flip_limits[0]`` degrees and ``flip_speed * 
 (no joint turns that fast: 1800 deg/s is 15 degrees a frame at 120 Hz, 75 at 24 Hz). A
 flipped step followed within 0.5 s by another after which the rotation is back within the
 limit of where it was is one flip of frames ``a+1 .. b`` (the frames shown turned); a
-flipped step alone marks the two frames of the jump. The value is the largest step
+flipped step alone marks the two frames of the jump. Siblings flipped over the same frames
+make one finding (in a GMR form of a BVH every child carries its parent's rotation, so the
+BVH's flipped joint shows as its children, together). The value is the largest step
 (degrees). Joints without rotation channels are skipped.
 
 Bone length. The length of the bone ending at a non-root joint with translation channels
@@ -54,19 +56,23 @@ def flip(data: CheckData, settings: CheckSettings) -> list[Finding]:
     limit = max(settings.flip_limits[0], settings.flip_speed * data.frame_time)
     flagged = steps > limit
     pair = round(FLIP_PAIR_SECONDS / data.frame_time)
-    findings = []
+    together: dict[tuple[int, int, int], list[tuple[int, float]]] = {}  # (start, end, parent) -> joints
     for k in np.flatnonzero(flagged.any(axis=0)):
-        found = np.flatnonzero(flagged[:, k])
+        steps_k = np.flatnonzero(flagged[:, k])
         i = 0
-        while i < len(found):
-            a = int(found[i])
-            b = int(found[i + 1]) if i + 1 < len(found) else -1
+        while i < len(steps_k):
+            a = int(steps_k[i])
+            b = int(steps_k[i + 1]) if i + 1 < len(steps_k) else -1
             if b >= 0 and b - a <= pair and _angle(rotations[a, rotating[k]], rotations[b + 1, rotating[k]]) <= limit:
                 start, end, value, i = a + 1, b, max(steps[a, k], steps[b, k]), i + 2
             else:
                 start, end, value, i = a, a + 1, steps[a, k], i + 1
-            level = levels_for(value, settings.flip_limits)
-            findings.append(data.finding("flip", [rotating[k]], start, end, level, value, "deg"))
+            together.setdefault((start, end, int(motion.parents[rotating[k]])), []).append((int(rotating[k]), value))
+    findings = []
+    for (start, end, _), joints in together.items():  # siblings flipped together: one finding
+        value = max(v for _, v in joints)
+        level = levels_for(value, settings.flip_limits)
+        findings.append(data.finding("flip", [j for j, _ in joints], start, end, level, value, "deg"))
     return findings
 
 

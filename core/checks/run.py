@@ -72,7 +72,7 @@ def _without_flipped_pops(found: list[Finding], motion: Motion) -> list[Finding]
     flipped: dict[int, set[int]] = {}  # frame -> joints moved by a flip
     for finding in found:
         if finding.kind == "flip":
-            moved = set(motion.subtree(finding.joints[0]))
+            moved = {j for joint in finding.joints for j in motion.subtree(joint)}
             for frame in range(finding.start, finding.end + 1):
                 flipped.setdefault(frame, set()).update(moved)
     if not flipped:
