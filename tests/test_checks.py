@@ -272,3 +272,14 @@ def test_a_flip_in_the_gmr_form_names_the_children_together():
     assert (post.kind, post.start, post.end, post.names) == ("flip", 300, 300, ("Hips",))
     assert (pre.kind, pre.start, pre.end, set(pre.names)) == ("flip", 300, 300, {"Spine", "LeftUpLeg", "RightUpLeg"})
     assert pre.value == pytest.approx(post.value) == pytest.approx(90.0)
+
+
+@pytest.mark.parametrize("relative", ["cmu/subject01/01_01.bvh", "bvh/assimp_Boxing_Toes.bvh"])
+def test_the_gmr_form_of_a_real_file_gets_the_same_findings(relative):
+    """The app holds the GMR form; the checks say the same of it as of the BVH."""
+    from gmr_studio.core.convert import pre_from_post
+    from gmr_studio.core.formats import read_motion
+    from tests.conftest import shared_path
+
+    motion = read_motion(shared_path(relative))
+    assert run_checks(pre_from_post(motion)) == run_checks(motion) != []
