@@ -285,3 +285,35 @@ def test_the_gmr_form_of_a_real_file_gets_the_same_findings(relative):
     post, pre = run_checks(motion), run_checks(pre_from_post(motion))
     assert post and [f.to_dict() | {"value": 0} for f in pre] == [f.to_dict() | {"value": 0} for f in post]
     np.testing.assert_allclose([f.value for f in pre], [f.value for f in post], rtol=1e-9)  # FK's rounding
+
+
+def test_defects_planted_in_a_real_take_are_found_among_its_own():
+    """CMU 01_01.bvh (units of 1/0.45 inch): a 5 cm pop of the left hand at 1500, the root
+    moved 50 cm from 1800 on, frame 1300 shown twice (later frames one further): each found
+    where planted, its size within 10%, beside the take's own findings."""
+    from gmr_studio.core.formats import read_motion
+    from tests.conftest import shared_path
+
+    motion = read_motion(shared_path("cmu/subject01/01_01.bvh"))
+    unit = 0.0254 / 0.45  # metres per CMU unit
+
+    def knock(f):
+        shift = np.zeros((f.size, 3))
+        shift[f == 1500] = np.array([0.0, 0.05, 0.0]) / unit
+        return shift
+
+    planted = with_translation(motion, "LeftHand", knock)
+    translations = planted.translations.copy()
+    translations[1800:, 0, 0] += 0.5 / unit
+    index = np.concatenate([np.arange(1301), [1300], np.arange(1301, motion.n_frames)])
+    planted = planted.replace(translations=translations).frame_slice(index)
+    before = {(f.kind, f.start) for f in run_checks(motion)}
+    found = [f for f in run_checks(planted) if (f.kind, f.start - (f.start > 1300)) not in before]
+    assert [(f.kind, f.start, f.end, f.names[:1]) for f in found] == [
+        ("duplicate", 1301, 1301, ()),
+        ("pop", 1501, 1501, ("LeftHand",)),
+        ("bone-length", 1501, 1501, ("LeftHand",)),  # the knock stretches the hand's bone
+        ("teleport", 1800, 1801, ("Hips",)),
+    ]
+    assert found[1].value == pytest.approx(0.05 / unit, rel=0.1)
+    assert found[3].value == pytest.approx(0.5 / unit, rel=0.1)
