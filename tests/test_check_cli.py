@@ -172,3 +172,25 @@ def test_batch_on_a_dask_cluster(files, capsys):
     captured = capsys.readouterr()
     assert captured.out.splitlines()[1].endswith("3 findings (2 warning, 1 info): 1 frozen, 1 duplicate, 1 teleport")
     assert "(Dask local:1)" in captured.err
+
+
+def test_a_z_up_bvh_checked_with_its_up_axis(tmp_path, capsys):
+    """A BVH states no up axis (Y is assumed): a Z-up one is checked with --up y --from-up z."""
+    from gmr_studio.core.conversions import change_up_axis
+    from gmr_studio.core.formats.bvh import write_bvh
+    from tests.test_checks import with_translation
+
+    def slide(f):
+        shift = np.zeros((f.size, 3))
+        shift[:, 0] = 2.0 * np.clip((f - 100) / 20, 0.0, 1.0)
+        return shift
+
+    motion = with_translation(clean_walk(120.0, unit=0.01), "RightFoot", slide)
+    path = tmp_path / "z_up.bvh"
+    write_bvh(change_up_axis(motion, "z"), path)
+    assert main(["check", str(path), "--only", "foot-skate", "--json", "-", "--up", "y", "--from-up", "z"]) == 0
+    (finding,) = json.loads(capsys.readouterr().out)["findings"]
+    assert (finding["start"], finding["end"], finding["joints"][0]) == (100, 120, "RightFoot")
+    assert finding["value"] == pytest.approx(2.0, rel=0.1)
+    assert main(["check", str(path), "--only", "foot-skate", "--json", "-"]) == 0  # taken as Y up
+    assert [(f["start"], f["end"]) for f in json.loads(capsys.readouterr().out)["findings"]] != [(100, 120)]

@@ -35,7 +35,7 @@ from gmr_studio.core.cli import workers
 from gmr_studio.core.cli.batch import find_motion_files
 from gmr_studio.core.cli.convert import INPUT_SUFFIXES
 from gmr_studio.core.cli.progress import Progress
-from gmr_studio.core.cli.reading import add_reading_options, reader_options
+from gmr_studio.core.cli.reading import add_reading_options, reader_options, transformed_by_args
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import read_motion
 from gmr_studio.core.markers import MARKER_READERS, read_markers
@@ -62,7 +62,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--table", metavar="OUT", help="with --batch: one row per file, .csv or .parquet")
     parser.add_argument("--jobs", type=int, default=None, help="with --batch: parallel processes (all cores)")
     parser.add_argument("--scheduler", metavar="tcp://HOST:8786|local:N", help="with --batch: a Dask cluster")
-    add_reading_options(parser, transforms=False)
+    add_reading_options(parser)
     parser.set_defaults(run=run)
 
 
@@ -85,19 +85,28 @@ def settings_from_args(args: argparse.Namespace) -> CheckSettings:
     return settings
 
 
-def check_file(path: str | Path, settings: CheckSettings, reading: dict | None = None) -> dict:
+def check_file(
+    path: str | Path, settings: CheckSettings, reading: dict | None = None, transforms: dict | None = None
+) -> dict:
     """Read one motion or marker file and return its JSON document (MotionFileError if
-    unreadable). Markers get the checks of points only (:mod:`core.checks.markers`)."""
+    unreadable). ``reading``: :func:`core.cli.reading.reader_options`; ``transforms``:
+    ``scale``, ``up``, ``from_up`` as the reading options give them (``--up y --from-up z``
+    checks a Z-up file whose header does not say so). Markers get the checks of points only
+    (:mod:`core.checks.markers`)."""
     if Path(path).suffix.lower() in MARKER_SUFFIXES:
         motion, findings = run_marker_checks(read_markers(path), settings)
         return check_document(str(path), motion, findings)
-    motion = read_motion(path, **(reading or {}))
+    motion = transformed_by_args(read_motion(path, **(reading or {})), argparse.Namespace(**(transforms or {})))
     return check_document(str(path), motion, run_checks(motion, settings))
 
 
-def _check_task(source: str, settings: dict, reading: dict) -> tuple[str, str, dict | None]:
+def _transforms(args: argparse.Namespace) -> dict:
+    return {key: getattr(args, key, None) for key in ("scale", "up", "from_up")}
+
+
+def _check_task(source: str, settings: dict, reading: dict, transforms: dict) -> tuple[str, str, dict | None]:
     """One file, in a worker: (file, error or "", document or None). Never raises."""
-    error, document = workers.file_task(check_file, source, CheckSettings.from_dict(settings), reading)
+    error, document = workers.file_task(check_file, source, CheckSettings.from_dict(settings), reading, transforms)
     return source, error, document
 
 
@@ -116,7 +125,7 @@ def run(args: argparse.Namespace) -> int:
     if args.table:
         raise OperationError("--table goes with --batch")
     reading = reader_options(args.input, args.asf, args.frame_rate, args.body_model)
-    document = check_file(args.input, settings, reading)
+    document = check_file(args.input, settings, reading, _transforms(args))
     if args.json:
         _write_json(args.json, document)
     if args.json != "-":
@@ -146,7 +155,10 @@ def run_batch(args: argparse.Namespace, settings: CheckSettings) -> int:
         raise OperationError(f"no motion files ({', '.join(suffixes)}) under {folder}")
     if args.table and Path(args.table).suffix.lower() not in (".csv", ".parquet"):
         raise OperationError(f"the --table is written as .csv or .parquet, not {Path(args.table).name!r}")
-    tasks = [(str(f), settings.to_dict(), reader_options(f, args.asf, args.frame_rate, args.body_model)) for f in files]
+    tasks = [
+        (str(f), settings.to_dict(), reader_options(f, args.asf, args.frame_rate, args.body_model), _transforms(args))
+        for f in files
+    ]
     jobs = workers.default_jobs(args.jobs, len(tasks))
     progress = Progress(len(tasks), sys.stderr, label="check")
     results: dict[str, tuple[str, dict | None]] = {}
