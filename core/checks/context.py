@@ -8,7 +8,7 @@ from functools import cached_property
 
 import numpy as np
 
-from gmr_studio.core.checks.model import Finding, Limits, severity_levels
+from gmr_studio.core.checks.model import Finding
 from gmr_studio.core.compare.tracks import units_of
 from gmr_studio.core.contacts import contact_runs
 from gmr_studio.core.conversions import up_axis_of
@@ -118,14 +118,3 @@ def merge_runs(found: np.ndarray, gap: int) -> np.ndarray:
     first = np.concatenate([[0], breaks + 1])
     last = np.concatenate([breaks, [len(found) - 1]])
     return np.stack([found[first, 0], found[last, 1]], axis=1)
-
-
-def levels_for(values: np.ndarray, limits: Limits) -> np.ndarray:
-    """Severity levels (0: not reported) of measured quantities (see :mod:`.model`)."""
-    return severity_levels(values, limits)
-
-
-def horizontal(vectors: np.ndarray, up: int) -> np.ndarray:
-    """Norm of the part of (..., 3) vectors across the up axis: (..., 3) -> (...)."""
-    across = [a for a in range(3) if a != up]
-    return np.hypot(vectors[..., across[0]], vectors[..., across[1]])

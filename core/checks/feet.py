@@ -41,8 +41,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from gmr_studio.core.checks.context import CheckData, joint_runs, levels_for, merge_runs, runs
-from gmr_studio.core.checks.model import CheckSettings, Finding
+from gmr_studio.core.checks.context import CheckData, joint_runs, merge_runs, runs
+from gmr_studio.core.checks.model import CheckSettings, Finding, severity_levels
 from gmr_studio.core.contacts import foot_contacts, foot_joints
 
 #: a touching joint's contact level: this quantile of its heights over its planted frames
@@ -115,7 +115,7 @@ def foot_skate(data: CheckData, settings: CheckSettings) -> list[Finding]:
             else:
                 slid = stillest[a:b]
                 distance = float(np.sum(slid[np.isfinite(slid)]))
-            level = levels_for(distance / data.size, settings.skate_limits)
+            level = severity_levels(distance / data.size, settings.skate_limits)
             if level:
                 joints = [int(contacts.joints[k]) for k in whole if both[a:b, k].any()]
                 findings.append(data.finding("foot-skate", joints, a, b, level, distance, data.units))
@@ -143,7 +143,7 @@ def penetration(data: CheckData, settings: CheckSettings) -> list[Finding]:
     findings = []
     for k, start, stop in joint_runs(below):
         deepest = float(depth[start:stop, k].max())
-        severity = levels_for(deepest / data.size, settings.penetration_limits)
+        severity = severity_levels(deepest / data.size, settings.penetration_limits)
         findings.append(data.finding("penetration", [joints[k]], start, stop - 1, severity, deepest, data.units))
     return findings
 

@@ -24,8 +24,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from gmr_studio.core.checks.context import CheckData, levels_for, runs
-from gmr_studio.core.checks.model import CheckSettings, Finding
+from gmr_studio.core.checks.context import CheckData, runs
+from gmr_studio.core.checks.model import CheckSettings, Finding, severity_levels
 from gmr_studio.core.motion import Motion
 
 
@@ -51,10 +51,10 @@ def _held(data: CheckData, settings: CheckSettings, frozen: bool) -> list[Findin
         n = int(b - a + 1)
         seconds = n * data.frame_time
         if frozen and seconds >= settings.frozen_limits[0]:
-            level = levels_for(seconds, settings.frozen_limits)
+            level = severity_levels(seconds, settings.frozen_limits)
             findings.append(data.finding("frozen", [], a, b, level, seconds, "s"))
         elif not frozen and seconds < settings.frozen_limits[0]:
-            level = levels_for(n - 1, settings.duplicate_limits)
+            level = severity_levels(n - 1, settings.duplicate_limits)
             if level:
                 findings.append(data.finding("duplicate", [], a + 1, b, level, n - 1, "frames"))
     return findings
@@ -124,7 +124,7 @@ def rest_pose(data: CheckData, settings: CheckSettings) -> list[Finding]:
     lead, trail = rest_frames(data.motion, settings)
     findings = []
     for start, count in ((0, lead), (data.n_frames - trail, trail)):
-        level = levels_for(count, settings.rest_limits) if count else 0
+        level = severity_levels(count, settings.rest_limits) if count else 0
         if level:
             findings.append(data.finding("rest-pose", [], start, start + count - 1, level, count, "frames"))
     return findings

@@ -25,8 +25,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from gmr_studio.core.checks.context import CheckData, joint_runs, levels_for, merge_runs
-from gmr_studio.core.checks.model import CheckSettings, Finding
+from gmr_studio.core.checks.context import CheckData, joint_runs, merge_runs
+from gmr_studio.core.checks.model import CheckSettings, Finding, severity_levels
 
 #: a flip and its return at most this far apart (seconds) make one flip
 FLIP_PAIR_SECONDS = 0.5
@@ -71,7 +71,7 @@ def flip(data: CheckData, settings: CheckSettings) -> list[Finding]:
     findings = []
     for (start, end, _), joints in together.items():  # siblings flipped together: one finding
         value = max(v for _, v in joints)
-        level = levels_for(value, settings.flip_limits)
+        level = severity_levels(value, settings.flip_limits)
         findings.append(data.finding("flip", [j for j, _ in joints], start, end, level, value, "deg"))
     return findings
 
@@ -107,6 +107,6 @@ def bone_length(data: CheckData, settings: CheckSettings) -> list[Finding]:
     for k in np.unique(found[:, 0]):
         for start, stop in merge_runs(found[found[:, 0] == k, 1:], gap):
             value = float(change[start:stop, k].max())
-            level = levels_for(value, settings.bone_limits)
+            level = severity_levels(value, settings.bone_limits)
             findings.append(data.finding("bone-length", [joints[k]], start, stop - 1, level, value, "%"))
     return findings

@@ -40,8 +40,8 @@ import warnings
 
 import numpy as np
 
-from gmr_studio.core.checks.context import CheckData, joint_runs, levels_for, merge_runs
-from gmr_studio.core.checks.model import CheckSettings, Finding
+from gmr_studio.core.checks.context import CheckData, joint_runs, merge_runs
+from gmr_studio.core.checks.model import CheckSettings, Finding, severity_levels
 
 #: 1.4826 * MAD estimates a normal standard deviation
 MAD_SCALE = 1.4826
@@ -94,7 +94,7 @@ def pop(data: CheckData, settings: CheckSettings) -> list[Finding]:
         found = np.flatnonzero(source[row])
         found = found[np.argsort(-e[row, found], kind="stable")]
         value = float(e[row, found[0]])
-        level = levels_for(value / data.size, settings.pop_limits)
+        level = severity_levels(value / data.size, settings.pop_limits)
         findings.append(data.finding("pop", found, row + 1, row + 1, level, value, data.units))
     return findings
 
@@ -129,7 +129,7 @@ def jitter(data: CheckData, settings: CheckSettings) -> list[Finding]:
             held.setdefault(int(k), []).append(group)
     findings = []
     for g in groups:
-        level = max(1, levels_for(g["value"] / data.size, settings.jitter_limits))  # its blocks passed
+        level = max(1, severity_levels(g["value"] / data.size, settings.jitter_limits))  # its blocks passed
         first, last = g["start"] * block, min(g["stop"] * block + 2, data.n_frames - 1)
         findings.append(data.finding("jitter", g["joints"], first, last, level, g["value"], data.units))
     return findings
@@ -155,6 +155,6 @@ def teleport(data: CheckData, settings: CheckSettings) -> list[Finding]:
     findings = []
     for k, start, stop in joint_runs(teleporting):
         value = float(jump[start:stop, k].max())
-        level = levels_for(value / data.size, settings.teleport_limits)
+        level = severity_levels(value / data.size, settings.teleport_limits)
         findings.append(data.finding("teleport", [roots[k]], start + 1, stop + 1, level, value, data.units))
     return findings
