@@ -174,7 +174,8 @@ def run_batch(args: argparse.Namespace, settings: CheckSettings) -> int:
         rows.append(summary_row(document, source, error or "ok"))
         if document is not None:
             documents.append(document)
-        print(batch_line(rows[-1]))
+        if args.json != "-":  # the JSON alone on stdout
+            print(batch_line(rows[-1]))
     if args.table:
         write_table(rows, Path(args.table))
     if args.json:
