@@ -55,3 +55,35 @@ def test_a_filmstrip_of_a_pinned_root_walk_fills_the_picture_and_labels_every_po
     assert (left >= 0).all() and (left + w <= width).all() and (bottom >= 0).all() and (bottom + h <= height).all()
     order = np.argsort(left)
     assert (left[order][1:] > (left + w)[order][:-1]).all()  # ... and no label hides another
+
+
+def _cases():
+    from gmr_studio.app.tools.gallery import all_cases
+
+    return all_cases()
+
+
+@pytest.mark.parametrize("case", _cases(), ids=lambda case: case.name)
+def test_every_file_and_rig_gives_a_filled_labelled_filmstrip(case, tmp_path, qapp):
+    """Issue 21's agreement suite: on every shared file and rig, the filmstrip's figures fill
+    the picture and every pose has its label, none hidden by another."""
+    from PyQt6.QtGui import QImage
+
+    snapshot = case.load()
+    n = snapshot.motion.n_frames
+    frames = np.unique(np.linspace(0, n - 1, min(n, 5)).astype(int))
+    drawn: dict = {}
+    out = tmp_path / "strip.png"
+    width, height = render_filmstrip(snapshot, frames, out, (480, 240), "side", drawn)
+    image = image_pixels(QImage(str(out)))[..., :3].astype(int)
+    background = np.round(np.array(BACKGROUND) * 255)
+    ground = np.round(np.array(GROUND_COLOR) * 255)
+    figure = (np.abs(image - background).max(-1) > 40) & (np.abs(image - ground).max(-1) > 40)
+    columns, rows = np.flatnonzero(figure.any(axis=0)), np.flatnonzero(figure.any(axis=1))
+    assert max(np.ptp(columns) / width, np.ptp(rows) / height) > 0.5, "the figures do not fill the picture"
+    left, bottom, w, h = drawn["labels"].T
+    assert len(left) == len(frames)
+    assert (left >= 0).all() and (left + w <= width + 1).all() and (bottom >= 0).all() and (bottom + h <= height).all()
+    if len(frames) > 1:
+        order = np.argsort(left)
+        assert (left[order][1:] >= (left + w)[order][:-1]).all(), "a label hides another"
