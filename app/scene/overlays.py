@@ -222,6 +222,8 @@ class Markers(Drawing):
         self.parts["marker_selection"].set_visible(self._visible and self.part_wanted(self.parts["marker_selection"]))
 
     def before_render(self) -> None:
+        if self.hovered is None and self.selected is None:
+            return  # no marker label to place (the labels' texts are empty)
         if "marker_labels" in self.parts and self._visible:
             positions = self.overlay.positions[self.scene.frame]
             points = np.array(
