@@ -1,12 +1,8 @@
 """``python -m gmr_studio.app.tools.bench``: how fast the app is, measured (prints only; run under xvfb-run).
 
-1. Frame update during playback of CMU 01_01 (BVH) with its C3D markers: the time from
-   ``state.set_frame(f)`` (every actor moved, timeline and inspector updated) until Qt has
-   processed the events that follow, the view's render and the window's repaint included,
-   over consecutive frames; median, 95th percentile and the fps they imply, and the CPU
-   time per frame (``time.process_time``: every thread, Mesa's rasterisers included; and
-   the main thread's alone), less sensitive than wall time to other jobs on the machine.
-   Once with the default overlays and a selected joint, once with axes, trail and labels on.
+1. Frame update of the view against a bare VTK widget at 1280x800 and 1920x1080, native
+   and framebuffer widget, with axes/trail/labels and a comparison layer, and the docks'
+   own costs (:mod:`app.tools.view_bench`).
 2. Launch to first frame: a fresh ``gmr-studio 01_01.bvh`` process, from before it starts
    to the first rendered frame of the file (interpreter, imports, window, reading, FK).
 3. Frame update with and without a comparison layer (01_01.amc over 01_01.bvh, the ghost,
@@ -71,49 +67,6 @@ def close_bench_window(window, scratch: str) -> None:
     window.close()
     if os.path.exists(scratch):
         os.remove(scratch)
-
-
-def bench_frames(frames: int) -> None:
-    data = shared_data_dir()
-    app, window, scratch = bench_window(1280, 800)
-    window.files.open_path(str(data / BVH), markers=str(data / C3D), ask=False, wait=True)
-    state = window.state
-    overlay = state.marker_overlay
-    print(
-        f"CMU 01_01: {state.motion.n_joints} joints, {state.motion.n_frames} frames; "
-        f"{overlay.markers.n_markers} markers ({overlay.alignment.method}); view "
-        f"{window.view.interactor.width()}x{window.view.interactor.height()} px"
-    )
-    state.select(state.motion.joint_index("LeftHand"))
-    render_window = window.view.scene.plotter.ren_win
-    started, renders = [0.0], []
-    render_window.AddObserver("StartEvent", lambda *_: started.__setitem__(0, time.perf_counter()))
-    render_window.AddObserver("EndEvent", lambda *_: renders.append(time.perf_counter() - started[0]))
-    for label, extra in (
-        ("set frame + render (default overlays)", ()),
-        ("... with axes, trail, labels", ("axes", "trails", "labels")),
-    ):
-        for name in extra:
-            state.set_overlay(name, True)
-        for f in range(30):  # warm up (first renders compile shaders, fill caches)
-            state.set_frame(f)
-            app.processEvents()
-        times, cpu, main_thread = [], [], []
-        renders.clear()
-        for f in range(1, frames + 1):
-            start, start_cpu, start_thread = time.perf_counter(), time.process_time(), time.thread_time()
-            state.set_frame(f % state.n_frames)
-            app.processEvents()  # the repaint: VTK renders in the widget's paint event
-            times.append(time.perf_counter() - start)
-            cpu.append(time.process_time() - start_cpu)
-            main_thread.append(time.thread_time() - start_thread)
-        _summary(label, np.array(times))
-        print(f"{'  of which VTK rendering (the rest: Qt)':<46} median {1000 * np.median(renders):6.2f} ms")
-        print(
-            f"{'  CPU per frame: all threads / main thread':<46} median {1000 * np.median(cpu):6.2f} ms"
-            f" / {1000 * np.median(main_thread):6.2f} ms"
-        )
-    close_bench_window(window, scratch)
 
 
 def bench_comparison(frames: int, rounds: int = 4) -> None:
@@ -215,7 +168,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     if not (shared_data_dir() / BVH).exists():
         print(f"the CMU files are not in {shared_data_dir()}: nothing to measure", file=sys.stderr)
         return 2
-    bench_frames(args.frames)
+    from gmr_studio.app.tools import view_bench
+
+    view_bench.main(["--frames", str(args.frames)])  # the view against a bare VTK widget (issue 26)
     if args.frames_only:
         return 0
     bench_comparison(args.frames)
