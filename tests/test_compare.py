@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.compare import compare_motions, compare_tracks, fit_alignment, track_of_points
-from gmr_studio.core.compare.clock import find_offset
+from gmr_studio.core.compare.offset import find_offset
 from gmr_studio.core.compare.tracks import Track
 from gmr_studio.core.conversions import change_up_axis, scale_lengths
 from gmr_studio.core.formats import load_gmr, read_motion

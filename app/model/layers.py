@@ -22,7 +22,7 @@ from PyQt6.QtCore import QObject, pyqtSignal
 from gmr_studio.app.model.marker_layers import MARKER_LAYER_OPACITY, MarkerLayer, realign_marker_layer
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.core.compare import ALIGN_KINDS, Comparison, compare_motions
-from gmr_studio.core.compare.clock import resample
+from gmr_studio.core.compare.clock import DEFAULT_OFFSET, ghost_positions
 from gmr_studio.core.jointmap import available_joint_maps, match_joints
 from gmr_studio.core.markers import MarkerSet
 
@@ -50,8 +50,8 @@ class ComparisonLayer:
     colour: tuple[float, float, float]
     joint_map: str | None = None
     align: str = "none"
-    offset: float | str = "auto"
-    auto_offset: bool = True
+    offset: float | str = DEFAULT_OFFSET
+    auto_offset: bool = DEFAULT_OFFSET == "auto"
     visible: bool = True
     opacity: float = GHOST_OPACITY
     comparison: Comparison | None = None
@@ -127,12 +127,8 @@ def compare_layer(document: Snapshot, layer: ComparisonLayer) -> tuple[Compariso
         align=layer.align,
         label_b=layer.name,
     )
-    a = comparison.alignment
-    rate_a, rate_b = document.motion.frame_rate, layer.snapshot.motion.frame_rate
-    if abs(rate_b / rate_a - 1.0) < 1e-5:  # one rate, as the engine takes it
-        rate_b = rate_a
-    at = (np.arange(document.motion.n_frames) / rate_a + a.offset_seconds) * rate_b
-    ghost = a.apply(resample(layer.snapshot.positions, at))
+    a, b = document.motion, layer.snapshot.motion
+    ghost = ghost_positions(layer.snapshot.positions, a.n_frames, a.frame_rate, b.frame_rate, comparison.alignment)
     return comparison, ghost
 
 
@@ -182,10 +178,11 @@ class Layers(QObject):
         joint_map: str | None = None,
         *,
         align: str = "none",
-        offset: float | str = "auto",
+        offset: float | str = DEFAULT_OFFSET,
     ) -> ComparisonLayer:
         """Compare ``snapshot`` with the document and show it as a new layer, B aligned by
-        ``align`` (none, rigid, similarity) at ``offset`` (A's frames, or "auto": found).
+        ``align`` (none, rigid, similarity) at ``offset`` (A's frames, or "auto": found;
+        the default is the CLI's, :data:`core.compare.clock.DEFAULT_OFFSET`).
 
         Raises ValueError (nothing matched, no document, a bad option) and leaves the list
         as it was."""

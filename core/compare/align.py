@@ -13,6 +13,8 @@ from typing import Literal
 
 import numpy as np
 
+from gmr_studio.core.compare.offset import OffsetSearch
+
 AlignKind = Literal["none", "rigid", "similarity"]
 ALIGN_KINDS: tuple[str, ...] = ("none", "rigid", "similarity")
 
@@ -25,7 +27,8 @@ class Alignment:
     rotation : (3, 3), translation : (3,) in A's units, scale : float (fitted; 1 unless
     similarity). units_scale, up_rotation : the space change applied before the fit
     (``b_A = units_scale * up_rotation @ b``). offset_frames : B's time minus A's, in A's
-    frames; offset_seconds : the same in seconds; offset_found : True when searched (auto).
+    frames; offset_seconds : the same in seconds; offset_found : True when searched (auto);
+    offset_search : the search's best and next best offsets with their mismatch (auto only).
     rms_before, rms_after : RMS distance of matched points before and after the fit.
     notes : how units and up axis were decided.
     """
@@ -39,6 +42,7 @@ class Alignment:
     offset_frames: float = 0.0
     offset_seconds: float = 0.0
     offset_found: bool = False
+    offset_search: OffsetSearch | None = None
     rms_before: float = float("nan")
     rms_after: float = float("nan")
     notes: tuple[str, ...] = ()
@@ -76,6 +80,7 @@ class Alignment:
             "offset_frames": self.offset_frames,
             "offset_seconds": self.offset_seconds,
             "offset_found": self.offset_found,
+            "offset_search": None if self.offset_search is None else self.offset_search.to_json(),
             "rms_before": _finite_or_none(self.rms_before),
             "rms_after": _finite_or_none(self.rms_after),
             "notes": list(self.notes),

@@ -1,0 +1,246 @@
+"""The time offset between two tracks, found from the whole body, and how sure it is.
+
+Every frame of each side is described by features that no change of place, heading, up axis,
+units or fitted alignment alters (:func:`pose_features`):
+
+- each matched point's distance from the centroid of the matched points, in A's sizes;
+- where both sides have orientations, each oriented point's chord ``|W_j - W_r|_F`` to the
+  first oriented point's world rotation ``W_r`` (``M W N`` for fixed rotations M, N leaves
+  it unchanged): the turn of every bone relative to one of them;
+- the travel of the centroid: its speed over :data:`SPEED_WINDOW` seconds, in sizes per
+  second (the only feature of a single point, such as a root trajectory).
+
+So every joint counts: a root pinned at the origin while the hips carry the walk gives the
+pose of the figure as much as any rig. The features are not differences of frames (but
+the travel, over a window), so per-frame noise is not amplified.
+
+B's features are resampled at A's rate; at every whole lag that keeps ``min_overlap`` of the
+shorter side overlapping, the mean squared difference of all features present on both sides
+is computed (all lags at once: FFT correlations, summed over the features in the frequency
+domain). The best lag is the one of least mismatch (ties go to the lag nearest 0, so a still
+or periodic motion compared with itself keeps offset 0); the runner-up is the best lag at
+least :data:`SEPARATION_SECONDS` away from it, so that the pair says how sure the search is:
+a mismatch near 0 against a clearly larger runner-up is a sure find, two equal ones (a
+perfectly periodic motion) say that the data cannot tell.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from gmr_studio.core.compare.clock import WHOLE_FRAME_TOLERANCE, resample
+
+#: seconds over which the centroid's travel is measured
+SPEED_WINDOW = 0.1
+#: the runner-up lag is at least this far (seconds) from the best one
+SEPARATION_SECONDS = 0.25
+#: lags whose mean squared mismatch is within this (relative to the features' mean square,
+#: plus an absolute floor) of the least one tie; the one nearest 0 wins
+TIE_RELATIVE = 1e-12
+#: feature channels whose rfft are taken at once (bounds the temporaries)
+CHANNEL_BLOCK = 16
+#: frames per block of :func:`motion_features`
+FEATURE_BLOCK = 4096
+
+
+@dataclasses.dataclass(frozen=True)
+class OffsetSearch:
+    """The offset found and how sure it is.
+
+    lag : int, the best offset in A's frames (B's time minus A's).
+    mismatch : float, RMS difference of the features at ``lag`` (sizes or radians per second).
+    runner_up : int or None, the best lag at least :data:`SEPARATION_SECONDS` away (None when
+        no other lag overlaps enough). runner_up_mismatch : its RMS difference (NaN if none).
+    overlap : int, frames of A that overlap B at ``lag``. rate : A's frame rate (Hz).
+    """
+
+    lag: int
+    mismatch: float
+    runner_up: int | None
+    runner_up_mismatch: float
+    overlap: int
+    rate: float
+
+    def to_json(self) -> dict:
+        finite = np.isfinite(self.runner_up_mismatch)
+        return {
+            "lag": self.lag,
+            "mismatch": float(self.mismatch) if np.isfinite(self.mismatch) else None,
+            "runner_up": self.runner_up,
+            "runner_up_mismatch": float(self.runner_up_mismatch) if finite else None,
+            "overlap": self.overlap,
+        }
+
+    def text(self) -> str:
+        """One line: the best lag's mismatch and the runner-up's."""
+        best = f"whole-body mismatch {self.mismatch:.3g}"
+        if self.runner_up is None:
+            return best + " (no other offset overlaps enough to compare)"
+        return (
+            f"{best} against {self.runner_up_mismatch:.3g} at the next best, "
+            f"{self.runner_up:+d} frames ({self.runner_up / self.rate:+.4g} s)"
+        )
+
+
+def pose_features(
+    positions: np.ndarray, rotations: np.ndarray | None, columns: np.ndarray, oriented: np.ndarray | None, size: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Instantaneous features of one side (module docstring) and its centroid path.
+
+    positions (F, N, 3), rotations (F, N, 3, 3) or None; columns (J,) the matched points;
+    oriented (Jo,) the matched points with orientations on both sides (or None); size: A's
+    size in this side's units. Returns features (F, J + Jo) and centroid (F, 3), NaN where
+    points are missing (the centroid over the points present).
+    """
+    n = positions.shape[0]
+    n_oriented = 0 if rotations is None or oriented is None or not len(oriented) else len(oriented)
+    features = np.empty((n, len(columns) + n_oriented))
+    centroid = np.empty((n, 3))
+    for start in range(0, n, FEATURE_BLOCK):  # blocks of frames: small temporaries
+        rows = slice(start, start + FEATURE_BLOCK)
+        points = positions[rows][:, columns]
+        present = np.isfinite(points).all(axis=-1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            middle = np.where(present[..., None], points, 0.0).sum(axis=1) / present.sum(axis=1)[:, None]
+        centroid[rows] = middle
+        away = points - middle[:, None]
+        features[rows, : len(columns)] = np.sqrt(np.einsum("fjk,fjk->fj", away, away)) / size
+        if n_oriented:
+            turns = rotations[rows][:, oriented].reshape(-1, n_oriented, 9)
+            relative = turns - turns[:, :1]
+            features[rows, len(columns) :] = np.sqrt(np.einsum("fjk,fjk->fj", relative, relative))
+    return features, centroid
+
+
+def travel(centroid: np.ndarray, rate: float, size: float) -> np.ndarray:
+    """(F, 1) the centroid's speed over :data:`SPEED_WINDOW` (at least a frame), sizes per
+    second, at the middle of the window (NaN where the window leaves the motion)."""
+    step = max(1, round(SPEED_WINDOW * rate))
+    out = np.full((centroid.shape[0], 1), np.nan)
+    if centroid.shape[0] > step:
+        moved = centroid[step:] - centroid[:-step]
+        speed = np.sqrt(np.einsum("fk,fk->f", moved, moved)) * (rate / (step * size))
+        out[step // 2 : step // 2 + speed.shape[0], 0] = speed
+    return out
+
+
+def at_rate(values: np.ndarray, rate: float, rate_a: float) -> np.ndarray:
+    """Rows of B (N, ...) at B's rate, resampled linearly at A's rate over B's duration."""
+    if rate == rate_a or values.shape[0] < 2:
+        return values
+    last = int(np.floor((values.shape[0] - 1) / rate * rate_a + WHOLE_FRAME_TOLERANCE))
+    return resample(values, np.arange(last + 1) * rate / rate_a)
+
+
+def search_offset(
+    features_a: np.ndarray, features_b: np.ndarray, rate: float, *, min_overlap: float = 0.5
+) -> OffsetSearch:
+    """The lag (A's frames) at which B's features (Nb, K) best follow A's (Na, K), both at A's rate.
+
+    A's frame ``i`` goes with B's frame ``i + lag``. NaN features are left out. Lags where
+    fewer than ``min_overlap`` of the shorter side's frames (at least 2) overlap are not
+    considered; with none left, the lag is 0 with NaN mismatch.
+    """
+    na, nb = features_a.shape[0], features_b.shape[0]
+    if na == 0 or nb == 0 or features_a.shape[1] == 0:
+        return OffsetSearch(0, float("nan"), None, float("nan"), 0, rate)
+    size = 1 << int(np.ceil(np.log2(na + nb)))
+    lags = np.arange(-(na - 1), nb)
+
+    def spectrum(values: np.ndarray, reverse: bool) -> np.ndarray:
+        out = np.fft.rfft(values, size, axis=0)
+        return np.conj(out) if reverse else out
+
+    def valid_rows(x: np.ndarray) -> np.ndarray:
+        return np.isfinite(x)
+
+    ones_a, ones_b = spectrum(np.ones((na, 1)), True)[:, 0], spectrum(np.ones((nb, 1)), False)[:, 0]
+    cross = np.zeros(size // 2 + 1, dtype=np.complex128)
+    energy = np.zeros(size // 2 + 1, dtype=np.complex128)
+    counts = np.zeros(size // 2 + 1, dtype=np.complex128)
+    for start in range(0, features_a.shape[1], CHANNEL_BLOCK):
+        block = slice(start, start + CHANNEL_BLOCK)
+        va, vb = valid_rows(features_a[:, block]), valid_rows(features_b[:, block])
+        a, b = np.where(va, features_a[:, block], 0.0), np.where(vb, features_b[:, block], 0.0)
+        fa, fb = spectrum(a, True), spectrum(b, False)
+        cross += np.einsum("sk,sk->s", fa, fb)
+        if va.all() and vb.all():
+            # every feature present: the squares and counts need one transform a side
+            energy += spectrum((a * a).sum(axis=1, keepdims=True), True)[:, 0] * ones_b
+            energy += ones_a * spectrum((b * b).sum(axis=1, keepdims=True), False)[:, 0]
+            counts += a.shape[1] * ones_a * ones_b
+        else:
+            fva, fvb = spectrum(va.astype(np.float64), True), spectrum(vb.astype(np.float64), False)
+            energy += np.einsum("sk,sk->s", spectrum(a * a, True), fvb) + np.einsum(
+                "sk,sk->s", fva, spectrum(b * b, False)
+            )
+            counts += np.einsum("sk,sk->s", fva, fvb)
+
+    def correlation(spectrum_sum: np.ndarray) -> np.ndarray:
+        """sum_i x[i] y[i + lag] for lag = -(na - 1) .. nb - 1."""
+        full = np.fft.irfft(spectrum_sum, size)
+        return np.concatenate([full[size - (na - 1) :], full[:nb]]) if na > 1 else full[:nb]
+
+    squared = correlation(energy) - 2.0 * correlation(cross)
+    count = np.rint(correlation(counts))
+    frames_overlap = np.minimum(na, nb - lags) - np.maximum(0, -lags)  # frames of A with a B frame
+    need = max(2.0, min_overlap * min(na, nb))
+    allowed = (frames_overlap >= need) & (count > 0)
+    if not allowed.any():
+        return OffsetSearch(0, float("nan"), None, float("nan"), 0, rate)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        score = np.where(allowed, np.maximum(squared, 0.0) / np.maximum(count, 1.0), np.inf)
+    least = float(score.min())
+    scale = float(np.nanmean(np.where(np.isfinite(features_a), features_a, np.nan) ** 2)) if na else 0.0
+    tie = least + TIE_RELATIVE * (scale if np.isfinite(scale) else 0.0) + 1e-300
+    candidates = np.flatnonzero(score <= tie)
+    best = int(candidates[np.argmin(np.abs(lags[candidates]))])
+    far = np.abs(lags - lags[best]) >= max(1.0, SEPARATION_SECONDS * rate)
+    runner, runner_score = None, float("nan")
+    if (far & allowed).any():
+        other = int(np.argmin(np.where(far, score, np.inf)))
+        runner, runner_score = int(lags[other]), float(np.sqrt(score[other]))
+    overlap = int(frames_overlap[best])
+    return OffsetSearch(int(lags[best]), float(np.sqrt(score[best])), runner, runner_score, overlap, rate)
+
+
+def find_offset_of_tracks(
+    a, b, index_a: np.ndarray, index_b: np.ndarray, rate_b: float, units_scale: float, *, min_overlap: float = 0.5
+) -> OffsetSearch:
+    """:func:`search_offset` on the features of every matched point of two
+    :class:`~core.compare.tracks.Track` (module docstring).
+
+    index_a, index_b : (J,) the matched points; rate_b : B's rate as compared
+    (:func:`~core.compare.clock.common_rate`); units_scale : A units per B unit.
+    """
+    oriented = a.has_rotation[index_a] & b.has_rotation[index_b]
+    turns = a.rotations is not None and b.rotations is not None and bool(oriented.any())
+    size = a.size if a.size > 0 else 1.0
+    features_a, centroid_a = pose_features(
+        a.positions, a.rotations if turns else None, index_a, index_a[oriented] if turns else None, size
+    )
+    features_b, centroid_b = pose_features(
+        b.positions, b.rotations if turns else None, index_b, index_b[oriented] if turns else None, size / units_scale
+    )
+    features_b, centroid_b = at_rate(features_b, rate_b, a.frame_rate), at_rate(centroid_b, rate_b, a.frame_rate)
+    features_a = np.concatenate([features_a, travel(centroid_a, a.frame_rate, size)], axis=1)
+    features_b = np.concatenate([features_b, travel(centroid_b, a.frame_rate, size / units_scale)], axis=1)
+    return search_offset(features_a, features_b, a.frame_rate, min_overlap=min_overlap)
+
+
+def find_offset(
+    points_a: np.ndarray, points_b: np.ndarray, rate_a: float, rate_b: float, *, min_overlap: float = 0.5
+) -> tuple[int, float]:
+    """:func:`search_offset` on point trajectories (Fa, [J,] 3) and (Fb, [J,] 3) in the same
+    units (NaN allowed): (lag in A's frames, RMS mismatch of their features)."""
+    from gmr_studio.core.compare.tracks import track_of_points
+
+    a = points_a.reshape(points_a.shape[0], -1, 3)
+    b = points_b.reshape(points_b.shape[0], -1, 3)
+    names = tuple(f"p{k}" for k in range(a.shape[1]))
+    track_a, track_b = track_of_points(names, a, rate_a), track_of_points(names, b, rate_b)
+    columns = np.arange(a.shape[1])
+    found = find_offset_of_tracks(track_a, track_b, columns, columns, rate_b, 1.0, min_overlap=min_overlap)
+    return found.lag, found.mismatch
