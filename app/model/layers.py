@@ -25,6 +25,7 @@ from gmr_studio.core.compare import ALIGN_KINDS, Comparison, compare_motions
 from gmr_studio.core.compare.clock import DEFAULT_OFFSET, ghost_positions
 from gmr_studio.core.jointmap import available_joint_maps, match_joints
 from gmr_studio.core.markers import MarkerSet
+from gmr_studio.core.rotations import angle_axis_degrees
 
 #: colours of successive layers (RGB in [0, 1]): none of them a tree colour of the document
 LAYER_COLOURS = ((1.0, 0.45, 0.9), (0.55, 0.9, 1.0), (0.75, 1.0, 0.5), (1.0, 0.8, 0.45))
@@ -76,7 +77,7 @@ class ComparisonLayer:
             return "not compared", ""
         a = self.comparison.alignment
         units = self.comparison.units_text
-        turn, axis = rotation_angle_axis(a.rotation)
+        turn, axis = angle_axis_degrees(a.rotation)
         line = (
             f"{a.kind}: RMS {a.rms_before:.4g} -> {a.rms_after:.4g} {units}\n"
             f"turn {turn:.3g} deg about ({_numbers(axis, '.3f')})\n"
@@ -94,21 +95,6 @@ class ComparisonLayer:
             f"RMS before {a.rms_before:.6g}, after {a.rms_after:.6g} {units}\n" + "\n".join(a.notes)
         )
         return line, tooltip
-
-
-def rotation_angle_axis(rotation: np.ndarray) -> tuple[float, np.ndarray]:
-    """(degrees, unit axis (3,)) of a (3, 3) rotation; the axis is +Y for no turn."""
-    angle = float(np.degrees(np.arccos(np.clip((np.trace(rotation) - 1.0) / 2.0, -1.0, 1.0))))
-    axis = np.array([rotation[2, 1] - rotation[1, 2], rotation[0, 2] - rotation[2, 0], rotation[1, 0] - rotation[0, 1]])
-    norm = float(np.linalg.norm(axis))
-    if norm < 1e-12:
-        if angle < 90.0:
-            return 0.0, np.array([0.0, 1.0, 0.0])
-        # a half turn: the axis is the column of R + I of largest norm
-        both = rotation + np.eye(3)
-        column = both[:, int(np.argmax(np.linalg.norm(both, axis=0)))]
-        return angle, column / np.linalg.norm(column)
-    return angle, axis / norm
 
 
 def _numbers(values, spec: str) -> str:
