@@ -244,9 +244,13 @@ def channel_curves(motion: Motion, joint: int, file_channels: FileChannels | Non
         rotations = bvh_rotations(motion, joint)
     else:
         rotations = motion.rotations[:, joint] if motion.convention == "pre" else gmr_rotations(motion, joint)[0]
-    if rotations is None:  # no single rotation to give (children turning independently)
-        return Curves(columns, np.full((motion.n_frames, len(labels)), np.nan), UNITS["channels"])
     written = file_channels.angles[name]
+    if rotations is None:
+        if not motion.children[joint] and written.shape[0] == motion.n_frames:
+            # a leaf's channels turn nothing (GMR keeps no rotation for them): the file's stand
+            return Curves(columns, np.array(written), UNITS["channels"])
+        # children turning independently: no single rotation to give
+        return Curves(columns, np.full((motion.n_frames, len(labels)), np.nan), UNITS["channels"])
     if written.shape[0] == motion.n_frames and (
         not len(written) or np.abs(file_channels.rotations(name) - rotations).max() <= FILE_MATCH_TOLERANCE
     ):

@@ -106,7 +106,9 @@ def compare_tracks(
     if isinstance(offset, str):
         if offset != "auto":
             raise ValueError(f"the offset must be a number of frames or 'auto', not {offset!r}")
-        search = find_offset_of_tracks(a, b, index_a, index_b, rate_b, space.scale, min_overlap=max_offset_overlap)
+        search = find_offset_of_tracks(
+            a, b, index_a, index_b, rate_b, space.scale, up_rotation=space.up_rotation, min_overlap=max_offset_overlap
+        )
         offset_frames, found = float(search.lag), True
     else:
         offset_frames, found = float(offset), False

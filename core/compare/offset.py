@@ -134,27 +134,25 @@ def at_rate(values: np.ndarray, rate: float, rate_a: float) -> np.ndarray:
     return resample(values, np.arange(last + 1) * rate / rate_a)
 
 
-def search_offset(
-    features_a: np.ndarray, features_b: np.ndarray, rate: float, *, min_overlap: float = 0.5
-) -> OffsetSearch:
-    """The lag (A's frames) at which B's features (Nb, K) best follow A's (Na, K), both at A's rate.
+def lag_scores(
+    features_a: np.ndarray, features_b: np.ndarray, *, min_overlap: float = 0.5
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Mean squared difference of the features at every lag: (lags (L,), scores (L,), overlap (L,)).
 
-    A's frame ``i`` goes with B's frame ``i + lag``. NaN features are left out. Lags where
-    fewer than ``min_overlap`` of the shorter side's frames (at least 2) overlap are not
-    considered; with none left, the lag is 0 with NaN mismatch.
+    A's frame ``i`` goes with B's frame ``i + lag``, ``lag = -(Na - 1) .. Nb - 1``. NaN
+    features are left out; lags where fewer than ``min_overlap`` of the shorter side's frames
+    (at least 2) overlap, or no feature is present on both sides, score ``inf``.
     """
     na, nb = features_a.shape[0], features_b.shape[0]
-    if na == 0 or nb == 0 or features_a.shape[1] == 0:
-        return OffsetSearch(0, float("nan"), None, float("nan"), 0, rate)
-    size = 1 << int(np.ceil(np.log2(na + nb)))
     lags = np.arange(-(na - 1), nb)
+    frames_overlap = np.minimum(na, nb - lags) - np.maximum(0, -lags)  # frames of A with a B frame
+    if na == 0 or nb == 0 or features_a.shape[1] == 0:
+        return lags, np.full(len(lags), np.inf), frames_overlap
+    size = 1 << int(np.ceil(np.log2(na + nb)))  # (a 2-3-5-smooth size measured slower)
 
     def spectrum(values: np.ndarray, reverse: bool) -> np.ndarray:
         out = np.fft.rfft(values, size, axis=0)
         return np.conj(out) if reverse else out
-
-    def valid_rows(x: np.ndarray) -> np.ndarray:
-        return np.isfinite(x)
 
     ones_a, ones_b = spectrum(np.ones((na, 1)), True)[:, 0], spectrum(np.ones((nb, 1)), False)[:, 0]
     cross = np.zeros(size // 2 + 1, dtype=np.complex128)
@@ -162,10 +160,9 @@ def search_offset(
     counts = np.zeros(size // 2 + 1, dtype=np.complex128)
     for start in range(0, features_a.shape[1], CHANNEL_BLOCK):
         block = slice(start, start + CHANNEL_BLOCK)
-        va, vb = valid_rows(features_a[:, block]), valid_rows(features_b[:, block])
+        va, vb = np.isfinite(features_a[:, block]), np.isfinite(features_b[:, block])
         a, b = np.where(va, features_a[:, block], 0.0), np.where(vb, features_b[:, block], 0.0)
-        fa, fb = spectrum(a, True), spectrum(b, False)
-        cross += np.einsum("sk,sk->s", fa, fb)
+        cross += np.einsum("sk,sk->s", spectrum(a, True), spectrum(b, False))
         if va.all() and vb.all():
             # every feature present: the squares and counts need one transform a side
             energy += spectrum((a * a).sum(axis=1, keepdims=True), True)[:, 0] * ones_b
@@ -173,9 +170,8 @@ def search_offset(
             counts += a.shape[1] * ones_a * ones_b
         else:
             fva, fvb = spectrum(va.astype(np.float64), True), spectrum(vb.astype(np.float64), False)
-            energy += np.einsum("sk,sk->s", spectrum(a * a, True), fvb) + np.einsum(
-                "sk,sk->s", fva, spectrum(b * b, False)
-            )
+            energy += np.einsum("sk,sk->s", spectrum(a * a, True), fvb)
+            energy += np.einsum("sk,sk->s", fva, spectrum(b * b, False))
             counts += np.einsum("sk,sk->s", fva, fvb)
 
     def correlation(spectrum_sum: np.ndarray) -> np.ndarray:
@@ -185,21 +181,42 @@ def search_offset(
 
     squared = correlation(energy) - 2.0 * correlation(cross)
     count = np.rint(correlation(counts))
-    frames_overlap = np.minimum(na, nb - lags) - np.maximum(0, -lags)  # frames of A with a B frame
-    need = max(2.0, min_overlap * min(na, nb))
-    allowed = (frames_overlap >= need) & (count > 0)
-    if not allowed.any():
-        return OffsetSearch(0, float("nan"), None, float("nan"), 0, rate)
+    allowed = (frames_overlap >= max(2.0, min_overlap * min(na, nb))) & (count > 0)
     with np.errstate(invalid="ignore", divide="ignore"):
         score = np.where(allowed, np.maximum(squared, 0.0) / np.maximum(count, 1.0), np.inf)
+    return lags, score, frames_overlap
+
+
+def search_offset(
+    features_a: np.ndarray,
+    features_b: np.ndarray,
+    rate: float,
+    *,
+    min_overlap: float = 0.5,
+    tie_break: tuple[np.ndarray, np.ndarray] | None = None,
+) -> OffsetSearch:
+    """The lag (A's frames) at which B's features (Nb, K) best follow A's (Na, K), both at A's rate.
+
+    :func:`lag_scores`, then the least; lags within :data:`TIE_RELATIVE` of it tie, and of
+    those the one where the ``tie_break`` features (A's (Na, M), B's (Nb, M): e.g. the raw
+    positions) agree best wins, then the one nearest 0. With no lag overlapping enough, the
+    lag is 0 with NaN mismatch.
+    """
+    lags, score, frames_overlap = lag_scores(features_a, features_b, min_overlap=min_overlap)
+    if not np.isfinite(score).any():
+        return OffsetSearch(0, float("nan"), None, float("nan"), 0, rate)
     least = float(score.min())
-    scale = float(np.nanmean(np.where(np.isfinite(features_a), features_a, np.nan) ** 2)) if na else 0.0
+    scale = float(np.nanmean(np.where(np.isfinite(features_a), features_a, np.nan) ** 2))
     tie = least + TIE_RELATIVE * (scale if np.isfinite(scale) else 0.0) + 1e-300
     candidates = np.flatnonzero(score <= tie)
+    if len(candidates) > 1 and tie_break is not None:
+        second = lag_scores(*tie_break, min_overlap=min_overlap)[1][candidates]
+        if np.isfinite(second).any():
+            candidates = candidates[second <= second.min() * (1.0 + 1e-9) + 1e-300]
     best = int(candidates[np.argmin(np.abs(lags[candidates]))])
     far = np.abs(lags - lags[best]) >= max(1.0, SEPARATION_SECONDS * rate)
     runner, runner_score = None, float("nan")
-    if (far & allowed).any():
+    if (far & np.isfinite(score)).any():
         other = int(np.argmin(np.where(far, score, np.inf)))
         runner, runner_score = int(lags[other]), float(np.sqrt(score[other]))
     overlap = int(frames_overlap[best])
@@ -207,13 +224,24 @@ def search_offset(
 
 
 def find_offset_of_tracks(
-    a, b, index_a: np.ndarray, index_b: np.ndarray, rate_b: float, units_scale: float, *, min_overlap: float = 0.5
+    a,
+    b,
+    index_a: np.ndarray,
+    index_b: np.ndarray,
+    rate_b: float,
+    units_scale: float,
+    *,
+    up_rotation: np.ndarray | None = None,
+    min_overlap: float = 0.5,
 ) -> OffsetSearch:
     """:func:`search_offset` on the features of every matched point of two
     :class:`~core.compare.tracks.Track` (module docstring).
 
     index_a, index_b : (J,) the matched points; rate_b : B's rate as compared
-    (:func:`~core.compare.clock.common_rate`); units_scale : A units per B unit.
+    (:func:`~core.compare.clock.common_rate`); units_scale : A units per B unit; up_rotation :
+    (3, 3) B's up axis to A's. Lags the features cannot tell apart (a periodic or uniform
+    motion) are told apart by the points' positions in A's space (units and up axis applied,
+    no fit), then by nearness to 0.
     """
     oriented = a.has_rotation[index_a] & b.has_rotation[index_b]
     turns = a.rotations is not None and b.rotations is not None and bool(oriented.any())
@@ -227,7 +255,11 @@ def find_offset_of_tracks(
     features_b, centroid_b = at_rate(features_b, rate_b, a.frame_rate), at_rate(centroid_b, rate_b, a.frame_rate)
     features_a = np.concatenate([features_a, travel(centroid_a, a.frame_rate, size)], axis=1)
     features_b = np.concatenate([features_b, travel(centroid_b, a.frame_rate, size / units_scale)], axis=1)
-    return search_offset(features_a, features_b, a.frame_rate, min_overlap=min_overlap)
+    turn = units_scale * (np.eye(3) if up_rotation is None else up_rotation)
+    places_a = a.positions[:, index_a].reshape(a.n_frames, -1)
+    places_b = at_rate((b.positions[:, index_b] @ turn.T).reshape(b.n_frames, -1), rate_b, a.frame_rate)
+    tie_break = (places_a / size, places_b / size)
+    return search_offset(features_a, features_b, a.frame_rate, min_overlap=min_overlap, tie_break=tie_break)
 
 
 def find_offset(
