@@ -37,11 +37,11 @@ SPEED_WINDOW = 0.1
 #: the runner-up lag is at least this far (seconds) from the best one
 SEPARATION_SECONDS = 0.25
 #: lags whose mean squared mismatch is within this (relative to the features' mean square,
-#: plus an absolute floor) of the least one tie; the one nearest 0 wins
+#: plus an absolute floor) of the least one tie; the positions, then nearness to 0, decide
 TIE_RELATIVE = 1e-12
 #: feature channels whose rfft are taken at once (bounds the temporaries)
 CHANNEL_BLOCK = 16
-#: frames per block of :func:`motion_features`
+#: frames per block of :func:`pose_features`
 FEATURE_BLOCK = 4096
 
 
@@ -50,7 +50,8 @@ class OffsetSearch:
     """The offset found and how sure it is.
 
     lag : int, the best offset in A's frames (B's time minus A's).
-    mismatch : float, RMS difference of the features at ``lag`` (sizes or radians per second).
+    mismatch : float, RMS difference of the features at ``lag`` (distances in A's sizes, chords,
+        travel in sizes per second: 0 for B a cut of A).
     runner_up : int or None, the best lag at least :data:`SEPARATION_SECONDS` away (None when
         no other lag overlaps enough). runner_up_mismatch : its RMS difference (NaN if none).
     overlap : int, frames of A that overlap B at ``lag``. rate : A's frame rate (Hz).
