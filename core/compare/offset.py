@@ -41,6 +41,11 @@ SEPARATION_SECONDS = 0.25
 TIE_RELATIVE = 1e-12
 #: feature channels whose rfft are taken at once (bounds the temporaries)
 CHANNEL_BLOCK = 16
+#: more complete (gap-free) feature channels than this are projected onto this many fixed
+#: random directions before the FFTs (squared distances are kept on average, Johnson-
+#: Lindenstrauss; identical features stay identical), and the mismatch of the lags kept is
+#: then computed on every channel
+PROJECTED_CHANNELS = 12
 #: frames per block of :func:`pose_features`
 FEATURE_BLOCK = 4096
 
@@ -99,12 +104,16 @@ def pose_features(
     n_oriented = 0 if rotations is None or oriented is None or not len(oriented) else len(oriented)
     features = np.empty((n, len(columns) + n_oriented))
     centroid = np.empty((n, 3))
+    every = len(columns) == positions.shape[1] and bool(np.all(columns == np.arange(len(columns))))
     for start in range(0, n, FEATURE_BLOCK):  # blocks of frames: small temporaries
         rows = slice(start, start + FEATURE_BLOCK)
-        points = positions[rows][:, columns]
-        present = np.isfinite(points).all(axis=-1)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            middle = np.where(present[..., None], points, 0.0).sum(axis=1) / present.sum(axis=1)[:, None]
+        points = positions[rows] if every else positions[rows][:, columns]
+        if np.isfinite(points).all():
+            middle = np.einsum("fjk->fk", points) / points.shape[1]
+        else:  # the centroid of the points present
+            present = np.isfinite(points).all(axis=-1)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                middle = np.where(present[..., None], points, 0.0).sum(axis=1) / present.sum(axis=1)[:, None]
         centroid[rows] = middle
         away = points - middle[:, None]
         features[rows, : len(columns)] = np.sqrt(np.einsum("fjk,fjk->fj", away, away)) / size
@@ -194,16 +203,17 @@ def search_offset(
     rate: float,
     *,
     min_overlap: float = 0.5,
-    tie_break: tuple[np.ndarray, np.ndarray] | None = None,
+    tie_break=None,
 ) -> OffsetSearch:
     """The lag (A's frames) at which B's features (Nb, K) best follow A's (Na, K), both at A's rate.
 
     :func:`lag_scores`, then the least; lags within :data:`TIE_RELATIVE` of it tie, and of
-    those the one where the ``tie_break`` features (A's (Na, M), B's (Nb, M): e.g. the raw
-    positions) agree best wins, then the one nearest 0. With no lag overlapping enough, the
+    those the one where the ``tie_break()`` features (a function returning A's (Na, M) and
+    B's (Nb, M), called only then: e.g. the raw positions) agree best wins, then the one
+    nearest 0. With no lag overlapping enough, the
     lag is 0 with NaN mismatch.
     """
-    lags, score, frames_overlap = lag_scores(features_a, features_b, min_overlap=min_overlap)
+    lags, score, frames_overlap = lag_scores(*_projected(features_a, features_b), min_overlap=min_overlap)
     if not np.isfinite(score).any():
         return OffsetSearch(0, float("nan"), None, float("nan"), 0, rate)
     least = float(score.min())
@@ -211,7 +221,7 @@ def search_offset(
     tie = least + TIE_RELATIVE * (scale if np.isfinite(scale) else 0.0) + 1e-300
     candidates = np.flatnonzero(score <= tie)
     if len(candidates) > 1 and tie_break is not None:
-        second = lag_scores(*tie_break, min_overlap=min_overlap)[1][candidates]
+        second = lag_scores(*_projected(*tie_break()), min_overlap=min_overlap)[1][candidates]
         if np.isfinite(second).any():
             candidates = candidates[second <= second.min() * (1.0 + 1e-9) + 1e-300]
     best = int(candidates[np.argmin(np.abs(lags[candidates]))])
@@ -221,7 +231,30 @@ def search_offset(
         other = int(np.argmin(np.where(far, score, np.inf)))
         runner, runner_score = int(lags[other]), float(np.sqrt(score[other]))
     overlap = int(frames_overlap[best])
-    return OffsetSearch(int(lags[best]), float(np.sqrt(score[best])), runner, runner_score, overlap, rate)
+    mismatch = float(np.sqrt(score[best]))
+    if features_a.shape[1] > PROJECTED_CHANNELS:  # the lags kept, on every channel
+        mismatch = direct_mismatch(features_a, features_b, int(lags[best]))
+        if runner is not None:
+            runner_score = direct_mismatch(features_a, features_b, runner)
+    return OffsetSearch(int(lags[best]), mismatch, runner, runner_score, overlap, rate)
+
+
+def direct_mismatch(features_a: np.ndarray, features_b: np.ndarray, lag: int) -> float:
+    """RMS difference of the features present on both sides at one lag (A's ``i`` with B's ``i + lag``)."""
+    first, stop = max(0, -lag), min(features_a.shape[0], features_b.shape[0] - lag)
+    difference = features_a[first:stop] - features_b[first + lag : stop + lag]
+    present = np.isfinite(difference)
+    return float(np.sqrt(np.mean(difference[present] ** 2))) if present.any() else float("nan")
+
+
+def _projected(features_a: np.ndarray, features_b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Both sides' features (N, K) on :data:`PROJECTED_CHANNELS` fixed random directions when
+    K is larger and no feature is missing (else as they are)."""
+    k = features_a.shape[1]
+    if k <= PROJECTED_CHANNELS or not (np.isfinite(features_a).all() and np.isfinite(features_b).all()):
+        return features_a, features_b
+    directions = np.random.default_rng(k).normal(size=(k, PROJECTED_CHANNELS)) / np.sqrt(PROJECTED_CHANNELS)
+    return features_a @ directions, features_b @ directions
 
 
 def find_offset_of_tracks(
@@ -257,9 +290,12 @@ def find_offset_of_tracks(
     features_a = np.concatenate([features_a, travel(centroid_a, a.frame_rate, size)], axis=1)
     features_b = np.concatenate([features_b, travel(centroid_b, a.frame_rate, size / units_scale)], axis=1)
     turn = units_scale * (np.eye(3) if up_rotation is None else up_rotation)
-    places_a = a.positions[:, index_a].reshape(a.n_frames, -1)
-    places_b = at_rate((b.positions[:, index_b] @ turn.T).reshape(b.n_frames, -1), rate_b, a.frame_rate)
-    tie_break = (places_a / size, places_b / size)
+
+    def tie_break() -> tuple[np.ndarray, np.ndarray]:
+        places_a = a.positions[:, index_a].reshape(a.n_frames, -1)
+        places_b = at_rate((b.positions[:, index_b] @ turn.T).reshape(b.n_frames, -1), rate_b, a.frame_rate)
+        return places_a / size, places_b / size
+
     return search_offset(features_a, features_b, a.frame_rate, min_overlap=min_overlap, tie_break=tie_break)
 
 
