@@ -230,4 +230,3 @@ def test_the_long_take_in_memory():
     result = compare_motions(motion, trimmed)
     assert result.alignment.offset_found and result.alignment.offset_frames == -7
     assert np.nanmax(result.position_error) <= TOLERANCE * motion.size
-
