@@ -168,8 +168,13 @@ def lag_scores(
     cross = np.zeros(size // 2 + 1, dtype=np.complex128)
     energy = np.zeros(size // 2 + 1, dtype=np.complex128)
     counts = np.zeros(size // 2 + 1, dtype=np.complex128)
-    for start in range(0, features_a.shape[1], CHANNEL_BLOCK):
-        block = slice(start, start + CHANNEL_BLOCK)
+    complete = np.isfinite(features_a).all(axis=0) & np.isfinite(features_b).all(axis=0)
+    order = np.concatenate([np.flatnonzero(complete), np.flatnonzero(~complete)])
+    n_complete = int(complete.sum())
+    # blocks of complete channels first (one transform of their squares a side), then the others
+    starts = [*range(0, n_complete, CHANNEL_BLOCK), *range(n_complete, len(order), CHANNEL_BLOCK)]
+    for start in starts:
+        block = order[start : min(start + CHANNEL_BLOCK, n_complete if start < n_complete else len(order))]
         va, vb = np.isfinite(features_a[:, block]), np.isfinite(features_b[:, block])
         a, b = np.where(va, features_a[:, block], 0.0), np.where(vb, features_b[:, block], 0.0)
         cross += np.einsum("sk,sk->s", spectrum(a, True), spectrum(b, False))
@@ -248,13 +253,19 @@ def direct_mismatch(features_a: np.ndarray, features_b: np.ndarray, lag: int) ->
 
 
 def _projected(features_a: np.ndarray, features_b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Both sides' features (N, K) on :data:`PROJECTED_CHANNELS` fixed random directions when
-    K is larger and no feature is missing (else as they are)."""
-    k = features_a.shape[1]
-    if k <= PROJECTED_CHANNELS or not (np.isfinite(features_a).all() and np.isfinite(features_b).all()):
+    """Both sides' features (N, K): the channels complete on both sides (no NaN) projected
+    onto :data:`PROJECTED_CHANNELS` fixed random directions when there are more of them, the
+    others kept as they are (a channel with gaps needs its own counts)."""
+    complete = np.isfinite(features_a).all(axis=0) & np.isfinite(features_b).all(axis=0)
+    k = int(complete.sum())
+    if k <= PROJECTED_CHANNELS:
         return features_a, features_b
     directions = np.random.default_rng(k).normal(size=(k, PROJECTED_CHANNELS)) / np.sqrt(PROJECTED_CHANNELS)
-    return features_a @ directions, features_b @ directions
+    rest = ~complete
+    return (
+        np.concatenate([features_a[:, complete] @ directions, features_a[:, rest]], axis=1),
+        np.concatenate([features_b[:, complete] @ directions, features_b[:, rest]], axis=1),
+    )
 
 
 def find_offset_of_tracks(
