@@ -4,24 +4,32 @@ Every function is vectorised over frames and returns frames first. A :class:`Cur
 block of named columns ``(F, C)`` in one unit; columns are named ``JOINT.QUANTITY.AXIS``
 (``LeftKnee.euler.Z``) or ``JOINT.QUANTITY`` for scalars (``LeftKnee.speed``).
 
-Quantities (:data:`QUANTITIES`):
+Quantities (:data:`QUANTITIES`): a joint's rotation comes in two conventions, and each has
+its own name (the dock, ``gmr curves``, their CSV and the inspector use these names):
 
-- ``euler``: the joint's local rotation ``R_j`` as Euler angles in its own channel order
-  (the letters of ``Motion.rotation_orders[j]``, read as in :mod:`core.rotations`), degrees,
-  continuous over time (:func:`continuous_euler`: the Euler branch that continues the
-  previous frame, jumps of 360 removed). On a BVH motion read
-  in its own convention these are the file's channels; on a GMR motion, the GMR rotation
-  (which :func:`core.convert.pre_from_post` gives its parent's BVH channels and order).
-- ``angle``: the rotation angle of ``R_j`` (degrees, 0 to 180).
-- ``quaternion``: ``R_j`` as ``w, x, y, z`` with signs kept continuous over frames.
+- ``channels``: the joint's own rotation channels **as the file has them** (degrees, one
+  column per channel, labelled as the file labels it): a BVH joint's ``CHANNELS`` rotations
+  (the rotation of the bones leaving it; an End Site has none), an AMC bone's rotation dofs in
+  its ASF axis frame (``lradius.channels.rx`` alone for CMU's one-axis elbow), a GMR file's
+  channels (its GMR rotation). The file's values as written when they still make the
+  motion's rotation (:class:`core.channels.FileChannels`); otherwise (an edit changed it, or
+  no file said) the same columns computed from the motion, continuous over time.
+  ``euler`` is an alias of ``channels`` (what ``gmr curves --quantity euler`` always gave).
+- ``gmr-euler``: the **GMR rotation** ``R_j`` (the rotation of the bone that ends at the
+  joint; on a BVH the parent's channels) as Euler angles in the GMR joint's order (the
+  parent's BVH order), degrees, continuous (:func:`continuous_euler`).
+- ``angle``: the rotation angle of the GMR rotation (degrees, 0 to 180).
+- ``quaternion``: the GMR rotation as ``w, x, y, z`` with signs kept continuous over frames.
 - ``local-pre``: the local translation as GMR composes it, ``R_j t_j`` (``[R, R t]``);
   ``local-post``: as BVH does, ``t_j`` (``[R, t]``). For a root both are its world
-  position ``G``. On a BVH motion ``R_j`` is the GMR one, i.e. the parent's BVH rotation
-  (``t`` is the same in both forms).
+  position ``G``.
 - ``world``: the world position (forward kinematics), file units.
 - ``speed``: the norm of the world velocity, units per second; ``acceleration``: the norm of
   the world acceleration, units per second squared. Derivatives are central differences
   over time (one-sided at the ends), via ``numpy.gradient``.
+
+Every quantity is the same whichever convention the motion is held in (a BVH read as it is
+by ``gmr curves``, or converted to GMR by the app). Times are :mod:`core.clock`'s.
 
 Markers: :func:`marker_curves` gives a marker's coordinates with NaN in its gaps and
 :func:`gap_spans` the gaps as frame ranges (for shading).
@@ -30,21 +38,45 @@ Markers: :func:`marker_curves` gives a marker's coordinates with NaN in its gaps
 from __future__ import annotations
 
 import dataclasses
+import weakref
 
 import numpy as np
 
+from gmr_studio.core.channels import FileChannels
+from gmr_studio.core.clock import frame_seconds
+from gmr_studio.core.convert import DEFAULT_ORDER
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.kinematics import joint_world_transform
 from gmr_studio.core.motion import Motion
 from gmr_studio.core.quaternions import continuous_quaternions, quaternion_from_matrix
 from gmr_studio.core.rotations import complete_order, euler_from_matrix, rotation_angle
 
-QUANTITIES = ("euler", "angle", "quaternion", "local-pre", "local-post", "world", "speed", "acceleration")
+QUANTITIES = (
+    "channels",
+    "gmr-euler",
+    "angle",
+    "quaternion",
+    "local-pre",
+    "local-post",
+    "world",
+    "speed",
+    "acceleration",
+)
+#: other names accepted for a quantity (documented; each means exactly one quantity)
+ALIASES = {"euler": "channels"}
+#: children whose GMR rotations differ by less than this (max abs entry) share one BVH rotation
+SHARED_TOLERANCE = 1e-12
+#: a file's channel values are shown when the rotation they make is within this (max abs
+#: entry, every frame) of the motion's
+FILE_MATCH_TOLERANCE = 1e-9
+#: curves of live motions (:func:`values_at`)
+_CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 #: radians: the Euler branch may change only where the middle angle is beyond this, on the way
 #: through 90 degrees (:func:`continuous_euler`)
 EULER_BRANCH_MIDDLE = np.radians(60.0)
 UNITS = {
-    "euler": "deg",
+    "channels": "deg",
+    "gmr-euler": "deg",
     "angle": "deg",
     "quaternion": "",
     "local-pre": "units",
@@ -159,16 +191,91 @@ def world_acceleration(positions: np.ndarray, frame_time: float) -> np.ndarray:
     return np.linalg.norm(derivative(derivative(positions, frame_time), frame_time), axis=-1)
 
 
-def joint_curves(motion: Motion, joint: int | str, quantity: str, positions: np.ndarray | None = None) -> Curves:
+def quantity_name(quantity: str) -> str:
+    """The quantity a name or alias means (:data:`ALIASES`); OperationError for none."""
+    name = ALIASES.get(quantity, quantity)
+    if name not in QUANTITIES:
+        known = ", ".join((*QUANTITIES, *ALIASES))
+        raise OperationError(f"unknown quantity {quantity!r}: expected one of {known}")
+    return name
+
+
+def gmr_rotations(motion: Motion, joint: int) -> tuple[np.ndarray, str]:
+    """(F, 3, 3) a joint's GMR rotation (the bone ending at it) and its GMR Euler order, in
+    either convention: a post motion's joint takes its parent's rotation and order (a root
+    the identity), as :func:`core.convert.pre_from_post` gives it."""
+    if motion.convention == "pre":
+        return motion.rotations[:, joint], motion.rotation_orders[joint]
+    parent = int(motion.parents[joint])
+    if parent < 0:
+        identity = np.broadcast_to(np.eye(3), (motion.n_frames, 3, 3))
+        return identity, motion.rotation_orders[joint] or DEFAULT_ORDER
+    return motion.rotations[:, parent], motion.rotation_orders[parent] or DEFAULT_ORDER
+
+
+def bvh_rotations(motion: Motion, joint: int) -> np.ndarray | None:
+    """(F, 3, 3) a joint's BVH rotation (the bones leaving it), in either convention; None
+    for a leaf and where its GMR children turn independently (a BVH needs dummy joints)."""
+    if motion.convention == "post":
+        return motion.rotations[:, joint] if motion.rotation_orders[joint] else None
+    children = list(motion.children[joint])
+    if not children:
+        return None
+    first = motion.rotations[:, children[0]]
+    for child in children[1:]:
+        if np.abs(motion.rotations[:, child] - first).max(initial=0.0) > SHARED_TOLERANCE:
+            return None
+    return motion.rotations[:, joint] @ first if motion.parents[joint] < 0 else first
+
+
+def channel_curves(motion: Motion, joint: int, file_channels: FileChannels | None = None) -> Curves:
+    """The ``channels`` quantity of one joint (module docstring): ``(F, k)`` degrees."""
+    name = motion.names[joint]
+    if file_channels is None:  # the motion's own channels (a GMR file, a motion made in memory)
+        order = motion.rotation_orders[joint]
+        labels = tuple(f"{axis}rotation" for axis in order)
+        values = euler_degrees(motion.rotations[:, joint], order) if order else np.zeros((motion.n_frames, 0))
+        return Curves(tuple(f"{name}.channels.{label}" for label in labels), values, UNITS["channels"])
+    labels = file_channels.label_of(name)
+    columns = tuple(f"{name}.channels.{label}" for label in labels)
+    if not labels:  # the file gives this joint no rotation channels (an End Site)
+        return Curves(columns, np.zeros((motion.n_frames, 0)), UNITS["channels"])
+    if file_channels.convention == "post":
+        rotations = bvh_rotations(motion, joint)
+    else:
+        rotations = motion.rotations[:, joint] if motion.convention == "pre" else gmr_rotations(motion, joint)[0]
+    written = file_channels.angles[name]
+    if rotations is None:
+        if not motion.children[joint] and written.shape[0] == motion.n_frames:
+            # a leaf's channels turn nothing (GMR keeps no rotation for them): the file's stand
+            return Curves(columns, np.array(written), UNITS["channels"])
+        # children turning independently: no single rotation to give
+        return Curves(columns, np.full((motion.n_frames, len(labels)), np.nan), UNITS["channels"])
+    if written.shape[0] == motion.n_frames and (
+        not len(written) or np.abs(file_channels.rotations(name) - rotations).max() <= FILE_MATCH_TOLERANCE
+    ):
+        return Curves(columns, np.array(written), UNITS["channels"])
+    return Curves(columns, file_channels.angles_from(name, rotations, euler_degrees), UNITS["channels"])
+
+
+def joint_curves(
+    motion: Motion,
+    joint: int | str,
+    quantity: str,
+    positions: np.ndarray | None = None,
+    file_channels: FileChannels | None = None,
+) -> Curves:
     """One quantity of one joint over every frame.
 
     Parameters
     ----------
-    motion : any motion (its own convention; see the module docstring for ``euler``).
+    motion : any motion, in either convention (every quantity means the same in both).
     joint : name or index.
-    quantity : one of :data:`QUANTITIES`.
+    quantity : one of :data:`QUANTITIES` or an alias (:data:`ALIASES`).
     positions : optional (F, J, 3) world positions already computed (the app's cache);
         otherwise the joint's root path is walked.
+    file_channels : the channels of the file the motion was read from
+        (:func:`core.formats.read_motion_with_channels`), for ``channels``.
 
     Raises
     ------
@@ -176,16 +283,16 @@ def joint_curves(motion: Motion, joint: int | str, quantity: str, positions: np.
     """
     j = motion.joint_index(joint)
     name = motion.names[j]
-    if quantity not in QUANTITIES:
-        raise OperationError(f"unknown quantity {quantity!r}: expected one of {', '.join(QUANTITIES)}")
+    quantity = quantity_name(quantity)
     unit = UNITS[quantity]
-    rotations = motion.rotations[:, j]
-    if quantity == "euler":
-        order = motion.rotation_orders[j]
-        return Curves(tuple(f"{name}.euler.{axis}" for axis in order), euler_degrees(rotations, order), unit)
-    if quantity == "angle":
-        return Curves((f"{name}.angle",), np.degrees(rotation_angle(rotations))[:, None], unit)
-    if quantity == "quaternion":
+    if quantity == "channels":
+        return channel_curves(motion, j, file_channels)
+    if quantity in ("gmr-euler", "angle", "quaternion"):
+        rotations, order = gmr_rotations(motion, j)
+        if quantity == "gmr-euler":
+            return Curves(tuple(f"{name}.gmr-euler.{axis}" for axis in order), euler_degrees(rotations, order), unit)
+        if quantity == "angle":
+            return Curves((f"{name}.angle",), np.degrees(rotation_angle(rotations))[:, None], unit)
         values = continuous_quaternions(quaternion_from_matrix(rotations))
         return Curves(tuple(f"{name}.quaternion.{c}" for c in "wxyz"), values, unit)
     if quantity in ("local-pre", "local-post"):
@@ -197,6 +304,28 @@ def joint_curves(motion: Motion, joint: int | str, quantity: str, positions: np.
     if quantity == "speed":
         return Curves((f"{name}.speed",), world_speed(world, motion.frame_time)[:, None], unit)
     return Curves((f"{name}.acceleration",), world_acceleration(world, motion.frame_time)[:, None], unit)
+
+
+def values_at(
+    motion: Motion,
+    joint: int | str,
+    quantity: str,
+    frame: int,
+    positions: np.ndarray | None = None,
+    file_channels: FileChannels | None = None,
+) -> tuple[tuple[str, ...], np.ndarray]:
+    """(columns, (C,) values) of :func:`joint_curves` at one frame: the inspector's numbers.
+
+    The curves of a motion are computed once (continuity needs every frame) and kept while
+    the motion lives (a weak cache keyed by the motion).
+    """
+    j = motion.joint_index(joint)
+    key = (j, quantity_name(quantity), id(file_channels))
+    cache = _CACHE.setdefault(motion, {})
+    if key not in cache:
+        cache[key] = (joint_curves(motion, j, quantity, positions, file_channels), file_channels)
+    curves = cache[key][0]
+    return curves.columns, curves.values[frame]
 
 
 def marker_curves(label: str, positions: np.ndarray) -> Curves:
@@ -213,5 +342,5 @@ def gap_spans(positions: np.ndarray) -> np.ndarray:
 
 
 def frame_times(frames: np.ndarray, frame_time: float) -> np.ndarray:
-    """Seconds of 0-based frame numbers: (F,) -> (F,)."""
-    return np.asarray(frames, dtype=np.float64) * frame_time
+    """Seconds of 0-based frame numbers: (F,) -> (F,) (:func:`core.clock.frame_seconds`)."""
+    return frame_seconds(np.asarray(frames), frame_time)

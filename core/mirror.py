@@ -5,10 +5,19 @@ order on each name:
 
 - strict (a name that fits one without a partner is *reported*): ``Left*``/``Right*``
   (after an optional ``namespace:``, e.g. ``mixamorig:LeftArm``), ``*_L``/``*_R``,
-  ``*.L``/``*.R`` (either case of the letter);
+  ``*.L``/``*.R``, and the same letters between separators, ``*_L_*``/``*.L.*`` (an end
+  site ``Hand_L_End``) (either case of the letter);
 - loose (a name that fits one without a partner is taken as central, since ``lowerback``
   and ``LowerBack`` are no side): ``l*``/``r*`` followed by a lower-case letter, as in CMU
   ASF (``lfemur``), and ``L*``/``R*`` followed by an upper-case letter (``LHipJoint``).
+
+With the parents given, a joint left central whose name is its parent's followed by more
+(an End Site named ``<parent>_End`` or ``<parent>End`` under a sided parent) takes the
+partner named the same way under the parent's partner. Mirror keeps the skeleton: the
+partners of two joints linked by a bone (or a soft link) must be linked too, either way
+round, bone or soft link (a forest rooted at the left foot mirrors to one rooted at the
+right foot, a split at the right arm to one at the left arm), else
+:func:`mirror` refuses, naming the bone, rather than move a joint to another parent.
 
 The sagittal plane is perpendicular to the *lateral axis*: the world axis (X, Y or Z) most
 aligned with the mean left-minus-right vector of the partners in the rest pose; it passes
@@ -40,6 +49,10 @@ SIDE_RULES: tuple[tuple[re.Pattern[str], str, str, bool], ...] = (
     (re.compile(r"^(.+_)(l|r)()$"), "l", "r", True),
     (re.compile(r"^(.+\.)(L|R)()$"), "L", "R", True),
     (re.compile(r"^(.+\.)(l|r)()$"), "l", "r", True),
+    (re.compile(r"^(.+_)(L|R)(_.+)$"), "L", "R", True),
+    (re.compile(r"^(.+_)(l|r)(_.+)$"), "l", "r", True),
+    (re.compile(r"^(.+\.)(L|R)(\..+)$"), "L", "R", True),
+    (re.compile(r"^(.+\.)(l|r)(\..+)$"), "l", "r", True),
     (re.compile(r"^()(l|r)([a-z].*)$"), "l", "r", False),
     (re.compile(r"^()(L|R)([A-Z].*)$"), "L", "R", False),
 )
@@ -61,8 +74,9 @@ class SidePairs:
     unmatched: tuple[str, ...]
 
 
-def side_partners(names: tuple[str, ...] | list[str]) -> SidePairs:
-    """Partners of each name under :data:`SIDE_RULES` (see the module docstring)."""
+def side_partners(names: tuple[str, ...] | list[str], parents: np.ndarray | None = None) -> SidePairs:
+    """Partners of each name under :data:`SIDE_RULES`, and with ``parents`` (J,) the
+    children named after a sided parent (see the module docstring)."""
     index = {name: j for j, name in enumerate(names)}
     partner = np.arange(len(names), dtype=np.int64)
     pairs: list[tuple[int, int]] = []
@@ -82,7 +96,31 @@ def side_partners(names: tuple[str, ...] | list[str]) -> SidePairs:
             if strict:
                 unmatched.append(name)
                 break
+    if parents is not None:
+        for j in _parents_first(parents):
+            p = int(parents[j])
+            if partner[j] != j or p < 0 or partner[p] == p or not names[j].startswith(names[p]):
+                continue
+            other = index.get(names[partner[p]] + names[j][len(names[p]) :])
+            if other is not None and other != j and partner[other] == other:
+                partner[j], partner[other] = other, j
+                left = p in {int(a) for a, _ in pairs}
+                pairs.append((j, other) if left else (other, j))
+                for name in (names[j], names[other]):
+                    if name in unmatched:
+                        unmatched.remove(name)
     return SidePairs(partner, np.array(pairs, dtype=np.int64).reshape(-1, 2), tuple(unmatched))
+
+
+def _parents_first(parents: np.ndarray) -> list[int]:
+    """Joint indices, every joint after its parent."""
+    depth = np.zeros(len(parents), np.int64)
+    for _ in range(len(parents)):
+        deeper = np.where(parents >= 0, depth[np.maximum(parents, 0)] + 1, 0)
+        if np.array_equal(deeper, depth):
+            break
+        depth = deeper
+    return [int(j) for j in np.argsort(depth, kind="stable")]
 
 
 def lateral_axis(motion: Motion, pairs: np.ndarray) -> int:
@@ -102,9 +140,20 @@ def mirror(motion: Motion) -> tuple[Motion, tuple[str, ...]]:
 
     Raises OperationError when no joints pair up.
     """
-    sides = side_partners(motion.names)
+    sides = side_partners(motion.names, motion.parents)
     axis = lateral_axis(motion, sides.pairs)
     sigma = sides.partner
+    links = [(j, int(p)) for j, p in enumerate(motion.parents) if p >= 0]
+    links += [(j, int(p)) for j, p in enumerate(motion.soft_parents) if p >= 0]
+    edges = {(min(j, p), max(j, p)) for j, p in links}  # bones and soft links, either way round
+    for j, p in links:
+        a, b = int(sigma[j]), int(sigma[p])
+        if (min(a, b), max(a, b)) not in edges:
+            raise OperationError(
+                f"mirror would change the skeleton: the link {motion.names[p]!r} - {motion.names[j]!r} "
+                f"would become {motion.names[b]!r} - {motion.names[a]!r}, which the skeleton does not have; "
+                "rename the joints so that left and right sides pair up"
+            )
     first = world_positions(motion.frame_slice(slice(0, 1)))[0] if motion.n_frames else np.zeros((1, 3))
     centre = float(first[:, axis].mean())
     flip = np.ones(3)

@@ -9,6 +9,9 @@ name                   what it covers
 ``metres``             Y-up, metres: the humanoid (27 joints) walking 5 m along +Z
 ``origin_root``        a ``Root`` joint held at the world origin above the hips, which
                        carry the walk (game and dataset exports)
+``game_root``          as ``origin_root`` with a game rig's names: ``UpperArm_L``, ``Hand_R``,
+                       End Sites named ``<parent>_End`` (``Hand_L_End``, ``Toes_R_End``),
+                       as a BVH holds them (no channels)
 ``z_up_millimetres``   the walk in Z-up millimetres
 ``t_pose``             one frame: the rest pose, arms out
 ``six_channels``       translation and rotation channels on every joint
@@ -156,6 +159,41 @@ def origin_root() -> Motion:
     return motion.replace(translations=translations)
 
 
+#: the humanoid's names as a game exporter spells them (``<bone>_L`` / ``_R``)
+GAME_NAMES = {
+    "Spine1": "Spine2",
+    "Shoulder": "Shoulder",
+    "Arm": "UpperArm",
+    "ForeArm": "LowerArm",
+    "Hand": "Hand",
+    "UpLeg": "UpperLeg",
+    "Leg": "LowerLeg",
+    "Foot": "Foot",
+    "Toe": "Toes",
+}
+
+
+def game_name(name: str) -> str:
+    """``LeftForeArm`` -> ``LowerArm_L``, ``RightToeEnd`` -> ``Toes_R_End``, ``HeadEnd`` -> ``Head_End``."""
+    end = name.endswith("End")
+    stem = name[:-3] if end else name
+    for side in ("Left", "Right"):
+        if stem.startswith(side):
+            stem = f"{GAME_NAMES[stem[len(side) :]]}_{side[0]}"
+            break
+    else:
+        stem = GAME_NAMES.get(stem, stem)
+    return f"{stem}_End" if end else stem
+
+
+def game_root() -> Motion:
+    """:func:`origin_root` named as a game rig, its end joints BVH End Sites (no channels)."""
+    motion = origin_root()
+    names = tuple(game_name(n) for n in motion.names)
+    orders = tuple("" if n.endswith("_End") else o for n, o in zip(names, motion.rotation_orders))
+    return motion.replace(names=names, rotation_orders=orders)
+
+
 def z_up_millimetres() -> Motion:
     """The walk turned Z-up (world ``(x, y, z) -> (x, -z, y)``) and scaled to millimetres."""
     motion = walk()
@@ -189,6 +227,7 @@ def one_joint() -> Motion:
 RIGS: dict[str, Callable[[], Motion]] = {
     "metres": walk,
     "origin_root": origin_root,
+    "game_root": game_root,
     "z_up_millimetres": z_up_millimetres,
     "t_pose": t_pose,
     "six_channels": six_channels,

@@ -20,6 +20,8 @@ independent oracle in the tests.
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
 AXIS_LETTERS = "XYZ"
@@ -188,3 +190,30 @@ def orthonormalize(matrices: np.ndarray, iterations: int = 2) -> np.ndarray:
         gram = np.swapaxes(out, -1, -2) @ out
         out = out @ (1.5 * np.eye(3) - 0.5 * gram)
     return out
+
+
+def axis_permutations() -> list[np.ndarray]:
+    """The 24 proper rotations that permute the coordinate axes (with signs), (3, 3) each."""
+    out = []
+    for perm in itertools.permutations(range(3)):
+        for signs in itertools.product((1.0, -1.0), repeat=3):
+            matrix = np.zeros((3, 3))
+            matrix[range(3), perm] = signs
+            if np.linalg.det(matrix) > 0:
+                out.append(matrix)
+    return out
+
+
+def angle_axis_degrees(rotation: np.ndarray) -> tuple[float, np.ndarray]:
+    """(degrees, unit axis (3,)) of one (3, 3) rotation; the axis is +Y for no turn, and for
+    a half turn the column of ``R + I`` of largest norm."""
+    angle = float(np.degrees(rotation_angle(rotation)))
+    axis = np.array([rotation[2, 1] - rotation[1, 2], rotation[0, 2] - rotation[2, 0], rotation[1, 0] - rotation[0, 1]])
+    norm = float(np.linalg.norm(axis))
+    if norm < 1e-12:
+        if angle < 90.0:
+            return 0.0, np.array([0.0, 1.0, 0.0])
+        both = rotation + np.eye(3)
+        column = both[:, int(np.argmax(np.linalg.norm(both, axis=0)))]
+        return angle, column / np.linalg.norm(column)
+    return angle, axis / norm

@@ -38,7 +38,7 @@ MUTATIONS = [
     ),
     (
         "fit_rigid RMS over all K points",
-        "core/markers/procrustes.py",
+        "core/fit.py",
         "rms = np.sqrt(error.sum(axis=-1) / safe[..., 0])",
         "rms = np.sqrt(error.sum(axis=-1) / points.shape[-2])",
         ["tests/test_procrustes.py"],

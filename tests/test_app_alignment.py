@@ -9,15 +9,19 @@ from scipy.spatial.transform import Rotation
 from gmr_studio.app.model.alignment import (
     MarkerAlignment,
     auto_alignment,
-    axis_rotations,
     detect_up_axis,
     markers_on_motion_frames,
-    rotation_about,
     similarity_fit,
 )
 from gmr_studio.core.demo import demo_markers, demo_motion
 from gmr_studio.core.kinematics import world_positions
 from gmr_studio.core.markers.markerset import Y_UP_TO_Z_UP
+from gmr_studio.core.rotations import axis_permutations, rotation_about_axis
+
+
+def turn(axis: int, degrees: float) -> np.ndarray:
+    """(3, 3) rotation by ``degrees`` about coordinate axis 0, 1 or 2 (core.rotations)."""
+    return rotation_about_axis("XYZ"[axis], np.radians(degrees))
 
 
 @pytest.fixture(scope="module")
@@ -33,7 +37,7 @@ def test_up_axis_of_y_up_and_z_up_figures(walk):
 
 
 def test_axis_rotations_are_the_24_proper_permutations():
-    rotations = axis_rotations()
+    rotations = axis_permutations()
     assert len(rotations) == 24
     assert len({tuple(r.ravel()) for r in rotations}) == 24
     for r in rotations:
@@ -74,7 +78,7 @@ def test_without_names_units_up_axis_and_heading_are_found(walk):
 
 def test_a_turned_lab_is_turned_back(walk):
     motion, positions, markers = walk
-    turned = markers.transformed(rotation_about(2, 90.0))  # the lab's heading differs by 90 degrees
+    turned = markers.transformed(turn(2, 90.0))  # the lab's heading differs by 90 degrees
     anonymous = tuple(f"M{i}" for i in range(markers.n_markers))
     alignment = auto_alignment(turned.positions, anonymous, positions, motion.names, "mm")
     moved = alignment.apply(turned.positions[:, : motion.n_joints])
@@ -82,7 +86,7 @@ def test_a_turned_lab_is_turned_back(walk):
 
 
 def test_apply_keeps_gaps_and_frame_shift():
-    alignment = MarkerAlignment(rotation=rotation_about(1, 90), scale=2.0, offset=np.array([1.0, 0, 0]))
+    alignment = MarkerAlignment(rotation=turn(1, 90), scale=2.0, offset=np.array([1.0, 0, 0]))
     np.testing.assert_allclose(alignment.apply(np.array([1.0, 0, 0])), [1, 0, -2], atol=1e-12)
     assert np.isnan(alignment.apply(np.array([np.nan, np.nan, np.nan]))).all()
     positions = np.arange(4 * 1 * 3, dtype=float).reshape(4, 1, 3)

@@ -7,16 +7,22 @@ import numpy as np
 import pytest
 
 from gmr_studio.app.dialogs.alignment_dialog import PIVOT_COLOR, AlignmentDialog
-from gmr_studio.app.model.alignment import MarkerAlignment, figure_centre_joint, rotation_about, turned_about
+from gmr_studio.app.model.alignment import MarkerAlignment, figure_centre_joint, turned_about
 from gmr_studio.core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
+from gmr_studio.core.rotations import rotation_about_axis
 from tests import app_fixtures
 from tests.app_fixtures import open_file, screen_image
 
 studio = app_fixtures.studio
 
 
+def turn(axis: int, degrees: float) -> np.ndarray:
+    """(3, 3) rotation by ``degrees`` about coordinate axis 0, 1 or 2 (core.rotations)."""
+    return rotation_about_axis("XYZ"[axis], np.radians(degrees))
+
+
 def test_a_turn_keeps_the_pivot_and_the_distances_to_it(rng):
-    alignment = MarkerAlignment(rotation=rotation_about(2, 90.0), scale=0.01, offset=np.array([3.0, -1.0, 2.0]))
+    alignment = MarkerAlignment(rotation=turn(2, 90.0), scale=0.01, offset=np.array([3.0, -1.0, 2.0]))
     pivot = np.array([10.0, 4.0, -7.0])
     points = rng.normal(size=(50, 3)) * 100
     for axis in (1, 2):
@@ -27,7 +33,7 @@ def test_a_turn_keeps_the_pivot_and_the_distances_to_it(rng):
         )
         # along the up axis nothing moves; across it, a quarter turn about the pivot
         np.testing.assert_allclose(after[:, axis], before[:, axis], atol=1e-12)
-        np.testing.assert_allclose(after - pivot, (before - pivot) @ rotation_about(axis, 90.0).T, atol=1e-10)
+        np.testing.assert_allclose(after - pivot, (before - pivot) @ turn(axis, 90.0).T, atol=1e-10)
         # the marker that sits on the pivot stays there
         on_pivot = np.linalg.solve(alignment.scale * alignment.rotation, pivot - alignment.offset)
         np.testing.assert_allclose(turned.apply(on_pivot), pivot, atol=1e-10)

@@ -72,8 +72,8 @@ def walk(qtbot, studio):
 
 def test_the_dock_plots_the_selected_joints_quantity_and_pins(walk):
     dock, state = walk.curves, walk.state
-    expected = joint_curves(state.motion, "lfemur", "euler")
-    assert dock.plot.columns == expected.columns == ("lfemur.euler.Z", "lfemur.euler.Y", "lfemur.euler.X")
+    expected = joint_curves(state.motion, "lfemur", "channels", file_channels=state.file_channels)
+    assert dock.plot.columns == expected.columns == ("lfemur.channels.rx", "lfemur.channels.ry", "lfemur.channels.rz")
     np.testing.assert_array_equal(dock.plot.values, expected.values)
     dock.pin_selected()
     state.select(state.motion.joint_index("rfemur"))

@@ -42,6 +42,17 @@ def test_bvh_against_amc_table_json_csv_plot(capsys, tmp_path):
     table = np.genfromtxt(out_csv, delimiter=",", skip_header=1)
     assert table.shape == (document["frames"], 3 + 2 * len(rows))
     assert np.isnan(table[0, 2]) and np.nanmean(table[:, 3 : 3 + len(rows)]) == pytest.approx(document["mpjpe"])
+    # what was compared, and where the worst errors are, as the CSV has them (frame 0 has no B)
+    errors = table[:, 3 : 3 + len(rows)]
+    assert document["compared"] == int(np.isfinite(errors).sum()) == (document["frames"] - 1) * len(rows)
+    worst_row, worst_joint = np.unravel_index(np.nanargmax(errors), errors.shape)
+    assert (
+        document["max"]["frame"] == int(table[worst_row, 0])
+        and document["max"]["joint"] == document["joints"][worst_joint]["name"]
+    )
+    for j, joint in enumerate(document["joints"]):
+        assert joint["max_frame"] == int(table[np.nanargmax(errors[:, j]), 0])
+        assert joint["max"] == pytest.approx(np.nanmax(errors[:, j]), rel=1e-8)
     assert out_png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out_png.stat().st_size > 20_000
 
 

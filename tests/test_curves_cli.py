@@ -36,7 +36,8 @@ def test_euler_csv_has_the_issues_layout_and_the_files_channels(capsys, tmp_path
     )
     assert code == 0 and "6 columns x 10 frames" in stdout
     header, table = read_csv(out)
-    assert header == ["frame", "time", *(f"{j}.euler.{a}" for j in ("LeftLeg", "Hips") for a in "ZYX")]
+    rotations = ("Zrotation", "Yrotation", "Xrotation")
+    assert header == ["frame", "time", *(f"{j}.channels.{a}" for j in ("LeftLeg", "Hips") for a in rotations)]
     np.testing.assert_array_equal(table[:, 0], np.arange(10, 20))
     np.testing.assert_allclose(table[:, 1], np.arange(10, 20) * 0.0083333, rtol=1e-9)
     channels = bvh_channels(path)

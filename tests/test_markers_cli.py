@@ -144,7 +144,7 @@ def test_truth_amc_is_frame_for_frame(capsys, tmp_path):
 def test_truth_bvh_is_put_on_the_markers_clock(capsys, tmp_path):
     """01_01.bvh has a T-pose frame more than the C3D: the offset +1 is found, MPJPE printed."""
     report, rows = _truth_rows(capsys, tmp_path, "01_01.bvh", "01_01.bvh")
-    assert report["truth"].startswith("truth frame = marker frame +1 (found from the root speeds); 38 joints")
+    assert report["truth"].startswith("truth frame = marker frame +1 (found from the whole body); 38 joints")
     written = load_gmr(tmp_path / "out.gmr")
     truth = load_gmr(shared_path(CMU01 + "01_01.bvh"))  # as the command reads it
     printed = np.array([rows[name]["position_error"] for name in written.names])

@@ -62,7 +62,7 @@ def test_size_is_the_actors_height_whatever_the_units_and_the_root(rigs):
 
 def test_only_the_pinned_root_is_an_anchor(rigs):
     for name, motion in rigs.items():
-        expected = [0] if name == "origin_root" else []
+        expected = [0] if name in ("origin_root", "game_root") else []
         assert np.flatnonzero(motion.anchors).tolist() == expected, name
 
 

@@ -30,14 +30,18 @@ from gmr_studio.app.docks.timeplot import PALETTE, TimePlot
 from gmr_studio.app.model import commands
 from gmr_studio.app.model.playback import Player
 from gmr_studio.app.model.state import StudioState
-from gmr_studio.core.curves import UNITS, Curves, gap_spans, joint_curves, marker_curves
+from gmr_studio.core.atomic import atomic_write_text
+from gmr_studio.core.cli.curves import csv_text
+from gmr_studio.core.curves import UNITS, Curves, gap_spans, joint_curves, marker_curves, quantity_name
 from gmr_studio.core.mirror import side_partners
 
-#: (label, core quantity) in the order the combo box lists them
+#: (label, core quantity) in the order the combo box lists them; the rotation's two
+#: conventions are named as in ``gmr curves`` and the inspector (docs/curves.md)
 QUANTITY_LABELS = (
-    ("Euler angles (channel order)", "euler"),
-    ("Rotation angle", "angle"),
-    ("Quaternion", "quaternion"),
+    ("channels: the file's own (BVH channels, AMC dofs)", "channels"),
+    ("gmr-euler: GMR rotation as Euler angles", "gmr-euler"),
+    ("angle: GMR rotation angle", "angle"),
+    ("quaternion: GMR rotation", "quaternion"),
     ("Local translation, GMR (R t)", "local-pre"),
     ("Local translation, BVH (t)", "local-post"),
     ("World position", "world"),
@@ -147,7 +151,8 @@ class CurvesDock(QWidget):
         return self.quantity_box.currentData()
 
     def set_quantity(self, quantity: str) -> None:
-        self.quantity_box.setCurrentIndex(self.quantity_box.findData(quantity))
+        """Show ``quantity`` (a :data:`core.curves.QUANTITIES` name or an alias such as ``euler``)."""
+        self.quantity_box.setCurrentIndex(self.quantity_box.findData(quantity_name(quantity)))
 
     def plotted_joints(self) -> list[int]:
         """The pinned joints, then the selected one (once)."""
@@ -176,7 +181,7 @@ class CurvesDock(QWidget):
         colours: list[str] = []
         styles: list[Qt.PenStyle] = []
         for n, joint in enumerate(self.plotted_joints()):
-            block = joint_curves(motion, joint, self.quantity, snapshot.positions)
+            block = joint_curves(motion, joint, self.quantity, snapshot.positions, self.state.file_channels)
             blocks.append(block)
             base = QColor(PALETTE[n % len(PALETTE)])
             colours += [axis_colour(base, a) for a in range(len(block.columns))]
@@ -235,8 +240,16 @@ class CurvesDock(QWidget):
     def _export_csv_dialog(self) -> None:
         path, _ = QFileDialog.getSaveFileName(self, "Export curves as CSV", "curves.csv", "CSV (*.csv)")
         if path:
-            self.plot.export_csv(path)
+            self.export_csv(path)
             self.state.show_message(f"Curves written to {path}")
+
+    def export_csv(self, path: str) -> None:
+        """The plotted curves within the visible range, written as ``gmr curves`` writes them
+        (:func:`core.cli.curves.csv_text`: frame, time, then every column)."""
+        plot, rows = self.plot, self.plot.visible_frames()
+        frame_time = self.state.motion.frame_time if self.state.motion is not None else 1.0
+        curves = Curves(tuple(plot.columns), np.asarray(plot.values)[rows], "")
+        atomic_write_text(path, csv_text(curves, np.asarray(plot.frames)[rows], frame_time))
 
     def _export_png_dialog(self) -> None:
         path, _ = QFileDialog.getSaveFileName(self, "Export the plot as PNG", "curves.png", "PNG (*.png)")

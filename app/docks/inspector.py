@@ -1,6 +1,8 @@
 """The inspector dock: everything about the selected joint at the current frame.
 
-Name, parent, soft-link parent, offset, channels both ways; the local transform both ways
+Name, parent, soft-link parent, offset, channels both ways; the joint's two rotation
+quantities, ``channels`` (the file's own) and ``gmr-euler``, named and computed as the curves
+dock and ``gmr curves`` give them (:func:`core.curves.values_at`); the local transform both ways
 (:mod:`app.joint_transforms`): under BVH the post-rotation ``[R, t]`` from the joint's own
 BVH channels (for a motion read from a BVH, the file's channel values next to the matrix;
 an End Site has none), under GMR the pre-rotation ``[R, R t]`` from its GMR channels (a
@@ -37,6 +39,8 @@ from gmr_studio.app.model.joint_transforms import (
     gmr_local,
 )
 from gmr_studio.app.model.state import StudioState
+from gmr_studio.core.clock import frame_seconds
+from gmr_studio.core.curves import values_at
 from gmr_studio.core.rotations import complete_order, euler_from_matrix
 
 
@@ -208,7 +212,7 @@ class Inspector(QScrollArea):
         if motion is None:
             return "<i>No motion</i>"
         f = state.frame
-        parts = [f"<b>Frame {f}</b> of {motion.n_frames} &nbsp; ({f * motion.frame_time:.3f} s)"]
+        parts = [f"<b>Frame {f}</b> of {motion.n_frames} &nbsp; ({frame_seconds(f, motion.frame_time):.3f} s)"]
         j = state.selected
         if j is None:
             parts.append("<p><i>Click a joint in the view or the forest to inspect it.</i></p>")
@@ -243,6 +247,7 @@ class Inspector(QScrollArea):
         note = " (a root: its translation is its world position)" if parent < 0 else ""
         return [
             f"<table style='margin-top:6px'>{table}</table>",
+            self._angles_html(j, f),
             *self._transform_html("Local, post-rotation [R, t] (BVH)", bvh, size),
             *self._transform_html(f"Local, pre-rotation [R, R t] (GMR){note}", gmr, size),
             "<p style='margin-bottom:2px'><b>World position</b></p>",
@@ -250,6 +255,18 @@ class Inspector(QScrollArea):
             self._world_html("BVH: the frame its children hang in", bvh_world, order),
             self._world_html("GMR: the frame of the bone that ends at it", gmr_world, order),
         ]
+
+    def _angles_html(self, j: int, f: int) -> str:
+        """The joint's two rotation quantities at this frame, named and computed as the curves
+        dock and ``gmr curves`` name and compute them (:func:`core.curves.values_at`)."""
+        state = self.state
+        lines = []
+        for quantity, what in (("channels", "the file's own"), ("gmr-euler", "the GMR rotation")):
+            columns, values = values_at(state.motion, j, quantity, f, state.positions, state.file_channels)
+            labels = " ".join(c.rsplit(".", 1)[1] for c in columns)
+            shown = f"{format_angles(values)} deg" if columns else "none"
+            lines.append(f"<b>{quantity}</b> ({what}{': ' + labels if labels else ''}): {shown}")
+        return "<p style='margin:6px 0 6px 0'>" + "<br/>".join(lines) + "</p>"
 
     def _transform_html(self, title: str, shown: LocalTransform, size: float) -> list[str]:
         out = [f"<p style='margin-bottom:2px'><b>{html.escape(title)}</b><br/><i>{html.escape(shown.note)}</i></p>"]

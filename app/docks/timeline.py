@@ -15,6 +15,8 @@ from PyQt6.QtWidgets import QComboBox, QHBoxLayout, QLabel, QSpinBox, QToolButto
 from gmr_studio.app.docks.range_slider import RangeSlider
 from gmr_studio.app.model.playback import SPEEDS, Player
 from gmr_studio.app.model.state import StudioState
+from gmr_studio.core.clock import frame_seconds, motion_duration
+from gmr_studio.core.motion import Motion
 
 
 class FrameBox(QSpinBox):
@@ -112,9 +114,7 @@ class Timeline(QWidget):
         if motion is None:
             self.time_label.setText("")
             return
-        total = (motion.n_frames - 1) * motion.frame_time
-        count = f"{frame + 1}/{motion.n_frames} @ {motion.frame_rate:g} Hz"
-        self.time_label.setText(f"{frame * motion.frame_time:7.3f} s / {total:.3f} s  ({count})")
+        self.time_label.setText(time_text(motion, frame))
 
     def _on_speed_changed(self, speed: float) -> None:
         index = self.speed_box.findData(speed)
@@ -122,3 +122,10 @@ class Timeline(QWidget):
             self.speed_box.blockSignals(True)
             self.speed_box.setCurrentIndex(index)
             self.speed_box.blockSignals(False)
+
+
+def time_text(motion: Motion, frame: int) -> str:
+    """The timeline's label: the frame's time and the motion's duration (:mod:`core.clock`:
+    frame ``i`` at ``i * frame_time``, ``F`` frames last ``F * frame_time``), the frame count."""
+    count = f"{frame + 1}/{motion.n_frames} @ {motion.frame_rate:g} Hz"
+    return f"{frame_seconds(frame, motion.frame_time):7.3f} s / {motion_duration(motion):.3f} s  ({count})"

@@ -22,9 +22,10 @@ from PyQt6.QtCore import QObject, pyqtSignal
 from gmr_studio.app.model.marker_layers import MARKER_LAYER_OPACITY, MarkerLayer, realign_marker_layer
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.core.compare import ALIGN_KINDS, Comparison, compare_motions
-from gmr_studio.core.compare.clock import resample
+from gmr_studio.core.compare.clock import DEFAULT_OFFSET, ghost_positions
 from gmr_studio.core.jointmap import available_joint_maps, match_joints
 from gmr_studio.core.markers import MarkerSet
+from gmr_studio.core.rotations import angle_axis_degrees
 
 #: colours of successive layers (RGB in [0, 1]): none of them a tree colour of the document
 LAYER_COLOURS = ((1.0, 0.45, 0.9), (0.55, 0.9, 1.0), (0.75, 1.0, 0.5), (1.0, 0.8, 0.45))
@@ -50,8 +51,8 @@ class ComparisonLayer:
     colour: tuple[float, float, float]
     joint_map: str | None = None
     align: str = "none"
-    offset: float | str = "auto"
-    auto_offset: bool = True
+    offset: float | str = DEFAULT_OFFSET
+    auto_offset: bool = DEFAULT_OFFSET == "auto"
     visible: bool = True
     opacity: float = GHOST_OPACITY
     comparison: Comparison | None = None
@@ -76,7 +77,7 @@ class ComparisonLayer:
             return "not compared", ""
         a = self.comparison.alignment
         units = self.comparison.units_text
-        turn, axis = rotation_angle_axis(a.rotation)
+        turn, axis = angle_axis_degrees(a.rotation)
         line = (
             f"{a.kind}: RMS {a.rms_before:.4g} -> {a.rms_after:.4g} {units}\n"
             f"turn {turn:.3g} deg about ({_numbers(axis, '.3f')})\n"
@@ -96,21 +97,6 @@ class ComparisonLayer:
         return line, tooltip
 
 
-def rotation_angle_axis(rotation: np.ndarray) -> tuple[float, np.ndarray]:
-    """(degrees, unit axis (3,)) of a (3, 3) rotation; the axis is +Y for no turn."""
-    angle = float(np.degrees(np.arccos(np.clip((np.trace(rotation) - 1.0) / 2.0, -1.0, 1.0))))
-    axis = np.array([rotation[2, 1] - rotation[1, 2], rotation[0, 2] - rotation[2, 0], rotation[1, 0] - rotation[0, 1]])
-    norm = float(np.linalg.norm(axis))
-    if norm < 1e-12:
-        if angle < 90.0:
-            return 0.0, np.array([0.0, 1.0, 0.0])
-        # a half turn: the axis is the column of R + I of largest norm
-        both = rotation + np.eye(3)
-        column = both[:, int(np.argmax(np.linalg.norm(both, axis=0)))]
-        return angle, column / np.linalg.norm(column)
-    return angle, axis / norm
-
-
 def _numbers(values, spec: str) -> str:
     return " ".join(format(float(v), spec) for v in values)
 
@@ -127,12 +113,8 @@ def compare_layer(document: Snapshot, layer: ComparisonLayer) -> tuple[Compariso
         align=layer.align,
         label_b=layer.name,
     )
-    a = comparison.alignment
-    rate_a, rate_b = document.motion.frame_rate, layer.snapshot.motion.frame_rate
-    if abs(rate_b / rate_a - 1.0) < 1e-5:  # one rate, as the engine takes it
-        rate_b = rate_a
-    at = (np.arange(document.motion.n_frames) / rate_a + a.offset_seconds) * rate_b
-    ghost = a.apply(resample(layer.snapshot.positions, at))
+    a, b = document.motion, layer.snapshot.motion
+    ghost = ghost_positions(layer.snapshot.positions, a.n_frames, a.frame_rate, b.frame_rate, comparison.alignment)
     return comparison, ghost
 
 
@@ -182,10 +164,11 @@ class Layers(QObject):
         joint_map: str | None = None,
         *,
         align: str = "none",
-        offset: float | str = "auto",
+        offset: float | str = DEFAULT_OFFSET,
     ) -> ComparisonLayer:
         """Compare ``snapshot`` with the document and show it as a new layer, B aligned by
-        ``align`` (none, rigid, similarity) at ``offset`` (A's frames, or "auto": found).
+        ``align`` (none, rigid, similarity) at ``offset`` (A's frames, or "auto": found;
+        the default is the CLI's, :data:`core.compare.clock.DEFAULT_OFFSET`).
 
         Raises ValueError (nothing matched, no document, a bad option) and leaves the list
         as it was."""

@@ -17,8 +17,7 @@ from gmr_studio.app.model import memory
 from gmr_studio.app.model.state import Snapshot
 from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.errors import MotionFileError
-from gmr_studio.core.formats import READERS, load_gmr, motion_suffix
-from gmr_studio.core.formats.bvh import read_bvh_with_channels
+from gmr_studio.core.formats import READERS, read_motion_with_channels
 from gmr_studio.core.markers import MARKER_READERS, MarkerSet, read_markers
 
 
@@ -44,11 +43,8 @@ def load_snapshot(path: str | Path, **options) -> Snapshot:
     Raises MotionFileError for a bad or unknown file, and for a motion whose caches would
     not fit in the memory available (:mod:`app.memory`), before allocating them.
     """
-    if motion_suffix(path) == ".bvh":  # keep the file's channel values for the inspector
-        motion, channels = read_bvh_with_channels(path)
-        motion = pre_from_post(motion)
-    else:
-        motion, channels = load_gmr(path, **options), None
+    motion, channels = read_motion_with_channels(path, **options)  # the file's own channels, as written
+    motion = pre_from_post(motion)
     refusal = memory.too_large(motion.n_frames, motion.n_joints)
     if refusal is not None:  # before the caches are allocated
         raise MotionFileError(path, refusal)

@@ -16,6 +16,7 @@ import numpy as np
 
 from gmr_studio.core.atomic import atomic_write_bytes, atomic_write_text
 from gmr_studio.core.compare import ALIGN_KINDS, Comparison, compare_motions
+from gmr_studio.core.compare.clock import DEFAULT_OFFSET
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import read_motion
 
@@ -35,7 +36,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--frames", help="A's frames, START:STOP (0-based, STOP excluded; either may be empty)")
     parser.add_argument("--align", choices=ALIGN_KINDS, default="none", help="fit B onto A over all frames")
     parser.add_argument(
-        "--offset", default="0", help="B's time minus A's, in A's frames (e.g. -1), or 'auto' to find it (default 0)"
+        "--offset",
+        default=DEFAULT_OFFSET,
+        help=f"B's time minus A's, in A's frames (e.g. -1), or 'auto' to find it from the whole body "
+        f"(default {DEFAULT_OFFSET}, as in the app)",
     )
     parser.add_argument("--scale", type=float, help="A units per B unit, when the files do not state their units")
     parser.add_argument("--up", choices=("y", "z"), help="B's up axis, when its file does not state it")
@@ -143,8 +147,13 @@ def comparison_text(result: Comparison) -> str:
 
 def alignment_lines(result: Comparison) -> list[str]:
     al = result.alignment
-    found = " (found: root trajectories agree best)" if al.offset_found else ""
-    lines = [f"offset:   B = A {al.offset_frames:+g} frames ({al.offset_seconds:+.6g} s){found}"]
+    how = "given"
+    if al.offset_found:
+        how = "found (--offset auto)"
+        if al.offset_search is not None:
+            how += f": {al.offset_search.text()}"
+    default = " (the default)" if (al.offset_found and DEFAULT_OFFSET == "auto") else ""
+    lines = [f"offset:   B = A {al.offset_frames:+g} frames ({al.offset_seconds:+.6g} s), {how}{default}"]
     lines += [f"space:    {note}" for note in al.notes]
     if al.kind == "none":
         lines.append(f"align:    none (RMS distance {al.rms_after:.6g} {result.units_text})")

@@ -2,8 +2,10 @@
 
 The quantities of :mod:`core.curves` (and foot ``contacts``, :mod:`core.contacts`) for some
 joints, over all frames or ``A:B`` (0-based, ``B`` excluded, either end may be left out).
-CSV: a header row, then one row per frame: ``frame`` (0-based, in the file), ``time`` (s),
-then one column per ``JOINT.QUANTITY.AXIS`` (``JOINT.speed``, ``JOINT.contact`` for scalars).
+CSV (:mod:`core.table`): a header row, then one row per frame: ``frame`` (0-based, in the
+file), ``time`` (s, :mod:`core.clock`), then one column per ``JOINT.QUANTITY.AXIS``
+(``JOINT.channels.Zrotation``, ``lradius.channels.rx``; ``JOINT.speed``, ``JOINT.contact``
+for scalars).
 PNG: the same columns plotted against time (matplotlib, from the ``bench`` extra).
 """
 
@@ -16,15 +18,18 @@ from pathlib import Path
 import numpy as np
 
 from gmr_studio.core.atomic import atomic_write_bytes, atomic_write_text
+from gmr_studio.core.channels import FileChannels
 from gmr_studio.core.clip import frame_range
+from gmr_studio.core.clock import frame_seconds
 from gmr_studio.core.contacts import DEFAULT_HEIGHT, DEFAULT_SPEED, foot_contacts, foot_joints
-from gmr_studio.core.curves import QUANTITIES, UNITS, Curves, frame_times, joint_curves
+from gmr_studio.core.curves import ALIASES, QUANTITIES, UNITS, Curves, joint_curves, quantity_name
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.formats import read_motion
+from gmr_studio.core.formats import read_motion_with_channels
 from gmr_studio.core.kinematics import world_positions
 from gmr_studio.core.motion import Motion
+from gmr_studio.core.table import csv_text as table_csv
 
-CLI_QUANTITIES = (*QUANTITIES, "contacts")
+CLI_QUANTITIES = (*QUANTITIES, *ALIASES, "contacts")
 
 
 def parse_frames(text: str) -> tuple[int | None, int | None]:
@@ -42,11 +47,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser(
         "curves",
         help="quantities of joints over time to CSV or PNG",
-        description="Euler angles in each joint's channel order (degrees, continuous), rotation angle, "
-        "quaternion, local translation GMR-style (local-pre, R t) or BVH-style (local-post, t), world "
-        "position, speed, acceleration, or foot contacts (1 planted, 0 not), one row per frame.",
+        description="The file's own rotation channels (channels: BVH channels, AMC dofs; alias euler), the GMR "
+        "rotation as Euler angles (gmr-euler), its angle and quaternion, local translation GMR-style (local-pre, "
+        "R t) or BVH-style (local-post, t), world position, speed, acceleration, or foot contacts (1 planted, "
+        "0 not), one row per frame (docs/curves.md says what each means).",
     )
-    parser.add_argument("file", help="any motion file the project reads (BVH Euler angles are its channels)")
+    parser.add_argument("file", help="any motion file the project reads")
     parser.add_argument("--joints", help="comma-separated joint names (default for contacts: the foot joints)")
     parser.add_argument("--quantity", required=True, choices=CLI_QUANTITIES)
     parser.add_argument("--frames", type=parse_frames, metavar="A:B", help="0-based frame range, B excluded")
@@ -57,9 +63,16 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def curves_for(
-    motion: Motion, joints: list[str], quantity: str, *, height: float = DEFAULT_HEIGHT, speed: float = DEFAULT_SPEED
+    motion: Motion,
+    joints: list[str],
+    quantity: str,
+    *,
+    height: float = DEFAULT_HEIGHT,
+    speed: float = DEFAULT_SPEED,
+    file_channels: FileChannels | None = None,
 ) -> Curves:
-    """The columns ``gmr curves`` writes, over every frame of the motion."""
+    """The columns ``gmr curves`` writes, over every frame of the motion (``file_channels``:
+    the file's own channels, for ``channels``)."""
     needs_positions = quantity in ("world", "speed", "acceleration", "contacts")
     positions = world_positions(motion) if needs_positions else None
     if quantity == "contacts":
@@ -70,17 +83,15 @@ def curves_for(
         return Curves(tuple(f"{n}.contact" for n in contacts.names), contacts.planted.astype(np.float64), "")
     if not joints:
         raise OperationError(f"--joints is required for {quantity}")
-    return Curves.concatenate([joint_curves(motion, j, quantity, positions) for j in joints])
+    quantity_name(quantity)
+    return Curves.concatenate([joint_curves(motion, j, quantity, positions, file_channels) for j in joints])
 
 
 def csv_text(curves: Curves, frames: np.ndarray, frame_time: float) -> str:
-    """Header ``frame,time,COLUMNS...`` and one row per frame (values to 10 significant digits)."""
-    table = np.column_stack([frame_times(frames, frame_time), curves.values])
-    buffer = io.StringIO()
-    buffer.write(",".join(("frame", "time", *curves.columns)) + "\n")
-    for frame, row in zip(frames, table):
-        buffer.write(f"{frame}," + ",".join(f"{v:.10g}" for v in row) + "\n")
-    return buffer.getvalue()
+    """Header ``frame,time,COLUMNS...`` and one row per frame (values to 10 significant
+    digits, NaN empty): :func:`core.table.csv_text`, as the curves dock writes it."""
+    table = np.column_stack([frames, frame_seconds(frames, frame_time), curves.values])
+    return table_csv(("frame", "time", *curves.columns), table, ["%d", "%.10g"])
 
 
 def png_bytes(curves: Curves, times: np.ndarray, title: str) -> bytes:
@@ -113,17 +124,17 @@ def run(args: argparse.Namespace) -> int:
     output = Path(args.output)
     if output.suffix.lower() not in (".csv", ".png"):
         raise OperationError(f"the output must be a .csv or .png file, not {output.name!r}")
-    motion = read_motion(args.file)
+    motion, channels = read_motion_with_channels(args.file)
     joints = [j.strip() for j in args.joints.split(",") if j.strip()] if args.joints else []
-    curves = curves_for(motion, joints, args.quantity, height=args.height, speed=args.speed)
+    curves = curves_for(motion, joints, args.quantity, height=args.height, speed=args.speed, file_channels=channels)
     start, stop = frame_range(motion.n_frames, *(args.frames or (None, None)))
     frames = np.arange(start, stop)
     kept = Curves(curves.columns, curves.values[start:stop], curves.unit)
     if output.suffix.lower() == ".csv":
         atomic_write_text(output, csv_text(kept, frames, motion.frame_time))
     else:
-        unit = UNITS.get(args.quantity, "")
+        unit = UNITS.get(ALIASES.get(args.quantity, args.quantity), "")
         title = f"{Path(args.file).name}: {args.quantity}" + (f" ({unit})" if unit else "")
-        atomic_write_bytes(output, png_bytes(kept, frame_times(frames, motion.frame_time), title))
+        atomic_write_bytes(output, png_bytes(kept, frame_seconds(frames, motion.frame_time), title))
     print(f"{output}: {len(kept.columns)} columns x {frames.size} frames")
     return 0

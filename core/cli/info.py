@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 
 from gmr_studio.core.cli.reading import add_reading_options, read_with_args
+from gmr_studio.core.clock import motion_duration
 from gmr_studio.core.dummies import find_dummies
 from gmr_studio.core.motion import Motion
 
@@ -49,7 +50,7 @@ def describe(motion: Motion, path: str) -> dict:
         "frames": motion.n_frames,
         "frame_time": motion.frame_time,
         "frame_rate": motion.frame_rate,
-        "duration": motion.n_frames * motion.frame_time,
+        "duration": motion_duration(motion),
         "size": motion.size,
         "roots": [motion.names[r] for r in motion.roots],
         "soft_links": {motion.names[j]: motion.names[s] for j, s in enumerate(motion.soft_parents) if s >= 0},
@@ -76,7 +77,7 @@ def format_text(info: dict) -> str:
         f"file:       {info['path']}",
         f"format:     {info['format']} ({info['convention']})",
         f"frames:     {info['frames']} at {info['frame_rate']:.6g} Hz "
-        f"(frame time {info['frame_time']:.6g} s, {info['duration']:.3f} s)",
+        f"(frame time {info['frame_time']:.6g} s; duration {info['duration']:.3f} s: frames x frame time)",
         f"joints:     {len(joints)}",
         f"roots:      {len(roots)} ({', '.join(roots)})",
         "soft links: " + (", ".join(f"{a} -> {b}" for a, b in links.items()) if links else "none"),

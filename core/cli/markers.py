@@ -215,7 +215,7 @@ def truth_on_markers_clock(
     motion : the converted motion (F frames: marker frames ``frames`` of ``n_marker_frames``).
     offset : truth frame minus marker frame; None: 0 when the truth has as many frames as
     the markers (the same trial frame for frame, as an AMC), else found (``auto``: the lag
-    at which the root speeds agree best, as ``gmr compare --offset auto``; a BVH adds a
+    found from the whole body, as ``gmr compare --offset auto``; a BVH adds a
     T-pose frame, +1). joint_map : pairs the skeleton's joints with the truth's (None: names).
     Returns truth positions (F, J, 3) and local rotations (F, J, 3, 3) in the motion's joint
     order (NaN where unmatched or outside the truth; rotations None when the truth is on
@@ -223,6 +223,7 @@ def truth_on_markers_clock(
     assumed). Raises OperationError when too little of the truth overlaps.
     """
     from gmr_studio.core.compare import compare_motions
+    from gmr_studio.core.compare.clock import common_rate
 
     start = (frames or slice(None)).indices(n_marker_frames)[0]
     if offset is None:
@@ -248,14 +249,14 @@ def truth_on_markers_clock(
         )
     rotations = None
     same_skeleton = [motion.names[i] for i in comparison.index_a] == [truth.names[j] for j in comparison.index_b]
-    if same_skeleton and lag == round(lag) and abs(truth.frame_rate / motion.frame_rate - 1.0) < 1e-5:
+    if same_skeleton and lag == round(lag) and common_rate(motion.frame_rate, truth.frame_rate) == motion.frame_rate:
         rows = np.arange(motion.n_frames) + start + round(lag)
         inside = (rows >= 0) & (rows < truth.n_frames)
         rotations = np.full((motion.n_frames, motion.n_joints, 3, 3), np.nan)
         rotations[np.ix_(inside, comparison.index_a)] = truth.rotations[rows[inside]][:, comparison.index_b]
     note = None
     if lag != 0 or offset == "auto":
-        how = "found from the root speeds" if comparison.alignment.offset_found else "given"
+        how = "found from the whole body" if comparison.alignment.offset_found else "given"
         note = f"truth frame = marker frame {lag:+g} ({how}); {comparison.n_pairs} joints matched" + (
             f", unmatched {', '.join(comparison.unmatched_a)}" if comparison.unmatched_a else ""
         )

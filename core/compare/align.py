@@ -13,6 +13,11 @@ from typing import Literal
 
 import numpy as np
 
+from gmr_studio.core.compare.offset import OffsetSearch
+from gmr_studio.core.fit import finite_rows, fit_points
+
+__all__ = ["ALIGN_KINDS", "Alignment", "finite_rows", "fit_alignment", "rms_distance", "rms_of_squares"]
+
 AlignKind = Literal["none", "rigid", "similarity"]
 ALIGN_KINDS: tuple[str, ...] = ("none", "rigid", "similarity")
 
@@ -25,7 +30,8 @@ class Alignment:
     rotation : (3, 3), translation : (3,) in A's units, scale : float (fitted; 1 unless
     similarity). units_scale, up_rotation : the space change applied before the fit
     (``b_A = units_scale * up_rotation @ b``). offset_frames : B's time minus A's, in A's
-    frames; offset_seconds : the same in seconds; offset_found : True when searched (auto).
+    frames; offset_seconds : the same in seconds; offset_found : True when searched (auto);
+    offset_search : the search's best and next best offsets with their mismatch (auto only).
     rms_before, rms_after : RMS distance of matched points before and after the fit.
     notes : how units and up axis were decided.
     """
@@ -39,6 +45,7 @@ class Alignment:
     offset_frames: float = 0.0
     offset_seconds: float = 0.0
     offset_found: bool = False
+    offset_search: OffsetSearch | None = None
     rms_before: float = float("nan")
     rms_after: float = float("nan")
     notes: tuple[str, ...] = ()
@@ -76,6 +83,7 @@ class Alignment:
             "offset_frames": self.offset_frames,
             "offset_seconds": self.offset_seconds,
             "offset_found": self.offset_found,
+            "offset_search": None if self.offset_search is None else self.offset_search.to_json(),
             "rms_before": _finite_or_none(self.rms_before),
             "rms_after": _finite_or_none(self.rms_after),
             "notes": list(self.notes),
@@ -83,7 +91,8 @@ class Alignment:
 
 
 def fit_alignment(points_a: np.ndarray, points_b: np.ndarray, kind: str) -> tuple[np.ndarray, np.ndarray, float]:
-    """Fit ``a ~ scale * R @ b + t`` over all points present on both sides.
+    """Fit ``a ~ scale * R @ b + t`` over all points present on both sides
+    (:func:`core.fit.fit_points`).
 
     points_a, points_b : (..., 3) matched points (NaN where missing), same shape.
     kind : "none" (the identity), "rigid" or "similarity".
@@ -94,34 +103,7 @@ def fit_alignment(points_a: np.ndarray, points_b: np.ndarray, kind: str) -> tupl
         raise ValueError(f"alignment must be one of {', '.join(ALIGN_KINDS)}, not {kind!r}")
     if kind == "none":
         return np.eye(3), np.zeros(3), 1.0
-    a = points_a.reshape(-1, 3)
-    b = points_b.reshape(-1, 3)
-    # sums by einsum: numpy's axis-0 reductions of (N, 3) arrays are several times slower;
-    # finite sums mean no point is missing (else the rows present on both sides are kept)
-    sum_a, sum_b = np.einsum("ni->i", a), np.einsum("ni->i", b)
-    if not (np.isfinite(sum_a).all() and np.isfinite(sum_b).all()):
-        both = finite_rows(a) & finite_rows(b)
-        a, b = a[both], b[both]
-        sum_a, sum_b = np.einsum("ni->i", a), np.einsum("ni->i", b)
-    n = len(a)
-    if n < 3:
-        raise ValueError(f"a {kind} alignment needs at least 3 matched points present on both sides, not {n}")
-    mean_a, mean_b = sum_a / n, sum_b / n
-    # covariance from raw sums: no centred copies of millions of points (einsum: a BLAS
-    # product would take half the time but sum in another order, moving the fit by 1e-13)
-    covariance = np.einsum("ni,nj->ij", a, b) / n - np.outer(mean_a, mean_b)
-    u, singular, vt = np.linalg.svd(covariance)
-    sign = np.ones(3)
-    if np.linalg.det(u @ vt) < 0:
-        sign[2] = -1.0
-    rotation = (u * sign) @ vt
-    scale = 1.0
-    if kind == "similarity":
-        variance_b = float(np.einsum("ij,ij->", b, b) / n - mean_b @ mean_b)
-        if variance_b <= 0:
-            raise ValueError("a similarity alignment needs B's points to be spread, not all at one place")
-        scale = float((singular * sign).sum() / variance_b)
-    return rotation, mean_a - scale * rotation @ mean_b, scale
+    return fit_points(points_a, points_b, scaled=kind == "similarity")
 
 
 def rms_distance(points_a: np.ndarray, points_b: np.ndarray) -> float:
@@ -135,15 +117,6 @@ def rms_of_squares(squared: np.ndarray) -> float:
     finite = np.isfinite(squared)
     values = squared if finite.all() else squared[finite]
     return float(np.sqrt(values.mean())) if values.size else float("nan")
-
-
-def finite_rows(points: np.ndarray) -> np.ndarray:
-    """(N,) bool: the rows of points (N, 3) whose three coordinates are finite (three
-    elementwise passes: a reduction along an axis of length 3 is several times slower)."""
-    finite = np.isfinite(points[:, 0])
-    finite &= np.isfinite(points[:, 1])
-    finite &= np.isfinite(points[:, 2])
-    return finite
 
 
 def _finite_or_none(value: float) -> float | None:

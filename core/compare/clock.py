@@ -7,13 +7,21 @@ as they are; otherwise positions are interpolated linearly and rotations along t
 between B's two neighbouring frames. Outside B's time range, and next to B's gaps, the
 samples are NaN.
 
-:func:`find_offset` finds the offset that makes the root speeds of A and B agree best.
+:func:`common_rate` says when two rates are one, :func:`check_overlap` refuses clocks that
+share no time, :func:`ghost_positions` puts all of B's points on A's clock and in A's space
+(what the app draws); :mod:`core.compare.offset` finds the offset from the whole body.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+#: the offset of every comparison unless one is given: found from the whole body (the
+#: CLI's ``--offset`` default and the app's, printed with every comparison)
+DEFAULT_OFFSET = "auto"
+#: frame rates closer than this (relative) are one rate: BVH prints its frame time to ~7
+#: digits (0.0083333 s is 120.0005 Hz), which would otherwise drift B by a frame in 2,000 s
+SAME_RATE_TOLERANCE = 1e-5
 #: a fractional frame this close to a whole number is that frame (rounding of i / rate)
 WHOLE_FRAME_TOLERANCE = 1e-6
 #: frames per block of :func:`resample_rotations` (component-major temporaries in the cache)
@@ -24,10 +32,47 @@ RESAMPLE_CHUNK = 65536
 _NEXT = ((1, 2), (2, 0), (0, 1))
 
 
+def common_rate(rate_a: float, rate_b: float) -> float:
+    """B's rate as the comparison uses it: A's when the two differ by less than
+    :data:`SAME_RATE_TOLERANCE` (the rounding of a printed frame time), else B's own."""
+    if rate_b != rate_a and abs(rate_b / rate_a - 1.0) < SAME_RATE_TOLERANCE:
+        return rate_a
+    return rate_b
+
+
 def sample_frames(n_frames_a: int, rate_a: float, rate_b: float, offset_seconds: float, frames_a=None) -> np.ndarray:
-    """B's fractional frame for each compared frame of A: (F,) float64."""
+    """B's fractional frame for each compared frame of A: (F,) float64, with B's rate taken
+    as A's when they are one (:func:`common_rate`)."""
     frames = np.arange(n_frames_a) if frames_a is None else np.asarray(frames_a)
-    return (frames / rate_a + offset_seconds) * rate_b
+    return (frames / rate_a + offset_seconds) * common_rate(rate_a, rate_b)
+
+
+def check_overlap(
+    at: np.ndarray, n_frames_b: int, frames_a: np.ndarray, offset_frames: float, offset_seconds: float
+) -> None:
+    """ValueError (one sentence) when no compared frame of A falls within B's time range.
+
+    at : (F,) B's fractional frames of A's compared frames ``frames_a`` (F,).
+    """
+    inside = (at >= -WHOLE_FRAME_TOLERANCE) & (at <= n_frames_b - 1 + WHOLE_FRAME_TOLERANCE)
+    if inside.any() or not len(at):
+        return
+    first, last = int(frames_a[0]), int(frames_a[-1])
+    raise ValueError(
+        f"the two motions share no time: with the offset B = A {offset_frames:+g} frames "
+        f"({offset_seconds:+.6g} s), A's frames {first}-{last} fall at B's frames {at[0]:.6g} to {at[-1]:.6g}, "
+        f"outside B's 0-{n_frames_b - 1}; give another --offset (or 'auto')"
+    )
+
+
+def ghost_positions(positions_b: np.ndarray, n_frames_a: int, rate_a: float, rate_b: float, alignment) -> np.ndarray:
+    """Every point of B on A's frames and in A's space: (Fb, Jb, 3) -> (Fa, Jb, 3).
+
+    ``alignment``: the :class:`~core.compare.align.Alignment` of a comparison (its offset,
+    units, up axis and fit). NaN where B has no sample (outside its time range).
+    """
+    at = sample_frames(n_frames_a, rate_a, rate_b, alignment.offset_seconds)
+    return alignment.apply(resample(positions_b, at))
 
 
 def take(values: np.ndarray, rows: np.ndarray, columns: np.ndarray | None = None) -> np.ndarray:
@@ -250,40 +295,3 @@ def _cross_columns(vector: np.ndarray, matrices: np.ndarray) -> np.ndarray:
         np.multiply(vector[j], matrices[k], out=out[i])
         out[i] -= np.multiply(vector[k], matrices[j], out=scratch)
     return out
-
-
-def find_offset(
-    root_a: np.ndarray, root_b: np.ndarray, rate_a: float, rate_b: float, *, min_overlap: float = 0.5
-) -> tuple[int, float]:
-    """The offset (in A's frames) maximising the agreement of two root trajectories.
-
-    root_a (Fa, 3), root_b (Fb, 3): one point per frame (NaN allowed), in the same units. B
-    is resampled at A's rate over its whole duration; the speeds of both (so that position
-    and orientation do not matter) are compared at every whole lag that keeps
-    ``min_overlap`` of the shorter one overlapping, by mean squared difference (all lags at
-    once through FFT correlations). Returns (lag, mean squared difference): A's frame ``i``
-    goes with B at time ``(i + lag) / rate_a``.
-    """
-    grid = np.arange(int(np.floor((root_b.shape[0] - 1) / rate_b * rate_a + WHOLE_FRAME_TOLERANCE)) + 1)
-    b_at_a_rate = resample(root_b, grid * rate_b / rate_a)
-    speed_a = np.linalg.norm(np.diff(root_a, axis=0), axis=-1)
-    speed_b = np.linalg.norm(np.diff(b_at_a_rate, axis=0), axis=-1)
-    valid_a, valid_b = np.isfinite(speed_a), np.isfinite(speed_b)
-    sa, sb = np.where(valid_a, speed_a, 0.0), np.where(valid_b, speed_b, 0.0)
-    na, nb = len(sa), len(sb)
-    size = 1 << int(np.ceil(np.log2(na + nb)))
-
-    def correlate(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-        """sum_i x[i] * y[i + lag] for lag = -(na - 1) .. nb - 1."""
-        full = np.fft.irfft(np.conj(np.fft.rfft(x, size)) * np.fft.rfft(y, size), size)
-        return np.concatenate([full[size - (na - 1) :], full[:nb]]) if na > 1 else full[:nb]
-
-    va, vb = valid_a.astype(np.float64), valid_b.astype(np.float64)
-    count = correlate(va, vb)
-    squared = correlate(sa * sa, vb) + correlate(va, sb * sb) - 2.0 * correlate(sa, sb)
-    lags = np.arange(-(na - 1), nb)
-    need = max(2.0, min_overlap * min(valid_a.sum(), valid_b.sum()))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        score = np.where(np.rint(count) >= need, squared / np.maximum(count, 1.0), np.inf)
-    best = int(np.argmin(score))
-    return int(lags[best]), float(score[best])

@@ -9,21 +9,21 @@ import numpy as np
 
 from gmr_studio.core.compare.align import ALIGN_KINDS, Alignment, fit_alignment, rms_of_squares
 from gmr_studio.core.compare.clock import (
+    DEFAULT_OFFSET,
     WHOLE_FRAME_TOLERANCE,
-    find_offset,
+    check_overlap,
+    common_rate,
     resample,
     rotations_component_major,
     take,
     whole_frames,
 )
+from gmr_studio.core.compare.offset import find_offset_of_tracks
 from gmr_studio.core.compare.result import Comparison
 from gmr_studio.core.compare.tracks import Track, space_change, track_of_motion
 from gmr_studio.core.jointmap import JointMap, JointMatch, match_joints
 from gmr_studio.core.motion import Motion
 
-#: frame rates closer than this (relative) are one rate: BVH prints its frame time to ~7
-#: digits (0.0083333 s is 120.0005 Hz), which would otherwise drift B by a frame in 2,000 s
-SAME_RATE_TOLERANCE = 1e-5
 #: frames per block of the rotation error (temporaries of ~3 MB for 38 joints)
 ROTATION_BLOCK = 1024
 #: frames per block when B is resampled between its frames (component-major temporaries)
@@ -60,7 +60,7 @@ def compare_tracks(
     match: JointMatch,
     *,
     frames: FramesArg = None,
-    offset: float | str = 0.0,
+    offset: float | str = DEFAULT_OFFSET,
     align: str = "none",
     scale: float | None = None,
     up_b: str | None = None,
@@ -75,12 +75,14 @@ def compare_tracks(
     frames : A's frames to compare: a slice, ``(start, stop)`` (stop excluded, None = end)
         or an array of indices; default all.
     offset : B's time minus A's, in A's frames (any real number), or ``"auto"`` to find it
-        from the root trajectories (:func:`core.compare.clock.find_offset`).
+        from the whole body (:func:`core.compare.offset.search_offset`); the default,
+        :data:`core.compare.clock.DEFAULT_OFFSET`, is the CLI's and the app's.
     align : "none", "rigid" or "similarity", fitted over all compared frames.
     scale, up_b : A units per B unit and B's up axis, when the files do not say (or say
         wrong); see :func:`core.compare.tracks.space_change`.
 
-    Raises ValueError for nothing matched, frames out of range, a bad option.
+    Raises ValueError for nothing matched, frames out of range, a bad option, or clocks that
+    share no time at the offset (:func:`core.compare.clock.check_overlap`).
     """
     if not match.pairs:
         raise ValueError(
@@ -94,28 +96,28 @@ def compare_tracks(
     rows = _frames_of(frames, a.n_frames)
     space = space_change(a, b, scale=scale, up_b=up_b)
 
-    rate_b, notes = b.frame_rate, list(space.notes)
-    if rate_b != a.frame_rate and abs(rate_b / a.frame_rate - 1.0) < SAME_RATE_TOLERANCE:
+    rate_b, notes = common_rate(a.frame_rate, b.frame_rate), list(space.notes)
+    if rate_b != b.frame_rate:
         notes.append(
-            f"frame rates {a.frame_rate:.7g} and {rate_b:.7g} Hz taken as equal "
+            f"frame rates {a.frame_rate:.7g} and {b.frame_rate:.7g} Hz taken as equal "
             "(they differ by the rounding of a printed frame time)"
         )
-        rate_b = a.frame_rate
+    search = None
     if isinstance(offset, str):
         if offset != "auto":
             raise ValueError(f"the offset must be a number of frames or 'auto', not {offset!r}")
-        lag, _score = find_offset(
-            a.positions[:, index_a[0]], space.scale * b.positions[:, index_b[0]], a.frame_rate, rate_b,
-            min_overlap=max_offset_overlap,
-        )  # fmt: skip
-        offset_frames, found = float(lag), True
+        search = find_offset_of_tracks(
+            a, b, index_a, index_b, rate_b, space.scale, up_rotation=space.up_rotation, min_overlap=max_offset_overlap
+        )
+        offset_frames, found = float(search.lag), True
     else:
         offset_frames, found = float(offset), False
         if not np.isfinite(offset_frames):
             raise ValueError(f"the offset must be a finite number of frames, not {offset}")
     offset_seconds = offset_frames / a.frame_rate
-    times = rows / a.frame_rate
+    times = rows / a.frame_rate  # (core.clock.frame_seconds, by the rate: the bits the tests pin)
     at = (times + offset_seconds) * rate_b
+    check_overlap(at, b.n_frames, rows, offset_frames, offset_seconds)
 
     positions_a = take(a.positions, rows, index_a)
     positions_b = resample(b.positions, at, index_b)
@@ -148,6 +150,7 @@ def compare_tracks(
         offset_frames=offset_frames,
         offset_seconds=offset_seconds,
         offset_found=found,
+        offset_search=search,
         rms_before=rms_before,
         rms_after=rms_after,
         notes=tuple(notes),

@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import dataclasses
-import io
 from functools import cached_property
 
 import numpy as np
 
 from gmr_studio.core.compare.align import Alignment
+from gmr_studio.core.table import csv_text
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -230,14 +230,8 @@ class Comparison:
             columns += [f"{n} deg" for n in self.names_a]
             blocks.append(self.rotation_error)
         table = np.concatenate([np.asarray(b, dtype=np.float64) for b in blocks], axis=1)
-        body = io.StringIO()
-        np.savetxt(body, table, delimiter=",", fmt=["%d", "%.6f", *["%.9g"] * (table.shape[1] - 2)])
-        return ",".join(_csv_cell(c) for c in columns) + "\n" + body.getvalue().replace("nan", "")
+        return csv_text(columns, table, ["%d", "%.6f", "%.9g"])
 
 
 def _num(value: float) -> float | None:
     return float(value) if np.isfinite(value) else None
-
-
-def _csv_cell(text: str) -> str:
-    return '"' + text.replace('"', '""') + '"' if any(c in text for c in ',"\n') else text

@@ -13,11 +13,12 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
+from gmr_studio.core.channels import FileChannels
 from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.errors import MotionFileError
-from gmr_studio.core.formats.acclaim import read_amc_file, read_asf_file
+from gmr_studio.core.formats.acclaim import read_amc_file, read_amc_file_with_channels, read_asf_file
 from gmr_studio.core.formats.amass import read_amass
-from gmr_studio.core.formats.bvh import read_bvh, write_bvh
+from gmr_studio.core.formats.bvh import read_bvh, read_bvh_with_channels, write_bvh
 from gmr_studio.core.formats.gmr import read_gmr, write_gmr
 from gmr_studio.core.motion import Motion
 
@@ -42,6 +43,18 @@ def read_motion(path: str | Path, **options) -> Motion:
         known = ", ".join(sorted(READERS))
         raise MotionFileError(path, f"unknown motion format '{Path(path).suffix}': expected one of {known}")
     return reader(path, **options)
+
+
+def read_motion_with_channels(path: str | Path, **options) -> tuple[Motion, FileChannels | None]:
+    """:func:`read_motion`, and the file's rotation channels as written for the formats that
+    have their own (BVH channels, AMC dofs: :mod:`core.channels`); None for the others (a
+    GMR file's channels are its motion's)."""
+    suffix = motion_suffix(path)
+    if suffix == ".bvh":
+        return read_bvh_with_channels(path, **options)
+    if suffix == ".amc":
+        return read_amc_file_with_channels(path, **options)
+    return read_motion(path, **options), None
 
 
 def load_gmr(path: str | Path, **options) -> Motion:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from gmr_studio.core.channels import FileChannels
 from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats.acclaim_skeleton import (
     ROOT_NAME,
@@ -17,7 +18,13 @@ from gmr_studio.core.formats.acclaim_skeleton import (
     AcclaimUnits,
     axis_rotation,
 )
-from gmr_studio.core.formats.amc import DEFAULT_FRAME_RATE, parse_amc_frames, read_amc, skeleton_motion
+from gmr_studio.core.formats.amc import (
+    DEFAULT_FRAME_RATE,
+    parse_amc_frames,
+    read_amc,
+    read_amc_with_channels,
+    skeleton_motion,
+)
 from gmr_studio.core.formats.asf import read_asf
 from gmr_studio.core.motion import Motion
 
@@ -32,6 +39,7 @@ __all__ = [
     "parse_amc_frames",
     "read_amc",
     "read_amc_file",
+    "read_amc_file_with_channels",
     "read_asf",
     "read_asf_file",
     "skeleton_motion",
@@ -65,6 +73,17 @@ def read_amc_file(
 ) -> Motion:
     """``read_motion``'s AMC reader: ``asf`` defaults to the skeleton beside the file."""
     return read_amc(path, asf if asf is not None else asf_beside(path), frame_rate=frame_rate, data=data)
+
+
+def read_amc_file_with_channels(
+    path: str | Path,
+    asf: str | Path | AcclaimSkeleton | None = None,
+    frame_rate: float = DEFAULT_FRAME_RATE,
+    data: bytes | None = None,
+) -> tuple[Motion, FileChannels]:
+    """:func:`read_amc_file` and the file's rotation dofs as written."""
+    skeleton = asf if asf is not None else asf_beside(path)
+    return read_amc_with_channels(path, skeleton, frame_rate=frame_rate, data=data)
 
 
 def read_asf_file(path: str | Path, data: bytes | None = None, **_ignored) -> Motion:

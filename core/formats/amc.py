@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from gmr_studio.core.channels import FileChannels
 from gmr_studio.core.errors import MotionFileError, read_input
 from gmr_studio.core.formats.acclaim_skeleton import ROOT_NAME, ROTATION_DOFS, AcclaimSkeleton
 from gmr_studio.core.formats.asf import read_asf
@@ -386,7 +387,21 @@ def read_amc(
     frame_rate: float = DEFAULT_FRAME_RATE,
     data: bytes | None = None,
 ) -> Motion:
-    """Read an AMC file with its skeleton into a GMR (pre-rotation) motion.
+    """Read an AMC file with its skeleton into a GMR (pre-rotation) motion
+    (:func:`read_amc_with_channels` without the channels)."""
+    return read_amc_with_channels(amc_path, skeleton, frame_rate=frame_rate, data=data)[0]
+
+
+def read_amc_with_channels(
+    amc_path: str | Path,
+    skeleton: AcclaimSkeleton | str | Path,
+    *,
+    frame_rate: float = DEFAULT_FRAME_RATE,
+    data: bytes | None = None,
+) -> tuple[Motion, FileChannels]:
+    """Read an AMC file with its skeleton into a GMR (pre-rotation) motion, and the file's
+    rotation dofs as written (:class:`core.channels.FileChannels`, kind ``"amc"``: degrees,
+    one column per rotation dof in file order, with each bone's ASF frame).
 
     Parameters
     ----------
@@ -398,7 +413,8 @@ def read_amc(
     Returns
     -------
     Motion with joints ``root`` then the bones in ``:bonedata`` order (each at its bone's
-    end), ``rotations`` (F, J, 3, 3) ``C R C^-1``, the root's translation ``G`` per frame.
+    end), ``rotations`` (F, J, 3, 3) ``C R C^-1``, the root's translation ``G`` per frame;
+    and the file's channels.
 
     Raises
     ------
@@ -421,10 +437,17 @@ def read_amc(
     translations[:] = rest.offsets
     has_translation = rest.has_translation.copy()
     axes = [skeleton.root_axis_rotation] + [b.axis_rotation for b in skeleton.bones]
+    channels = FileChannels({}, {}, {}, kind="amc", axes={})
     for j, dof in enumerate(dofs):
         columns = {d: int(column_of[j]) + k for k, d in enumerate(dof)}
         rotation_dofs = [d for d in dof if d in ROTATION_DOFS]
         if rotation_dofs:
+            name = rest.names[j]
+            written = values[:, [columns[d] for d in rotation_dofs]]
+            written = written if angle_unit == "deg" else np.degrees(written)
+            written.flags.writeable = False
+            channels.orders[name] = "".join(d[1].upper() for d in rotation_dofs)
+            channels.angles[name], channels.labels[name], channels.axes[name] = written, tuple(rotation_dofs), axes[j]
             # applied in file order about the local axes: R = R_last ... R_first
             order = "".join(d[1].upper() for d in reversed(rotation_dofs))
             angles = values[:, [columns[d] for d in reversed(rotation_dofs)]] * scale
@@ -449,9 +472,10 @@ def read_amc(
         *rest.comments,
         f"frame rate {frame_rate:g} Hz (AMC files do not store one)",
     )
-    return rest.replace(
+    motion = rest.replace(
         rotations=rotations,
         translations=translations,
         has_translation=has_translation,
         comments=comments,
     )
+    return motion, channels

@@ -8,39 +8,17 @@ names with ``.``, ``:``, ``-``. Errors are :class:`~core.errors.MotionFileError`
 
 from __future__ import annotations
 
-import dataclasses
 from pathlib import Path
 
-import numpy as np
-
 from gmr_studio.core.atomic import atomic_write_text
+from gmr_studio.core.channels import FileChannels
 from gmr_studio.core.errors import read_input
 from gmr_studio.core.formats.frames import parse_frames
 from gmr_studio.core.formats.hierarchy import normalise_newlines, parse_header
 from gmr_studio.core.formats.textmotion import _motion_from_header, format_text_motion, read_text_motion
 from gmr_studio.core.motion import Motion
 
-
-@dataclasses.dataclass(frozen=True, eq=False)
-class FileChannels:
-    """The rotation channel values of a BVH file as written: degrees, unwrapped as the
-    file has them (370 stays 370), for showing next to the matrices they make.
-
-    Attributes
-    ----------
-    orders : joint name -> its rotation channels' axes in file order (e.g. ``"ZXY"``);
-        joints without rotation channels (End Sites) are absent.
-    angles : joint name -> (F, k) float64 read-only degrees, columns in that order.
-    """
-
-    orders: dict[str, str]
-    angles: dict[str, np.ndarray]
-
-    def of(self, name: str, frame: int) -> tuple[str, np.ndarray] | None:
-        """(order, (k,) degrees) of a joint at a frame, or None if it has no rotation channels."""
-        if name not in self.orders:
-            return None
-        return self.orders[name], self.angles[name][frame]
+__all__ = ["FileChannels", "bvh_text", "read_bvh", "read_bvh_with_channels", "write_bvh"]
 
 
 def read_bvh(path: str | Path, data: bytes | None = None) -> Motion:
@@ -49,7 +27,8 @@ def read_bvh(path: str | Path, data: bytes | None = None) -> Motion:
 
 
 def read_bvh_with_channels(path: str | Path, data: bytes | None = None) -> tuple[Motion, FileChannels]:
-    """:func:`read_bvh`, and the file's rotation channel values as written."""
+    """:func:`read_bvh`, and the file's rotation channel values as written
+    (:class:`core.channels.FileChannels`, re-exported here)."""
     path_text = str(path)
     data = normalise_newlines(read_input(path, data))
     header = parse_header(data, path_text, "bvh")
@@ -77,7 +56,7 @@ def read_bvh_with_channels(path: str | Path, data: bytes | None = None) -> tuple
             block.flags.writeable = False
             angles[joint.name] = block
         column += len(joint.channels)
-    return motion, FileChannels(orders, angles)
+    return motion, FileChannels(orders, angles, kind="bvh")
 
 
 def write_bvh(motion: Motion, path: str | Path) -> None:
