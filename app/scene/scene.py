@@ -18,13 +18,11 @@ stand upright.
 
 from __future__ import annotations
 
-import re
 import weakref
 
 import numpy as np
 import pyvista as pv
 
-from gmr_studio.app.model.alignment import detect_up_axis
 from gmr_studio.app.model.state import OVERLAYS, MarkerOverlay, PelvisOverlay, Snapshot
 from gmr_studio.app.model.tree_colors import PALETTE, TreeColors
 from gmr_studio.app.scene import vtk_parts as parts
@@ -42,6 +40,7 @@ from gmr_studio.app.scene.overlays import (
     nice_step,
 )
 from gmr_studio.app.scene.picking import project_points
+from gmr_studio.core.conversions import figure_up_axis
 
 __all__ = [
     "BACKGROUND",
@@ -63,13 +62,9 @@ BACKGROUND = (0.16, 0.17, 0.20)
 
 
 def up_axis_of(snapshot: Snapshot) -> int:
-    """1 (Y) or 2 (Z): what the file's comments state (``up axis: z``, as ``gmr convert``
-    writes), else what the motion shows (:func:`app.model.alignment.detect_up_axis`)."""
-    from gmr_studio.core.conversions import up_axis_of as stated_up_axis
-
-    if any(re.match(r"\s*up axis:\s*[yz]\b", comment, re.IGNORECASE) for comment in snapshot.motion.comments):
-        return 1 if stated_up_axis(snapshot.motion) == "y" else 2
-    return detect_up_axis(actor_positions(snapshot))
+    """1 (Y) or 2 (Z): the core's one rule for a view (:func:`core.conversions.figure_up_axis`:
+    what the file's comments state, else what the figure's joints show), on the cached positions."""
+    return figure_up_axis(snapshot.motion, snapshot.positions)
 
 
 def actor_positions(snapshot: Snapshot) -> np.ndarray:
