@@ -22,6 +22,7 @@ from collections.abc import Sequence
 
 from gmr_studio.core.cli.edit import add_edit_arguments
 from gmr_studio.core.compare import ALIGN_KINDS
+from gmr_studio.core.compare.clock import DEFAULT_OFFSET
 from gmr_studio.core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
 
 
@@ -47,7 +48,7 @@ def build_arguments() -> argparse.ArgumentParser:
     parser.add_argument(
         "--compare-offset",
         type=parse_offset,
-        default="auto",
+        default=DEFAULT_OFFSET,
         metavar="N|auto",
         help="with --compare: B's time minus FILE's in FILE's frames, or auto (default: found)",
     )
@@ -153,7 +154,7 @@ def default_files(args: argparse.Namespace) -> tuple[str, str | None]:
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_arguments()
     args = parser.parse_args(argv)
-    if not args.compare and (args.compare_align != "none" or args.compare_offset != "auto"):
+    if not args.compare and (args.compare_align != "none" or args.compare_offset != DEFAULT_OFFSET):
         parser.error("--compare-align and --compare-offset go with --compare B")
     try:
         size = parse_size(args.size)

@@ -40,7 +40,7 @@ class LayerAlignmentBox(QGroupBox):
         self.kind.addItems(ALIGN_KINDS)
         self.kind.setToolTip("fitted after units and up axis: none, rigid (turn + move), similarity (+ scale)")
         self.auto = QCheckBox("auto")
-        self.auto.setToolTip("find the time offset from the root trajectories (then keep it)")
+        self.auto.setToolTip("find the time offset from the whole body (every matched joint; then keep it)")
         self.offset = QDoubleSpinBox(decimals=2, minimum=-OFFSET_LIMIT, maximum=OFFSET_LIMIT, suffix=" frames")
         self.offset.setKeyboardTracking(False)  # typed numbers apply on Enter, arrows at once
         self.offset.setToolTip("B's time minus the document's, in the document's frames")

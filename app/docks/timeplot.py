@@ -19,7 +19,6 @@ milliseconds. Interaction:
 
 from __future__ import annotations
 
-import io
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -30,6 +29,8 @@ from PyQt6.QtGui import QColor
 from PyQt6.QtWidgets import QGraphicsItem, QVBoxLayout, QWidget
 
 from gmr_studio.core.atomic import atomic_write_bytes, atomic_write_text
+from gmr_studio.core.clock import frame_seconds
+from gmr_studio.core.table import csv_text
 
 LEGEND_TEXT = "#e6e6e6"
 LEGEND_BOX = (20, 21, 24, 210)
@@ -255,14 +256,12 @@ class TimePlot(QWidget):
         return np.flatnonzero((x >= lo) & (x <= hi))
 
     def csv_text(self) -> str:
-        """What is plotted within the visible x range: ``frame,time,COLUMNS...`` rows."""
+        """What is plotted within the visible x range: ``frame,time,COLUMNS...`` rows, written
+        by the project's one CSV writer (:func:`core.table.csv_text`: names quoted, gaps empty)."""
         rows = self.visible_frames()
-        buffer = io.StringIO()
-        buffer.write(",".join(("frame", "time", *self.columns)) + "\n")
-        for r in rows:
-            values = ",".join(f"{v:.10g}" for v in self.values[r])
-            buffer.write(f"{self.frames[r]},{self.frames[r] * self.frame_time:.10g},{values}\n")
-        return buffer.getvalue()
+        frames = self.frames[rows]
+        table = np.column_stack([frames, frame_seconds(frames, self.frame_time), self.values[rows]])
+        return csv_text(("frame", "time", *self.columns), table, ("%d", "%.10g"))
 
     def export_csv(self, path: str | Path) -> None:
         atomic_write_text(path, self.csv_text())

@@ -21,6 +21,7 @@ from PyQt6.QtCore import QObject, pyqtSignal
 from PyQt6.QtGui import QUndoStack
 
 from gmr_studio.app.model.alignment import MarkerAlignment, auto_alignment, markers_on_motion_frames
+from gmr_studio.core.clock import frame_seconds
 from gmr_studio.core.formats.bvh import FileChannels
 from gmr_studio.core.kinematics import forward_kinematics
 from gmr_studio.core.markers import MarkerSet
@@ -329,7 +330,7 @@ def pelvis_on_motion(pelvis: PelvisFrames, rate: float, alignment: MarkerAlignme
     ``A R A^T`` (``A`` the alignment's rotation); origins in the pelvis' units are taken to
     the marker file's (``alignment.scale`` is per marker-file unit) and then aligned.
     """
-    times = (np.arange(motion.n_frames) + alignment.frame_offset) * motion.frame_time
+    times = frame_seconds(np.arange(motion.n_frames) + alignment.frame_offset, motion.frame_time)
     source = np.rint(times * rate).astype(np.int64)
     inside = (source >= 0) & (source < pelvis.n_frames)
     index = np.clip(source, 0, max(pelvis.n_frames - 1, 0))

@@ -20,6 +20,7 @@ from gmr_studio.app.media.video import export_video, save_screenshot
 from gmr_studio.app.model import extensions, loading
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.app.reliability.crash import describe_unexpected, log_exception
+from gmr_studio.core.compare.clock import DEFAULT_OFFSET
 from gmr_studio.core.errors import MotionFileError, OperationError
 from gmr_studio.core.formats import write_motion
 from gmr_studio.core.markers import MarkerSet
@@ -211,7 +212,7 @@ class FileController(QObject):
         *,
         joint_map: str | None = None,
         align: str = "none",
-        offset: float | str = "auto",
+        offset: float | str = DEFAULT_OFFSET,
         wait: bool = False,
     ) -> None:
         """Read ``path`` (worker thread; a bad file: the same dialog as opening, the document
@@ -233,7 +234,7 @@ class FileController(QObject):
         *,
         joint_map: str | None,
         align: str = "none",
-        offset: float | str = "auto",
+        offset: float | str = DEFAULT_OFFSET,
     ) -> None:
         try:
             layer = self.layers.add(snapshot, path, joint_map, align=align, offset=offset)
