@@ -11,7 +11,8 @@ a node hierarchy with one animation, written through pygltflib.
   node composition gives FK's world transforms. The nodes' static TRS is frame 0.
 - Units: glTF lengths are metres. ``metres_per_unit`` scales every length; by default it
   is inferred from the skeleton's size (:func:`infer_metres_per_unit`). The factor used and
-  the up-axis conversion are stated in ``asset.extras``.
+  the up-axis conversion are stated in ``asset.extras``, with the motion's convention
+  (``"pre"`` or ``"post"``: which frame a node's rotation is, for reading it back).
 - Up axis: glTF is Y-up. A motion whose comments say ``up axis: z`` is turned with
   :func:`core.conversions.change_up_axis` (``(x, y, z) -> (x, z, -y)``).
 - ``skin=True`` adds a mesh of one capsule per bone, rigidly skinned to the joints
@@ -191,7 +192,12 @@ def build_gltf(
         asset=gl.Asset(
             generator="GMR Studio",
             version="2.0",
-            extras={"metres_per_unit": factor, "units": unit_note, "up_axis": up_note},
+            extras={
+                "metres_per_unit": factor,
+                "units": unit_note,
+                "up_axis": up_note,
+                "convention": scene_motion.convention,
+            },
         )
     )
     buffers = BufferBuilder(gltf)

@@ -27,10 +27,12 @@ import numpy as np
 from gmr_studio.core.errors import MotionFileError, read_input
 from gmr_studio.core.formats.gltf_in.container import GltfDocument, open_gltf
 from gmr_studio.core.formats.gltf_in.pose import NodePose, skeleton_pose
+from gmr_studio.core.formats.gltf_in.rest import bind_rotations, pre_from_export, turn_to_bind, world_rest_rotations
 from gmr_studio.core.formats.gltf_in.sampling import INTERPOLATIONS, Sampler, frame_times, sample
 from gmr_studio.core.formats.gltf_in.scene import choose, node_parents, skeleton_nodes, static_trs
 from gmr_studio.core.motion import Motion
 from gmr_studio.core.quaternions import matrix_from_quaternion
+from gmr_studio.core.rotations import rotation_angle
 
 #: rotation channel order given to every joint (what a BVH written from it uses)
 ROTATION_ORDER = "ZYX"
@@ -78,11 +80,20 @@ def _read(doc: GltfDocument, animation, skin, frame_rate) -> Motion:
             for name, value in zip(PATHS, static)
         ]
         poses[node] = _node_pose(*animated)
-    offsets = skeleton_pose(rest, parents, joints, 1)[1][0]
+    index = {node: j for j, node in enumerate(joints)}
+    motion_parents = np.array([index.get(int(parents[node]), -1) for node in joints], dtype=np.int64)
+    rest_rotations, rest_translations, _ = skeleton_pose(rest, parents, joints, 1)
+    offsets = rest_translations[0]
     rotations, translations, moving = skeleton_pose(poses, parents, joints, n_frames)
     offsets[~moving] = translations[0, ~moving]  # constant over the animation: that value, not the rest's
+    bind, from_skin = bind_rotations(doc, skin_index, joints, world_rest_rotations(rest_rotations[0], motion_parents))
+    rotations, translations, offsets = turn_to_bind(bind, motion_parents, rotations, translations, offsets)
+    translations[:, ~moving] = offsets[~moving]
+    convention, pre_note = "post", ""
+    if _extras(doc).get("convention") == "pre" and str(doc.json["asset"].get("generator", "")).startswith("GMR"):
+        translations, offsets, moving = pre_from_export(rotations, translations, offsets, motion_parents, moving)
+        convention, pre_note = "pre", "written by GMR Studio from a pre-rotation (GMR) motion: read as one"
     names, renamed = _joint_names(doc, joints)
-    index = {node: j for j, node in enumerate(joints)}
     comments = [
         f"glTF {doc.path.name}: " + ", ".join(filter(None, [skin_note or "no skin: every node is a joint", anim_note])),
         "units: m",
@@ -90,20 +101,22 @@ def _read(doc: GltfDocument, animation, skin, frame_rate) -> Motion:
         clock.note,
         *_source_units(doc),
         *_armature_notes(doc, above, joints, parents, index),
+        _bind_note(bind, from_skin),
+        pre_note,
         *_scale_notes(doc, poses, needed),
         *ignored,
         *renamed,
     ]
     return Motion(
         names=names,
-        parents=[index.get(int(parents[node]), -1) for node in joints],
+        parents=motion_parents,
         offsets=offsets,
         rotation_orders=(ROTATION_ORDER,) * len(joints),
         has_translation=moving,
         rotations=rotations,
         translations=translations,
         frame_time=clock.frame_time,
-        convention="post",
+        convention=convention,
         comments=tuple(c for c in comments if c),
     )
 
@@ -187,9 +200,23 @@ def _joint_names(doc: GltfDocument, joints: list[int]) -> tuple[list[str], list[
     return names, ([f"{changed} node names made valid joint names (unnamed: node<index>)"] if changed else [])
 
 
+def _extras(doc: GltfDocument) -> dict:
+    extras = doc.json["asset"].get("extras")
+    return extras if isinstance(extras, dict) else {}
+
+
+def _bind_note(bind: np.ndarray, from_skin: int) -> str:
+    angles = np.degrees(rotation_angle(bind))
+    if not from_skin or angles.max() < 1e-6:
+        return ""
+    return (
+        f"rest pose: the skin's bind pose; the rest orientation of its joints (up to {angles.max():.4g} deg, "
+        f"{int((angles > 1e-6).sum())} joints) taken out of their frames"
+    )
+
+
 def _source_units(doc: GltfDocument) -> list[str]:
-    extras = doc.json.get("asset", {}).get("extras")
-    factor = extras.get("metres_per_unit") if isinstance(extras, dict) else None
+    factor = _extras(doc).get("metres_per_unit")
     if isinstance(factor, (int, float)) and not isinstance(factor, bool) and np.isfinite(factor) and factor > 0:
         return [f"source units: {factor:.15g} m (written by GMR Studio from a motion in those units)"]
     return []

@@ -66,7 +66,7 @@ def frame_times(key_times: list[np.ndarray], frame_rate: float | None) -> Clock:
         return Clock(times, step, f"sampled at {frame_rate:g} Hz (--frame-rate)")
     if keys.size < 2:
         return Clock(keys[:1].copy(), 1.0 / FALLBACK_RATE, f"a single key: one frame, {FALLBACK_RATE:g} Hz")
-    step = float(np.diff(keys).min())
+    step = float(np.median(np.diff(keys)))  # float32 times: the smallest gap can be a rounding short
     intervals = round(span / step) if step > 0 else 0
     if intervals > 0:
         step = span / intervals

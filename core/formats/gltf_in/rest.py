@@ -1,0 +1,85 @@
+"""The rest pose of a glTF skeleton, and motions this project exported in pre-rotation.
+
+**Bind pose as rest pose.** A motion's rest pose has every rotation the identity; a glTF
+skeleton's rest is its bind pose, given by the skin's inverse bind matrices (the joint's
+world transform at bind is their inverse). Tools that build bones along the limbs
+(Blender's armatures) give each joint a rest orientation there, so its world rotation is
+the motion's times that orientation: ``W_gltf = W B``. :func:`turn_to_bind` takes it out,
+``W = W_gltf B^T``: local rotations become ``B_p R B_j^T`` and translations ``B_p t``
+(positions unchanged). Joints without an inverse bind matrix (nodes between two joints,
+every node of a file without skin) take their rest world rotation from the nodes' own TRS.
+
+**Pre-rotation exports.** This project writes a GMR motion's joint ``j`` as a node with
+``[R_j, R_j t_j]`` and says ``"convention": "pre"`` in ``asset.extras``;
+:func:`pre_from_export` reads it back as pre-rotation: ``t_j = R_j^T t'_j``, static where it
+varies by float32 rounding only (below :data:`STATIC_FLOAT32`, relative).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from gmr_studio.core.formats.gltf_in.container import GltfDocument
+from gmr_studio.core.rotations import nearest_rotation
+
+#: a translation of a pre-rotation export varying less than this (relative to its length)
+#: over the frames is float32 rounding of a static offset
+STATIC_FLOAT32 = 1e-6
+
+
+def world_rest_rotations(rotations: np.ndarray, parents: np.ndarray) -> np.ndarray:
+    """World rotations (J, 3, 3) of one frame of local post-rotation rotations (J, 3, 3)."""
+    world = np.empty_like(rotations)
+    for j, p in enumerate(parents):  # parents come first
+        world[j] = rotations[j] if p < 0 else world[p] @ rotations[j]
+    return world
+
+
+def bind_rotations(
+    doc: GltfDocument, skin: int | None, joints: list[int], rest_world: np.ndarray
+) -> tuple[np.ndarray, int]:
+    """Each joint's rest orientation (J, 3, 3): from the skin's inverse bind matrices, else
+    ``rest_world`` (the nodes' own rest world rotations); and how many came from the skin."""
+    bind = rest_world.copy()
+    if skin is None:
+        return bind, 0
+    spec = doc.item("skins", skin, "--skin")
+    if spec.get("inverseBindMatrices") is None:
+        return bind, 0
+    matrices = doc.accessor(spec["inverseBindMatrices"], f"skin {skin} inverseBindMatrices")
+    listed = spec["joints"]
+    if matrices.shape != (len(listed), 16):
+        raise doc.error(f"skin {skin}: {len(listed)} joints need as many MAT4 inverse bind matrices")
+    linear = matrices.reshape(-1, 4, 4).transpose(0, 2, 1)[:, :3, :3]  # column-major
+    index = {node: j for j, node in enumerate(joints)}
+    rows = [(index[node], k) for k, node in enumerate(listed) if node in index]
+    ours, theirs = (np.array(side, dtype=np.int64) for side in zip(*rows))
+    bind[ours] = np.swapaxes(nearest_rotation(linear[theirs]), -1, -2)  # the inverse's rotation
+    return bind, len(rows)
+
+
+def turn_to_bind(
+    bind: np.ndarray, parents: np.ndarray, rotations: np.ndarray, translations: np.ndarray, offsets: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Local rotations (F, J, 3, 3), translations (F, J, 3) and offsets (J, 3) with the
+    joints' rest orientations ``bind`` (J, 3, 3) taken out (module docstring)."""
+    above = np.where((parents >= 0)[:, None, None], bind[np.maximum(parents, 0)], np.eye(3))
+    turned = above @ rotations @ np.swapaxes(bind, -1, -2)
+    return turned, (above @ translations[..., None])[..., 0], (above @ offsets[..., None])[..., 0]
+
+
+def pre_from_export(
+    rotations: np.ndarray, translations: np.ndarray, offsets: np.ndarray, parents: np.ndarray, moving: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Pre-rotation translations (F, J, 3), offsets (J, 3) and moving (J,) of a motion this
+    project exported from GMR and that was read as post-rotation (module docstring)."""
+    translations = translations.copy()
+    offsets = offsets.copy()
+    moving = moving.copy()
+    for j in np.flatnonzero(parents >= 0):
+        local = np.einsum("fba,fb->fa", rotations[:, j], translations[:, j])
+        spread = float(np.abs(local - local.mean(axis=0)).max()) if len(local) else 0.0
+        moving[j] = spread > STATIC_FLOAT32 * max(float(np.abs(local).max(initial=0.0)), 1e-300)
+        offsets[j] = local[0] if moving[j] else local.mean(axis=0)
+        translations[:, j] = local if moving[j] else offsets[j]
+    return translations, offsets, moving
