@@ -27,7 +27,7 @@ import numpy as np
 from gmr_studio.core.errors import MotionFileError, read_input
 from gmr_studio.core.formats.gltf_in.container import GltfDocument, open_gltf
 from gmr_studio.core.formats.gltf_in.pose import NodePose, skeleton_pose
-from gmr_studio.core.formats.gltf_in.rest import bind_rotations, pre_from_export, turn_to_bind, world_rest_rotations
+from gmr_studio.core.formats.gltf_in.rest import bind_rotations, pre_from_export, turn_to_bind
 from gmr_studio.core.formats.gltf_in.sampling import INTERPOLATIONS, Sampler, frame_times, sample
 from gmr_studio.core.formats.gltf_in.scene import choose, node_parents, skeleton_nodes, static_trs
 from gmr_studio.core.motion import Motion
@@ -82,11 +82,10 @@ def _read(doc: GltfDocument, animation, skin, frame_rate) -> Motion:
         poses[node] = _node_pose(*animated)
     index = {node: j for j, node in enumerate(joints)}
     motion_parents = np.array([index.get(int(parents[node]), -1) for node in joints], dtype=np.int64)
-    rest_rotations, rest_translations, _ = skeleton_pose(rest, parents, joints, 1)
-    offsets = rest_translations[0]
+    offsets = skeleton_pose(rest, parents, joints, 1)[1][0]
     rotations, translations, moving = skeleton_pose(poses, parents, joints, n_frames)
     offsets[~moving] = translations[0, ~moving]  # constant over the animation: that value, not the rest's
-    bind, from_skin = bind_rotations(doc, skin_index, joints, world_rest_rotations(rest_rotations[0], motion_parents))
+    bind, from_skin = bind_rotations(doc, skin_index, joints)
     rotations, translations, offsets = turn_to_bind(bind, motion_parents, rotations, translations, offsets)
     translations[:, ~moving] = offsets[~moving]
     convention, pre_note = "post", ""

@@ -7,7 +7,8 @@ world transform at bind is their inverse). Tools that build bones along the limb
 the motion's times that orientation: ``W_gltf = W B``. :func:`turn_to_bind` takes it out,
 ``W = W_gltf B^T``: local rotations become ``B_p R B_j^T`` and translations ``B_p t``
 (positions unchanged). Joints without an inverse bind matrix (nodes between two joints,
-every node of a file without skin) take their rest world rotation from the nodes' own TRS.
+every node of a file without skin) keep their frames, as the specification's identity
+default for a missing matrix says.
 
 **Pre-rotation exports.** This project writes a GMR motion's joint ``j`` as a node with
 ``[R_j, R_j t_j]`` and says ``"convention": "pre"`` in ``asset.extras``;
@@ -27,20 +28,10 @@ from gmr_studio.core.rotations import nearest_rotation
 STATIC_FLOAT32 = 1e-6
 
 
-def world_rest_rotations(rotations: np.ndarray, parents: np.ndarray) -> np.ndarray:
-    """World rotations (J, 3, 3) of one frame of local post-rotation rotations (J, 3, 3)."""
-    world = np.empty_like(rotations)
-    for j, p in enumerate(parents):  # parents come first
-        world[j] = rotations[j] if p < 0 else world[p] @ rotations[j]
-    return world
-
-
-def bind_rotations(
-    doc: GltfDocument, skin: int | None, joints: list[int], rest_world: np.ndarray
-) -> tuple[np.ndarray, int]:
+def bind_rotations(doc: GltfDocument, skin: int | None, joints: list[int]) -> tuple[np.ndarray, int]:
     """Each joint's rest orientation (J, 3, 3): from the skin's inverse bind matrices, else
-    ``rest_world`` (the nodes' own rest world rotations); and how many came from the skin."""
-    bind = rest_world.copy()
+    the identity; and how many came from the skin."""
+    bind = np.broadcast_to(np.eye(3), (len(joints), 3, 3)).copy()
     if skin is None:
         return bind, 0
     spec = doc.item("skins", skin, "--skin")

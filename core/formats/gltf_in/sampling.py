@@ -71,7 +71,8 @@ def frame_times(key_times: list[np.ndarray], frame_rate: float | None) -> Clock:
     if intervals > 0:
         step = span / intervals
         position = (keys - start) / step
-        if np.abs(position - np.round(position)).max() <= GRID_TOLERANCE and intervals < MAX_FRAMES:
+        on_grid = np.abs(position - np.round(position)).max() <= GRID_TOLERANCE
+        if on_grid and np.unique(np.round(position)).size == keys.size and intervals < MAX_FRAMES:
             times = start + np.arange(intervals + 1) * step
             times[np.round(position).astype(np.int64)] = keys  # exactly on the keys
             return Clock(times, step, f"keys every {step:.6g} s ({1 / step:.6g} Hz), one frame per key time")
