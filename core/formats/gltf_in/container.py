@@ -152,10 +152,10 @@ class GltfDocument:
         spec = self.item("accessors", index, where)
         at = f"accessor {index}"
         kind = spec.get("type")
-        if kind not in TYPE_SIZES:
+        if not isinstance(kind, str) or kind not in TYPE_SIZES:
             raise self.error(f"{at}: type {kind!r} is not one of {', '.join(TYPE_SIZES)}")
         component = spec.get("componentType")
-        if component not in COMPONENTS:
+        if not isinstance(component, int) or component not in COMPONENTS:
             raise self.error(f"{at}: componentType {component!r} is not a glTF component type")
         count = self.integer(spec, "count", at, low=1)
         if count > MAX_ACCESSOR_COUNT:
@@ -202,7 +202,7 @@ class GltfDocument:
         if not isinstance(values_spec, dict):
             raise self.error(f"{at}: sparse 'values' missing")
         index_type = indices_spec.get("componentType")
-        if index_type not in (5121, 5123, 5125):
+        if not isinstance(index_type, int) or index_type not in (5121, 5123, 5125):
             raise self.error(f"{at}: sparse indices must be unsigned byte, short or int, not {index_type!r}")
         indices = self._read_elements(
             indices_spec.get("bufferView"), indices_spec, count, 1, COMPONENTS[index_type][0], f"{at} sparse indices"

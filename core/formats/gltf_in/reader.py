@@ -139,7 +139,7 @@ def _channels(doc: GltfDocument, index: int, needed: set[int]) -> tuple[dict[tup
         if not isinstance(target, dict):
             raise doc.error(f"{at}: needs a 'target'")
         node, path = target.get("node"), target.get("path")
-        if path not in PATHS:
+        if not isinstance(path, str) or path not in PATHS:
             other_paths.add(str(path))
             continue
         if node is None:
