@@ -52,6 +52,7 @@ class GltfDocument:
         self.json = document
         self.binary = binary
         self._buffers: dict[int, bytes] = {}
+        self._accessors: dict[object, np.ndarray] = {}
 
     # ------------------------------------------------------------------ errors, fields
     def error(self, message: str) -> MotionFileError:
@@ -148,8 +149,11 @@ class GltfDocument:
 
     # ---------------------------------------------------------------------- accessors
     def accessor(self, index: object, where: str) -> np.ndarray:
-        """Accessor ``index`` as float64 ``(count, n_components)`` (normalised integers mapped)."""
+        """Accessor ``index`` as float64 ``(count, n_components)`` (normalised integers
+        mapped), read-only; read once, however many samplers share it."""
         spec = self.item("accessors", index, where)
+        if index in self._accessors:
+            return self._accessors[index]
         at = f"accessor {index}"
         kind = spec.get("type")
         if not isinstance(kind, str) or kind not in TYPE_SIZES:
@@ -175,7 +179,19 @@ class GltfDocument:
             raise self.error(f"{at}: only byte and short components can be normalized")
         if not np.isfinite(values).all():
             raise self.error(f"{at}: holds NaN or infinite values")
+        values.flags.writeable = False
+        self._accessors[index] = values  # type: ignore[index]
         return values
+
+    def key_times(self, index: object, where: str) -> np.ndarray:
+        """A SCALAR accessor as (count,) (one array per accessor, shared by its samplers)."""
+        values = self.accessor(index, where)
+        if values.shape[1] != 1:
+            raise self.error(f"{where}: accessor {index} must be SCALAR times")
+        key = ("times", index)
+        if key not in self._accessors:
+            self._accessors[key] = values[:, 0]  # type: ignore[index]
+        return self._accessors[key]  # type: ignore[index]
 
     def _read_elements(self, view_index, spec: dict, count: int, width: int, dtype: str, at: str) -> np.ndarray:
         buffer, start, length, stride = self.view(view_index, at)

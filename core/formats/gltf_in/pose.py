@@ -24,6 +24,8 @@ import dataclasses
 
 import numpy as np
 
+from gmr_studio.core.quaternions import matrix_from_quaternion
+
 #: a per-frame translation that varies less than this, relative to its size, is static
 STATIC_RELATIVE_TOLERANCE = 1e-12
 
@@ -58,9 +60,12 @@ def _apply(matrices: np.ndarray, vectors: np.ndarray) -> np.ndarray:
     return (matrices @ vectors[..., None])[..., 0]
 
 
-def _child(world: _World, pose: NodePose) -> _World:
-    place = world.place + _apply(world.turn, world.carry(pose.translation))
-    turn = world.turn @ pose.rotation
+def _child(world: _World, pose: NodePose, *, placed: bool = True) -> _World:
+    """The child's world; ``placed=False`` carries the scale only (a joint's children need
+    nothing else), leaving rotation and position empty."""
+    empty = np.zeros((1, 0))
+    place = world.place + _apply(world.turn, world.carry(pose.translation)) if placed else empty
+    turn = world.turn @ pose.rotation if placed else empty
     scale = pose.scale
     if world.stretch.ndim == 1 and (scale == scale[:, :1]).all():
         return _World(turn, place, world.stretch * scale[:, 0])
@@ -69,13 +74,30 @@ def _child(world: _World, pose: NodePose) -> _World:
     return _World(turn, place, back @ stretch @ pose.rotation * scale[:, None, :])
 
 
+def node_poses(
+    nodes: list[int], translations: list[np.ndarray], quaternions: list[np.ndarray], scales: list[np.ndarray]
+) -> tuple[dict[int, NodePose], np.ndarray]:
+    """The poses of some nodes from their translations (F|1, 3), quaternions (F|1, 4,
+    ``x, y, z, w``) and scales (F|1, 3), and their rotation matrices as one block
+    (F|1, N, 3, 3) (each pose's rotation is a view of it): one conversion for all."""
+    frames = max(len(q) for q in quaternions)
+    block = np.empty((frames, len(nodes), 4))
+    for k, q in enumerate(quaternions):
+        block[:, k] = q
+    matrices = matrix_from_quaternion(block, scalar_last=True)
+    poses = {node: NodePose(t, matrices[:, k], s) for k, (node, t, s) in enumerate(zip(nodes, translations, scales))}
+    return poses, matrices
+
+
 def skeleton_pose(
-    poses: dict[int, NodePose], parents: np.ndarray, joints: list[int], n_frames: int
+    poses: dict[int, NodePose], parents: np.ndarray, joints: list[int], n_frames: int, block: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Post-rotation local rotations (F, J, 3, 3), translations (F, J, 3), and which
     translations change over the frames (J,) bool, of the joints (node indices, parents
-    first); ``poses`` holds every joint and every node above them."""
-    rotations = np.empty((n_frames, len(joints), 3, 3))
+    first); ``poses`` holds every joint and every node above them, ``block`` the joints'
+    rotation matrices (F|1, J, 3, 3) from :func:`node_poses`, which become the rotations
+    (the roots' overwritten)."""
+    rotations = block if len(block) == n_frames else np.repeat(block, n_frames, axis=0)
     translations = np.empty((n_frames, len(joints), 3))
     moving = np.zeros(len(joints), bool)
     index = {node: j for j, node in enumerate(joints)}
@@ -85,19 +107,19 @@ def skeleton_pose(
         pose, parent = poses[node], int(parents[node])
         if parent in index:
             world = worlds[parent]
-            rotations[:, j] = pose.rotation
             local = world.carry(pose.translation)
+            worlds[node] = _child(world, pose, placed=False)
         else:
             world = origin
             for up in _chain(parents, node, poses):  # the armature above the root
                 world = _child(world, poses[up])
-            rotations[:, j] = world.turn @ pose.rotation
             local = world.place + _apply(world.turn, world.carry(pose.translation))
+            worlds[node] = _child(world, pose, placed=False)
+            rotations[:, j] = world.turn @ pose.rotation  # pose.rotation is this column: used above first
         if len(local) > 1 and np.abs(local - local[:1]).max() <= STATIC_RELATIVE_TOLERANCE * np.abs(local).max():
             local = local[:1]
         moving[j] = len(local) > 1
         translations[:, j] = local
-        worlds[node] = _child(world, pose)
     return rotations, translations, moving
 
 

@@ -26,12 +26,11 @@ import numpy as np
 
 from gmr_studio.core.errors import MotionFileError, read_input
 from gmr_studio.core.formats.gltf_in.container import GltfDocument, open_gltf
-from gmr_studio.core.formats.gltf_in.pose import NodePose, skeleton_pose
+from gmr_studio.core.formats.gltf_in.pose import NodePose, node_poses, skeleton_pose
 from gmr_studio.core.formats.gltf_in.rest import bind_rotations, pre_from_export, turn_to_bind
-from gmr_studio.core.formats.gltf_in.sampling import INTERPOLATIONS, Sampler, frame_times, sample
+from gmr_studio.core.formats.gltf_in.sampling import INTERPOLATIONS, Sampler, frame_times, sample, segments
 from gmr_studio.core.formats.gltf_in.scene import choose, node_parents, skeleton_nodes, static_trs
 from gmr_studio.core.motion import Motion
-from gmr_studio.core.quaternions import matrix_from_quaternion
 from gmr_studio.core.rotations import rotation_angle
 
 #: rotation channel order given to every joint (what a BVH written from it uses)
@@ -66,24 +65,29 @@ def _read(doc: GltfDocument, animation, skin, frame_rate) -> Motion:
     needed = set(joints) | set(above)
     anim_index, anim_note = choose(doc, "animations", animation, "--animation")
     samplers, ignored = _channels(doc, anim_index, needed) if anim_index is not None else ({}, [])
-    clock = frame_times([s.times for s in samplers.values()], frame_rate)
+    distinct = {id(s.times): s.times for s in samplers.values()}  # samplers often share their key times
+    clock = frame_times(list(distinct.values()), frame_rate)
+    located = {key: segments(times, clock.times) for key, times in distinct.items()}
     n_frames = clock.times.size
     if n_frames * len(joints) > MAX_SAMPLES:
         raise doc.error(f"{n_frames} frames of {len(joints)} joints is more than this reader holds: use --frame-rate")
     translation, rotation, scale = static_trs(doc)
-    rest, poses = {}, {}
-    for node in needed:
-        static = (translation[node][None], rotation[node][None], scale[node][None])
-        rest[node] = _node_pose(*static)
-        animated = [
-            sample(samplers[node, name], clock.times, name == "rotation") if (node, name) in samplers else value
-            for name, value in zip(PATHS, static)
+    static = {node: (translation[node][None], rotation[node][None], scale[node][None]) for node in needed}
+    animated = {
+        node: [
+            sample(s, clock.times, name == "rotation", located[id(s.times)])
+            if (s := samplers.get((node, name)))
+            else value
+            for name, value in zip(PATHS, static[node])
         ]
-        poses[node] = _node_pose(*animated)
+        for node in needed
+    }
+    rest, rest_block = _poses(joints, above, static)
+    poses, block = _poses(joints, above, animated)
     index = {node: j for j, node in enumerate(joints)}
     motion_parents = np.array([index.get(int(parents[node]), -1) for node in joints], dtype=np.int64)
-    offsets = skeleton_pose(rest, parents, joints, 1)[1][0]
-    rotations, translations, moving = skeleton_pose(poses, parents, joints, n_frames)
+    offsets = skeleton_pose(rest, parents, joints, 1, rest_block)[1][0]
+    rotations, translations, moving = skeleton_pose(poses, parents, joints, n_frames, block)
     offsets[~moving] = translations[0, ~moving]  # constant over the animation: that value, not the rest's
     bind, from_skin = bind_rotations(doc, skin_index, joints)
     rotations, translations, offsets = turn_to_bind(bind, motion_parents, rotations, translations, offsets)
@@ -120,8 +124,12 @@ def _read(doc: GltfDocument, animation, skin, frame_rate) -> Motion:
     )
 
 
-def _node_pose(translation: np.ndarray, rotation: np.ndarray, scale: np.ndarray) -> NodePose:
-    return NodePose(translation, matrix_from_quaternion(np.roll(rotation, 1, axis=-1)), scale)
+def _poses(joints: list[int], above: list[int], trs: dict[int, list[np.ndarray]]) -> tuple[dict, np.ndarray]:
+    """Node poses of the joints (their rotations one block, returned) and of the nodes above."""
+    poses, block = node_poses(joints, *(list(column) for column in zip(*(trs[n] for n in joints))))
+    if above:
+        poses.update(node_poses(above, *(list(column) for column in zip(*(trs[n] for n in above))))[0])
+    return poses, block
 
 
 def _channels(doc: GltfDocument, index: int, needed: set[int]) -> tuple[dict[tuple[int, str], Sampler], list[str]]:
@@ -166,11 +174,8 @@ def _sampler(doc: GltfDocument, spec: object, width: int, at: str) -> Sampler:
     interpolation = spec.get("interpolation", "LINEAR")
     if interpolation not in INTERPOLATIONS:
         raise doc.error(f"{at}: interpolation {interpolation!r} is not one of {', '.join(INTERPOLATIONS)}")
-    times = doc.accessor(spec.get("input"), f"{at} input")
+    times = doc.key_times(spec.get("input"), f"{at} input")
     values = doc.accessor(spec.get("output"), f"{at} output")
-    if times.shape[1] != 1:
-        raise doc.error(f"{at}: its input must be SCALAR times")
-    times = times[:, 0]
     if times.size > 1 and (np.diff(times) < 0).any():
         raise doc.error(f"{at}: key times must not decrease (key {int(np.argmax(np.diff(times) < 0)) + 1})")
     expected = times.size * (3 if interpolation == "CUBICSPLINE" else 1)

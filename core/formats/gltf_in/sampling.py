@@ -66,22 +66,37 @@ def frame_times(key_times: list[np.ndarray], frame_rate: float | None) -> Clock:
         return Clock(times, step, f"sampled at {frame_rate:g} Hz (--frame-rate)")
     if keys.size < 2:
         return Clock(keys[:1].copy(), 1.0 / FALLBACK_RATE, f"a single key: one frame, {FALLBACK_RATE:g} Hz")
-    step = float(np.median(np.diff(keys)))  # float32 times: the smallest gap can be a rounding short
-    intervals = round(span / step) if step > 0 else 0
-    if intervals > 0:
-        step = span / intervals
-        position = (keys - start) / step
-        on_grid = np.abs(position - np.round(position)).max() <= GRID_TOLERANCE
-        if on_grid and np.unique(np.round(position)).size == keys.size and intervals < MAX_FRAMES:
-            times = start + np.arange(intervals + 1) * step
-            times[np.round(position).astype(np.int64)] = keys  # exactly on the keys
-            return Clock(times, step, f"keys every {step:.6g} s ({1 / step:.6g} Hz), one frame per key time")
+    grid = regular_grid(keys)
+    if grid is not None:
+        step, index = grid
+        times = start + np.arange(index[-1] + 1) * step
+        times[index] = keys  # exactly on the keys
+        return Clock(times, step, f"keys every {step:.6g} s ({1 / step:.6g} Hz), one frame per key time")
     step = 1.0 / FALLBACK_RATE
     return Clock(
         _on_keys(start + np.arange(_frame_count(span, step)) * step, keys, step),
         step,
         f"keys at irregular times: sampled at {FALLBACK_RATE:g} Hz (--frame-rate to choose)",
     )
+
+
+def regular_grid(keys: np.ndarray) -> tuple[float, np.ndarray] | None:
+    """(step, frame index of each key) when the sorted distinct keys (K,) lie on one grid,
+    else None. Each gap counts whole steps of the smallest gap (float32 rounding makes gaps
+    late in a long take differ by a few per mille, far from half a step); the step is then
+    the whole span over the steps counted, and every key must lie within
+    :data:`GRID_TOLERANCE` of a frame of it."""
+    gaps = np.diff(keys)
+    smallest = float(gaps.min())
+    if not smallest > 0:
+        return None
+    counts = np.round(gaps / smallest)
+    if counts.max() > MAX_FRAMES or counts.sum() >= MAX_FRAMES:
+        return None
+    index = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    step = float(keys[-1] - keys[0]) / float(index[-1])
+    off = np.abs((keys - keys[0]) / step - index).max()
+    return (step, index) if off <= GRID_TOLERANCE else None
 
 
 def _on_keys(times: np.ndarray, keys: np.ndarray, step: float) -> np.ndarray:
@@ -101,19 +116,29 @@ def _frame_count(span: float, step: float) -> int:
     return count
 
 
-def sample(sampler: Sampler, times: np.ndarray, rotation: bool) -> np.ndarray:
-    """The sampler's value at each time: (F, C); ``rotation``: quaternions ``x, y, z, w``."""
-    keys = sampler.times
-    cubic = sampler.interpolation == "CUBICSPLINE"
-    values = sampler.values.reshape(keys.size, 3, -1)[:, 1] if cubic else sampler.values
+def segments(keys: np.ndarray, times: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """For each time: the key at or before it and the next (clamped), the gap between their
+    times, and the fraction of it (0 on a key): (F,) each."""
     after = np.searchsorted(keys, times, side="right")  # first key later than t
     before = np.clip(after - 1, 0, keys.size - 1)
     nxt = np.clip(after, 0, keys.size - 1)
-    if sampler.interpolation == "STEP" or keys.size == 1:
-        return values[before]
     gap = keys[nxt] - keys[before]
     fraction = np.where(gap > 0, (times - keys[before]) / np.where(gap > 0, gap, 1.0), 0.0)
-    fraction = np.clip(fraction, 0.0, 1.0)[:, None]
+    return before, nxt, gap, np.clip(fraction, 0.0, 1.0)
+
+
+def sample(sampler: Sampler, times: np.ndarray, rotation: bool, located: tuple | None = None) -> np.ndarray:
+    """The sampler's value at each time: (F, C); ``rotation``: quaternions ``x, y, z, w``;
+    ``located``: :func:`segments` of the sampler's keys at these times, if in hand."""
+    keys = sampler.times
+    cubic = sampler.interpolation == "CUBICSPLINE"
+    values = sampler.values.reshape(keys.size, 3, -1)[:, 1] if cubic else sampler.values
+    before, nxt, gap, fraction = located if located is not None else segments(keys, times)
+    if sampler.interpolation == "STEP" or keys.size == 1 or not fraction.any():  # every frame on a key
+        if before.size == keys.size and before[0] == 0 and before[-1] == keys.size - 1:
+            return values  # one frame per key, in order (before never decreases): no copy
+        return values[before]  # (quaternions are normalised when they become matrices)
+    fraction = fraction[:, None]
     if cubic:
         tangents = sampler.values.reshape(keys.size, 3, -1)
         s, s2, s3 = fraction, fraction**2, fraction**3
