@@ -89,6 +89,9 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as exc:
         raise OperationError(str(exc)) from None
     print(comparison_text(result))
+    for label, motion in (("A", a), ("B", b)):
+        for note in reading_notes(motion):
+            print(f"read {label}:   {note}")
     if args.json:
         atomic_write_text(args.json, json.dumps(result.to_json(), indent=1) + "\n")
         print(f"wrote {args.json}")
@@ -105,6 +108,16 @@ def _reading(path: str, args: argparse.Namespace) -> dict:
     """The reader's options for one input: --asf for an AMC, --animation/--skin for glTF
     (sampled at its keys' spacing: the comparison resamples B on A's clock)."""
     return reader_options(path, args.asf, animation=args.animation, skin=args.skin)
+
+
+#: the beginnings of the notes a reader adds that change what is compared (glTF: the
+#: armature applied, the rest orientation taken out, scale folded, the sampling)
+READING_NOTES = ("armature:", "rest pose:", "WARNING", "uniform scale", "animated uniform", "keys at", "sampled at")
+
+
+def reading_notes(motion) -> list[str]:
+    """The motion's reading notes that bear on a comparison (:data:`READING_NOTES`)."""
+    return [c for c in motion.comments if c.startswith(READING_NOTES)]
 
 
 def comparison_text(result: Comparison) -> str:
