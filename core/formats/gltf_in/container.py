@@ -170,6 +170,8 @@ class GltfDocument:
             values = self._read_elements(spec.get("bufferView"), spec, count, width, dtype, at)
         else:
             values = np.zeros((count, width), np.dtype(dtype))
+        if values.dtype.kind == "f" and not np.isfinite(values).all():  # checked in float32: half the bytes
+            raise self.error(f"{at}: holds NaN or infinite values")
         values = values.astype(np.float64)
         if "sparse" in spec:
             self._apply_sparse(spec["sparse"], values, width, dtype, at)

@@ -26,6 +26,8 @@ import numpy as np
 
 from gmr_studio.core.quaternions import matrix_from_quaternion
 
+#: frames converted from quaternions to matrices at a time
+CHUNK_FRAMES = 2048
 #: a per-frame translation that varies less than this, relative to its size, is static
 STATIC_RELATIVE_TOLERANCE = 1e-12
 
@@ -84,7 +86,10 @@ def node_poses(
     block = np.empty((frames, len(nodes), 4))
     for k, q in enumerate(quaternions):
         block[:, k] = q
-    matrices = matrix_from_quaternion(block, scalar_last=True)
+    matrices = np.empty((frames, len(nodes), 3, 3))
+    for start in range(0, frames, CHUNK_FRAMES):  # a few MB at a time: the temporaries stay in cache
+        part = slice(start, start + CHUNK_FRAMES)
+        matrices[part] = matrix_from_quaternion(block[part], scalar_last=True)
     poses = {node: NodePose(t, matrices[:, k], s) for k, (node, t, s) in enumerate(zip(nodes, translations, scales))}
     return poses, matrices
 

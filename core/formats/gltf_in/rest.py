@@ -50,16 +50,25 @@ def bind_rotations(doc: GltfDocument, skin: int | None, joints: list[int]) -> tu
 
 
 def turn_to_bind(
-    bind: np.ndarray, parents: np.ndarray, rotations: np.ndarray, translations: np.ndarray, offsets: np.ndarray
+    bind: np.ndarray,
+    parents: np.ndarray,
+    rotations: np.ndarray,
+    translations: np.ndarray,
+    offsets: np.ndarray,
+    moving: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Local rotations (F, J, 3, 3), translations (F, J, 3) and offsets (J, 3) with the
-    joints' rest orientations ``bind`` (J, 3, 3) taken out (module docstring); unchanged
-    when every orientation is the identity (to 1e-12, as this project's exports bind)."""
+    joints' rest orientations ``bind`` (J, 3, 3) taken out (module docstring); the joints
+    not ``moving`` (J,) keep their translations equal to their offsets. Unchanged when every
+    orientation is the identity (to 1e-12, as this project's exports bind)."""
     if np.abs(bind - np.eye(3)).max(initial=0.0) <= 1e-12:
         return rotations, translations, offsets
     above = np.where((parents >= 0)[:, None, None], bind[np.maximum(parents, 0)], np.eye(3))
     turned = above @ rotations @ np.swapaxes(bind, -1, -2)
-    return turned, (above @ translations[..., None])[..., 0], (above @ offsets[..., None])[..., 0]
+    offsets = (above @ offsets[..., None])[..., 0]
+    translations = (above @ translations[..., None])[..., 0]
+    translations[:, ~moving] = offsets[~moving]
+    return turned, translations, offsets
 
 
 def pre_from_export(
