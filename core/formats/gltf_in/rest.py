@@ -76,13 +76,13 @@ def pre_from_export(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Pre-rotation translations (F, J, 3), offsets (J, 3) and moving (J,) of a motion this
     project exported from GMR and that was read as post-rotation (module docstring)."""
-    translations = translations.copy()
-    offsets = offsets.copy()
-    moving = moving.copy()
-    for j in np.flatnonzero(parents >= 0):
-        local = np.einsum("fba,fb->fa", rotations[:, j], translations[:, j])
-        spread = float(np.abs(local - local.mean(axis=0)).max()) if len(local) else 0.0
-        moving[j] = spread > STATIC_FLOAT32 * max(float(np.abs(local).max(initial=0.0)), 1e-300)
-        offsets[j] = local[0] if moving[j] else local.mean(axis=0)
-        translations[:, j] = local if moving[j] else offsets[j]
-    return translations, offsets, moving
+    children = parents >= 0
+    local = (np.swapaxes(rotations, -1, -2) @ translations[..., None])[..., 0]  # R^T t', every joint
+    local[:, ~children] = translations[:, ~children]
+    mean = local.mean(axis=0)
+    spread = np.abs(local - mean).max(axis=(0, 2), initial=0.0)
+    static = children & (spread <= STATIC_FLOAT32 * np.maximum(np.abs(local).max(axis=(0, 2), initial=0.0), 1e-300))
+    moving = moving & ~children | children & ~static
+    offsets = np.where(children[:, None], np.where(static[:, None], mean, local[0] if len(local) else offsets), offsets)
+    local[:, static] = offsets[static]
+    return local, offsets, moving
