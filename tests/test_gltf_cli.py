@@ -27,6 +27,9 @@ def test_positions_with_the_animation_chosen(tmp_path, capsys):
     assert main(["positions", str(fox), "--frame-rate", "10", "-o", str(out)]) == 0
     with np.load(out) as data:
         assert data["positions"].shape[0] == 36  # Survey: 3.5 s at 10 Hz, last frame on its last key
+    csv = tmp_path / "walk.csv"
+    assert main(["curves", str(fox), "--animation", "Walk", "--quantity", "speed", "--joints", "b_Head_05", "-o", str(csv)]) == 0
+    assert len(csv.read_text().splitlines()) == 1 + read_motion(fox, animation="Walk").n_frames
 
 
 @pytest.mark.parametrize("suffix", [".bvh", ".gmr"])
