@@ -28,7 +28,8 @@ def test_positions_with_the_animation_chosen(tmp_path, capsys):
     with np.load(out) as data:
         assert data["positions"].shape[0] == 36  # Survey: 3.5 s at 10 Hz, last frame on its last key
     csv = tmp_path / "walk.csv"
-    assert main(["curves", str(fox), "--animation", "Walk", "--quantity", "speed", "--joints", "b_Head_05", "-o", str(csv)]) == 0
+    arguments = ["--animation", "Walk", "--quantity", "speed", "--joints", "b_Head_05", "-o", str(csv)]
+    assert main(["curves", str(fox), *arguments]) == 0
     assert len(csv.read_text().splitlines()) == 1 + read_motion(fox, animation="Walk").n_frames
 
 
