@@ -298,6 +298,10 @@ BAD = {
     "glTF 1": (_raw(b'{"asset": {"version": "1.0"}}', "bad.gltf"), "only glTF 2.x"),
     "not a glb": (_raw(b"PK\x03\x04" + b"\0" * 40), "not a binary glTF file"),
     "tiny": (_raw(b"glTF"), "this has 4 bytes"),
+    "compressed buffers": (
+        _edit(_set(["extensionsRequired"], ["EXT_meshopt_compression"])),
+        "requires EXT_meshopt_compression, which this reader does not decode",
+    ),
     "skin joint out of range": (_edit(_set(["skins"], [{"joints": [9]}])), "skin 0 joints: nodes index 9"),
     "frames beyond reason": (_edit(lambda d: None), None),
 }

@@ -36,6 +36,8 @@ COMPONENTS = {
     5126: ("<f4", None, None),
 }
 TYPE_SIZES = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
+#: required extensions that change how buffer data (animation keys included) are stored
+UNDECODED_EXTENSIONS = {"EXT_meshopt_compression", "KHR_meshopt_compression"}
 #: the largest accessor the reader accepts (elements), far above any real animation
 MAX_ACCESSOR_COUNT = 50_000_000
 
@@ -267,6 +269,11 @@ def parse_json(path: str | Path, text: bytes) -> dict:
         raise MotionFileError(path, f"the glTF JSON is not valid JSON{detail}") from None
     if not isinstance(document, dict):
         raise MotionFileError(path, "the glTF JSON must be an object")
+    required = document.get("extensionsRequired", [])
+    named = {item for item in required if isinstance(item, str)} if isinstance(required, list) else set()
+    refused = sorted(named & UNDECODED_EXTENSIONS)
+    if refused:
+        raise MotionFileError(path, f"the file requires {', '.join(refused)}, which this reader does not decode")
     asset = document.get("asset")
     version = asset.get("version") if isinstance(asset, dict) else None
     if not isinstance(version, str) or not version.startswith("2."):
