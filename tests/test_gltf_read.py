@@ -298,6 +298,7 @@ BAD = {
     "glTF 1": (_raw(b'{"asset": {"version": "1.0"}}', "bad.gltf"), "only glTF 2.x"),
     "not a glb": (_raw(b"PK\x03\x04" + b"\0" * 40), "not a binary glTF file"),
     "tiny": (_raw(b"glTF"), "this has 4 bytes"),
+    "zero quaternion": (_edit(lambda d: d["accessors"][1].pop("bufferView")), "rotation key 0 is not a quaternion"),
     "compressed buffers": (
         _edit(_set(["extensionsRequired"], ["EXT_meshopt_compression"])),
         "requires EXT_meshopt_compression, which this reader does not decode",

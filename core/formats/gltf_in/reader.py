@@ -38,6 +38,8 @@ ROTATION_ORDER = "ZYX"
 PATHS = {"translation": 3, "rotation": 4, "scale": 3}
 #: scales closer than this (relative) to uniform, or to 1, are float32 rounding: not reported
 SCALE_NOTE_TOLERANCE = 1e-5
+#: a rotation key shorter than this has no direction (normalised int8 keys are at least 1/127)
+MIN_QUATERNION_LENGTH = 1e-3
 #: the most joint samples (frames times joints) a file may be sampled to (~2 GB of motion)
 MAX_SAMPLES = 20_000_000
 
@@ -183,6 +185,12 @@ def _sampler(doc: GltfDocument, spec: object, width: int, at: str) -> Sampler:
             f"{at}: {times.size} {interpolation} keys need {expected} outputs of {width} components, "
             f"not {values.shape[0]} of {values.shape[1]}"
         )
+    if width == 4:  # rotations: every key a quaternion that has a direction
+        keys = values.reshape(times.size, 3, 4)[:, 1] if interpolation == "CUBICSPLINE" else values
+        lengths = np.linalg.norm(keys, axis=1)
+        if (lengths < MIN_QUATERNION_LENGTH).any():
+            k = int(np.argmax(lengths < MIN_QUATERNION_LENGTH))
+            raise doc.error(f"{at}: rotation key {k} is not a quaternion (length {lengths[k]:.3g})")
     return Sampler(times, values, interpolation)
 
 
