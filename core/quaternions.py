@@ -65,10 +65,13 @@ def quaternion_from_matrix(matrices: np.ndarray) -> np.ndarray:
     return np.where(q[..., :1] < 0, -q, q)
 
 
-def matrix_from_quaternion(quaternions: np.ndarray, *, scalar_last: bool = False) -> np.ndarray:
+def matrix_from_quaternion(
+    quaternions: np.ndarray, *, scalar_last: bool = False, out: np.ndarray | None = None
+) -> np.ndarray:
     """Rotation matrices of quaternions (w, x, y, z), normalised first: (..., 4) -> (..., 3, 3).
 
-    ``scalar_last``: the quaternions are (x, y, z, w), as glTF stores them.
+    ``scalar_last``: the quaternions are (x, y, z, w), as glTF stores them; ``out``: an
+    array (..., 3, 3) to write the matrices into (returned).
     """
     q = np.asarray(quaternions, dtype=np.float64)
     if scalar_last:
@@ -79,7 +82,7 @@ def matrix_from_quaternion(quaternions: np.ndarray, *, scalar_last: bool = False
     x2, y2, z2 = x * two, y * two, z * two  # one product per pair, not per entry (large arrays: memory-bound)
     xx, yy, zz, xy, xz, yz = x * x2, y * y2, z * z2, x * y2, x * z2, y * z2
     wx, wy, wz = w * x2, w * y2, w * z2
-    out = np.empty((*q.shape[:-1], 3, 3))
+    out = np.empty((*q.shape[:-1], 3, 3)) if out is None else out
     out[..., 0, 0] = 1 - (yy + zz)
     out[..., 0, 1] = xy - wz
     out[..., 0, 2] = xz + wy

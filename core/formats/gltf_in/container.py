@@ -110,7 +110,7 @@ class GltfDocument:
             data = self._external(uri, index, length)
         if len(data) < length:
             raise self.error(f"buffer {index} holds {len(data)} bytes but claims byteLength {length}")
-        self._buffers[index] = data[:length]
+        self._buffers[index] = memoryview(data)[:length]  # a view: no copy of a large buffer
         return self._buffers[index]
 
     def _data_uri(self, uri: str, index: int) -> bytes:
@@ -177,12 +177,12 @@ class GltfDocument:
         values = values.astype(np.float64)
         if "sparse" in spec:
             self._apply_sparse(spec["sparse"], values, width, dtype, at)
+            if not np.isfinite(values).all():
+                raise self.error(f"{at}: its sparse values hold NaN or infinite values")
         if spec.get("normalized") is True and divisor is not None:
             values = np.maximum(values / divisor, lowest)
         elif spec.get("normalized") is True:
             raise self.error(f"{at}: only byte and short components can be normalized")
-        if not np.isfinite(values).all():
-            raise self.error(f"{at}: holds NaN or infinite values")
         values.flags.writeable = False
         self._accessors[index] = values  # type: ignore[index]
         return values
@@ -209,8 +209,7 @@ class GltfDocument:
             raise self.error(
                 f"{at}: {count} elements from byte {offset} need {needed} bytes but its bufferView has {length}"
             )
-        rows = np.ndarray((count,), np.dtype((dtype, (width,))), buffer, start + offset, (stride,))
-        return np.array(rows)
+        return np.ndarray((count,), np.dtype((dtype, (width,))), buffer, start + offset, (stride,))
 
     def _apply_sparse(self, sparse: object, values: np.ndarray, width: int, dtype: str, at: str) -> None:
         if not isinstance(sparse, dict) or not isinstance(sparse.get("indices"), dict):
@@ -251,12 +250,12 @@ def parse_glb(path: str | Path, data: bytes) -> tuple[dict, bytes | None]:
         size, kind = struct.unpack_from("<II", data, at)
         if at + 8 + size > length:
             raise MotionFileError(path, f"chunk {len(chunks)} at byte {at} claims {size} bytes beyond the file's end")
-        chunks.append((kind, data[at + 8 : at + 8 + size]))
+        chunks.append((kind, memoryview(data)[at + 8 : at + 8 + size]))
         at += 8 + size
     if not chunks or chunks[0][0] != CHUNK_JSON:
         raise MotionFileError(path, "the first chunk of a .glb must be its JSON")
     binary = chunks[1][1] if len(chunks) > 1 and chunks[1][0] == CHUNK_BIN else None
-    return parse_json(path, chunks[0][1]), binary
+    return parse_json(path, bytes(chunks[0][1])), binary
 
 
 def parse_json(path: str | Path, text: bytes) -> dict:

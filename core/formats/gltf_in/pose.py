@@ -89,7 +89,7 @@ def node_poses(
     matrices = np.empty((frames, len(nodes), 3, 3))
     for start in range(0, frames, CHUNK_FRAMES):  # a few MB at a time: the temporaries stay in cache
         part = slice(start, start + CHUNK_FRAMES)
-        matrices[part] = matrix_from_quaternion(block[part], scalar_last=True)
+        matrix_from_quaternion(block[part], scalar_last=True, out=matrices[part])
     poses = {node: NodePose(t, matrices[:, k], s) for k, (node, t, s) in enumerate(zip(nodes, translations, scales))}
     return poses, matrices
 

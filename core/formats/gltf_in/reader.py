@@ -187,10 +187,10 @@ def _sampler(doc: GltfDocument, spec: object, width: int, at: str) -> Sampler:
         )
     if width == 4:  # rotations: every key a quaternion that has a direction
         keys = values.reshape(times.size, 3, 4)[:, 1] if interpolation == "CUBICSPLINE" else values
-        lengths = np.linalg.norm(keys, axis=1)
-        if (lengths < MIN_QUATERNION_LENGTH).any():
-            k = int(np.argmax(lengths < MIN_QUATERNION_LENGTH))
-            raise doc.error(f"{at}: rotation key {k} is not a quaternion (length {lengths[k]:.3g})")
+        short = np.einsum("kq,kq->k", keys, keys) < MIN_QUATERNION_LENGTH**2
+        if short.any():
+            k = int(np.argmax(short))
+            raise doc.error(f"{at}: rotation key {k} is not a quaternion (length {np.linalg.norm(keys[k]):.3g})")
     return Sampler(times, values, interpolation)
 
 
