@@ -77,3 +77,13 @@ def test_batch_and_dataset_read_gltf(tmp_path, capsys):
         files = list(data["files"])
         assert files == ["cylinder/03_skinned_cylinder.gltf", "fox.glb"]
         np.testing.assert_allclose(data["values_1"], world_positions(read_motion(folder / "fox.glb")), rtol=1e-6)
+
+
+def test_gltf_to_gltf_keeps_metres(tmp_path, capsys):
+    fox = shared_path("gltf/bevy_Fox.glb")  # 100 m tall: the unit inference would take it for cm
+    out = tmp_path / "fox.glb"
+    assert main(["convert", str(fox), str(out), "--animation", "Run"]) == 0
+    assert "lengths in m as the motion states, times 1" in capsys.readouterr().out
+    before, after = read_motion(fox, animation="Run"), read_motion(out)
+    worst = float(np.abs(world_positions(before) - world_positions(after)).max())
+    assert worst <= 2e-7 * before.size  # float32
