@@ -87,3 +87,12 @@ def test_gltf_to_gltf_keeps_metres(tmp_path, capsys):
     before, after = read_motion(fox, animation="Run"), read_motion(out)
     worst = float(np.abs(world_positions(before) - world_positions(after)).max())
     assert worst <= 2e-7 * before.size  # float32
+
+
+def test_the_benchmark_prints_its_figures(capsys):
+    from gmr_studio.core.benchmark.gltf_speed import reading_speed
+
+    shared_path("cmu/subject01/01_01.bvh")
+    reading_speed(300, 1)  # the figures themselves: python -m gmr_studio.core.benchmark.gltf_speed
+    out = capsys.readouterr().out
+    assert "reading 300 frames x 38 joints" in out and "glTF / BVH time:" in out
