@@ -65,21 +65,33 @@ def quaternion_from_matrix(matrices: np.ndarray) -> np.ndarray:
     return np.where(q[..., :1] < 0, -q, q)
 
 
-def matrix_from_quaternion(quaternions: np.ndarray) -> np.ndarray:
-    """Rotation matrices of quaternions (w, x, y, z), normalised first: (..., 4) -> (..., 3, 3)."""
+def matrix_from_quaternion(
+    quaternions: np.ndarray, *, scalar_last: bool = False, out: np.ndarray | None = None
+) -> np.ndarray:
+    """Rotation matrices of quaternions (w, x, y, z), normalised first: (..., 4) -> (..., 3, 3).
+
+    ``scalar_last``: the quaternions are (x, y, z, w), as glTF stores them; ``out``: an
+    array (..., 3, 3) to write the matrices into (returned).
+    """
     q = np.asarray(quaternions, dtype=np.float64)
-    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
-    w, x, y, z = np.moveaxis(q, -1, 0)
-    out = np.empty((*q.shape[:-1], 3, 3))
-    out[..., 0, 0] = 1 - 2 * (y * y + z * z)
-    out[..., 0, 1] = 2 * (x * y - w * z)
-    out[..., 0, 2] = 2 * (x * z + w * y)
-    out[..., 1, 0] = 2 * (x * y + w * z)
-    out[..., 1, 1] = 1 - 2 * (x * x + z * z)
-    out[..., 1, 2] = 2 * (y * z - w * x)
-    out[..., 2, 0] = 2 * (x * z - w * y)
-    out[..., 2, 1] = 2 * (y * z + w * x)
-    out[..., 2, 2] = 1 - 2 * (x * x + y * y)
+    if scalar_last:
+        x, y, z, w = np.moveaxis(q, -1, 0)
+    else:
+        w, x, y, z = np.moveaxis(q, -1, 0)
+    two = 2.0 / (w * w + x * x + y * y + z * z)  # normalising: each product below is of two components
+    x2, y2, z2 = x * two, y * two, z * two  # one product per pair, not per entry (large arrays: memory-bound)
+    xx, yy, zz, xy, xz, yz = x * x2, y * y2, z * z2, x * y2, x * z2, y * z2
+    wx, wy, wz = w * x2, w * y2, w * z2
+    out = np.empty((*q.shape[:-1], 3, 3)) if out is None else out
+    out[..., 0, 0] = 1 - (yy + zz)
+    out[..., 0, 1] = xy - wz
+    out[..., 0, 2] = xz + wy
+    out[..., 1, 0] = xy + wz
+    out[..., 1, 1] = 1 - (xx + zz)
+    out[..., 1, 2] = yz - wx
+    out[..., 2, 0] = xz - wy
+    out[..., 2, 1] = yz + wx
+    out[..., 2, 2] = 1 - (xx + yy)
     return out
 
 

@@ -11,6 +11,7 @@ import argparse
 import json
 
 from gmr_studio.core.atomic import atomic_write_text
+from gmr_studio.core.cli.reading import add_gltf_options, reader_options
 from gmr_studio.core.compare.audit import audit_motion
 from gmr_studio.core.formats import read_motion
 
@@ -19,20 +20,21 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser(
         "audit",
         help="run a file through every round trip and check positions stay within tolerance",
-        description="GMR in memory, GMR file, BVH file, forest export after split all, dummy removal and "
+        description="GMR in memory, GMR file, BVH file, forest export after split all, glTF file (also of "
+        "the forest), dummy removal and "
         "back, shift root to every k-th joint, split all / join all, and the ASF rest pose for an AMC: the "
         "worst position error of each, relative to the skeleton's size, against its documented tolerance.",
     )
     parser.add_argument("file", help="any motion file the project reads")
     parser.add_argument("--asf", help="the .asf skeleton of an .amc (default: the one beside it)")
+    add_gltf_options(parser)
     parser.add_argument("--every", type=int, default=5, help="shift the root to every K-th joint (default 5)")
     parser.add_argument("--json", metavar="OUT", help="write the paths as JSON")
     parser.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    options = {"asf": args.asf} if args.asf and args.file.lower().endswith(".amc") else {}
-    motion = read_motion(args.file, **options)
+    motion = read_motion(args.file, **reader_options(args.file, args.asf, animation=args.animation, skin=args.skin))
     paths = audit_motion(motion, args.file, every=args.every)
     width = max(len(p.name) for p in paths)
     print(f"{args.file}: {motion.n_frames} frames, {motion.n_joints} joints, size {motion.size:.6g}")

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from gmr_studio.core.atomic import atomic_write_bytes, atomic_write_text
+from gmr_studio.core.cli.reading import add_gltf_options, reader_options
 from gmr_studio.core.compare import ALIGN_KINDS, Comparison, compare_motions
 from gmr_studio.core.compare.clock import DEFAULT_OFFSET
 from gmr_studio.core.errors import OperationError
@@ -33,6 +34,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("b", help="the motion compared with it")
     parser.add_argument("--map", help="joint-name map: a shipped name (cmu) or a .toml file (docs/formats.md)")
     parser.add_argument("--asf", help="the .asf skeleton of .amc inputs (default: the one beside each AMC)")
+    add_gltf_options(parser)
     parser.add_argument("--frames", help="A's frames, START:STOP (0-based, STOP excluded; either may be empty)")
     parser.add_argument("--align", choices=ALIGN_KINDS, default="none", help="fit B onto A over all frames")
     parser.add_argument(
@@ -73,9 +75,8 @@ def parse_offset(text: str) -> float | str:
 
 
 def run(args: argparse.Namespace) -> int:
-    options = {"asf": args.asf} if args.asf else {}
-    a = read_motion(args.a, **_amc_options(args.a, options))
-    b = read_motion(args.b, **_amc_options(args.b, options))
+    a = read_motion(args.a, **_reading(args.a, args))
+    b = read_motion(args.b, **_reading(args.b, args))
     try:
         result = compare_motions(
             a,
@@ -92,6 +93,9 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as exc:
         raise OperationError(str(exc)) from None
     print(comparison_text(result))
+    for label, motion in (("A", a), ("B", b)):
+        for note in reading_notes(motion):
+            print(f"read {label}:   {note}")
     if args.json:
         atomic_write_text(args.json, json.dumps(result.to_json(), indent=1) + "\n")
         print(f"wrote {args.json}")
@@ -104,8 +108,20 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _amc_options(path: str, options: dict) -> dict:
-    return options if path.lower().endswith(".amc") else {}
+def _reading(path: str, args: argparse.Namespace) -> dict:
+    """The reader's options for one input: --asf for an AMC, --animation/--skin for glTF
+    (sampled at its keys' spacing: the comparison resamples B on A's clock)."""
+    return reader_options(path, args.asf, animation=args.animation, skin=args.skin)
+
+
+#: the beginnings of the notes a reader adds that change what is compared (glTF: the
+#: armature applied, the rest orientation taken out, scale folded, the sampling)
+READING_NOTES = ("armature:", "rest pose:", "WARNING", "uniform scale", "animated uniform", "keys at", "sampled at")
+
+
+def reading_notes(motion) -> list[str]:
+    """The motion's reading notes that bear on a comparison (:data:`READING_NOTES`)."""
+    return [c for c in motion.comments if c.startswith(READING_NOTES)]
 
 
 def comparison_text(result: Comparison) -> str:

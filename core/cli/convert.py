@@ -29,7 +29,7 @@ from gmr_studio.core.formats import motion_suffix, read_motion, write_motion
 from gmr_studio.core.motion import Motion
 
 #: formats ``convert`` reads and writes
-INPUT_SUFFIXES = (".bvh", ".amc", ".gmr", ".npz")
+INPUT_SUFFIXES = (".bvh", ".amc", ".gmr", ".npz", ".glb", ".gltf")
 OUTPUT_SUFFIXES = (".bvh", ".gmr", ".glb", ".gltf")
 
 
@@ -46,10 +46,12 @@ class ConvertOptions:
     split_trees: bool = False
     metres_per_unit: float | None = None
     body_model: str | None = None
+    animation: str | None = None
+    skin: str | None = None
 
     @classmethod
     def from_args(cls, args: argparse.Namespace) -> ConvertOptions:
-        return cls(**{field.name: getattr(args, field.name) for field in dataclasses.fields(cls)})
+        return cls(**{field.name: getattr(args, field.name, None) for field in dataclasses.fields(cls)})
 
 
 @dataclasses.dataclass
@@ -84,12 +86,12 @@ def add_conversion_options(parser: argparse.ArgumentParser) -> None:
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser(
         "convert",
-        help="convert .bvh/.amc/.gmr to .gmr/.bvh/.glb, one file or a folder tree (--batch)",
+        help="convert .bvh/.amc/.gmr/.npz/.glb/.gltf to .gmr/.bvh/.glb, one file or a folder tree (--batch)",
         description=__doc__.split("\n\n")[0] if __doc__ else None,
         usage="gmr convert IN OUT [options]\n"
         "       gmr convert --batch IN_DIR OUT_DIR [--to gmr|bvh|glb] [--jobs N | --scheduler S] [options]",
     )
-    parser.add_argument("input", help="a .bvh, .amc, .gmr or AMASS .npz file (with --batch: a folder)")
+    parser.add_argument("input", help="a .bvh, .amc, .gmr, AMASS .npz or glTF file (with --batch: a folder)")
     parser.add_argument("output", help="the .gmr or .bvh file to write (with --batch: a folder)")
     parser.add_argument("--batch", action="store_true", help="convert every motion file in the folder tree IN_DIR")
     parser.add_argument("--to", choices=("gmr", "bvh", "glb"), default="gmr", help="with --batch: output format (gmr)")
@@ -104,8 +106,13 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def read_for_conversion(path: str | Path, options: ConvertOptions) -> Motion:
-    """Read any input file, passing the AMC options to the AMC reader."""
-    return read_motion(path, **reader_options(path, options.asf, options.frame_rate, options.body_model))
+    """Read any input file, passing the AMC, AMASS and glTF options to their readers."""
+    return read_motion(
+        path,
+        **reader_options(
+            path, options.asf, options.frame_rate, options.body_model, animation=options.animation, skin=options.skin
+        ),
+    )
 
 
 def transformed(motion: Motion, options: ConvertOptions) -> tuple[Motion, list[str]]:
@@ -176,7 +183,7 @@ def convert_file(
     """Read, convert and write one file (outputs written atomically)."""
     suffix = motion_suffix(source)
     if suffix not in INPUT_SUFFIXES:
-        raise OperationError(f"cannot convert '{Path(source).suffix}' files: expected .bvh, .amc, .gmr or .npz")
+        raise OperationError(f"cannot convert '{Path(source).suffix}' files: expected {', '.join(INPUT_SUFFIXES)}")
     motion = read_for_conversion(source, options)
     motion, notes = transformed(motion, options)
     if motion_suffix(output) == ".gmr":

@@ -19,6 +19,7 @@ import numpy as np
 
 from gmr_studio.core.atomic import atomic_write_bytes, atomic_write_text
 from gmr_studio.core.channels import FileChannels
+from gmr_studio.core.cli.reading import add_gltf_options, reader_options
 from gmr_studio.core.clip import frame_range
 from gmr_studio.core.clock import frame_seconds
 from gmr_studio.core.contacts import DEFAULT_HEIGHT, DEFAULT_SPEED, foot_contacts, foot_joints
@@ -59,6 +60,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--height", type=float, default=DEFAULT_HEIGHT, help="contacts: height, fraction of size")
     parser.add_argument("--speed", type=float, default=DEFAULT_SPEED, help="contacts: speed, fraction of size/s")
     parser.add_argument("-o", "--output", required=True, help="a .csv or .png file")
+    add_gltf_options(parser)
     parser.set_defaults(run=run)
 
 
@@ -124,7 +126,9 @@ def run(args: argparse.Namespace) -> int:
     output = Path(args.output)
     if output.suffix.lower() not in (".csv", ".png"):
         raise OperationError(f"the output must be a .csv or .png file, not {output.name!r}")
-    motion, channels = read_motion_with_channels(args.file)
+    motion, channels = read_motion_with_channels(
+        args.file, **reader_options(args.file, animation=args.animation, skin=args.skin)
+    )
     joints = [j.strip() for j in args.joints.split(",") if j.strip()] if args.joints else []
     curves = curves_for(motion, joints, args.quantity, height=args.height, speed=args.speed, file_channels=channels)
     start, stop = frame_range(motion.n_frames, *(args.frames or (None, None)))

@@ -2,7 +2,8 @@
 positions (or rotations) for machine learning, built file by file.
 
 - Inputs: as ``gmr convert --batch`` (``.bvh``, ``.amc`` with the ``.asf`` beside it,
-  ``.gmr``, and AMASS ``.npz`` with ``--body-model``), sorted by path. A file that cannot be
+  ``.gmr``, ``.glb``/``.gltf`` (``--animation``, ``--skin``), and AMASS ``.npz`` with
+  ``--body-model``), sorted by path. A file that cannot be
   read is reported (one line) and left out; exit code 1 if any was.
 - ``--quantity positions`` (default): world positions (F, J, 3), in each file's units and
   axes. ``--quantity rotations``: world rotations of the GMR form (the frame of the bone that
@@ -36,6 +37,7 @@ from gmr_studio.core.cli import workers
 from gmr_studio.core.cli.batch import find_motion_files, input_suffixes
 from gmr_studio.core.cli.convert import ConvertOptions, positive_number, read_for_conversion
 from gmr_studio.core.cli.progress import Progress
+from gmr_studio.core.cli.reading import add_gltf_options
 from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.errors import MotionFileError, OperationError
 from gmr_studio.core.kinematics import forward_kinematics
@@ -58,6 +60,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--scheduler", metavar="tcp://HOST:8786|local:N", help="run on a Dask cluster")
     parser.add_argument("--asf", help="skeleton of .amc inputs (default: the .asf beside each AMC)")
     parser.add_argument("--body-model", help="the SMPL/SMPL-H/SMPL-X model (.npz/.pkl) of AMASS .npz inputs")
+    add_gltf_options(parser)
     parser.set_defaults(run=run)
 
 
@@ -237,7 +240,7 @@ def build_dataset(
 
 
 def run(args: argparse.Namespace) -> int:
-    options = ConvertOptions(asf=args.asf, body_model=args.body_model)
+    options = ConvertOptions(asf=args.asf, body_model=args.body_model, animation=args.animation, skin=args.skin)
     return build_dataset(
         Path(args.input),
         Path(args.output),

@@ -20,12 +20,14 @@ FORMAT_NAMES = {
     ".amc": "AMC (Acclaim, with its ASF)",
     ".asf": "ASF (Acclaim skeleton)",
     ".npz": "AMASS/SMPL (with its body model)",
+    ".glb": "glTF 2.0 binary",
+    ".gltf": "glTF 2.0",
 }
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("info", help="joints, roots, soft links, frames, frame rate and channels of a file")
-    parser.add_argument("file", help="a .bvh, .gmr, .amc or .asf file, or a .c3d or .trc marker file")
+    parser.add_argument("file", help="a .bvh, .gmr, .amc, .asf, AMASS .npz or glTF file, or a .c3d or .trc marker file")
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
     add_reading_options(parser)
     parser.set_defaults(run=run)
@@ -103,9 +105,16 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps(info, indent=2) if args.json else markers_text(info))
         return 0
     info = describe(read_with_args(args.file, args), args.file)
+    gltf_lines = []
+    if Path(args.file).suffix.lower() in (".glb", ".gltf"):  # its skins and animations
+        from gmr_studio.core.formats.gltf_in.contents import contents_text, gltf_contents
+
+        info["gltf"] = gltf_contents(args.file)
+        gltf_lines = contents_text(info["gltf"])
     if args.json:
         json.dump(info, sys.stdout, indent=2)
         print()
     else:
-        print(format_text(info))
+        text = format_text(info).split("\n")
+        print("\n".join(text[:3] + gltf_lines + text[3:]))
     return 0

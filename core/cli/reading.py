@@ -1,8 +1,10 @@
 """The reading options every ``gmr`` command that reads a motion takes, as one argument group.
 
 ``--asf S.asf`` (the skeleton of an ``.amc``; default: the single ``.asf`` beside it),
-``--frame-rate HZ`` (frames per second of an ``.amc``; default 120) and ``--body-model M``
-(the SMPL-family model of an AMASS ``.npz``). Options that do not
+``--frame-rate HZ`` (frames per second of an ``.amc``, default 120; the rate a glTF
+animation is sampled at, default its keys' spacing), ``--body-model M`` (the SMPL-family
+model of an AMASS ``.npz``), ``--animation NAME|INDEX`` and ``--skin NAME|INDEX`` (which of
+a glTF file's animations and skins; default the first). Options that do not
 apply to a file's format are ignored for it, so ``gmr info``, ``positions``, ``edit``,
 ``convert`` and ``markers`` read ``walk.amc --asf subject.asf`` alike. ``info``,
 ``positions``, ``edit`` and ``convert`` also take ``--scale S`` (lengths times S) and
@@ -37,8 +39,13 @@ def add_reading_options(parser: argparse.ArgumentParser, *, transforms: bool = T
     with ``--scale``, ``--up`` and ``--from-up``)."""
     group = parser.add_argument_group("reading motion files")
     group.add_argument("--asf", help="the skeleton of .amc inputs (default: the single .asf beside each AMC)")
-    group.add_argument("--frame-rate", type=positive_number, help="frames per second of .amc inputs (default 120)")
+    group.add_argument(
+        "--frame-rate",
+        type=positive_number,
+        help="frames per second of .amc inputs (default 120); glTF: sample at this rate (default: the keys' spacing)",
+    )
     group.add_argument("--body-model", help="the SMPL/SMPL-H/SMPL-X model (.npz/.pkl) of AMASS .npz inputs")
+    add_gltf_options(group)
     if transforms:
         group.add_argument("--scale", type=positive_number, help="multiply every length by this factor")
         group.add_argument("--up", choices=UP_AXES, help="make this axis the up axis")
@@ -46,15 +53,30 @@ def add_reading_options(parser: argparse.ArgumentParser, *, transforms: bool = T
     return group
 
 
+def add_gltf_options(group) -> None:
+    """``--animation`` and ``--skin``: which of a glTF file's animations and skins to read."""
+    group.add_argument("--animation", help="glTF inputs: the animation to read, by name or index (default: the first)")
+    group.add_argument("--skin", help="glTF inputs: the skin whose joints make the skeleton (default: the first)")
+
+
 def reader_options(
-    path: str | Path, asf: str | None = None, frame_rate: float | None = None, body_model: str | None = None
+    path: str | Path,
+    asf: str | None = None,
+    frame_rate: float | None = None,
+    body_model: str | None = None,
+    *,
+    animation: str | None = None,
+    skin: str | None = None,
 ) -> dict:
     """The keyword arguments of :func:`core.formats.read_motion` for ``path``: the AMC
     options for an ``.amc``, the body model for an AMASS ``.npz`` (None: the reader says
-    what to pass), none for other formats."""
+    what to pass), the animation, skin and frame rate for glTF, none for other formats."""
     suffix = motion_suffix(path)
     if suffix == ".npz":
         return {"body_model": body_model}
+    if suffix in (".glb", ".gltf"):
+        given = (("animation", animation), ("skin", skin), ("frame_rate", frame_rate))
+        return {key: value for key, value in given if value is not None}
     if suffix != ".amc":
         return {}
     return {key: value for key, value in (("asf", asf), ("frame_rate", frame_rate)) if value is not None}
@@ -63,7 +85,12 @@ def reader_options(
 def options_from_args(path: str | Path, args: argparse.Namespace) -> dict:
     """:func:`reader_options` from parsed arguments (of a parser with the reading group)."""
     return reader_options(
-        path, getattr(args, "asf", None), getattr(args, "frame_rate", None), getattr(args, "body_model", None)
+        path,
+        getattr(args, "asf", None),
+        getattr(args, "frame_rate", None),
+        getattr(args, "body_model", None),
+        animation=getattr(args, "animation", None),
+        skin=getattr(args, "skin", None),
     )
 
 

@@ -10,6 +10,9 @@ project documents for it:
   1e-9 of the size (docs/reliability.md);
 - the GMR file: 15 significant digits, 1e-12 (docs/gmr-format.md says ~1e-14);
 - BVH export, also of a forest after split all: 1e-6 (docs/formats.md);
+- glTF export (``.glb`` in memory, read back by :mod:`core.formats.gltf_in`, metres and Y up
+  turned back to the source's units and up axis), also of a forest after split all: 2e-7,
+  float32 precision (docs/gltf.md: 6e-8 per value, composed down the chain);
 - for an AMC input, the ASF's rest pose read alone against the motion's rest pose: 1e-9.
 """
 
@@ -21,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from gmr_studio.core.conversions import change_up_axis, scale_lengths, up_axis_of
 from gmr_studio.core.convert import post_from_pre, pre_from_post
 from gmr_studio.core.dummies import remove_dummies
 from gmr_studio.core.export import bvh_export
@@ -34,6 +38,8 @@ from gmr_studio.core.operations import join_all, shift_root, split_all
 OPERATION_TOLERANCE = 1e-9
 GMR_FILE_TOLERANCE = 1e-12
 BVH_FILE_TOLERANCE = 1e-6
+#: glTF stores float32: measured up to 1.0e-7 of the size over ../shared/data (docs/gltf.md)
+GLTF_FILE_TOLERANCE = 2e-7
 
 
 @dataclasses.dataclass(frozen=True)
@@ -87,6 +93,8 @@ def round_trips(motion: Motion, source: str | Path | None = None, every: int = 5
         ("GMR file written and read", GMR_FILE_TOLERANCE, lambda m: read_gmr("audit.gmr", gmr_text(gmr).encode())),
         ("BVH written and read", BVH_FILE_TOLERANCE, _through_bvh),
         ("forest export after split all", BVH_FILE_TOLERANCE, lambda m: _through_bvh(split_all(gmr))),
+        ("glTF written and read", GLTF_FILE_TOLERANCE, through_gltf),
+        ("forest glTF after split all", GLTF_FILE_TOLERANCE, lambda m: through_gltf(split_all(gmr))),
         ("dummy removal", OPERATION_TOLERANCE, lambda m: remove_dummies(gmr)),
         ("dummy removal and back", OPERATION_TOLERANCE, _dummies_and_back),
         ("split all / join all", OPERATION_TOLERANCE, lambda m: join_all(split_all(gmr))),
@@ -115,6 +123,22 @@ def _through_bvh(motion: Motion) -> Motion:
     taken = set(back.values())
     names = [back.get(n) or (n if n not in taken else f"{n} (bvh)") for n in read.names]
     return read.replace(names=names)
+
+
+def through_gltf(motion: Motion) -> Motion:
+    """Export as ``.glb`` bytes (with the skin, as ``gmr convert`` writes it), read them
+    back, and undo the export's unit scale and up-axis turn (a motion without frames goes
+    as its rest pose, one frame)."""
+    from gmr_studio.core.formats.gltf import build_gltf
+    from gmr_studio.core.formats.gltf_in import read_gltf
+
+    source = motion.rest_pose() if motion.n_frames == 0 else motion
+    gltf, blob, summary = build_gltf(source)
+    gltf.set_binary_blob(blob)
+    data = b"".join(gltf.save_to_bytes())
+    read = read_gltf("audit.glb", data=data)
+    read = change_up_axis(scale_lengths(read, 1 / summary.metres_per_unit), up_axis_of(motion), "y")
+    return read
 
 
 def audit_motion(motion: Motion, source: str | Path | None = None, every: int = 5) -> list[AuditPath]:

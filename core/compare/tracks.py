@@ -21,6 +21,8 @@ from gmr_studio.core.motion import Motion
 #: metres per unit of the length units a file may state
 UNIT_SCALE = {"mm": 1e-3, "cm": 1e-2, "m": 1.0, "in": 0.0254, "ft": 0.3048}
 _UNITS_COMMENT = re.compile(r"^(?:length\s+)?units?\s*:\s*(mm|cm|m|in|ft)\b", re.IGNORECASE)
+#: what a glTF file written by this project says of its source's unit (core.formats.gltf_in)
+_SOURCE_UNITS_COMMENT = re.compile(r"^source units:\s*([0-9.eE+-]+)\s*m\b")
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -37,6 +39,8 @@ class Track:
     up : "y" or "z", the source's up axis.
     size : float, the source's size (extent of its rest pose or of its points), in its units.
     label : where it came from (file name), for messages.
+    source_metres : for a file written in metres from a motion in other units (our glTF
+        export), the metres per unit of that source, else None.
     """
 
     names: tuple[str, ...]
@@ -48,6 +52,7 @@ class Track:
     up: str = "y"
     size: float = 1.0
     label: str = ""
+    source_metres: float | None = None
 
     @property
     def n_frames(self) -> int:
@@ -64,6 +69,20 @@ def units_of(motion: Motion) -> str | None:
         found = _UNITS_COMMENT.match(comment.strip())
         if found:
             return found.group(1).lower()
+    return None
+
+
+def source_metres_of(motion: Motion) -> float | None:
+    """The metres per unit of the motion a file was exported from, when its comments say
+    (``source units: 0.0564444 m``), else None."""
+    for comment in reversed(motion.comments):
+        found = _SOURCE_UNITS_COMMENT.match(comment.strip())
+        if found:
+            try:
+                value = float(found.group(1))
+            except ValueError:
+                return None
+            return value if np.isfinite(value) and value > 0 else None
     return None
 
 
@@ -93,6 +112,7 @@ def track_of_motion(
         up=up_axis_of(motion),
         size=motion.size,
         label=label,
+        source_metres=source_metres_of(motion),
     )
 
 
@@ -153,6 +173,18 @@ def space_change(a: Track, b: Track, *, scale: float | None = None, up_b: str | 
     elif a.units and b.units:
         scale = UNIT_SCALE[b.units] / UNIT_SCALE[a.units]
         notes.append(f"B in {b.units}, A in {a.units}: B scaled by {scale:g}")
+    elif b.units == "m" and not a.units and b.source_metres:
+        scale = 1.0 / b.source_metres
+        notes.append(
+            f"B in m, exported from units of {b.source_metres:.6g} m (its note); A states none and is taken "
+            f"in those: B scaled by {scale:g}"
+        )
+    elif a.units == "m" and not b.units and a.source_metres:
+        scale = a.source_metres
+        notes.append(
+            f"A in m, exported from units of {a.source_metres:.6g} m (its note); B states none and is taken "
+            f"in those: B scaled by {scale:g}"
+        )
     else:
         scale = 1.0
         stated = a.units or b.units

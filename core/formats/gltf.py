@@ -10,8 +10,10 @@ a node hierarchy with one animation, written through pygltflib.
   convention, ``[R_j, t_j]`` in post-rotation (BVH), ``[R_r, t_r]`` for a root, so glTF's
   node composition gives FK's world transforms. The nodes' static TRS is frame 0.
 - Units: glTF lengths are metres. ``metres_per_unit`` scales every length; by default it
-  is inferred from the skeleton's size (:func:`infer_metres_per_unit`). The factor used and
-  the up-axis conversion are stated in ``asset.extras``.
+  is the unit the motion's comments state (``units: m``: a glTF read back), else inferred
+  from the skeleton's size (:func:`infer_metres_per_unit`). The factor used and
+  the up-axis conversion are stated in ``asset.extras``, with the motion's convention
+  (``"pre"`` or ``"post"``: which frame a node's rotation is, for reading it back).
 - Up axis: glTF is Y-up. A motion whose comments say ``up axis: z`` is turned with
   :func:`core.conversions.change_up_axis` (``(x, y, z) -> (x, z, -y)``).
 - ``skin=True`` adds a mesh of one capsule per bone, rigidly skinned to the joints
@@ -164,12 +166,25 @@ def _unique_name(base: str, taken: set[str]) -> str:
     return name
 
 
+def _stated_units(motion: Motion) -> tuple[str, float] | None:
+    """The length unit the motion's comments state (``units: m``, as the glTF reader
+    writes) and its metres, else None (then the unit is inferred)."""
+    from gmr_studio.core.compare.tracks import UNIT_SCALE, units_of
+
+    unit = units_of(motion)
+    return (unit, UNIT_SCALE[unit]) if unit else None
+
+
 def prepared_for_gltf(motion: Motion, metres_per_unit: float | None = None) -> tuple[Motion, float, str, str]:
     """The motion turned Y-up and scaled to metres, with the factor and notes on both."""
     source_up = up_axis_of(motion)
     up_note = "Y up as in the source" if source_up == "y" else "turned from Z up to Y up: (x, y, z) -> (x, z, -y)"
     turned = change_up_axis(motion, "y", source_up)
-    if metres_per_unit is None:
+    stated = _stated_units(motion)
+    if metres_per_unit is None and stated is not None:
+        metres_per_unit = stated[1]
+        unit_note = f"lengths in {stated[0]} as the motion states, times {metres_per_unit:.6g}"
+    elif metres_per_unit is None:
         metres_per_unit, unit_note = infer_metres_per_unit(turned)
     else:
         unit_note = f"lengths times {metres_per_unit:.6g} (metres per unit, given)"
@@ -191,7 +206,12 @@ def build_gltf(
         asset=gl.Asset(
             generator="GMR Studio",
             version="2.0",
-            extras={"metres_per_unit": factor, "units": unit_note, "up_axis": up_note},
+            extras={
+                "metres_per_unit": factor,
+                "units": unit_note,
+                "up_axis": up_note,
+                "convention": scene_motion.convention,
+            },
         )
     )
     buffers = BufferBuilder(gltf)

@@ -5,8 +5,10 @@ One capsule per bone (a joint with a parent, at a distance above 1e-6 of the siz
 vertex weighted 1 to the node that carries the bone rigidly: in GMR's pre-rotation
 convention the bone ending at joint ``j`` turns with ``j`` (its local segment runs from
 ``-t_j`` to the node's origin), in post-rotation (BVH) it turns with the parent ``p``
-(from ``p``'s origin to ``t_j``). The bind pose is frame 0: vertices are placed with the
-nodes' frame-0 world transforms, and each inverse bind matrix is the inverse of that.
+(from ``p``'s origin to ``t_j``). The bind pose is the motion's rest pose (every rotation
+the identity): vertices are placed with the nodes' rest world transforms, and each inverse
+bind matrix is the inverse of that, so a reader that takes the bind pose as the rest pose
+(:mod:`core.formats.gltf_in`) gets the motion's own joint frames back.
 Capsule radius: 12% of the bone's length, at most 4% of the skeleton's size.
 """
 
@@ -84,7 +86,7 @@ def add_capsule_skin(gltf: gl.GLTF2, buffers, motion: Motion, *, skeleton_root: 
     nodes, starts, ends = capsule_bones(motion)
     if nodes.size == 0:
         return None
-    positions, world = forward_kinematics(motion.frame_slice(slice(0, 1)))
+    positions, world = forward_kinematics(motion.rest_pose())
     positions, world = positions[0], world[0]
     directions, top, faces = unit_capsule()
     axis = ends - starts

@@ -186,4 +186,10 @@ def _optional_targets() -> dict[str, Target]:
         c3d_targets = None
     if c3d_targets is not None:
         out.update(c3d_targets.targets(BINARY_MUTATIONS, _check_markers))
+    try:
+        from gmr_studio.core.fuzz import gltf_targets
+    except ImportError:
+        gltf_targets = None
+    if gltf_targets is not None:
+        out.update(gltf_targets.targets(_check_motion))
     return out

@@ -1,0 +1,137 @@
+"""From glTF node transforms (``T R S`` per node, per frame) to a post-rotation skeleton.
+
+glTF composes a node's world transform as ``parent_world @ T(t) R(q) S(s)``; a joint's
+position is the translation of its world transform. Write each node's world linear part
+as ``A = U M``: ``U`` the product of the rotations down to the node (its world rotation
+in the motion read) and ``M`` the scale carried along, ``M_j = R_j^T M_p R_j S_j``. Then
+``P_j = P_p + U_p M_p t_j``, so the motion's local rotation is the node's ``R_j`` and its
+translation ``M_p t_j``: every joint position is glTF's exactly (to rounding).
+
+- uniform scales keep ``M`` a number ``c`` (the product of the scales above): a uniform
+  rest scale folds into the offsets, an animated one into per-frame translations.
+- a non-uniform scale makes ``M`` a matrix; positions stay exact, and the world rotation
+  given to a joint below it is ``U`` (the node rotations without the scaling between).
+- a root takes on the transform of the nodes above it (the armature): ``R_r = U_a R``,
+  ``t_r = P_a + U_a M_a t``.
+
+Arrays: each node's ``translation`` (F or 1, 3), ``rotation`` (F or 1, 3, 3) and ``scale``
+(F or 1, 3); a leading 1 means the value does not change over the frames.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from gmr_studio.core.quaternions import matrix_from_quaternion
+
+#: frames converted from quaternions to matrices at a time
+CHUNK_FRAMES = 2048
+#: a per-frame translation that varies less than this, relative to its size, is static
+STATIC_RELATIVE_TOLERANCE = 1e-12
+
+
+@dataclasses.dataclass
+class NodePose:
+    """One node's local transform over the frames (see the module docstring)."""
+
+    translation: np.ndarray
+    rotation: np.ndarray
+    scale: np.ndarray
+
+
+@dataclasses.dataclass
+class _World:
+    """A node's world rotation U (F|1, 3, 3), position P (F|1, 3) and carried scale M:
+    (F|1,) when it is a number times the identity, else (F|1, 3, 3)."""
+
+    turn: np.ndarray
+    place: np.ndarray
+    stretch: np.ndarray
+
+    def carry(self, vector: np.ndarray) -> np.ndarray:
+        """``M t`` for vectors (F|1, 3)."""
+        if self.stretch.ndim == 1:
+            return self.stretch[:, None] * vector
+        return _apply(self.stretch, vector)
+
+
+def _apply(matrices: np.ndarray, vectors: np.ndarray) -> np.ndarray:
+    """Matrices (F|1, 3, 3) times vectors (F|1, 3), broadcasting the frames."""
+    return (matrices @ vectors[..., None])[..., 0]
+
+
+def _child(world: _World, pose: NodePose, *, placed: bool = True) -> _World:
+    """The child's world; ``placed=False`` carries the scale only (a joint's children need
+    nothing else), leaving rotation and position empty."""
+    empty = np.zeros((1, 0))
+    place = world.place + _apply(world.turn, world.carry(pose.translation)) if placed else empty
+    turn = world.turn @ pose.rotation if placed else empty
+    scale = pose.scale
+    if world.stretch.ndim == 1 and (scale == scale[:, :1]).all():
+        return _World(turn, place, world.stretch * scale[:, 0])
+    stretch = world.stretch[:, None, None] * np.eye(3) if world.stretch.ndim == 1 else world.stretch
+    back = np.swapaxes(pose.rotation, -1, -2)
+    return _World(turn, place, back @ stretch @ pose.rotation * scale[:, None, :])
+
+
+def node_poses(
+    nodes: list[int], translations: list[np.ndarray], quaternions: list[np.ndarray], scales: list[np.ndarray]
+) -> tuple[dict[int, NodePose], np.ndarray]:
+    """The poses of some nodes from their translations (F|1, 3), quaternions (F|1, 4,
+    ``x, y, z, w``) and scales (F|1, 3), and their rotation matrices as one block
+    (F|1, N, 3, 3) (each pose's rotation is a view of it): one conversion for all."""
+    frames = max(len(q) for q in quaternions)
+    block = np.empty((frames, len(nodes), 4))
+    for k, q in enumerate(quaternions):
+        block[:, k] = q
+    matrices = np.empty((frames, len(nodes), 3, 3))
+    for start in range(0, frames, CHUNK_FRAMES):  # a few MB at a time: the temporaries stay in cache
+        part = slice(start, start + CHUNK_FRAMES)
+        matrix_from_quaternion(block[part], scalar_last=True, out=matrices[part])
+    poses = {node: NodePose(t, matrices[:, k], s) for k, (node, t, s) in enumerate(zip(nodes, translations, scales))}
+    return poses, matrices
+
+
+def skeleton_pose(
+    poses: dict[int, NodePose], parents: np.ndarray, joints: list[int], n_frames: int, block: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Post-rotation local rotations (F, J, 3, 3), translations (F, J, 3), and which
+    translations change over the frames (J,) bool, of the joints (node indices, parents
+    first); ``poses`` holds every joint and every node above them, ``block`` the joints'
+    rotation matrices (F|1, J, 3, 3) from :func:`node_poses`, which become the rotations
+    (the roots' overwritten)."""
+    rotations = block if len(block) == n_frames else np.repeat(block, n_frames, axis=0)
+    translations = np.empty((n_frames, len(joints), 3))
+    moving = np.zeros(len(joints), bool)
+    index = {node: j for j, node in enumerate(joints)}
+    origin = _World(np.eye(3)[None], np.zeros((1, 3)), np.ones(1))
+    worlds: dict[int, _World] = {}
+    for j, node in enumerate(joints):
+        pose, parent = poses[node], int(parents[node])
+        if parent in index:
+            world = worlds[parent]
+            local = world.carry(pose.translation)
+            worlds[node] = _child(world, pose, placed=False)
+        else:
+            world = origin
+            for up in _chain(parents, node, poses):  # the armature above the root
+                world = _child(world, poses[up])
+            local = world.place + _apply(world.turn, world.carry(pose.translation))
+            worlds[node] = _child(world, pose, placed=False)
+            rotations[:, j] = world.turn @ pose.rotation  # pose.rotation is this column: used above first
+        if len(local) > 1 and np.abs(local - local[:1]).max() <= STATIC_RELATIVE_TOLERANCE * np.abs(local).max():
+            local = local[:1]
+        moving[j] = len(local) > 1
+        translations[:, j] = local
+    return rotations, translations, moving
+
+
+def _chain(parents: np.ndarray, node: int, poses: dict[int, NodePose]) -> list[int]:
+    """The nodes above ``node`` that are in ``poses``, top first."""
+    chain, up = [], int(parents[node])
+    while up >= 0:
+        chain.append(up)
+        up = int(parents[up])
+    return [n for n in chain[::-1] if n in poses]
