@@ -60,11 +60,16 @@ def _check_figure_and_ground(opened, name: str) -> None:
     inside = (actor[:, 0] >= 0) & (actor[:, 0] < SIZE[0]) & (actor[:, 1] >= 0) & (actor[:, 1] < SIZE[1])
     assert inside.all(), f"{name}: joints {np.flatnonzero(~inside)} are out of the view"
     assert dilate(figure, 1)[y, x].all(), "a joint is not drawn where it projects"
-    rows = np.flatnonzero(figure.any(axis=1))
+    rows, columns = np.flatnonzero(figure.any(axis=1)), np.flatnonzero(figure.any(axis=0))
     share = (rows.max() - rows.min() + 1) / SIZE[1]
-    if len(actor) > 1:
-        assert 0.25 <= share <= 0.95, f"the figure spans {share:.0%} of the view's height"
-    assert ground.sum() > SIZE[0], f"no ground grid ({ground.sum()} pixels)"
+    across = (columns.max() - columns.min() + 1) / SIZE[0]
+    if len(actor) > 1 and np.ptp(actor[:, :2], axis=0).max() >= 2:  # not joints that all coincide
+        # it fills the view one way or the other (a figure standing, or objects laid out on a
+        # floor, as glTF scenes without a skin are), and is never cut
+        assert max(share, across) >= 0.2, f"the figure spans {share:.0%} of the height, {across:.0%} of the width"
+        assert share <= 0.95, f"the figure spans {share:.0%} of the view's height"
+    # (half a view's width of grid pixels at least: a thin chain or a point stands on a small grid)
+    assert ground.sum() > SIZE[0] / 2, f"no ground grid ({ground.sum()} pixels)"
     ground_rows = np.flatnonzero(ground.any(axis=1))
     feet = actor[:, 1].max()  # the lowest joint on screen
     assert ground_rows.min() <= feet <= ground_rows.max() + 1, "the feet are not over the grid"

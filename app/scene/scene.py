@@ -311,6 +311,9 @@ class SkeletonScene:
             low, high = points.min(axis=0) - margin, points.max(axis=0) + margin
             low[self.up_axis] = min(low[self.up_axis], floor)
             self._followed = self._follow_point(self.frame)
+        size = self.snapshot.motion.size
+        if np.ptp(np.stack([low, high]), axis=0).max() < 0.5 * size:  # the joints (nearly) coincide
+            low, high = low - 0.25 * size, high + 0.25 * size  # frame a size around them, not a point
         up_axis = self.up_axis
         up = np.eye(3)[up_axis]
         across = [a for a in (0, 1, 2) if a != up_axis]
