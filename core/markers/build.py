@@ -394,6 +394,9 @@ class BuiltMotion:
     bones: np.ndarray
 
 
+#: bones rigid with their parent segment: the refinement keeps their local rotations
+RIGID_WITH_PARENT = ("pelvis_front", "LHJC", "RHJC")
+
 #: the bone (by the joint it ends at) each role rides on
 SEGMENT_ROLES = {
     "pelvis": ("ASI", "PSI", "SACR"),
@@ -444,7 +447,7 @@ _SIDED_BASES = {r for roles in SEGMENT_ROLES.values() for r in roles} - _CENTRE_
 
 
 def markers_to_built_motion(
-    markers: MarkerSet, hip: str = "harrington", refine: bool = False, iterations: int = 8
+    markers: MarkerSet, hip: str = "harrington", refine: bool = False, iterations: int = 5
 ) -> BuiltMotion:
     """Build the skeleton (:func:`build_skeleton`), run the paper's closed form on it with the
     twists from the segments' third markers, and with ``refine`` the global refinement
@@ -470,6 +473,7 @@ def markers_to_built_motion(
     refinement = None
     if refine:
         offsets = attach_markers(result.motion, targets, bones)
-        refinement = refine_motion(result.motion, targets, bones, offsets, iterations=iterations)
+        rigid = tuple(built.skeleton.joint_index(n) for n in RIGID_WITH_PARENT if n in built.skeleton.names)
+        refinement = refine_motion(result.motion, targets, bones, offsets, iterations=iterations, fixed=rigid)
         result = dataclasses.replace(result, motion=refinement.motion)
     return BuiltMotion(result, built, refinement, tuple(used), bones)
