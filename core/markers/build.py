@@ -257,8 +257,10 @@ def _upper_body(roles: _Roles, centres, twists, methods, params, notes, radius) 
             centres[side + "EJC"], methods[side + "EJC"] = ejc, "mid-point of the epicondyles"
         else:
             delta = _width(params, "ElbowWidth", side, notes) / 2 + radius
-            centres[side + "EJC"] = jc.chord(sjc, elb, wjc, delta)
-            methods[side + "EJC"] = "Plug-in Gait chord (shoulder, elbow, wrist)"
+            upa = roles.get("UPA", side)
+            wand, what = (upa, "upper-arm marker") if upa is not None else (wjc, "wrist centre")
+            centres[side + "EJC"] = jc.chord(sjc, elb, wand, delta)
+            methods[side + "EJC"] = f"Plug-in Gait chord (shoulder, elbow, {what})"
         twists[side + "EJC"], twists[side + "WJC"] = elb, wra
         fin = roles.get("FIN", side)
         if fin is not None:
