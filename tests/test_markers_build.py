@@ -264,3 +264,19 @@ def test_no_known_set_lists_what_a_map_needs():
     assert identify_marker_set(strange) is None
     with pytest.raises(OperationError, match=r"no known marker set fits.*ASIS"):
         build_skeleton(strange)
+
+
+def test_davis_hips_place_the_generated_pelvis():
+    # the leg length as a parameter, the ASIS distance from the markers: the built hips are
+    # Davis's offsets in the pelvis frame
+    markers, joints = generated_markers("plug-in-gait-lower")
+    markers = markers.replace(parameters={**markers.parameters, "LegLength": 880.0})
+    built = build_skeleton(markers, hip="davis")
+    local = jc.hip_davis(880.0, 250.0, RADIUS)
+    origin = joints["pelvis_front"]
+    hips = built.centres[:, [built.skeleton.joint_index("LHJC"), built.skeleton.joint_index("RHJC")]]
+    lasi = markers.positions[:, markers.index("LASI")]
+    rasi = markers.positions[:, markers.index("RASI")]
+    psi = 0.5 * (markers.positions[:, markers.index("LPSI")] + markers.positions[:, markers.index("RPSI")])
+    _, frame = jc.pelvis_frame(lasi, rasi, psi)
+    assert np.allclose(hips, origin[:, None] + np.einsum("fab,kb->fka", frame, local), atol=1e-9)

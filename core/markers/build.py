@@ -180,8 +180,8 @@ def joint_centre_trajectories(
             knee = roles.get("KNE", "L")
             leg = np.nanmedian(np.linalg.norm(lasi - knee, axis=-1) + np.linalg.norm(knee - ank, axis=-1))
             notes.append(f"no LegLength parameter: {leg:.0f} mm measured (ASIS-knee-ankle, median)")
-        local = jc.hip_davis(leg, width, radius)
-        how = "Davis et al. 1991 (Plug-in Gait), leg length and ASIS distance"
+        local = jc.hip_davis(leg, np.nanmedian(width), radius)
+        how = "Davis et al. 1991 (Plug-in Gait), leg length and ASIS distance (median over the take)"
     else:
         depth = np.linalg.norm(origin - sacrum, axis=-1)
         local = jc.hip_harrington(np.nanmedian(width), np.nanmedian(depth))
