@@ -10,7 +10,8 @@ import pytest
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.kinematics import world_positions
 from gmr_studio.core.markers import joint_centres as jc
-from gmr_studio.core.markers.build import SYNONYMS, build_skeleton, markers_to_built_motion
+from gmr_studio.core.markers.build import SYNONYMS, build_skeleton
+from gmr_studio.core.markers.built_motion import markers_to_built_motion
 from gmr_studio.core.markers.limbs import about_axis
 from gmr_studio.core.markers.markerset import MarkerSet
 from gmr_studio.core.markers.refine import refine_motion
