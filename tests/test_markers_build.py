@@ -281,3 +281,19 @@ def test_davis_hips_place_the_generated_pelvis():
     psi = 0.5 * (markers.positions[:, markers.index("LPSI")] + markers.positions[:, markers.index("RPSI")])
     _, frame = jc.pelvis_frame(lasi, rasi, psi)
     assert np.allclose(hips, origin[:, None] + np.einsum("fab,kb->fka", frame, local), atol=1e-9)
+
+
+def test_hidden_pelvis_and_medial_markers_are_carried_by_their_segment():
+    # a hidden ASIS is placed by the other pelvis markers, a hidden medial knee marker by the
+    # thigh's: the generated pose comes back exactly in those frames too
+    markers, joints = generated_markers("cgm2", n_frames=8, seed=5)
+    positions = markers.positions.copy()
+    positions[[2, 5], markers.index("LASI")] = np.nan
+    positions[[1, 3, 6], markers.index("RKNM")] = np.nan
+    built = markers_to_built_motion(markers.replace(positions=positions))
+    assert built.result.frame_valid.all()
+    motion = built.result.motion
+    result = world_positions(motion)
+    size = max(np.ptp(result[0], axis=0))
+    for j, name in enumerate(motion.names):
+        assert np.abs(result[:, j] - joints[name]).max() <= 1e-9 * size, name

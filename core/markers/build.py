@@ -164,9 +164,7 @@ def joint_centre_trajectories(
     params = markers.parameters
     notes: list[str] = []
     radius = params.get("MarkerDiameter", jc.MARKER_DIAMETER) / 2
-    lasi, rasi = roles.get("ASI", "L"), roles.get("ASI", "R")
-    psi = [roles.get("PSI", s) for s in "LR"]
-    sacrum = 0.5 * (psi[0] + psi[1]) if psi[0] is not None and psi[1] is not None else roles.get("SACR")
+    lasi, rasi, sacrum = _pelvis_points(roles)
     if lasi is None or rasi is None or sacrum is None:
         raise OperationError(f"set {match.definition.name}: the pelvis needs both ASIS and the PSIS or a sacral marker")
     origin, frame = jc.pelvis_frame(lasi, rasi, sacrum)
@@ -317,7 +315,7 @@ def build_skeleton(markers: MarkerSet, match: SetMatch | None = None, hip: str =
     for name, points in twists.items():
         if name in index:
             twist_markers[:, index[name]] = points
-    _, frame = jc.pelvis_frame(*_pelvis_points(markers, match))
+    _, frame = jc.pelvis_frame(*_pelvis_points(_Roles(role_positions(markers, match))))
     up = _up_rotation(frame)
     parents = np.array([-1 if p is None else index[p] for _, p, _ in tree])
     lengths, spread = np.full(n_joints, np.nan), np.full(n_joints, np.nan)
@@ -366,11 +364,19 @@ def build_skeleton(markers: MarkerSet, match: SetMatch | None = None, hip: str =
     )
 
 
-def _pelvis_points(markers: MarkerSet, match: SetMatch):
-    roles = _Roles(role_positions(markers, match))
-    psi = [roles.get("PSI", s) for s in "LR"]
-    sacrum = 0.5 * (psi[0] + psi[1]) if psi[0] is not None and psi[1] is not None else roles.get("SACR")
-    return roles.get("ASI", "L"), roles.get("ASI", "R"), sacrum
+def _pelvis_points(roles: _Roles):
+    """LASI, RASI and the sacrum (mid-PSIS or SACR), (F, 3) each or None. A pelvis marker
+    missing in a frame is placed by a rigid fit of the other pelvis markers there (pelvis
+    markers are often hidden: walking5's LASI is seen in 587 of 1103 frames, its TRC's in 13)."""
+    points = [roles.get("ASI", "L"), roles.get("ASI", "R"), roles.get("PSI", "L"), roles.get("PSI", "R")]
+    if points[2] is None or points[3] is None:
+        points[2:] = [roles.get("SACR")]
+    if any(p is None for p in points):
+        return points[0], points[1], points[2] if len(points) == 3 else None
+    if len(points) == 4:
+        points = [fill_from_cluster(p, [q for q in points if q is not p]) for p in points]
+    sacrum = 0.5 * (points[2] + points[3]) if len(points) == 4 else points[2]
+    return points[0], points[1], sacrum
 
 
 def _up_rotation(frame: np.ndarray) -> np.ndarray:
