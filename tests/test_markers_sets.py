@@ -121,3 +121,17 @@ def test_file_model_comparison_exact():
     assert {r["file_point"] for r in report["joints"]} == {"PELO", "LFEP", "RFEO", "LTIO"}
     assert max(r["max_mm"] for r in report["joints"]) < 1e-9
     assert report["pelvis"]["max_deg"] < 1e-6
+
+
+def test_marker_weights(capsys, tmp_path):
+    markers = read_markers(shared_path("c3d/c3dorg_s03_gait-pig.c3d"))
+    plain = markers_to_built_motion(markers, refine=True)
+    heavy = markers_to_built_motion(markers, refine=True, weights={"LTHI": 100.0})
+    column = plain.labels.index("LTHI")
+    before, after = (np.nanmedian(b.refinement.residuals[:, column]) for b in (plain, heavy))
+    assert after < 0.5 * before
+    code, _, err = run(
+        capsys, "markers", shared_path("c3d/c3dorg_s03_gait-pig.c3d"), "--refine", "--weights", "LTHI=2,NOPE=1",
+        "-o", tmp_path / "w.gmr",
+    )  # fmt: skip
+    assert code != 0 and "--weights names markers the file does not have: NOPE" in err
