@@ -93,7 +93,7 @@ def test_markers_without_skeleton(capsys, tmp_path):
 
 def test_every_shared_file_of_a_buildable_set_becomes_motion():
     for relative, name in SETS.items():
-        if name in (None, "opensim-gait2392"):
+        if name is None:
             continue
         built = markers_to_built_motion(read_markers(shared_path(relative)), refine=True, iterations=2)
         positions = world_positions(built.result.motion)

@@ -41,25 +41,18 @@ RIGID_WITH_PARENT = ("pelvis_front", "LHJC", "RHJC")
 #: the bone (by the joint it ends at) each role rides on
 SEGMENT_ROLES = {
     "pelvis": ("ASI", "PSI", "SACR"),
-    "KJC": ("THI", "KNE", "KNM", "TH1", "TH2", "TH3", "THAP", "THAD", "WAND1", "FTC", "LFC", "MFC", "FLE", "FME"),
-    "AJC": (
-        "TIB",
-        "ANK",
-        "MED",
-        "TB1",
-        "TB2",
-        "TB3",
-        "TIAP",
-        "TIAD",
-        "WAND2",
-        "TTC",
-        "FAX",
-        "LMAL",
-        "MMAL",
-        "FAL",
-        "TAM",
+    "KJC": (
+        *("THI", "KNE", "KNM", "TH1", "TH2", "TH3", "THAP", "THAD", "WAND1", "FTC", "LFC", "MFC", "FLE", "FME"),
+        *("THU", "THF", "THR"),
     ),
-    "TOE": ("HEE", "TOE", "MT1", "MT2", "MT5", "CAL", "FCC", "FM1", "FM5", "VMH", "FMH"),
+    "AJC": (
+        *("TIB", "ANK", "MED", "TB1", "TB2", "TB3", "TIAP", "TIAD", "WAND2", "TTC", "FAX", "LMAL", "MMAL", "FAL"),
+        *("TAM", "SHU", "SHF", "SHR"),
+    ),
+    "TOE": (
+        *("HEE", "TOE", "MT1", "MT2", "MT5", "CAL", "FCC", "FM1", "FM5", "VMH", "FMH", "MIDS", "MIDL", "TOEL"),
+        "TOEM",
+    ),
     "thorax": ("C7", "T10", "CLAV", "STRN", "RBAK", "T8", "SJN", "SXS"),
     "head": ("FHD", "BHD"),
     "SJC": ("SHO",),
