@@ -3,7 +3,9 @@
 :func:`build_skeleton` recognises the marker set (:mod:`core.markers.sets`), places the joint
 centres of every frame by the published methods (:mod:`core.markers.joint_centres`: hips by
 Harrington et al. 2007 or Davis et al. 1991, knees and ankles by the medial/lateral midpoint
-or Plug-in Gait's chord with the subject's widths, shoulders by Rab et al. 2002, elbows and
+or Plug-in Gait's chord with the subject's widths, or functionally (SCoRE, Ehrig et al.
+2006) between segment clusters for sets without knee and ankle markers, shoulders by Rab et
+al. 2002, elbows and
 wrists by their epicondyles, styloids or wrist bar), fits one constant length per bone (the
 median over the frames, with its spread reported), and lays the bones out in a rest pose
 (standing, facing the pelvis's anterior axis, up the file's vertical axis).
