@@ -39,16 +39,23 @@ import numpy as np
 
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.kinematics import joint_world_transform, world_positions
-from gmr_studio.core.markers.limbs import least_change_twists, limb_rotation, twist_of
+from gmr_studio.core.markers.limbs import least_change_twists, limb_rotation, swing, twist_of
 from gmr_studio.core.markers.markerset import MarkerSet, frame_ranges, gap_runs
 from gmr_studio.core.markers.match import best_matches
 from gmr_studio.core.markers.pelvis import PelvisFrames, PelvisMethod, pelvis_rotations, rest_positions
+from gmr_studio.core.markers.targets import check_map_fits, inverse_variance, transported
 from gmr_studio.core.motion import Motion
 from gmr_studio.core.operations import split
 
 #: ``sources`` codes, per frame and joint
-MEASURED, FROM_REFERENCE, HELD, ROOT = 0, 1, 2, 3
-SOURCE_NAMES = {MEASURED: "measured", FROM_REFERENCE: "from reference", HELD: "held", ROOT: "root"}
+MEASURED, FROM_REFERENCE, HELD, ROOT, TWIST_MARKER = 0, 1, 2, 3, 4
+SOURCE_NAMES = {
+    MEASURED: "measured",
+    FROM_REFERENCE: "from reference",
+    HELD: "held",
+    ROOT: "root",
+    TWIST_MARKER: "twist from its marker",
+}
 Aim = Literal["markers", "chain"]
 
 
@@ -60,6 +67,9 @@ class MarkerMotion:
     ----------
     motion : the GMR motion (skeleton units and axes), F frames.
     measured : (F, J, 3) the virtual marker of each joint in skeleton space (NaN: none).
+    targets : (F, J, 3) or None, the refinement's targets when they differ from ``measured``.
+    weights : (J,) or None, the refinement's weight of each joint's virtual marker: the inverse
+        of its calibration variance (``1 / rms^2`` of the map's cluster, mean 1 over the joints).
     sources : (F, J) int8, how each joint's rotation was found (:data:`SOURCE_NAMES`).
     frame_valid : (F,) bool, the pelvis was recovered (False: a copy of the nearest good frame).
     pelvis : PelvisFrames in skeleton axes and units.
@@ -78,6 +88,13 @@ class MarkerMotion:
     match_distances: np.ndarray
     reasons: tuple[str, ...] = ()
     pelvis_note: str = ""
+    targets: np.ndarray | None = None
+    weights: np.ndarray | None = None
+
+    def refine_targets(self) -> np.ndarray:
+        """(F, J, 3) what ``--refine`` fits each joint to: the measured joint centres, with
+        the joints below a bone the skeleton lacks moved by that bone (:func:`transported`)."""
+        return self.measured if self.targets is None else self.targets
 
     def position_errors(self) -> np.ndarray:
         """(F, J) distance between each joint of the motion and its virtual marker (NaN: none)."""
@@ -143,12 +160,17 @@ def markers_to_motion(
     if fill_gaps:
         markers = markers.filled(fill_gaps)
     resolved = resolve_map(load_marker_map(marker_map), markers, skeleton=skeleton)
+    check_map_fits(markers, resolved)
     virtual = compute_virtual_markers(markers, resolved)
     measured = np.full((markers.n_frames, skeleton.n_joints, 3), np.nan)
     aligned = virtual.skeleton_positions()
     for v, name in enumerate(virtual.names):
         if name in skeleton.names:
             measured[:, skeleton.joint_index(name)] = aligned[:, v]
+    starts = np.full_like(measured, np.nan)
+    for name, begin in resolved.bone_starts.items():
+        if name in skeleton.names and begin in virtual.names:
+            starts[:, skeleton.joint_index(name)] = aligned[:, virtual.names.index(begin)]
     times = (start + np.arange(markers.n_frames)) / markers.rate
     result = solve_positions(
         measured,
@@ -161,11 +183,18 @@ def markers_to_motion(
         frame_time=markers.frame_time,
         pelvis_method=pelvis_method,
         aim=aim,
+        bone_starts=starts,
     )
     note = f"from markers {markers.source or '(memory)'} with map {resolved.name}"
     motion = result.motion.replace(comments=(note, *result.motion.comments))
+    targets = transported(result.motion, measured, starts, skeleton)
     return dataclasses.replace(
-        result, motion=motion, reasons=(*virtual.reasons, *result.reasons), pelvis_note=resolved.pelvis_note
+        result,
+        motion=motion,
+        reasons=(*virtual.reasons, *result.reasons),
+        pelvis_note=resolved.pelvis_note,
+        targets=targets,
+        weights=inverse_variance(resolved, skeleton.names),
     )
 
 
@@ -181,6 +210,8 @@ def solve_positions(
     frame_time: float | None = None,
     pelvis_method: PelvisMethod = "note",
     aim: Aim = "markers",
+    twist_markers: np.ndarray | None = None,
+    bone_starts: np.ndarray | None = None,
 ) -> MarkerMotion:
     """The solver on joint positions already in skeleton space.
 
@@ -190,6 +221,13 @@ def solve_positions(
     skeleton : GMR skeleton (pre-rotation).
     pelvis : names of X1 (a root of the skeleton), X2, X3.
     query_times : (F,) seconds of the frames (default ``arange(F) * frame_time``).
+    twist_markers : (F, J, 3) for each joint a third marker rigid with its bone (the lateral
+        knee for the thigh...; NaN: none): where present with the bone's direction, the twist
+        is the angle about the bone of that marker's direction, measured from its mean
+        direction over the frames (:func:`marker_twists`), before any reference or least change.
+    bone_starts : (F, J, 3) where each joint's bone starts according to the marker map (its
+        ``[bones]``; NaN: none): with ``aim="markers"`` the bone is aimed from there, before the
+        measured parent (they agree on the skeleton the map was made for).
     Other parameters as in :func:`markers_to_motion`.
     """
     if skeleton.convention != "pre":
@@ -204,7 +242,8 @@ def solve_positions(
     if strangers:
         raise OperationError(
             f"the map's pelvis markers {', '.join(strangers)} are not joints of the skeleton: "
-            "a map for markers_to_motion places joints (pelvis-only maps serve recover_pelvis)"
+            "a map for markers_to_motion places joints (pelvis-only maps serve recover_pelvis; without "
+            "--skeleton, gmr markers builds a skeleton from the markers of a known set)"
         )
     triple_index = [skeleton.joint_index(name) for name in pelvis]
     pelvis_root = triple_index[0]
@@ -254,21 +293,32 @@ def solve_positions(
         offset = skeleton.offsets[j]
         length = np.linalg.norm(offset)
         origin = np.where(have[:, p, None], m[:, p], chain[:, p]) if aim == "markers" else chain[:, p]
+        if aim == "markers" and bone_starts is not None:
+            begin = bone_starts[good, j]
+            origin = np.where(np.isfinite(begin).all(axis=1)[:, None], begin, origin)
         bone = np.einsum("fba,fb->fa", world[:, p], m[:, j] - origin)
         bone_length = np.linalg.norm(bone, axis=1)
         ok = have[:, j] & (length > 0) & (bone_length > 1e-12 * max(length, 1e-300))
         c = bone / np.where(ok, bone_length, 1.0)[:, None]
         u = offset / (length if length > 0 else 1.0)
         result = np.broadcast_to(np.eye(3), (len(good), 3, 3)).copy()
+        marked = np.zeros(len(good), bool)
+        if twist_markers is not None:
+            third = np.einsum("fba,fb->fa", world[:, p], twist_markers[good, j] - origin)
+            marked = ok & np.isfinite(third).all(axis=1)
+            if marked.any():
+                result[marked] = limb_rotation(u, c[marked], marker_twists(u, c[marked], third[marked]))
+                sources[marked, j] = TWIST_MARKER
         if reference_data is not None:
             known = ref_local[np.maximum(match, 0), j]
             twist = twist_of(known, u)
-            result[ok & matched] = limb_rotation(u, c[ok & matched], twist[ok & matched])
+            use = ok & matched & ~marked
+            result[use] = limb_rotation(u, c[use], twist[use])
             result[~ok & matched] = known[~ok & matched]
             sources[~ok & matched, j] = FROM_REFERENCE
-            todo = ok & ~matched
+            todo = ok & ~matched & ~marked
         else:
-            todo = ok
+            todo = ok & ~marked
         if todo.any():
             result[todo] = limb_rotation(u, c[todo], least_change_twists(u, c[todo]))
         rest = ~ok & ~matched
@@ -284,6 +334,25 @@ def solve_positions(
         skeleton, valid, good, local, world, chain, sources, root_set, frame_time,
         measured, rotations_p, residuals, match, distance, reasons, pelvis,
     )  # fmt: skip
+
+
+def marker_twists(u: np.ndarray, c: np.ndarray, third: np.ndarray) -> np.ndarray:
+    """Twists (N,) about the rest direction u (3,) from a third marker rigid with the bone.
+
+    c (N, 3) unit bone directions and third (N, 3) the marker from the bone's start, both in
+    the parent's frame. Undoing the swing, ``v = S(u -> c)^T third`` is the marker in the
+    rest frame turned by the twist alone; its part perpendicular to u, compared with its mean
+    direction ``w0`` over the frames, gives ``gamma = atan2(u . (w0 x v), w0 . v)``. The rest
+    pose's twist is thereby the take's mean one (the marker is rigid with the bone, so any
+    constant choice gives the same positions).
+    """
+    v = np.einsum("fba,fb->fa", swing(u, c), third)
+    v -= np.outer(v @ u, u)
+    v /= np.linalg.norm(v, axis=1, keepdims=True)
+    w0 = v.mean(axis=0)
+    w0 -= (w0 @ u) * u
+    w0 /= np.linalg.norm(w0)
+    return np.arctan2(np.cross(w0, v) @ u, v @ w0)
 
 
 def _hold(values: np.ndarray, ok: np.ndarray) -> np.ndarray:
