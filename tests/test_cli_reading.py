@@ -18,6 +18,7 @@ MOTION_COMMANDS = {
     "positions": ["FILE", "-o", "OUT.npz"],
     "edit": ["FILE", "-o", "OUT.gmr"],
     "convert": ["FILE", "OUT.gmr"],
+    "check": ["FILE"],
     "markers": ["M.c3d", "--skeleton", "S.asf", "--reference", "FILE", "-o", "OUT.gmr"],
 }
 

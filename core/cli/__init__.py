@@ -24,6 +24,7 @@ COMMANDS = (
     "markers",
     "compare",
     "audit",
+    "check",
     "bench",
     "fuzz",
     "stress",

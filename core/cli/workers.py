@@ -132,3 +132,19 @@ def _windowed(submit: Callable[[tuple], Any], arguments: Iterator[tuple], window
 def default_jobs(jobs: int | None, n_tasks: int) -> int:
     """``--jobs``, else every core, never more than the tasks."""
     return max(1, min(jobs or os.cpu_count() or 1, n_tasks))
+
+
+def file_task(function: Callable, source: str, *args: Any) -> tuple[str, Any]:
+    """``function(source, *args)`` for one file of a batch, in a worker: ``("", result)``,
+    or ``(error line, None)`` when it fails (a bad file's own ``path:line:col`` line, else
+    ``source: message``). Never raises, so one bad file does not stop the batch."""
+    from gmr_studio.core.errors import MotionFileError
+
+    try:
+        return "", function(source, *args)
+    except MotionFileError as exc:
+        return str(exc), None
+    except (OperationError, OSError, ValueError) as exc:
+        return f"{source}: {exc}", None
+    except Exception as exc:
+        return f"{source}: {type(exc).__name__}: {exc}", None

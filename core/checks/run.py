@@ -1,0 +1,80 @@
+"""Run the checks: :func:`run_checks` (all frames once, every kind asked for)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from gmr_studio.core.checks import feet, frames, joints, spikes
+from gmr_studio.core.checks.context import CheckData
+from gmr_studio.core.checks.model import KINDS, CheckSettings, Finding
+from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.motion import Motion
+
+#: kind -> the check that finds it
+CHECKS: dict[str, Callable[[CheckData, CheckSettings], list[Finding]]] = {
+    "foot-skate": feet.foot_skate,
+    "penetration": feet.penetration,
+    "pop": spikes.pop,
+    "jitter": spikes.jitter,
+    "flip": joints.flip,
+    "bone-length": joints.bone_length,
+    "frozen": frames.frozen,
+    "duplicate": frames.duplicate,
+    "teleport": spikes.teleport,
+    "rest-pose": frames.rest_pose,
+}
+
+
+def check_data(
+    motion: Motion, settings: CheckSettings, positions: np.ndarray | None = None
+) -> tuple[CheckData, CheckData]:
+    """What the checks read: the whole motion (for ``rest-pose``) and the frames between
+    the rest frames at its ends (for every other check)."""
+    if positions is None:
+        positions = world_positions(motion)
+    lead, trail = frames.rest_frames(motion, settings)
+    stop = motion.n_frames - trail
+    whole = CheckData(motion, positions, motion.size)
+    inner = CheckData(motion.frame_slice(slice(lead, stop)), positions[lead:stop], motion.size, first=lead)
+    return whole, inner
+
+
+def run_checks(
+    motion: Motion, settings: CheckSettings | None = None, positions: np.ndarray | None = None
+) -> list[Finding]:
+    """Every check of ``settings.kinds`` on a motion, findings sorted by frame then kind.
+
+    Parameters
+    ----------
+    motion : the motion in its own convention (as read; flips are judged on its rotations).
+    settings : which checks and their thresholds (default :class:`CheckSettings`).
+    positions : optional (F, J, 3) world positions of the motion already computed.
+
+    Rest-pose frames at the ends (:func:`core.checks.frames.rest_frames`) are reported as
+    ``rest-pose`` only; every other check looks at the frames between them. A pop of joints
+    that hang from a joint flipping at that frame is the flip's doing and is not reported.
+    """
+    settings = settings or CheckSettings()
+    whole, inner = check_data(motion, settings, positions)
+    found: list[Finding] = []
+    for kind in settings.kinds:
+        found.extend(CHECKS[kind](whole if kind == "rest-pose" else inner, settings))
+    found = _without_flipped_pops(found, motion)
+    order = {kind: k for k, kind in enumerate(KINDS)}
+    return sorted(found, key=lambda f: (f.start, order[f.kind], f.end, f.joints))
+
+
+def _without_flipped_pops(found: list[Finding], motion: Motion) -> list[Finding]:
+    """The findings without the pops a flip explains: pops of joints in the subtree of a
+    joint whose rotation flips at that frame (turning a joint moves what hangs from it)."""
+    flipped: dict[int, set[int]] = {}  # frame -> joints moved by a flip
+    for finding in found:
+        if finding.kind == "flip":
+            moved = {j for joint in finding.joints for j in motion.subtree(joint)}
+            for frame in range(finding.start, finding.end + 1):
+                flipped.setdefault(frame, set()).update(moved)
+    if not flipped:
+        return found
+    return [f for f in found if f.kind != "pop" or not set(f.joints) <= flipped.get(f.start, set())]

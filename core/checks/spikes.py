@@ -1,0 +1,160 @@
+"""Pops, jitter and root teleports: outliers of a joint's path against its own typical motion.
+
+Pop. With ``P`` (F, J, 3) the world positions, a frame's deviation from the midpoint of its
+neighbours is ``e_f = |P_f - (P_{f-1} + P_{f+1}) / 2|`` (half the second difference; a joint
+knocked by ``d`` at one frame has ``e_f = d`` and ``e_{f±1} = d/2``; smooth motion gives
+``|acceleration| dt² / 2``). Per joint, ``m`` is the median of ``e`` and ``s`` 1.4826 times
+its median absolute deviation. Frame f pops when ``e_f > m + pop_mad * s``,
+``e_f >= pop_limits[0] * size``, ``e_f`` exceeds the span ``|P_{f+1} - P_{f-1}|`` of its
+neighbours (a step or a fast stop spans as much as it deviates) and is at least 1.5 times
+``e_{f-1}`` and ``e_{f+1}`` (a spike, not a bend). The joints reported are the popping
+joints whose parent does not pop at that frame (children follow their parent), largest
+first; the value is the largest ``e_f``.
+
+Jitter. Noise makes a path zigzag: consecutive deviations point opposite ways, while smooth
+motion bends one way over several frames. With ``m_f = P_f - (P_{f-1} + P_{f+1}) / 2`` (the
+vector of ``e_f``), white noise of variance ``σ²`` per axis gives ``m_f · m_{f+1}`` a mean
+of ``-3 σ²`` and a median of ``-2.2474 σ²``; smooth motion makes it positive. Frames are
+cut into blocks of ``jitter_window`` seconds (at least 10 frames); a block's noise is
+``sqrt(max(0, -1.3349 * median(m_f · m_{f+1})))``, the RMS length of the noise vector
+(``sqrt(3) σ``; a median, so one pop or step in a block does not count, and fast smooth
+motion at 24 Hz reads as no noise; third differences, blind to constant jerk, were tried
+and read the 24 Hz swing of a foot as noise). Blocks whose noise reaches
+``jitter_limits[0] * size`` are jittery. A joint's runs of them (across gaps of one block)
+make a finding, joined by the jittery joints below it whose runs overlap it (a child shakes
+with its parent): frames from the first block's start to the last block's end, valued by
+the largest of its joints' noise, each the same estimate over all the products of that
+joint's jittery blocks.
+
+Teleport. For each root that carries the figure (a root, or the child of an anchor root:
+:attr:`core.motion.Motion.anchors`), with steps ``V_f = P_{f+1} - P_f``: the jump at step
+f is ``|V_f - (V_{f-1} + V_{f+1}) / 2|`` (the step beyond the root's own velocity). A step
+is a teleport when its jump is at least ``teleport_limits[0] * size`` and twice
+``|V_{f+1} - V_{f-1}|`` (the root keeps its velocity on both sides: a step, not a pop).
+The finding covers the frames on both sides of the jump, ``f .. f+1``.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from gmr_studio.core.checks.context import CheckData, joint_runs, merge_runs
+from gmr_studio.core.checks.model import CheckSettings, Finding, severity_levels
+
+#: 1.4826 * MAD estimates a normal standard deviation
+MAD_SCALE = 1.4826
+#: white noise: 3 σ² (the mean square of the noise vector) over -median(m_f · m_{f+1})
+NOISE_FROM_MEDIAN = 3.0 / 2.247362
+#: the median and MAD of a joint's deviations are taken from at most this many frames
+#: (evenly spread): plenty for a level, and a median costs a partition of them
+ROBUST_SAMPLES = 20_000
+#: shortest jitter block, frames
+MIN_BLOCK = 10
+
+
+def robust_level(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per column median and 1.4826 MAD of (N, J) values: two (J,) arrays (of every k-th
+    row when there are more than :data:`ROBUST_SAMPLES`)."""
+    step = -(-values.shape[0] // ROBUST_SAMPLES)
+    columns = np.ascontiguousarray(values[::step].T)
+    if np.isnan(columns).any():  # markers' gaps: NaN, and a column without a value gives NaN
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            median = np.nanmedian(columns, axis=1)
+            spread = np.nanmedian(np.abs(columns - median[:, None]), axis=1)
+        return median, MAD_SCALE * spread
+    median = np.median(columns, axis=1)
+    spread = np.median(np.abs(columns - median[:, None]), axis=1)
+    return median, MAD_SCALE * spread
+
+
+def pop(data: CheckData, settings: CheckSettings) -> list[Finding]:
+    p = data.positions
+    if data.n_frames < 3:
+        return []
+    e = data.deviations  # (F-2, J)
+    median, spread = robust_level(e)
+    threshold = np.maximum(median + settings.pop_mad * spread, settings.pop_limits[0] * data.size)
+    candidate = e > threshold
+    if not candidate.any():
+        return []
+    frames, joints = np.nonzero(candidate)
+    span = np.linalg.norm(p[frames + 2, joints] - p[frames, joints], axis=-1)
+    padded = np.pad(e, ((1, 1), (0, 0)))
+    neighbours = np.maximum(padded[frames, joints], padded[frames + 2, joints])
+    keep = (e[frames, joints] > span) & (e[frames, joints] >= 1.5 * neighbours)
+    popping = np.zeros_like(candidate)
+    popping[frames[keep], joints[keep]] = True
+    parents = data.motion.parents
+    source = popping & ~np.where(parents >= 0, popping[:, np.maximum(parents, 0)], False)
+    findings = []
+    for row in np.flatnonzero(source.any(axis=1)):
+        found = np.flatnonzero(source[row])
+        found = found[np.argsort(-e[row, found], kind="stable")]
+        value = float(e[row, found[0]])
+        level = severity_levels(value / data.size, settings.pop_limits)
+        findings.append(data.finding("pop", found, row + 1, row + 1, level, value, data.units))
+    return findings
+
+
+def jitter(data: CheckData, settings: CheckSettings) -> list[Finding]:
+    block = max(MIN_BLOCK, round(settings.jitter_window / data.frame_time))
+    n_blocks = (data.n_frames - 3) // block
+    if n_blocks < 1:
+        return []
+    middles = data.middles  # row i: frames i..i+2
+    products = np.einsum("fja,fja->fj", middles[:-1], middles[1:])[: n_blocks * block]  # row i: frames i..i+3
+    blocks = products.reshape(n_blocks, block, -1)
+    middle = block // 2
+    noise = np.sqrt(np.maximum(0.0, -NOISE_FROM_MEDIAN * np.partition(blocks, middle, axis=1)[:, middle]))  # (B, J)
+    jittery = noise >= settings.jitter_limits[0] * data.size
+    found = joint_runs(jittery)
+    runs_of = {int(k): merge_runs(found[found[:, 0] == k, 1:], 1) for k in np.unique(found[:, 0])}
+    groups: list[dict] = []  # a jittery joint, the jittery joints below it, their block range
+    held: dict[int, list[dict]] = {}  # joint -> the groups it is in
+    parents = data.motion.parents
+    for k in data.motion.topological_order:
+        for start, stop in runs_of.get(int(k), ()):
+            above = [g for g in held.get(int(parents[k]), []) if g["start"] < stop and start < g["stop"]]
+            group = above[0] if above else {"joints": [], "start": start, "stop": stop, "value": 0.0}
+            if not above:
+                groups.append(group)
+            inside = blocks[start:stop, :, k][jittery[start:stop, k]]  # the products of its jittery blocks
+            value = float(np.sqrt(max(0.0, -NOISE_FROM_MEDIAN * np.nanmedian(inside))))
+            group["joints"].append(int(k))
+            group.update(start=min(group["start"], start), stop=max(group["stop"], stop))
+            group["value"] = max(group["value"], value)
+            held.setdefault(int(k), []).append(group)
+    findings = []
+    for g in groups:
+        level = max(1, severity_levels(g["value"] / data.size, settings.jitter_limits))  # its blocks passed
+        first, last = g["start"] * block, min(g["stop"] * block + 2, data.n_frames - 1)
+        findings.append(data.finding("jitter", g["joints"], first, last, level, g["value"], data.units))
+    return findings
+
+
+def figure_roots(data: CheckData) -> list[int]:
+    """The roots that carry the figure: each root, or the children of an anchor root."""
+    motion = data.motion
+    out: list[int] = []
+    for root in motion.roots:
+        out.extend(motion.children[root] if motion.anchors[root] else [int(root)])
+    return out
+
+
+def teleport(data: CheckData, settings: CheckSettings) -> list[Finding]:
+    if data.n_frames < 4:
+        return []
+    roots = figure_roots(data)
+    v = np.diff(data.positions[:, roots], axis=0)  # (F-1, R, 3): step f -> f+1
+    jump = np.linalg.norm(v[1:-1] - 0.5 * (v[:-2] + v[2:]), axis=-1)  # (F-3, R), step i+1
+    change = np.linalg.norm(v[2:] - v[:-2], axis=-1)
+    teleporting = (jump >= settings.teleport_limits[0] * data.size) & (jump >= 2.0 * change)
+    findings = []
+    for k, start, stop in joint_runs(teleporting):
+        value = float(jump[start:stop, k].max())
+        level = severity_levels(value / data.size, settings.teleport_limits)
+        findings.append(data.finding("teleport", [roots[k]], start + 1, stop + 1, level, value, data.units))
+    return findings

@@ -1,0 +1,319 @@
+"""Quality checks (core.checks): each planted defect found at its frames and joint with its
+size within 10%; nothing found on the clean synthetic walk at 24 to 240 Hz in m, cm, in."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from gmr_studio.core.checks import KINDS, CheckSettings, joint_flags, run_checks
+from gmr_studio.core.kinematics import world_rotations
+from gmr_studio.core.motion import Motion
+from gmr_studio.core.rigs import RIGS, make_rig
+from gmr_studio.core.rotations import rotation_about_axis
+from tests.checks_walk import clean_walk
+
+CM = 0.01
+INCH = 0.0254
+#: (rate, unit): the defects are planted at 120 Hz frame numbers scaled to the rate
+SETUPS = [(120.0, CM), (30.0, 1.0), (240.0, INCH)]
+
+
+def frames(frame: int, rate: float) -> int:
+    return round(frame * rate / 120.0)
+
+
+def cm(value: float, unit: float) -> float:
+    """A length given in centimetres, in the motion's unit."""
+    return value * 0.01 / unit
+
+
+def with_translation(motion: Motion, joint: str, change) -> Motion:
+    """The motion with ``joint`` given translation channels and its world position moved by
+    ``change(frames) -> (F, 3)`` world displacements (post convention: P_j = P_p + W_p t_j)."""
+    j = motion.names.index(joint)
+    parent = motion.parents[j]
+    world = world_rotations(motion)[:, parent]  # (F, 3, 3)
+    shift = change(np.arange(motion.n_frames))
+    translations = motion.translations.copy()
+    translations[:, j] += np.einsum("fba,fb->fa", world, shift)  # W_p^T shift
+    flags = motion.has_translation.copy()
+    flags[j] = True
+    return motion.replace(translations=translations, has_translation=flags)
+
+
+def only(findings, kind):
+    found = [f for f in findings if f.kind == kind]
+    assert found, f"no {kind} finding among {[(f.kind, f.start, f.end) for f in findings]}"
+    return found
+
+
+@pytest.mark.parametrize(("rate", "unit"), [*SETUPS, (24.0, CM), (60.0, INCH), (240.0, 1.0)])
+def test_nothing_on_the_clean_walk(rate, unit):
+    motion = clean_walk(rate, unit=unit)
+    assert run_checks(motion) == []
+
+
+@pytest.mark.parametrize(("rate", "unit"), SETUPS)
+def test_foot_slid_2_cm_over_frames_100_to_120(rate, unit):
+    a, b = frames(100, rate), frames(120, rate)
+
+    def slide(f):
+        shift = np.zeros((f.size, 3))
+        shift[:, 0] = cm(2.0, unit) * np.clip((f - a) / (b - a), 0.0, 1.0)
+        return shift
+
+    motion = with_translation(clean_walk(rate, unit=unit), "RightFoot", slide)
+    (finding,) = only(run_checks(motion), "foot-skate")
+    assert (finding.start, finding.end) == (a, b)
+    assert finding.names[0] == "RightFoot"
+    assert finding.value == pytest.approx(cm(2.0, unit), rel=0.1)
+
+
+@pytest.mark.parametrize(("rate", "unit"), SETUPS)
+def test_one_frame_pop_of_5_cm_on_one_joint(rate, unit):
+    at = frames(200, rate)
+
+    def knock(f):
+        shift = np.zeros((f.size, 3))
+        shift[f == at] = np.array([3.0, 4.0, 0.0]) * cm(1.0, unit)
+        return shift
+
+    motion = with_translation(clean_walk(rate, unit=unit), "LeftHand", knock)
+    findings = run_checks(motion)
+    (finding,) = only(findings, "pop")
+    assert (finding.start, finding.end, finding.names) == (at, at, ("LeftHand",))
+    assert finding.value == pytest.approx(cm(5.0, unit), rel=0.1)
+    assert {f.kind for f in findings} == {"pop", "bone-length"}  # the hand's bone stretched that frame
+
+
+@pytest.mark.parametrize(("rate", "unit"), SETUPS)
+def test_180_degree_flip(rate, unit):
+    motion = clean_walk(rate, unit=unit)
+    at, j = frames(300, rate), motion.names.index("RightForeArm")
+    rotations = motion.rotations.copy()
+    rotations[at, j] = rotations[at, j] @ rotation_about_axis("Y", np.array(np.pi))
+    findings = run_checks(motion.replace(rotations=rotations))
+    (finding,) = only(findings, "flip")
+    assert (finding.start, finding.end, finding.names) == (at, at, ("RightForeArm",))
+    assert finding.value == pytest.approx(180.0, rel=0.1)
+    assert finding.severity == "error"
+
+
+@pytest.mark.parametrize(("rate", "unit"), SETUPS)
+def test_bone_stretched_by_3_percent(rate, unit):
+    motion = clean_walk(rate, unit=unit)
+    a, b = frames(150, rate), frames(200, rate)
+    j = motion.names.index("LeftForeArm")
+    translations = motion.translations.copy()
+    translations[a : b + 1, j] *= 1.03
+    flags = motion.has_translation.copy()
+    flags[j] = True
+    findings = run_checks(motion.replace(translations=translations, has_translation=flags))
+    (finding,) = only(findings, "bone-length")
+    assert (finding.start, finding.end, finding.names) == (a, b, ("LeftForeArm",))
+    assert finding.value == pytest.approx(3.0, rel=0.1)
+    assert finding.units == "%"
+
+
+@pytest.mark.parametrize(("rate", "unit"), SETUPS)
+def test_frozen_stretch(rate, unit):
+    motion = clean_walk(rate, unit=unit)
+    a, b = frames(400, rate), frames(440, rate)
+    index = np.arange(motion.n_frames)
+    index[a : b + 1] = a
+    findings = run_checks(motion.frame_slice(index))
+    (finding,) = only(findings, "frozen")
+    assert (finding.start, finding.end, finding.joints) == (a, b, ())
+    assert finding.value == pytest.approx((b - a + 1) / rate, rel=1e-12)
+    # the take resumes where the walk has gone on: the root jumps after the hold
+    assert [(f.start, f.end) for f in only(findings, "teleport")] == [(b, b + 1)]
+
+
+@pytest.mark.parametrize(("rate", "unit"), SETUPS)
+def test_duplicated_frames(rate, unit):
+    motion = clean_walk(rate, unit=unit)
+    at = frames(250, rate)
+    index = np.concatenate([np.arange(at + 1), [at, at], np.arange(at + 1, motion.n_frames)])
+    (finding,) = run_checks(motion.frame_slice(index))
+    assert (finding.kind, finding.start, finding.end, finding.value) == ("duplicate", at + 1, at + 2, 2.0)
+    assert finding.units == "frames"
+
+
+@pytest.mark.parametrize(("rate", "unit"), SETUPS)
+def test_teleport(rate, unit):
+    at = frames(350, rate)
+
+    def jump(f):
+        shift = np.zeros((f.size, 3))
+        shift[f >= at, 0] = cm(50.0, unit)
+        return shift
+
+    motion = clean_walk(rate, unit=unit)
+    translations = motion.translations.copy()
+    translations[:, 0] += jump(np.arange(motion.n_frames))
+    (finding,) = run_checks(motion.replace(translations=translations))
+    assert (finding.kind, finding.start, finding.end, finding.names) == ("teleport", at - 1, at, ("Hips",))
+    assert finding.value == pytest.approx(cm(50.0, unit), rel=0.1)
+
+
+@pytest.mark.parametrize(("rate", "unit"), SETUPS)
+def test_rest_pose_at_start(rate, unit):
+    motion = clean_walk(rate, unit=unit)
+    n = frames(10, rate)
+    rotations = motion.rotations.copy()
+    rotations[:n] = np.eye(3)
+    (finding,) = run_checks(motion.replace(rotations=rotations))
+    assert (finding.kind, finding.start, finding.end, finding.value) == ("rest-pose", 0, n - 1, n)
+
+
+@pytest.mark.parametrize(("rate", "unit"), SETUPS)
+def test_foot_below_its_contact_level(rate, unit):
+    a, b = frames(95, rate), frames(110, rate)
+
+    def sink(f):
+        shift = np.zeros((f.size, 3))
+        shift[(f >= a) & (f <= b), 1] = -cm(4.0, unit)
+        return shift
+
+    motion = with_translation(clean_walk(rate, unit=unit), "RightFoot", sink)
+    findings = only(run_checks(motion), "penetration")
+    assert {f.names[0] for f in findings} == {"RightToe", "RightToeEnd"}  # the ankle is above them
+    for finding in findings:
+        assert (finding.start, finding.end) == (a, b)
+        assert finding.value == pytest.approx(cm(4.0, unit), rel=0.1)
+
+
+@pytest.mark.parametrize(("rate", "unit"), SETUPS)
+def test_jitter_on_one_joint(rate, unit):
+    a, b = frames(60, rate), frames(540, rate)
+    rng = np.random.default_rng(7)
+
+    def shake(f):
+        shift = np.zeros((f.size, 3))
+        inside = (f >= a) & (f <= b)
+        shift[inside] = rng.normal(scale=cm(0.5, unit), size=(inside.sum(), 3))
+        return shift
+
+    motion = with_translation(clean_walk(rate, unit=unit), "RightHand", shake)
+    findings = [f for f in run_checks(motion) if f.names[:1] == ("RightHand",) and f.kind == "jitter"]
+    assert len(findings) == 1
+    block = max(6, round(0.2 * rate))
+    assert abs(findings[0].start - a) <= block and abs(findings[0].end - b) <= block
+    assert findings[0].value == pytest.approx(cm(0.5, unit) * np.sqrt(3), rel=0.15)
+
+
+def test_settings_round_trip_through_json():
+    settings = CheckSettings(kinds=("pop", "flip"), pop_mad=6.0, rest_limits=(2.0, 3.0, float("inf")))
+    text = json.dumps(settings.to_dict())
+    assert CheckSettings.from_dict(json.loads(text)) == settings
+    assert json.loads(text)["rest_limits"] == [2.0, 3.0, None]
+    with pytest.raises(ValueError, match="unknown check 'pops'"):
+        CheckSettings(kinds=("pops",))
+    with pytest.raises(ValueError, match="increasing"):
+        CheckSettings(pop_limits=(0.1, 0.05, 0.2))
+    with pytest.raises(ValueError, match="unknown check setting"):
+        CheckSettings.from_dict({"pop_max": 3})
+    with pytest.raises(ValueError, match="positive"):
+        CheckSettings(pop_mad=-1.0)
+    assert CheckSettings.from_dict({"pop_mad": "6"}).pop_mad == 6.0
+
+
+def test_only_the_kinds_asked_for_run():
+    motion = clean_walk(120.0, unit=CM)
+    index = np.arange(motion.n_frames)
+    index[400:441] = 400
+    held = motion.frame_slice(index)
+    assert {f.kind for f in run_checks(held)} == {"frozen", "teleport"}
+    assert {f.kind for f in run_checks(held, CheckSettings(kinds=("frozen",)))} == {"frozen"}
+    assert run_checks(held, CheckSettings(kinds=("pop", "flip"))) == []
+    assert set(KINDS) == set(CheckSettings().kinds)
+
+
+def test_joint_flags_mark_the_frames_and_joints():
+    motion = clean_walk(120.0, unit=CM)
+    rotations = motion.rotations.copy()
+    j = motion.names.index("RightForeArm")
+    rotations[300, j] = rotations[300, j] @ rotation_about_axis("Y", np.array(np.pi))
+    index = np.concatenate([np.arange(251), [250], np.arange(251, motion.n_frames)])
+    flipped = motion.replace(rotations=rotations).frame_slice(index)
+    findings = run_checks(flipped)
+    flags = joint_flags(findings, flipped.n_frames, flipped.n_joints)
+    assert flags.shape == (flipped.n_frames, flipped.n_joints)
+    expected = np.zeros_like(flags)
+    expected[251, :] = 2  # the duplicate: a warning on the whole pose
+    expected[301, j] = 3  # the flip (one frame later after the copy): an error on the forearm
+    np.testing.assert_array_equal(flags, expected)
+
+
+@pytest.mark.parametrize("name", [n for n in RIGS if n != "long_take"])
+def test_the_convention_rigs_have_no_warning(name):
+    """core.rigs: a Root pinned at the origin (its hips translate), Z-up millimetres, six
+    channels on every joint, 250 joints, one joint, one frame: infos at most (the rigs'
+    knee curves have kinks, small pops)."""
+    findings = run_checks(make_rig(name))
+    assert [f for f in findings if f.severity != "info"] == []
+    assert {f.kind for f in findings} <= {"pop", "foot-skate"}
+
+
+def test_a_flip_in_the_gmr_form_names_the_children_together():
+    """In GMR (pre) form each child carries its BVH parent's rotation: a flip of the BVH's
+    Hips is one finding on the three bones that hang from them."""
+    from gmr_studio.core.convert import pre_from_post
+
+    motion = clean_walk(120.0, unit=CM)
+    rotations = motion.rotations.copy()
+    rotations[300, 0] = rotations[300, 0] @ rotation_about_axis("Y", np.array(np.pi / 2))
+    turned = motion.replace(rotations=rotations)
+    (post,) = run_checks(turned)
+    (pre,) = run_checks(pre_from_post(turned))
+    assert (post.kind, post.start, post.end, post.names) == ("flip", 300, 300, ("Hips",))
+    assert (pre.kind, pre.start, pre.end, set(pre.names)) == ("flip", 300, 300, {"Spine", "LeftUpLeg", "RightUpLeg"})
+    assert pre.value == pytest.approx(post.value) == pytest.approx(90.0)
+
+
+@pytest.mark.parametrize("relative", ["cmu/subject01/01_01.bvh", "bvh/assimp_Boxing_Toes.bvh"])
+def test_the_gmr_form_of_a_real_file_gets_the_same_findings(relative):
+    """The app holds the GMR form; the checks say the same of it as of the BVH."""
+    from gmr_studio.core.convert import pre_from_post
+    from gmr_studio.core.formats import read_motion
+    from tests.conftest import shared_path
+
+    motion = read_motion(shared_path(relative))
+    post, pre = run_checks(motion), run_checks(pre_from_post(motion))
+    assert post and [f.to_dict() | {"value": 0} for f in pre] == [f.to_dict() | {"value": 0} for f in post]
+    np.testing.assert_allclose([f.value for f in pre], [f.value for f in post], rtol=1e-9)  # FK's rounding
+
+
+def test_defects_planted_in_a_real_take_are_found_among_its_own():
+    """CMU 01_01.bvh (units of 1/0.45 inch): a 5 cm pop of the left hand at 1500, the root
+    moved 50 cm from 1800 on, frame 1300 shown twice (later frames one further): each found
+    where planted, its size within 10%, beside the take's own findings."""
+    from gmr_studio.core.formats import read_motion
+    from tests.conftest import shared_path
+
+    motion = read_motion(shared_path("cmu/subject01/01_01.bvh"))
+    unit = 0.0254 / 0.45  # metres per CMU unit
+
+    def knock(f):
+        shift = np.zeros((f.size, 3))
+        shift[f == 1500] = np.array([0.0, 0.05, 0.0]) / unit
+        return shift
+
+    planted = with_translation(motion, "LeftHand", knock)
+    translations = planted.translations.copy()
+    translations[1800:, 0, 0] += 0.5 / unit
+    index = np.concatenate([np.arange(1301), [1300], np.arange(1301, motion.n_frames)])
+    planted = planted.replace(translations=translations).frame_slice(index)
+    before = {(f.kind, f.start) for f in run_checks(motion)}
+    found = [f for f in run_checks(planted) if (f.kind, f.start - (f.start > 1300)) not in before]
+    assert [(f.kind, f.start, f.end, f.names[:1]) for f in found] == [
+        ("duplicate", 1301, 1301, ()),
+        ("pop", 1501, 1501, ("LeftHand",)),
+        ("bone-length", 1501, 1501, ("LeftHand",)),  # the knock stretches the hand's bone
+        ("teleport", 1800, 1801, ("Hips",)),
+    ]
+    assert found[1].value == pytest.approx(0.05 / unit, rel=0.1)
+    assert found[3].value == pytest.approx(0.5 / unit, rel=0.1)
