@@ -132,6 +132,8 @@ def test_the_timeline_shows_the_flags(studio):
     between = round(slider.x_of_frame(200))
     assert not any(colour_pixels(image[row : row + 1, between : between + 1], level).any() for level in (1, 2, 3))
     assert [level for *_, level in slider.flag_spans()] == [2, 3]
+    studio.problems.set_min_level(3)  # errors only: the rest pose's warning not flagged
+    assert [level for *_, level in slider.flag_spans()] == [3]
 
 
 def test_the_flagged_joint_is_drawn_in_the_warning_colour(studio):
@@ -157,6 +159,10 @@ def test_the_flagged_joint_is_drawn_in_the_warning_colour(studio):
     points = scene.joint_screen_positions()
     inside = [orange[round(py), round(px)] for px, py, _ in points]
     assert np.mean(inside) > 0.9  # every joint's centre (a few hidden behind others)
+    studio.problems_panel.filter_box.setCurrentIndex(2)  # errors only: the warning not drawn
+    assert studio.problems.min_level == 3
+    scene.render(now=True)
+    assert not colour_pixels(screen_image(studio), 2).any()
 
 
 def test_edits_that_fix_a_problem_update_the_list(studio):
@@ -198,6 +204,7 @@ def test_settings_are_remembered_across_windows(studio, qtbot, tmp_path):
     assert studio.problems.settings.flip_limits == (45.0, 90.0, 170.0)
     assert limits.item(flip_row, 1).text() == "45"
     assert "flip limits" in studio.status.text()
+    panel.filter_box.setCurrentIndex(1)  # warnings and errors
 
     second = MainWindow(settings=QSettings(str(tmp_path / "settings.ini"), QSettings.Format.IniFormat))
     try:
@@ -207,6 +214,7 @@ def test_settings_are_remembered_across_windows(studio, qtbot, tmp_path):
         assert table.item(pop_row, 0).checkState() == Qt.CheckState.Unchecked
         assert table.item(flip_row, 3).text() == "170"
         assert shown_limits(second.problems.settings, "pop") == pytest.approx((0.5, 1.0, 3.0))
+        assert second.problems.min_level == 2 and second.problems_panel.filter_box.currentIndex() == 1
     finally:
         second.close()
         second.deleteLater()

@@ -82,8 +82,9 @@ class ProblemsDock(QWidget):
         self.filter_box = QComboBox()
         for text, level in FILTERS:
             self.filter_box.addItem(text, level)
-        self.filter_box.setToolTip("Which findings to list")
-        self.filter_box.currentIndexChanged.connect(lambda _i: self.refresh())
+        self.filter_box.setToolTip("Which findings to list, flag on the timeline and colour in the view")
+        self.filter_box.setCurrentIndex(self.filter_box.findData(problems.min_level))
+        self.filter_box.currentIndexChanged.connect(lambda i: problems.set_min_level(self.filter_box.itemData(i)))
         self.settings_button = QToolButton()
         self.settings_button.setText("Settings")
         self.settings_button.setCheckable(True)
@@ -127,8 +128,12 @@ class ProblemsDock(QWidget):
     def refresh(self) -> None:
         """Fill the table with the findings at or above the filter's level."""
         problems = self.problems
-        lowest = self.filter_box.currentData() or 1
-        self.shown = [f for f in problems.findings if f.level >= lowest]
+        self.shown = problems.shown
+        index = self.filter_box.findData(problems.min_level)
+        if index != self.filter_box.currentIndex():
+            self.filter_box.blockSignals(True)
+            self.filter_box.setCurrentIndex(index)
+            self.filter_box.blockSignals(False)
         if self.state.motion is None:
             self.summary.setText("No motion")
         elif problems.running:

@@ -12,6 +12,8 @@ remembered in the window's QSettings as JSON (``checks/settings``).
 levels (:func:`core.checks.joint_flags`: 0 none, 1 info, 2 warning, 3 error) for the
 timeline's flags and the joints drawn in a warning colour; ``changed`` is emitted when both
 are replaced (emptied as soon as the motion changes, filled when the checks are done).
+``min_level`` is what the dock lists, the timeline flags and the view colours: every
+finding (1), warnings and errors (2) or errors (3); remembered too (``checks/shown``).
 """
 
 from __future__ import annotations
@@ -27,11 +29,12 @@ from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.core.checks import KINDS, CheckSettings, Finding, joint_flags, run_checks
 
 SETTINGS_KEY = "checks/settings"
+SHOWN_KEY = "checks/shown"  # the lowest severity level shown (1 info, 2 warning, 3 error)
 #: the colours of the severity levels 1-3 (info, warning, error) in the dock, on the
 #: timeline and in the view, RGB in [0, 1]
 LEVEL_COLOURS: dict[int, tuple[float, float, float]] = {
-    1: (0.40, 0.62, 0.95),
-    2: (1.00, 0.55, 0.05),
+    1: (0.55, 0.80, 1.00),
+    2: (1.00, 0.60, 0.00),
     3: (0.95, 0.12, 0.12),
 }
 
@@ -125,6 +128,8 @@ class Problems(QObject):
         self.state = state
         self.store = settings
         self.settings = load_settings(settings)
+        shown = settings.value(SHOWN_KEY) if settings is not None else None
+        self.min_level = int(shown) if str(shown) in ("1", "2", "3") else 1
         self.findings: list[Finding] = []
         self.flags: np.ndarray | None = None  # (F, J) int8 of the document as it is, or None
         self.running = False
@@ -153,6 +158,17 @@ class Problems(QObject):
 
     def reset_settings(self) -> None:
         self.set_settings(CheckSettings())
+
+    def set_min_level(self, level: int) -> None:
+        """Show the findings of ``level`` (1 info, 2 warning, 3 error) and worse (remembered)."""
+        level = int(min(max(level, 1), 3))
+        if level == self.min_level:
+            return
+        self.min_level = level
+        if self.store is not None:
+            self.store.setValue(SHOWN_KEY, level)
+            self.store.sync()
+        self.changed.emit()
 
     # -------------------------------------------------------------------- running
     def refresh(self) -> None:
@@ -220,8 +236,15 @@ class Problems(QObject):
             self._job.wait()
 
     # -------------------------------------------------------------------- queries
+    @property
+    def shown(self) -> list[Finding]:
+        """The findings at :attr:`min_level` or worse."""
+        return [f for f in self.findings if f.level >= self.min_level]
+
     def frame_levels(self) -> np.ndarray:
-        """(F,) int8: the worst level flagged at each frame (zeros without flags)."""
+        """(F,) int8: the worst level shown (:attr:`min_level` or worse) at each frame, 0
+        where none (zeros without flags)."""
         if self.flags is None or not self.flags.size:
             return np.zeros(self.state.n_frames, np.int8)
-        return self.flags.max(axis=1)
+        levels = self.flags.max(axis=1)
+        return np.where(levels >= self.min_level, levels, 0).astype(np.int8)

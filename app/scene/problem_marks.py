@@ -1,12 +1,13 @@
 """The quality checks' flagged joints drawn in a warning colour at the flagged frames.
 
 :class:`ProblemMarks` draws, at each frame, a sphere a little larger than a joint around
-every joint the checks flag at that frame with a warning (orange) or an error (red): the
-joint looks drawn in that colour, the bones still show where it is. Infos are not drawn
-(the timeline and the Problems dock list them). ``flags`` is the (F, J) int8 array of
-:func:`core.checks.joint_flags` (:attr:`app.model.problems.Problems.flags`); the window sets
-it and calls ``scene.redraw(marks)`` when the findings change. A finding about the whole
-pose (a rest-pose frame, a frozen stretch) flags every joint.
+every joint the checks flag at that frame, in its severity's flat colour
+(:data:`app.model.problems.LEVEL_COLOURS`: info light blue, warning orange, error red): the
+joint looks drawn in that colour, the bones still show where it is. ``flags`` is the (F, J)
+int8 array of :func:`core.checks.joint_flags` (:attr:`app.model.problems.Problems.flags`) and
+levels below ``min_level`` are not drawn (the Problems dock's "show" choice); the window
+sets both and calls ``scene.redraw(marks)`` when they change. A finding about the whole pose
+(a rest-pose frame, a frozen stretch) flags every joint.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from gmr_studio.app.scene.drawable import Drawing
 from gmr_studio.app.scene.figure import JOINT_RADIUS
 
 MARK_RADIUS = 1.45 * JOINT_RADIUS  # of the motion's size: just around the joint's sphere
-DRAWN_LEVELS = (2, 3)  # warning, error
+LEVELS = (1, 2, 3)  # info, warning, error
 
 
 class ProblemMarks(Drawing):
@@ -29,16 +30,18 @@ class ProblemMarks(Drawing):
     def __init__(self) -> None:
         super().__init__()
         self.flags: np.ndarray | None = None  # (F, J) int8 levels, or None
+        self.min_level = 1  # levels below are not drawn
+        self.levels: tuple[int, ...] = ()  # the levels drawn (a part each)
 
     def build(self, scene) -> None:
         super().build(scene)
+        self.levels = ()
         snapshot = scene.snapshot
         if snapshot is None or self.flags is None or self.flags.shape != snapshot.positions.shape[:2]:
             return  # flags of another motion (the checks are running again): nothing drawn
-        if not (self.flags >= min(DRAWN_LEVELS)).any():
-            return
+        self.levels = tuple(level for level in LEVELS if level >= self.min_level and (self.flags == level).any())
         sphere = pv.Sphere(radius=MARK_RADIUS * snapshot.motion.size, theta_resolution=16, phi_resolution=12)
-        for level in DRAWN_LEVELS:
+        for level in self.levels:
             part = parts.glyph_part(0, sphere, color=LEVEL_COLOURS[level])
             part.actor.GetProperty().LightingOff()  # flat: the same colour from every side
             self.add(f"problems_{level}", part)
@@ -48,11 +51,11 @@ class ProblemMarks(Drawing):
             return
         positions = self.scene.snapshot.positions[frame]
         levels = self.flags[frame]
-        for level in DRAWN_LEVELS:
+        for level in self.levels:
             parts.set_some_points(self.parts[f"problems_{level}"], positions[levels == level])
 
     def flagged(self, frame: int) -> dict[int, np.ndarray]:
         """{level: joint indices} drawn at ``frame`` (for tests)."""
         if not self.parts:
             return {}
-        return {level: np.flatnonzero(self.flags[frame] == level) for level in DRAWN_LEVELS}
+        return {level: np.flatnonzero(self.flags[frame] == level) for level in self.levels}

@@ -41,7 +41,7 @@ def install_problems(window, problems: Problems, scene) -> QDockWidget:
     window.problems_count = count
 
     def on_problems_changed() -> None:
-        marks.flags = problems.flags
+        marks.flags, marks.min_level = problems.flags, problems.min_level
         scene.redraw(marks)
         if problems.state.motion is None:
             count.setText("")
