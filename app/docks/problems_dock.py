@@ -151,7 +151,8 @@ class ProblemsDock(QWidget):
             kind = _cell(finding.kind, KINDS.index(finding.kind))
             kind.setData(Qt.ItemDataRole.UserRole, row)  # the finding's index in self.shown
             severity = _cell(finding.severity, finding.level)
-            severity.setForeground(QColor.fromRgbF(*LEVEL_COLOURS[finding.level]))
+            severity.setBackground(QColor.fromRgbF(*LEVEL_COLOURS[finding.level]))  # the timeline's colour
+            severity.setForeground(QColor("white" if finding.level == 3 else "black"))
             frames = f"{finding.start}" if finding.start == finding.end else f"{finding.start}-{finding.end}"
             joints = ", ".join(finding.names) if finding.names else "(whole pose)"
             value = _cell(f"{finding.value:.4g} {finding.units}", float(finding.value))

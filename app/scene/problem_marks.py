@@ -25,7 +25,11 @@ LEVELS = (1, 2, 3)  # info, warning, error
 
 
 class ProblemMarks(Drawing):
-    """Joints flagged at the current frame, one glyph part per drawn level."""
+    """Joints flagged at the current frame, one glyph part per drawn level, in the front
+    layer: a flagged joint shows over the selection's wire ring (which stays visible around
+    it) and through the body in front of it."""
+
+    front = True
 
     def __init__(self) -> None:
         super().__init__()

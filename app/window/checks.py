@@ -11,7 +11,7 @@ of a chosen finding.
 from __future__ import annotations
 
 from PyQt6.QtCore import Qt
-from PyQt6.QtWidgets import QDockWidget, QToolButton
+from PyQt6.QtWidgets import QDockWidget, QLabel
 
 from gmr_studio.app.docks.problems_dock import ProblemsDock
 from gmr_studio.app.model.problems import Problems, count_text
@@ -33,10 +33,10 @@ def install_problems(window, problems: Problems, scene) -> QDockWidget:
     window.problem_marks = marks
     scene.add_drawable(marks)
 
-    count = QToolButton()
-    count.setAutoRaise(True)
+    count = QLabel()  # a label, as tall as the status text: a button's changing size moved the view
+    count.setTextFormat(Qt.TextFormat.RichText)
     count.setToolTip("The quality checks' findings: click to list them (View > Problems)")
-    count.clicked.connect(lambda: (dock.show(), dock.raise_()))
+    count.linkActivated.connect(lambda _link: (dock.show(), dock.raise_()))
     window.statusBar().addPermanentWidget(count)
     window.problems_count = count
 
@@ -44,11 +44,12 @@ def install_problems(window, problems: Problems, scene) -> QDockWidget:
         marks.flags, marks.min_level = problems.flags, problems.min_level
         scene.redraw(marks)
         if problems.state.motion is None:
-            count.setText("")
+            text = ""
         elif problems.running:
-            count.setText("Problems: checking\u2026")
+            text = "checking\u2026"
         else:
-            count.setText(f"Problems: {count_text(problems.findings)}")
+            text = count_text(problems.findings)
+        count.setText(f'<a href="problems">Problems: {text}</a>' if text else "")
 
     problems.changed.connect(on_problems_changed)
     on_problems_changed()
