@@ -26,7 +26,6 @@ def install_problems(window, problems: Problems, scene) -> QDockWidget:
     dock = window._dock("Problems", panel, Qt.DockWidgetArea.BottomDockWidgetArea)
     window.splitDockWidget(window.curves_dock, dock, Qt.Orientation.Horizontal)  # the analysis area
     dock.hide()
-    dock.toggleViewAction().setShortcut("Ctrl+Shift+P")
     panel.joint_framed.connect(lambda joint: scene.frame_joint(None if joint < 0 else joint))
 
     marks = ProblemMarks()
