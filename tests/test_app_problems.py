@@ -5,6 +5,9 @@ list, and the settings are remembered across windows."""
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 from PyQt6.QtCore import QEvent, QSettings, Qt
@@ -22,6 +25,8 @@ from gmr_studio.core.convert import pre_from_post
 from tests import app_fixtures
 from tests.app_fixtures import screen_image
 from tests.checks_walk import clean_walk
+from tests.conftest import shared_path
+from tests.test_app_cli import read_png
 from tests.test_checks import with_translation
 
 pytestmark = pytest.mark.gui
@@ -219,3 +224,20 @@ def test_settings_are_remembered_across_windows(studio, qtbot, tmp_path):
         second.close()
         second.deleteLater()
         QApplication.sendPostedEvents(None, QEvent.Type.DeferredDelete.value)
+
+
+def test_a_window_screenshot_with_a_finding_chosen(tmp_path):
+    """``--dock problems --finding N`` shows the dock and clicks its finding N: the 75-frame
+    cgspeed clip's RightFoot pop at frame 2, drawn orange; a dock it has not is refused."""
+    clip = str(shared_path("bvh/cmu_cgspeed_npybvh_example_75f.bvh"))
+    out = tmp_path / "problems.png"
+    studio_command = [sys.executable, "-m", "gmr_studio.app.main", clip, "--screenshot", str(out), "--window"]
+    args = ["--dock", "problems", "--finding", "1", "--size", "1000x700"]
+    result = subprocess.run([*studio_command, *args], capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert "frame 2)" in result.stdout
+    image = read_png(out)
+    orange = np.rint(np.asarray(LEVEL_COLOURS[2]) * 255)
+    assert (np.abs(image.astype(int) - orange).max(axis=2) <= 8).sum() > 100  # the foot's disc, the table's cells
+    bad = subprocess.run([*studio_command, "--dock", "nope"], capture_output=True, text=True, timeout=120)
+    assert bad.returncode == 2 and bad.stderr.strip().count("\n") == 0 and "no dock 'nope'" in bad.stderr

@@ -51,6 +51,7 @@ class RangeSlider(QSlider):
         super().__init__(Qt.Orientation.Horizontal, parent)
         self.frame_range: tuple[int, int] | None = None
         self.levels: np.ndarray | None = None  # (F,) int8 worst severity per frame, or None
+        self._spans: tuple | None = None  # (geometry, spans) of the last flag_spans
         self._anchor: int | None = None
 
     def set_frame_range(self, start: int, stop: int) -> None:
@@ -61,6 +62,7 @@ class RangeSlider(QSlider):
     def set_levels(self, levels: np.ndarray | None) -> None:
         """Show the checks' flags: (F,) int8 levels per frame (0 none, 1-3), or None."""
         self.levels = None if levels is None or not np.any(levels) else np.asarray(levels, np.int8)
+        self._spans = None
         self.update()
 
     def flag_spans(self) -> list[tuple[int, int, int]]:
@@ -68,9 +70,12 @@ class RangeSlider(QSlider):
         first (worse levels are painted over them)."""
         if self.levels is None:
             return []
-        frames = np.arange(len(self.levels))
         left, length = self._span()
         count = max(self.maximum() - self.minimum(), 1)
+        key = (left, length, count, self.minimum(), self.width())
+        if self._spans is not None and self._spans[0] == key:  # painted at every frame: computed once
+            return self._spans[1]
+        frames = np.arange(len(self.levels))
         centres = left + length * (frames - self.minimum()) / count
         half = max(length / count, FLAG_MIN_WIDTH) / 2
         width = self.width()
@@ -87,6 +92,7 @@ class RangeSlider(QSlider):
             inside = np.concatenate([[0], (np.cumsum(covered)[:-1] > 0).astype(np.int8), [0]])
             edges = np.flatnonzero(np.diff(inside))
             spans += [(int(a), int(b), level) for a, b in zip(edges[::2], edges[1::2], strict=True)]
+        self._spans = (key, spans)
         return spans
 
     # ------------------------------------------------------------------ geometry
