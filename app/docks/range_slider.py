@@ -84,11 +84,10 @@ class RangeSlider(QSlider):
             flagged = self.levels == level
             if not flagged.any():
                 continue
-            covered = np.zeros(width + 1, np.int32)  # +1 at a span's first column, -1 after its last
             x0 = np.clip(np.floor(centres[flagged] - half), 0, width).astype(np.int64)
             x1 = np.clip(np.ceil(centres[flagged] + half), 0, width).astype(np.int64)
-            np.add.at(covered, x0, 1)
-            np.add.at(covered, x1, -1)
+            # +1 at a span's first column, -1 after its last
+            covered = np.bincount(x0, minlength=width + 1) - np.bincount(x1, minlength=width + 1)
             inside = np.concatenate([[0], (np.cumsum(covered)[:-1] > 0).astype(np.int8), [0]])
             edges = np.flatnonzero(np.diff(inside))
             spans += [(int(a), int(b), level) for a, b in zip(edges[::2], edges[1::2], strict=True)]
