@@ -10,9 +10,10 @@ import sys
 
 import numpy as np
 import pytest
-from PyQt6.QtCore import QEvent, QSettings, Qt
+from PyQt6.QtCore import QEvent, QPoint, QSettings, Qt
+from PyQt6.QtGui import QHelpEvent
 from PyQt6.QtTest import QTest
-from PyQt6.QtWidgets import QApplication
+from PyQt6.QtWidgets import QApplication, QToolTip
 
 from gmr_studio.app.docks.range_slider import FLAG_HEIGHT
 from gmr_studio.app.media.video import image_pixels
@@ -137,6 +138,13 @@ def test_the_timeline_shows_the_flags(studio):
     between = round(slider.x_of_frame(200))
     assert not any(colour_pixels(image[row : row + 1, between : between + 1], level).any() for level in (1, 2, 3))
     assert [level for *_, level in slider.flag_spans()] == [2, 3]
+    tip = slider.flag_text_at(pop_x)  # hovering a flag names its findings
+    assert tip.startswith("pop (warning) 300: LeftHand, 4.99") and "bone-length (error) 300: LeftHand" in tip
+    assert slider.flag_text_at(between) == ""
+    point = QPoint(pop_x, row)
+    QApplication.sendEvent(slider, QHelpEvent(QEvent.Type.ToolTip, point, slider.mapToGlobal(point)))
+    assert QToolTip.isVisible() and QToolTip.text() == tip
+    QToolTip.hideText()
     studio.problems.set_min_level(3)  # errors only: the rest pose's warning not flagged
     assert [level for *_, level in slider.flag_spans()] == [3]
 

@@ -14,10 +14,12 @@ colours of :data:`app.model.problems.LEVEL_COLOURS`); a one-frame finding is at 
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
-from PyQt6.QtCore import QRectF, Qt, pyqtSignal
-from PyQt6.QtGui import QColor, QMouseEvent, QPainter, QPaintEvent
-from PyQt6.QtWidgets import QSlider, QStyle, QStyleOptionSlider, QWidget
+from PyQt6.QtCore import QEvent, QRectF, Qt, pyqtSignal
+from PyQt6.QtGui import QColor, QHelpEvent, QMouseEvent, QPainter, QPaintEvent
+from PyQt6.QtWidgets import QSlider, QStyle, QStyleOptionSlider, QToolTip, QWidget
 
 from gmr_studio.app.model.problems import LEVEL_COLOURS
 
@@ -52,6 +54,8 @@ class RangeSlider(QSlider):
         self.frame_range: tuple[int, int] | None = None
         self.levels: np.ndarray | None = None  # (F,) int8 worst severity per frame, or None
         self._spans: tuple | None = None  # (geometry, spans) of the last flag_spans
+        #: (first, last) frames -> what is flagged there (the tooltip over a flag), or None
+        self.flag_text: Callable[[int, int], str] | None = None
         self._anchor: int | None = None
 
     def set_frame_range(self, start: int, stop: int) -> None:
@@ -121,7 +125,24 @@ class RangeSlider(QSlider):
         frame = round(self.minimum() + (x - left) / length * count)
         return int(min(max(frame, self.minimum()), self.maximum()))
 
+    def flag_text_at(self, x: float) -> str:
+        """What is flagged under pixel column ``x`` ("" if nothing is)."""
+        if self.levels is None or self.flag_text is None:
+            return ""
+        if not any(x0 <= x < x1 for x0, x1, _level in self.flag_spans()):
+            return ""
+        half = FLAG_MIN_WIDTH / 2 + 0.5  # a flag is at least this wide around its frame
+        return self.flag_text(self.frame_at(x - half), self.frame_at(x + half))
+
     # -------------------------------------------------------------------- events
+    def event(self, event: QEvent) -> bool:
+        if event.type() == QEvent.Type.ToolTip and isinstance(event, QHelpEvent):
+            text = self.flag_text_at(event.pos().x())
+            if text:  # over a flag: its findings; elsewhere the slider's own tooltip
+                QToolTip.showText(event.globalPos(), text, self)
+                return True
+        return super().event(event)
+
     def paintEvent(self, event: QPaintEvent) -> None:  # noqa: N802 (Qt's name)
         super().paintEvent(event)
         if self.levels is not None:

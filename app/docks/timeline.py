@@ -99,8 +99,9 @@ class Timeline(QWidget):
         state.frame_changed.connect(self._on_frame_changed)
         player.speed_changed.connect(self._on_speed_changed)
         self.problems = problems
-        if problems is not None:  # the checks' flags under the groove
+        if problems is not None:  # the checks' flags under the groove, their findings as tooltips
             problems.changed.connect(self._on_problems_changed)
+            self.slider.flag_text = problems.describe
         self._on_document_changed()
         self._on_problems_changed()
 

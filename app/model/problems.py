@@ -94,6 +94,13 @@ def count_text(findings: list[Finding]) -> str:
     return ", ".join(parts) if parts else "none"
 
 
+def finding_line(finding: Finding) -> str:
+    """``"pop (warning) 300: LeftHand, 4.996 file units"``."""
+    frames = f"{finding.start}" if finding.start == finding.end else f"{finding.start}-{finding.end}"
+    joints = ", ".join(finding.names[:3]) + (", ..." if len(finding.names) > 3 else "") or "whole pose"
+    return f"{finding.kind} ({finding.severity}) {frames}: {joints}, {finding.value:.4g} {finding.units}"
+
+
 class CheckJob(QThread):
     """Runs the checks of one snapshot in a worker thread; ``done(job, findings, flags)``
     or ``failed(job, message)``."""
@@ -240,6 +247,18 @@ class Problems(QObject):
     def shown(self) -> list[Finding]:
         """The findings at :attr:`min_level` or worse."""
         return [f for f in self.findings if f.level >= self.min_level]
+
+    def at_frames(self, first: int, last: int) -> list[Finding]:
+        """The shown findings that cover any frame of ``first..last`` (inclusive)."""
+        return [f for f in self.shown if f.start <= last and f.end >= first]
+
+    def describe(self, first: int, last: int, most: int = 6) -> str:
+        """One line per shown finding covering ``first..last`` (at most ``most``), for a tooltip."""
+        found = self.at_frames(first, last)
+        lines = [finding_line(f) for f in found[:most]]
+        if len(found) > most:
+            lines.append(f"... and {len(found) - most} more")
+        return "\n".join(lines)
 
     def frame_levels(self) -> np.ndarray:
         """(F,) int8: the worst level shown (:attr:`min_level` or worse) at each frame, 0
