@@ -122,6 +122,8 @@ def test_a_click_seeks_selects_and_frames_the_joint(studio, qtbot):
     rest = next(r for r in range(table.rowCount()) if table.item(r, 0).text() == "rest-pose")
     click_row(table, rest)
     assert (state.frame, state.selected) == (0, hand)  # the whole pose: no joint to select
+    centre = state.positions[0].mean(axis=0)  # ... and the camera on the figure's centre
+    np.testing.assert_allclose(scene.plotter.camera.GetFocalPoint(), centre, atol=1e-9)
 
 
 def test_the_timeline_shows_the_flags(studio):
