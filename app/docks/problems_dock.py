@@ -3,7 +3,7 @@
 A table of findings (kind, severity, frames, joints, value with units), sortable, filtered
 by severity; choosing one (click or Enter) seeks to its first frame, selects its first
 joint and asks the window to frame the camera on it (:attr:`ProblemsDock.joint_framed`: the
-dock knows nothing of the view). Under it, the settings: a row per kind with its switch and
+dock knows nothing of the view). Beside it (*Settings*), a row per kind with its switch and
 its three limits (info, warning, error) in the panel's units (:data:`app.model.problems.LIMITS`),
 edited in place and remembered by :class:`~app.model.problems.Problems`. The list follows
 the document: an edit (trim, resample, undo) checks it again.
@@ -112,9 +112,11 @@ class ProblemsDock(QWidget):
         self.settings_panel = self._settings_panel()
         self.settings_panel.setVisible(False)
         self.settings_button.toggled.connect(self.settings_panel.setVisible)
-        splitter = QSplitter(Qt.Orientation.Vertical)
+        splitter = QSplitter(Qt.Orientation.Horizontal)  # the analysis area is wide and short
         splitter.addWidget(self.table)
         splitter.addWidget(self.settings_panel)
+        splitter.setStretchFactor(0, 3)
+        splitter.setStretchFactor(1, 2)
         layout = QVBoxLayout(self)
         layout.setContentsMargins(2, 2, 2, 2)
         layout.addLayout(top)
