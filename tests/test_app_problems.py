@@ -124,6 +124,13 @@ def test_a_click_seeks_selects_and_frames_the_joint(studio, qtbot):
     assert (state.frame, state.selected) == (0, hand)  # the whole pose: no joint to select
     centre = state.positions[0].mean(axis=0)  # ... and the camera on the figure's centre
     np.testing.assert_allclose(scene.plotter.camera.GetFocalPoint(), centre, atol=1e-9)
+    panel = studio.problems_panel
+    panel.step_buttons[1].click()  # next: the pop at 300 (the first finding after frame 0)
+    assert (state.frame, state.selected, panel.table.item(panel.table.currentRow(), 0).text()) == (300, hand, "pop")
+    panel.step_buttons[1].click()  # the bone-length finding starts at 300 too: not after; round to the first
+    assert state.frame == 0
+    panel.step_buttons[-1].click()  # previous from frame 0: round to the last (bone-length at 300)
+    assert (state.frame, panel.table.item(panel.table.currentRow(), 0).text()) == (300, "bone-length")
 
 
 def test_the_timeline_shows_the_flags(studio):

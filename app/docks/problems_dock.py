@@ -89,7 +89,16 @@ class ProblemsDock(QWidget):
         self.settings_button.setText("Settings")
         self.settings_button.setCheckable(True)
         self.settings_button.setToolTip("Which checks run and their limits (remembered)")
+        self.step_buttons = {}
+        for step, text, tip in ((-1, "\u25c0", "previous finding"), (1, "\u25b6", "next finding")):
+            button = QToolButton()
+            button.setText(text)
+            button.setToolTip(f"The {tip} (by first frame) from the current frame")
+            button.clicked.connect(lambda _checked=False, step=step: self.choose_next(step))
+            self.step_buttons[step] = button
         top = QHBoxLayout()
+        top.addWidget(self.step_buttons[-1])
+        top.addWidget(self.step_buttons[1])
         top.addWidget(self.summary, 1)
         top.addWidget(self.filter_box)
         top.addWidget(self.settings_button)
@@ -180,6 +189,24 @@ class ProblemsDock(QWidget):
         if joint >= 0:
             self.state.select(joint)
         self.joint_framed.emit(joint)
+
+    def choose_next(self, step: int) -> Finding | None:
+        """Choose the listed finding starting after (``step`` 1) or before (-1) the current
+        frame, the nearest one (the first or last when there is none that way); its row is
+        selected. Returns it (None with nothing listed)."""
+        if not self.shown:
+            return None
+        frame = self.state.frame
+        order = sorted(range(len(self.shown)), key=lambda i: (self.shown[i].start, i))
+        later = [i for i in order if self.shown[i].start > frame]
+        earlier = [i for i in order if self.shown[i].start < frame]
+        index = (later[0] if later else order[0]) if step > 0 else (earlier[-1] if earlier else order[-1])
+        for row in range(self.table.rowCount()):
+            if self.table.item(row, 0).data(Qt.ItemDataRole.UserRole) == index:
+                self.table.selectRow(row)
+                self.table.scrollToItem(self.table.item(row, 0))
+        self.choose(self.shown[index])
+        return self.shown[index]
 
     # ------------------------------------------------------------------ settings
     def _settings_panel(self) -> QWidget:
