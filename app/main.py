@@ -58,6 +58,16 @@ def build_arguments() -> argparse.ArgumentParser:
     parser.add_argument("--window", action="store_true", help="with --screenshot: the whole window, docks included")
     parser.add_argument("--select", metavar="JOINT", help="with --screenshot: select this joint first")
     parser.add_argument(
+        "--dock", metavar="DOCKS", default="", help="with --screenshot --window: docks to show, e.g. problems,curves"
+    )
+    parser.add_argument(
+        "--finding",
+        type=int,
+        metavar="N",
+        help="with --screenshot --window: choose the Problems dock's finding N (0-based, as listed): "
+        "its frame, joint and camera",
+    )
+    parser.add_argument(
         "--show",
         metavar="OVERLAYS",
         default="",
@@ -401,6 +411,25 @@ def offscreen_screenshot(motion_path: str, markers_path: str | None, args: argpa
     return 0
 
 
+def _show_docks(window, args: argparse.Namespace) -> str | None:
+    """--dock and --finding in a shown window; an error message, or None."""
+    docks = {d.objectName(): d for d in window.findChildren(type(window.problems_dock))}
+    for name in [n.strip().lower() for n in args.dock.split(",") if n.strip()]:
+        if name not in docks:
+            return f"--dock: no dock {name!r} (expected some of {', '.join(sorted(docks))})"
+        docks[name].show()
+        docks[name].raise_()
+    if args.finding is not None:
+        window.problems.wait()
+        panel = window.problems_panel
+        if not 0 <= args.finding < panel.table.rowCount():
+            return f"--finding {args.finding}: the Problems dock lists {panel.table.rowCount()} findings"
+        panel.table.selectRow(args.finding)
+        panel.choose_row(args.finding)
+    window.problems.wait()
+    return None
+
+
 def window_screenshot(motion_path: str, markers_path: str | None, args: argparse.Namespace, size) -> int:
     """Open the real window, show the frame, save its view (or the whole window) and exit."""
     from PyQt6.QtWidgets import QApplication
@@ -444,6 +473,12 @@ def window_screenshot(motion_path: str, markers_path: str | None, args: argparse
     app.processEvents()
     window.state.set_frame(frame)
     window.view.scene.reset_camera()
+    problem = _show_docks(window, args)
+    if problem:
+        print(f"gmr-studio: {problem}", file=sys.stderr)
+        window.state.undo_stack.setClean()
+        window.close()
+        return 2
     app.processEvents()
     if whole_window:
         from gmr_studio.app.media.video import save_png

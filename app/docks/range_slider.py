@@ -5,16 +5,29 @@ the half-open frame range ``[start, stop)`` under the pointer, shaded over the g
 same :attr:`StudioState.frame_range` the curves plot and the contact bars select. The keys I
 and O (window actions) set the range's start and end at the current frame through
 :func:`range_starting_at` and :func:`range_ending_at`.
+
+It also shows the quality checks' flags (:meth:`RangeSlider.set_levels`): under the groove,
+each frame's worst severity as a coloured band (info blue, warning orange, error red, the
+colours of :data:`app.model.problems.LEVEL_COLOURS`); a one-frame finding is at least
+:data:`FLAG_MIN_WIDTH` pixels wide, and the colour of a pixel column is the worst of its frames.
 """
 
 from __future__ import annotations
 
-from PyQt6.QtCore import QRectF, Qt, pyqtSignal
-from PyQt6.QtGui import QColor, QMouseEvent, QPainter, QPaintEvent
-from PyQt6.QtWidgets import QSlider, QStyle, QStyleOptionSlider, QWidget
+from collections.abc import Callable
+
+import numpy as np
+from PyQt6.QtCore import QEvent, QRectF, Qt, pyqtSignal
+from PyQt6.QtGui import QColor, QHelpEvent, QMouseEvent, QPainter, QPaintEvent
+from PyQt6.QtWidgets import QSlider, QStyle, QStyleOptionSlider, QToolTip, QWidget
+
+from gmr_studio.app.model.problems import LEVEL_COLOURS
 
 RANGE_COLOUR = QColor(255, 212, 0, 90)
 RANGE_EDGE = QColor(255, 212, 0)
+FLAG_COLOURS = {level: QColor.fromRgbF(*rgb) for level, rgb in LEVEL_COLOURS.items()}
+FLAG_MIN_WIDTH = 3  # pixels: a one-frame finding stays visible on a long take
+FLAG_HEIGHT = 5  # pixels: the band under the groove
 
 
 def range_starting_at(selected: tuple[int, int] | None, frame: int, n_frames: int) -> tuple[int, int]:
@@ -39,12 +52,51 @@ class RangeSlider(QSlider):
     def __init__(self, parent: QWidget | None = None) -> None:
         super().__init__(Qt.Orientation.Horizontal, parent)
         self.frame_range: tuple[int, int] | None = None
+        self.levels: np.ndarray | None = None  # (F,) int8 worst severity per frame, or None
+        self._spans: tuple | None = None  # (geometry, spans) of the last flag_spans
+        #: (first, last) frames -> what is flagged there (the tooltip over a flag), or None
+        self.flag_text: Callable[[int, int], str] | None = None
         self._anchor: int | None = None
 
     def set_frame_range(self, start: int, stop: int) -> None:
         """Show ``[start, stop)`` (start < 0: no range); no signal."""
         self.frame_range = (int(start), int(stop)) if 0 <= start < stop else None
         self.update()
+
+    def set_levels(self, levels: np.ndarray | None) -> None:
+        """Show the checks' flags: (F,) int8 levels per frame (0 none, 1-3), or None."""
+        self.levels = None if levels is None or not np.any(levels) else np.asarray(levels, np.int8)
+        self._spans = None
+        self.update()
+
+    def flag_spans(self) -> list[tuple[int, int, int]]:
+        """``(x0, x1, level)`` pixel column spans ([x0, x1)) of the flags as painted, mildest
+        first (worse levels are painted over them)."""
+        if self.levels is None:
+            return []
+        left, length = self._span()
+        count = max(self.maximum() - self.minimum(), 1)
+        key = (left, length, count, self.minimum(), self.width())
+        if self._spans is not None and self._spans[0] == key:  # painted at every frame: computed once
+            return self._spans[1]
+        frames = np.arange(len(self.levels))
+        centres = left + length * (frames - self.minimum()) / count
+        half = max(length / count, FLAG_MIN_WIDTH) / 2
+        width = self.width()
+        spans = []
+        for level in (1, 2, 3):
+            flagged = self.levels == level
+            if not flagged.any():
+                continue
+            x0 = np.clip(np.floor(centres[flagged] - half), 0, width).astype(np.int64)
+            x1 = np.clip(np.ceil(centres[flagged] + half), 0, width).astype(np.int64)
+            # +1 at a span's first column, -1 after its last
+            covered = np.bincount(x0, minlength=width + 1) - np.bincount(x1, minlength=width + 1)
+            inside = np.concatenate([[0], (np.cumsum(covered)[:-1] > 0).astype(np.int8), [0]])
+            edges = np.flatnonzero(np.diff(inside))
+            spans += [(int(a), int(b), level) for a, b in zip(edges[::2], edges[1::2], strict=True)]
+        self._spans = (key, spans)
+        return spans
 
     # ------------------------------------------------------------------ geometry
     def _option(self) -> QStyleOptionSlider:
@@ -73,9 +125,32 @@ class RangeSlider(QSlider):
         frame = round(self.minimum() + (x - left) / length * count)
         return int(min(max(frame, self.minimum()), self.maximum()))
 
+    def flag_text_at(self, x: float) -> str:
+        """What is flagged under pixel column ``x`` ("" if nothing is)."""
+        if self.levels is None or self.flag_text is None:
+            return ""
+        if not any(x0 <= x < x1 for x0, x1, _level in self.flag_spans()):
+            return ""
+        half = FLAG_MIN_WIDTH / 2 + 0.5  # a flag is at least this wide around its frame
+        return self.flag_text(self.frame_at(x - half), self.frame_at(x + half))
+
     # -------------------------------------------------------------------- events
+    def event(self, event: QEvent) -> bool:
+        if event.type() == QEvent.Type.ToolTip and isinstance(event, QHelpEvent):
+            text = self.flag_text_at(event.pos().x())
+            if text:  # over a flag: its findings; elsewhere the slider's own tooltip
+                QToolTip.showText(event.globalPos(), text, self)
+                return True
+        return super().event(event)
+
     def paintEvent(self, event: QPaintEvent) -> None:  # noqa: N802 (Qt's name)
         super().paintEvent(event)
+        if self.levels is not None:
+            painter = QPainter(self)
+            top = self.height() - FLAG_HEIGHT - 1
+            for x0, x1, level in self.flag_spans():
+                painter.fillRect(QRectF(x0, top, x1 - x0, FLAG_HEIGHT), FLAG_COLOURS[level])
+            painter.end()
         if self.frame_range is None:
             return
         start, stop = self.frame_range

@@ -3,7 +3,8 @@
 The keys (space, arrows, Home/End) are window shortcuts defined with the actions; the
 buttons here trigger the same actions, so both stay in step. The slider also shows the
 state's frame range and selects it with Shift+drag (:mod:`app.range_slider`); the I and O
-buttons (and keys) set its start and end at the current frame.
+buttons (and keys) set its start and end at the current frame. Under its groove, the
+quality checks' flags (:class:`app.model.problems.Problems`), coloured by severity.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from PyQt6.QtWidgets import QComboBox, QHBoxLayout, QLabel, QSpinBox, QToolButto
 
 from gmr_studio.app.docks.range_slider import RangeSlider
 from gmr_studio.app.model.playback import SPEEDS, Player
+from gmr_studio.app.model.problems import Problems
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.core.clock import frame_seconds, motion_duration
 from gmr_studio.core.motion import Motion
@@ -42,7 +44,12 @@ class Timeline(QWidget):
     """Frame slider and transport controls."""
 
     def __init__(
-        self, state: StudioState, player: Player, actions: dict[str, QAction], parent: QWidget | None = None
+        self,
+        state: StudioState,
+        player: Player,
+        actions: dict[str, QAction],
+        problems: Problems | None = None,
+        parent: QWidget | None = None,
     ) -> None:
         super().__init__(parent)
         self.state = state
@@ -93,7 +100,16 @@ class Timeline(QWidget):
         state.motion_changed.connect(self._on_document_changed)
         state.frame_changed.connect(self._on_frame_changed)
         player.speed_changed.connect(self._on_speed_changed)
+        self.problems = problems
+        if problems is not None:  # the checks' flags under the groove, their findings as tooltips
+            problems.changed.connect(self._on_problems_changed)
+            self.slider.flag_text = problems.describe
         self._on_document_changed()
+        self._on_problems_changed()
+
+    def _on_problems_changed(self) -> None:
+        if self.problems is not None:
+            self.slider.set_levels(self.problems.frame_levels() if self.problems.flags is not None else None)
 
     def _on_document_changed(self) -> None:
         last = max(self.state.n_frames - 1, 0)

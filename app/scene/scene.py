@@ -357,6 +357,27 @@ class SkeletonScene:
             self._reset_camera()
             self.render()
 
+    def frame_joint(self, joint: int | None, reach: float = 0.5) -> None:
+        """Look at ``joint`` at this frame (None: the figure's centre) from where the camera
+        looks now, near enough that ``reach`` times the motion's size around it fills the
+        view's height (the whole figure for None); a followed camera keeps following."""
+        if self.snapshot is None:
+            return
+        size = self.snapshot.motion.size
+        if joint is None:
+            point, reach = self.snapshot.positions[self.frame, ~self.snapshot.motion.anchors].mean(axis=0), 1.3
+        else:
+            point = self.snapshot.positions[self.frame, joint]
+        camera = self.plotter.camera
+        direction = np.asarray(camera.GetPosition()) - np.asarray(camera.GetFocalPoint())
+        direction /= max(np.linalg.norm(direction), 1e-12)
+        distance = reach * size / 2 / np.tan(np.radians(camera.GetViewAngle()) / 2)
+        camera.SetFocalPoint(*point)
+        camera.SetPosition(*(point + distance * direction))
+        if self.overlays.get("follow"):
+            self._followed = self._follow_point(self.frame)
+        self.render()
+
     # ------------------------------------------------------------------- picking
     def view_projection(self) -> np.ndarray:
         """(4, 4) world -> clip matrix of the current camera."""

@@ -19,11 +19,13 @@ from gmr_studio.app.docks.inspector import Inspector
 from gmr_studio.app.docks.timeline import Timeline
 from gmr_studio.app.model import commands, extensions
 from gmr_studio.app.model.playback import SPEEDS, Player
+from gmr_studio.app.model.problems import Problems
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.app.reliability.autosave import Autosaver
 from gmr_studio.app.scene.view import SkeletonView
 from gmr_studio.app.window import actions as action_table
 from gmr_studio.app.window import layout
+from gmr_studio.app.window.checks import install_problems
 from gmr_studio.app.window.classroom import Classroom
 from gmr_studio.app.window.comparison import install_comparison
 from gmr_studio.app.window.files import FileController
@@ -60,6 +62,7 @@ class MainWindow(QMainWindow):
         self.settings = settings if settings is not None else default_settings()
         self.state = StudioState(self)
         self.player = Player(self.state, self)
+        self.problems = Problems(self.state, self.settings, self)  # the quality checks, remembered settings
         self.view = SkeletonView(self.state, self)
         self.setCentralWidget(self.view)
         self.files = FileController(self.state, lambda: self.view.scene, self.settings, self)
@@ -80,7 +83,7 @@ class MainWindow(QMainWindow):
         self.forest = ForestTree(self.state)
         self.forest.tree_colors = self.view.scene.tree_colors  # one colour per tree in both
         self.inspector = Inspector(self.state)
-        self.timeline = Timeline(self.state, self.player, self.actions)
+        self.timeline = Timeline(self.state, self.player, self.actions, self.problems)
         self.forest.context_menu = self.view.context_menu = self.joint_menu
         # beside the view: Forest above Inspector in one column (layout.side_width wide)
         right = Qt.DockWidgetArea.RightDockWidgetArea
@@ -113,7 +116,8 @@ class MainWindow(QMainWindow):
             self, self.state, self.view.scene, self.files, beside=self.forest_dock
         )
         self.onion = OnionMenu(self, self.view.scene, self.layers, self.view_menu)
-        self.analysis_docks = [self.curves_dock, self.contacts_dock, self.error_dock]
+        self.problems_dock = install_problems(self, self.problems, self.view.scene)
+        self.analysis_docks = [self.curves_dock, self.contacts_dock, self.error_dock, self.problems_dock]
         layout.tab_when_shown(self, self.analysis_docks)
         self.status = QLabel()
         self.statusBar().addWidget(self.status, 1)
@@ -132,7 +136,8 @@ class MainWindow(QMainWindow):
         width = layout.side_width(self.width())
         self.resizeDocks([self.forest_dock, self.inspector_dock], [width, width], Qt.Orientation.Horizontal)
         self.resizeDocks([self.forest_dock, self.inspector_dock], [1, 2], Qt.Orientation.Vertical)
-        self.resizeDocks(self.analysis_docks, [layout.BOTTOM_HEIGHT] * 3, Qt.Orientation.Vertical)
+        heights = [layout.BOTTOM_HEIGHT] * len(self.analysis_docks)
+        self.resizeDocks(self.analysis_docks, heights, Qt.Orientation.Vertical)
 
     def showEvent(self, event) -> None:  # noqa: N802 (Qt's name)
         super().showEvent(event)
@@ -355,6 +360,7 @@ class MainWindow(QMainWindow):
         self.player.pause()
         self.autosave.discard()  # saved, or the user chose to drop the edits
         self.autosave.shutdown()
+        self.problems.shutdown()
         self.state.undo_stack.blockSignals(True)  # its actions go away with the window
         self._save_settings()
         self.view.close_view()
