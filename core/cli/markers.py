@@ -1,4 +1,9 @@
-"""``gmr markers IN.c3d|IN.trc --skeleton S --map NAME|FILE -o OUT.gmr``: markers to GMR.
+"""``gmr markers IN.c3d|IN.trc [--skeleton S --map NAME|FILE] -o OUT.gmr``: markers to GMR.
+
+Without ``--skeleton`` the marker set is recognised from its labels and a skeleton is built
+from the markers (joint centres by the published methods, constant bone lengths), then the
+same closed form runs on it; ``--refine`` adds the per-frame least squares over the joint
+angles; ``--against-file-model`` compares with the lab model's points stored in the file.
 
 The marker map places each joint centre (``joints``: markers labelled with the joint names
 are the joint centres; ``cmu``: the CMU 41-marker set on the CMU ASF skeleton), the pelvis
@@ -15,6 +20,7 @@ engine: ``--truth-offset``, found when the frame counts differ), its position an
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import sys
 from pathlib import Path
@@ -38,7 +44,22 @@ def register(sub: argparse._SubParsersAction) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("input", help="a .c3d or .trc marker file")
-    parser.add_argument("--skeleton", required=True, help="the skeleton: .asf, .bvh or .gmr")
+    parser.add_argument(
+        "--skeleton", help="the skeleton: .asf, .bvh or .gmr (default: built from the markers of a known set)"
+    )
+    parser.add_argument(
+        "--refine",
+        action="store_true",
+        help="after the closed form, least squares over the joint angles of every frame (residuals printed)",
+    )
+    parser.add_argument(
+        "--hip", choices=("harrington", "davis"), default="harrington", help="hip centre regression (built skeleton)"
+    )
+    parser.add_argument(
+        "--against-file-model",
+        action="store_true",
+        help="compare the joint centres and pelvis frames with the lab model's stored in the file (built skeleton)",
+    )
     parser.add_argument("--map", default="joints", help="marker map: joints, cmu, or a .toml file (default joints)")
     parser.add_argument("--reference", help="a motion of the same skeleton whose best-matching poses give the twists")
     parser.add_argument(
@@ -66,7 +87,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--pelvis-fit", choices=("note", "points"), default="note", help="Procrustes variant")
     parser.add_argument("--calibrate", type=frame_slice, metavar="A:B", help="calibrate the map on these frames")
     parser.add_argument("--save-map", help="write the calibrated map here (.toml)")
-    parser.add_argument("--json", action="store_true", help="print the per-joint table as JSON")
+    parser.add_argument(
+        "--json",
+        nargs="?",
+        const="-",
+        metavar="OUT",
+        help="the report as JSON: printed, or written to OUT (with --against-file-model: the comparison)",
+    )
     parser.add_argument("-o", "--output", required=True, help="the .gmr (or .bvh) file to write")
     add_reading_options(parser, transforms=False)  # its --scale is the marker-to-skeleton one
     parser.set_defaults(run=run)
@@ -131,6 +158,12 @@ def run(args: argparse.Namespace) -> int:
     from gmr_studio.core.markers.virtual import resolve_map
 
     markers = read_markers(args.input)
+    if not args.skeleton:
+        from gmr_studio.core.cli.markers_built import run_built
+
+        return run_built(args, markers)
+    if args.against_file_model:
+        raise OperationError("--against-file-model compares the skeleton built from the markers: leave out --skeleton")
     skeleton = load_skeleton(args.skeleton)
     marker_map = load_marker_map(args.map)
     if args.axes or args.scale:
@@ -156,6 +189,12 @@ def run(args: argparse.Namespace) -> int:
         pelvis_method=args.pelvis_fit,
         aim=args.aim,
     )
+    refinement = None
+    if args.refine:
+        from gmr_studio.core.markers.refine import refine_joints
+
+        refinement = refine_joints(result.motion, result.measured)
+        result = dataclasses.replace(result, motion=refinement.motion)
     output = Path(args.output)
     motion = result.motion
     if motion_suffix(output) == ".bvh":
@@ -176,8 +215,7 @@ def run(args: argparse.Namespace) -> int:
         report = {"output": str(output), "pelvis": result.pelvis_note, "reasons": list(result.reasons), "joints": rows}
         if truth_note:
             report["truth"] = truth_note
-        json.dump(report, sys.stdout, indent=2)
-        print()
+        write_json(report, args.json)
         return 0
     print(
         f"{output}: {motion.n_frames} frames x {motion.n_joints} joints at {1 / motion.frame_time:.6g} Hz, "
@@ -193,6 +231,8 @@ def run(args: argparse.Namespace) -> int:
     if truth_note:
         print(f"  truth: {truth_note}")
     print(conversion_text(rows, unit))
+    if refinement is not None:
+        print(refinement_text(refinement, motion.names, 1.0 / resolved.alignment.scale, unit))
     if resolved.pelvis:
         from gmr_studio.core.markers.pelvis import recover_pelvis
         from gmr_studio.core.markers.report import pelvis_fit_summary, pelvis_fit_text
@@ -200,6 +240,33 @@ def run(args: argparse.Namespace) -> int:
         shown = markers.frame_slice(args.frames) if args.frames is not None else markers
         print(pelvis_fit_text(pelvis_fit_summary(recover_pelvis(shown, resolved, skeleton=skeleton))))
     return 0
+
+
+def write_json(report: dict, where: str) -> None:
+    """The report as JSON on stdout (``-``) or in a file (written atomically)."""
+    text = json.dumps(report, indent=2) + "\n"
+    if where == "-":
+        sys.stdout.write(text)
+    else:
+        from gmr_studio.core.atomic import atomic_write_text
+
+        atomic_write_text(where, text)
+
+
+def refinement_text(refinement, names, factor: float, unit: str) -> str:
+    """Per marker: median and 95% residual over the frames, before and after the refinement."""
+    before, after = refinement.residuals_before * factor, refinement.residuals * factor
+    lines = [f"refinement ({refinement.iterations} Levenberg-Marquardt iterations), residual per marker in {unit}:"]
+    lines.append(f"  {'marker':<12} {'median before':>13} {'median after':>12} {'95% after':>9}")
+    for m, name in enumerate(names):
+        if np.isfinite(after[:, m]).any():
+            lines.append(
+                f"  {name:<12} {np.nanmedian(before[:, m]):>13.2f} {np.nanmedian(after[:, m]):>12.2f} "
+                f"{np.nanpercentile(after[:, m], 95):>9.2f}"
+            )
+    rms = np.sqrt(np.nanmean(after**2))
+    lines.append(f"  overall RMS after: {rms:.2f} {unit}")
+    return "\n".join(lines)
 
 
 def truth_on_markers_clock(

@@ -260,6 +260,7 @@ def _marker_set(decoded: dict, where: str, zero_residual: ZeroResidual) -> Marke
         source=where,
         notes=notes,
         outputs=outputs,
+        parameters=dict(meta.get("parameters", {})),
     )
 
 

@@ -59,6 +59,21 @@ def output_groups(point) -> tuple[dict[str, list[str]], dict[str, str]]:
     return groups, units
 
 
+def processing_parameters(parameters) -> dict[str, float]:
+    """The numbers of the PROCESSING group (the subject measurements Vicon Nexus and pyCGM2
+    store there: KneeWidth, LAnkleWidth, MarkerDiameter, LegLength... in mm)."""
+    out: dict[str, float] = {}
+    for name, entry in parameters.get("PROCESSING", {}).items():
+        value = entry.get("value") if isinstance(entry, dict) else None
+        try:
+            numbers = np.asarray(value, dtype=np.float64).ravel()
+        except (TypeError, ValueError):
+            continue
+        if numbers.size == 1 and np.isfinite(numbers[0]):
+            out[str(name)] = float(numbers[0])
+    return out
+
+
 def decode_c3d(path: Path) -> dict:
     """What this module needs from ezc3d, as plain arrays and a JSON-ready ``meta`` dict.
 
@@ -99,6 +114,7 @@ def decode_c3d(path: Path) -> dict:
     elif (layout := _analog_layout_note(path, c3d)) is not None:
         xyz, residuals, _ = read_points(path, c3d["parameters"], xyz.shape[0])
         notes.append(layout)
+    meta["parameters"] = processing_parameters(c3d["parameters"])
     meta["notes"] = notes
     return {"points": xyz, "residuals": residuals, "meta": meta}
 

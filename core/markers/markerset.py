@@ -15,6 +15,9 @@ source            str                the file read, for messages
 notes             tuple of str       what the reader noticed but tolerated
 outputs           PointOutputs       model outputs the file stores as points (C3D
                   or None            POINT:ANGLES, FORCES...): not markers, kept apart
+parameters        dict str->float    the subject's measurements a C3D stores in its
+                                     PROCESSING group (KneeWidth, LAnkleWidth,
+                                     MarkerDiameter, LegLength... in mm), {} if none
 ================  =================  ==================================================
 
 Axes are the file's. Conversions return new marker sets: :meth:`MarkerSet.in_units`,
@@ -123,6 +126,7 @@ class MarkerSet:
     source: str = ""
     notes: tuple[str, ...] = ()
     outputs: PointOutputs | None = None
+    parameters: dict[str, float] = dataclasses.field(default_factory=dict)
 
     def __post_init__(self) -> None:
         labels = tuple(str(label) for label in self.labels)

@@ -26,6 +26,24 @@ def describe_markers(markers: MarkerSet, path: str) -> dict:
         "missing_fraction": float((~markers.present).mean()) if markers.present.size else 0.0,
         "notes": list(markers.notes),
         "outputs": _outputs(markers),
+        "marker_set": marker_set_info(markers),
+    }
+
+
+def marker_set_info(markers: MarkerSet) -> dict:
+    """The known marker set the labels fit (:func:`core.markers.sets.identify_marker_set`):
+    ``{"name", "title", "missing", "with"}``, or ``{"name": None, "note": what a map would need}``."""
+    from gmr_studio.core.markers.sets import identify_marker_set, no_match_text
+
+    match = identify_marker_set(markers)
+    if match is None:
+        return {"name": None, "note": no_match_text(markers.labels)}
+    return {
+        "name": match.definition.name,
+        "title": match.definition.title,
+        "missing": list(match.missing),
+        "with": list(match.optional),
+        "summary": match.summary(),
     }
 
 
@@ -50,6 +68,11 @@ def markers_text(info: dict) -> str:
         f"subjects:   {', '.join(info['subjects']) or 'none (no prefix on the labels)'}",
         f"gaps:       {100 * info['missing_fraction']:.2f}% of all samples",
     ]
+    marker_set = info.get("marker_set") or {}
+    if marker_set.get("name"):
+        lines.append(f"set:        {marker_set['summary']}")
+    elif marker_set:
+        lines.append(f"set:        {marker_set['note']}")
     lines += [f"note:       {n}" for n in info["notes"]]
     for kind, group in info.get("outputs", {}).items():  # not markers: listed, never drawn
         unit = f" ({group['units']})" if group["units"] else ""

@@ -39,7 +39,7 @@ import numpy as np
 
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.kinematics import joint_world_transform, world_positions
-from gmr_studio.core.markers.limbs import least_change_twists, limb_rotation, twist_of
+from gmr_studio.core.markers.limbs import least_change_twists, limb_rotation, swing, twist_of
 from gmr_studio.core.markers.markerset import MarkerSet, frame_ranges, gap_runs
 from gmr_studio.core.markers.match import best_matches
 from gmr_studio.core.markers.pelvis import PelvisFrames, PelvisMethod, pelvis_rotations, rest_positions
@@ -47,8 +47,14 @@ from gmr_studio.core.motion import Motion
 from gmr_studio.core.operations import split
 
 #: ``sources`` codes, per frame and joint
-MEASURED, FROM_REFERENCE, HELD, ROOT = 0, 1, 2, 3
-SOURCE_NAMES = {MEASURED: "measured", FROM_REFERENCE: "from reference", HELD: "held", ROOT: "root"}
+MEASURED, FROM_REFERENCE, HELD, ROOT, TWIST_MARKER = 0, 1, 2, 3, 4
+SOURCE_NAMES = {
+    MEASURED: "measured",
+    FROM_REFERENCE: "from reference",
+    HELD: "held",
+    ROOT: "root",
+    TWIST_MARKER: "twist from its marker",
+}
 Aim = Literal["markers", "chain"]
 
 
@@ -143,6 +149,7 @@ def markers_to_motion(
     if fill_gaps:
         markers = markers.filled(fill_gaps)
     resolved = resolve_map(load_marker_map(marker_map), markers, skeleton=skeleton)
+    check_map_fits(markers, resolved)
     virtual = compute_virtual_markers(markers, resolved)
     measured = np.full((markers.n_frames, skeleton.n_joints, 3), np.nan)
     aligned = virtual.skeleton_positions()
@@ -169,6 +176,24 @@ def markers_to_motion(
     )
 
 
+def check_map_fits(markers: MarkerSet, marker_map) -> None:
+    """Refuse a map most of whose markers the file lacks, naming the file's own set: "this
+    file's markers are set X, not map Y (missing: ...)" rather than a pelvis gap that reads as
+    if the file had holes."""
+    from gmr_studio.core.markers.sets import identify_marker_set
+
+    needed = marker_map.labels()
+    absent = [label for label in needed if label not in markers.labels]
+    if marker_map.joints or not needed or len(absent) * 2 <= len(needed):
+        return
+    match = identify_marker_set(markers)
+    found = f"set {match.definition.name}" if match is not None else "of no known set"
+    raise OperationError(
+        f"this file's markers are {found}, not map {marker_map.name} (missing: {', '.join(absent)})"
+        + ("; without --skeleton and --map, gmr markers builds a skeleton from them" if match is not None else "")
+    )
+
+
 def solve_positions(
     measured: np.ndarray,
     skeleton: Motion,
@@ -181,6 +206,7 @@ def solve_positions(
     frame_time: float | None = None,
     pelvis_method: PelvisMethod = "note",
     aim: Aim = "markers",
+    twist_markers: np.ndarray | None = None,
 ) -> MarkerMotion:
     """The solver on joint positions already in skeleton space.
 
@@ -190,6 +216,10 @@ def solve_positions(
     skeleton : GMR skeleton (pre-rotation).
     pelvis : names of X1 (a root of the skeleton), X2, X3.
     query_times : (F,) seconds of the frames (default ``arange(F) * frame_time``).
+    twist_markers : (F, J, 3) for each joint a third marker rigid with its bone (the lateral
+        knee for the thigh...; NaN: none): where present with the bone's direction, the twist
+        is the angle about the bone of that marker's direction, measured from its mean
+        direction over the frames (:func:`marker_twists`), before any reference or least change.
     Other parameters as in :func:`markers_to_motion`.
     """
     if skeleton.convention != "pre":
@@ -204,7 +234,8 @@ def solve_positions(
     if strangers:
         raise OperationError(
             f"the map's pelvis markers {', '.join(strangers)} are not joints of the skeleton: "
-            "a map for markers_to_motion places joints (pelvis-only maps serve recover_pelvis)"
+            "a map for markers_to_motion places joints (pelvis-only maps serve recover_pelvis; without "
+            "--skeleton, gmr markers builds a skeleton from the markers of a known set)"
         )
     triple_index = [skeleton.joint_index(name) for name in pelvis]
     pelvis_root = triple_index[0]
@@ -260,15 +291,23 @@ def solve_positions(
         c = bone / np.where(ok, bone_length, 1.0)[:, None]
         u = offset / (length if length > 0 else 1.0)
         result = np.broadcast_to(np.eye(3), (len(good), 3, 3)).copy()
+        marked = np.zeros(len(good), bool)
+        if twist_markers is not None:
+            third = np.einsum("fba,fb->fa", world[:, p], twist_markers[good, j] - origin)
+            marked = ok & np.isfinite(third).all(axis=1)
+            if marked.any():
+                result[marked] = limb_rotation(u, c[marked], marker_twists(u, c[marked], third[marked]))
+                sources[marked, j] = TWIST_MARKER
         if reference_data is not None:
             known = ref_local[np.maximum(match, 0), j]
             twist = twist_of(known, u)
-            result[ok & matched] = limb_rotation(u, c[ok & matched], twist[ok & matched])
+            use = ok & matched & ~marked
+            result[use] = limb_rotation(u, c[use], twist[use])
             result[~ok & matched] = known[~ok & matched]
             sources[~ok & matched, j] = FROM_REFERENCE
-            todo = ok & ~matched
+            todo = ok & ~matched & ~marked
         else:
-            todo = ok
+            todo = ok & ~marked
         if todo.any():
             result[todo] = limb_rotation(u, c[todo], least_change_twists(u, c[todo]))
         rest = ~ok & ~matched
@@ -284,6 +323,25 @@ def solve_positions(
         skeleton, valid, good, local, world, chain, sources, root_set, frame_time,
         measured, rotations_p, residuals, match, distance, reasons, pelvis,
     )  # fmt: skip
+
+
+def marker_twists(u: np.ndarray, c: np.ndarray, third: np.ndarray) -> np.ndarray:
+    """Twists (N,) about the rest direction u (3,) from a third marker rigid with the bone.
+
+    c (N, 3) unit bone directions and third (N, 3) the marker from the bone's start, both in
+    the parent's frame. Undoing the swing, ``v = S(u -> c)^T third`` is the marker in the
+    rest frame turned by the twist alone; its part perpendicular to u, compared with its mean
+    direction ``w0`` over the frames, gives ``gamma = atan2(u . (w0 x v), w0 . v)``. The rest
+    pose's twist is thereby the take's mean one (the marker is rigid with the bone, so any
+    constant choice gives the same positions).
+    """
+    v = np.einsum("fba,fb->fa", swing(u, c), third)
+    v -= np.outer(v @ u, u)
+    v /= np.linalg.norm(v, axis=1, keepdims=True)
+    w0 = v.mean(axis=0)
+    w0 -= (w0 @ u) * u
+    w0 /= np.linalg.norm(w0)
+    return np.arctan2(np.cross(w0, v) @ u, v @ w0)
 
 
 def _hold(values: np.ndarray, ok: np.ndarray) -> np.ndarray:

@@ -1,0 +1,475 @@
+"""A skeleton built from the markers alone, then the paper's method onto it.
+
+:func:`build_skeleton` recognises the marker set (:mod:`core.markers.sets`), places the joint
+centres of every frame by the published methods (:mod:`core.markers.joint_centres`: hips by
+Harrington et al. 2007 or Davis et al. 1991, knees and ankles by the medial/lateral midpoint
+or Plug-in Gait's chord with the subject's widths, shoulders by Rab et al. 2002, elbows and
+wrists by their epicondyles, styloids or wrist bar), fits one constant length per bone (the
+median over the frames, with its spread reported), and lays the bones out in a rest pose
+(standing, facing the pelvis's anterior axis, up the file's vertical axis).
+:func:`markers_to_built_motion` then runs the paper's closed form
+(:func:`core.markers.solve.solve_positions`): pelvis by Procrustes, limb angles from the
+joint-centre directions, each segment's twist from its third marker (the lateral knee for
+the thigh, the lateral ankle for the shank, the heel for the foot, the lateral elbow for the
+upper arm, the wrist bar for the forearm...) and from least change only where it has none.
+
+Joints (``(F, J, 3)`` arrays follow this order, those the set cannot place left out):
+``pelvis`` (root, mid-point of the hip centres, as Plug-in Gait's PELO), ``pelvis_front``
+(mid-ASIS), ``LHJC``, ``LKJC``, ``LAJC``, ``LTOE`` and the right side, ``thorax`` (mid C7-CLAV),
+``head`` (the head markers' centre), ``LSJC``, ``LEJC``, ``LWJC``, ``LHAND`` and the right side.
+Units: millimetres; axes: the file's.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from gmr_studio.core.errors import OperationError
+from gmr_studio.core.markers import joint_centres as jc
+from gmr_studio.core.markers.limbs import swing
+from gmr_studio.core.markers.markerset import MarkerSet
+from gmr_studio.core.markers.procrustes import fit_rigid
+from gmr_studio.core.markers.refine import Refinement
+from gmr_studio.core.markers.sets import SetMatch, identify_marker_set, no_match_text, role_positions
+from gmr_studio.core.markers.solve import MarkerMotion
+from gmr_studio.core.motion import Motion
+
+#: assumed widths (mm) when the file stores none (adult means; said in the notes)
+DEFAULT_WIDTHS = {"KneeWidth": 100.0, "AnkleWidth": 70.0, "ElbowWidth": 70.0}
+#: the roles each place is found by, in order (the sets' own names for the same landmark)
+SYNONYMS = {
+    "KNE": ("KNE", "LFC", "FLE"),
+    "KNM": ("KNM", "MFC", "FME"),
+    "THI": ("THI", "WAND1", "TH1", "FTC"),
+    "ANK": ("ANK", "LMAL", "FAL"),
+    "MED": ("MED", "MMAL", "TAM"),
+    "TIB": ("TIB", "WAND2", "TB1", "TTC"),
+    "TOE": ("TOE", "MT2", "FM1", "MT5"),
+    "HEE": ("HEE", "CAL", "FCC"),
+    "ELB": ("ELB", "HLE"),
+    "ELM": ("ELM", "HME"),
+    "WRA": ("WRA", "RSP"),
+    "WRB": ("WRB", "UHE"),
+    "FIN": ("FIN", "HM2"),
+    "C7": ("C7",),
+    "CLAV": ("CLAV", "SJN"),
+    "T10": ("T10", "T8"),
+    "STRN": ("STRN", "SXS"),
+}
+
+#: markers rigid with the thigh and with the shank (wands, clusters, bony landmarks)
+THIGH = ("THI", "TH1", "TH2", "TH3", "THAP", "THAD", "WAND1", "FTC")
+SHANK = ("TIB", "TB1", "TB2", "TB3", "TIAP", "TIAD", "WAND2", "TTC", "FAX")
+
+
+def most_seen(trajectories: list[np.ndarray]) -> np.ndarray:
+    """The trajectory (F, 3) seen in the most frames (the first of equals)."""
+    seen = [int(np.isfinite(x).all(axis=1).sum()) for x in trajectories]
+    return trajectories[int(np.argmax(seen))]
+
+
+def fill_from_cluster(centre: np.ndarray, cluster: list[np.ndarray]) -> np.ndarray:
+    """A joint centre (F, 3) filled, where it is NaN, from markers rigid with the same segment.
+
+    Labs place medial markers for a static trial and take them off (the shared walking5 file
+    and its TRC lack them in most frames). The cluster (K trajectories (F, 3), K >= 3) is
+    fitted by least squares (:func:`core.markers.procrustes.fit_rigid`) to its pose in the
+    first frame where all of it is seen; the centre's place in the cluster's frame is the
+    median over the frames where both are seen, and it is carried to the frames where the
+    centre is missing and at least three cluster markers are seen.
+    """
+    missing = ~np.isfinite(centre).all(axis=1)
+    if not missing.any() or len(cluster) < 3:
+        return centre
+    points = np.stack(cluster, axis=1)
+    complete = np.flatnonzero(np.isfinite(points).all(axis=(1, 2)))
+    if complete.size == 0:
+        return centre
+    template = points[complete[0]]
+    rotations, translations, _, ok = fit_rigid(template, points)
+    local = np.einsum("fba,fb->fa", rotations, centre - translations)
+    seen = ok & ~missing
+    if not seen.any():
+        return centre
+    offset = np.median(local[seen], axis=0)
+    fill = missing & ok
+    out = centre.copy()
+    out[fill] = np.einsum("fab,b->fa", rotations[fill], offset) + translations[fill]
+    return out
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class BuiltSkeleton:
+    """What :func:`build_skeleton` found.
+
+    skeleton : GMR rest pose (0 frames), joints as in the module docstring, mm.
+    centres : (F, J, 3) joint centres per frame (NaN: not placed in that frame).
+    twist_markers : (F, J, 3) the third marker giving each joint's bone twist (NaN: none).
+    lengths : (J,) fitted bone lengths (median), spread : (J,) RMS of the measured lengths
+        about them, span : (J, 2) their 5th and 95th percentiles (mm; NaN for the root).
+    methods : joint -> how its centre was placed (formula and citation).
+    pelvis : the Procrustes triple (root, left hip, mid-ASIS).
+    set_match : the recognised marker set; notes : assumptions (widths assumed...).
+    """
+
+    skeleton: Motion
+    centres: np.ndarray
+    twist_markers: np.ndarray
+    lengths: np.ndarray
+    spread: np.ndarray
+    span: np.ndarray
+    methods: dict[str, str]
+    pelvis: tuple[str, str, str]
+    set_match: SetMatch
+    notes: tuple[str, ...] = ()
+
+
+class _Roles:
+    """Role trajectories of both sides, found through :data:`SYNONYMS`."""
+
+    def __init__(self, found: dict[str, np.ndarray]):
+        self.found = found
+
+    def all(self, roles: tuple[str, ...], side: str = "") -> list[np.ndarray]:
+        """Every found trajectory among ``roles`` (not through synonyms)."""
+        return [self.found[side + r] for r in roles if side + r in self.found]
+
+    def get(self, role: str, side: str = "") -> np.ndarray | None:
+        for name in SYNONYMS.get(role, (role,)):
+            value = self.found.get(side + name)
+            if value is not None:
+                return value
+        return None
+
+
+def _width(parameters: dict[str, float], name: str, side: str, notes: list[str]) -> float:
+    for key in (("L" if side == "L" else "R") + name, ("Left" if side == "L" else "Right") + name, name):
+        if key in parameters and parameters[key] > 0:
+            return parameters[key]
+    note = f"no {name} in the file's PROCESSING parameters: {DEFAULT_WIDTHS[name]:g} mm assumed"
+    if note not in notes:
+        notes.append(note)
+    return DEFAULT_WIDTHS[name]
+
+
+def joint_centre_trajectories(
+    markers: MarkerSet, match: SetMatch, hip: str = "harrington"
+) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray], dict[str, str], list[str]]:
+    """Joint centres (F, 3) and twist markers (F, 3) by joint name, the method of each, notes.
+
+    ``markers`` in millimetres. Raises OperationError when the set cannot place the pelvis,
+    hips, knees and ankles (e.g. OpenSim's gait2392 set, which has no knee or ankle markers).
+    """
+    roles = _Roles(role_positions(markers, match))
+    params = markers.parameters
+    notes: list[str] = []
+    radius = params.get("MarkerDiameter", jc.MARKER_DIAMETER) / 2
+    lasi, rasi = roles.get("ASI", "L"), roles.get("ASI", "R")
+    psi = [roles.get("PSI", s) for s in "LR"]
+    sacrum = 0.5 * (psi[0] + psi[1]) if psi[0] is not None and psi[1] is not None else roles.get("SACR")
+    if lasi is None or rasi is None or sacrum is None:
+        raise OperationError(f"set {match.definition.name}: the pelvis needs both ASIS and the PSIS or a sacral marker")
+    origin, frame = jc.pelvis_frame(lasi, rasi, sacrum)
+    width = np.linalg.norm(lasi - rasi, axis=-1)
+    if hip == "davis":
+        leg = params.get("LegLength")
+        if leg is None:
+            ank = roles.get("ANK", "L")
+            knee = roles.get("KNE", "L")
+            leg = np.nanmedian(np.linalg.norm(lasi - knee, axis=-1) + np.linalg.norm(knee - ank, axis=-1))
+            notes.append(f"no LegLength parameter: {leg:.0f} mm measured (ASIS-knee-ankle, median)")
+        local = jc.hip_davis(leg, width, radius)
+        how = "Davis et al. 1991 (Plug-in Gait), leg length and ASIS distance"
+    else:
+        depth = np.linalg.norm(origin - sacrum, axis=-1)
+        local = jc.hip_harrington(np.nanmedian(width), np.nanmedian(depth))
+        how = "Harrington et al. 2007, pelvis width and depth (medians over the take)"
+    hips = origin[:, None] + np.einsum("fab,kb->fka", frame, local)
+    centres = {"pelvis": 0.5 * (hips[:, 0] + hips[:, 1]), "pelvis_front": origin}
+    twists: dict[str, np.ndarray] = {}
+    methods = {"pelvis": "mid-point of the hip centres", "pelvis_front": "mid-point of the ASIS markers"}
+    for k, side in enumerate("LR"):
+        hjc = centres[side + "HJC"] = hips[:, k]
+        methods[side + "HJC"] = how
+        kne, knm, thi = roles.get("KNE", side), roles.get("KNM", side), roles.get("THI", side)
+        ank, med, tib = roles.get("ANK", side), roles.get("MED", side), roles.get("TIB", side)
+        if kne is None or ank is None:
+            raise OperationError(
+                f"set {match.definition.name} has no lateral knee and ankle markers: the knee and ankle centres "
+                "need them (or a static calibration, as OpenSim's Scale tool does)"
+            )
+        if knm is not None:
+            kjc, methods[side + "KJC"] = jc.midpoint(kne, knm), "mid-point of lateral and medial knee markers"
+        elif thi is not None:
+            delta = _width(params, "KneeWidth", side, notes) / 2 + radius
+            kjc, methods[side + "KJC"] = jc.chord(hjc, kne, thi, delta), "Plug-in Gait chord (hip, knee, thigh wand)"
+        else:
+            raise OperationError(f"set {match.definition.name}: the {side} knee needs a medial or a thigh marker")
+        if med is not None:
+            ajc, methods[side + "AJC"] = jc.midpoint(ank, med), "mid-point of the malleoli markers"
+        elif tib is not None:
+            delta = _width(params, "AnkleWidth", side, notes) / 2 + radius
+            ajc, methods[side + "AJC"] = jc.chord(kjc, ank, tib, delta), "Plug-in Gait chord (knee, ankle, tibia wand)"
+        else:
+            raise OperationError(f"set {match.definition.name}: the {side} ankle needs a medial or a tibia marker")
+        kjc = fill_from_cluster(kjc, [hjc, kne, *roles.all(THIGH, side)])
+        ajc = fill_from_cluster(ajc, [kjc, ank, *roles.all(SHANK, side)])
+        centres[side + "KJC"], centres[side + "AJC"] = kjc, ajc
+        twists[side + "KJC"] = most_seen([kne, *roles.all(THIGH, side)])
+        twists[side + "AJC"] = most_seen([ank, *roles.all(SHANK, side)])
+        toe = roles.get("TOE", side)
+        if toe is not None:
+            centres[side + "TOE"], methods[side + "TOE"] = toe, "the toe marker"
+            heel = roles.get("HEE", side)
+            if heel is not None:
+                twists[side + "TOE"] = heel
+    _upper_body(roles, centres, twists, methods, params, notes, radius)
+    return centres, twists, methods, notes
+
+
+def _upper_body(roles: _Roles, centres, twists, methods, params, notes, radius) -> None:
+    c7, clav, t10, strn = (roles.get(r) for r in ("C7", "CLAV", "T10", "STRN"))
+    if c7 is None or clav is None:
+        return
+    centres["thorax"], methods["thorax"] = 0.5 * (c7 + clav), "mid-point of C7 and CLAV"
+    twists["thorax"] = c7
+    heads = [h for h in (roles.get(r, s) for r in ("FHD", "BHD") for s in "LR") if h is not None]
+    if len(heads) == 4:
+        centres["head"], methods["head"] = np.mean(heads, axis=0), "centre of the four head markers"
+        twists["head"] = roles.get("FHD", "L")
+    up = jc.thorax_up(c7, clav, t10, strn) if t10 is not None and strn is not None else None
+    sho = {s: roles.get("SHO", s) for s in "LR"}
+    if up is None or sho["L"] is None or sho["R"] is None:
+        return
+    for side, other in (("L", "R"), ("R", "L")):
+        sjc = centres[side + "SJC"] = jc.shoulder_rab(sho[side], sho[other], up)
+        methods[side + "SJC"] = "Rab et al. 2002 (17% of the shoulder distance below the shoulder marker)"
+        elb, elm = roles.get("ELB", side), roles.get("ELM", side)
+        wra, wrb = roles.get("WRA", side), roles.get("WRB", side)
+        if elb is None or wra is None or wrb is None:
+            continue
+        wjc = centres[side + "WJC"] = jc.midpoint(wra, wrb)
+        methods[side + "WJC"] = "mid-point of the wrist markers (bar or styloids)"
+        if elm is not None:
+            ejc = fill_from_cluster(jc.midpoint(elb, elm), [sjc, elb, *roles.all(("UPA", "WAND3"), side)])
+            centres[side + "EJC"], methods[side + "EJC"] = ejc, "mid-point of the epicondyles"
+        else:
+            delta = _width(params, "ElbowWidth", side, notes) / 2 + radius
+            centres[side + "EJC"] = jc.chord(sjc, elb, wjc, delta)
+            methods[side + "EJC"] = "Plug-in Gait chord (shoulder, elbow, wrist)"
+        twists[side + "EJC"], twists[side + "WJC"] = elb, wra
+        fin = roles.get("FIN", side)
+        if fin is not None:
+            centres[side + "HAND"], methods[side + "HAND"] = fin, "the finger (hand) marker"
+            twists[side + "HAND"] = wra
+
+
+#: joint -> parent, in depth-first order; rest direction in the pelvis frame (x fwd, y left, z up)
+TREE = (
+    ("pelvis", None, None),
+    ("pelvis_front", "pelvis", "mean"),
+    ("LHJC", "pelvis", "mean"),
+    ("LKJC", "LHJC", (0, 0, -1)),
+    ("LAJC", "LKJC", (0, 0, -1)),
+    ("LTOE", "LAJC", (1, 0, 0)),
+    ("RHJC", "pelvis", "mean"),
+    ("RKJC", "RHJC", (0, 0, -1)),
+    ("RAJC", "RKJC", (0, 0, -1)),
+    ("RTOE", "RAJC", (1, 0, 0)),
+    ("thorax", "pelvis", (0, 0, 1)),
+    ("head", "thorax", (0, 0, 1)),
+    ("LSJC", "thorax", "mean"),
+    ("LEJC", "LSJC", (0, 0, -1)),
+    ("LWJC", "LEJC", (0, 0, -1)),
+    ("LHAND", "LWJC", (0, 0, -1)),
+    ("RSJC", "thorax", "mean"),
+    ("REJC", "RSJC", (0, 0, -1)),
+    ("RWJC", "REJC", (0, 0, -1)),
+    ("RHAND", "RWJC", (0, 0, -1)),
+)
+
+
+def build_skeleton(markers: MarkerSet, match: SetMatch | None = None, hip: str = "harrington") -> BuiltSkeleton:
+    """The skeleton of the subject in ``markers`` (any units: converted to mm); see the module
+    docstring. Raises OperationError naming what is missing when no known set fits or the set
+    cannot place the legs."""
+    markers = markers.in_units("mm")
+    match = match or identify_marker_set(markers)
+    if match is None:
+        raise OperationError(no_match_text(markers.labels))
+    if match.missing:
+        raise OperationError(
+            f"this file's markers are set {match.definition.name} but miss {', '.join(match.missing)}: "
+            "no skeleton is built without them"
+        )
+    centres, twists, methods, notes = joint_centre_trajectories(markers, match, hip)
+    tree = [(n, parent, rest) for n, parent, rest in TREE if n in centres and (parent is None or parent in centres)]
+    names = [t[0] for t in tree]
+    index = {n: i for i, n in enumerate(names)}
+    n_joints = len(names)
+    stacked = np.stack([centres[n] for n in names], axis=1)
+    twist_markers = np.full_like(stacked, np.nan)
+    for name, points in twists.items():
+        if name in index:
+            twist_markers[:, index[name]] = points
+    _, frame = jc.pelvis_frame(*_pelvis_points(markers, match))
+    up = _up_rotation(frame)
+    parents = np.array([-1 if p is None else index[p] for _, p, _ in tree])
+    lengths, spread = np.full(n_joints, np.nan), np.full(n_joints, np.nan)
+    span = np.full((n_joints, 2), np.nan)
+    offsets = np.zeros((n_joints, 3))
+    for j, (name, parent, rest) in enumerate(tree):
+        if parent is None:
+            continue
+        bone = stacked[:, j] - stacked[:, index[parent]]
+        length = np.linalg.norm(bone, axis=1)
+        ok = np.isfinite(length)
+        if not ok.any():
+            raise OperationError(f"{name}: never placed (its markers are missing in every frame)")
+        lengths[j] = np.median(length[ok])
+        spread[j] = np.sqrt(np.mean((length[ok] - lengths[j]) ** 2))
+        span[j] = np.percentile(length[ok], [5, 95])
+        if rest == "mean":
+            local = np.einsum("fba,fb->fa", frame, bone)
+            direction = jc.unit(np.nanmean(local, axis=0))
+        else:
+            direction = np.asarray(rest, dtype=np.float64)
+        offsets[j] = lengths[j] * (up @ direction)
+    skeleton = Motion(
+        names=names,
+        parents=parents,
+        offsets=offsets,
+        rotation_orders=("ZYX",) * n_joints,
+        has_translation=parents < 0,
+        rotations=np.zeros((0, n_joints, 3, 3)),
+        translations=np.zeros((0, n_joints, 3)),
+        frame_time=1.0 / markers.rate,
+        convention="pre",
+        comments=(f"skeleton built from the markers of {markers.source or '(memory)'}, set {match.definition.name}",),
+    )
+    return BuiltSkeleton(
+        skeleton=skeleton,
+        centres=stacked,
+        twist_markers=twist_markers,
+        lengths=lengths,
+        spread=spread,
+        span=span,
+        methods={n: methods[n] for n in names},
+        pelvis=("pelvis", "LHJC", "pelvis_front"),
+        set_match=match,
+        notes=tuple(notes),
+    )
+
+
+def _pelvis_points(markers: MarkerSet, match: SetMatch):
+    roles = _Roles(role_positions(markers, match))
+    psi = [roles.get("PSI", s) for s in "LR"]
+    sacrum = 0.5 * (psi[0] + psi[1]) if psi[0] is not None and psi[1] is not None else roles.get("SACR")
+    return roles.get("ASI", "L"), roles.get("ASI", "R"), sacrum
+
+
+def _up_rotation(frame: np.ndarray) -> np.ndarray:
+    """The rotation (3, 3) taking the rest pose's canonical axes (x forward, y left, z up) to
+    the file's: z to the file axis nearest the pelvis's mean vertical (Z-up C3D, Y-up TRC)."""
+    vertical = np.nanmean(frame[:, :, 2], axis=0)
+    axis = np.zeros(3)
+    k = int(np.nanargmax(np.abs(vertical)))
+    axis[k] = np.sign(vertical[k])
+    return swing(np.array([0.0, 0.0, 1.0]), axis[None])[0]
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class BuiltMotion:
+    """:func:`markers_to_built_motion`'s result: ``result`` the closed form's MarkerMotion
+    (its ``motion`` replaced by the refined one when refined), ``built`` the skeleton,
+    ``refinement`` (None unless asked), ``labels`` (M,) the real markers used by the
+    refinement and ``bones`` (M,) the joint whose bone carries each."""
+
+    result: MarkerMotion
+    built: BuiltSkeleton
+    refinement: Refinement | None
+    labels: tuple[str, ...]
+    bones: np.ndarray
+
+
+#: the bone (by the joint it ends at) each role rides on
+SEGMENT_ROLES = {
+    "pelvis": ("ASI", "PSI", "SACR"),
+    "KJC": ("THI", "KNE", "KNM", "TH1", "TH2", "TH3", "THAP", "THAD", "WAND1", "FTC", "LFC", "MFC", "FLE", "FME"),
+    "AJC": (
+        "TIB",
+        "ANK",
+        "MED",
+        "TB1",
+        "TB2",
+        "TB3",
+        "TIAP",
+        "TIAD",
+        "WAND2",
+        "TTC",
+        "FAX",
+        "LMAL",
+        "MMAL",
+        "FAL",
+        "TAM",
+    ),
+    "TOE": ("HEE", "TOE", "MT1", "MT2", "MT5", "CAL", "FCC", "FM1", "FM5", "VMH", "FMH"),
+    "thorax": ("C7", "T10", "CLAV", "STRN", "RBAK", "T8", "SJN", "SXS"),
+    "head": ("FHD", "BHD"),
+    "SJC": ("SHO",),
+    "EJC": ("UPA", "ELB", "ELM", "HLE", "HME", "WAND3"),
+    "WJC": ("FRA", "WRA", "WRB", "RSP", "UHE", "WAND4"),
+    "HAND": ("FIN", "HM2", "HM5"),
+}
+
+
+def role_bones(match: SetMatch, names: tuple[str, ...]) -> dict[str, int]:
+    """Each real marker label of the set -> the joint whose bone carries it (markers of
+    segments the skeleton lacks are left out)."""
+    out: dict[str, int] = {}
+    for role, label in match.found.items():
+        side, base = (role[0], role[1:]) if role[:1] in "LR" and role[1:] in _SIDED_BASES else ("", role)
+        for joint, roles in SEGMENT_ROLES.items():
+            name = joint if joint in ("pelvis", "thorax", "head") else side + joint
+            if base in roles and name in names:
+                for part in label.split("+"):
+                    out.setdefault(part, names.index(name))
+    return out
+
+
+_CENTRE_ROLES = {"C7", "T10", "CLAV", "STRN", "RBAK", "T8", "SJN", "SXS", "SACR"}
+_SIDED_BASES = {r for roles in SEGMENT_ROLES.values() for r in roles} - _CENTRE_ROLES
+
+
+def markers_to_built_motion(
+    markers: MarkerSet, hip: str = "harrington", refine: bool = False, iterations: int = 8
+) -> BuiltMotion:
+    """Build the skeleton (:func:`build_skeleton`), run the paper's closed form on it with the
+    twists from the segments' third markers, and with ``refine`` the global refinement
+    (:func:`core.markers.refine.refine_motion`) over every marker of the set, each riding on
+    the bone it moves with most rigidly. Millimetres, the file's axes."""
+    from gmr_studio.core.markers.refine import attach_markers, refine_motion
+    from gmr_studio.core.markers.solve import solve_positions
+
+    markers = markers.in_units("mm")
+    built = build_skeleton(markers, hip=hip)
+    result = solve_positions(
+        built.centres, built.skeleton, built.pelvis, frame_time=1.0 / markers.rate, twist_markers=built.twist_markers
+    )
+    note = f"from markers {markers.source or '(memory)'}: skeleton built from set {built.set_match.definition.name}"
+    result = dataclasses.replace(
+        result, motion=result.motion.replace(comments=(note,)), reasons=(*built.notes, *result.reasons)
+    )
+    carried = role_bones(built.set_match, built.skeleton.names)
+    used = sorted(carried, key=markers.labels.index)
+    bones = np.array([carried[label] for label in used], dtype=np.int64)
+    targets = np.stack([markers.positions[:, markers.index(label)] for label in used], axis=1)
+    targets[~result.frame_valid] = np.nan  # frames without a pelvis copy a good frame: not fitted
+    refinement = None
+    if refine:
+        offsets = attach_markers(result.motion, targets, bones)
+        refinement = refine_motion(result.motion, targets, bones, offsets, iterations=iterations)
+        result = dataclasses.replace(result, motion=refinement.motion)
+    return BuiltMotion(result, built, refinement, tuple(used), bones)
