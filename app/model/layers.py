@@ -19,8 +19,9 @@ from pathlib import Path
 import numpy as np
 from PyQt6.QtCore import QObject, pyqtSignal
 
+from gmr_studio.app.model.alignment import MarkerAlignment
 from gmr_studio.app.model.marker_layers import MARKER_LAYER_OPACITY, MarkerLayer, realign_marker_layer
-from gmr_studio.app.model.state import Snapshot, StudioState
+from gmr_studio.app.model.state import Snapshot, StudioState, marker_overlay_on
 from gmr_studio.core.compare import ALIGN_KINDS, Comparison, compare_motions
 from gmr_studio.core.compare.clock import resample
 from gmr_studio.core.jointmap import available_joint_maps, match_joints
@@ -201,14 +202,16 @@ class Layers(QObject):
         self.changed.emit()
         return layer
 
-    def add_markers(self, markers: MarkerSet, path: str | Path) -> MarkerLayer:
-        """Show ``markers`` as a new layer, aligned to the document automatically, as the
-        marker overlay is. Raises ValueError without a document."""
+    def add_markers(
+        self, markers: MarkerSet, path: str | Path, *, alignment: MarkerAlignment | None = None
+    ) -> MarkerLayer:
+        """Show ``markers`` as a new layer, aligned to the document by ``alignment`` or
+        automatically, as the marker overlay is. Raises ValueError without a document."""
         document = self.state.snapshot
         if document is None:
             raise ValueError("open a motion before comparing markers with it")
         layer = MarkerLayer(markers, Path(path).name, self._next_colour(), opacity=MARKER_LAYER_OPACITY)
-        realign_marker_layer(layer, document, keep=False)
+        layer.overlay = marker_overlay_on(markers, document, alignment)  # None: the automatic one
         self.layers.append(layer)
         self.changed.emit()
         return layer

@@ -184,6 +184,8 @@ class MainWindow(QMainWindow):
             "align_markers": self._align_markers,
             "remove_markers": lambda: state.set_markers(None),
             "recover_pelvis": self._recover_pelvis,
+            "build_skeleton": files.build_skeleton,
+            "refine_markers": files.set_refine_markers,
             "save": files.save,
             "save_as": files.save_as,
             "export_bvh": files.export_bvh_dialog,
@@ -241,6 +243,7 @@ class MainWindow(QMainWindow):
             self.actions[f"overlay_{name}"].setChecked(shown)
         state.overlay_changed.connect(self._on_overlay_changed)
         self.actions["loop"].setChecked(self.player.loop)
+        self.actions["refine_markers"].setChecked(self.files.refine_markers())
         self._on_recent_changed(self.files.recent_files())
         self._on_enabled_changed()
 
@@ -307,9 +310,16 @@ class MainWindow(QMainWindow):
             self.files.compare_path((motions or markers)[0])  # Shift: add as a comparison layer
         elif motions:
             self.files.open_path(motions[0], markers=markers[0] if markers else None)
-        elif markers and self.state.motion is not None:
+        elif markers and self.state.motion is not None and not self._built_from_markers():
             self.files.add_markers_path(markers[0])
+        elif markers:  # alone: the skeleton built from the markers becomes the document
+            self.files.open_path(markers[0])
         event.acceptProposedAction()
+
+    def _built_from_markers(self) -> bool:
+        """The document was opened from a marker file (its skeleton built from the markers)."""
+        path = self.state.path
+        return path is not None and path.suffix.lower() in extensions.marker_suffixes()
 
     def _restore_settings(self) -> None:
         geometry = self.settings.value("window/geometry")
