@@ -182,3 +182,49 @@ def test_the_lab_model_points_as_a_layer(studio):
     layers.set_visible(0, False)
     QApplication.processEvents()
     assert _pink(screen_image(studio)).sum() == 0
+
+
+def _drop(studio, path) -> None:
+    from PyQt6.QtCore import QMimeData, QPointF, Qt, QUrl
+    from PyQt6.QtGui import QDropEvent
+
+    data = QMimeData()
+    data.setUrls([QUrl.fromLocalFile(str(path))])
+    event = QDropEvent(
+        QPointF(10, 10), Qt.DropAction.CopyAction, data, Qt.MouseButton.NoButton, Qt.KeyboardModifier.NoModifier
+    )
+    studio.dropEvent(event)
+
+
+def test_drop_recent_files_menu_and_refinement(qtbot, studio):
+    path = shared_path(PIG_LOWER)
+    # dropped on an empty window: the marker file opens as the document (in the worker)
+    _drop(studio, path)
+    qtbot.waitUntil(lambda: studio.state.motion is not None and not studio.files.busy(), timeout=30000)
+    state = studio.state
+    assert state.path == path and "LHJC" in state.motion.names
+    closed_form = state.positions
+    # the Markers menu holds the marker actions, Build skeleton among them
+    menus = {a.text().replace("&", ""): a.menu() for a in studio.menuBar().actions()}
+    texts = [a.text().replace("&", "") for a in menus["Markers"].actions()]
+    assert texts[:4] == ["Add markers...", "Marker alignment...", "Recover pelvis frames", "Remove markers"]
+    assert "Build skeleton" in texts and "Refine the fit" in texts
+    assert str(path.resolve()) == studio.files.recent_files()[0]
+    # with Refine the fit (a setting), opening again refines: same skeleton, markers nearer
+    studio.actions["refine_markers"].setChecked(True)
+    assert studio.files.refine_markers()
+    messages: list[str] = []
+    state.message.connect(messages.append)
+    studio.files.open_path(studio.files.recent_files()[0], ask=False, wait=True)
+    assert state.motion.names == expected_names(path)
+    assert not np.array_equal(state.positions, closed_form) and "refined: marker residual median" in messages[-1]
+    offsets = state.motion.offsets
+    np.testing.assert_array_equal(offsets, build_document(read_markers(path)).snapshot.motion.offsets)
+    # a marker file dropped over a motion opened from another marker file opens in its place
+    _drop(studio, shared_path("c3d/c3dorg_s00_NexGen_test1_PiG_fullbody.c3d"))
+    qtbot.waitUntil(lambda: state.path.name.startswith("c3dorg_s00") and not studio.files.busy(), timeout=30000)
+    assert "LSJC" in state.motion.names
+
+
+def expected_names(path) -> tuple[str, ...]:
+    return build_document(read_markers(path)).snapshot.motion.names
