@@ -193,7 +193,7 @@ def run(args: argparse.Namespace) -> int:
     if args.refine:
         from gmr_studio.core.markers.refine import refine_joints
 
-        refinement = refine_joints(result.motion, result.measured)
+        refinement = refine_joints(result.motion, result.refine_targets(), weights=result.weights)
         result = dataclasses.replace(result, motion=refinement.motion)
     output = Path(args.output)
     motion = result.motion

@@ -257,8 +257,10 @@ def _upper_body(roles: _Roles, centres, twists, methods, params, notes, radius) 
             centres[side + "EJC"], methods[side + "EJC"] = ejc, "mid-point of the epicondyles"
         else:
             delta = _width(params, "ElbowWidth", side, notes) / 2 + radius
-            centres[side + "EJC"] = jc.chord(sjc, elb, wjc, delta)
-            methods[side + "EJC"] = "Plug-in Gait chord (shoulder, elbow, wrist)"
+            upa = roles.get("UPA", side)
+            wand, what = (upa, "upper-arm marker") if upa is not None else (wjc, "wrist centre")
+            centres[side + "EJC"] = jc.chord(sjc, elb, wand, delta)
+            methods[side + "EJC"] = f"Plug-in Gait chord (shoulder, elbow, {what})"
         twists[side + "EJC"], twists[side + "WJC"] = elb, wra
         fin = roles.get("FIN", side)
         if fin is not None:
@@ -394,6 +396,9 @@ class BuiltMotion:
     bones: np.ndarray
 
 
+#: bones rigid with their parent segment: the refinement keeps their local rotations
+RIGID_WITH_PARENT = ("pelvis_front", "LHJC", "RHJC")
+
 #: the bone (by the joint it ends at) each role rides on
 SEGMENT_ROLES = {
     "pelvis": ("ASI", "PSI", "SACR"),
@@ -444,7 +449,7 @@ _SIDED_BASES = {r for roles in SEGMENT_ROLES.values() for r in roles} - _CENTRE_
 
 
 def markers_to_built_motion(
-    markers: MarkerSet, hip: str = "harrington", refine: bool = False, iterations: int = 8
+    markers: MarkerSet, hip: str = "harrington", refine: bool = False, iterations: int = 5
 ) -> BuiltMotion:
     """Build the skeleton (:func:`build_skeleton`), run the paper's closed form on it with the
     twists from the segments' third markers, and with ``refine`` the global refinement
@@ -470,6 +475,7 @@ def markers_to_built_motion(
     refinement = None
     if refine:
         offsets = attach_markers(result.motion, targets, bones)
-        refinement = refine_motion(result.motion, targets, bones, offsets, iterations=iterations)
+        rigid = tuple(built.skeleton.joint_index(n) for n in RIGID_WITH_PARENT if n in built.skeleton.names)
+        refinement = refine_motion(result.motion, targets, bones, offsets, iterations=iterations, fixed=rigid)
         result = dataclasses.replace(result, motion=refinement.motion)
     return BuiltMotion(result, built, refinement, tuple(used), bones)

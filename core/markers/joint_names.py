@@ -76,8 +76,5 @@ def rename_joints(marker_map: MarkerMap, renames: dict[str, str], how: str) -> M
     pelvis = tuple(renames.get(p, p) for p in marker_map.pelvis) if marker_map.pelvis else None
     unpaired = [v.name for v in marker_map.virtual if v.name not in renames]
     note = f"{how}" + (f"; {', '.join(unpaired)} unpaired: they place no joint" if unpaired else "")
-    return marker_map.replace(
-        virtual=virtual,
-        pelvis=pelvis,
-        renamed=note,
-    )
+    starts = {renames.get(k, k): renames.get(s, s) for k, s in marker_map.bone_starts.items()}
+    return marker_map.replace(virtual=virtual, pelvis=pelvis, renamed=note, bone_starts=starts)

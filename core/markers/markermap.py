@@ -10,6 +10,10 @@ A map is a small TOML file (``resources/markermaps/*.toml``; the format is docum
   note (pelvis root, left femur, lower back: any three points rigid with the pelvis, X1 the
   skeleton's root), with optional ``home`` positions (their rest-pose positions in
   skeleton units);
+- ``[bones]`` (optional): ``JOINT = "START"``, the virtual marker where each joint's bone
+  starts on the skeleton the map was made for (its parent joint). On a skeleton named
+  otherwise, a bone is aimed from its start even where that skeleton has no joint there
+  (CMU's BVH dropped the ASF's thorax bone: its clavicles start at the thorax's end);
 - ``[virtual.NAME]``, one per virtual marker, in the order they are computed, NAME being a
   skeleton joint. One of ``marker = "LABEL"`` (the marker itself), ``mean = [labels]`` (the
   mean of markers) or ``cluster = [labels]`` (three or more markers moving as one rigid
@@ -126,6 +130,7 @@ class MarkerMap:
     joints: bool = False
     pelvis_note: str = ""  # how the pelvis triple was chosen, when the map did not name it
     renamed: str = ""  # how its joint names were renamed for another skeleton (core.markers.joint_names)
+    bone_starts: dict[str, str] = dataclasses.field(default_factory=dict)  # [bones]: joint -> its bone's start
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -231,9 +236,17 @@ def _map_from_table(table: dict, path: Path) -> MarkerMap:
             home = np.array(section["home"], dtype=float)
             if home.shape != (3, 3):
                 raise fail("[pelvis] home must be three points of three numbers")
+    bones = table.get("bones", {})
+    defined = {v.name for v in virtual}
+    if not isinstance(bones, dict) or not all(isinstance(s, str) for s in bones.values()):
+        raise fail('[bones] needs JOINT = "START" lines')
+    strangers = [f"{k} = {s}" for k, s in bones.items() if k not in defined or s not in defined]
+    if strangers:
+        raise fail(f"[bones] names virtual markers the map does not define: {', '.join(strangers)}")
     return MarkerMap(
         name=str(table.get("name", path.stem)),
         virtual=tuple(virtual),
+        bone_starts=dict(bones),
         pelvis=pelvis,
         pelvis_home=home,
         units=units,
@@ -292,6 +305,9 @@ def marker_map_text(marker_map: MarkerMap) -> str:
         lines.append(f"markers = [{', '.join(_string(n) for n in marker_map.pelvis)}]")
         if marker_map.pelvis_home is not None:
             lines.append(f"home = {_matrix(marker_map.pelvis_home)}")
+    if marker_map.bone_starts:
+        lines += ["", "# each joint's bone starts at this virtual marker (the skeleton's parent joint)", "[bones]"]
+        lines += [f"{_key(k)} = {_string(s)}" for k, s in marker_map.bone_starts.items()]
     if marker_map.calibration:
         lines += ["", "[calibration]"]
         for key, value in marker_map.calibration.items():

@@ -21,6 +21,7 @@ goes down, else its lambda grows ten-fold. The closed form is the seed, so a few
 from __future__ import annotations
 
 import dataclasses
+from contextlib import contextmanager
 
 import numpy as np
 
@@ -56,6 +57,43 @@ def rotation_from_vector(v: np.ndarray) -> np.ndarray:
     a = np.where(small, 1.0 - angle**2 / 6, np.sin(safe) / safe)
     b = np.where(small, 0.5 - angle**2 / 24, (1.0 - np.cos(safe)) / safe**2)
     return np.eye(3) + a * k + b * (k @ k)
+
+
+def _openblas():
+    """numpy's bundled OpenBLAS as a ctypes library with its thread-count functions, or None."""
+    import ctypes
+    from pathlib import Path
+
+    folder = Path(np.__file__).resolve().parent.parent / "numpy.libs"
+    for path in sorted(folder.glob("*openblas*.so*")):
+        try:
+            library = ctypes.CDLL(str(path))
+        except OSError:
+            continue
+        for suffix in ("scipy_openblas_%s_num_threads64_", "openblas_%s_num_threads64_", "openblas_%s_num_threads"):
+            setter, getter = getattr(library, suffix % "set", None), getattr(library, suffix % "get", None)
+            if setter is not None and getter is not None:
+                return setter, getter
+    return None
+
+
+@contextmanager
+def one_blas_thread():
+    """Run LAPACK on one thread for the block: ``numpy.linalg.solve`` on a stack of small
+    systems lets OpenBLAS wake its thread pool for each one, which on the shared two-core
+    machine made the refinement 90 times slower (61 s instead of 0.7 s for 300 frames of CMU's
+    BVH). Does nothing where numpy's OpenBLAS is not found."""
+    functions = _openblas()
+    if functions is None:
+        yield
+        return
+    setter, getter = functions
+    before = getter()
+    setter(1)
+    try:
+        yield
+    finally:
+        setter(before)
 
 
 def _fk(motion: Motion, rotations: np.ndarray, root_position: np.ndarray):
@@ -106,11 +144,13 @@ def refine_motion(
     bones: np.ndarray,
     offsets: np.ndarray,
     weights: np.ndarray | None = None,
-    iterations: int = 8,
+    iterations: int = 5,
+    fixed: tuple[int, ...] = (),
 ) -> Refinement:
     """Refine ``motion`` (the seed, F frames) towards the markers ``targets`` (F, M, 3; NaN
     missing) riding on ``bones`` (M,) at ``offsets`` (M, 3), with ``weights`` (M,) (default 1).
-    See the module docstring."""
+    Joints in ``fixed`` keep their local rotations (bones rigid with their parent, such as the
+    pelvis-to-hip bones of a built skeleton). See the module docstring."""
     _check(motion)
     targets = np.asarray(targets, dtype=np.float64)
     bones = np.asarray(bones, dtype=np.int64)
@@ -123,6 +163,7 @@ def refine_motion(
         while k >= 0:
             ancestors[m, k] = True
             k = int(motion.parents[k])
+    ancestors[:, list(fixed)] = False
     active = np.flatnonzero(ancestors.any(axis=0))
     rotations = motion.rotations.copy()
     translation = motion.translations[:, root].copy()
@@ -157,9 +198,20 @@ def _solve_chunk(motion, rotations, translation, targets, bones, offsets, weight
         while p >= 0 and p not in position:
             p = int(motion.parents[p])
         up[k] = p
-    owner = np.array([position[int(j)] for j in bones])  # every bone carrying a marker is active
+    owner = np.array([position[_active_at(motion, int(j), position)] for j in bones])
     lam = np.full(n_frames, 1e-3)
     eye = np.eye(3)
+    pairs = [
+        (a, b, position[d])
+        for a in range(n_active)
+        for b in range(a, n_active)
+        if (d := _deeper(motion, int(active[a]), int(active[b]))) is not None
+    ]
+    pair_a, pair_b, pair_d = (np.array(column, dtype=np.int64) for column in zip(*pairs))
+    three = np.arange(3)
+    rows_ab = 3 + 3 * pair_a[:, None, None] + three[None, :, None]
+    cols_ab = 3 + 3 * pair_b[:, None, None] + three[None, None, :]
+    rows_ba, cols_ba = cols_ab.transpose(0, 2, 1), rows_ab.transpose(0, 2, 1)
 
     def evaluate(rot, trans):
         world, positions = _fk(motion, rot, trans)
@@ -189,37 +241,27 @@ def _solve_chunk(motion, rotations, translation, targets, bones, offsets, weight
         xr = subtree_sums(np.cross(x, wr))
         q = pivots[:, active]  # (F, K, 3)
         system = np.zeros((n_frames, size, size))
-        rhs = np.zeros((n_frames, size))
         system[:, :3, :3] = w.sum(axis=1)[:, None, None] * eye
-        rhs[:, :3] = wr.sum(axis=1)
-        rhs[:, 3:] = (xr - np.cross(q, r_sum)).reshape(n_frames, -1)
-        for a, ka in enumerate(active):
-            lever_sum = s[:, a] - total_w[:, a, None] * q[:, a]  # sum of w (x - q_a) over subtree(a)
-            block = cross_matrix(lever_sum)  # J_G^T J_a = -[sum w l]x^T ... = [sum w l]x
-            system[:, :3, 3 + 3 * a : 6 + 3 * a] = -block
-            system[:, 3 + 3 * a : 6 + 3 * a, :3] = block
-            for b in range(a, n_active):
-                kb = int(active[b])
-                deeper = _deeper(motion, int(ka), kb)
-                if deeper is None:
-                    continue
-                d = position[deeper]
-                qa, qb = q[:, a], q[:, b]
-                # M = sum w (x - q_b)(x - q_a)^T over the deeper joint's subtree
-                m = (
-                    second[:, d]
-                    - s[:, d, :, None] * qa[:, None, :]
-                    - qb[:, :, None] * s[:, d, None, :]
-                    + total_w[:, d, None, None] * qb[:, :, None] * qa[:, None, :]
-                )
-                block = np.trace(m, axis1=1, axis2=2)[:, None, None] * eye - m
-                system[:, 3 + 3 * a : 6 + 3 * a, 3 + 3 * b : 6 + 3 * b] = block
-                if b != a:
-                    system[:, 3 + 3 * b : 6 + 3 * b, 3 + 3 * a : 6 + 3 * a] = np.swapaxes(block, 1, 2)
+        lever = cross_matrix(s - total_w[..., None] * q)  # [sum of w (x - q_a) over subtree(a)]_x
+        system[:, :3, 3:] = -lever.transpose(0, 2, 1, 3).reshape(n_frames, 3, -1)
+        system[:, 3:, :3] = lever.reshape(n_frames, -1, 3)
+        qa, qb, sd = q[:, pair_a], q[:, pair_b], s[:, pair_d]
+        # M = sum w (x - q_b)(x - q_a)^T over the deeper joint's subtree; block = tr(M) I - M
+        m = (
+            second[:, pair_d]
+            - sd[..., :, None] * qa[..., None, :]
+            - qb[..., :, None] * sd[..., None, :]
+            + total_w[:, pair_d, None, None] * qb[..., :, None] * qa[..., None, :]
+        )
+        block = np.trace(m, axis1=-2, axis2=-1)[..., None, None] * eye - m
+        system[:, rows_ab, cols_ab] = block
+        system[:, rows_ba, cols_ba] = np.swapaxes(block, -1, -2)
+        rhs = np.concatenate([wr.sum(axis=1), (xr - np.cross(q, r_sum)).reshape(n_frames, -1)], axis=1)
         diagonal = np.einsum("fjj->fj", system)
         damping = lam[:, None] * diagonal + 1e-9 * (1.0 + diagonal.max(axis=1, keepdims=True))
         system[:, np.arange(size), np.arange(size)] += damping
-        step = np.linalg.solve(system, rhs[..., None])[..., 0]
+        with one_blas_thread():
+            step = np.linalg.solve(system, rhs[..., None])[..., 0]
         omega = step[:, 3:].reshape(n_frames, n_active, 3)  # world axes
         local = np.einsum("fkba,fkb->fka", world[:, active], omega)
         trial_rot = rotations.copy()
@@ -238,6 +280,13 @@ def _solve_chunk(motion, rotations, translation, targets, bones, offsets, weight
     return rotations, translation
 
 
+def _active_at(motion: Motion, joint: int, position: dict[int, int]) -> int:
+    """The joint itself, or its nearest ancestor with a free rotation (the root always is)."""
+    while joint not in position:
+        joint = int(motion.parents[joint])
+    return joint
+
+
 def _deeper(motion: Motion, a: int, b: int) -> int | None:
     """The deeper of two joints when one is an ancestor of (or equal to) the other, else None."""
     k = b
@@ -253,7 +302,9 @@ def _deeper(motion: Motion, a: int, b: int) -> int | None:
     return None
 
 
-def refine_joints(motion: Motion, measured: np.ndarray, iterations: int = 8) -> Refinement:
+def refine_joints(
+    motion: Motion, measured: np.ndarray, iterations: int = 5, fitted: bool = False, weights: np.ndarray | None = None
+) -> Refinement:
     """Refine towards measured joint centres (F, J, 3; NaN: not measured), each a marker at
     its own joint (bone j, offset ``t_j``): the refinement of a motion onto a given skeleton
     (the residuals are then per joint)."""
@@ -262,7 +313,10 @@ def refine_joints(motion: Motion, measured: np.ndarray, iterations: int = 8) -> 
     root = int(motion.roots[0])
     joints = np.array([j for j in range(motion.n_joints) if np.isfinite(measured[:, j]).any()], dtype=np.int64)
     offsets = np.where((joints == root)[:, None], 0.0, motion.offsets[joints])
-    result = refine_motion(motion, measured[:, joints], joints, offsets, iterations=iterations)
+    if fitted:
+        offsets = attach_markers(motion, measured[:, joints], joints)
+    w = None if weights is None else np.asarray(weights, dtype=np.float64)[joints]
+    result = refine_motion(motion, measured[:, joints], joints, offsets, w, iterations=iterations)
     full_after = np.full(measured.shape[:2], np.nan)
     full_before = np.full(measured.shape[:2], np.nan)
     full_after[:, joints], full_before[:, joints] = result.residuals, result.residuals_before

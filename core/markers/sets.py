@@ -191,8 +191,9 @@ def identify_marker_set(
     """The known set the labels fit best, or None when none reaches :data:`NEAR_MATCH`.
 
     Markers that are gaps in every frame do not count. Ranking: complete sets first, then the
-    share of required roles present, then the larger set (Plug-in Gait full body before lower
-    body), then the number of optional roles present, then file order.
+    number of required roles present (Plug-in Gait full body before lower body; a full-body
+    file lacking a marker is still full body), then fewer missing, then the number of optional
+    roles present, then file order.
     """
     if isinstance(markers, MarkerSet):
         seen = markers.present.any(axis=0) if markers.n_frames else np.zeros(markers.n_markers, bool)
@@ -205,7 +206,7 @@ def identify_marker_set(
         return None
     return max(
         matches,
-        key=lambda m: (m.complete, round(m.score, 9), len(m.definition.required), len(m.optional)),
+        key=lambda m: (m.complete, round(m.score * len(m.definition.required)), -len(m.missing), len(m.optional)),
     )
 
 

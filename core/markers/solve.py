@@ -66,6 +66,9 @@ class MarkerMotion:
     ----------
     motion : the GMR motion (skeleton units and axes), F frames.
     measured : (F, J, 3) the virtual marker of each joint in skeleton space (NaN: none).
+    targets : (F, J, 3) or None, the refinement's targets when they differ from ``measured``.
+    weights : (J,) or None, the refinement's weight of each joint's virtual marker: the inverse
+        of its calibration variance (``1 / rms^2`` of the map's cluster, mean 1 over the joints).
     sources : (F, J) int8, how each joint's rotation was found (:data:`SOURCE_NAMES`).
     frame_valid : (F,) bool, the pelvis was recovered (False: a copy of the nearest good frame).
     pelvis : PelvisFrames in skeleton axes and units.
@@ -84,6 +87,13 @@ class MarkerMotion:
     match_distances: np.ndarray
     reasons: tuple[str, ...] = ()
     pelvis_note: str = ""
+    targets: np.ndarray | None = None
+    weights: np.ndarray | None = None
+
+    def refine_targets(self) -> np.ndarray:
+        """(F, J, 3) what ``--refine`` fits each joint to: the measured joint centres, with
+        the joints below a bone the skeleton lacks moved by that bone (:func:`transported`)."""
+        return self.measured if self.targets is None else self.targets
 
     def position_errors(self) -> np.ndarray:
         """(F, J) distance between each joint of the motion and its virtual marker (NaN: none)."""
@@ -156,6 +166,10 @@ def markers_to_motion(
     for v, name in enumerate(virtual.names):
         if name in skeleton.names:
             measured[:, skeleton.joint_index(name)] = aligned[:, v]
+    starts = np.full_like(measured, np.nan)
+    for name, begin in resolved.bone_starts.items():
+        if name in skeleton.names and begin in virtual.names:
+            starts[:, skeleton.joint_index(name)] = aligned[:, virtual.names.index(begin)]
     times = (start + np.arange(markers.n_frames)) / markers.rate
     result = solve_positions(
         measured,
@@ -168,12 +182,57 @@ def markers_to_motion(
         frame_time=markers.frame_time,
         pelvis_method=pelvis_method,
         aim=aim,
+        bone_starts=starts,
     )
     note = f"from markers {markers.source or '(memory)'} with map {resolved.name}"
     motion = result.motion.replace(comments=(note, *result.motion.comments))
+    targets = transported(result.motion, measured, starts, skeleton)
     return dataclasses.replace(
-        result, motion=motion, reasons=(*virtual.reasons, *result.reasons), pelvis_note=resolved.pelvis_note
+        result,
+        motion=motion,
+        reasons=(*virtual.reasons, *result.reasons),
+        pelvis_note=resolved.pelvis_note,
+        targets=targets,
+        weights=_inverse_variance(resolved, skeleton.names),
     )
+
+
+def _inverse_variance(marker_map, names) -> np.ndarray | None:
+    """(J,) ``1 / rms^2`` of each joint's calibrated virtual marker, scaled to mean 1 over
+    those that have one (the others get 1); None when no virtual marker has an rms."""
+    rms = {v.name: v.rms for v in marker_map.virtual if v.rms}
+    if not rms:
+        return None
+    weights = np.array([1.0 / rms[n] ** 2 if n in rms else np.nan for n in names])
+    weights /= np.nanmean(weights)
+    return np.where(np.isfinite(weights), weights, 1.0)
+
+
+def transported(motion: Motion, measured: np.ndarray, starts: np.ndarray, skeleton: Motion) -> np.ndarray | None:
+    """Refinement targets on a skeleton that lacks a bone of the map's (CMU's BVH has no thorax).
+
+    Where a joint's bone starts, by the map, at a virtual marker that is not where the skeleton
+    starts it (``starts`` (F, J, 3) away from the joint's parent in the seed ``motion``), the
+    measured joint and everything below it are moved by ``P_parent(seed) - start``: the
+    skeleton cannot reach the markers beyond a missing bone, but it can take their shape.
+    None when nothing moves (then the targets are ``measured``).
+    """
+    from gmr_studio.core.kinematics import world_positions as positions_of
+
+    seed = positions_of(motion)
+    shift = np.zeros_like(measured)
+    moved = False
+    for j in skeleton.topological_order:
+        p = int(skeleton.parents[j])
+        if p < 0:
+            continue
+        shift[:, j] = shift[:, p]
+        begin = starts[:, j]
+        if np.isfinite(begin).all(axis=1).any() and not np.isfinite(measured[:, p]).any():
+            gap = np.where(np.isfinite(begin), seed[:, p] - begin, 0.0)
+            shift[:, j] = gap
+            moved = True
+    return measured + shift if moved else None
 
 
 def check_map_fits(markers: MarkerSet, marker_map) -> None:
@@ -207,6 +266,7 @@ def solve_positions(
     pelvis_method: PelvisMethod = "note",
     aim: Aim = "markers",
     twist_markers: np.ndarray | None = None,
+    bone_starts: np.ndarray | None = None,
 ) -> MarkerMotion:
     """The solver on joint positions already in skeleton space.
 
@@ -220,6 +280,9 @@ def solve_positions(
         knee for the thigh...; NaN: none): where present with the bone's direction, the twist
         is the angle about the bone of that marker's direction, measured from its mean
         direction over the frames (:func:`marker_twists`), before any reference or least change.
+    bone_starts : (F, J, 3) where each joint's bone starts according to the marker map (its
+        ``[bones]``; NaN: none): with ``aim="markers"`` the bone is aimed from there, before the
+        measured parent (they agree on the skeleton the map was made for).
     Other parameters as in :func:`markers_to_motion`.
     """
     if skeleton.convention != "pre":
@@ -285,6 +348,9 @@ def solve_positions(
         offset = skeleton.offsets[j]
         length = np.linalg.norm(offset)
         origin = np.where(have[:, p, None], m[:, p], chain[:, p]) if aim == "markers" else chain[:, p]
+        if aim == "markers" and bone_starts is not None:
+            begin = bone_starts[good, j]
+            origin = np.where(np.isfinite(begin).all(axis=1)[:, None], begin, origin)
         bone = np.einsum("fba,fb->fa", world[:, p], m[:, j] - origin)
         bone_length = np.linalg.norm(bone, axis=1)
         ok = have[:, j] & (length > 0) & (bone_length > 1e-12 * max(length, 1e-300))
