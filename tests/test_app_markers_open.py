@@ -228,3 +228,16 @@ def test_drop_recent_files_menu_and_refinement(qtbot, studio):
 
 def expected_names(path) -> tuple[str, ...]:
     return build_document(read_markers(path)).snapshot.motion.names
+
+
+def test_the_lab_layer_goes_with_its_document(studio):
+    open_file(studio, shared_path(PIG_LOWER))
+    assert len(studio.layers) == 1 and studio.layers[0].document_bound
+    studio.files.compare_path(str(shared_path("trc/opensim-core_markers_walk.trc")), wait=True)
+    assert len(studio.layers) == 2
+    open_file(studio, shared_path(SMALL_BVH))  # another document: the lab's points of the C3D go, the rest stay
+    assert [layer.name for layer in studio.layers] == ["opensim-core_markers_walk.trc"]
+    assert studio.layers_panel.table.rowCount() == 2
+    open_file(studio, shared_path("c3d/opensim-core_walking5.c3d"))
+    assert [layer.name for layer in studio.layers][-1] == "opensim-core_walking5.c3d: lab model"
+    assert studio.layers[-1].markers.labels == ("LAJC", "LHJC", "LKJC", "RAJC", "RHJC", "RKJC")

@@ -148,7 +148,8 @@ def show_marker_document(state: StudioState, document: MarkerDocument, path: str
 def add_model_layer(document: MarkerDocument, path: str | Path, layers) -> None:
     if layers is not None and document.model_points is not None:
         name = f"{Path(path).name}: lab model"
-        layers.add_markers(document.model_points, name, alignment=file_alignment(document.model_points))
+        alignment = file_alignment(document.model_points)
+        layers.add_markers(document.model_points, name, alignment=alignment, document_bound=True)
 
 
 class BuildSkeletonEdit(QUndoCommand):

@@ -28,6 +28,8 @@ class MarkerLayer:
     overlay : the markers on the document's frames and in its space (its ``positions`` are
     (F_A, M, 3), NaN for gaps and outside the recording) with the alignment used.
     comparison : always None (a marker set is drawn, not compared joint by joint).
+    document_bound : the layer came with the document (the lab model's points of the marker
+        file it was built from) and goes when another document opens.
     """
 
     markers: MarkerSet
@@ -37,6 +39,7 @@ class MarkerLayer:
     opacity: float = MARKER_LAYER_OPACITY
     overlay: MarkerOverlay | None = None
     comparison: None = None
+    document_bound: bool = False
 
     @property
     def positions(self) -> np.ndarray:
