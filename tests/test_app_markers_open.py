@@ -241,3 +241,20 @@ def test_the_lab_layer_goes_with_its_document(studio):
     open_file(studio, shared_path("c3d/opensim-core_walking5.c3d"))
     assert [layer.name for layer in studio.layers][-1] == "opensim-core_walking5.c3d: lab model"
     assert studio.layers[-1].markers.labels == ("LAJC", "LHJC", "LKJC", "RAJC", "RHJC", "RKJC")
+
+
+def test_the_inspector_says_how_a_built_joint_was_placed(studio):
+    path = shared_path(PIG_LOWER)
+    open_file(studio, path)
+    state = studio.state
+    state.select(state.motion.joint_index("LKJC"))
+    built = build_document(read_markers(path)).built.built
+    j = built.skeleton.names.index("LKJC")
+    text = studio.inspector.text()
+    assert f"Built from markers (set {built.set_match.definition.name})" in text
+    assert f"placed by {built.methods['LKJC']}" in text
+    assert f"bone {built.lengths[j]:.1f} mm" in text and f"RMS spread {built.spread[j]:.1f} mm" in text
+    # a motion that is not the built skeleton says nothing of it
+    open_file(studio, shared_path(SMALL_BVH))
+    state.select(1)
+    assert "Built from markers" not in studio.inspector.text()

@@ -18,6 +18,7 @@ markers in the file's space, undo the previous motion with the alignment it had.
 from __future__ import annotations
 
 import dataclasses
+import html
 from pathlib import Path
 
 import numpy as np
@@ -197,3 +198,34 @@ def push_build_skeleton(state: StudioState, document: MarkerDocument) -> bool:
     state.undo_stack.push(BuildSkeletonEdit(state, document))
     state.show_message(f"Built the skeleton: {document.summary()}")
     return True
+
+
+def joint_section(document: MarkerDocument | None, state: StudioState, frame: int, joint: int | None) -> list[str]:
+    """The inspector's part (HTML) for a joint of a skeleton built from markers: how its
+    centre was placed (formula, citation), its bone's fitted length with the spread of the
+    measured lengths, and after a refinement the residual of the markers its bone carries at
+    ``frame``. Nothing when the document is not ``document``'s skeleton (another file, or
+    the motion of before a Build skeleton, after an undo)."""
+    motion = state.motion
+    if document is None or motion is None or joint is None:
+        return []
+    built, name = document.built.built, motion.names[joint]
+    if set(motion.names) != set(built.skeleton.names):
+        return []
+    j = built.skeleton.names.index(name)
+    lines = [f"placed by {html.escape(built.methods.get(name, '?'))}"]
+    if np.isfinite(built.lengths[j]):
+        low, high = built.span[j]
+        lines.append(
+            f"bone {built.lengths[j]:.1f} mm (the median over the frames; RMS spread {built.spread[j]:.1f} mm, "
+            f"5-95% {low:.1f}-{high:.1f} mm)"
+        )
+    refinement = document.built.refinement
+    if refinement is not None and frame < refinement.residuals.shape[0]:
+        carried = np.flatnonzero(document.built.bones == j)
+        residual = refinement.residuals[frame, carried]
+        seen = [f"{document.built.labels[m]} {r:.1f}" for m, r in zip(carried, residual) if np.isfinite(r)]
+        if seen:
+            lines.append(f"marker residuals (mm): {', '.join(seen)}")
+    set_name = html.escape(built.set_match.definition.name)
+    return [f"<p><b>Built from markers</b> (set {set_name}): " + "<br/>".join(lines) + "</p>"]

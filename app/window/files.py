@@ -54,6 +54,7 @@ class FileController(QObject):
         self.pending_markers: str | None = None
         self.quiet = False  # tests: errors go to the status bar only, no modal dialog
         self.layers = None  # the window's comparison layers (app.layers.Layers)
+        self.marker_document = None  # the last skeleton built from markers (app.model.marker_document)
 
     # ------------------------------------------------------------------- settings
     def recent_files(self) -> list[str]:
@@ -117,6 +118,7 @@ class FileController(QObject):
 
     def _on_marker_document_loaded(self, document: marker_document.MarkerDocument, path: str, wait: bool) -> None:
         self.pending_markers = None
+        self.marker_document = document
         self.state.show_message(marker_document.show_marker_document(self.state, document, path, self.layers))
         self._remember(path)
         self.load_finished.emit(True)
@@ -133,6 +135,7 @@ class FileController(QObject):
         self._run(lambda _path: build(), overlay.markers.source or "markers", self._on_skeleton_built, label, wait)
 
     def _on_skeleton_built(self, document: marker_document.MarkerDocument, _path: str, _wait: bool) -> None:
+        self.marker_document = document
         marker_document.push_build_skeleton(self.state, document)
         self.load_finished.emit(True)
 

@@ -17,7 +17,7 @@ from gmr_studio.app.docks.curves_dock import CurvesDock
 from gmr_studio.app.docks.forest import ForestTree
 from gmr_studio.app.docks.inspector import Inspector
 from gmr_studio.app.docks.timeline import Timeline
-from gmr_studio.app.model import commands, extensions
+from gmr_studio.app.model import commands, extensions, marker_document
 from gmr_studio.app.model.playback import SPEEDS, Player
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.app.reliability.autosave import Autosaver
@@ -113,6 +113,9 @@ class MainWindow(QMainWindow):
             self, self.state, self.view.scene, self.files, beside=self.forest_dock
         )
         self.onion = OnionMenu(self, self.view.scene, self.layers, self.view_menu)
+        self.inspector.sections.append(  # a joint of a skeleton built from markers: how it was placed
+            lambda frame, joint: marker_document.joint_section(self.files.marker_document, self.state, frame, joint)
+        )
         self.analysis_docks = [self.curves_dock, self.contacts_dock, self.error_dock]
         layout.tab_when_shown(self, self.analysis_docks)
         self.status = QLabel()
