@@ -10,7 +10,8 @@ import pytest
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.kinematics import world_positions
 from gmr_studio.core.markers import joint_centres as jc
-from gmr_studio.core.markers.build import SYNONYMS, build_skeleton, markers_to_built_motion
+from gmr_studio.core.markers.build import SYNONYMS, build_skeleton
+from gmr_studio.core.markers.built_motion import markers_to_built_motion
 from gmr_studio.core.markers.limbs import about_axis
 from gmr_studio.core.markers.markerset import MarkerSet
 from gmr_studio.core.markers.refine import refine_motion
@@ -264,3 +265,35 @@ def test_no_known_set_lists_what_a_map_needs():
     assert identify_marker_set(strange) is None
     with pytest.raises(OperationError, match=r"no known marker set fits.*ASIS"):
         build_skeleton(strange)
+
+
+def test_davis_hips_place_the_generated_pelvis():
+    # the leg length as a parameter, the ASIS distance from the markers: the built hips are
+    # Davis's offsets in the pelvis frame
+    markers, joints = generated_markers("plug-in-gait-lower")
+    markers = markers.replace(parameters={**markers.parameters, "LegLength": 880.0})
+    built = build_skeleton(markers, hip="davis")
+    local = jc.hip_davis(880.0, 250.0, RADIUS)
+    origin = joints["pelvis_front"]
+    hips = built.centres[:, [built.skeleton.joint_index("LHJC"), built.skeleton.joint_index("RHJC")]]
+    lasi = markers.positions[:, markers.index("LASI")]
+    rasi = markers.positions[:, markers.index("RASI")]
+    psi = 0.5 * (markers.positions[:, markers.index("LPSI")] + markers.positions[:, markers.index("RPSI")])
+    _, frame = jc.pelvis_frame(lasi, rasi, psi)
+    assert np.allclose(hips, origin[:, None] + np.einsum("fab,kb->fka", frame, local), atol=1e-9)
+
+
+def test_hidden_pelvis_and_medial_markers_are_carried_by_their_segment():
+    # a hidden ASIS is placed by the other pelvis markers, a hidden medial knee marker by the
+    # thigh's: the generated pose comes back exactly in those frames too
+    markers, joints = generated_markers("cgm2", n_frames=8, seed=5)
+    positions = markers.positions.copy()
+    positions[[2, 5], markers.index("LASI")] = np.nan
+    positions[[1, 3, 6], markers.index("RKNM")] = np.nan
+    built = markers_to_built_motion(markers.replace(positions=positions))
+    assert built.result.frame_valid.all()
+    motion = built.result.motion
+    result = world_positions(motion)
+    size = max(np.ptp(result[0], axis=0))
+    for j, name in enumerate(motion.names):
+        assert np.abs(result[:, j] - joints[name]).max() <= 1e-9 * size, name

@@ -12,7 +12,7 @@ from gmr_studio.core.cli import main
 from gmr_studio.core.formats import load_gmr
 from gmr_studio.core.kinematics import world_positions
 from gmr_studio.core.markers import read_markers
-from gmr_studio.core.markers.build import markers_to_built_motion
+from gmr_studio.core.markers.built_motion import markers_to_built_motion
 from gmr_studio.core.markers.file_model import compare_with_file_model
 from gmr_studio.core.markers.sets import identify_marker_set
 from tests.conftest import shared_path

@@ -2,7 +2,9 @@
 
 1. Real markers: CMU 01_01.c3d through the shipped ``cmu`` map (calibrated on frames
    0:1100) against the FK of 01_01.amc, on frames 1100:2751 (not used for calibration):
-   MPJPE in millimetres per joint and overall, for both ways of aiming the bones.
+   MPJPE in millimetres per joint and overall, for both ways of aiming the bones; then the
+   same onto the BVH skeleton of the take (against the BVH itself, its frame 0 a T-pose), and
+   both after ``--refine`` (issue 22's figures: <= 15 mm on the ASF, <= 20 mm on the BVH).
 2. Twist from the same trial: 02_01's joint positions as markers (the exact case), twists
    from 02_01 itself with every reference frame within 1 s of the query excluded: the
    distribution of the twist error (the angle between recovered and true local rotation;
@@ -49,6 +51,29 @@ def mpjpe_report() -> None:
     print(f"{'overall':<10} {table['markers'].mean():>12.1f} {table['chain'].mean():>10.1f}")
 
 
+def refine_report() -> None:
+    """MPJPE over all mapped joints, closed form and refined, on the ASF and on the BVH."""
+    from gmr_studio.core.markers.refine import refine_joints
+
+    markers = read_markers(shared_file("cmu/subject01/01_01.c3d"))
+    print("\nMPJPE (mm) over all joints, CMU 01_01.c3d with the cmu map, frames 1100:2751")
+    print(f"{'skeleton':<24} {'closed form':>11} {'--refine':>9} {'refine s (wall/CPU)':>20}")
+    for skeleton_file, truth_file, first in (
+        ("cmu/subject01/01.asf", "cmu/subject01/01_01.amc", 0),
+        ("cmu/subject01/01_01.bvh", "cmu/subject01/01_01.bvh", 1),  # the BVH's frame 0 is a T-pose
+    ):
+        skeleton = load_gmr(shared_file(skeleton_file))
+        expected = world_positions(load_gmr(shared_file(truth_file)))[first:][EVALUATION_FRAMES]
+        result = markers_to_motion(markers, skeleton, "cmu", frames=EVALUATION_FRAMES)
+        wall, cpu = time.perf_counter(), time.process_time()
+        refined = refine_joints(result.motion, result.refine_targets(), weights=result.weights)
+        wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+        before = np.linalg.norm(world_positions(result.motion) - expected, axis=2).mean() * MM_PER_ASF_UNIT
+        after = np.linalg.norm(world_positions(refined.motion) - expected, axis=2).mean() * MM_PER_ASF_UNIT
+        name = skeleton_file.rsplit("/", 1)[1] + f" ({skeleton.n_joints} joints)"
+        print(f"{name:<24} {before:>11.1f} {after:>9.1f} {wall:>10.1f} / {cpu:.1f}")
+
+
 def twist_report(amc: str, asf: str) -> None:
     truth = load_gmr(shared_file(amc))
     skeleton = load_gmr(shared_file(asf))
@@ -78,5 +103,6 @@ def twist_report(amc: str, asf: str) -> None:
 
 if __name__ == "__main__":
     mpjpe_report()
+    refine_report()
     twist_report("cmu/subject02/02_01.amc", "cmu/subject02/02.asf")
     twist_report("cmu/subject01/01_01.amc", "cmu/subject01/01.asf")

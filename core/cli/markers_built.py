@@ -24,7 +24,7 @@ from gmr_studio.core.markers.markerset import MarkerSet
 
 def run_built(args: argparse.Namespace, markers: MarkerSet) -> int:
     from gmr_studio.core.cli.markers import refinement_text, write_json
-    from gmr_studio.core.markers.build import markers_to_built_motion
+    from gmr_studio.core.markers.built_motion import markers_to_built_motion
     from gmr_studio.core.markers.file_model import compare_with_file_model, file_model_text
 
     if args.map not in (None, "joints") or args.reference or args.truth or args.calibrate is not None:

@@ -7,7 +7,7 @@ or Plug-in Gait's chord with the subject's widths, shoulders by Rab et al. 2002,
 wrists by their epicondyles, styloids or wrist bar), fits one constant length per bone (the
 median over the frames, with its spread reported), and lays the bones out in a rest pose
 (standing, facing the pelvis's anterior axis, up the file's vertical axis).
-:func:`markers_to_built_motion` then runs the paper's closed form
+:func:`core.markers.built_motion.markers_to_built_motion` then runs the paper's closed form
 (:func:`core.markers.solve.solve_positions`): pelvis by Procrustes, limb angles from the
 joint-centre directions, each segment's twist from its third marker (the lateral knee for
 the thigh, the lateral ankle for the shank, the heel for the foot, the lateral elbow for the
@@ -31,9 +31,7 @@ from gmr_studio.core.markers import joint_centres as jc
 from gmr_studio.core.markers.limbs import swing
 from gmr_studio.core.markers.markerset import MarkerSet
 from gmr_studio.core.markers.procrustes import fit_rigid
-from gmr_studio.core.markers.refine import Refinement
 from gmr_studio.core.markers.sets import SetMatch, identify_marker_set, no_match_text, role_positions
-from gmr_studio.core.markers.solve import MarkerMotion
 from gmr_studio.core.motion import Motion
 
 #: assumed widths (mm) when the file stores none (adult means; said in the notes)
@@ -166,9 +164,7 @@ def joint_centre_trajectories(
     params = markers.parameters
     notes: list[str] = []
     radius = params.get("MarkerDiameter", jc.MARKER_DIAMETER) / 2
-    lasi, rasi = roles.get("ASI", "L"), roles.get("ASI", "R")
-    psi = [roles.get("PSI", s) for s in "LR"]
-    sacrum = 0.5 * (psi[0] + psi[1]) if psi[0] is not None and psi[1] is not None else roles.get("SACR")
+    lasi, rasi, sacrum = _pelvis_points(roles)
     if lasi is None or rasi is None or sacrum is None:
         raise OperationError(f"set {match.definition.name}: the pelvis needs both ASIS and the PSIS or a sacral marker")
     origin, frame = jc.pelvis_frame(lasi, rasi, sacrum)
@@ -180,8 +176,8 @@ def joint_centre_trajectories(
             knee = roles.get("KNE", "L")
             leg = np.nanmedian(np.linalg.norm(lasi - knee, axis=-1) + np.linalg.norm(knee - ank, axis=-1))
             notes.append(f"no LegLength parameter: {leg:.0f} mm measured (ASIS-knee-ankle, median)")
-        local = jc.hip_davis(leg, width, radius)
-        how = "Davis et al. 1991 (Plug-in Gait), leg length and ASIS distance"
+        local = jc.hip_davis(leg, np.nanmedian(width), radius)
+        how = "Davis et al. 1991 (Plug-in Gait), leg length and ASIS distance (median over the take)"
     else:
         depth = np.linalg.norm(origin - sacrum, axis=-1)
         local = jc.hip_harrington(np.nanmedian(width), np.nanmedian(depth))
@@ -200,21 +196,10 @@ def joint_centre_trajectories(
                 f"set {match.definition.name} has no lateral knee and ankle markers: the knee and ankle centres "
                 "need them (or a static calibration, as OpenSim's Scale tool does)"
             )
-        if knm is not None:
-            kjc, methods[side + "KJC"] = jc.midpoint(kne, knm), "mid-point of lateral and medial knee markers"
-        elif thi is not None:
-            delta = _width(params, "KneeWidth", side, notes) / 2 + radius
-            kjc, methods[side + "KJC"] = jc.chord(hjc, kne, thi, delta), "Plug-in Gait chord (hip, knee, thigh wand)"
-        else:
-            raise OperationError(f"set {match.definition.name}: the {side} knee needs a medial or a thigh marker")
-        if med is not None:
-            ajc, methods[side + "AJC"] = jc.midpoint(ank, med), "mid-point of the malleoli markers"
-        elif tib is not None:
-            delta = _width(params, "AnkleWidth", side, notes) / 2 + radius
-            ajc, methods[side + "AJC"] = jc.chord(kjc, ank, tib, delta), "Plug-in Gait chord (knee, ankle, tibia wand)"
-        else:
-            raise OperationError(f"set {match.definition.name}: the {side} ankle needs a medial or a tibia marker")
+        hinge = (match.definition.name, side, params, notes, radius, methods)
+        kjc = _hinge(hinge, "KJC", hjc, kne, knm, thi, "KneeWidth", ("knee", "hip", "thigh wand"))
         kjc = fill_from_cluster(kjc, [hjc, kne, *roles.all(THIGH, side)])
+        ajc = _hinge(hinge, "AJC", kjc, ank, med, tib, "AnkleWidth", ("ankle", "knee", "tibia wand"))
         ajc = fill_from_cluster(ajc, [kjc, ank, *roles.all(SHANK, side)])
         centres[side + "KJC"], centres[side + "AJC"] = kjc, ajc
         twists[side + "KJC"] = most_seen([kne, *roles.all(THIGH, side)])
@@ -227,6 +212,20 @@ def joint_centre_trajectories(
                 twists[side + "TOE"] = heel
     _upper_body(roles, centres, twists, methods, params, notes, radius)
     return centres, twists, methods, notes
+
+
+def _hinge(context, joint, proximal, lateral, medial, wand, width_name, words):
+    """A knee or ankle centre: the mid-point of the lateral and medial markers, else Plug-in
+    Gait's chord with the wand and the subject's width; OperationError when neither is there."""
+    set_name, side, params, notes, radius, methods = context
+    name, parent, wand_name = words
+    if medial is not None:
+        methods[side + joint] = f"mid-point of the lateral and medial {name} markers"
+        return jc.midpoint(lateral, medial)
+    if wand is None:
+        raise OperationError(f"set {set_name}: the {side} {name} needs a medial marker or a {wand_name}")
+    methods[side + joint] = f"Plug-in Gait chord ({parent} centre, {name} marker, {wand_name})"
+    return jc.chord(proximal, lateral, wand, _width(params, width_name, side, notes) / 2 + radius)
 
 
 def _upper_body(roles: _Roles, centres, twists, methods, params, notes, radius) -> None:
@@ -316,7 +315,7 @@ def build_skeleton(markers: MarkerSet, match: SetMatch | None = None, hip: str =
     for name, points in twists.items():
         if name in index:
             twist_markers[:, index[name]] = points
-    _, frame = jc.pelvis_frame(*_pelvis_points(markers, match))
+    _, frame = jc.pelvis_frame(*_pelvis_points(_Roles(role_positions(markers, match))))
     up = _up_rotation(frame)
     parents = np.array([-1 if p is None else index[p] for _, p, _ in tree])
     lengths, spread = np.full(n_joints, np.nan), np.full(n_joints, np.nan)
@@ -365,11 +364,19 @@ def build_skeleton(markers: MarkerSet, match: SetMatch | None = None, hip: str =
     )
 
 
-def _pelvis_points(markers: MarkerSet, match: SetMatch):
-    roles = _Roles(role_positions(markers, match))
-    psi = [roles.get("PSI", s) for s in "LR"]
-    sacrum = 0.5 * (psi[0] + psi[1]) if psi[0] is not None and psi[1] is not None else roles.get("SACR")
-    return roles.get("ASI", "L"), roles.get("ASI", "R"), sacrum
+def _pelvis_points(roles: _Roles):
+    """LASI, RASI and the sacrum (mid-PSIS or SACR), (F, 3) each or None. A pelvis marker
+    missing in a frame is placed by a rigid fit of the other pelvis markers there (pelvis
+    markers are often hidden: walking5's LASI is seen in 587 of 1103 frames, its TRC's in 13)."""
+    points = [roles.get("ASI", "L"), roles.get("ASI", "R"), roles.get("PSI", "L"), roles.get("PSI", "R")]
+    if points[2] is None or points[3] is None:
+        points[2:] = [roles.get("SACR")]
+    if any(p is None for p in points):
+        return points[0], points[1], points[2] if len(points) == 3 else None
+    if len(points) == 4:
+        points = [fill_from_cluster(p, [q for q in points if q is not p]) for p in points]
+    sacrum = 0.5 * (points[2] + points[3]) if len(points) == 4 else points[2]
+    return points[0], points[1], sacrum
 
 
 def _up_rotation(frame: np.ndarray) -> np.ndarray:
@@ -380,102 +387,3 @@ def _up_rotation(frame: np.ndarray) -> np.ndarray:
     k = int(np.nanargmax(np.abs(vertical)))
     axis[k] = np.sign(vertical[k])
     return swing(np.array([0.0, 0.0, 1.0]), axis[None])[0]
-
-
-@dataclasses.dataclass(frozen=True, eq=False)
-class BuiltMotion:
-    """:func:`markers_to_built_motion`'s result: ``result`` the closed form's MarkerMotion
-    (its ``motion`` replaced by the refined one when refined), ``built`` the skeleton,
-    ``refinement`` (None unless asked), ``labels`` (M,) the real markers used by the
-    refinement and ``bones`` (M,) the joint whose bone carries each."""
-
-    result: MarkerMotion
-    built: BuiltSkeleton
-    refinement: Refinement | None
-    labels: tuple[str, ...]
-    bones: np.ndarray
-
-
-#: bones rigid with their parent segment: the refinement keeps their local rotations
-RIGID_WITH_PARENT = ("pelvis_front", "LHJC", "RHJC")
-
-#: the bone (by the joint it ends at) each role rides on
-SEGMENT_ROLES = {
-    "pelvis": ("ASI", "PSI", "SACR"),
-    "KJC": ("THI", "KNE", "KNM", "TH1", "TH2", "TH3", "THAP", "THAD", "WAND1", "FTC", "LFC", "MFC", "FLE", "FME"),
-    "AJC": (
-        "TIB",
-        "ANK",
-        "MED",
-        "TB1",
-        "TB2",
-        "TB3",
-        "TIAP",
-        "TIAD",
-        "WAND2",
-        "TTC",
-        "FAX",
-        "LMAL",
-        "MMAL",
-        "FAL",
-        "TAM",
-    ),
-    "TOE": ("HEE", "TOE", "MT1", "MT2", "MT5", "CAL", "FCC", "FM1", "FM5", "VMH", "FMH"),
-    "thorax": ("C7", "T10", "CLAV", "STRN", "RBAK", "T8", "SJN", "SXS"),
-    "head": ("FHD", "BHD"),
-    "SJC": ("SHO",),
-    "EJC": ("UPA", "ELB", "ELM", "HLE", "HME", "WAND3"),
-    "WJC": ("FRA", "WRA", "WRB", "RSP", "UHE", "WAND4"),
-    "HAND": ("FIN", "HM2", "HM5"),
-}
-
-
-def role_bones(match: SetMatch, names: tuple[str, ...]) -> dict[str, int]:
-    """Each real marker label of the set -> the joint whose bone carries it (markers of
-    segments the skeleton lacks are left out)."""
-    out: dict[str, int] = {}
-    for role, label in match.found.items():
-        side, base = (role[0], role[1:]) if role[:1] in "LR" and role[1:] in _SIDED_BASES else ("", role)
-        for joint, roles in SEGMENT_ROLES.items():
-            name = joint if joint in ("pelvis", "thorax", "head") else side + joint
-            if base in roles and name in names:
-                for part in label.split("+"):
-                    out.setdefault(part, names.index(name))
-    return out
-
-
-_CENTRE_ROLES = {"C7", "T10", "CLAV", "STRN", "RBAK", "T8", "SJN", "SXS", "SACR"}
-_SIDED_BASES = {r for roles in SEGMENT_ROLES.values() for r in roles} - _CENTRE_ROLES
-
-
-def markers_to_built_motion(
-    markers: MarkerSet, hip: str = "harrington", refine: bool = False, iterations: int = 5
-) -> BuiltMotion:
-    """Build the skeleton (:func:`build_skeleton`), run the paper's closed form on it with the
-    twists from the segments' third markers, and with ``refine`` the global refinement
-    (:func:`core.markers.refine.refine_motion`) over every marker of the set, each riding on
-    the bone it moves with most rigidly. Millimetres, the file's axes."""
-    from gmr_studio.core.markers.refine import attach_markers, refine_motion
-    from gmr_studio.core.markers.solve import solve_positions
-
-    markers = markers.in_units("mm")
-    built = build_skeleton(markers, hip=hip)
-    result = solve_positions(
-        built.centres, built.skeleton, built.pelvis, frame_time=1.0 / markers.rate, twist_markers=built.twist_markers
-    )
-    note = f"from markers {markers.source or '(memory)'}: skeleton built from set {built.set_match.definition.name}"
-    result = dataclasses.replace(
-        result, motion=result.motion.replace(comments=(note,)), reasons=(*built.notes, *result.reasons)
-    )
-    carried = role_bones(built.set_match, built.skeleton.names)
-    used = sorted(carried, key=markers.labels.index)
-    bones = np.array([carried[label] for label in used], dtype=np.int64)
-    targets = np.stack([markers.positions[:, markers.index(label)] for label in used], axis=1)
-    targets[~result.frame_valid] = np.nan  # frames without a pelvis copy a good frame: not fitted
-    refinement = None
-    if refine:
-        offsets = attach_markers(result.motion, targets, bones)
-        rigid = tuple(built.skeleton.joint_index(n) for n in RIGID_WITH_PARENT if n in built.skeleton.names)
-        refinement = refine_motion(result.motion, targets, bones, offsets, iterations=iterations, fixed=rigid)
-        result = dataclasses.replace(result, motion=refinement.motion)
-    return BuiltMotion(result, built, refinement, tuple(used), bones)

@@ -91,6 +91,7 @@ def hip_davis(
     x = c * ct * sb - (x_dis + marker_radius) * cb
     y = aa - c * st
     z = -c * ct * cb - (x_dis + marker_radius) * sb
+    x, y, z = np.broadcast_arrays(x, y, z)
     return np.stack([np.stack([x, y, z], -1), np.stack([x, -y, z], -1)], axis=-2)
 
 

@@ -43,6 +43,7 @@ from gmr_studio.core.markers.limbs import least_change_twists, limb_rotation, sw
 from gmr_studio.core.markers.markerset import MarkerSet, frame_ranges, gap_runs
 from gmr_studio.core.markers.match import best_matches
 from gmr_studio.core.markers.pelvis import PelvisFrames, PelvisMethod, pelvis_rotations, rest_positions
+from gmr_studio.core.markers.targets import check_map_fits, inverse_variance, transported
 from gmr_studio.core.motion import Motion
 from gmr_studio.core.operations import split
 
@@ -193,63 +194,7 @@ def markers_to_motion(
         reasons=(*virtual.reasons, *result.reasons),
         pelvis_note=resolved.pelvis_note,
         targets=targets,
-        weights=_inverse_variance(resolved, skeleton.names),
-    )
-
-
-def _inverse_variance(marker_map, names) -> np.ndarray | None:
-    """(J,) ``1 / rms^2`` of each joint's calibrated virtual marker, scaled to mean 1 over
-    those that have one (the others get 1); None when no virtual marker has an rms."""
-    rms = {v.name: v.rms for v in marker_map.virtual if v.rms}
-    if not rms:
-        return None
-    weights = np.array([1.0 / rms[n] ** 2 if n in rms else np.nan for n in names])
-    weights /= np.nanmean(weights)
-    return np.where(np.isfinite(weights), weights, 1.0)
-
-
-def transported(motion: Motion, measured: np.ndarray, starts: np.ndarray, skeleton: Motion) -> np.ndarray | None:
-    """Refinement targets on a skeleton that lacks a bone of the map's (CMU's BVH has no thorax).
-
-    Where a joint's bone starts, by the map, at a virtual marker that is not where the skeleton
-    starts it (``starts`` (F, J, 3) away from the joint's parent in the seed ``motion``), the
-    measured joint and everything below it are moved by ``P_parent(seed) - start``: the
-    skeleton cannot reach the markers beyond a missing bone, but it can take their shape.
-    None when nothing moves (then the targets are ``measured``).
-    """
-    from gmr_studio.core.kinematics import world_positions as positions_of
-
-    seed = positions_of(motion)
-    shift = np.zeros_like(measured)
-    moved = False
-    for j in skeleton.topological_order:
-        p = int(skeleton.parents[j])
-        if p < 0:
-            continue
-        shift[:, j] = shift[:, p]
-        begin = starts[:, j]
-        if np.isfinite(begin).all(axis=1).any() and not np.isfinite(measured[:, p]).any():
-            gap = np.where(np.isfinite(begin), seed[:, p] - begin, 0.0)
-            shift[:, j] = gap
-            moved = True
-    return measured + shift if moved else None
-
-
-def check_map_fits(markers: MarkerSet, marker_map) -> None:
-    """Refuse a map most of whose markers the file lacks, naming the file's own set: "this
-    file's markers are set X, not map Y (missing: ...)" rather than a pelvis gap that reads as
-    if the file had holes."""
-    from gmr_studio.core.markers.sets import identify_marker_set
-
-    needed = marker_map.labels()
-    absent = [label for label in needed if label not in markers.labels]
-    if marker_map.joints or not needed or len(absent) * 2 <= len(needed):
-        return
-    match = identify_marker_set(markers)
-    found = f"set {match.definition.name}" if match is not None else "of no known set"
-    raise OperationError(
-        f"this file's markers are {found}, not map {marker_map.name} (missing: {', '.join(absent)})"
-        + ("; without --skeleton and --map, gmr markers builds a skeleton from them" if match is not None else "")
+        weights=inverse_variance(resolved, skeleton.names),
     )
 
 

@@ -1,0 +1,72 @@
+"""What the refinement fits on a given skeleton, and whether a map fits the markers at all.
+
+- :func:`check_map_fits`: a map most of whose markers the file lacks is refused, naming the
+  file's own marker set (issue 22: not "pelvis marker root missing in frames 0-141").
+- :func:`transported`: targets for the joints below a bone the skeleton lacks (CMU's BVH has
+  no thorax bone): the markers moved by that bone.
+- :func:`inverse_variance`: each joint's weight, ``1 / rms^2`` of its calibrated virtual marker.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from gmr_studio.core.errors import OperationError
+from gmr_studio.core.markers.markerset import MarkerSet
+from gmr_studio.core.motion import Motion
+
+
+def check_map_fits(markers: MarkerSet, marker_map) -> None:
+    """Refuse a map most of whose markers the file lacks, naming the file's own set: "this
+    file's markers are set X, not map Y (missing: ...)" rather than a pelvis gap that reads as
+    if the file had holes."""
+    from gmr_studio.core.markers.sets import identify_marker_set
+
+    needed = marker_map.labels()
+    absent = [label for label in needed if label not in markers.labels]
+    if marker_map.joints or not needed or len(absent) * 2 <= len(needed):
+        return
+    match = identify_marker_set(markers)
+    found = f"set {match.definition.name}" if match is not None else "of no known set"
+    raise OperationError(
+        f"this file's markers are {found}, not map {marker_map.name} (missing: {', '.join(absent)})"
+        + ("; without --skeleton and --map, gmr markers builds a skeleton from them" if match is not None else "")
+    )
+
+
+def transported(motion: Motion, measured: np.ndarray, starts: np.ndarray, skeleton: Motion) -> np.ndarray | None:
+    """Refinement targets on a skeleton that lacks a bone of the map's (CMU's BVH has no thorax).
+
+    Where a joint's bone starts, by the map, at a virtual marker that is not where the skeleton
+    starts it (``starts`` (F, J, 3) away from the joint's parent in the seed ``motion``), the
+    measured joint and everything below it are moved by ``P_parent(seed) - start``: the
+    skeleton cannot reach the markers beyond a missing bone, but it can take their shape.
+    None when nothing moves (then the targets are ``measured``).
+    """
+    from gmr_studio.core.kinematics import world_positions as positions_of
+
+    seed = positions_of(motion)
+    shift = np.zeros_like(measured)
+    moved = False
+    for j in skeleton.topological_order:
+        p = int(skeleton.parents[j])
+        if p < 0:
+            continue
+        shift[:, j] = shift[:, p]
+        begin = starts[:, j]
+        if np.isfinite(begin).all(axis=1).any() and not np.isfinite(measured[:, p]).any():
+            gap = np.where(np.isfinite(begin), seed[:, p] - begin, 0.0)
+            shift[:, j] = gap
+            moved = True
+    return measured + shift if moved else None
+
+
+def inverse_variance(marker_map, names) -> np.ndarray | None:
+    """(J,) ``1 / rms^2`` of each joint's calibrated virtual marker, scaled to mean 1 over
+    those that have one (the others get 1); None when no virtual marker has an rms."""
+    rms = {v.name: v.rms for v in marker_map.virtual if v.rms}
+    if not rms:
+        return None
+    weights = np.array([1.0 / rms[n] ** 2 if n in rms else np.nan for n in names])
+    weights /= np.nanmean(weights)
+    return np.where(np.isfinite(weights), weights, 1.0)
