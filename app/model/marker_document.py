@@ -2,7 +2,7 @@
 
 :func:`load_marker_document` (run in the loading worker) reads the markers, recognises the
 marker set from the labels, builds the skeleton and its motion with the core
-(:func:`core.markers.build.markers_to_built_motion`: joint centres by the published methods,
+(:func:`core.markers.built_motion.markers_to_built_motion`: joint centres by the published methods,
 the paper's closed form, optionally the least-squares refinement) and computes the motion's
 kinematics. :func:`show_marker_document` makes it the document and shows the markers over it
 (the file's own space: the motion is in millimetres in the file's axes, so the markers are
@@ -28,7 +28,7 @@ from gmr_studio.app.model.alignment import UNIT_LENGTHS, MarkerAlignment
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.core.errors import MotionFileError, OperationError
 from gmr_studio.core.markers import MarkerSet, read_markers
-from gmr_studio.core.markers.build import BuiltMotion, markers_to_built_motion
+from gmr_studio.core.markers.built_motion import BuiltMotion, markers_to_built_motion
 from gmr_studio.core.markers.file_model import FILE_POINTS
 
 #: how the markers are placed over a skeleton built from them (shown in the alignment dialog)
