@@ -258,3 +258,22 @@ def test_the_inspector_says_how_a_built_joint_was_placed(studio):
     open_file(studio, shared_path(SMALL_BVH))
     state.select(1)
     assert "Built from markers" not in studio.inspector.text()
+
+
+def test_marker_layers_follow_build_skeleton_into_the_new_space(studio):
+    open_file(studio, shared_path(BVH), markers=shared_path(C3D))
+    state, layers = studio.state, studio.layers
+    studio.files.compare_path(str(shared_path(C3D)), wait=True)  # the same markers as a layer
+    layer = layers[0]
+    np.testing.assert_array_equal(layer.positions, state.marker_overlay.positions)
+    studio.files.build_skeleton(wait=True)
+    # in the built skeleton's space (mm, the file's axes) the layer is aligned afresh: on the markers
+    gap = np.linalg.norm(layer.positions - state.marker_overlay.positions, axis=-1)
+    assert np.nanmedian(gap) < 0.05 * state.motion.size
+    state.undo_stack.undo()
+    gap = np.linalg.norm(layer.positions - state.marker_overlay.positions, axis=-1)
+    assert np.nanmedian(gap) < 0.05 * state.motion.size
+    # an edit that keeps the space keeps the layer's alignment
+    alignment = layer.overlay.alignment
+    assert commands.split_here(state, 1)
+    assert layer.overlay.alignment == alignment  # the same rotation and offset arrays
