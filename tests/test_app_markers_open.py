@@ -277,3 +277,15 @@ def test_marker_layers_follow_build_skeleton_into_the_new_space(studio):
     alignment = layer.overlay.alignment
     assert commands.split_here(state, 1)
     assert layer.overlay.alignment == alignment  # the same rotation and offset arrays
+
+
+def test_build_skeleton_shows_the_lab_points_of_the_markers(studio):
+    open_file(studio, shared_path(PIG_LOWER))
+    # the same file's markers over the built skeleton (as Add markers would put them), with its model points
+    studio.files.add_markers_path(str(shared_path(PIG_LOWER)), wait=True)
+    assert "LFEP" in studio.state.marker_overlay.markers.labels
+    studio.files.build_skeleton(wait=True)
+    studio.files.build_skeleton(wait=True)  # twice: still one layer of the file's lab points
+    names = [layer.name for layer in studio.layers]
+    assert names == [f"{PIG_LOWER.rsplit('/', 1)[-1]}: lab model"]
+    assert "LFEP" not in studio.state.marker_overlay.markers.labels and studio.state.undo_stack.count() == 2

@@ -147,8 +147,13 @@ def show_marker_document(state: StudioState, document: MarkerDocument, path: str
 
 
 def add_model_layer(document: MarkerDocument, path: str | Path, layers) -> None:
+    """The lab model's points of ``document`` as a layer of ``layers`` (replacing one of the
+    same file), in the file's space; it goes when another document opens."""
     if layers is not None and document.model_points is not None:
         name = f"{Path(path).name}: lab model"
+        for index in reversed(range(len(layers))):
+            if layers[index].name == name:
+                layers.remove(index)
         alignment = file_alignment(document.model_points)
         layers.add_markers(document.model_points, name, alignment=alignment, document_bound=True)
 

@@ -136,7 +136,8 @@ class FileController(QObject):
 
     def _on_skeleton_built(self, document: marker_document.MarkerDocument, _path: str, _wait: bool) -> None:
         self.marker_document = document
-        marker_document.push_build_skeleton(self.state, document)
+        if marker_document.push_build_skeleton(self.state, document):
+            marker_document.add_model_layer(document, document.markers.source or "markers", self.layers)
         self.load_finished.emit(True)
 
     def body_model(self, *, ask: bool) -> str | None:
