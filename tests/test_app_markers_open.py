@@ -289,3 +289,18 @@ def test_build_skeleton_shows_the_lab_points_of_the_markers(studio):
     names = [layer.name for layer in studio.layers]
     assert names == [f"{PIG_LOWER.rsplit('/', 1)[-1]}: lab model"]
     assert "LFEP" not in studio.state.marker_overlay.markers.labels and studio.state.undo_stack.count() == 2
+
+
+def test_build_skeleton_from_markers_of_no_known_set_is_refused(studio):
+    from gmr_studio.core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
+
+    folder = demo_folder()
+    open_file(studio, folder / MOTION_FILE, markers=folder / MARKERS_FILE)  # markers named like the joints
+    state = studio.state
+    document, overlay = state.snapshot, state.marker_overlay
+    messages: list[str] = []
+    state.message.connect(messages.append)
+    studio.files.build_skeleton(wait=True)
+    assert state.snapshot is document and state.marker_overlay is overlay and state.undo_stack.count() == 0
+    assert messages[-1].startswith(f"Build skeleton from {MARKERS_FILE}: no known marker set fits these labels")
+    assert "missing" in messages[-1]
