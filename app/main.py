@@ -310,14 +310,14 @@ def _load_or_report(motion_path: str, markers_path: str | None):
 
     from gmr_studio.app.model.loading import load_markers, load_snapshot, marker_suffixes
     from gmr_studio.app.model.marker_document import load_marker_document
-    from gmr_studio.core.errors import MotionFileError
+    from gmr_studio.core.errors import MotionFileError, OperationError
 
     try:
         if Path(motion_path).suffix.lower() in marker_suffixes():
             return load_marker_document(motion_path), None
         snapshot = load_snapshot(motion_path)
         markers = load_markers(markers_path) if markers_path else None
-    except MotionFileError as exc:
+    except (MotionFileError, OperationError) as exc:
         print(exc, file=sys.stderr)
         return None
     return snapshot, markers

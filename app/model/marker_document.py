@@ -26,7 +26,7 @@ from PyQt6.QtGui import QUndoCommand
 
 from gmr_studio.app.model.alignment import UNIT_LENGTHS, MarkerAlignment
 from gmr_studio.app.model.state import Snapshot, StudioState
-from gmr_studio.core.errors import MotionFileError, OperationError
+from gmr_studio.core.errors import OperationError
 from gmr_studio.core.markers import MarkerSet, read_markers
 from gmr_studio.core.markers.built_motion import BuiltMotion, markers_to_built_motion
 from gmr_studio.core.markers.file_model import FILE_POINTS
@@ -104,16 +104,15 @@ def build_document(markers: MarkerSet, *, refine: bool = False) -> MarkerDocumen
 def load_marker_document(path: str | Path, *, refine: bool = False) -> MarkerDocument:
     """Read a marker file and build its document (for the loading worker).
 
-    Raises MotionFileError for a file that cannot be read, and for one whose markers make
-    no skeleton (no known marker set, markers missing), naming what is missing."""
+    Raises MotionFileError for a file that cannot be read, and OperationError for one whose
+    markers make no skeleton (no known marker set, markers missing), naming what is missing."""
     markers = read_markers(path)
     try:
         return build_document(markers, refine=refine)
     except OperationError as exc:
-        raise MotionFileError(
-            path,
-            f"{exc}. The app shows markers over a motion only: open a motion (a skeleton) and add these "
-            "markers with Markers > Add markers",
+        raise OperationError(
+            f"Cannot open {Path(path).name} as a motion: {exc}. The app shows markers over a motion only: "
+            "open a motion (a skeleton) and add these markers with Markers > Add markers"
         ) from None
 
 
