@@ -10,7 +10,7 @@ import pytest
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.kinematics import world_positions
 from gmr_studio.core.markers import joint_centres as jc
-from gmr_studio.core.markers.build import SYNONYMS, build_skeleton
+from gmr_studio.core.markers.build import SYNONYMS, build_skeleton, functional_centre
 from gmr_studio.core.markers.built_motion import markers_to_built_motion
 from gmr_studio.core.markers.limbs import about_axis
 from gmr_studio.core.markers.markerset import MarkerSet
@@ -248,16 +248,27 @@ def test_missing_markers_are_named():
 
 
 def test_a_set_without_knee_markers_says_why():
-    labels = {"LASI": "L.ASIS", "RASI": "R.ASIS", "SACR": "V.Sacral", "LTHI": "L.Thigh.Upper", "LHEE": "L.Heel"}
-    fake = MarkerSet(
-        labels=[*labels.values(), "R.Thigh.Upper", "L.Thigh.Front", "R.Thigh.Front", "L.Thigh.Rear", "R.Thigh.Rear",
-                "L.Shank.Upper", "R.Shank.Upper", "L.Shank.Front", "R.Shank.Front", "L.Shank.Rear", "R.Shank.Rear",
-                "R.Heel", "L.Toe.Tip", "R.Toe.Tip"],
-        positions=np.random.default_rng(0).normal(size=(3, 19, 3)), rate=60.0, units="mm",
-    )  # fmt: skip
+    labels = ["L.ASIS", "R.ASIS", "V.Sacral", "L.Heel", "R.Heel", "L.Toe.Tip", "R.Toe.Tip"]
+    labels += [f"{s}.{seg}.{part}" for s in "LR" for seg in ("Thigh", "Shank") for part in ("Upper", "Front", "Rear")]
+    fake = MarkerSet(labels=labels, positions=np.random.default_rng(0).normal(size=(3, 19, 3)), rate=60.0, units="mm")
     assert identify_marker_set(fake).definition.name == "opensim-gait2392"
-    with pytest.raises(OperationError, match="no lateral knee and ankle markers"):
-        build_skeleton(fake)
+    with pytest.raises(OperationError, match=r"no lateral knee and ankle markers.*three markers on each of thigh"):
+        build_skeleton(fake)  # two foot markers only: no functional ankle either
+
+
+def test_functional_centre_of_a_ball_joint_is_exact():
+    # two clusters turning about a common point (a ball joint): SCoRE finds it in every frame
+    rng = np.random.default_rng(2)
+    n_frames = 30
+    centre = rng.normal(scale=300.0, size=(n_frames, 3))
+    near = nearest_rotation(np.eye(3) + rng.normal(scale=0.6, size=(n_frames, 3, 3)))
+    far = nearest_rotation(np.eye(3) + rng.normal(scale=0.6, size=(n_frames, 3, 3)))
+    proximal_local = np.array([[0.0, 50, 200], [40, -30, 150], [-50, 10, 250]])
+    distal_local = np.array([[30.0, 40, -150], [-40, 30, -220], [10, -50, -100], [0, 0, -300]])
+    proximal = centre[:, None] + np.einsum("fab,kb->fka", near, proximal_local)
+    distal = centre[:, None] + np.einsum("fab,kb->fka", far, distal_local)
+    found = functional_centre(proximal, distal)
+    assert np.abs(found - centre).max() < 1e-8
 
 
 def test_no_known_set_lists_what_a_map_needs():

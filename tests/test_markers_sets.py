@@ -12,6 +12,7 @@ from gmr_studio.core.cli import main
 from gmr_studio.core.formats import load_gmr
 from gmr_studio.core.kinematics import world_positions
 from gmr_studio.core.markers import read_markers
+from gmr_studio.core.markers.build import build_skeleton
 from gmr_studio.core.markers.built_motion import markers_to_built_motion
 from gmr_studio.core.markers.file_model import compare_with_file_model
 from gmr_studio.core.markers.sets import identify_marker_set
@@ -93,7 +94,7 @@ def test_markers_without_skeleton(capsys, tmp_path):
 
 def test_every_shared_file_of_a_buildable_set_becomes_motion():
     for relative, name in SETS.items():
-        if name in (None, "opensim-gait2392"):
+        if name is None:
             continue
         built = markers_to_built_motion(read_markers(shared_path(relative)), refine=True, iterations=2)
         positions = world_positions(built.result.motion)
@@ -121,3 +122,43 @@ def test_file_model_comparison_exact():
     assert {r["file_point"] for r in report["joints"]} == {"PELO", "LFEP", "RFEO", "LTIO"}
     assert max(r["max_mm"] for r in report["joints"]) < 1e-9
     assert report["pelvis"]["max_deg"] < 1e-6
+
+
+def test_marker_weights(capsys, tmp_path):
+    markers = read_markers(shared_path("c3d/c3dorg_s03_gait-pig.c3d"))
+    plain = markers_to_built_motion(markers, refine=True)
+    heavy = markers_to_built_motion(markers, refine=True, weights={"LTHI": 100.0})
+    column = plain.labels.index("LTHI")
+    before, after = (np.nanmedian(b.refinement.residuals[:, column]) for b in (plain, heavy))
+    assert after < 0.5 * before
+    code, _, err = run(
+        capsys, "markers", shared_path("c3d/c3dorg_s03_gait-pig.c3d"), "--refine", "--weights", "LTHI=2,NOPE=1",
+        "-o", tmp_path / "w.gmr",
+    )  # fmt: skip
+    assert code != 0 and "--weights names markers the file does not have: NOPE" in err
+
+
+def test_subject_widths_come_from_the_processing_group(tmp_path):
+    # Vicon Nexus stores the subject's measurements in the PROCESSING group: read as
+    # MarkerSet.parameters, they set the chord's widths (no "assumed" note then)
+    ezc3d = pytest.importorskip("ezc3d")
+    source = read_markers(shared_path("c3d/c3dorg_s03_gait-pig.c3d"))
+    c3d = ezc3d.c3d()
+    c3d["parameters"]["POINT"]["RATE"]["value"] = [source.rate]
+    c3d["parameters"]["POINT"]["LABELS"]["value"] = list(source.labels)
+    c3d["parameters"]["POINT"]["UNITS"]["value"] = ["mm"]
+    data = np.ones((4, source.n_markers, source.n_frames))
+    data[:3] = np.nan_to_num(source.positions).transpose(2, 1, 0)
+    c3d["data"]["points"] = data
+    c3d["data"]["meta_points"]["residuals"] = np.where(source.present, 1.0, -1.0).T[None]
+    c3d.add_parameter("PROCESSING", "KneeWidth", [105.0])
+    c3d.add_parameter("PROCESSING", "AnkleWidth", [72.0])
+    c3d.add_parameter("PROCESSING", "MarkerDiameter", [16.0])
+    c3d.write(str(tmp_path / "widths.c3d"))
+    markers = read_markers(tmp_path / "widths.c3d")
+    assert markers.parameters == {"KneeWidth": 105.0, "AnkleWidth": 72.0, "MarkerDiameter": 16.0}
+    built = build_skeleton(markers)
+    assert not [n for n in built.notes if "assumed" in n]
+    knee, lateral = built.centres[:, built.skeleton.joint_index("LKJC")], markers.positions[:, markers.index("LKNE")]
+    distance = np.linalg.norm(knee - lateral, axis=1)
+    assert np.allclose(distance[np.isfinite(distance)], 105.0 / 2 + 8.0)

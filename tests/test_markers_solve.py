@@ -299,3 +299,19 @@ def test_forward_kinematics_of_the_result_is_the_chain():
     assert np.nanmax(errors) < 1e-9 * truth.size
     positions, _ = forward_kinematics(result.motion)
     assert positions.shape == (10, truth.n_joints, 3)
+
+
+def test_refinement_keeps_the_exact_case():
+    # the joints' own positions as markers: the closed form is exact, and the refinement
+    # (towards the same markers) leaves it so, on the ASF and on the BVH skeleton
+    from gmr_studio.core.markers.refine import refine_joints
+
+    for truth in (
+        cmu_motion(CMU02 + "02_01.amc").frame_slice(slice(0, 40)),
+        cmu_motion(CMU01 + "01_01.bvh").frame_slice(slice(0, 40)),
+    ):
+        result = markers_to_motion(joint_markers(truth), truth, "joints", reference=truth)
+        refined = refine_joints(result.motion, result.refine_targets(), weights=result.weights)
+        error = np.abs(world_positions(refined.motion) - world_positions(truth)).max()
+        assert error <= 1e-9 * truth.size
+        assert np.nanmax(refined.residuals) <= 1e-9 * truth.size

@@ -32,6 +32,7 @@ FILES = (
     "trc/opensim-core_dataWithBlanksForMissingMarkers.trc",
     "c3d/ezc3d_Qualisys.c3d",
     "c3d/c3dio_c3dorg-sample11_evart.c3d",
+    "trc/opensim_gait2392_subject01_walk1.trc",
     "cmu/subject01/01_01.c3d",
 )
 

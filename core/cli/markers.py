@@ -53,6 +53,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="after the closed form, least squares over the joint angles of every frame (residuals printed)",
     )
     parser.add_argument(
+        "--weights",
+        type=marker_weights,
+        metavar="LABEL=W,...",
+        help="the refinement's weight of markers (built skeleton; default 1; 0 leaves one out)",
+    )
+    parser.add_argument(
         "--hip", choices=("harrington", "davis"), default="harrington", help="hip centre regression (built skeleton)"
     )
     parser.add_argument(
@@ -108,6 +114,21 @@ def frame_slice(text: str) -> slice:
         return slice(int(start) if start.strip() else None, int(stop) if stop.strip() else None)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected frames as A:B, not {text!r}") from None
+
+
+def marker_weights(text: str) -> dict[str, float]:
+    """``"LKNE=2,RKNE=2,SACR=0"`` -> {label: weight >= 0}."""
+    out: dict[str, float] = {}
+    for part in filter(None, (p.strip() for p in text.split(","))):
+        label, sep, value = part.partition("=")
+        try:
+            weight = float(value)
+        except ValueError:
+            weight = -1.0
+        if not sep or not label.strip() or not weight >= 0:
+            raise argparse.ArgumentTypeError(f"expected LABEL=WEIGHT (a number >= 0), not {part!r}")
+        out[label.strip()] = weight
+    return out
 
 
 def truth_offset(text: str) -> int | str:

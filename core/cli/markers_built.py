@@ -36,7 +36,10 @@ def run_built(args: argparse.Namespace, markers: MarkerSet) -> int:
         markers = markers.frame_slice(args.frames)
     if args.fill_gaps:
         markers = markers.filled(args.fill_gaps)
-    built = markers_to_built_motion(markers, hip=args.hip, refine=args.refine)
+    unknown = sorted(set(args.weights or {}) - set(markers.labels))
+    if unknown:
+        raise OperationError(f"--weights names markers the file does not have: {', '.join(unknown)}")
+    built = markers_to_built_motion(markers, hip=args.hip, refine=args.refine, weights=args.weights)
     result, skeleton = built.result, built.built
     output = Path(args.output)
     motion = result.motion

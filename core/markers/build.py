@@ -3,7 +3,9 @@
 :func:`build_skeleton` recognises the marker set (:mod:`core.markers.sets`), places the joint
 centres of every frame by the published methods (:mod:`core.markers.joint_centres`: hips by
 Harrington et al. 2007 or Davis et al. 1991, knees and ankles by the medial/lateral midpoint
-or Plug-in Gait's chord with the subject's widths, shoulders by Rab et al. 2002, elbows and
+or Plug-in Gait's chord with the subject's widths, or functionally (SCoRE, Ehrig et al.
+2006) between segment clusters for sets without knee and ankle markers, shoulders by Rab et
+al. 2002, elbows and
 wrists by their epicondyles, styloids or wrist bar), fits one constant length per bone (the
 median over the frames, with its spread reported), and lays the bones out in a rest pose
 (standing, facing the pelvis's anterior axis, up the file's vertical axis).
@@ -58,8 +60,48 @@ SYNONYMS = {
 }
 
 #: markers rigid with the thigh and with the shank (wands, clusters, bony landmarks)
-THIGH = ("THI", "TH1", "TH2", "TH3", "THAP", "THAD", "WAND1", "FTC")
-SHANK = ("TIB", "TB1", "TB2", "TB3", "TIAP", "TIAD", "WAND2", "TTC", "FAX")
+THIGH = ("THI", "TH1", "TH2", "TH3", "THAP", "THAD", "WAND1", "FTC", "THU", "THF", "THR")
+SHANK = ("TIB", "TB1", "TB2", "TB3", "TIAP", "TIAD", "WAND2", "TTC", "FAX", "SHU", "SHF", "SHR")
+FOOT = ("HEE", "CAL", "FCC", "MIDS", "MIDL", "TOE", "TOEL", "TOEM", "MT1", "MT2", "MT5", "FM1", "FM5")
+
+
+def functional_centre(proximal: np.ndarray, distal: np.ndarray) -> np.ndarray:
+    """The centre of rotation (F, 3) between two marker clusters (F, K, 3) and (F, L, 3), each
+    rigid with its segment: SCoRE (Ehrig R.M., Taylor W.R., Duda G.N., Heller M.O. 2006, "A
+    survey of formal methods for determining the centre of rotation of ball joints",
+    J. Biomech. 39:2798-2809). With each cluster's rigid motion ``R_i, t_i`` (fitted to its
+    centred pose in its first complete frame), the point fixed in both, ``R_1 c_1 + t_1 =
+    R_2 c_2 + t_2``, is solved by least squares over all frames; for a hinge (the knee) the point
+    along the axis is the least-norm one (nearest the clusters' centroids). Returns the mid-point
+    of the two placements per frame (NaN where either cluster cannot be fitted)."""
+    fits = []
+    for cluster in (proximal, distal):
+        complete = np.flatnonzero(np.isfinite(cluster).all(axis=(1, 2)))
+        if complete.size == 0:
+            return np.full((len(cluster), 3), np.nan)
+        template = cluster[complete[0]] - cluster[complete[0]].mean(axis=0)
+        fits.append(fit_rigid(template, cluster))
+    (r1, t1, _, ok1), (r2, t2, _, ok2) = fits
+    ok = ok1 & ok2
+    system = np.concatenate([r1[ok], -r2[ok]], axis=2).reshape(-1, 6)
+    local = np.linalg.lstsq(system, (t2[ok] - t1[ok]).reshape(-1), rcond=1e-6)[0]
+    centre = 0.5 * (np.einsum("fab,b->fa", r1, local[:3]) + t1 + np.einsum("fab,b->fa", r2, local[3:]) + t2)
+    centre[~ok] = np.nan
+    return centre
+
+
+def _functional_leg(roles, side: str, hjc: np.ndarray, methods: dict):
+    """Knee and ankle centres by SCoRE from thigh, shank and foot clusters (sets without knee
+    and ankle markers, such as OpenSim's gait2392), and the markers giving the twists; None
+    when a segment has fewer than three markers."""
+    thigh, shank, foot = (roles.all(group, side) for group in (THIGH, SHANK, FOOT))
+    if min(len(thigh), len(shank), len(foot)) < 3:
+        return None
+    kjc = functional_centre(np.stack(thigh, 1), np.stack(shank, 1))
+    ajc = functional_centre(np.stack(shank, 1), np.stack(foot, 1))
+    how = "functional centre (SCoRE, Ehrig et al. 2006) of the {} and {} clusters"
+    methods[side + "KJC"], methods[side + "AJC"] = how.format("thigh", "shank"), how.format("shank", "foot")
+    return kjc, ajc, most_seen(thigh), most_seen(shank)
 
 
 def most_seen(trajectories: list[np.ndarray]) -> np.ndarray:
@@ -192,10 +234,20 @@ def joint_centre_trajectories(
         kne, knm, thi = roles.get("KNE", side), roles.get("KNM", side), roles.get("THI", side)
         ank, med, tib = roles.get("ANK", side), roles.get("MED", side), roles.get("TIB", side)
         if kne is None or ank is None:
-            raise OperationError(
-                f"set {match.definition.name} has no lateral knee and ankle markers: the knee and ankle centres "
-                "need them (or a static calibration, as OpenSim's Scale tool does)"
-            )
+            functional = _functional_leg(roles, side, hjc, methods)
+            if functional is None:
+                raise OperationError(
+                    f"set {match.definition.name} has no lateral knee and ankle markers: the knee and ankle centres "
+                    "need them, or three markers on each of thigh, shank and foot for functional centres"
+                )
+            centres[side + "KJC"], centres[side + "AJC"] = functional[:2]
+            twists[side + "KJC"], twists[side + "AJC"] = functional[2:]
+            toe = roles.get("TOE", side)
+            if toe is not None:
+                centres[side + "TOE"], methods[side + "TOE"] = toe, "the toe marker"
+                if (heel := roles.get("HEE", side)) is not None:
+                    twists[side + "TOE"] = heel
+            continue
         hinge = (match.definition.name, side, params, notes, radius, methods)
         kjc = _hinge(hinge, "KJC", hjc, kne, knm, thi, "KneeWidth", ("knee", "hip", "thigh wand"))
         kjc = fill_from_cluster(kjc, [hjc, kne, *roles.all(THIGH, side)])

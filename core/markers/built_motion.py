@@ -41,25 +41,18 @@ RIGID_WITH_PARENT = ("pelvis_front", "LHJC", "RHJC")
 #: the bone (by the joint it ends at) each role rides on
 SEGMENT_ROLES = {
     "pelvis": ("ASI", "PSI", "SACR"),
-    "KJC": ("THI", "KNE", "KNM", "TH1", "TH2", "TH3", "THAP", "THAD", "WAND1", "FTC", "LFC", "MFC", "FLE", "FME"),
-    "AJC": (
-        "TIB",
-        "ANK",
-        "MED",
-        "TB1",
-        "TB2",
-        "TB3",
-        "TIAP",
-        "TIAD",
-        "WAND2",
-        "TTC",
-        "FAX",
-        "LMAL",
-        "MMAL",
-        "FAL",
-        "TAM",
+    "KJC": (
+        *("THI", "KNE", "KNM", "TH1", "TH2", "TH3", "THAP", "THAD", "WAND1", "FTC", "LFC", "MFC", "FLE", "FME"),
+        *("THU", "THF", "THR"),
     ),
-    "TOE": ("HEE", "TOE", "MT1", "MT2", "MT5", "CAL", "FCC", "FM1", "FM5", "VMH", "FMH"),
+    "AJC": (
+        *("TIB", "ANK", "MED", "TB1", "TB2", "TB3", "TIAP", "TIAD", "WAND2", "TTC", "FAX", "LMAL", "MMAL", "FAL"),
+        *("TAM", "SHU", "SHF", "SHR"),
+    ),
+    "TOE": (
+        *("HEE", "TOE", "MT1", "MT2", "MT5", "CAL", "FCC", "FM1", "FM5", "VMH", "FMH", "MIDS", "MIDL", "TOEL"),
+        "TOEM",
+    ),
     "thorax": ("C7", "T10", "CLAV", "STRN", "RBAK", "T8", "SJN", "SXS"),
     "head": ("FHD", "BHD"),
     "SJC": ("SHO",),
@@ -88,11 +81,16 @@ _SIDED_BASES = {r for roles in SEGMENT_ROLES.values() for r in roles} - _CENTRE_
 
 
 def markers_to_built_motion(
-    markers: MarkerSet, hip: str = "harrington", refine: bool = False, iterations: int = 5
+    markers: MarkerSet,
+    hip: str = "harrington",
+    refine: bool = False,
+    iterations: int = 5,
+    weights: dict[str, float] | None = None,
 ) -> BuiltMotion:
     """Build the skeleton (:func:`build_skeleton`), run the paper's closed form on it with the
     twists from the segments' third markers, and with ``refine`` the global refinement
-    (:func:`core.markers.refine.refine_motion`) over every marker of the set, each riding on
+    (:func:`core.markers.refine.refine_motion`) over every marker of the set (``weights``: label
+    -> weight, 1 for the others; a weight 0 leaves a marker out), each riding on
     the bone it moves with most rigidly. Millimetres, the file's axes."""
     from gmr_studio.core.markers.refine import attach_markers, refine_motion
     from gmr_studio.core.markers.solve import solve_positions
@@ -115,6 +113,7 @@ def markers_to_built_motion(
     if refine:
         offsets = attach_markers(result.motion, targets, bones)
         rigid = tuple(built.skeleton.joint_index(n) for n in RIGID_WITH_PARENT if n in built.skeleton.names)
-        refinement = refine_motion(result.motion, targets, bones, offsets, iterations=iterations, fixed=rigid)
+        weight = np.array([(weights or {}).get(label, 1.0) for label in used])
+        refinement = refine_motion(result.motion, targets, bones, offsets, weight, iterations, fixed=rigid)
         result = dataclasses.replace(result, motion=refinement.motion)
     return BuiltMotion(result, built, refinement, tuple(used), bones)

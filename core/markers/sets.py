@@ -57,6 +57,10 @@ class MarkerSetDefinition:
     def labels_of(self, role: str) -> tuple[str, ...]:
         return self.roles.get(role, ())
 
+    def sided_roles(self) -> set[str]:
+        """The roles that come in a left and a right version, without the side letter."""
+        return {r[1:] for r in self.roles if r[:1] == "L" and "R" + r[1:] in self.roles}
+
 
 @dataclasses.dataclass(frozen=True)
 class SetMatch:
@@ -78,16 +82,12 @@ class SetMatch:
         """One line: ``plug-in-gait-full (Plug-in Gait full body (Vicon)), with KNM, MED; missing RFIN``."""
         text = f"{self.definition.name} ({self.definition.title})"
         if self.optional:
-            roles = dict.fromkeys(r[1:] if r[:1] in SIDES and r[1:] in _SIDED_NAMES(self) else r for r in self.optional)
+            sided = self.definition.sided_roles()
+            roles = dict.fromkeys(r[1:] if r[:1] in SIDES and r[1:] in sided else r for r in self.optional)
             text += f", with {', '.join(roles)}"
         if self.missing:
             text += f"; missing {', '.join(self.missing)}"
         return text
-
-
-def _SIDED_NAMES(match: SetMatch) -> set[str]:  # noqa: N802
-    roles = match.definition.roles
-    return {r[1:] for r in roles if r[:1] == "L" and "R" + r[1:] in roles}
 
 
 def _sided(label: str, sides: tuple[str, str], path: Path) -> tuple[str, str]:
