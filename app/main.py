@@ -315,16 +315,33 @@ def _report_first_frame(app, window, loaded: bool) -> None:
 
 
 def _load_or_report(motion_path: str, markers_path: str | None):
-    from gmr_studio.app.model.loading import load_markers, load_snapshot
-    from gmr_studio.core.errors import MotionFileError
+    """(snapshot, markers) read from the files, or for a marker file alone (the skeleton built
+    from its markers) (MarkerDocument, None); None after printing why a file cannot be read."""
+    from pathlib import Path
+
+    from gmr_studio.app.model.loading import load_markers, load_snapshot, marker_suffixes
+    from gmr_studio.app.model.marker_document import load_marker_document
+    from gmr_studio.core.errors import MotionFileError, OperationError
 
     try:
+        if Path(motion_path).suffix.lower() in marker_suffixes():
+            return load_marker_document(motion_path), None
         snapshot = load_snapshot(motion_path)
         markers = load_markers(markers_path) if markers_path else None
-    except MotionFileError as exc:
+    except (MotionFileError, OperationError) as exc:
         print(exc, file=sys.stderr)
         return None
     return snapshot, markers
+
+
+def _open_loaded(state, loaded, path: str, layers=None) -> None:
+    """Make what :func:`_load_or_report` read the state's document."""
+    from gmr_studio.app.model.marker_document import MarkerDocument, show_marker_document
+
+    if isinstance(loaded, MarkerDocument):
+        state.show_message(show_marker_document(state, loaded, path, layers))
+    else:
+        state.open_document(loaded, path)
 
 
 def _add_comparison(window, args: argparse.Namespace) -> str | None:
@@ -380,7 +397,7 @@ def offscreen_screenshot(motion_path: str, markers_path: str | None, args: argpa
     snapshot, markers = loaded
     _app = QCoreApplication.instance() or QCoreApplication(sys.argv[:1])
     state = StudioState()
-    state.open_document(snapshot, motion_path)
+    _open_loaded(state, snapshot, motion_path)
     if markers is not None:
         state.set_markers(markers)
         extensions.recover_pelvis_frames(state, quiet=True)
@@ -451,7 +468,7 @@ def window_screenshot(motion_path: str, markers_path: str | None, args: argparse
     # throwaway settings: a screenshot neither reads nor changes the user's
     window = MainWindow(settings=QSettings(f"{scratch.name}/settings.ini", QSettings.Format.IniFormat))
     frame, out, whole_window = args.frame, args.screenshot, args.window
-    window.state.open_document(snapshot, motion_path)
+    _open_loaded(window.state, snapshot, motion_path, window.layers)
     if markers is not None:
         window.state.set_markers(markers)
         extensions.recover_pelvis_frames(window.state, quiet=True)

@@ -75,6 +75,18 @@ class LayersDock(QWidget):
         layers.state.document_changed.connect(self.refresh)
         self.refresh()
 
+    def _fit_rows(self, rows: int) -> None:
+        """The table at least as tall as ``rows`` rows (the document and a layer are seen
+        together), the alignment box below taking the rest."""
+        table = self.table
+        height = (
+            table.horizontalHeader().sizeHint().height()
+            + rows * table.verticalHeader().defaultSectionSize()
+            + table.horizontalScrollBar().sizeHint().height()
+            + 2 * table.frameWidth()
+        )
+        table.setMinimumHeight(max(60, height))
+
     def refresh(self) -> None:
         document = self.layers.state.snapshot
         self.table.blockSignals(True)
@@ -115,10 +127,16 @@ class LayersDock(QWidget):
             remove.clicked.connect(lambda _=False, k=index: self.layers.remove(k))
             self.table.setCellWidget(i, 5, remove)
         self.table.resizeColumnsToContents()
+        self._fit_rows(min(self.table.rowCount(), 3))
         self.choose(self.chosen if self.chosen in self.layers.layers else (self.layers.layers or [None])[-1])
         active = self.layers.active
         if active is None:
-            self.summary.setText("No comparison: File > Compare with... (or drop a file with Shift).")
+            drawn = any(isinstance(layer, MarkerLayer) for layer in self.layers.layers)
+            self.summary.setText(
+                "Marker-set layers are drawn over the document, not compared joint by joint."
+                if drawn
+                else "No comparison: File > Compare with... (or drop a file with Shift)."
+            )
             return
         c = active.comparison
         p = c.position

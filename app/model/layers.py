@@ -19,8 +19,9 @@ from pathlib import Path
 import numpy as np
 from PyQt6.QtCore import QObject, pyqtSignal
 
+from gmr_studio.app.model.alignment import MarkerAlignment
 from gmr_studio.app.model.marker_layers import MARKER_LAYER_OPACITY, MarkerLayer, realign_marker_layer
-from gmr_studio.app.model.state import Snapshot, StudioState
+from gmr_studio.app.model.state import Snapshot, StudioState, marker_overlay_on
 from gmr_studio.core.compare import ALIGN_KINDS, Comparison, compare_motions
 from gmr_studio.core.compare.clock import DEFAULT_OFFSET, ghost_positions
 from gmr_studio.core.jointmap import available_joint_maps, match_joints
@@ -184,14 +185,25 @@ class Layers(QObject):
         self.changed.emit()
         return layer
 
-    def add_markers(self, markers: MarkerSet, path: str | Path) -> MarkerLayer:
-        """Show ``markers`` as a new layer, aligned to the document automatically, as the
-        marker overlay is. Raises ValueError without a document."""
+    def add_markers(
+        self,
+        markers: MarkerSet,
+        path: str | Path,
+        *,
+        alignment: MarkerAlignment | None = None,
+        document_bound: bool = False,
+    ) -> MarkerLayer:
+        """Show ``markers`` as a new layer, aligned to the document by ``alignment`` or
+        automatically, as the marker overlay is; ``document_bound``: it goes when another
+        document opens. Raises ValueError without a document."""
         document = self.state.snapshot
         if document is None:
             raise ValueError("open a motion before comparing markers with it")
-        layer = MarkerLayer(markers, Path(path).name, self._next_colour(), opacity=MARKER_LAYER_OPACITY)
-        realign_marker_layer(layer, document, keep=False)
+        colour = self._next_colour()
+        layer = MarkerLayer(
+            markers, Path(path).name, colour, opacity=MARKER_LAYER_OPACITY, document_bound=document_bound
+        )
+        layer.overlay = marker_overlay_on(markers, document, alignment)  # None: the automatic one
         self.layers.append(layer)
         self.changed.emit()
         return layer
@@ -243,7 +255,12 @@ class Layers(QObject):
         self.appearance_changed.emit(index)
 
     def _on_document_changed(self) -> None:
-        """Another document: each layer's offset (or marker alignment) is found again for it."""
+        """Another document: each layer's offset (or marker alignment) is found again for it;
+        the layers that came with the previous document go."""
+        kept = [layer for layer in self.layers if not getattr(layer, "document_bound", False)]
+        dropped, self.layers = len(kept) < len(self.layers), kept
+        if dropped and not kept:
+            self.changed.emit()
         for layer in self.layers:
             if isinstance(layer, ComparisonLayer):
                 layer.offset, layer.auto_offset = "auto", True

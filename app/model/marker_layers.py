@@ -28,6 +28,8 @@ class MarkerLayer:
     overlay : the markers on the document's frames and in its space (its ``positions`` are
     (F_A, M, 3), NaN for gaps and outside the recording) with the alignment used.
     comparison : always None (a marker set is drawn, not compared joint by joint).
+    document_bound : the layer came with the document (the lab model's points of the marker
+        file it was built from) and goes when another document opens.
     """
 
     markers: MarkerSet
@@ -37,6 +39,7 @@ class MarkerLayer:
     opacity: float = MARKER_LAYER_OPACITY
     overlay: MarkerOverlay | None = None
     comparison: None = None
+    document_bound: bool = False
 
     @property
     def positions(self) -> np.ndarray:
@@ -71,5 +74,22 @@ class MarkerLayer:
 def realign_marker_layer(layer: MarkerLayer, document: Snapshot, *, keep: bool) -> None:
     """Put ``layer`` on ``document``'s frames and in its space: with the alignment it has
     (``keep``, after an edit of the same document) or a new automatic one."""
-    alignment = layer.overlay.alignment if keep and layer.overlay is not None else None
+    keep = keep and layer.overlay is not None and same_space(layer.overlay.positions, document)
+    alignment = layer.overlay.alignment if keep else None
     layer.overlay = marker_overlay_on(layer.markers, document, alignment)
+
+
+def same_space(aligned: np.ndarray, document: Snapshot) -> bool:
+    """Markers aligned for an earlier version of the document (``aligned`` (F, M, 3)) still
+    fit it: their extent in a frame (median over the frames) is within a factor five of the
+    document's size. An edit that moves
+    the document into another space (Markers > Build skeleton: inches and Y up to millimetres
+    and Z up; its undo) needs a new alignment."""
+    finite = np.isfinite(aligned).all(axis=-1)  # (F, M)
+    rows = finite.sum(axis=1) >= 2
+    if not rows.any():
+        return True
+    seen, points = finite[rows][..., None], aligned[rows]
+    spans = np.where(seen, points, -np.inf).max(axis=1) - np.where(seen, points, np.inf).min(axis=1)
+    extent = float(np.median(spans.max(axis=1)))  # the markers' extent in a frame, as Motion.size
+    return 0.2 < extent / document.motion.size < 5.0

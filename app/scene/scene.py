@@ -67,6 +67,14 @@ def up_axis_of(snapshot: Snapshot) -> int:
     return figure_up_axis(snapshot.motion, snapshot.positions)
 
 
+def another_space(before: Snapshot, after: Snapshot) -> bool:
+    """An edit moved the document into another space (Markers > Build skeleton replaces a
+    motion in inches, Y up, by one in millimetres, Z up, and undo takes it back): its size
+    changed more than fivefold, so the ground, up axis and camera are made afresh."""
+    ratio = after.motion.size / before.motion.size
+    return not 0.2 < ratio < 5.0
+
+
 def actor_positions(snapshot: Snapshot) -> np.ndarray:
     """(F, A, 3) world positions of the joints that make the figure: all but the
     :attr:`~core.motion.Motion.anchors` (a root pinned at the origin far from the actor)."""
@@ -171,6 +179,8 @@ class SkeletonScene:
     def set_snapshot(self, snapshot: Snapshot | None, *, reset_camera: bool) -> None:
         """Build every drawable for ``snapshot``; a new document also gets a new ground grid,
         up axis and camera, an edit keeps them."""
+        if not reset_camera and snapshot is not None and self.snapshot is not None:
+            reset_camera = another_space(self.snapshot, snapshot)
         self.snapshot = snapshot
         self.new_document = reset_camera or not self.ground.parts
         if snapshot is None:

@@ -22,12 +22,32 @@ Key = QKeySequence.StandardKey
 
 #: name -> (text, shortcut(s), status tip, checkable, standard icon or None)
 ACTIONS: dict[str, tuple[str, object, str, bool, str | None]] = {
-    "open": ("&Open...", Key.Open, "Open a BVH, ASF/AMC or GMR motion", False, "SP_DialogOpenButton"),
+    "open": (
+        "&Open...",
+        Key.Open,
+        "Open a BVH, ASF/AMC or GMR motion, or a C3D/TRC marker file (its skeleton built from the markers)",
+        False,
+        "SP_DialogOpenButton",
+    ),
     "body_model": ("&Body model...", "", "The SMPL/SMPL-H/SMPL-X model AMASS .npz motions are read with", False, None),
     "add_markers": ("Add &markers...", "Ctrl+M", "Show a C3D or TRC marker file over the motion", False, None),
     "align_markers": ("Marker &alignment...", "", "Units, axes, offset and scale of the markers", False, None),
     "remove_markers": ("Remove markers", "", "Hide and forget the markers", False, None),
     "recover_pelvis": ("Recover &pelvis frames", "", "Procrustes pelvis orientation from the markers", False, None),
+    "build_skeleton": (
+        "&Build skeleton",
+        "",
+        "Replace the motion by the skeleton built from the markers shown (recognised marker set; undoable)",
+        False,
+        None,
+    ),
+    "refine_markers": (
+        "Re&fine the fit",
+        "",
+        "Skeletons built from markers: least squares over the joint angles after the closed form (slower)",
+        True,
+        None,
+    ),
     "save": ("&Save", Key.Save, "Save the motion as GMR", False, "SP_DialogSaveButton"),
     "save_as": ("Save &as GMR...", Key.SaveAs, "Save the motion as another GMR file", False, None),
     "export_bvh": ("&Export BVH...", "Ctrl+E", "Write the motion as BVH (one tree)", False, None),
@@ -173,9 +193,6 @@ def fill_menus(window: QMainWindow, actions: dict[str, QAction], recent_menu: QM
     for name in ("save", "save_as", "export_bvh", "export_gltf"):
         file_menu.addAction(actions[name])
     file_menu.addSeparator()
-    for name in ("add_markers", "align_markers", "recover_pelvis", "remove_markers"):
-        file_menu.addAction(actions[name])
-    file_menu.addSeparator()
     for name in ("screenshot", "export_video"):
         file_menu.addAction(actions[name])
     file_menu.addSeparator()
@@ -190,6 +207,12 @@ def fill_menus(window: QMainWindow, actions: dict[str, QAction], recent_menu: QM
     edit_menu.addSeparator()
     for name in CLIP_EDITS:
         edit_menu.addAction(actions[name])
+    markers_menu = bar.addMenu("&Markers")
+    for name in ("add_markers", "align_markers", "recover_pelvis", "remove_markers"):
+        markers_menu.addAction(actions[name])
+    markers_menu.addSeparator()
+    for name in ("build_skeleton", "refine_markers"):
+        markers_menu.addAction(actions[name])
     view_menu = bar.addMenu("&View")
     view_menu.addAction(actions["reset_camera"])
     view_menu.addSeparator()
@@ -267,6 +290,7 @@ def update_enabled(actions: dict[str, QAction], state: StudioState, remove_dummi
     for name in ("align_markers", "remove_markers"):
         actions[name].setEnabled(has_markers)
     actions["recover_pelvis"].setEnabled(has_markers)
+    actions["build_skeleton"].setEnabled(has_markers)
     # the marker and pelvis switches look off (and are) while there is nothing to show;
     # the user's choice is kept in the state and shows again when markers are loaded
     for name, available in (

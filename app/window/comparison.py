@@ -48,8 +48,8 @@ def install_comparison(window, state, scene, files, beside) -> tuple[Layers, Gho
     count = [0]
 
     def on_layers_changed() -> None:  # a layer added: show the docks, the plot in front
-        if len(layers) > count[0]:
-            for dock in docks:
+        if len(layers) > count[0]:  # a marker-set layer has no error to plot: Layers only
+            for dock in docks if layers[len(layers) - 1].comparison is not None else docks[:1]:
                 dock.show()
                 dock.raise_()
         count[0] = len(layers)

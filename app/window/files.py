@@ -17,7 +17,7 @@ from PyQt6.QtWidgets import QApplication, QFileDialog, QMessageBox, QProgressDia
 
 from gmr_studio.app.media import video
 from gmr_studio.app.media.video import export_video, save_screenshot
-from gmr_studio.app.model import extensions, loading
+from gmr_studio.app.model import extensions, loading, marker_document
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.app.reliability.crash import describe_unexpected, log_exception
 from gmr_studio.core.compare.clock import DEFAULT_OFFSET
@@ -34,6 +34,8 @@ def error_text(exc: BaseException) -> tuple[str, str]:
         where = f"line {exc.line}" + (f", column {exc.column}" if exc.column is not None else "") if exc.line else ""
         head = f"{Path(exc.path).name}" + (f" ({where})" if where else "")
         return f"Cannot read {head}:\n{exc.message}", str(exc)
+    if isinstance(exc, OperationError):  # an edit the core refuses, e.g. a skeleton the markers cannot make
+        return str(exc), str(exc)
     return f"{type(exc).__name__}: {exc}", str(exc)
 
 
@@ -53,6 +55,7 @@ class FileController(QObject):
         self.pending_markers: str | None = None
         self.quiet = False  # tests: errors go to the status bar only, no modal dialog
         self.layers = None  # the window's comparison layers (app.layers.Layers)
+        self.marker_document = None  # the last skeleton built from markers (app.model.marker_document)
 
     # ------------------------------------------------------------------- settings
     def recent_files(self) -> list[str]:
@@ -83,7 +86,7 @@ class FileController(QObject):
             self.window,
             "Open motion",
             self._folder(),
-            loading.file_filter(loading.motion_suffixes(), "Motion files"),
+            loading.file_filter(loading.motion_suffixes() + loading.marker_suffixes(), "Motion and marker files"),
         )
         if path:
             self.open_path(path, ask=False)
@@ -91,15 +94,52 @@ class FileController(QObject):
     def open_path(
         self, path: str | Path, *, markers: str | Path | None = None, ask: bool = True, wait: bool = False
     ) -> None:
-        """Open a motion file (in a worker thread; ``wait`` blocks until it is shown).
+        """Open a motion file (in a worker thread; ``wait`` blocks until it is shown); a
+        marker file (C3D, TRC) opens as the skeleton built from its markers.
 
         ``markers``: a marker file to add once the motion is shown."""
         if ask and not self.maybe_save():
             return
         self.pending_markers = str(markers) if markers else None
+        if Path(path).suffix.lower() in loading.marker_suffixes():
+            reader = functools.partial(marker_document.load_marker_document, refine=self.refine_markers())
+            label = f"Reading {Path(path).name} and building the skeleton from its markers..."
+            self._run(reader, path, self._on_marker_document_loaded, label, wait)
+            return
         options = {"body_model": self.body_model(ask=True)} if Path(path).suffix.lower() == ".npz" else {}
         reader = functools.partial(loading.load_snapshot, **options)
         self._run(reader, path, self._on_motion_loaded, f"Reading {Path(path).name}...", wait)
+
+    def refine_markers(self) -> bool:
+        """Skeletons built from markers get the least-squares refinement (a setting)."""
+        return str(self.settings.value("markers/refine", "false")).lower() == "true"
+
+    def set_refine_markers(self, refine: bool) -> None:
+        self.settings.setValue("markers/refine", bool(refine))
+
+    def _on_marker_document_loaded(self, document: marker_document.MarkerDocument, path: str, wait: bool) -> None:
+        self.pending_markers = None
+        self.marker_document = document
+        self.state.show_message(marker_document.show_marker_document(self.state, document, path, self.layers))
+        self._remember(path)
+        self.load_finished.emit(True)
+
+    def build_skeleton(self, *, wait: bool = False) -> None:
+        """Markers > Build skeleton: the skeleton built from the markers shown (in a worker
+        thread) replaces the document, as one undoable edit."""
+        overlay = self.state.marker_overlay
+        if overlay is None:
+            self.state.show_message("Build skeleton: add markers first (Markers > Add markers)")
+            return
+        build = functools.partial(marker_document.build_from_markers, overlay.markers, refine=self.refine_markers())
+        label = f"Building the skeleton from {overlay.markers.n_markers} markers..."
+        self._run(lambda _path: build(), overlay.markers.source or "markers", self._on_skeleton_built, label, wait)
+
+    def _on_skeleton_built(self, document: marker_document.MarkerDocument, _path: str, _wait: bool) -> None:
+        self.marker_document = document
+        if marker_document.push_build_skeleton(self.state, document):
+            marker_document.add_model_layer(document, document.markers.source or "markers", self.layers)
+        self.load_finished.emit(True)
 
     def body_model(self, *, ask: bool) -> str | None:
         """The body model file AMASS/SMPL motions are read with (a setting); when unset and
@@ -181,7 +221,7 @@ class FileController(QObject):
     def _on_failed(self, exc: BaseException) -> None:
         self.pending_markers = None
         short, details = error_text(exc)
-        if not isinstance(exc, MotionFileError):  # a bug or a resource problem, not a bad file
+        if not isinstance(exc, (MotionFileError, OperationError)):  # a bug or a resource problem, not a bad file
             log = log_exception("Reading a file", exc)
             details += f"\n(logged in {log})" if log else ""
         self.state.show_message(details)

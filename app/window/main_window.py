@@ -17,7 +17,7 @@ from gmr_studio.app.docks.curves_dock import CurvesDock
 from gmr_studio.app.docks.forest import ForestTree
 from gmr_studio.app.docks.inspector import Inspector
 from gmr_studio.app.docks.timeline import Timeline
-from gmr_studio.app.model import commands, extensions
+from gmr_studio.app.model import commands, extensions, marker_document
 from gmr_studio.app.model.playback import SPEEDS, Player
 from gmr_studio.app.model.problems import Problems
 from gmr_studio.app.model.state import StudioState
@@ -116,6 +116,9 @@ class MainWindow(QMainWindow):
             self, self.state, self.view.scene, self.files, beside=self.forest_dock
         )
         self.onion = OnionMenu(self, self.view.scene, self.layers, self.view_menu)
+        self.inspector.sections.append(  # a joint of a skeleton built from markers: how it was placed
+            lambda frame, joint: marker_document.joint_section(self.files.marker_document, self.state, frame, joint)
+        )
         self.problems_dock = install_problems(self, self.problems, self.view.scene)
         self.analysis_docks = [self.curves_dock, self.contacts_dock, self.error_dock, self.problems_dock]
         layout.tab_when_shown(self, self.analysis_docks)
@@ -189,6 +192,8 @@ class MainWindow(QMainWindow):
             "align_markers": self._align_markers,
             "remove_markers": lambda: state.set_markers(None),
             "recover_pelvis": self._recover_pelvis,
+            "build_skeleton": files.build_skeleton,
+            "refine_markers": files.set_refine_markers,
             "save": files.save,
             "save_as": files.save_as,
             "export_bvh": files.export_bvh_dialog,
@@ -246,6 +251,7 @@ class MainWindow(QMainWindow):
             self.actions[f"overlay_{name}"].setChecked(shown)
         state.overlay_changed.connect(self._on_overlay_changed)
         self.actions["loop"].setChecked(self.player.loop)
+        self.actions["refine_markers"].setChecked(self.files.refine_markers())
         self._on_recent_changed(self.files.recent_files())
         self._on_enabled_changed()
 
@@ -312,9 +318,16 @@ class MainWindow(QMainWindow):
             self.files.compare_path((motions or markers)[0])  # Shift: add as a comparison layer
         elif motions:
             self.files.open_path(motions[0], markers=markers[0] if markers else None)
-        elif markers and self.state.motion is not None:
+        elif markers and self.state.motion is not None and not self._built_from_markers():
             self.files.add_markers_path(markers[0])
+        elif markers:  # alone: the skeleton built from the markers becomes the document
+            self.files.open_path(markers[0])
         event.acceptProposedAction()
+
+    def _built_from_markers(self) -> bool:
+        """The document was opened from a marker file (its skeleton built from the markers)."""
+        path = self.state.path
+        return path is not None and path.suffix.lower() in extensions.marker_suffixes()
 
     def _restore_settings(self) -> None:
         geometry = self.settings.value("window/geometry")
