@@ -11,13 +11,12 @@ from __future__ import annotations
 
 import numpy as np
 from PyQt6.QtCore import Qt
-from PyQt6.QtGui import QAction, QBrush, QColor
+from PyQt6.QtGui import QBrush, QColor
 from PyQt6.QtWidgets import (
     QApplication,
     QDialog,
     QDialogButtonBox,
     QLabel,
-    QMainWindow,
     QTableWidget,
     QTableWidgetItem,
     QVBoxLayout,
@@ -144,24 +143,3 @@ class AuditDialog(QDialog):
             if path.worst_frame >= 0:
                 self.state.set_frame(path.worst_frame)
             self.state.select(motion.joint_index(path.worst_joint))
-
-
-def install(window: QMainWindow, state: StudioState) -> QAction:
-    """Add Tools > Audit round trips... to the window's menu bar (before Help)."""
-    bar = window.menuBar()
-    help_action = next((a for a in bar.actions() if a.text().replace("&", "") == "Help"), None)
-    tools = bar.addMenu("&Tools")
-    if help_action is not None:
-        bar.insertMenu(help_action, tools)
-    action = tools.addAction("&Audit round trips...")
-    action.setStatusTip("run the document through every conversion and edit and check that no joint moves")
-
-    def show() -> None:
-        dialog = AuditDialog(state, window, scene=window.view.scene)
-        dialog.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
-        window.audit_dialog = dialog
-        dialog.show()
-        dialog.run_audit()
-
-    action.triggered.connect(show)
-    return action
