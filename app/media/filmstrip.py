@@ -70,7 +70,7 @@ def side_by_side(positions: np.ndarray, up: int, gap: float = 0.25, figure: np.n
     along = positions[:, figure] @ axis  # (K, A)
     width = float((along.max(axis=1) - along.min(axis=1)).max())
     # a figure thin along the travel (a vertical chain of two bones) still gets room for its label
-    width = max(width, 0.3 * float(np.ptp(positions[:, figure].reshape(-1, 3), axis=0).max()))
+    width = max(width, 0.3 * float(np.ptp(positions[:, figure], axis=1).max()))  # the largest pose's extent
     spacing = width * (1.0 + gap) if width > 0 else 1.0
     centre = (along.max(axis=1) + along.min(axis=1)) / 2
     shift = (np.arange(len(positions)) * spacing - centre)[:, None, None] * axis
