@@ -166,3 +166,24 @@ def test_cli_info_convert_positions(amass_files, tmp_path, capsys):
 def test_axis_angle_matches_scipy(rng):
     rotvecs = np.concatenate([rng.normal(size=(200, 3)) * 2, rng.normal(size=(20, 3)) * 1e-9, np.zeros((1, 3))])
     np.testing.assert_allclose(matrices_from_axis_angle(rotvecs), Rotation.from_rotvec(rotvecs).as_matrix(), atol=1e-15)
+
+
+def test_smplx_rate_key_and_more_betas_than_the_model_has(tmp_path, rng):
+    # planted bugs: SMPL-X's ``mocap_frame_rate`` refused; extra betas not cut to the model's
+    model, sequence = synthetic_model(rng), synthetic_sequence(rng, n_frames=6)
+    model["shapedirs"] = model["shapedirs"][..., :4]  # a model with 4 shape directions
+    smplx = {k: v for k, v in sequence.items() if k != "mocap_framerate"}
+    smplx["mocap_frame_rate"] = np.array(59.94)  # SMPL-X releases spell it so
+    np.savez(tmp_path / "model.npz", **model)
+    np.savez(tmp_path / "smplx.npz", **smplx)
+    assert sequence["betas"].shape == (16,)
+    motion = read_motion(tmp_path / "smplx.npz", body_model=tmp_path / "model.npz")
+    assert motion.frame_rate == pytest.approx(59.94, rel=1e-12) and "16 betas" in motion.comments[0]
+    # the first 4 betas shape the body; the 12 others are ignored, as SMPL's own code does
+    expected = smpl_joint_positions(model, {**sequence, "betas": sequence["betas"][:4]})
+    positions = reference_forward_kinematics(motion, with_rotations=False)[0]
+    assert np.abs(positions - expected).max() <= 1e-12 * motion.size
+    del smplx["mocap_frame_rate"]
+    np.savez(tmp_path / "no_rate.npz", **smplx)
+    with pytest.raises(MotionFileError, match="mocap_frame_rate"):
+        read_motion(tmp_path / "no_rate.npz", body_model=tmp_path / "model.npz")

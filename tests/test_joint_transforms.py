@@ -100,3 +100,40 @@ def test_independent_children_have_no_single_bvh_rotation(rng):
     shown = bvh_local(motion, 1, 0)
     assert shown.matrix is None and "dummy" in shown.note
     assert bvh_local(motion, 1, 1).matrix is not None  # a single child: its GMR rotation
+
+
+def test_a_rotated_roots_bvh_rotation_is_its_world_rotation_times_its_childs(rng):
+    # planted bug: the product's order swapped (off by up to 1.39 on a rotated root)
+    from gmr_studio.core.convert import post_from_pre
+    from tests.conftest import random_motion
+
+    motion = random_motion(rng, [-1, 0, 1, 2], n_frames=4)  # a chain: no dummies in its BVH form
+    post, dummies = post_from_pre(motion)
+    assert dummies == [] and post.names == motion.names
+    assert np.abs(motion.rotations[:, 0] - np.eye(3)).max() > 0.5  # the root turns
+    for frame in range(motion.n_frames):
+        for j in range(motion.n_joints - 1):  # the leaf has no rotation channels
+            shown = bvh_local(motion, frame, j)
+            np.testing.assert_allclose(shown.matrix[:, :3], post.rotations[frame, j], rtol=0, atol=1e-12)
+            np.testing.assert_allclose(shown.matrix[:, 3], post.translations[frame, j], rtol=0, atol=1e-12)
+
+
+def test_bvh_world_rotation_is_the_frame_the_children_hang_in(rng):
+    # planted bug: the joint's own (GMR) world rotation always shown
+    from gmr_studio.app.model.joint_transforms import bvh_world_rotation
+    from gmr_studio.core.convert import post_from_pre
+    from gmr_studio.core.kinematics import world_rotations
+    from tests.conftest import random_motion
+
+    motion = random_motion(rng, [-1, 0, 1, 2, 1], n_frames=3)
+    motion = motion.replace(rotations=np.concatenate([motion.rotations[:, :4], motion.rotations[:, 2:3]], axis=1))
+    post, dummies = post_from_pre(motion)  # joint 1's two children share one rotation: no dummies
+    assert dummies == []
+    gmr_world, bvh_world = world_rotations(motion), world_rotations(post)  # independent FK of each form
+    for frame in range(motion.n_frames):
+        for j in (0, 1, 2):  # joints with children: the BVH frame differs from the GMR one
+            shown = bvh_world_rotation(motion, gmr_world, frame, j)
+            np.testing.assert_allclose(shown, bvh_world[frame, j], rtol=0, atol=1e-12)
+            assert np.abs(shown - gmr_world[frame, j]).max() > 1e-3
+        for leaf in (3, 4):  # a leaf hangs nothing: its own GMR world rotation
+            np.testing.assert_array_equal(bvh_world_rotation(motion, gmr_world, frame, leaf), gmr_world[frame, leaf])
