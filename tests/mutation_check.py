@@ -292,6 +292,13 @@ MUTATIONS = [
         ".reshape(-1)",
         ["tests/test_amass.py"],
     ),
+    (
+        "glTF: rotation keys not made continuous (the w >= 0 form, frame by frame)",
+        "core/formats/gltf.py",
+        "return translations, continuous_quaternions(quaternions_from_matrices(motion.rotations))",
+        "return translations, quaternions_from_matrices(motion.rotations)",
+        ["tests/test_gltf_continuity.py"],
+    ),
 ]
 
 
