@@ -205,12 +205,21 @@ def changed_lines(diff: str) -> tuple[str, str]:
     return " / ".join(minus), " / ".join(plus)
 
 
-def equivalents() -> dict[tuple[str, str, str, str], str]:
-    """(module, operator, line before, line after) -> why the mutant is equivalent."""
+def equivalents() -> list[dict]:
+    """The judged equivalents: module, operator, line before and after, optionally the
+    function (``definition``, for a line written alike in two places), and the reason."""
     if not EQUIVALENTS.exists():
-        return {}
-    data = tomllib.loads(EQUIVALENTS.read_text())
-    return {(e["module"], e["operator"], e["before"], e["after"]): e["reason"] for e in data.get("equivalent", [])}
+        return []
+    return tomllib.loads(EQUIVALENTS.read_text()).get("equivalent", [])
+
+
+def judged(known: list[dict], module: str, mutation, before: str, after: str) -> str | None:
+    """The reason a survivor is equivalent, or None when it was not judged so."""
+    for e in known:
+        same = (e["module"], e["operator"], e["before"], e["after"]) == (module, mutation.operator_name, before, after)
+        if same and e.get("definition", mutation.definition_name) == mutation.definition_name:
+            return e["reason"]
+    return None
 
 
 def classify(module: str) -> dict:
@@ -231,10 +240,10 @@ def classify(module: str) -> dict:
             counts["survived"] += 1
             mutation = item.mutations[0]
             before, after = changed_lines(result.diff or "")
-            key = (module, mutation.operator_name, before, after)
+            reason = judged(known, module, mutation, before, after)
             entry = (mutation.start_pos[0], mutation.operator_name, before, after, result.diff or "")
-            if key in known:
-                counts["equivalent"].append((*entry, known[key]))
+            if reason is not None:
+                counts["equivalent"].append((*entry, reason))
             else:
                 counts["open"].append(entry)
     return counts

@@ -12,6 +12,7 @@ from gmr_studio.app.model import commands
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.app.reliability import recovery
 from gmr_studio.app.reliability.autosave import Autosaver
+from gmr_studio.app.reliability.crash import crash_log_path
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from gmr_studio.core.formats import load_gmr
 
@@ -19,14 +20,17 @@ pytestmark = pytest.mark.gui  # a QApplication (signals, timers)
 
 
 @pytest.fixture
-def saver(qtbot, tmp_path):
+def saver(qtbot, tmp_path, monkeypatch):
     """An autosaver writing to tmp_path/recovery, of a state holding the demo walk, whose
-    timer never fires during a test (only the every-10th rule writes)."""
+    timer never fires during a test (only the every-10th rule writes). Nothing may reach the
+    crash log (the worker logs what fails there instead of raising)."""
+    monkeypatch.setenv("GMR_STUDIO_CONFIG", str(tmp_path / "config"))
     state = StudioState()
     state.open_document(Snapshot.of(load_gmr(demo_folder() / MOTION_FILE)), demo_folder() / MOTION_FILE)
     autosaver = Autosaver(state, interval_ms=3_600_000, every=10, folder=tmp_path / "recovery")
     yield autosaver
     autosaver.shutdown()
+    assert not crash_log_path().exists(), crash_log_path().read_text()
 
 
 def edit(state: StudioState, k: int) -> None:
@@ -90,3 +94,69 @@ def test_recoveries_are_listed_newest_first(tmp_path):
     listed = recovery.list_recoveries(folder, include_live=True)
     assert [r.path.name for r in listed] == ["b.gmr", "c.gmr", "a.gmr"]
     assert [r.saved_at for r in listed] == sorted(stamps.values(), reverse=True)
+
+
+def test_the_documented_defaults_and_keyword_only_options(qtbot, tmp_path):
+    # planted bugs: another interval or count than docs/reliability.md says; options positional
+    state = StudioState()
+    autosaver = Autosaver(state=state, parent=None, folder=tmp_path)
+    try:
+        assert autosaver.timer.interval() == 30_000 and autosaver.every == 10  # "within 30 s", "every 10th"
+    finally:
+        autosaver.shutdown()
+    with pytest.raises(TypeError):
+        Autosaver(state, None, 1000)
+
+
+def test_a_clean_document_gets_no_copy(saver):
+    # planted bug: a copy written when the document has no unsaved edits
+    saver.save_now()
+    saver.wait()
+    assert saver.current is None and not (saver.folder.exists() and any(saver.folder.iterdir()))
+
+
+def test_shutting_down_finishes_the_copy_asked_for(saver):
+    # planted bug: the worker stopped without waiting (the window closes on a half-written copy)
+    edit(saver.state, 1)
+    saver.save_now()
+    saver.shutdown()
+    record = recovery.read_record(saver.current)  # on disk, complete, as soon as shutdown returns
+    assert record is not None and record.edits == 1
+    assert load_gmr(saver.current).n_frames == saver.state.motion.n_frames
+
+
+def test_a_copy_that_cannot_be_written_is_logged_not_raised(qtbot, tmp_path, monkeypatch):
+    # planted bug: the worker's failure raised (the window's wait/close would raise it)
+    monkeypatch.setenv("GMR_STUDIO_CONFIG", str(tmp_path / "config"))
+    (tmp_path / "a-file").write_text("not a folder")
+    state = StudioState()
+    state.open_document(Snapshot.of(load_gmr(demo_folder() / MOTION_FILE)), demo_folder() / MOTION_FILE)
+    autosaver = Autosaver(state, interval_ms=3_600_000, folder=tmp_path / "a-file" / "recovery")
+    written: list[str] = []
+    autosaver.written.connect(written.append)
+    try:
+        edit(state, 1)
+        autosaver.save_now()
+        autosaver.wait()  # returns: the failure is logged, not raised
+    finally:
+        autosaver.shutdown()
+    assert written == [] and "Autosave (write" in crash_log_path().read_text()
+
+
+def test_a_removal_waits_for_the_write_before_it(saver, monkeypatch):
+    # planted bug: two worker threads (a removal overtakes a slow write, the copy stays behind)
+    import time
+
+    original = recovery.write_recovery
+
+    def slow_write(*args):
+        time.sleep(0.3)  # a big motion
+        return original(*args)
+
+    monkeypatch.setattr(recovery, "write_recovery", slow_write)
+    edit(saver.state, 1)
+    saver.save_now()
+    path = saver.current
+    saver.discard()  # asked after the write: done after it
+    saver.wait()
+    assert path is not None and not path.exists()
