@@ -28,6 +28,7 @@ zero-iteration loops are all kept.
 
 from __future__ import annotations
 
+import json
 import os
 import shlex
 import subprocess
@@ -176,6 +177,7 @@ def skip_annotations(module: str, session: Path) -> None:
     from cosmic_ray.work_item import WorkerOutcome, WorkResult
 
     spans = annotation_spans(module)
+    session.with_suffix(".spans.json").write_text(json.dumps(spans))  # read while the file is intact
     with use_db(str(session), WorkDB.Mode.open) as db:
         for item in db.pending_work_items:
             if all(in_annotation(m, spans) for m in item.mutations):
@@ -226,7 +228,11 @@ def classify(module: str) -> dict:
     """Counts of a module's session and its survivors, equivalent (with reasons) or not."""
     items, outcomes = results(module)
     known = equivalents()
-    spans = annotation_spans(module)
+    cached = SESSIONS / f"{slug(module)}.spans.json"
+    if cached.exists():  # the spans of the source the session mutated (the file may be a mutant now)
+        spans = [(tuple(a), tuple(b)) for a, b in json.loads(cached.read_text())]
+    else:
+        spans = annotation_spans(module)
     annotated = [in_annotation(item.mutations[0], spans) for item in items]
     items = [item for item, a in zip(items, annotated) if not a]
     outcomes = [result for result, a in zip(outcomes, annotated) if not a]
