@@ -55,7 +55,13 @@ MODULES: dict[str, tuple[list[str], float]] = {
         120,
     ),
     "app/reliability/recovery.py": (
-        ["tests/test_app_autosave_rules.py", "tests/test_app_recovery.py", "-k", "not killed_app"],
+        [
+            "tests/test_recovery_records.py",
+            "tests/test_app_autosave_rules.py",
+            "tests/test_app_recovery.py",
+            "-k",
+            "not killed_app",
+        ],
         120,
     ),
 }
