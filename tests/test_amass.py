@@ -187,3 +187,49 @@ def test_smplx_rate_key_and_more_betas_than_the_model_has(tmp_path, rng):
     np.savez(tmp_path / "no_rate.npz", **smplx)
     with pytest.raises(MotionFileError, match="mocap_frame_rate"):
         read_motion(tmp_path / "no_rate.npz", body_model=tmp_path / "model.npz")
+
+
+def test_bad_sequences_are_refused_naming_the_field(amass_files, tmp_path):
+    model_path, _, _, sequence = amass_files
+
+    def refused(name: str, match: str, **changes) -> None:
+        arrays = {k: v for k, v in {**sequence, **changes}.items() if v is not None}
+        np.savez(tmp_path / name, **arrays)
+        with pytest.raises(MotionFileError, match=match) as caught:
+            read_motion(tmp_path / name, body_model=model_path)
+        assert name in str(caught.value)
+
+    refused("no_poses.npz", r"no 'poses' array \(\(F, 3K\) axis-angle\)", poses=None)
+    refused("no_trans.npz", r"no 'trans' array", trans=None)
+    refused("no_rate.npz", r"no 'mocap_frame_rate' array", mocap_framerate=None)
+    refused("nan.npz", "'trans' holds NaN or infinite values", trans=np.full((25, 3), np.nan))
+    refused("text.npz", "'poses' is not numeric", poses=np.array(["a", "b"]))
+    refused(
+        "zero_rate.npz",
+        "mocap_framerate must be a positive number of frames per second, not 0.0",
+        mocap_framerate=np.array(0.0),
+    )
+    refused("negative_rate.npz", "not -30.0", mocap_framerate=np.array(-30.0))
+    refused("flat_poses.npz", r"poses must be \(F, 3K\) and trans \(F, 3\)", poses=np.zeros(25 * 156))
+    refused("not_by_3.npz", r"poses must be \(F, 3K\)", poses=np.zeros((25, 155)))
+    refused("short_trans.npz", r"not \(25, 156\) and \(24, 3\)", trans=np.zeros((24, 3)))
+
+
+def test_without_betas_the_template_shape_and_the_comments(amass_files, tmp_path):
+    model_path, _, model, sequence = amass_files
+    plain = {k: v for k, v in sequence.items() if k != "betas"}
+    np.savez(tmp_path / "plain.npz", **{**plain, "gender": np.array("male")})
+    motion = read_motion(tmp_path / "plain.npz", body_model=model_path)
+    expected = smpl_joint_positions(model, {**sequence, "betas": np.zeros(N_BETAS)})
+    assert np.abs(reference_forward_kinematics(motion, with_rotations=False)[0] - expected).max() <= 1e-12
+    assert motion.comments == (
+        "AMASS/SMPL motion plain.npz, body model model.npz, gender male, 0 betas",
+        "units: metres",
+        "up axis: z (as AMASS stores it)",
+    )
+    assert motion.convention == "post" and set(motion.rotation_orders) == {"ZYX"}
+    assert list(np.flatnonzero(motion.has_translation)) == [0] and motion.parents[0] < 0
+    np.savez(tmp_path / "no_gender.npz", **{k: v for k, v in plain.items() if k != "gender"})
+    assert "gender ?," in read_motion(tmp_path / "no_gender.npz", body_model=model_path).comments[0]
+    np.savez(tmp_path / "gender_bytes.npz", **{**plain, "gender": np.array([b"female"])})
+    assert "gender [b'female']" in read_motion(tmp_path / "gender_bytes.npz", body_model=model_path).comments[0]
