@@ -44,7 +44,7 @@ GOAL = 0.10
 
 #: module -> (tests that must catch its mutants, seconds before a mutant's run counts as a hang)
 MODULES: dict[str, tuple[list[str], float]] = {
-    "core/clip.py": (["tests/test_clip.py"], 60),
+    "core/clip.py": (["tests/test_clip_edges.py", "tests/test_clip.py"], 60),
     "core/contacts.py": (["tests/test_contacts.py", "tests/test_mirror_contacts.py"], 60),
     "core/formats/amass.py": (["tests/test_amass.py"], 60),
     "core/formats/gltf.py": (["tests/test_gltf_continuity.py", "tests/test_gltf.py"], 120),
