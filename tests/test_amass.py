@@ -233,3 +233,39 @@ def test_without_betas_the_template_shape_and_the_comments(amass_files, tmp_path
     assert "gender ?," in read_motion(tmp_path / "no_gender.npz", body_model=model_path).comments[0]
     np.savez(tmp_path / "gender_bytes.npz", **{**plain, "gender": np.array([b"female"])})
     assert "gender [b'female']" in read_motion(tmp_path / "gender_bytes.npz", body_model=model_path).comments[0]
+
+
+def test_a_rate_stored_as_an_array_gives_its_first_value(amass_files, tmp_path):
+    model_path, _, _, sequence = amass_files
+    for name, rate in (("one.npz", np.array([60.0])), ("two.npz", np.array([[50.0, 25.0]]))):
+        np.savez(tmp_path / name, **{**sequence, "mocap_framerate": rate})
+        assert read_motion(tmp_path / name, body_model=model_path).frame_rate == pytest.approx(rate.flat[0])
+
+
+def test_tiny_rotations_keep_their_off_diagonal_terms_to_rounding(rng):
+    # below 1e-8 rad the series is used: its second-order term still shows relative to the first
+    directions = rng.normal(size=(50, 3))
+    rotvecs = directions / np.linalg.norm(directions, axis=-1, keepdims=True) * rng.uniform(1e-10, 9e-9, (50, 1))
+    ours, theirs = matrices_from_axis_angle(rotvecs), Rotation.from_rotvec(rotvecs).as_matrix()
+    off = ~np.eye(3, dtype=bool)
+    np.testing.assert_allclose(ours[:, off], theirs[:, off], rtol=1e-12, atol=0)
+
+
+def test_the_roots_offset_is_its_rest_joint_and_options_are_keywords(amass_files):
+    from gmr_studio.core.formats.amass import read_amass
+
+    model_path, motion_path, model, sequence = amass_files
+    motion = read_amass(motion_path, body_model=model_path)
+    rest = model["J_regressor"] @ (model["v_template"] + model["shapedirs"] @ sequence["betas"])
+    np.testing.assert_allclose(motion.offsets[0], rest[0], rtol=0, atol=1e-15)  # the pelvis where the model puts it
+    np.testing.assert_allclose(motion.offsets[1], rest[1] - rest[0], rtol=0, atol=1e-15)
+    with pytest.raises(TypeError):
+        read_amass(motion_path, model_path)  # the body model is named, never positional
+
+
+def test_no_rotation_at_all_is_the_identity_without_a_warning():
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no 0 / 0 on the way, even in the branch thrown away
+        np.testing.assert_array_equal(matrices_from_axis_angle(np.zeros((3, 3))), np.broadcast_to(np.eye(3), (3, 3, 3)))
