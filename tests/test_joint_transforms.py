@@ -10,7 +10,7 @@ from gmr_studio.app.model.joint_transforms import bvh_local, gmr_local
 from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.formats.bvh import read_bvh_with_channels
 from gmr_studio.core.operations import shift_root, split
-from gmr_studio.core.rotations import matrix_from_euler
+from gmr_studio.core.rotations import matrix_from_euler, rotation_about_axis
 from tests.conftest import shared_path
 
 FRAMES = (0, 1, 619, 1500, 2751)
@@ -194,6 +194,10 @@ def test_independent_children_are_told_apart_by_minus_one(rng):
     motion = random_motion(rng, [-1, 0, 0], n_frames=2)
     assert bvh_rotation(motion, 1, 0) == (None, -1) and bvh_rotation(motion, 1, 1) == (None, None)
     shown = bvh_local(motion, 1, 0)
-    assert isinstance(shown, LocalTransform)
+    assert isinstance(shown, LocalTransform) and shown.matrix is None and not shown.from_file
+    # children a micro-radian apart turn independently too (shared means equal to 1e-12)
+    nudged = motion.rotations.copy()
+    nudged[:, 2] = nudged[:, 1] @ rotation_about_axis("X", np.full(2, 1e-6))
+    assert bvh_rotation(motion.replace(rotations=nudged), 1, 0) == (None, -1)
     with pytest.raises(AttributeError):  # frozen: the inspector cannot change what it shows
         shown.note = ""
