@@ -237,7 +237,8 @@ def test_without_betas_the_template_shape_and_the_comments(amass_files, tmp_path
 
 def test_a_rate_stored_as_an_array_gives_its_first_value(amass_files, tmp_path):
     model_path, _, _, sequence = amass_files
-    for name, rate in (("one.npz", np.array([60.0])), ("two.npz", np.array([[50.0, 25.0]]))):
+    rates = (("one.npz", np.array([60.0])), ("two.npz", np.array([[50.0, 25.0]])), ("slow.npz", np.array(0.5)))
+    for name, rate in rates:  # a frame every 2 s is a rate too
         np.savez(tmp_path / name, **{**sequence, "mocap_framerate": rate})
         assert read_motion(tmp_path / name, body_model=model_path).frame_rate == pytest.approx(rate.flat[0])
 
