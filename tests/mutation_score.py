@@ -47,7 +47,10 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "core/clip.py": (["tests/test_clip_edges.py", "tests/test_clip.py"], 60),
     "core/contacts.py": (["tests/test_contacts.py", "tests/test_mirror_contacts.py"], 60),
     "core/formats/amass.py": (["tests/test_amass.py"], 60),
-    "core/formats/gltf.py": (["tests/test_gltf_edges.py", "tests/test_gltf_continuity.py", "tests/test_gltf.py"], 120),
+    "core/formats/gltf.py": (
+        ["tests/test_gltf_edges.py", "tests/test_gltf_units.py", "tests/test_gltf_continuity.py", "tests/test_gltf.py"],
+        120,
+    ),
     "app/model/joint_transforms.py": (["tests/test_joint_transforms.py"], 60),
     # the recovery tests but the one that runs the app in a subprocess (a minute a mutant)
     "app/reliability/autosave.py": (
