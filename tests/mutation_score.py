@@ -48,7 +48,13 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "core/contacts.py": (["tests/test_contacts.py", "tests/test_mirror_contacts.py"], 60),
     "core/formats/amass.py": (["tests/test_amass.py"], 60),
     "core/formats/gltf.py": (
-        ["tests/test_gltf_edges.py", "tests/test_gltf_units.py", "tests/test_gltf_continuity.py", "tests/test_gltf.py"],
+        [
+            "tests/test_gltf_edges.py",
+            "tests/test_gltf_units.py",
+            "tests/test_gltf_fields.py",
+            "tests/test_gltf_continuity.py",
+            "tests/test_gltf.py",
+        ],
         120,
     ),
     "app/model/joint_transforms.py": (["tests/test_joint_transforms.py"], 60),
