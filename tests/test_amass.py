@@ -166,3 +166,107 @@ def test_cli_info_convert_positions(amass_files, tmp_path, capsys):
 def test_axis_angle_matches_scipy(rng):
     rotvecs = np.concatenate([rng.normal(size=(200, 3)) * 2, rng.normal(size=(20, 3)) * 1e-9, np.zeros((1, 3))])
     np.testing.assert_allclose(matrices_from_axis_angle(rotvecs), Rotation.from_rotvec(rotvecs).as_matrix(), atol=1e-15)
+
+
+def test_smplx_rate_key_and_more_betas_than_the_model_has(tmp_path, rng):
+    # planted bugs: SMPL-X's ``mocap_frame_rate`` refused; extra betas not cut to the model's
+    model, sequence = synthetic_model(rng), synthetic_sequence(rng, n_frames=6)
+    model["shapedirs"] = model["shapedirs"][..., :4]  # a model with 4 shape directions
+    smplx = {k: v for k, v in sequence.items() if k != "mocap_framerate"}
+    smplx["mocap_frame_rate"] = np.array(59.94)  # SMPL-X releases spell it so
+    np.savez(tmp_path / "model.npz", **model)
+    np.savez(tmp_path / "smplx.npz", **smplx)
+    assert sequence["betas"].shape == (16,)
+    motion = read_motion(tmp_path / "smplx.npz", body_model=tmp_path / "model.npz")
+    assert motion.frame_rate == pytest.approx(59.94, rel=1e-12) and "16 betas" in motion.comments[0]
+    # the first 4 betas shape the body; the 12 others are ignored, as SMPL's own code does
+    expected = smpl_joint_positions(model, {**sequence, "betas": sequence["betas"][:4]})
+    positions = reference_forward_kinematics(motion, with_rotations=False)[0]
+    assert np.abs(positions - expected).max() <= 1e-12 * motion.size
+    del smplx["mocap_frame_rate"]
+    np.savez(tmp_path / "no_rate.npz", **smplx)
+    with pytest.raises(MotionFileError, match="mocap_frame_rate"):
+        read_motion(tmp_path / "no_rate.npz", body_model=tmp_path / "model.npz")
+
+
+def test_bad_sequences_are_refused_naming_the_field(amass_files, tmp_path):
+    model_path, _, _, sequence = amass_files
+
+    def refused(name: str, match: str, **changes) -> None:
+        arrays = {k: v for k, v in {**sequence, **changes}.items() if v is not None}
+        np.savez(tmp_path / name, **arrays)
+        with pytest.raises(MotionFileError, match=match) as caught:
+            read_motion(tmp_path / name, body_model=model_path)
+        assert name in str(caught.value)
+
+    refused("no_poses.npz", r"no 'poses' array \(\(F, 3K\) axis-angle\)", poses=None)
+    refused("no_trans.npz", r"no 'trans' array", trans=None)
+    refused("no_rate.npz", r"no 'mocap_frame_rate' array", mocap_framerate=None)
+    refused("nan.npz", "'trans' holds NaN or infinite values", trans=np.full((25, 3), np.nan))
+    refused("text.npz", "'poses' is not numeric", poses=np.array(["a", "b"]))
+    refused(
+        "zero_rate.npz",
+        "mocap_framerate must be a positive number of frames per second, not 0.0",
+        mocap_framerate=np.array(0.0),
+    )
+    refused("negative_rate.npz", "not -30.0", mocap_framerate=np.array(-30.0))
+    refused("flat_poses.npz", r"poses must be \(F, 3K\) and trans \(F, 3\)", poses=np.zeros(25 * 156))
+    refused("not_by_3.npz", r"poses must be \(F, 3K\)", poses=np.zeros((25, 155)))
+    refused("short_trans.npz", r"not \(25, 156\) and \(24, 3\)", trans=np.zeros((24, 3)))
+
+
+def test_without_betas_the_template_shape_and_the_comments(amass_files, tmp_path):
+    model_path, _, model, sequence = amass_files
+    plain = {k: v for k, v in sequence.items() if k != "betas"}
+    np.savez(tmp_path / "plain.npz", **{**plain, "gender": np.array("male")})
+    motion = read_motion(tmp_path / "plain.npz", body_model=model_path)
+    expected = smpl_joint_positions(model, {**sequence, "betas": np.zeros(N_BETAS)})
+    assert np.abs(reference_forward_kinematics(motion, with_rotations=False)[0] - expected).max() <= 1e-12
+    assert motion.comments == (
+        "AMASS/SMPL motion plain.npz, body model model.npz, gender male, 0 betas",
+        "units: metres",
+        "up axis: z (as AMASS stores it)",
+    )
+    assert motion.convention == "post" and set(motion.rotation_orders) == {"ZYX"}
+    assert list(np.flatnonzero(motion.has_translation)) == [0] and motion.parents[0] < 0
+    np.savez(tmp_path / "no_gender.npz", **{k: v for k, v in plain.items() if k != "gender"})
+    assert "gender ?," in read_motion(tmp_path / "no_gender.npz", body_model=model_path).comments[0]
+    np.savez(tmp_path / "gender_bytes.npz", **{**plain, "gender": np.array([b"female"])})
+    assert "gender [b'female']" in read_motion(tmp_path / "gender_bytes.npz", body_model=model_path).comments[0]
+
+
+def test_a_rate_stored_as_an_array_gives_its_first_value(amass_files, tmp_path):
+    model_path, _, _, sequence = amass_files
+    rates = (("one.npz", np.array([60.0])), ("two.npz", np.array([[50.0, 25.0]])), ("slow.npz", np.array(0.5)))
+    for name, rate in rates:  # a frame every 2 s is a rate too
+        np.savez(tmp_path / name, **{**sequence, "mocap_framerate": rate})
+        assert read_motion(tmp_path / name, body_model=model_path).frame_rate == pytest.approx(rate.flat[0])
+
+
+def test_tiny_rotations_keep_their_off_diagonal_terms_to_rounding(rng):
+    # below 1e-8 rad the series is used: its second-order term still shows relative to the first
+    directions = rng.normal(size=(50, 3))
+    rotvecs = directions / np.linalg.norm(directions, axis=-1, keepdims=True) * rng.uniform(1e-10, 9e-9, (50, 1))
+    ours, theirs = matrices_from_axis_angle(rotvecs), Rotation.from_rotvec(rotvecs).as_matrix()
+    off = ~np.eye(3, dtype=bool)
+    np.testing.assert_allclose(ours[:, off], theirs[:, off], rtol=1e-12, atol=0)
+
+
+def test_the_roots_offset_is_its_rest_joint_and_options_are_keywords(amass_files):
+    from gmr_studio.core.formats.amass import read_amass
+
+    model_path, motion_path, model, sequence = amass_files
+    motion = read_amass(motion_path, body_model=model_path)
+    rest = model["J_regressor"] @ (model["v_template"] + model["shapedirs"] @ sequence["betas"])
+    np.testing.assert_allclose(motion.offsets[0], rest[0], rtol=0, atol=1e-15)  # the pelvis where the model puts it
+    np.testing.assert_allclose(motion.offsets[1], rest[1] - rest[0], rtol=0, atol=1e-15)
+    with pytest.raises(TypeError):
+        read_amass(motion_path, model_path)  # the body model is named, never positional
+
+
+def test_no_rotation_at_all_is_the_identity_without_a_warning():
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no 0 / 0 on the way, even in the branch thrown away
+        np.testing.assert_array_equal(matrices_from_axis_angle(np.zeros((3, 3))), np.broadcast_to(np.eye(3), (3, 3, 3)))

@@ -117,3 +117,27 @@ def _move(point):
     return QMouseEvent(
         QEvent.Type.MouseMove, where, where, Qt.MouseButton.NoButton, left, Qt.KeyboardModifier.NoModifier
     )
+
+
+@pytest.mark.gui
+def test_world_rotations_are_the_joints_own_not_its_parents(qtbot, studio):
+    # planted bug: the parent's GMR world rotation shown as the joint's
+    from gmr_studio.app.model.formatting import format_matrix
+    from gmr_studio.core.kinematics import world_rotations
+
+    open_file(studio, shared_path(CMU))
+    state = studio.state
+    post, _ = read_bvh_with_channels(shared_path(CMU))
+    bvh_world = world_rotations(post)  # the file's own chain of channels, independent of the app's FK
+    for name, parent in (("Head", "Neck1"), ("LeftForeArm", "LeftArm")):
+        state.select(state.motion.joint_index(name))
+        state.set_frame(619)
+        text = flat(studio.inspector.text())
+        bvh_part = text.split("BVH: the frame its children hang in")[1].split("GMR: the frame")[0]
+        gmr_part = text.split("GMR: the frame of the bone that ends at it")[1]
+        # GMR: the rotation of the bone parent -> joint, which a BVH hangs in the parent's frame
+        gmr_expected = bvh_world[619, post.joint_index(parent)]
+        bvh_expected = bvh_world[619, post.joint_index(name)]
+        assert np.abs(gmr_expected - bvh_expected).max() > 0.05  # the two differ visibly
+        assert flat(format_matrix(gmr_expected)) in gmr_part
+        assert flat(format_matrix(bvh_expected)) in bvh_part

@@ -28,6 +28,7 @@ from gmr_studio.core.kinematics import forward_kinematics
 from gmr_studio.core.operations import split
 from tests import app_fixtures
 from tests.app_fixtures import open_file
+from tests.test_app_autosave_rules import restamp
 
 pytestmark = pytest.mark.gui
 STUDIO = [sys.executable, "-m", "gmr_studio.app.main"]
@@ -171,6 +172,11 @@ def test_the_first_edit_is_saved_within_the_interval_then_every_tenth_at_once(qt
     motion = studio.state.motion
     assert {restored.names[r] for r in restored.roots} == {motion.names[r] for r in motion.roots}
     assert len(motion.roots) == 5 and sorted(restored.names) == sorted(motion.names)
+    for edit in range(11, 21):  # every 10th edit, not only the first tenth: the 20th writes too
+        (studio.state.undo_stack.undo if edit % 2 else studio.state.undo_stack.redo)()
+        saver.wait()
+        assert saver.edits == edit and len(written) == (3 if edit == 20 else 2)
+    assert recovery.read_record(record.path).edits == 20
 
 
 def test_undo_back_to_the_file_and_a_clean_close_remove_the_copy(qtbot, studio, data_home, monkeypatch):
@@ -199,11 +205,16 @@ def test_the_dialog_lists_name_time_edits_and_discards(qtbot, studio, data_home,
     first = recovery.write_recovery(motion, data_home / "a.gmr", tmp_path / "first.bvh", 3)
     second = recovery.write_recovery(motion, data_home / "b.gmr", None, 1)
     (data_home / "not-a-recovery.gmr").write_text("GMR 1\n")
+    # a minute apart (the records keep whole seconds), the newer one in the later-sorted file
+    restamp(first.path, "2026-11-26T09:59:00")
+    restamp(second.path, "2026-11-26T10:00:00")
+    first, second = recovery.read_record(first.path), recovery.read_record(second.path)
     records = recovery.list_recoveries(data_home, include_live=True)
-    assert {r.path for r in records} == {first.path, second.path}
+    assert [r.path for r in records] == [second.path, first.path]  # newest first
     dialog = RecoveryDialog(records, studio)
     qtbot.addWidget(dialog)
     texts = [dialog.list.item(i).text() for i in range(dialog.list.count())]
+    assert texts == [item_text(second), item_text(first)]  # offered in that order
     assert any("first.bvh" in t and "3 edits" in t and first.saved_at.replace("T", " ") in t for t in texts)
     assert any("untitled motion" in t and "1 edit" in t for t in texts)
     assert item_text(first) in texts

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -32,7 +35,26 @@ def test_available_memory_is_read_from_meminfo(tmp_path):
     meminfo = tmp_path / "meminfo"
     meminfo.write_text("MemTotal:       24000000 kB\nMemFree:  100 kB\nMemAvailable:   1048576 kB\n")
     assert memory.available_bytes(meminfo) == memory.GIB
-    assert memory.available_bytes() is None or memory.available_bytes() > 0
+    # this machine's own figure is its /proc/meminfo's, read here independently (it moves
+    # between reads: within the range of a read before and one after, with 256 MiB of slack)
+    before = _mem_available_kib()
+    got = memory.available_bytes()
+    after = _mem_available_kib()
+    slack = 256 * 1024**2
+    assert min(before, after) * 1024 - slack <= got <= max(before, after) * 1024 + slack
+    # a meminfo without MemAvailable (old kernels): the free physical pages instead
+    meminfo.write_text("MemTotal:       24000000 kB\nMemFree:  100 kB\n")
+    pages = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    assert abs(memory.available_bytes(meminfo) - pages) <= 2 * slack
+    assert memory.available_bytes(tmp_path / "absent") is not None  # the same fallback
+
+
+def _mem_available_kib() -> int:
+    """MemAvailable of /proc/meminfo in KiB (the tests run on Linux, as CI does)."""
+    for line in Path("/proc/meminfo").read_text().splitlines():
+        if line.startswith("MemAvailable:"):
+            return int(line.split()[1])
+    raise AssertionError("no MemAvailable in /proc/meminfo")
 
 
 def test_opening_is_refused_before_the_caches_are_allocated(monkeypatch):

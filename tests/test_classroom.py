@@ -128,9 +128,41 @@ def test_roots_tradeoff_keeps_positions_and_counts_storage(rng):
         assert point.roots == roots
         assert point.largest_change <= 1e-9 * motion.size
         forest, chosen = split_to_roots(motion, roots)
-        assert point.stored_per_frame == stored_per_frame(forest)
-        assert len(chosen) == roots - 1
+        # counted by hand: every joint rotates (3 each); each root stores its position (3 each)
+        assert point.stored_per_frame == 3 * motion.n_joints + 3 * roots
+        assert len(forest.roots) == roots and len(chosen) == roots - 1
     one = roots_tradeoff(motion, 1, repeats=1)
     every = roots_tradeoff(motion, motion.n_joints, repeats=1)
     # every joint a root: each stores its world position too
     assert every.stored_per_frame > one.stored_per_frame
+
+
+POSITION_ONLY_ROOT = b"""HIERARCHY
+ROOT Hips
+{
+  OFFSET 0 0 0
+  CHANNELS 3 Xposition Yposition Zposition
+  JOINT Spine
+  {
+    OFFSET 0 1 0
+    CHANNELS 3 Zrotation Xrotation Yrotation
+    End Site
+    {
+      OFFSET 0 1 0
+    }
+  }
+}
+MOTION
+Frames: 2
+Frame Time: 0.0333333
+0 0 0 10 20 30
+1 0 0 15 25 35
+"""
+
+
+def test_a_root_without_rotation_channels_still_stores_its_rotation():
+    # planted bug: roots left out of the rotation count (only joints with channels counted)
+    motion = read_bvh("root.bvh", POSITION_ONLY_ROOT)
+    assert motion.rotation_orders == ("", "ZXY", "") and motion.parents[0] < 0
+    # the root's [R, G] (3 + 3), Spine's channels (3), the End Site nothing
+    assert stored_per_frame(motion) == 9

@@ -78,6 +78,13 @@ def test_rotations_resampled_parquet_equal_the_npz_and_fk(folder, tmp_path):
     columns = table.column_names
     assert columns == ["file", "frame", "time", "joint", "qx", "qy", "qz", "qw"]
     clip_rows = np.asarray(table["file"]) == "clip.bvh"
+    # the rate stored and the times written are the new rate's (30 Hz), not the source's 120 Hz
+    with np.load(npz) as data:
+        np.testing.assert_array_equal(data["frame_rate"], [30.0, 30.0])
+        n_clip = data["values_0"].shape[0]
+    clip_frames = np.asarray(table["frame"])[clip_rows]
+    np.testing.assert_array_equal(np.asarray(table["time"])[clip_rows], clip_frames / 30.0)
+    assert clip_frames.max() == n_clip - 1
     quats = np.stack([np.asarray(table[c])[clip_rows] for c in ("qx", "qy", "qz", "qw")], axis=-1)
     np.testing.assert_array_equal(quats, values.reshape(-1, 4))
     assert np.array_equal(np.asarray(table["frame"])[clip_rows], np.repeat(np.arange(len(values)), values.shape[1]))
@@ -91,6 +98,7 @@ def test_positions_resampled_like_np_interp(folder, tmp_path):
     source = reference_forward_kinematics(motion, with_rotations=False)[0]
     with np.load(out) as data:
         values = data["values_1"]
+        np.testing.assert_array_equal(data["frame_rate"], [50.0, 50.0])
     times = np.arange(values.shape[0]) / 50.0
     assert times[-1] <= (motion.n_frames - 1) * motion.frame_time < times[-1] + 1 / 50
     frame_times = np.arange(motion.n_frames) * motion.frame_time

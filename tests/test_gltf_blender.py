@@ -2,8 +2,9 @@
 
 Runs ``tests/blender_gltf_positions.py`` with a Python that has ``bpy`` (Blender as a
 module): ``$GMR_BPY_PYTHON``, else ``.venv-blender/bin/python`` of the checkout (make it with
-``python3 -m venv .venv-blender && .venv-blender/bin/pip install bpy``, about 1 GB). Skipped,
-saying so, when neither exists.
+``python3 -m venv .venv-blender && .venv-blender/bin/pip install bpy``, about 1 GB, or
+``sh .ci/setup --tests``). Locally skipped, saying so, when neither exists; with
+``GMR_REQUIRE_BLENDER=1`` (as ``.ci/run`` sets, where setup must have installed it) that fails.
 """
 
 from __future__ import annotations
@@ -34,18 +35,22 @@ def bpy_python() -> Path:
     configured = os.environ.get("GMR_BPY_PYTHON")
     path = Path(configured) if configured else ROOT / ".venv-blender" / "bin" / "python"
     if not path.exists():
-        pytest.skip(f"no Python with bpy at {path} (set GMR_BPY_PYTHON or create .venv-blender: docs/gltf.md)")
+        why = f"no Python with bpy at {path} (set GMR_BPY_PYTHON or create .venv-blender: docs/gltf.md)"
+        if os.environ.get("GMR_REQUIRE_BLENDER") == "1":
+            pytest.fail(f"GMR_REQUIRE_BLENDER=1 but {why}; `sh .ci/setup --tests` installs it", pytrace=False)
+        pytest.skip(why)
     return path
 
 
 def blender_positions(glb: Path, n_frames: int, frame_time: float, tmp_path: Path) -> dict:
     out = tmp_path / "blender.json"
-    subprocess.run(
+    done = subprocess.run(
         [str(bpy_python()), str(SCRIPT), str(glb), str(out), str(n_frames), repr(frame_time)],
-        check=True,
         capture_output=True,
+        text=True,
         timeout=300,
     )
+    assert done.returncode == 0, f"Blender's script failed ({done.returncode}):\n{done.stderr[-3000:]}"
     return json.loads(out.read_text())
 
 

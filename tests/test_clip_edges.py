@@ -1,0 +1,55 @@
+"""Resampling at the edges: rates below 1 Hz, one frame, no frames (mutation survivors of
+core/clip.py, docs/reliability.md)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from gmr_studio.core.clip import resample, resample_positions, trim
+from gmr_studio.core.errors import OperationError
+from tests.conftest import random_motion
+
+
+def test_a_rate_below_one_hertz_is_a_rate(rng):
+    motion = random_motion(rng, [-1, 0, 1], n_frames=41, convention="post").replace(frame_time=0.1)  # 4 s
+    slow = resample(motion, 0.5)  # a frame every 2 s: the source's frames 0, 20 and 40
+    assert slow.n_frames == 3 and slow.frame_time == 2.0
+    np.testing.assert_array_equal(slow.rotations, motion.rotations[[0, 20, 40]])
+    np.testing.assert_array_equal(slow.translations, motion.translations[[0, 20, 40]])
+    assert resample_positions(41, 0.1, 0.25).tolist() == [0.0, 40.0]
+    for refused in (0.0, -1.0, np.inf, np.nan):
+        with pytest.raises(OperationError, match="frame rate must be a positive number"):
+            resample(motion, refused)
+
+
+def test_one_frame_stays_one_frame_and_none_stays_none(rng):
+    motion = random_motion(rng, [-1, 0, 1], n_frames=5)
+    one = trim(motion, 2, 3)
+    assert resample_positions(1, motion.frame_time, 90.0).tolist() == [0.0]
+    again = resample(one, 90.0)
+    assert again.n_frames == 1 and again.frame_rate == 90.0
+    np.testing.assert_array_equal(again.rotations, one.rotations)
+    np.testing.assert_array_equal(again.translations, one.translations)
+    empty = motion.replace(rotations=motion.rotations[:0], translations=motion.translations[:0])
+    assert resample_positions(0, motion.frame_time, 90.0).shape == (0,)
+    none = resample(empty, 90.0)
+    assert none.n_frames == 0 and none.frame_rate == 90.0 and none.names == motion.names
+
+
+def test_a_rate_within_rounding_of_the_files_is_the_file(rng):
+    motion = random_motion(rng, [-1, 0], n_frames=5)
+    assert resample(motion, motion.frame_rate * (1 + 1e-12)) is motion  # not a new motion 1e-12 apart
+    assert resample(motion, motion.frame_rate * (1 + 1e-6)) is not motion
+
+
+def test_the_last_new_frame_never_passes_the_last_source_frame(rng):
+    # a ratio a little over 3 source frames per new frame: the second new frame falls 1.5e-9
+    # frames past the last source frame (beyond the snapping tolerance); it is the last frame
+    motion = random_motion(rng, [-1, 0, 1], n_frames=4, convention="post")
+    rate = 1.0 / ((3 + 1.5e-9) * motion.frame_time)
+    where = resample_positions(4, motion.frame_time, rate)
+    assert where.tolist() == [0.0, 3.0]
+    result = resample(motion, rate)
+    np.testing.assert_array_equal(result.rotations, motion.rotations[[0, 3]])
+    np.testing.assert_array_equal(result.translations, motion.translations[[0, 3]])
