@@ -25,6 +25,10 @@ import numpy as np
 
 from gmr_studio.core.rotations import matrix_from_euler
 
+#: a file's channel values still describe a motion when the rotation they make is within this
+#: (max abs matrix entry) of the motion's: exact reads differ by ~1e-15, edits by far more
+FILE_MATCH_TOLERANCE = 1e-9
+
 
 @dataclasses.dataclass(frozen=True, eq=False)
 class FileChannels:
@@ -68,10 +72,21 @@ class FileChannels:
         order = self.orders[name]
         return order if self.kind == "bvh" else order[::-1]
 
-    def rotations(self, name: str) -> np.ndarray:
+    def rotations(self, name: str, frame: int | None = None) -> np.ndarray:
         """(F, 3, 3) the rotation the file's values of ``name`` make, in the motion's axes:
-        BVH ``R(channels)``; AMC ``C R C^T``."""
-        radians = np.radians(self.angles[name])
+        BVH ``R(channels)``; AMC ``C R C^T``; (3, 3) at one ``frame``."""
+        if frame is not None:
+            return self._rotations(np.radians(self.angles[name][frame : frame + 1]), name)[0]
+        return self._rotations(np.radians(self.angles[name]), name)
+
+    def still_make(self, name: str, rotations: np.ndarray, frame: int | None = None) -> bool:
+        """Whether the file's values of ``name`` still make ``rotations``: (F, 3, 3) over every
+        frame, or (3, 3) at ``frame`` (an edit may have changed the motion), within
+        :data:`FILE_MATCH_TOLERANCE`. The curves and the inspector both ask this."""
+        made = self.rotations(name, frame)
+        return bool(made.shape == np.shape(rotations) and np.abs(made - rotations).max() <= FILE_MATCH_TOLERANCE)
+
+    def _rotations(self, radians: np.ndarray, name: str) -> np.ndarray:
         if self.kind != "bvh":
             radians = radians[:, ::-1]
         rotation = matrix_from_euler(radians, self.intrinsic_order(name))

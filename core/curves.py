@@ -66,9 +66,6 @@ QUANTITIES = (
 ALIASES = {"euler": "channels"}
 #: children whose GMR rotations differ by less than this (max abs entry) share one BVH rotation
 SHARED_TOLERANCE = 1e-12
-#: a file's channel values are shown when the rotation they make is within this (max abs
-#: entry, every frame) of the motion's
-FILE_MATCH_TOLERANCE = 1e-9
 #: curves of live motions (:func:`values_at`)
 _CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 #: radians: the Euler branch may change only where the middle angle is beyond this, on the way
@@ -251,9 +248,7 @@ def channel_curves(motion: Motion, joint: int, file_channels: FileChannels | Non
             return Curves(columns, np.array(written), UNITS["channels"])
         # children turning independently: no single rotation to give
         return Curves(columns, np.full((motion.n_frames, len(labels)), np.nan), UNITS["channels"])
-    if written.shape[0] == motion.n_frames and (
-        not len(written) or np.abs(file_channels.rotations(name) - rotations).max() <= FILE_MATCH_TOLERANCE
-    ):
+    if written.shape[0] == motion.n_frames and (not len(written) or file_channels.still_make(name, rotations)):
         return Curves(columns, np.array(written), UNITS["channels"])
     return Curves(columns, file_channels.angles_from(name, rotations, euler_degrees), UNITS["channels"])
 

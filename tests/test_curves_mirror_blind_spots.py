@@ -46,8 +46,8 @@ Frame Time: 0.0333333
 
 def test_the_euler_curve_of_a_two_channel_joint_is_its_channels():
     motion = read_bvh("knee.bvh", TWO_CHANNELS)
-    curves = joint_curves(motion, "Knee", "euler")
-    assert curves.columns == ("Knee.euler.Z", "Knee.euler.X")
+    curves = joint_curves(motion, "Knee", "euler")  # euler: an alias of channels, the file's own
+    assert curves.columns == ("Knee.channels.Zrotation", "Knee.channels.Xrotation")
     np.testing.assert_allclose(curves.values, [[20.0, 35.0], [22.0, 30.0]], rtol=0, atol=1e-12)
 
 

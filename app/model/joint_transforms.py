@@ -22,12 +22,10 @@ import numpy as np
 
 from gmr_studio.core.formats.bvh import FileChannels
 from gmr_studio.core.motion import Motion
-from gmr_studio.core.rotations import complete_order, euler_from_matrix, matrix_from_euler
+from gmr_studio.core.rotations import complete_order, euler_from_matrix
 
 #: children whose GMR rotations differ by less than this (max abs entry) share one BVH rotation
 SHARED_TOLERANCE = 1e-12
-#: file angles are shown if the matrix they make is within this (max abs entry) of the one shown
-FILE_MATCH_TOLERANCE = 1e-9
 
 
 @dataclasses.dataclass(frozen=True)
@@ -59,10 +57,9 @@ def _angles(
 ) -> tuple[str, np.ndarray, bool]:
     """(order, degrees, from_file): the file's values for ``name`` if they make ``rotation``."""
     found = file_channels.of(name, frame) if file_channels is not None and name is not None else None
-    if found is not None:
+    if found is not None and file_channels.still_make(name, rotation, frame):  # core's one rule
         file_order, degrees = found
-        if np.abs(matrix_from_euler(np.radians(degrees), file_order) - rotation).max() <= FILE_MATCH_TOLERANCE:
-            return file_order, np.asarray(degrees, dtype=np.float64), True
+        return file_order, np.asarray(degrees, dtype=np.float64), True
     full = complete_order(order) if order else "ZYX"
     return full, np.degrees(euler_from_matrix(rotation, full)), False
 
