@@ -153,7 +153,7 @@ MUTATIONS = [
     ),
     (
         "compare: rigid fit without the reflection fix",
-        "core/compare/align.py",
+        "core/fit.py",
         "        sign[2] = -1.0\n",
         "        pass\n",
         ["tests/test_compare_blind_spots.py"],
@@ -188,9 +188,9 @@ MUTATIONS = [
     ),
     (
         "layers: B's samples at A's rate",
-        "app/model/layers.py",
-        "/ rate_a + a.offset_seconds) * rate_b",
-        "/ rate_a + a.offset_seconds) * rate_a",
+        "core/compare/clock.py",
+        "    return (frames / rate_a + offset_seconds) * common_rate(rate_a, rate_b)",
+        "    return (frames / rate_a + offset_seconds) * rate_a",
         ["tests/test_app_layers_clock.py"],
     ),
     (
