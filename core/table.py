@@ -42,3 +42,16 @@ def csv_text(columns: Sequence[str], table: np.ndarray, formats: Sequence[str]) 
         return header + "\n".join(rows) + "\n"
     np.savetxt(body, table, delimiter=",", fmt=fmt)
     return header + body.getvalue()
+
+
+def records_csv_text(columns: Sequence[str], rows: Sequence[dict]) -> str:
+    """The CSV text of ``rows`` (one dict a line, values of any kind) under ``columns``: the
+    same quoting as :func:`csv_text` (a cell with ``,``, ``"`` or a line break quoted, inner
+    quotes doubled), for tables that mix names and numbers (``gmr check --batch``)."""
+    import csv
+
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, fieldnames=list(columns), lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    return buffer.getvalue()

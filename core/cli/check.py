@@ -21,8 +21,6 @@
 from __future__ import annotations
 
 import argparse
-import csv
-import io
 import json
 import sys
 from pathlib import Path
@@ -39,6 +37,7 @@ from gmr_studio.core.cli.reading import add_reading_options, reader_options, tra
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import read_motion
 from gmr_studio.core.markers import MARKER_READERS, read_markers
+from gmr_studio.core.table import records_csv_text
 
 #: marker files, checked as points (pops, jitter, frozen and duplicated frames)
 MARKER_SUFFIXES = tuple(MARKER_READERS)
@@ -195,11 +194,7 @@ def write_table(rows: list[dict], target: Path) -> None:
     """The batch rows as CSV (header, one line per file) or Parquet, written atomically."""
     columns = [*SUMMARY_COLUMNS, *KINDS]
     if target.suffix.lower() == ".csv":
-        buffer = io.StringIO()
-        writer = csv.DictWriter(buffer, fieldnames=columns, lineterminator="\n")
-        writer.writeheader()
-        writer.writerows(rows)
-        atomic_write_text(target, buffer.getvalue())
+        atomic_write_text(target, records_csv_text(columns, rows))  # the project's one CSV writer
         return
     try:
         import pyarrow as pa
