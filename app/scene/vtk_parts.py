@@ -84,17 +84,26 @@ def glyph_part(n_points: int, source: pv.PolyData, colors: np.ndarray | None = N
     mapper.SetSourceData(source)
     mapper.SetScaling(False)
     mapper.OrientOff()
-    if colors is not None and n_points:
-        part.mesh.point_data["colors"] = rgb_bytes(colors)
-        part.mesh.point_data.active_scalars_name = "colors"
+    part.actor = _glyph_actor(mapper, part.mesh, n_points, colors, color)
+    return part
+
+
+def _glyph_actor(mapper: vtkGlyph3DMapper, mesh: pv.PolyData, n: int, colors, color) -> vtkActor:
+    """The actor of a glyph mapper over ``mesh`` (``n`` points): one colour per glyph from
+    ``colors`` (n, 3) in [0, 1] (a ``colors`` point array the mapper reads by name), or all
+    one ``color``."""
+    if colors is not None and n:
+        mesh.point_data["colors"] = rgb_bytes(colors)
+        mapper.SetScalarModeToUsePointFieldData()
+        mapper.SelectColorArray("colors")
         mapper.SetColorModeToDirectScalars()
         mapper.ScalarVisibilityOn()
     else:
         mapper.ScalarVisibilityOff()
-    part.actor = _surface_actor(mapper)
+    actor = _surface_actor(mapper)
     if colors is None:
-        part.actor.GetProperty().SetColor(*color)
-    return part
+        actor.GetProperty().SetColor(*color)
+    return actor
 
 
 def set_some_points(part: Part, points: np.ndarray) -> None:
@@ -168,17 +177,7 @@ class BonePart(Part):
         mapper.SetScaleArray("scale")
         mapper.SetScaleModeToScaleByVectorComponents()
         mapper.SetScaling(True)
-        if colors is not None and n:
-            self.mesh.point_data["colors"] = rgb_bytes(colors)
-            mapper.SetScalarModeToUsePointFieldData()
-            mapper.SelectColorArray("colors")
-            mapper.SetColorModeToDirectScalars()
-            mapper.ScalarVisibilityOn()
-        else:
-            mapper.ScalarVisibilityOff()
-        self.actor = _surface_actor(mapper)
-        if colors is None:
-            self.actor.GetProperty().SetColor(*color)
+        self.actor = _glyph_actor(mapper, self.mesh, n, colors, color)
 
     def set_joints(self, joints: np.ndarray) -> None:
         """Place every bone between its two joints: ``joints`` (J, 3), NaN-free."""

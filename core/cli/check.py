@@ -32,6 +32,7 @@ from gmr_studio.core.checks.report import SUMMARY_COLUMNS, check_document, faili
 from gmr_studio.core.cli import workers
 from gmr_studio.core.cli.batch import find_motion_files
 from gmr_studio.core.cli.convert import INPUT_SUFFIXES
+from gmr_studio.core.cli.output import write_json
 from gmr_studio.core.cli.progress import Progress
 from gmr_studio.core.cli.reading import add_reading_options, reader_options, transformed_by_args
 from gmr_studio.core.errors import OperationError
@@ -109,14 +110,6 @@ def _check_task(source: str, settings: dict, reading: dict, transforms: dict) ->
     return source, error, document
 
 
-def _write_json(target: str, value: dict) -> None:
-    text = json.dumps(value, indent=1) + "\n"
-    if target == "-":
-        sys.stdout.write(text)
-    else:
-        atomic_write_text(target, text)
-
-
 def run(args: argparse.Namespace) -> int:
     settings = settings_from_args(args)
     if args.batch:
@@ -126,7 +119,7 @@ def run(args: argparse.Namespace) -> int:
     reading = reader_options(args.input, args.asf, args.frame_rate, args.body_model)
     document = check_file(args.input, settings, reading, _transforms(args))
     if args.json:
-        _write_json(args.json, document)
+        write_json(document, args.json)
     if args.json != "-":
         print(findings_text(document))
     return 1 if args.strict and failing(document["findings"], args.fail_on) else 0
@@ -178,7 +171,7 @@ def run_batch(args: argparse.Namespace, settings: CheckSettings) -> int:
     if args.table:
         write_table(rows, Path(args.table))
     if args.json:
-        _write_json(args.json, {"files": documents})
+        write_json({"files": documents}, args.json)
     flagged = sum(1 for d in documents if failing(d["findings"], args.fail_on))
     summary = (
         f"checked {len(documents)} of {len(files)} files in {progress.seconds:.1f} s "

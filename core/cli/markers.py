@@ -21,12 +21,11 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import json
-import sys
 from pathlib import Path
 
 import numpy as np
 
+from gmr_studio.core.cli.output import write_json as write_json_file
 from gmr_studio.core.cli.reading import add_reading_options, reader_options
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import load_gmr, motion_suffix, write_motion
@@ -236,7 +235,7 @@ def run(args: argparse.Namespace) -> int:
         report = {"output": str(output), "pelvis": result.pelvis_note, "reasons": list(result.reasons), "joints": rows}
         if truth_note:
             report["truth"] = truth_note
-        write_json(report, args.json)
+        write_json_file(report, args.json, indent=2)
         return 0
     print(
         f"{output}: {motion.n_frames} frames x {motion.n_joints} joints at {1 / motion.frame_time:.6g} Hz, "
@@ -261,17 +260,6 @@ def run(args: argparse.Namespace) -> int:
         shown = markers.frame_slice(args.frames) if args.frames is not None else markers
         print(pelvis_fit_text(pelvis_fit_summary(recover_pelvis(shown, resolved, skeleton=skeleton))))
     return 0
-
-
-def write_json(report: dict, where: str) -> None:
-    """The report as JSON on stdout (``-``) or in a file (written atomically)."""
-    text = json.dumps(report, indent=2) + "\n"
-    if where == "-":
-        sys.stdout.write(text)
-    else:
-        from gmr_studio.core.atomic import atomic_write_text
-
-        atomic_write_text(where, text)
 
 
 def refinement_text(refinement, names, factor: float, unit: str) -> str:

@@ -23,7 +23,8 @@ from gmr_studio.core.markers.markerset import MarkerSet
 
 
 def run_built(args: argparse.Namespace, markers: MarkerSet) -> int:
-    from gmr_studio.core.cli.markers import refinement_text, write_json
+    from gmr_studio.core.cli.markers import refinement_text
+    from gmr_studio.core.cli.output import write_json
     from gmr_studio.core.markers.built_motion import markers_to_built_motion
     from gmr_studio.core.markers.file_model import compare_with_file_model, file_model_text
 
@@ -52,11 +53,11 @@ def run_built(args: argparse.Namespace, markers: MarkerSet) -> int:
     if args.against_file_model:
         comparison = compare_with_file_model(markers, result.motion, world_positions(result.motion))
     if args.json and comparison is not None:
-        write_json(comparison, args.json)
+        write_json(comparison, args.json, indent=2)
         if args.json == "-":
             return 0
     elif args.json:
-        write_json(built_report(built, str(output)), args.json)
+        write_json(built_report(built, str(output)), args.json, indent=2)
         if args.json == "-":
             return 0
     print(
