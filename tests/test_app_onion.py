@@ -296,3 +296,19 @@ def test_filmstrip_refuses_bad_frames(tmp_path):
     )
     assert result.returncode == 2 and "selects no frame" in result.stderr
     assert not (tmp_path / "x.png").exists()
+
+
+@pytest.mark.gui
+def test_the_onion_skin_with_a_marker_set_layer_draws_only_posed_layers(studio):
+    """A marker-set layer has no poses: the onion skin leaves it out (it used to ask it for a
+    skeleton it does not have); a motion layer beside it keeps its onion poses."""
+    open_file(studio, shared_path(BVH))
+    studio.files.compare_path(str(shared_path("cmu/subject01/01_01.c3d")), wait=True)
+    studio.files.compare_path(str(shared_path(AMC)), joint_map="cmu", wait=True)
+    QApplication.processEvents()
+    onion, layer_onions = studio.onion, studio.onion.layer_onions
+    studio.state.set_frame(1518)
+    onion.toggle.setChecked(True)
+    studio.state.set_frame(1520)
+    assert [len(pool) for pool in layer_onions.pools] == [0, 6]
+    assert sorted(_drawn(layer_onions, 1)) == [1490, 1500, 1510, 1530, 1540, 1550]  # every 10, 3 a side

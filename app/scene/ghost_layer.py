@@ -33,7 +33,7 @@ from gmr_studio.app.model.marker_layers import MARKER_LAYER_RADIUS, MarkerLayer
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.app.scene import vtk_parts as parts
 from gmr_studio.app.scene.drawable import Drawing
-from gmr_studio.app.scene.onion import bone_pairs
+from gmr_studio.app.scene.figure import figure_bones
 
 #: the error colour map: anchors (position in [0, 1], RGB), interpolated linearly
 COLOUR_MAP = np.array([(0.0, 0.2, 0.75, 0.35), (0.5, 1.0, 0.85, 0.1), (1.0, 0.9, 0.15, 0.1)])
@@ -104,7 +104,7 @@ class GhostLayers(Drawing):
                 built = (parts.glyph_part(layer.markers.n_markers, sphere, color=layer.colour),)
             else:
                 motion = layer.snapshot.motion
-                bones = parts.bone_part(bone_pairs(motion.parents), GHOST_BONE_RADIUS * size, color=layer.colour)
+                bones = parts.bone_part(figure_bones(motion)[0], GHOST_BONE_RADIUS * size, color=layer.colour)
                 sphere = pv.Sphere(radius=GHOST_JOINT_RADIUS * size, theta_resolution=10, phi_resolution=10)
                 built = (bones, parts.glyph_part(motion.n_joints, sphere, color=layer.colour))
             for k, part in enumerate(built):

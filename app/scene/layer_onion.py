@@ -19,7 +19,7 @@ import numpy as np
 from gmr_studio.app.model.layers import GHOST_OPACITY, ComparisonLayer, Layers
 from gmr_studio.app.scene import vtk_parts as parts
 from gmr_studio.app.scene.drawable import Drawing
-from gmr_studio.app.scene.onion import OnionSettings, bone_pairs, ghost_opacity, slot_of
+from gmr_studio.app.scene.onion import OnionSettings, ghost_opacity, pose_lines, pose_points, slot_of
 
 LINE_WIDTH = 2.5  # as the document's onion poses
 JOINT_DOT = 5.0  # pixels: what tells a layer's onion pose from the document's
@@ -44,9 +44,11 @@ def layer_slot_frames(ghost: np.ndarray, frames: np.ndarray, distance: np.ndarra
 
 
 def _onion_part(layer: ComparisonLayer) -> parts.Part:
-    """Lines along B's bones and a dot at each of its joints, in the layer's colour."""
+    """Lines along B's bones (links dashed, as the view draws them: :func:`~app.scene.onion.pose_lines`)
+    and a dot at each of its joints, in the layer's colour."""
     motion = layer.snapshot.motion
-    part = parts.segments_part(motion.n_joints, bone_pairs(motion.parents), color=layer.colour, width=LINE_WIDTH)
+    pairs, _, n_points = pose_lines(motion)
+    part = parts.segments_part(n_points, pairs, color=layer.colour, width=LINE_WIDTH)
     if motion.n_joints:
         part.mesh.verts = np.column_stack([np.ones(motion.n_joints, np.int64), np.arange(motion.n_joints)]).ravel()
     prop = part.actor.GetProperty()
@@ -76,12 +78,15 @@ class LayerOnions(Drawing):
 
     def build(self, scene) -> None:
         super().build(scene)
-        self.pools, self.slot_frames = [], []
+        self.pools, self.slot_frames, self.links = [], [], []
         if scene.snapshot is None or not self.wanted(scene):
             return
         count = self.settings.count
         for index, layer in enumerate(self.layers.layers):
-            pool = [self.add(f"layer_onion_{index}_{slot}", _onion_part(layer)) for slot in range(2 * count)]
+            posed = isinstance(layer, ComparisonLayer)  # a marker-set layer has no poses to onion
+            self.links.append(pose_lines(layer.snapshot.motion)[1] if posed else None)  # (L, 2)
+            slots = range(2 * count) if posed else range(0)
+            pool = [self.add(f"layer_onion_{index}_{slot}", _onion_part(layer)) for slot in slots]
             for part in pool:
                 part.set_visible(False)
             self.pools.append(pool)
@@ -103,12 +108,14 @@ class LayerOnions(Drawing):
         opacity[slot_of(distance)] = ghost_opacity(distance, count)
         hidden = np.full(2 * count, -1, dtype=np.int64)
         for index, (layer, pool) in enumerate(zip(self.layers.layers, self.pools, strict=True)):
+            if not pool:
+                continue
             shown = layer_slot_frames(layer.ghost, frames, distance, count) if layer.visible else hidden
             scale = min(1.0, layer.opacity / GHOST_OPACITY)  # a fainter layer, fainter onion poses
             for part, f, alpha in zip(pool, shown, opacity, strict=True):
                 part.set_visible(f >= 0 and self._visible)
                 if f >= 0:
-                    part.set_points(layer.ghost[f])
+                    part.set_points(pose_points(layer.ghost[f], self.links[index]))
                     part.actor.GetProperty().SetOpacity(float(alpha * scale))
             self.slot_frames[index] = shown
 

@@ -73,12 +73,6 @@ def pose_points(positions: np.ndarray, links: np.ndarray) -> np.ndarray:
     return np.concatenate([positions, dash_points(positions[links[:, 0]], positions[links[:, 1]]).reshape(-1, 3)])
 
 
-def bone_pairs(parents: np.ndarray) -> np.ndarray:
-    """(B, 2) joint index pairs (parent, child) of a forest's bones."""
-    children = np.flatnonzero(parents >= 0)
-    return np.column_stack([parents[children], children])
-
-
 @dataclasses.dataclass
 class OnionSettings:
     """What View > Onion skin says: shown, every ``step`` frames, ``count`` poses each side,
