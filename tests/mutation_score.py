@@ -58,6 +58,11 @@ MODULES: dict[str, tuple[list[str], float]] = {
         120,
     ),
     "app/model/joint_transforms.py": (["tests/test_joint_transforms.py"], 60),
+    "core/table.py": (["tests/test_table_records.py", "tests/test_curves_cli.py", "tests/test_compare_cli.py"], 60),
+    "core/channels.py": (
+        ["tests/test_joint_transforms.py", "tests/test_curves.py", "tests/test_curves_mirror_blind_spots.py"],
+        60,
+    ),
     # the recovery tests but the one that runs the app in a subprocess (a minute a mutant)
     "app/reliability/autosave.py": (
         ["tests/test_app_autosave_rules.py", "tests/test_app_recovery.py", "-k", "not killed_app"],
