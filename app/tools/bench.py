@@ -39,16 +39,32 @@ def _summary(label: str, seconds: np.ndarray) -> None:
     print(f"{label:<46} median {median:6.2f} ms   p95 {p95:6.2f} ms   -> {rates}")
 
 
+_APPLICATION: list = []  # the process's QApplication, held for the whole run
+
+
+def application():
+    """The process's ``QApplication``, created once and held until exit.
+
+    A bench function must not own it as a local: freed when that function returns, it takes
+    every widget's C++ side with it while their Python wrappers live on, and sip's clean-up
+    of those wrappers then crashes (a segmentation fault at random, as the cycle collector
+    runs)."""
+    from PyQt6.QtWidgets import QApplication
+
+    if not _APPLICATION:
+        _APPLICATION.append(QApplication.instance() or QApplication(sys.argv[:1]))
+    return _APPLICATION[0]
+
+
 def bench_window(width: int, height: int):
     """(app, window, settings path): a main window of that size, shown, quiet, on a fresh
     settings file (a layout saved by an earlier run would change the view's size or hide a
     dock). :func:`close_bench_window` closes it and removes the file."""
     from PyQt6.QtCore import QSettings
-    from PyQt6.QtWidgets import QApplication
 
     from gmr_studio.app.window.main_window import MainWindow
 
-    app = QApplication.instance() or QApplication(sys.argv[:1])
+    app = application()
     scratch = os.path.join(os.environ.get("TMPDIR", "/tmp"), f"gmr-studio-bench-{os.getpid()}.ini")
     if os.path.exists(scratch):
         os.remove(scratch)
