@@ -287,6 +287,8 @@ class SkeletonScene:
         if self._clipping_stale:
             self._clipping_stale = False
             self.plotter.renderer.ResetCameraClippingRange()
+        if self._front is not None:
+            self._front.SetDraw(parts.draws_anything(self._front))
         for drawable in self.drawables:
             hook = getattr(drawable, "before_render", None)
             if hook is not None and drawable.visible:

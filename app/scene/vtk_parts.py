@@ -304,3 +304,19 @@ def _render_texts(texts: list[str], color, size: int) -> tuple[list[np.ndarray],
 def label_part(texts: list[str], color=(1.0, 1.0, 1.0), size: int = 13) -> LabelPart:
     """Labels for ``texts``, placed each render with :meth:`LabelPart.place`."""
     return LabelPart(texts, color, size)
+
+
+def draws_anything(renderer) -> bool:
+    """Whether ``renderer`` has a visible prop with something to draw (a mapper's input with
+    points, or a prop without a mapper). The scene leaves an empty layer undrawn: a second
+    layer costs a pass over the whole view (about 1.5 ms at 1018x425 in software OpenGL)."""
+    props = renderer.GetViewProps()
+    for index in range(props.GetNumberOfItems()):
+        prop = props.GetItemAsObject(index)
+        if not prop.GetVisibility():
+            continue
+        mapper = prop.GetMapper() if hasattr(prop, "GetMapper") else None
+        data = mapper.GetInputDataObject(0, 0) if mapper is not None else None
+        if data is None or not hasattr(data, "GetNumberOfPoints") or data.GetNumberOfPoints() > 0:
+            return True
+    return False
