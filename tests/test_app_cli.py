@@ -9,7 +9,7 @@ import sys
 import numpy as np
 import pytest
 
-from gmr_studio.app.main import build_arguments, parse_size
+from gmr_studio.app.arguments import build_arguments, parse_size
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 
 STUDIO = [sys.executable, "-m", "gmr_studio.app.main"]

@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 from PyQt6.QtWidgets import QApplication
 
-from gmr_studio.app.main import _add_comparison, build_arguments
+from gmr_studio.app.arguments import build_arguments
 from gmr_studio.app.model import commands
+from gmr_studio.app.screenshots import add_comparison
 from gmr_studio.core.compare import compare_motions
 from tests import app_fixtures
 from tests.app_fixtures import open_file, screen_image
@@ -137,7 +138,7 @@ def test_command_line_alignment(studio):
     flags = ["--map", "cmu", "--compare-align", "similarity", "--compare-offset", "2.5"]
     args = build_arguments().parse_args([str(shared_path(BVH)), "--compare", str(shared_path(AMC)), *flags])
     assert args.compare_align == "similarity" and args.compare_offset == 2.5
-    assert _add_comparison(studio, args) is None
+    assert add_comparison(studio, args) is None
     layer = studio.layers[0]
     assert layer.align == "similarity" and not layer.auto_offset
     _assert_same(layer, _expected(studio, "similarity", 2.5))

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from PyQt6.QtWidgets import QApplication
 
-from gmr_studio.app.main import parse_onion
+from gmr_studio.app.arguments import parse_onion
 from gmr_studio.app.media.filmstrip import parse_frame_steps, side_by_side, travel_axis
 from gmr_studio.app.media.video import image_pixels
 from gmr_studio.app.model import commands

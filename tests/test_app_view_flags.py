@@ -9,7 +9,9 @@ import subprocess
 import numpy as np
 import pytest
 
-from gmr_studio.app.main import _apply_steps_once_loaded, apply_steps, build_arguments
+from gmr_studio.app.arguments import build_arguments
+from gmr_studio.app.main import _apply_steps_once_loaded
+from gmr_studio.app.model.edit_steps import apply_steps
 from gmr_studio.app.tools.gallery import dilate, figure_mask
 from gmr_studio.core.formats import load_gmr
 from gmr_studio.core.operations import shift_root, split, split_all

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gmr_studio.app.main import has_display
+from gmr_studio.app.arguments import has_display
 from gmr_studio.app.media.video import image_pixels, save_png, scene_image
 from gmr_studio.app.model import commands
 from gmr_studio.app.model.loading import load_markers, load_snapshot, motion_suffixes
