@@ -68,8 +68,8 @@ MUTATIONS = [
     ),
     (
         "app: no except Exception around export",
-        "app/window/files.py",
-        '            self._report(describe_unexpected(f"Exporting {path}", exc))\n            return False\n',
+        "app/window/exports.py",
+        '            self.files.report(describe_unexpected(f"Exporting {path}", exc))\n            return False\n',
         "            raise\n",
         ["tests/test_export_app.py"],
     ),

@@ -49,15 +49,15 @@ def test_save_as_gmr_and_export_bvh_round_trip(qtbot, studio, tmp_path):
         np.testing.assert_allclose(world_positions(motion)[:, order], state.positions, atol=1e-9 * size)
 
     same_positions(target)  # files list each tree depth first: joints compared by name
-    assert studio.files.export_bvh(tmp_path / "forest.bvh")  # one file, the trees under a World root
+    assert studio.exports.export_bvh(tmp_path / "forest.bvh")  # one file, the trees under a World root
     assert "World" in studio.status.text()
     same_positions(tmp_path / "forest.bvh", bvh_export(state.motion).names)  # leaves are End Sites
-    assert studio.files.export_bvh(tmp_path / "trees.bvh", per_tree=True)
+    assert studio.exports.export_bvh(tmp_path / "trees.bvh", per_tree=True)
     first = read_motion(tree_file_name(tmp_path / "trees.bvh", "root"))
     second = read_motion(tree_file_name(tmp_path / "trees.bvh", "lfoot"))
     assert first.n_joints + second.n_joints >= state.motion.n_joints
     commands.join_everything(state)
-    assert studio.files.export_bvh(tmp_path / "one.bvh")
+    assert studio.exports.export_bvh(tmp_path / "one.bvh")
     same_positions(tmp_path / "one.bvh", bvh_export(state.motion).names)  # dummies where siblings differ
     assert str(target.resolve()) in studio.files.recent_files()
 

@@ -86,6 +86,7 @@ class LightStudio:
         from gmr_studio.app.model.layers import Layers
         from gmr_studio.app.model.state import StudioState
         from gmr_studio.app.reliability.autosave import Autosaver
+        from gmr_studio.app.window.exports import Exports
         from gmr_studio.app.window.files import FileController
 
         self.host = QWidget()
@@ -93,6 +94,7 @@ class LightStudio:
         settings = QSettings(str(settings_path), QSettings.Format.IniFormat)
         self.files = FileController(self.state, lambda: None, settings, self.host)
         self.files.quiet = True
+        self.exports = Exports(self.files)
         self.autosave = Autosaver(self.state, self.host)
         self.forest = ForestTree(self.state, self.host)
         self.inspector = Inspector(self.state, self.host)
@@ -187,7 +189,7 @@ class StudioModel(RuleBasedStateMachine):
         self.saves += 1
         target = self.folder / f"export{self.saves % 3}.bvh"
         roots = [self.state.motion.names[r] for r in self.state.motion.roots]
-        assert self.window.files.export_bvh(target, per_tree=per_tree), self.window.status.text()
+        assert self.window.exports.export_bvh(target, per_tree=per_tree), self.window.status.text()
         if per_tree:  # reopen the tree holding most of the first file's joints
             from gmr_studio.core.export import tree_file_name
 

@@ -51,10 +51,10 @@ def test_the_dialogs_suggest_a_name_and_the_last_folder_and_the_video_keeps_to_i
 
     monkeypatch.setattr(QFileDialog, "getSaveFileName", save_as)
     monkeypatch.setattr(video, "ask_frame_range", lambda parent, n, *a: (100, 159))
-    studio.files.save_screenshot_dialog()
+    studio.exports.save_screenshot_dialog()
     assert offered[-1].endswith("walk_frame00150.png")
     assert (out / "walk_frame00150.png").exists()
-    studio.files.export_video_dialog(speed=1.0)
+    studio.exports.export_video_dialog(speed=1.0)
     assert offered[-1] == str(out / "walk_frames100-159.mp4"), "the last folder, a name with the range"
     frames, _ = imageio_ffmpeg.count_frames_and_secs(str(out / "walk_frames100-159.mp4"))
     assert frames == len(video_frames(480, 120, video.VIDEO_FPS, 1.0, 100, 159)) == 15

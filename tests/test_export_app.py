@@ -32,7 +32,7 @@ def test_an_export_that_raises_is_reported_and_changes_nothing(
     monkeypatch.setattr(export_module, "bvh_export_trees" if per_tree else "bvh_export", broken)
     target = tmp_path / "out" / "walk.bvh"
     target.parent.mkdir()
-    assert studio.files.export_bvh(target, per_tree=per_tree) is False
+    assert studio.exports.export_bvh(target, per_tree=per_tree) is False
     message = studio.status.text()
     assert f"Exporting {target} failed unexpectedly: RuntimeError: simulated bug in the exporter" in message
     assert "Your document is unchanged" in message
@@ -42,5 +42,5 @@ def test_an_export_that_raises_is_reported_and_changes_nothing(
     assert studio.state.snapshot is before and studio.state.motion is motion
     assert studio.state.undo_stack.count() == count and studio.state.modified == modified
     monkeypatch.undo()  # the exporter works again: so does the export, from the same document
-    assert studio.files.export_bvh(target, per_tree=per_tree) is True
+    assert studio.exports.export_bvh(target, per_tree=per_tree) is True
     assert any(target.parent.iterdir())

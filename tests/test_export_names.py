@@ -127,8 +127,8 @@ def test_names_kept_by_the_apps_export(qtbot, studio, tmp_path):
     state = studio.state
     for foot in ("LeftFoot", "RightFoot"):
         assert commands.split_here(state, state.motion.joint_index(foot))
-    assert studio.files.export_bvh(tmp_path / "one.bvh")
+    assert studio.exports.export_bvh(tmp_path / "one.bvh")
     assert set(state.motion.names) <= set(read_bvh(tmp_path / "one.bvh").names)
-    assert studio.files.export_bvh(tmp_path / "trees.bvh", per_tree=True)
+    assert studio.exports.export_bvh(tmp_path / "trees.bvh", per_tree=True)
     names = set().union(*(read_bvh(f).names for f in tmp_path.glob("trees_*.bvh")))
     assert set(state.motion.names) <= names

@@ -42,5 +42,5 @@ def test_export_gltf_from_the_file_menu(qtbot, studio, tmp_path, monkeypatch):
 
 def test_export_gltf_reports_a_bad_folder(qtbot, studio, tmp_path):
     open_file(studio, demo_folder() / MOTION_FILE)
-    assert not studio.files.export_gltf(tmp_path / "missing" / "x.glb")
+    assert not studio.exports.export_gltf(tmp_path / "missing" / "x.glb")
     assert "Cannot export" in studio.status.text()

@@ -1,4 +1,5 @@
-"""Files: open (dialog, drop, command line), save, export, markers, recent files, settings.
+"""Files: open (dialog, drop, command line), save, markers, recent files, settings (exports:
+:mod:`app.window.exports`).
 
 :class:`FileController` turns user requests into state changes. Reading happens in a
 worker thread (:class:`~app.loading.LoadJob`) with a busy progress dialog; a bad file is
@@ -15,8 +16,6 @@ from pathlib import Path
 from PyQt6.QtCore import QObject, QSettings, Qt, pyqtSignal
 from PyQt6.QtWidgets import QApplication, QFileDialog, QMessageBox, QProgressDialog, QWidget
 
-from gmr_studio.app.media import video
-from gmr_studio.app.media.video import export_video, save_screenshot
 from gmr_studio.app.model import extensions, loading, marker_document
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.app.reliability.crash import describe_unexpected, log_exception
@@ -75,7 +74,7 @@ class FileController(QObject):
         self.settings.setValue("recent_files", [])
         self.recent_changed.emit([])
 
-    def _folder(self) -> str:
+    def folder(self) -> str:
         return str(self.settings.value("last_folder", "") or "")
 
     # ---------------------------------------------------------------------- open
@@ -85,7 +84,7 @@ class FileController(QObject):
         path, _ = QFileDialog.getOpenFileName(
             self.window,
             "Open motion",
-            self._folder(),
+            self.folder(),
             loading.file_filter(loading.motion_suffixes() + loading.marker_suffixes(), "Motion and marker files"),
         )
         if path:
@@ -154,7 +153,7 @@ class FileController(QObject):
         path, _ = QFileDialog.getOpenFileName(
             self.window,
             "Body model for AMASS/SMPL motions (SMPL-H for AMASS)",
-            self._folder(),
+            self.folder(),
             "Body models (*.npz *.pkl);;All files (*)",
         )
         if path:
@@ -241,7 +240,7 @@ class FileController(QObject):
             return
         suffixes = loading.motion_suffixes() + loading.marker_suffixes()
         path, _ = QFileDialog.getOpenFileName(
-            self.window, "Compare with", self._folder(), loading.file_filter(suffixes, "Motion and marker files")
+            self.window, "Compare with", self.folder(), loading.file_filter(suffixes, "Motion and marker files")
         )
         if path:
             self.compare_path(path)
@@ -279,7 +278,7 @@ class FileController(QObject):
         try:
             layer = self.layers.add(snapshot, path, joint_map, align=align, offset=offset)
         except ValueError as exc:
-            self._report(f"Cannot compare with {Path(path).name}: {exc}")
+            self.report(f"Cannot compare with {Path(path).name}: {exc}")
             self.load_finished.emit(False)
             return
         c = layer.comparison
@@ -293,7 +292,7 @@ class FileController(QObject):
         try:
             layer = self.layers.add_markers(markers, path)
         except ValueError as exc:
-            self._report(f"Cannot compare with {Path(path).name}: {exc}")
+            self.report(f"Cannot compare with {Path(path).name}: {exc}")
             self.load_finished.emit(False)
             return
         self.state.show_message(f"Showing {layer.name} as a layer: {layer.alignment_text}")
@@ -304,7 +303,7 @@ class FileController(QObject):
         if self.state.motion is None:
             return
         path, _ = QFileDialog.getOpenFileName(
-            self.window, "Add markers", self._folder(), loading.file_filter(loading.marker_suffixes(), "Marker files")
+            self.window, "Add markers", self.folder(), loading.file_filter(loading.marker_suffixes(), "Marker files")
         )
         if path:
             self.add_markers_path(path)
@@ -357,7 +356,7 @@ class FileController(QObject):
             return False
         stem = self.state.path.with_suffix(".gmr").name if self.state.path else "motion.gmr"
         path, _ = QFileDialog.getSaveFileName(
-            self.window, "Save as GMR", str(Path(self._folder()) / stem), "GMR files (*.gmr)"
+            self.window, "Save as GMR", str(Path(self.folder()) / stem), "GMR files (*.gmr)"
         )
         if not path:
             return False
@@ -370,143 +369,17 @@ class FileController(QObject):
         try:
             write_motion(self.state.motion, path)
         except OSError as exc:
-            self._report(f"Cannot save {path}: {exc.strerror or exc}")
+            self.report(f"Cannot save {path}: {exc.strerror or exc}")
             return False
         except Exception as exc:
-            self._report(describe_unexpected(f"Saving {path}", exc))
+            self.report(describe_unexpected(f"Saving {path}", exc))
             return False
         self.state.mark_saved(path)
         self._remember(path)
         self.state.show_message(f"Saved {path}")
         return True
 
-    def export_bvh_dialog(self) -> None:
-        motion = self.state.motion
-        if motion is None:
-            return
-        stem = self.state.path.with_suffix(".bvh").name if self.state.path else "motion.bvh"
-        path, _ = QFileDialog.getSaveFileName(
-            self.window, "Export BVH", str(Path(self._folder()) / stem), "BVH (*.bvh)"
-        )
-        if not path:
-            return
-        per_tree = False
-        if len(motion.roots) > 1:
-            box = QMessageBox(
-                QMessageBox.Icon.Question, "Export BVH", f"The motion is a forest of {len(motion.roots)} trees."
-            )
-            box.setInformativeText("Write one file with the trees under a World root, or one file per tree?")
-            one = box.addButton("One file", QMessageBox.ButtonRole.AcceptRole)
-            several = box.addButton("One file per tree", QMessageBox.ButtonRole.AcceptRole)
-            box.addButton(QMessageBox.StandardButton.Cancel)
-            box.exec()
-            if box.clickedButton() not in (one, several):
-                return
-            per_tree = box.clickedButton() is several
-        self.export_bvh(path if path.lower().endswith(".bvh") else path + ".bvh", per_tree=per_tree)
-
-    def export_bvh(self, path: str | Path, *, per_tree: bool = False) -> bool:
-        """Write the document as standard BVH (post-rotation; dummy joints where GMR siblings
-        turn independently; a forest under a ``World`` root, or one file per tree)."""
-        from gmr_studio.core.export import bvh_export, bvh_export_trees, tree_file_name
-
-        motion = self.state.motion
-        try:
-            if per_tree:
-                written = []
-                for root, export in bvh_export_trees(motion):
-                    target = tree_file_name(path, root)
-                    export.write(target)
-                    written.append(target.name)
-                text = f"Exported {len(written)} trees: {', '.join(written)}"
-            else:
-                export = bvh_export(motion)
-                export.write(path)
-                extra = [f"{len(export.dummies)} dummy joints"] if export.dummies else []
-                extra += [f"the trees under a '{export.world_root}' root"] if export.world_root else []
-                text = f"Exported {path}" + (f" ({', '.join(extra)})" if extra else "")
-        except (OSError, OperationError, ValueError) as exc:
-            self._report(f"Cannot export {path}: {exc}")
-            return False
-        except Exception as exc:
-            self._report(describe_unexpected(f"Exporting {path}", exc))
-            return False
-        self.state.show_message(text)
-        return True
-
-    def export_gltf_dialog(self) -> None:
-        if self.state.motion is None:
-            return
-        stem = self.state.path.with_suffix(".glb").name if self.state.path else "motion.glb"
-        path, _ = QFileDialog.getSaveFileName(
-            self.window, "Export glTF", str(Path(self._folder()) / stem), "glTF binary (*.glb);;glTF JSON (*.gltf)"
-        )
-        if path:
-            self.export_gltf(path if path.lower().endswith((".glb", ".gltf")) else path + ".glb")
-
-    def export_gltf(self, path: str | Path) -> bool:
-        """Write the document as glTF 2.0 (Y up, metres, with the bone-capsule mesh)."""
-        from gmr_studio.core.formats.gltf import export_gltf
-
-        try:
-            result = export_gltf(self.state.motion, path)
-        except (OSError, ValueError) as exc:
-            self._report(f"Cannot export {path}: {exc}")
-            return False
-        except Exception as exc:
-            self._report(describe_unexpected(f"Exporting {path}", exc))
-            return False
-        self.state.show_message(f"Exported {path} ({result.unit_note})")
-        return True
-
-    # ------------------------------------------------------------- screenshots, video
-    def save_screenshot_dialog(self) -> None:
-        name = video.suggested_name(self.state.path, ".png", self.state.frame)
-        start = str(Path(video.export_folder(self.settings, self._folder())) / name)
-        path, _ = QFileDialog.getSaveFileName(self.window, "Save screenshot", start, "PNG images (*.png)")
-        if path:
-            video.remember_export_folder(self.settings, path)
-            width, height = save_screenshot(
-                self.scene_provider(), path if path.lower().endswith(".png") else path + ".png"
-            )
-            self.state.show_message(f"Saved a {width}x{height} screenshot to {path}")
-
-    def export_video_dialog(self, speed: float = 1.0) -> None:
-        if self.state.motion is None:
-            return
-        frames = video.ask_frame_range(self.window, self.state.motion.n_frames)
-        if frames is None:
-            return
-        whole = frames == (0, self.state.motion.n_frames - 1)
-        name = video.suggested_name(self.state.path, ".mp4", frames[0], None if whole else frames[1])
-        start = str(Path(video.export_folder(self.settings, self._folder())) / name)
-        path, _ = QFileDialog.getSaveFileName(self.window, "Export video", start, "MP4 video (*.mp4)")
-        if not path:
-            return
-        path = path if path.lower().endswith(".mp4") else path + ".mp4"
-        video.remember_export_folder(self.settings, path)
-        progress = QProgressDialog("Writing video...", "Cancel", 0, 100, self.window)
-        progress.setWindowModality(Qt.WindowModality.WindowModal)
-        progress.setMinimumDuration(0)
-
-        def report(done: int, total: int) -> bool:
-            progress.setMaximum(total)
-            progress.setValue(done)
-            QApplication.processEvents()
-            return not progress.wasCanceled()
-
-        try:
-            written = export_video(
-                self.scene_provider(), path, speed=speed, progress=report, first=frames[0], last=frames[1]
-            )
-        except (OSError, RuntimeError) as exc:
-            self._report(f"Cannot export the video: {exc}")
-            written = 0
-        finally:
-            progress.reset()
-        self.state.show_message(f"Wrote {written} frames to {path}" if written else "Video export cancelled")
-
-    def _report(self, text: str) -> None:
+    def report(self, text: str) -> None:
         self.state.show_message(text)
         if not self.quiet:
             QMessageBox.warning(self.window, "GMR Studio", text)

@@ -28,6 +28,7 @@ from gmr_studio.app.window import layout
 from gmr_studio.app.window.checks import install_problems
 from gmr_studio.app.window.classroom import Classroom
 from gmr_studio.app.window.comparison import install_comparison
+from gmr_studio.app.window.exports import Exports
 from gmr_studio.app.window.files import FileController
 from gmr_studio.app.window.onion_menu import OnionMenu
 
@@ -66,6 +67,7 @@ class MainWindow(QMainWindow):
         self.view = SkeletonView(self.state, self)
         self.setCentralWidget(self.view)
         self.files = FileController(self.state, lambda: self.view.scene, self.settings, self)
+        self.exports = Exports(self.files)
         self.autosave = Autosaver(self.state, self)  # a recovery copy of unsaved edits
         self.setAcceptDrops(True)
         self.actions = action_table.build_actions(self, self._handlers(), self.state.undo_stack)
@@ -196,11 +198,11 @@ class MainWindow(QMainWindow):
             "refine_markers": files.set_refine_markers,
             "save": files.save,
             "save_as": files.save_as,
-            "export_bvh": files.export_bvh_dialog,
-            "export_gltf": files.export_gltf_dialog,
+            "export_bvh": self.exports.export_bvh_dialog,
+            "export_gltf": self.exports.export_gltf_dialog,
             "body_model": files.choose_body_model,
-            "screenshot": files.save_screenshot_dialog,
-            "export_video": lambda: files.export_video_dialog(player.speed),
+            "screenshot": self.exports.save_screenshot_dialog,
+            "export_video": lambda: self.exports.export_video_dialog(player.speed),
             "quit": self.close,
             "make_root": lambda: commands.make_root(state, state.selected),
             "split": lambda: commands.split_here(state, state.selected),
