@@ -4,7 +4,9 @@
 centres of every frame by the published methods (:mod:`core.markers.joint_centres`: hips by
 Harrington et al. 2007 or Davis et al. 1991, knees and ankles by the medial/lateral midpoint
 or Plug-in Gait's chord with the subject's widths, or functionally (SCoRE, Ehrig et al.
-2006) between segment clusters for sets without knee and ankle markers, shoulders by Rab et
+2006) between segment clusters for sets without knee and ankle markers; a knee whose thigh
+and shank carry clusters of three markers is moved onto its functional flexion axis (SARA,
+Ehrig et al. 2007, as CGM 2.x's functional knee) when the take flexes it enough; shoulders by Rab et
 al. 2002, elbows and
 wrists by their epicondyles, styloids or wrist bar), fits one constant length per bone (the
 median over the frames, with its spread reported), and lays the bones out in a rest pose
@@ -30,9 +32,9 @@ import numpy as np
 
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.markers import joint_centres as jc
+from gmr_studio.core.markers.functional_joints import fill_from_cluster, functional_centre, knee_on_axis, most_seen
 from gmr_studio.core.markers.limbs import swing
 from gmr_studio.core.markers.markerset import MarkerSet
-from gmr_studio.core.markers.procrustes import fit_rigid
 from gmr_studio.core.markers.sets import SetMatch, identify_marker_set, no_match_text, role_positions
 from gmr_studio.core.motion import Motion
 
@@ -65,31 +67,6 @@ SHANK = ("TIB", "TB1", "TB2", "TB3", "TIAP", "TIAD", "WAND2", "TTC", "FAX", "SHU
 FOOT = ("HEE", "CAL", "FCC", "MIDS", "MIDL", "TOE", "TOEL", "TOEM", "MT1", "MT2", "MT5", "FM1", "FM5")
 
 
-def functional_centre(proximal: np.ndarray, distal: np.ndarray) -> np.ndarray:
-    """The centre of rotation (F, 3) between two marker clusters (F, K, 3) and (F, L, 3), each
-    rigid with its segment: SCoRE (Ehrig R.M., Taylor W.R., Duda G.N., Heller M.O. 2006, "A
-    survey of formal methods for determining the centre of rotation of ball joints",
-    J. Biomech. 39:2798-2809). With each cluster's rigid motion ``R_i, t_i`` (fitted to its
-    centred pose in its first complete frame), the point fixed in both, ``R_1 c_1 + t_1 =
-    R_2 c_2 + t_2``, is solved by least squares over all frames; for a hinge (the knee) the point
-    along the axis is the least-norm one (nearest the clusters' centroids). Returns the mid-point
-    of the two placements per frame (NaN where either cluster cannot be fitted)."""
-    fits = []
-    for cluster in (proximal, distal):
-        complete = np.flatnonzero(np.isfinite(cluster).all(axis=(1, 2)))
-        if complete.size == 0:
-            return np.full((len(cluster), 3), np.nan)
-        template = cluster[complete[0]] - cluster[complete[0]].mean(axis=0)
-        fits.append(fit_rigid(template, cluster))
-    (r1, t1, _, ok1), (r2, t2, _, ok2) = fits
-    ok = ok1 & ok2
-    system = np.concatenate([r1[ok], -r2[ok]], axis=2).reshape(-1, 6)
-    local = np.linalg.lstsq(system, (t2[ok] - t1[ok]).reshape(-1), rcond=1e-6)[0]
-    centre = 0.5 * (np.einsum("fab,b->fa", r1, local[:3]) + t1 + np.einsum("fab,b->fa", r2, local[3:]) + t2)
-    centre[~ok] = np.nan
-    return centre
-
-
 def _functional_leg(roles, side: str, hjc: np.ndarray, methods: dict):
     """Knee and ankle centres by SCoRE from thigh, shank and foot clusters (sets without knee
     and ankle markers, such as OpenSim's gait2392), and the markers giving the twists; None
@@ -102,42 +79,6 @@ def _functional_leg(roles, side: str, hjc: np.ndarray, methods: dict):
     how = "functional centre (SCoRE, Ehrig et al. 2006) of the {} and {} clusters"
     methods[side + "KJC"], methods[side + "AJC"] = how.format("thigh", "shank"), how.format("shank", "foot")
     return kjc, ajc, most_seen(thigh), most_seen(shank)
-
-
-def most_seen(trajectories: list[np.ndarray]) -> np.ndarray:
-    """The trajectory (F, 3) seen in the most frames (the first of equals)."""
-    seen = [int(np.isfinite(x).all(axis=1).sum()) for x in trajectories]
-    return trajectories[int(np.argmax(seen))]
-
-
-def fill_from_cluster(centre: np.ndarray, cluster: list[np.ndarray]) -> np.ndarray:
-    """A joint centre (F, 3) filled, where it is NaN, from markers rigid with the same segment.
-
-    Labs place medial markers for a static trial and take them off (the shared walking5 file
-    and its TRC lack them in most frames). The cluster (K trajectories (F, 3), K >= 3) is
-    fitted by least squares (:func:`core.markers.procrustes.fit_rigid`) to its pose in the
-    first frame where all of it is seen; the centre's place in the cluster's frame is the
-    median over the frames where both are seen, and it is carried to the frames where the
-    centre is missing and at least three cluster markers are seen.
-    """
-    missing = ~np.isfinite(centre).all(axis=1)
-    if not missing.any() or len(cluster) < 3:
-        return centre
-    points = np.stack(cluster, axis=1)
-    complete = np.flatnonzero(np.isfinite(points).all(axis=(1, 2)))
-    if complete.size == 0:
-        return centre
-    template = points[complete[0]]
-    rotations, translations, _, ok = fit_rigid(template, points)
-    local = np.einsum("fba,fb->fa", rotations, centre - translations)
-    seen = ok & ~missing
-    if not seen.any():
-        return centre
-    offset = np.median(local[seen], axis=0)
-    fill = missing & ok
-    out = centre.copy()
-    out[fill] = np.einsum("fab,b->fa", rotations[fill], offset) + translations[fill]
-    return out
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -253,6 +194,7 @@ def joint_centre_trajectories(
         kjc = fill_from_cluster(kjc, [hjc, kne, *roles.all(THIGH, side)])
         ajc = _hinge(hinge, "AJC", kjc, ank, med, tib, "AnkleWidth", ("ankle", "knee", "tibia wand"))
         ajc = fill_from_cluster(ajc, [kjc, ank, *roles.all(SHANK, side)])
+        kjc = _knee_on_axis(roles, side, hjc, kjc, ajc, [hjc, kne, *roles.all(THIGH, side)], methods, notes)
         centres[side + "KJC"], centres[side + "AJC"] = kjc, ajc
         twists[side + "KJC"] = most_seen([kne, *roles.all(THIGH, side)])
         twists[side + "AJC"] = most_seen([ank, *roles.all(SHANK, side)])
@@ -264,6 +206,21 @@ def joint_centre_trajectories(
                 twists[side + "TOE"] = heel
     _upper_body(roles, centres, twists, methods, params, notes, radius)
     return centres, twists, methods, notes
+
+
+def _knee_on_axis(roles: _Roles, side: str, hjc, kjc, ajc, thigh_markers, methods: dict, notes: list) -> np.ndarray:
+    """The knee centre on the knee's functional flexion axis where the thigh and shank clusters
+    allow it (:func:`core.markers.functional_joints.knee_on_axis`), else ``kjc`` unchanged."""
+    found = knee_on_axis(roles.all(THIGH, side), roles.all(SHANK, side), hjc, kjc, ajc)
+    if found is None:
+        return kjc
+    moved, distance = found
+    methods[side + "KJC"] += (
+        f", moved onto the flexion axis of the thigh and shank clusters by {distance:.1f} mm (SARA, Ehrig et al. "
+        "2007; CGM 2.x's functional knee)"
+    )
+    notes.append(f"{side} knee centre on the functional flexion axis (SARA), {distance:.1f} mm from the anatomical one")
+    return fill_from_cluster(moved, thigh_markers)
 
 
 def _hinge(context, joint, proximal, lateral, medial, wand, width_name, words):
