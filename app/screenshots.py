@@ -28,14 +28,20 @@ def _load_or_report(motion_path: str, markers_path: str | None):
     return snapshot, markers
 
 
-def _open_loaded(state, loaded, path: str, layers=None) -> None:
-    """Make what :func:`_load_or_report` read the state's document."""
+def _open_loaded(state, loaded: tuple, path: str, layers=None) -> None:
+    """Make what :func:`_load_or_report` read the state's document, with its markers and the
+    pelvis frames recovered from them."""
+    from gmr_studio.app.model import extensions
     from gmr_studio.app.model.marker_document import MarkerDocument, show_marker_document
 
-    if isinstance(loaded, MarkerDocument):
-        state.show_message(show_marker_document(state, loaded, path, layers))
+    document, markers = loaded
+    if isinstance(document, MarkerDocument):
+        state.show_message(show_marker_document(state, document, path, layers))
     else:
-        state.open_document(loaded, path)
+        state.open_document(document, path)
+    if markers is not None:
+        state.set_markers(markers)
+        extensions.recover_pelvis_frames(state, quiet=True)
 
 
 def add_comparison(window, args: argparse.Namespace) -> str | None:
@@ -83,20 +89,15 @@ def offscreen_screenshot(motion_path: str, markers_path: str | None, args: argpa
     from PyQt6.QtCore import QCoreApplication
 
     from gmr_studio.app.media.video import save_screenshot
-    from gmr_studio.app.model import extensions
     from gmr_studio.app.model.state import StudioState
     from gmr_studio.app.scene.scene import SkeletonScene
 
     loaded = _load_or_report(motion_path, markers_path)
     if loaded is None:
         return 2
-    snapshot, markers = loaded
     _app = QCoreApplication.instance() or QCoreApplication(sys.argv[:1])
     state = StudioState()
-    _open_loaded(state, snapshot, motion_path)
-    if markers is not None:
-        state.set_markers(markers)
-        extensions.recover_pelvis_frames(state, quiet=True)
+    _open_loaded(state, loaded, motion_path)
     problem = _prepare(state, args)
     if problem:
         print(f"gmr-studio: {problem}", file=sys.stderr)
@@ -148,13 +149,11 @@ def window_screenshot(motion_path: str, markers_path: str | None, args: argparse
     from PyQt6.QtWidgets import QApplication
 
     from gmr_studio.app.media.video import save_screenshot, window_image
-    from gmr_studio.app.model import extensions
     from gmr_studio.app.window.main_window import MainWindow
 
     loaded = _load_or_report(motion_path, markers_path)
     if loaded is None:
         return 2
-    snapshot, markers = loaded
     import tempfile
 
     from PyQt6.QtCore import QSettings
@@ -164,10 +163,7 @@ def window_screenshot(motion_path: str, markers_path: str | None, args: argparse
     # throwaway settings: a screenshot neither reads nor changes the user's
     window = MainWindow(settings=QSettings(f"{scratch.name}/settings.ini", QSettings.Format.IniFormat))
     frame, out, whole_window = args.frame, args.screenshot, args.window
-    _open_loaded(window.state, snapshot, motion_path, window.layers)
-    if markers is not None:
-        window.state.set_markers(markers)
-        extensions.recover_pelvis_frames(window.state, quiet=True)
+    _open_loaded(window.state, loaded, motion_path, window.layers)
     problem = _prepare(window.state, args) or add_comparison(window, args)
     if problem:
         print(f"gmr-studio: {problem}", file=sys.stderr)
