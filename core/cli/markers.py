@@ -30,6 +30,7 @@ from gmr_studio.core.cli.reading import add_reading_options, reader_options
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import load_gmr, motion_suffix, write_motion
 from gmr_studio.core.markers import read_markers
+from gmr_studio.core.markers.build import HIP_METHODS, KNEE_METHODS
 from gmr_studio.core.markers.markermap import Alignment, load_marker_map, save_marker_map
 from gmr_studio.core.markers.markerset import MarkerSet
 from gmr_studio.core.motion import Motion
@@ -58,7 +59,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="the refinement's weight of markers (built skeleton; default 1; 0 leaves one out)",
     )
     parser.add_argument(
-        "--hip", choices=("harrington", "davis"), default="harrington", help="hip centre regression (built skeleton)"
+        "--hip", choices=HIP_METHODS, default="harrington", help="hip centre regression (built skeleton)"
+    )
+    parser.add_argument(
+        "--knee",
+        choices=KNEE_METHODS,
+        default="functional",
+        help="knee centre (built skeleton): on the flexion axis of the thigh and shank clusters where they allow it "
+        "(functional, default), or between the condyles / by the chord as Plug-in Gait places it (anatomical)",
     )
     parser.add_argument(
         "--against-file-model",

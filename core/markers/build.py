@@ -67,6 +67,12 @@ SHANK = ("TIB", "TB1", "TB2", "TB3", "TIAP", "TIAD", "WAND2", "TTC", "FAX", "SHU
 FOOT = ("HEE", "CAL", "FCC", "MIDS", "MIDL", "TOE", "TOEL", "TOEM", "MT1", "MT2", "MT5", "FM1", "FM5")
 
 
+#: the hip centre regressions: Harrington et al. 2007 (the default), Davis et al. 1991 (Plug-in Gait)
+HIP_METHODS = ("harrington", "davis")
+#: the knee centre: on the functional flexion axis where clusters allow (the default), or anatomical
+KNEE_METHODS = ("functional", "anatomical")
+
+
 def _functional_leg(roles, side: str, hjc: np.ndarray, methods: dict):
     """Knee and ankle centres by SCoRE from thigh, shank and foot clusters (sets without knee
     and ankle markers, such as OpenSim's gait2392), and the markers giving the twists; None
@@ -136,12 +142,16 @@ def _width(parameters: dict[str, float], name: str, side: str, notes: list[str])
 
 
 def joint_centre_trajectories(
-    markers: MarkerSet, match: SetMatch, hip: str = "harrington"
+    markers: MarkerSet, match: SetMatch, hip: str = "harrington", knee: str = "functional"
 ) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray], dict[str, str], list[str]]:
     """Joint centres (F, 3) and twist markers (F, 3) by joint name, the method of each, notes.
 
-    ``markers`` in millimetres. Raises OperationError when the set cannot place the pelvis,
-    hips, knees and ankles (e.g. OpenSim's gait2392 set, which has no knee or ankle markers).
+    ``markers`` in millimetres. ``hip``: the hip regression (:data:`HIP_METHODS`); ``knee``
+    (:data:`KNEE_METHODS`): "functional" moves a knee onto its flexion axis where the thigh and
+    shank clusters allow it, "anatomical" keeps the mid-point of the condyles (or the chord), as
+    Plug-in Gait places it (what ``--against-file-model`` compares with). Raises OperationError
+    when the set cannot place the pelvis, hips, knees and ankles (e.g. OpenSim's gait2392 set,
+    which has no knee or ankle markers).
     """
     roles = _Roles(role_positions(markers, match))
     params = markers.parameters
@@ -194,7 +204,8 @@ def joint_centre_trajectories(
         kjc = fill_from_cluster(kjc, [hjc, kne, *roles.all(THIGH, side)])
         ajc = _hinge(hinge, "AJC", kjc, ank, med, tib, "AnkleWidth", ("ankle", "knee", "tibia wand"))
         ajc = fill_from_cluster(ajc, [kjc, ank, *roles.all(SHANK, side)])
-        kjc = _knee_on_axis(roles, side, hjc, kjc, ajc, [hjc, kne, *roles.all(THIGH, side)], methods, notes)
+        if knee == "functional":
+            kjc = _knee_on_axis(roles, side, hjc, kjc, ajc, [hjc, kne, *roles.all(THIGH, side)], methods, notes)
         centres[side + "KJC"], centres[side + "AJC"] = kjc, ajc
         twists[side + "KJC"] = most_seen([kne, *roles.all(THIGH, side)])
         twists[side + "AJC"] = most_seen([ank, *roles.all(SHANK, side)])
@@ -301,7 +312,9 @@ TREE = (
 )
 
 
-def build_skeleton(markers: MarkerSet, match: SetMatch | None = None, hip: str = "harrington") -> BuiltSkeleton:
+def build_skeleton(
+    markers: MarkerSet, match: SetMatch | None = None, hip: str = "harrington", knee: str = "functional"
+) -> BuiltSkeleton:
     """The skeleton of the subject in ``markers`` (any units: converted to mm); see the module
     docstring. Raises OperationError naming what is missing when no known set fits or the set
     cannot place the legs."""
@@ -314,7 +327,9 @@ def build_skeleton(markers: MarkerSet, match: SetMatch | None = None, hip: str =
             f"this file's markers are set {match.definition.name} but miss {', '.join(match.missing)}: "
             "no skeleton is built without them"
         )
-    centres, twists, methods, notes = joint_centre_trajectories(markers, match, hip)
+    if hip not in HIP_METHODS or knee not in KNEE_METHODS:
+        raise ValueError(f"hip {hip!r} or knee {knee!r}: expected one of {HIP_METHODS} and one of {KNEE_METHODS}")
+    centres, twists, methods, notes = joint_centre_trajectories(markers, match, hip, knee)
     tree = [(n, parent, rest) for n, parent, rest in TREE if n in centres and (parent is None or parent in centres)]
     names = [t[0] for t in tree]
     index = {n: i for i, n in enumerate(names)}

@@ -92,6 +92,7 @@ def markers_to_built_motion(
     iterations: int = 5,
     weights: dict[str, float] | None = None,
     place_markers: bool = True,
+    knee: str = "functional",
 ) -> BuiltMotion:
     """Build the skeleton (:func:`build_skeleton`), run the paper's closed form on it with the
     twists from the segments' third markers, and with ``refine`` the global refinement
@@ -113,7 +114,7 @@ def markers_to_built_motion(
     from gmr_studio.core.markers.solve import solve_positions
 
     markers = markers.in_units("mm")
-    built = build_skeleton(markers, hip=hip)
+    built = build_skeleton(markers, hip=hip, knee=knee)
     result = solve_positions(
         built.centres, built.skeleton, built.pelvis, frame_time=1.0 / markers.rate, twist_markers=built.twist_markers
     )
