@@ -74,6 +74,15 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ],
         60,
     ),
+    "core/mirror.py": (
+        [
+            "tests/test_mirror_edges.py",
+            "tests/test_mirror_contacts.py",
+            "tests/test_mirror_skeleton.py",
+            "tests/test_curves_mirror_blind_spots.py",
+        ],
+        60,
+    ),
     # the recovery tests but the one that runs the app in a subprocess (a minute a mutant)
     "app/reliability/autosave.py": (
         ["tests/test_app_autosave_rules.py", "tests/test_app_recovery.py", "-k", "not killed_app"],
