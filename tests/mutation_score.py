@@ -63,6 +63,26 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ["tests/test_joint_transforms.py", "tests/test_curves.py", "tests/test_curves_mirror_blind_spots.py"],
         60,
     ),
+    "core/curves.py": (
+        [
+            "tests/test_curves_edges.py",
+            "tests/test_curves.py",
+            "tests/test_curves_quantities.py",
+            "tests/test_curves_mirror_blind_spots.py",
+            "tests/test_curves_cli.py",
+            "tests/test_joint_transforms.py",
+        ],
+        60,
+    ),
+    "core/mirror.py": (
+        [
+            "tests/test_mirror_edges.py",
+            "tests/test_mirror_contacts.py",
+            "tests/test_mirror_skeleton.py",
+            "tests/test_curves_mirror_blind_spots.py",
+        ],
+        60,
+    ),
     # the recovery tests but the one that runs the app in a subprocess (a minute a mutant)
     "app/reliability/autosave.py": (
         ["tests/test_app_autosave_rules.py", "tests/test_app_recovery.py", "-k", "not killed_app"],
