@@ -142,7 +142,10 @@ def through_gltf(motion: Motion) -> Motion:
 
 
 def audit_motion(motion: Motion, source: str | Path | None = None, every: int = 5) -> list[AuditPath]:
-    """Run every path of :func:`round_trips`; a path that raises is reported, not raised."""
+    """Run every path of :func:`round_trips`; a path that raises is reported, not raised.
+
+    A motion without frames (a skeleton only, ``Frames: 0``) is measured by the rest pose
+    of what each path gives back."""
     reference = forward_kinematics(motion, with_rotations=False, threads=None)[0]
     rest = forward_kinematics(motion.rest_pose(), with_rotations=False)[0]
     results = []
@@ -150,6 +153,8 @@ def audit_motion(motion: Motion, source: str | Path | None = None, every: int = 
         try:
             after = trip(motion)
             after, removed = after if isinstance(after, tuple) else (after, [])
+            if motion.n_frames == 0 and after.n_frames == 0:  # a skeleton only: what it kept is its rest pose
+                after = after.rest_pose()
             truth = rest if after.n_frames == 1 and motion.n_frames != 1 else reference
             results.append(_measure(name, tolerance, motion, truth, after, set(removed)))
         except Exception as exc:  # a failing path is a finding of the audit
