@@ -83,6 +83,24 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ],
         60,
     ),
+    "core/compare/result.py": (
+        [
+            "tests/test_compare_result_edges.py",
+            "tests/test_compare_blind_spots.py",
+            "tests/test_compare.py",
+            "tests/test_compare_cli.py",
+        ],
+        60,
+    ),
+    "core/compare/align.py": (
+        [
+            "tests/test_compare_align_edges.py",
+            "tests/test_compare.py",
+            "tests/test_compare_blind_spots.py",
+            "tests/test_compare_cli.py",
+        ],
+        60,
+    ),
     # the recovery tests but the one that runs the app in a subprocess (a minute a mutant)
     "app/reliability/autosave.py": (
         ["tests/test_app_autosave_rules.py", "tests/test_app_recovery.py", "-k", "not killed_app"],
