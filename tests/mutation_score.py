@@ -60,7 +60,12 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "app/model/joint_transforms.py": (["tests/test_joint_transforms.py"], 60),
     "core/table.py": (["tests/test_table_records.py", "tests/test_curves_cli.py", "tests/test_compare_cli.py"], 60),
     "core/channels.py": (
-        ["tests/test_joint_transforms.py", "tests/test_curves.py", "tests/test_curves_mirror_blind_spots.py"],
+        [
+            "tests/test_channels.py",
+            "tests/test_joint_transforms.py",
+            "tests/test_curves.py",
+            "tests/test_curves_mirror_blind_spots.py",
+        ],
         60,
     ),
     "core/curves.py": (
