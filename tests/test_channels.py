@@ -115,3 +115,12 @@ def test_labels_are_the_files_or_the_axes_and_a_joint_without_channels_has_none(
     assert channels.label_of("a") == ("Zrotation", "Xrotation", "Yrotation")
     assert channels.label_of("b") == ("rx", "ry")
     assert channels.label_of("End Site") == () and channels.of("End Site", 0) is None
+
+
+def test_file_channels_are_frozen_and_compared_by_identity(angles):
+    channels = FileChannels(orders={"j": "ZXY"}, angles={"j": angles})
+    with pytest.raises(AttributeError):
+        channels.kind = "amc"  # a frozen record: what was read stays what was read
+    twin = FileChannels(orders={"j": "ZXY"}, angles={"j": angles})
+    assert channels == channels and channels != twin  # by identity: arrays are not compared
+    assert len({channels, twin}) == 2  # hashable by identity (dicts of arrays are not)
