@@ -73,6 +73,8 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ["tests/test_recovery_records.py", "tests/test_recovery_liveness.py", "tests/test_app_autosave_rules.py"],
         120,
     ),
+    "core/checks/spikes.py": (["tests/test_spikes_mutants.py", "tests/test_checks.py"], 60),
+    "core/checks/feet.py": (["tests/test_checks.py"], 60),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
