@@ -76,6 +76,8 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "core/checks/spikes.py": (["tests/test_spikes_mutants.py", "tests/test_checks.py"], 60),
     "core/checks/feet.py": (["tests/test_feet_mutants.py", "tests/test_checks.py"], 60),
     "core/checks/joints.py": (["tests/test_joints_mutants.py", "tests/test_checks.py"], 60),
+    "core/checks/frames.py": (["tests/test_frames_mutants.py", "tests/test_checks.py"], 60),
+    "core/checks/model.py": (["tests/test_checks.py"], 60),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
