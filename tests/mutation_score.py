@@ -79,6 +79,7 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "core/checks/frames.py": (["tests/test_frames_mutants.py", "tests/test_checks.py"], 60),
     "core/checks/model.py": (["tests/test_check_model_mutants.py", "tests/test_checks.py"], 60),
     "core/checks/report.py": (["tests/test_check_report_mutants.py", "tests/test_check_cli.py"], 60),
+    "core/checks/context.py": (["tests/test_check_context_mutants.py", "tests/test_checks.py"], 60),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
