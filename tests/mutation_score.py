@@ -80,6 +80,8 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "core/checks/model.py": (["tests/test_check_model_mutants.py", "tests/test_checks.py"], 60),
     "core/checks/report.py": (["tests/test_check_report_mutants.py", "tests/test_check_cli.py"], 60),
     "core/checks/context.py": (["tests/test_check_context_mutants.py", "tests/test_checks.py"], 60),
+    # the pictures of docs/checks.md: their one test file (matplotlib, a real take)
+    "core/checks/figures.py": (["tests/test_check_figures_mutants.py"], 60),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
