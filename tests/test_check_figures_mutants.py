@@ -119,8 +119,7 @@ def test_the_picture_of_each_example(example, monkeypatch):
     """docs/checks.md's pictures: 900 x 340 pixels, the measured quantity over the example's
     frames (a line of width 1.2, dots of 3), the findings of its kind (and joint) there
     shaded over their frames and labelled at the top, titled with the file, kind and joint."""
-    from matplotlib import pyplot
-
+    pyplot = pytest.importorskip("matplotlib.pyplot", reason="matplotlib comes with the bench extra")
     from gmr_studio.core.checks import run_checks
     from gmr_studio.core.formats import read_motion
 
