@@ -124,6 +124,15 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ["tests/test_audit_mutants.py", "tests/test_compare_blind_spots.py", "tests/test_audit.py"],
         120,
     ),
+    "core/checks/spikes.py": (["tests/test_spikes_mutants.py", "tests/test_checks.py"], 60),
+    "core/checks/feet.py": (["tests/test_feet_mutants.py", "tests/test_checks.py"], 60),
+    "core/checks/joints.py": (["tests/test_joints_mutants.py", "tests/test_checks.py"], 60),
+    "core/checks/frames.py": (["tests/test_frames_mutants.py", "tests/test_checks.py"], 60),
+    "core/checks/model.py": (["tests/test_check_model_mutants.py", "tests/test_checks.py"], 60),
+    "core/checks/report.py": (["tests/test_check_report_mutants.py", "tests/test_check_cli.py"], 60),
+    "core/checks/context.py": (["tests/test_check_context_mutants.py", "tests/test_checks.py"], 60),
+    # the pictures of docs/checks.md: their one test file (matplotlib, a real take)
+    "core/checks/figures.py": (["tests/test_check_figures_mutants.py"], 60),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
