@@ -5,7 +5,7 @@ neighbours is ``e_f = |P_f - (P_{f-1} + P_{f+1}) / 2|`` (half the second differe
 knocked by ``d`` at one frame has ``e_f = d`` and ``e_{f±1} = d/2``; smooth motion gives
 ``|acceleration| dt² / 2``). Per joint, ``m`` is the median of ``e`` and ``s`` 1.4826 times
 its median absolute deviation. Frame f pops when ``e_f > m + pop_mad * s``,
-``e_f >= pop_limits[0] * size``, ``e_f`` exceeds the span ``|P_{f+1} - P_{f-1}|`` of its
+``e_f > pop_limits[0] * size``, ``e_f`` exceeds the span ``|P_{f+1} - P_{f-1}|`` of its
 neighbours (a step or a fast stop spans as much as it deviates) and is at least 1.5 times
 ``e_{f-1}`` and ``e_{f+1}`` (a spike, not a bend). The joints reported are the popping
 joints whose parent does not pop at that frame (children follow their parent), largest
