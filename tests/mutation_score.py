@@ -78,6 +78,10 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ["tests/test_audit_mutants.py", "tests/test_compare_blind_spots.py", "tests/test_audit.py"],
         120,
     ),
+    "core/compare/offset.py": (
+        ["tests/test_offset_mutants.py", "tests/test_compare_offset.py", "tests/test_compare.py"],
+        60,
+    ),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
