@@ -82,6 +82,15 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ["tests/test_offset_mutants.py", "tests/test_compare_offset.py", "tests/test_compare.py"],
         60,
     ),
+    "core/compare/clock.py": (
+        [
+            "tests/test_clock_mutants.py",
+            "tests/test_compare_slerp_reference.py",
+            "tests/test_compare_offset.py",
+            "tests/test_compare.py",
+        ],
+        60,
+    ),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
