@@ -133,6 +133,19 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "core/checks/context.py": (["tests/test_check_context_mutants.py", "tests/test_checks.py"], 60),
     # the pictures of docs/checks.md: their one test file (matplotlib, a real take)
     "core/checks/figures.py": (["tests/test_check_figures_mutants.py"], 60),
+    "core/compare/offset.py": (
+        ["tests/test_offset_mutants.py", "tests/test_compare_offset.py", "tests/test_compare.py"],
+        60,
+    ),
+    "core/compare/clock.py": (
+        [
+            "tests/test_clock_mutants.py",
+            "tests/test_compare_slerp_reference.py",
+            "tests/test_compare_offset.py",
+            "tests/test_compare.py",
+        ],
+        60,
+    ),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
