@@ -253,7 +253,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                 print("  the same in the framebuffer widget (the Wayland fallback):")
                 report(framebuffer)
             else:
-                print(f"  framebuffer widget: failed ({child.stderr.strip().splitlines()[-1:]})")
+                last = child.stderr.strip().splitlines()[-1:]
+                print(f"  framebuffer widget: failed (exit status {child.returncode}; {last})")
     return 0
 
 
