@@ -57,15 +57,20 @@ def test_a_frame_shown_three_times_is_a_warning():
     assert (finding.start, finding.end, finding.value, finding.severity) == (251, 252, 2.0, "warning")
 
 
+def _turned_once(motion, joint: int, frame: int):
+    """``motion`` with ``joint`` still (the identity) but at ``frame``, turned 0.1 rad about X."""
+    rotations = motion.rotations.copy()
+    rotations[:, joint] = np.eye(3)
+    rotations[frame, joint] = rotation_about_axis("X", np.array(0.1))
+    return motion.replace(rotations=rotations)
+
+
 def test_a_joint_turned_at_one_frame_of_64_moves():
     """64 frames: all of them are sampled, whichever one frame a joint turns at."""
     motion = clean_walk(120.0, unit=CM).frame_slice(slice(0, 64))
     j = motion.names.index("Head")
     for frame in range(64):
-        rotations = motion.rotations.copy()
-        rotations[:, j] = np.eye(3)
-        rotations[frame, j] = rotation_about_axis("X", np.array(0.1))
-        assert j in _moving_joints(motion.replace(rotations=rotations))
+        assert j in _moving_joints(_turned_once(motion, j, frame))
 
 
 def test_a_joint_turned_at_any_of_the_64_frames_sampled_moves():
@@ -73,10 +78,7 @@ def test_a_joint_turned_at_any_of_the_64_frames_sampled_moves():
     motion = clean_walk(120.0, unit=CM)
     j = motion.names.index("Head")
     for frame in np.unique(np.linspace(0, 599, 64).round().astype(int)):
-        rotations = motion.rotations.copy()
-        rotations[:, j] = np.eye(3)
-        rotations[frame, j] = rotation_about_axis("X", np.array(0.1))
-        assert j in _moving_joints(motion.replace(rotations=rotations))
+        assert j in _moving_joints(_turned_once(motion, j, frame))
 
 
 def test_a_joint_turned_at_the_first_frame_only_moves():
