@@ -45,7 +45,10 @@ def _median_ms(seconds: list[float]) -> float:
     return float(1000 * np.median(seconds))
 
 
-def _timed(step, count: int, warm_up: int = 20) -> list[float]:
+WARM_UP = 20  # untimed updates before each figure
+
+
+def _timed(step, count: int, warm_up: int = WARM_UP) -> list[float]:
     """[wall ms, CPU ms]: medians over ``count`` calls of ``step(i)`` after ``warm_up``
     untimed ones. CPU is the process's, every thread (Mesa's software rasteriser renders in
     threads of this process): on a machine shared with other work the wall time grows with
@@ -65,7 +68,7 @@ def _frames(app, state, first: int, count: int) -> list[float]:
     """[wall ms, CPU ms] median per frame update of ``count`` consecutive frames from ``first``."""
 
     def step(i: int) -> None:
-        state.set_frame((first - 20 + i) % state.n_frames)
+        state.set_frame((first - WARM_UP + i) % state.n_frames)
         app.processEvents()
 
     return _timed(step, count)
@@ -203,16 +206,18 @@ def report(figures: dict) -> None:
         f"  view {width}x{height} ({figures['share']:.0%} of the window, {figures['kind']} widget), "
         f"{figures['markers']} markers, pelvis triads {'on' if figures['pelvis'] else 'off'}"
     )
-    rows = (
-        ("bare VTK widget, 38 spheres + grid", bare, ""),
-        ("default overlays, Curves shown", default, f"{default[0] / bare[0]:5.2f}x bare"),
-        ("+ axes, trail, labels", figures["overlays"], f"{figures['overlays'][0] / default[0]:5.2f}x default"),
-        ("+ one comparison layer", figures["layer"], f"{figures['layer'][0] / default[0]:5.2f}x default"),
+    rows = (  # (label, [wall, CPU] ms, the row it is a ratio to)
+        ("bare VTK widget, 38 spheres + grid", bare, None),
+        ("default overlays, Curves shown", default, ("bare", bare)),
+        ("+ axes, trail, labels", figures["overlays"], ("default", default)),
+        ("+ one comparison layer", figures["layer"], ("default", default)),
     )
     print(f"  {'':<38} {'wall':>10} {'':>9}  {'':15}  {'CPU':>8}")
-    for label, (wall, cpu), ratio in rows:
-        reference = {"bare": bare, "default": default}.get(ratio.rsplit(" ", 1)[-1]) if ratio else None
-        cpu_ratio = f"{cpu / reference[1]:5.2f}x" if reference else ""
+    for label, (wall, cpu), reference in rows:
+        ratio = cpu_ratio = ""
+        if reference is not None:
+            name, (reference_wall, reference_cpu) = reference
+            ratio, cpu_ratio = f"{wall / reference_wall:5.2f}x {name}", f"{cpu / reference_cpu:5.2f}x"
         print(f"  {label:<38} {wall:7.2f} ms  {1000 / wall:5.0f} fps  {ratio:15}  {cpu:5.2f} ms  {cpu_ratio}")
     docks = ", ".join(f"{name} {ms:.2f} ms" for name, ms in figures["docks"].items())
     print(f"  docks, each alone: {docks}")

@@ -201,11 +201,12 @@ def joint_centre_trajectories(
             continue
         hinge = (match.definition.name, side, params, notes, radius, methods)
         kjc = _hinge(hinge, "KJC", hjc, kne, knm, thi, "KneeWidth", ("knee", "hip", "thigh wand"))
-        kjc = fill_from_cluster(kjc, [hjc, kne, *roles.all(THIGH, side)])
+        thigh_markers = [hjc, kne, *roles.all(THIGH, side)]
+        kjc = fill_from_cluster(kjc, thigh_markers)
         ajc = _hinge(hinge, "AJC", kjc, ank, med, tib, "AnkleWidth", ("ankle", "knee", "tibia wand"))
         ajc = fill_from_cluster(ajc, [kjc, ank, *roles.all(SHANK, side)])
         if knee == "functional":
-            kjc = _knee_on_axis(roles, side, hjc, kjc, ajc, [hjc, kne, *roles.all(THIGH, side)], methods, notes)
+            kjc = _knee_on_axis(roles, side, hjc, kjc, ajc, thigh_markers, methods, notes)
         centres[side + "KJC"], centres[side + "AJC"] = kjc, ajc
         twists[side + "KJC"] = most_seen([kne, *roles.all(THIGH, side)])
         twists[side + "AJC"] = most_seen([ank, *roles.all(SHANK, side)])
@@ -318,6 +319,8 @@ def build_skeleton(
     """The skeleton of the subject in ``markers`` (any units: converted to mm); see the module
     docstring. Raises OperationError naming what is missing when no known set fits or the set
     cannot place the legs."""
+    if hip not in HIP_METHODS or knee not in KNEE_METHODS:
+        raise ValueError(f"hip {hip!r} or knee {knee!r}: expected one of {HIP_METHODS} and one of {KNEE_METHODS}")
     markers = markers.in_units("mm")
     match = match or identify_marker_set(markers)
     if match is None:
@@ -327,8 +330,6 @@ def build_skeleton(
             f"this file's markers are set {match.definition.name} but miss {', '.join(match.missing)}: "
             "no skeleton is built without them"
         )
-    if hip not in HIP_METHODS or knee not in KNEE_METHODS:
-        raise ValueError(f"hip {hip!r} or knee {knee!r}: expected one of {HIP_METHODS} and one of {KNEE_METHODS}")
     centres, twists, methods, notes = joint_centre_trajectories(markers, match, hip, knee)
     tree = [(n, parent, rest) for n, parent, rest in TREE if n in centres and (parent is None or parent in centres)]
     names = [t[0] for t in tree]
