@@ -149,6 +149,7 @@ MODULES: dict[str, tuple[list[str], float]] = {
     # the marker sets and skeleton building (issue 24): synthetic markers, core tests only
     "core/markers/match.py": (["tests/test_markers_match_mutants.py", "tests/test_markers_math.py"], 60),
     "core/markers/targets.py": (["tests/test_markers_targets.py"], 60),
+    "core/markers/joint_names.py": (["tests/test_markers_joint_names.py"], 60),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
