@@ -331,9 +331,19 @@ def save_marker_map(marker_map: MarkerMap, path: str | Path) -> None:
     atomic_write_text(path, marker_map_text(marker_map))
 
 
+#: TOML basic-string escapes: backslash, quote, and every control character (a raw newline in
+#: a description or a label would end the string and make the file unreadable)
+_ESCAPES = {c: f"\\u{c:04x}" for c in (*range(0x20), 0x7F)} | {
+    ord("\\"): "\\\\",
+    ord('"'): '\\"',
+    ord("\n"): "\\n",
+    ord("\t"): "\\t",
+    ord("\r"): "\\r",
+}
+
+
 def _string(text: str) -> str:
-    escaped = text.replace("\\", "\\\\").replace('"', '\\"')
-    return f'"{escaped}"'
+    return f'"{text.translate(_ESCAPES)}"'
 
 
 def _key(text: str) -> str:
