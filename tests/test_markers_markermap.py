@@ -3,6 +3,8 @@ and read back, every refusal of a bad file, the pelvis guesses and the built-in 
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -125,11 +127,21 @@ def test_the_joints_map():
     assert load_marker_map(built) is built
 
 
+def test_maps_and_their_parts_are_frozen_and_compared_by_identity():
+    alignment, virtual = Alignment(), VirtualMarker("x", "marker", ("A",))
+    marker_map = MarkerMap("m", (virtual,))
+    for thing, field in ((alignment, "scale"), (virtual, "name"), (marker_map, "name")):
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            setattr(thing, field, 2)
+        assert thing != dataclasses.replace(thing) and len({thing, thing}) == 1
+    assert not marker_map.joints  # a map is the built-in joints map only when made by joints_map
+
+
 # ------------------------------------------------------------------ text
 def full_map() -> MarkerMap:
     return MarkerMap(
         name='lab "A"\\1',
-        description="two\nlines,\ttabbed\r, a bell \x07 and a delete \x7f",
+        description="two\nlines,\ttabbed\r, a bell \x07, a unit separator \x1f and a delete \x7f",
         units="cm",
         alignment=Alignment(PERMUTATION, 0.25, np.array([1.0, 2.0, 3.0])),
         pelvis=("hips", "left", "back"),
@@ -175,7 +187,7 @@ def test_the_text_of_a_map_line_by_line():
     assert lines[:3] == [
         'format = "gmr-markermap 1"',
         'name = "lab \\"A\\"\\\\1"',
-        'description = "two\\nlines,\\ttabbed\\r, a bell \\u0007 and a delete \\u007f"',
+        'description = "two\\nlines,\\ttabbed\\r, a bell \\u0007, a unit separator \\u001f and a delete \\u007f"',
     ]
     assert 'units = "cm"' in lines
     assert "rotation = [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]" in lines
@@ -210,6 +222,11 @@ def test_a_plain_map_writes_no_optional_section():
     assert '[pelvis]\nmarkers = ["x", "x", "x"]\n\n[virtual.x]' in text and "home" not in text
 
 
+def test_a_cluster_with_half_a_calibration_writes_none_of_it():
+    half = MarkerMap("h", (VirtualMarker("c", "cluster", ("A", "B", "C"), offset=np.zeros(3)),))
+    assert marker_map_text(half).endswith('[virtual.c]\ncluster = ["A", "B", "C"]\n')
+
+
 def test_non_finite_numbers_are_written_as_strings():
     marker_map = MarkerMap("n", (VirtualMarker("x", "marker", ("A",)),), calibration={"rms": float("nan")})
     assert '\nrms = "nan"\n' in marker_map_text(marker_map)
@@ -239,7 +256,7 @@ def test_defaults_of_a_minimal_map(tmp_path):
 def test_unreadable_files(tmp_path):
     with pytest.raises(MotionFileError, match="no marker map of that name: known maps are joints, asis-psis, cmu"):
         load_marker_map("nonesuch")
-    with pytest.raises(MotionFileError, match="cannot read the marker map"):
+    with pytest.raises(MotionFileError, match=r"cannot read the marker map: No such file or directory$"):
         load_marker_map(tmp_path / "absent.toml")
     with pytest.raises(MotionFileError, match="cannot read the marker map"):
         load_marker_map(tmp_path)  # a folder
