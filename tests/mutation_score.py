@@ -150,6 +150,7 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "core/markers/match.py": (["tests/test_markers_match_mutants.py", "tests/test_markers_math.py"], 60),
     "core/markers/targets.py": (["tests/test_markers_targets.py"], 60),
     "core/markers/joint_names.py": (["tests/test_markers_joint_names.py"], 60),
+    "core/markers/sets.py": (["tests/test_markers_set_files.py"], 60),
     "core/markers/markermap.py": (
         ["tests/test_markers_markermap.py", "tests/test_markers_map.py", "-k", "not pelvis_only_maps"],
         60,
