@@ -155,6 +155,10 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ["tests/test_markers_markermap.py", "tests/test_markers_map.py", "-k", "not pelvis_only_maps"],
         60,
     ),
+    "core/markers/virtual.py": (
+        ["tests/test_markers_virtual.py", "tests/test_markers_map.py", "-k", "not pelvis_only_maps"],
+        60,
+    ),
     # the marker set, then the TRC reader's and the maps' synthetic tests (the maps' real files cost four seconds)
     "core/markers/markerset.py": (
         [
