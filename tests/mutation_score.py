@@ -159,6 +159,7 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ["tests/test_markers_virtual.py", "tests/test_markers_map.py", "-k", "not pelvis_only_maps"],
         60,
     ),
+    "core/markers/built_motion.py": (["tests/test_markers_built_motion.py", "tests/test_markers_build.py"], 60),
     # the marker set, then the TRC reader's and the maps' synthetic tests (the maps' real files cost four seconds)
     "core/markers/markerset.py": (
         [
