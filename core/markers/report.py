@@ -129,7 +129,7 @@ def _max(values: np.ndarray) -> float | None:
 
 def conversion_text(rows: list[dict], unit: str) -> str:
     """The per-joint table of :func:`conversion_table` as text."""
-    width = max(len(r["joint"]) for r in rows)
+    width = max([len(r["joint"]) for r in rows] + [len("overall")])  # the header and the last row fit too
     has_truth = any("position_error" in r for r in rows)
     has_angles = any("angle_error_deg" in r for r in rows)
     header = f"{'joint':<{width}}  {'measured':>8}  {'to marker (mean/max ' + unit + ')':>28}"
