@@ -13,7 +13,6 @@ sets both and calls ``scene.redraw(marks)`` when they change. A finding about th
 from __future__ import annotations
 
 import numpy as np
-import pyvista as pv
 
 from gmr_studio.app.model.problems import LEVEL_COLOURS
 from gmr_studio.app.scene import vtk_parts as parts
@@ -44,9 +43,8 @@ class ProblemMarks(Drawing):
         if snapshot is None or self.flags is None or self.flags.shape != snapshot.positions.shape[:2]:
             return  # flags of another motion (the checks are running again): nothing drawn
         self.levels = tuple(level for level in LEVELS if level >= self.min_level and (self.flags == level).any())
-        sphere = pv.Sphere(radius=MARK_RADIUS * snapshot.motion.size, theta_resolution=16, phi_resolution=12)
         for level in self.levels:
-            part = parts.glyph_part(0, sphere, color=LEVEL_COLOURS[level])
+            part = parts.sphere_part(0, MARK_RADIUS * snapshot.motion.size, color=LEVEL_COLOURS[level])
             part.actor.GetProperty().LightingOff()  # flat: the same colour from every side
             self.add(f"problems_{level}", part)
 
