@@ -153,7 +153,7 @@ class GhostLayers(Drawing):
         for layer, built in zip(self.layers.layers, self.ghosts, strict=True):
             if isinstance(layer, MarkerLayer):
                 positions = layer.positions
-                parts.set_some_points(built[0], positions[min(frame, len(positions) - 1)])
+                built[0].set_points(positions[min(frame, len(positions) - 1)])
                 built[0].set_visible(layer.visible and self._visible)
                 continue
             points = layer.ghost[min(frame, len(layer.ghost) - 1)]

@@ -219,7 +219,7 @@ class Markers(Drawing):
         if not self.parts:
             return
         positions = self.overlay.positions[frame]
-        parts.set_some_points(self.parts["markers"], positions)
+        self.parts["markers"].set_points(positions)
         if self.selected is not None:
             self.parts["marker_selection"].set_points(positions[self.selected][None])
         self.parts["marker_selection"].set_visible(self._visible and self.part_wanted(self.parts["marker_selection"]))

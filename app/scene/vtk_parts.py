@@ -92,30 +92,52 @@ def glyph_part(n_points: int, source: pv.PolyData, colors: np.ndarray | None = N
     return part
 
 
-def sphere_part(n_points: int, radius: float, colors: np.ndarray | None = None, color=(1.0, 1.0, 1.0)) -> Part:
-    """Spheres of ``radius`` (the scene's units) at each point, coloured per point (``colors``
-    (n, 3) in [0, 1]) or all one ``color``.
+class SpherePart(Part):
+    """Spheres of one radius (the scene's units) at ``n`` points; a point given as NaN is
+    not drawn (its sphere's radius is set to 0), so missing markers and unflagged joints
+    cost no new arrays: the points and radii are written in place every frame.
 
     Drawn by ``vtkOpenGLSphereMapper``: each sphere is one screen-facing square whose
     fragment shader computes the sphere's surface, normal and depth, so it is lit and hides
     what is behind it like a mesh sphere, with no triangles to transform. In software
     OpenGL 38 tessellated spheres (16x12) cost about 1.9 ms a frame at 1018x425, as
-    imposters about 0.1 ms (docs/app.md, "Performance"). The mapper draws the mesh's
-    vertex cells, one per point (:func:`_one_vertex_per_point`).
+    imposters about 0.1 ms (docs/app.md, "Performance").
     """
-    part = Part(n_points)
-    _one_vertex_per_point(part.mesh)
+
+    def __init__(self, n_points: int, radius: float) -> None:
+        super().__init__(n_points)
+        self.radius = float(radius)
+        self.mesh.verts = np.column_stack([np.ones(n_points, dtype=np.int64), np.arange(n_points)]).ravel()
+        # the mapper reads the radii as 32-bit floats (a 64-bit array crashes its shader setup)
+        self.mesh.point_data["radius"] = np.full(n_points, self.radius, dtype=np.float32)
+        self._radii = self.mesh.point_data["radius"] if n_points else np.zeros(0, np.float32)
+
+    def set_points(self, points: np.ndarray) -> None:
+        """Write (n, 3) coordinates; rows with a NaN are not drawn."""
+        if not self.n_points:
+            return
+        points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+        present = np.isfinite(points).all(axis=1)
+        self._view[:] = np.where(present[:, None], points, 0.0)
+        self._radii[:] = np.where(present, self.radius, 0.0)
+        self.mesh.GetPoints().Modified()
+
+    @property
+    def drawn(self) -> np.ndarray:
+        """(n,) bool: the points drawn now."""
+        return np.asarray(self._radii) > 0
+
+
+def sphere_part(n_points: int, radius: float, colors: np.ndarray | None = None, color=(1.0, 1.0, 1.0)) -> SpherePart:
+    """Spheres of ``radius`` at ``n_points`` points, coloured per point (``colors`` (n, 3) in
+    [0, 1]) or all one ``color``; update with :meth:`SpherePart.set_points`."""
+    part = SpherePart(n_points, radius)
     mapper = vtkOpenGLSphereMapper()
     mapper.SetInputData(part.mesh)
-    mapper.SetRadius(float(radius))
+    mapper.SetRadius(part.radius)
+    mapper.SetScaleArray("radius")
     part.actor = _glyph_actor(mapper, part.mesh, n_points, colors, color)
     return part
-
-
-def _one_vertex_per_point(mesh: pv.PolyData) -> None:
-    """Give ``mesh`` one vertex cell per point (what a sphere mapper draws)."""
-    n = mesh.n_points
-    mesh.verts = np.column_stack([np.ones(n, dtype=np.int64), np.arange(n)]).ravel() if n else np.zeros(0, np.int64)
 
 
 def _glyph_actor(mapper: vtkMapper, mesh: pv.PolyData, n: int, colors, color) -> vtkActor:
@@ -134,17 +156,6 @@ def _glyph_actor(mapper: vtkMapper, mesh: pv.PolyData, n: int, colors, color) ->
     if colors is None:
         actor.GetProperty().SetColor(*color)
     return actor
-
-
-def set_some_points(part: Part, points: np.ndarray) -> None:
-    """Give a single-colour glyph part a new set of points (any number; rows with NaN are
-    left out, so gaps are simply not drawn). VTK's glyph masking does not notice changed
-    masks, so the point set itself is replaced."""
-    points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-    kept = points[np.isfinite(points).all(axis=1)]
-    part.mesh.points = kept if len(kept) else np.zeros((0, 3))
-    part._view = part.mesh.points if len(kept) else np.zeros((0, 3))
-    _one_vertex_per_point(part.mesh)
 
 
 def segments_part(
