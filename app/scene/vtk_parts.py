@@ -3,10 +3,10 @@
 Each part owns a :class:`pyvista.PolyData` with a fixed number of points and the actor that
 draws it; :meth:`Part.set_points` writes new coordinates into the existing VTK array and
 marks it modified, so a frame costs a copy of a few hundred floats and one render. No VTK
-filter runs on a frame change: spheres are drawn by the GPU as shaded imposters
-(:func:`sphere_part`: one square per sphere, its surface and depth computed per pixel, so a
-sphere costs the same at any size and is round at any zoom), cubes, rings and bones are
-templates that the mapper places (:func:`glyph_part`, :func:`bone_part`: instanced by
+filter runs on a frame change: spheres and bones are drawn by the GPU as shaded imposters
+(:func:`sphere_part`, :func:`bone_part`: one square or box each, the surface and depth
+computed per pixel, so they cost the same at any size and are round at any zoom), cubes and
+rings are templates that the mapper places (:func:`glyph_part`: instanced by
 ``vtkGlyph3DMapper``), lines are drawn as they are, and labels are quads of one texture,
 drawn in screen space (:class:`LabelPart`).
 """
@@ -30,7 +30,7 @@ from vtkmodules.vtkRenderingCore import (
     vtkTexture,
     vtkTexturedActor2D,
 )
-from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLSphereMapper
+from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLSphereMapper, vtkOpenGLStickMapper
 
 
 def rgb_bytes(colors: np.ndarray) -> np.ndarray:
@@ -194,32 +194,34 @@ def segments_part(
 
 
 class BonePart(Part):
-    """Bones between point pairs as cylinders of a fixed radius (the scene's units), each
-    the template :func:`bone_template` placed, turned and stretched by the glyph mapper.
+    """Bones between point pairs as cylinders of a fixed radius (the scene's units), drawn by
+    the GPU as imposters (``vtkOpenGLStickMapper``: one screen-facing box a bone, the
+    cylinder's surface and depth computed per pixel), as spheres are (:class:`SpherePart`).
 
     The points of the mesh are the bones' midpoints (B,); :meth:`set_joints` computes them,
-    the directions and the lengths from the joints' positions, in place.
+    the directions and the lengths from the joints' positions, in place. The mapper reads a
+    unit ``direction`` and a ``scale`` of (length, radius, radius) per bone, as 32-bit
+    floats, and a colour per bone (it has no single-colour mode: one ``color`` is repeated).
     """
 
     def __init__(self, pairs: np.ndarray, radius: float, colors: np.ndarray | None, color) -> None:
         self.pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
         super().__init__(len(self.pairs))
         n = len(self.pairs)
+        self.radius = float(radius)
         if n:  # pyvista refuses empty arrays; a one-joint figure has no bones
-            self.mesh.point_data["direction"] = np.tile([1.0, 0.0, 0.0], (n, 1))
-            self.mesh.point_data["scale"] = np.zeros((n, 3))
+            self.mesh.verts = np.column_stack([np.ones(n, dtype=np.int64), np.arange(n)]).ravel()
+            self.mesh.point_data["direction"] = np.tile(np.float32([1.0, 0.0, 0.0]), (n, 1))
+            self.mesh.point_data["scale"] = np.zeros((n, 3), dtype=np.float32)
             self._direction = self.mesh.point_data["direction"]
             self._scale = self.mesh.point_data["scale"]
-            self._scale[:, 1:] = 1.0
-        mapper = vtkGlyph3DMapper()
+            self._scale[:, 1:] = self.radius
+        mapper = vtkOpenGLStickMapper()
         mapper.SetInputData(self.mesh)
-        mapper.SetSourceData(bone_template(radius))
         mapper.SetOrientationArray("direction")
-        mapper.SetOrientationModeToDirection()
         mapper.SetScaleArray("scale")
-        mapper.SetScaleModeToScaleByVectorComponents()
-        mapper.SetScaling(True)
-        self.actor = _glyph_actor(mapper, self.mesh, n, colors, color)
+        rgb = colors if colors is not None else np.broadcast_to(np.asarray(color, dtype=np.float64), (n, 3))
+        self.actor = _glyph_actor(mapper, self.mesh, n, rgb, color)
 
     def set_joints(self, joints: np.ndarray) -> None:
         """Place every bone between its two joints: ``joints`` (J, 3), NaN-free."""
@@ -227,16 +229,12 @@ class BonePart(Part):
             return
         a, b = joints[self.pairs[:, 0]], joints[self.pairs[:, 1]]
         along = b - a
+        length = np.sqrt(np.einsum("ij,ij->i", along, along))
         self._view[:] = 0.5 * (a + b)
-        self._direction[:] = along
-        self._scale[:, 0] = np.sqrt(np.einsum("ij,ij->i", along, along))
+        self._direction[:] = along / np.where(length > 0, length, 1.0)[:, None]
+        self._scale[:, 0] = length
         self.mesh.GetPoints().Modified()
         self.mesh.GetPointData().Modified()
-
-
-def bone_template(radius: float) -> pv.PolyData:
-    """A capped cylinder of ``radius`` and length 1 along X, centred at the origin."""
-    return pv.Cylinder(center=(0.0, 0.0, 0.0), direction=(1.0, 0.0, 0.0), radius=radius, height=1.0, resolution=12)
 
 
 def bone_part(pairs: np.ndarray, radius: float, colors: np.ndarray | None = None, color=(1.0, 1.0, 1.0)) -> BonePart:
