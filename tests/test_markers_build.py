@@ -294,6 +294,18 @@ def test_davis_hips_place_the_generated_pelvis():
     assert np.allclose(hips, origin[:, None] + np.einsum("fab,kb->fka", frame, local), atol=1e-9)
 
 
+def test_davis_hips_without_a_leg_length_measure_it():
+    # no LegLength parameter: the leg is the median ASIS-knee-ankle length of the markers
+    markers, _ = generated_markers("plug-in-gait-lower")
+    assert "LegLength" not in markers.parameters
+    lasi, kne, ank = (markers.positions[:, markers.index(label)] for label in ("LASI", "LKNE", "LANK"))
+    leg = np.median(np.linalg.norm(lasi - kne, axis=1) + np.linalg.norm(kne - ank, axis=1))
+    built = build_skeleton(markers, hip="davis")
+    with_leg = build_skeleton(markers.replace(parameters={**markers.parameters, "LegLength": leg}), hip="davis")
+    assert np.allclose(built.centres, with_leg.centres, atol=1e-9, equal_nan=True)
+    assert any("no LegLength parameter" in note for note in built.notes)
+
+
 def test_hidden_pelvis_and_medial_markers_are_carried_by_their_segment():
     # a hidden ASIS is placed by the other pelvis markers, a hidden medial knee marker by the
     # thigh's: the generated pose comes back exactly in those frames too
