@@ -208,10 +208,11 @@ def test_every_set_file_is_covered():
 
 @pytest.mark.parametrize("set_name", BUILDABLE)
 @pytest.mark.parametrize("refine", [False, True])
-def test_exact_case_every_set(set_name, refine):
+@pytest.mark.parametrize("root_at", ["pelvis", "fit"])
+def test_exact_case_every_set(set_name, refine, root_at):
     markers, joints = generated_markers(set_name)
     assert identify_marker_set(markers).definition.name == set_name or set_name == "plug-in-gait-lower"
-    built = markers_to_built_motion(markers, refine=refine, iterations=3)
+    built = markers_to_built_motion(markers, refine=refine, iterations=3, root_at=root_at)
     motion = built.result.motion
     positions = world_positions(motion)
     size = max(np.ptp(positions[0], axis=0))

@@ -12,7 +12,10 @@
    previous frame (:func:`~core.markers.limbs.least_change_twists`);
 4. the joints named in ``roots`` become roots of their own trees (soft-linked to their
    parent, as a GMR split does) holding their measured world positions; the others are
-   rotational, with the skeleton's bone lengths.
+   rotational, with the skeleton's bone lengths;
+5. the root is placed by the least-squares translation of the joints onto their virtual
+   markers given those rotations (``root_at="fit"``, :mod:`core.markers.root_fit`), or stays
+   at the pelvis root virtual marker as in the paper (``root_at="pelvis"``).
 
 A joint whose bone direction cannot be measured in a frame (no virtual marker, a gap, a
 bone of length zero) takes its whole local rotation from the matched reference pose, or
@@ -43,7 +46,8 @@ from gmr_studio.core.markers.limbs import least_change_twists, limb_rotation, sw
 from gmr_studio.core.markers.markerset import MarkerSet, frame_ranges, gap_runs
 from gmr_studio.core.markers.match import best_matches
 from gmr_studio.core.markers.pelvis import PelvisFrames, PelvisMethod, pelvis_rotations, rest_positions
-from gmr_studio.core.markers.targets import check_map_fits, inverse_variance, transported
+from gmr_studio.core.markers.root_fit import hanging_from_root, root_translations
+from gmr_studio.core.markers.targets import below_missing_bones, check_map_fits, inverse_variance, transported
 from gmr_studio.core.motion import Motion
 from gmr_studio.core.operations import split
 
@@ -57,6 +61,7 @@ SOURCE_NAMES = {
     TWIST_MARKER: "twist from its marker",
 }
 Aim = Literal["markers", "chain"]
+RootAt = Literal["fit", "pelvis"]
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -114,6 +119,7 @@ def markers_to_motion(
     fill_gaps: int = 0,
     pelvis_method: PelvisMethod = "note",
     aim: Aim = "markers",
+    root_at: RootAt = "fit",
 ) -> MarkerMotion:
     """Convert markers to a GMR motion of ``skeleton`` (see the module docstring).
 
@@ -133,6 +139,9 @@ def markers_to_motion(
     pelvis_method : "note" or "points" (:func:`~core.markers.pelvis.pelvis_rotations`).
     aim : bone directions from the measured parent ("markers", the note's) or from the
         parent where the solved chain put it ("chain": errors do not add up along a limb).
+    root_at : "fit": the root by the least-squares translation of all the joints given the
+        rotations, each weighted by its calibration's inverse variance
+        (:mod:`core.markers.root_fit`); "pelvis": at the pelvis root virtual marker (the paper).
 
     Returns
     -------
@@ -172,6 +181,7 @@ def markers_to_motion(
         if name in skeleton.names and begin in virtual.names:
             starts[:, skeleton.joint_index(name)] = aligned[:, virtual.names.index(begin)]
     times = (start + np.arange(markers.n_frames)) / markers.rate
+    weights = inverse_variance(resolved, skeleton.names)
     result = solve_positions(
         measured,
         skeleton,
@@ -184,6 +194,8 @@ def markers_to_motion(
         pelvis_method=pelvis_method,
         aim=aim,
         bone_starts=starts,
+        root_at=root_at,
+        weights=weights,
     )
     note = f"from markers {markers.source or '(memory)'} with map {resolved.name}"
     motion = result.motion.replace(comments=(note, *result.motion.comments))
@@ -194,7 +206,7 @@ def markers_to_motion(
         reasons=(*virtual.reasons, *result.reasons),
         pelvis_note=resolved.pelvis_note,
         targets=targets,
-        weights=inverse_variance(resolved, skeleton.names),
+        weights=weights,
     )
 
 
@@ -212,6 +224,8 @@ def solve_positions(
     aim: Aim = "markers",
     twist_markers: np.ndarray | None = None,
     bone_starts: np.ndarray | None = None,
+    root_at: RootAt = "fit",
+    weights: np.ndarray | None = None,
 ) -> MarkerMotion:
     """The solver on joint positions already in skeleton space.
 
@@ -227,7 +241,10 @@ def solve_positions(
         direction over the frames (:func:`marker_twists`), before any reference or least change.
     bone_starts : (F, J, 3) where each joint's bone starts according to the marker map (its
         ``[bones]``; NaN: none): with ``aim="markers"`` the bone is aimed from there, before the
-        measured parent (they agree on the skeleton the map was made for).
+        measured parent (they agree on the skeleton the map was made for). The joints below a
+        bone the skeleton lacks (:func:`~core.markers.targets.below_missing_bones`) are left
+        out of the root's fit: the skeleton cannot reach their markers.
+    weights : (J,) each joint's weight in the root's fit (None: 1 each).
     Other parameters as in :func:`markers_to_motion`.
     """
     if skeleton.convention != "pre":
@@ -330,6 +347,11 @@ def solve_positions(
         chain[:, j] = chain[:, p] + np.einsum("fab,b->fa", world[:, j], offset)
         if j in root_set:
             chain[:, j] = np.where(have[:, j, None], m[:, j], chain[:, j])
+    if root_at == "fit":
+        follows = hanging_from_root(skeleton, pelvis_root, root_set - {pelvis_root}, have)
+        reachable = ~below_missing_bones(measured, bone_starts, skeleton) if bone_starts is not None else True
+        shift = root_translations(chain, m, follows & reachable, weights)
+        chain = np.where(follows[..., None], chain + shift[:, None], chain)
     return _assemble(
         skeleton, valid, good, local, world, chain, sources, root_set, frame_time,
         measured, rotations_p, residuals, match, distance, reasons, pelvis,
