@@ -41,10 +41,10 @@ from typing import Literal
 import numpy as np
 
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.kinematics import joint_world_transform, world_positions
-from gmr_studio.core.markers.limbs import least_change_twists, limb_rotation, swing, twist_of
+from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.markers.limbs import least_change_twists, limb_rotation, marker_twists, twist_of
 from gmr_studio.core.markers.markerset import MarkerSet, frame_ranges, gap_runs
-from gmr_studio.core.markers.match import best_matches
+from gmr_studio.core.markers.match import best_matches, reference_poses
 from gmr_studio.core.markers.pelvis import PelvisFrames, PelvisMethod, pelvis_rotations, rest_positions
 from gmr_studio.core.markers.root_fit import hanging_from_root, root_translations
 from gmr_studio.core.markers.targets import below_missing_bones, check_map_fits, inverse_variance, transported
@@ -238,7 +238,7 @@ def solve_positions(
     twist_markers : (F, J, 3) for each joint a third marker rigid with its bone (the lateral
         knee for the thigh...; NaN: none): where present with the bone's direction, the twist
         is the angle about the bone of that marker's direction, measured from its mean
-        direction over the frames (:func:`marker_twists`), before any reference or least change.
+        direction over the frames (:func:`~core.markers.limbs.marker_twists`), before any reference or least change.
     bone_starts : (F, J, 3) where each joint's bone starts according to the marker map (its
         ``[bones]``; NaN: none): with ``aim="markers"`` the bone is aimed from there, before the
         measured parent (they agree on the skeleton the map was made for). The joints below a
@@ -273,7 +273,7 @@ def solve_positions(
     )
     if not valid.any():
         raise OperationError("no frame has a usable pelvis: " + "; ".join(reasons))
-    reference_data = _prepare_reference(reference, skeleton, triple_index, home, pelvis_method)
+    reference_data = reference_poses(reference, skeleton, triple_index, home, pelvis_method)
     good = np.flatnonzero(valid)
     m = measured[good]
     have = np.isfinite(m).all(axis=2)
@@ -358,25 +358,6 @@ def solve_positions(
     )  # fmt: skip
 
 
-def marker_twists(u: np.ndarray, c: np.ndarray, third: np.ndarray) -> np.ndarray:
-    """Twists (N,) about the rest direction u (3,) from a third marker rigid with the bone.
-
-    c (N, 3) unit bone directions and third (N, 3) the marker from the bone's start, both in
-    the parent's frame. Undoing the swing, ``v = S(u -> c)^T third`` is the marker in the
-    rest frame turned by the twist alone; its part perpendicular to u, compared with its mean
-    direction ``w0`` over the frames, gives ``gamma = atan2(u . (w0 x v), w0 . v)``. The rest
-    pose's twist is thereby the take's mean one (the marker is rigid with the bone, so any
-    constant choice gives the same positions).
-    """
-    v = np.einsum("fba,fb->fa", swing(u, c), third)
-    v -= np.outer(v @ u, u)
-    v /= np.linalg.norm(v, axis=1, keepdims=True)
-    w0 = v.mean(axis=0)
-    w0 -= (w0 @ u) * u
-    w0 /= np.linalg.norm(w0)
-    return np.arctan2(np.cross(w0, v) @ u, v @ w0)
-
-
 def _hold(values: np.ndarray, ok: np.ndarray) -> np.ndarray:
     """values (N, ...) with each row where ``ok`` is False taken from the nearest earlier
     ok row, or the nearest later one; the identity where no row is ok."""
@@ -385,30 +366,6 @@ def _hold(values: np.ndarray, ok: np.ndarray) -> np.ndarray:
     before, after = gap_runs(ok)
     source = np.where(before >= 0, before, after)
     return values[source]
-
-
-def _prepare_reference(reference: Motion | None, skeleton: Motion, triple_index, home, pelvis_method):
-    """Local rotations (G, J, 3, 3) in skeleton joint order, pelvis-frame positions (G, J, 3),
-    root-from-pelvis rotations (G, 3, 3) and times (G,) of a reference motion."""
-    if reference is None:
-        return None
-    missing = [n for n in skeleton.names if n not in reference.names]
-    if missing:
-        raise OperationError(
-            f"the reference motion is not of the skeleton: it lacks the joints {', '.join(missing[:6])}"
-            + (" ..." if len(missing) > 6 else "")
-        )
-    order = [reference.joint_index(n) for n in skeleton.names]
-    if reference.n_frames == 0:
-        raise OperationError("the reference motion has no frames")
-    positions, local = world_positions(reference)[:, order], reference.rotations[:, order]
-    rotations, _, valid, reasons = pelvis_rotations(positions[:, triple_index], home, method=pelvis_method)
-    if not valid.all():
-        raise OperationError("the reference motion's own pelvis is degenerate: " + "; ".join(reasons))
-    root = triple_index[0]
-    features = np.einsum("fba,fjb->fja", rotations, positions - positions[:, root : root + 1])
-    correction = np.swapaxes(rotations, -1, -2) @ joint_world_transform(reference, order[root])[0]
-    return local, features, correction, np.arange(reference.n_frames) * reference.frame_time
 
 
 def _assemble(
