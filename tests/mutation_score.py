@@ -146,6 +146,17 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ],
         60,
     ),
+    # the engine against its sample-by-sample reference first (two seconds), then the compare
+    # tests that drive it on the demo walk and the CMU take
+    "core/compare/engine.py": (
+        [
+            "tests/test_engine_mutants.py",
+            "tests/test_compare_slerp_reference.py",
+            "tests/test_compare_blind_spots.py",
+            "tests/test_compare.py",
+        ],
+        60,
+    ),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
