@@ -157,6 +157,10 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ],
         60,
     ),
+    "core/compare/tracks.py": (
+        ["tests/test_tracks_mutants.py", "tests/test_engine_mutants.py", "tests/test_compare.py"],
+        60,
+    ),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
