@@ -161,6 +161,9 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ["tests/test_tracks_mutants.py", "tests/test_engine_mutants.py", "tests/test_compare.py"],
         60,
     ),
+    # the layers' model without a window (the windows' tests compare the real CMU take: a
+    # minute a mutant)
+    "app/model/layers.py": (["tests/test_layers_mutants.py", "tests/test_app_layers_clock.py"], 120),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
