@@ -146,6 +146,24 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ],
         60,
     ),
+    # the engine against its sample-by-sample reference first (two seconds), then the compare
+    # tests that drive it on the demo walk and the CMU take
+    "core/compare/engine.py": (
+        [
+            "tests/test_engine_mutants.py",
+            "tests/test_compare_slerp_reference.py",
+            "tests/test_compare_blind_spots.py",
+            "tests/test_compare.py",
+        ],
+        60,
+    ),
+    "core/compare/tracks.py": (
+        ["tests/test_tracks_mutants.py", "tests/test_engine_mutants.py", "tests/test_compare.py"],
+        60,
+    ),
+    # the layers' model without a window (the windows' tests compare the real CMU take: a
+    # minute a mutant)
+    "app/model/layers.py": (["tests/test_layers_mutants.py", "tests/test_app_layers_clock.py"], 120),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
