@@ -148,6 +148,20 @@ MODULES: dict[str, tuple[list[str], float]] = {
     ),
     # the marker file readers (issue 24): synthetic files written by the tests, and the few small real TRCs
     "core/markers/trc.py": (["tests/test_markers_trc_mutants.py", "tests/test_markers_trc.py"], 60),
+    # the reader's rules on decoded arrays and stand-in child processes, then the few file tests
+    # on files written by ezc3d or one small real file (the real files' own tests take a minute)
+    "core/markers/c3d.py": (
+        [
+            "tests/test_markers_c3d_mutants.py",
+            "tests/test_markers_c3d.py::test_written_file_with_residual_codes",
+            "tests/test_markers_c3d.py::test_one_frame_file_and_metres",
+            "tests/test_markers_c3d.py::test_broken_files_are_errors_not_crashes",
+            "tests/test_markers_c3d.py::test_the_child_process_contract",
+            "tests/test_markers_c3d.py::test_missing_file_and_truncated_data",
+            "tests/test_markers_c3d.py::test_ezc3ds_requests_to_report_a_missing_feature_become_advice",
+        ],
+        60,
+    ),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
