@@ -162,6 +162,10 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ],
         60,
     ),
+    "core/markers/file_model.py": (
+        ["tests/test_markers_file_model_mutants.py", "tests/test_markers_sets.py::test_file_model_comparison_exact"],
+        60,
+    ),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
