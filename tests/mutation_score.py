@@ -162,6 +162,13 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ],
         60,
     ),
+    "core/markers/c3d_frames.py": (
+        [
+            "tests/test_markers_c3d_frames_mutants.py",
+            "tests/test_markers_c3d.py::test_evart_points_follow_the_headers_layout",
+        ],
+        60,
+    ),
     "core/markers/file_model.py": (
         ["tests/test_markers_file_model_mutants.py", "tests/test_markers_sets.py::test_file_model_comparison_exact"],
         60,
