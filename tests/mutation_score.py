@@ -162,6 +162,15 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ],
         60,
     ),
+    # the SGI rewrite on small files built byte by byte, then the real SGI sample (43 kB)
+    "core/markers/c3d_byteorder.py": (
+        [
+            "tests/test_markers_c3d_byteorder_mutants.py",
+            "tests/test_markers_c3d.py::test_the_intel_copy_of_an_sgi_file_swaps_numbers_never_text",
+            "tests/test_markers_c3d.py::test_a_damaged_sgi_file_gives_our_message",
+        ],
+        60,
+    ),
     "core/markers/c3d_frames.py": (
         [
             "tests/test_markers_c3d_frames_mutants.py",
