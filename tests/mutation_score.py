@@ -178,6 +178,17 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ],
         60,
     ),
+    # the worker's functions in this process (ezc3d's reading stood in for), two worker processes,
+    # and three isolated reads that run it as the child
+    "core/markers/c3d_worker.py": (
+        [
+            "tests/test_markers_c3d_worker_mutants.py",
+            "tests/test_markers_c3d.py::test_written_file_with_residual_codes",
+            "tests/test_markers_c3d.py::test_a_damaged_sgi_file_gives_our_message",
+            "tests/test_markers_c3d.py::test_evart_points_follow_the_headers_layout",
+        ],
+        60,
+    ),
     "core/markers/file_model.py": (
         ["tests/test_markers_file_model_mutants.py", "tests/test_markers_sets.py::test_file_model_comparison_exact"],
         60,
