@@ -40,8 +40,9 @@ def test_the_intel_copy_is_the_same_numbers_in_intel_order(layout):
 
 
 def offset_position(data: bytes, name: bytes) -> int:
-    """Where the offset of parameter ``name``'s record is stored."""
-    return data.index(name, 2 * BLOCK - BLOCK) + len(name)
+    """Where the offset of the record named ``name`` is stored (the first such name in the
+    parameter section, which starts at block 2)."""
+    return data.index(name, BLOCK) + len(name)
 
 
 def test_a_stored_offset_that_cannot_be_right_is_the_records_length():
