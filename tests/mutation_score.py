@@ -146,6 +146,71 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ],
         60,
     ),
+    # the engine against its sample-by-sample reference first (two seconds), then the compare
+    # tests that drive it on the demo walk and the CMU take
+    "core/compare/engine.py": (
+        [
+            "tests/test_engine_mutants.py",
+            "tests/test_compare_slerp_reference.py",
+            "tests/test_compare_blind_spots.py",
+            "tests/test_compare.py",
+        ],
+        60,
+    ),
+    "core/compare/tracks.py": (
+        ["tests/test_tracks_mutants.py", "tests/test_engine_mutants.py", "tests/test_compare.py"],
+        60,
+    ),
+    # the layers' model without a window (the windows' tests compare the real CMU take: a
+    # minute a mutant)
+    "app/model/layers.py": (["tests/test_layers_mutants.py", "tests/test_app_layers_clock.py"], 120),
+    # the marker file readers (issue 24): synthetic files written by the tests, and the few small real TRCs
+    "core/markers/trc.py": (["tests/test_markers_trc_mutants.py", "tests/test_markers_trc.py"], 60),
+    # the reader's rules on decoded arrays and stand-in child processes, then the few file tests
+    # on files written by ezc3d or one small real file (the real files' own tests take a minute)
+    "core/markers/c3d.py": (
+        [
+            "tests/test_markers_c3d_mutants.py",
+            "tests/test_markers_c3d.py::test_written_file_with_residual_codes",
+            "tests/test_markers_c3d.py::test_one_frame_file_and_metres",
+            "tests/test_markers_c3d.py::test_broken_files_are_errors_not_crashes",
+            "tests/test_markers_c3d.py::test_the_child_process_contract",
+            "tests/test_markers_c3d.py::test_missing_file_and_truncated_data",
+            "tests/test_markers_c3d.py::test_ezc3ds_requests_to_report_a_missing_feature_become_advice",
+        ],
+        60,
+    ),
+    # the SGI rewrite on small files built byte by byte, then the real SGI sample (43 kB)
+    "core/markers/c3d_byteorder.py": (
+        [
+            "tests/test_markers_c3d_byteorder_mutants.py",
+            "tests/test_markers_c3d.py::test_the_intel_copy_of_an_sgi_file_swaps_numbers_never_text",
+            "tests/test_markers_c3d.py::test_a_damaged_sgi_file_gives_our_message",
+        ],
+        60,
+    ),
+    "core/markers/c3d_frames.py": (
+        [
+            "tests/test_markers_c3d_frames_mutants.py",
+            "tests/test_markers_c3d.py::test_evart_points_follow_the_headers_layout",
+        ],
+        60,
+    ),
+    # the worker's functions in this process (ezc3d's reading stood in for), two worker processes,
+    # and three isolated reads that run it as the child
+    "core/markers/c3d_worker.py": (
+        [
+            "tests/test_markers_c3d_worker_mutants.py",
+            "tests/test_markers_c3d.py::test_written_file_with_residual_codes",
+            "tests/test_markers_c3d.py::test_a_damaged_sgi_file_gives_our_message",
+            "tests/test_markers_c3d.py::test_evart_points_follow_the_headers_layout",
+        ],
+        60,
+    ),
+    "core/markers/file_model.py": (
+        ["tests/test_markers_file_model_mutants.py", "tests/test_markers_sets.py::test_file_model_comparison_exact"],
+        60,
+    ),
     # the marker sets and skeleton building (issue 24): synthetic markers, core tests only
     "core/markers/match.py": (["tests/test_markers_match_mutants.py", "tests/test_markers_math.py"], 60),
     "core/markers/targets.py": (["tests/test_markers_targets.py"], 60),

@@ -69,3 +69,62 @@ def test_every_drawn_thing_is_a_drawable_updated_in_place_and_rendered_once(stud
 
     assert not isinstance(studio.view.interactor, QOpenGLWidget)  # a native window, no framebuffer
     assert studio.view.interactor.testAttribute(Qt.WidgetAttribute.WA_NativeWindow) or studio.view.interactor.winId()
+
+
+def _drawn_pixels(part_of, points, view=(200, 200)):
+    """(H, W) bool: the pixels ``part_of(points)``'s actor covers, in an off-screen window
+    looking down -Z at the unit square (parallel projection, 100 pixels per unit)."""
+    import numpy as np
+    import pyvista as pv
+
+    plotter = pv.Plotter(off_screen=True, window_size=view)
+    plotter.set_background((0, 0, 0))
+    part = part_of(points)
+    plotter.renderer.AddActor(part.actor)
+    plotter.enable_parallel_projection()
+    plotter.camera.position, plotter.camera.focal_point, plotter.camera.up = (0, 0, 10), (0, 0, 0), (0, 1, 0)
+    plotter.camera.parallel_scale = 1.0
+    image = plotter.screenshot(return_img=True)
+    plotter.close()
+    return np.asarray(image).max(axis=2) > 40
+
+
+@pytest.mark.gui
+def test_imposter_spheres_cover_their_disc_and_a_missing_point_draws_nothing():
+    import numpy as np
+
+    from gmr_studio.app.scene import vtk_parts as parts
+
+    def spheres(points):
+        part = parts.sphere_part(len(points), 0.1, color=(1.0, 1.0, 1.0))
+        part.set_points(points)
+        return part
+
+    shown = _drawn_pixels(spheres, np.array([[0.5, 0.5, 0.0], [np.nan, 0.0, 0.0], [-0.5, -0.5, 0.0]]))
+    # two discs of radius 10 pixels (about 314 pixels each) at (150, 50) and (50, 150) in
+    # image rows/columns; nothing at the origin, where the missing point's zeros would be
+    area = np.pi * 10**2
+    assert (
+        abs(shown[40:61, 140:161].sum() - area) < 0.15 * area and abs(shown[140:161, 40:61].sum() - area) < 0.15 * area
+    )
+    assert shown.sum() == shown[40:61, 140:161].sum() + shown[140:161, 40:61].sum()
+    assert not shown[90:111, 90:111].any()
+
+
+@pytest.mark.gui
+def test_imposter_bones_run_from_joint_to_joint():
+    import numpy as np
+
+    from gmr_studio.app.scene import vtk_parts as parts
+
+    def bone(points):
+        part = parts.bone_part(np.array([[0, 1]]), 0.05, color=(1.0, 1.0, 1.0))
+        part.set_joints(points)
+        return part
+
+    shown = _drawn_pixels(bone, np.array([[-0.5, 0.0, 0.0], [0.5, 0.0, 0.0]]))
+    rows, columns = np.nonzero(shown)
+    # a bar 100 pixels long (columns 50 to 150) and 10 high (rows 95 to 105), ends flat
+    assert abs(columns.min() - 50) <= 1 and abs(columns.max() - 149) <= 1
+    assert abs(rows.min() - 95) <= 1 and abs(rows.max() - 104) <= 1
+    assert shown.sum() > 0.9 * 100 * 10

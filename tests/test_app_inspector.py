@@ -141,3 +141,41 @@ def test_world_rotations_are_the_joints_own_not_its_parents(qtbot, studio):
         assert np.abs(gmr_expected - bvh_expected).max() > 0.05  # the two differ visibly
         assert flat(format_matrix(gmr_expected)) in gmr_part
         assert flat(format_matrix(bvh_expected)) in bvh_part
+
+
+@pytest.mark.gui
+def test_scrolled_text_is_drawn_where_the_scroll_area_shows_it(qtbot, studio):
+    """The text is drawn only in the exposed part (its clip follows the scroll): scrolled to
+    the end, the shown part still holds text, as many text pixels as an unclipped drawing."""
+    from PyQt6.QtGui import QImage, QPainter
+    from PyQt6.QtWidgets import QApplication
+
+    open_file(studio, shared_path(CMU))
+    studio.state.select(studio.state.motion.joint_index("LeftHand"))
+    studio.inspector_dock.show()
+    inspector = studio.inspector
+    qtbot.waitExposed(inspector)
+    bar = inspector.verticalScrollBar()
+    assert bar.maximum() > 0  # the text is taller than the dock
+    bar.setValue(bar.maximum())
+    QApplication.processEvents()
+    shown = inspector.viewport().grab().toImage()
+    # the same part drawn by the document alone, without any clip
+    label = inspector.label
+    full = QImage(label.size(), QImage.Format.Format_ARGB32)
+    full.fill(label.palette().color(label.backgroundRole()))
+    painter = QPainter(full)
+    painter.translate(label.MARGIN, label.MARGIN)
+    label.document.drawContents(painter)
+    painter.end()
+    top = -label.y()  # the label's row at the viewport's top
+
+    def text_pixels(image, first_row):
+        rows = np.arange(first_row, first_row + inspector.viewport().height())
+        pixels = [[image.pixelColor(x, y).lightness() for x in range(0, image.width(), 2)] for y in rows[::2]]
+        background = np.median(pixels)
+        return int((np.abs(np.array(pixels) - background) > 60).sum())
+
+    drawn, expected = text_pixels(shown, 0), text_pixels(full, top)
+    assert expected > 200
+    assert abs(drawn - expected) <= 0.1 * expected

@@ -179,10 +179,12 @@ def test_markers_skip_gaps_and_label_the_hovered_one(qtbot, studio):
     open_file(studio, demo_folder() / MOTION_FILE, demo_folder() / MARKERS_FILE)
     state, scene = studio.state, studio.view.scene
     n_markers = state.marker_overlay.markers.n_markers
+    spheres = scene.parts["markers"]  # one sphere per marker; a missing one is not drawn
     state.set_frame(50)
-    assert scene.parts["markers"].mesh.n_points == n_markers
+    assert spheres.mesh.n_points == n_markers and spheres.drawn.all()
     state.set_frame(110)  # LWRA is missing from frame 100 to 131
-    assert scene.parts["markers"].mesh.n_points == n_markers - 1
+    lwra = state.marker_overlay.markers.labels.index("LWRA")
+    assert spheres.mesh.n_points == n_markers and np.flatnonzero(~spheres.drawn).tolist() == [lwra]
     state.set_overlay("joints", False) if "joints" in state.overlays else None
     m = state.marker_overlay.markers.labels.index("LASI")
     x, y, _ = scene.marker_screen_positions()[m]

@@ -25,8 +25,10 @@ def test_the_window_draws_and_aligns_only_markers(qtbot, studio, tmp_path):
     for frame in (0, 60):
         state.set_frame(frame)
         shown = np.isfinite(overlay.positions[frame]).all(axis=1)
-        assert scene.parts["markers"].mesh.n_points == int(shown.sum()) > 30
-        np.testing.assert_allclose(scene.parts["markers"].mesh.points, overlay.positions[frame][shown], atol=1e-4)
+        spheres = scene.parts["markers"]  # every marker has its sphere; the missing ones are not drawn
+        assert spheres.mesh.n_points == 42 and int(spheres.drawn.sum()) == int(shown.sum()) > 30
+        np.testing.assert_array_equal(spheres.drawn, shown)
+        np.testing.assert_allclose(spheres.mesh.points[shown], overlay.positions[frame][shown], atol=1e-4)
     # the automatic alignment is the one of the markers alone
     resampled = cmu.resampled(state.motion.frame_rate)
     alone = auto_alignment(

@@ -208,10 +208,11 @@ def test_every_set_file_is_covered():
 
 @pytest.mark.parametrize("set_name", BUILDABLE)
 @pytest.mark.parametrize("refine", [False, True])
-def test_exact_case_every_set(set_name, refine):
+@pytest.mark.parametrize("root_at", ["pelvis", "fit"])
+def test_exact_case_every_set(set_name, refine, root_at):
     markers, joints = generated_markers(set_name)
     assert identify_marker_set(markers).definition.name == set_name or set_name == "plug-in-gait-lower"
-    built = markers_to_built_motion(markers, refine=refine, iterations=3)
+    built = markers_to_built_motion(markers, refine=refine, iterations=3, root_at=root_at)
     motion = built.result.motion
     positions = world_positions(motion)
     size = max(np.ptp(positions[0], axis=0))
@@ -292,6 +293,18 @@ def test_davis_hips_place_the_generated_pelvis():
     psi = 0.5 * (markers.positions[:, markers.index("LPSI")] + markers.positions[:, markers.index("RPSI")])
     _, frame = jc.pelvis_frame(lasi, rasi, psi)
     assert np.allclose(hips, origin[:, None] + np.einsum("fab,kb->fka", frame, local), atol=1e-9)
+
+
+def test_davis_hips_without_a_leg_length_measure_it():
+    # no LegLength parameter: the leg is the median ASIS-knee-ankle length of the markers
+    markers, _ = generated_markers("plug-in-gait-lower")
+    assert "LegLength" not in markers.parameters
+    lasi, kne, ank = (markers.positions[:, markers.index(label)] for label in ("LASI", "LKNE", "LANK"))
+    leg = np.median(np.linalg.norm(lasi - kne, axis=1) + np.linalg.norm(kne - ank, axis=1))
+    built = build_skeleton(markers, hip="davis")
+    with_leg = build_skeleton(markers.replace(parameters={**markers.parameters, "LegLength": leg}), hip="davis")
+    assert np.allclose(built.centres, with_leg.centres, atol=1e-9, equal_nan=True)
+    assert any("no LegLength parameter" in note for note in built.notes)
 
 
 def test_hidden_pelvis_and_medial_markers_are_carried_by_their_segment():

@@ -64,8 +64,7 @@ class SkeletonFigure(Drawing):
         size = motion.size
         colors = scene.tree_colors.colors(motion)
         r = JOINT_RADIUS * size
-        sphere = pv.Sphere(radius=r, theta_resolution=16, phi_resolution=12)
-        self.add("joints", parts.glyph_part(motion.n_joints, sphere, colors))
+        self.add("joints", parts.sphere_part(motion.n_joints, r, colors))
         cube = pv.Cube(x_length=3.0 * r, y_length=3.0 * r, z_length=3.0 * r)
         self.roots = motion.roots
         self.add("roots", parts.glyph_part(len(self.roots), cube, colors[self.roots]))

@@ -24,7 +24,6 @@ only where a ghost's surfaces overlap, by a few levels of shading).
 from __future__ import annotations
 
 import numpy as np
-import pyvista as pv
 from vtkmodules.vtkCommonCore import vtkLookupTable
 from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
 
@@ -100,13 +99,11 @@ class GhostLayers(Drawing):
         size = document.motion.size
         for index, layer in enumerate(self.layers.layers):
             if isinstance(layer, MarkerLayer):
-                sphere = pv.Sphere(radius=MARKER_LAYER_RADIUS * size, theta_resolution=10, phi_resolution=8)
-                built = (parts.glyph_part(layer.markers.n_markers, sphere, color=layer.colour),)
+                built = (parts.sphere_part(layer.markers.n_markers, MARKER_LAYER_RADIUS * size, color=layer.colour),)
             else:
                 motion = layer.snapshot.motion
                 bones = parts.bone_part(figure_bones(motion)[0], GHOST_BONE_RADIUS * size, color=layer.colour)
-                sphere = pv.Sphere(radius=GHOST_JOINT_RADIUS * size, theta_resolution=10, phi_resolution=10)
-                built = (bones, parts.glyph_part(motion.n_joints, sphere, color=layer.colour))
+                built = (bones, parts.sphere_part(motion.n_joints, GHOST_JOINT_RADIUS * size, color=layer.colour))
             for k, part in enumerate(built):
                 part.actor.GetProperty().SetOpacity(layer.opacity)
                 part.actor.GetProperty().SetAmbient(0.6)  # translucent over a dark ground: lit brighter
@@ -121,8 +118,9 @@ class GhostLayers(Drawing):
 
     def _build_error_view(self, layer: ComparisonLayer, size: float) -> None:
         n = layer.comparison.n_pairs
-        sphere = pv.Sphere(radius=ERROR_JOINT_RADIUS * size, theta_resolution=12, phi_resolution=12)
-        self.error_joints = self.add("error_joints", parts.glyph_part(n, sphere, colors=np.zeros((n, 3))))
+        self.error_joints = self.add(
+            "error_joints", parts.sphere_part(n, ERROR_JOINT_RADIUS * size, colors=np.zeros((n, 3)))
+        )
         pairs = np.column_stack([np.arange(n), n + np.arange(n)])
         self.error_lines = self.add("error_lines", parts.segments_part(2 * n, pairs, color=LINE_COLOUR, width=1.5))
         self.top = error_scale_top(layer, size)
@@ -155,7 +153,7 @@ class GhostLayers(Drawing):
         for layer, built in zip(self.layers.layers, self.ghosts, strict=True):
             if isinstance(layer, MarkerLayer):
                 positions = layer.positions
-                parts.set_some_points(built[0], positions[min(frame, len(positions) - 1)])
+                built[0].set_points(positions[min(frame, len(positions) - 1)])
                 built[0].set_visible(layer.visible and self._visible)
                 continue
             points = layer.ghost[min(frame, len(layer.ghost) - 1)]

@@ -32,8 +32,9 @@ class JointsHighlight(Drawing):
         self.joints = np.array([motion.joint_index(n) for n in names if n in motion.names], dtype=np.int64)
         if not self.joints.size:
             return
-        sphere = pv.Sphere(radius=HIGHLIGHT_RADIUS * motion.size, theta_resolution=14, phi_resolution=14)
-        part = self.add("highlight", parts.glyph_part(len(self.joints), sphere, color=HIGHLIGHT_COLOUR))
+        part = self.add(
+            "highlight", parts.sphere_part(len(self.joints), HIGHLIGHT_RADIUS * motion.size, color=HIGHLIGHT_COLOUR)
+        )
         part.actor.GetProperty().SetOpacity(0.7)
 
     def show_frame(self, frame: int) -> None:

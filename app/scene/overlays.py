@@ -181,8 +181,9 @@ class Markers(Drawing):
         if self.overlay is None or scene.snapshot is None:
             return
         size = scene.snapshot.motion.size
-        sphere = pv.Sphere(radius=MARKER_RADIUS * size, theta_resolution=10, phi_resolution=8)
-        self.add("markers", parts.glyph_part(self.overlay.positions.shape[1], sphere, color=MARKER_COLOR))
+        self.add(
+            "markers", parts.sphere_part(self.overlay.positions.shape[1], MARKER_RADIUS * size, color=MARKER_COLOR)
+        )
         self.add("marker_labels", parts.label_part(self._label_texts(), color=MARKER_LABEL_COLOR))
         ring = parts.glyph_part(1, pv.Sphere(radius=2.0 * MARKER_RADIUS * size), color=SELECTION_COLOR)
         ring.actor.GetProperty().SetRepresentationToWireframe()
@@ -196,13 +197,15 @@ class Markers(Drawing):
         self.hovered, self.selected = hovered, selected
         if "marker_labels" in self.parts:
             self.parts["marker_labels"].set_texts(self._label_texts())
+            self.set_visible(self._visible)  # the labels are drawn only while they have a text
 
     def wanted(self, scene) -> bool:
         return scene.overlays["markers"]
 
     def part_wanted(self, part: parts.Part) -> bool:
-        if part is self.parts.get("marker_labels"):
-            return self.scene is not None and self.scene.overlays["marker_labels"]
+        if part is self.parts.get("marker_labels"):  # an empty label's quad would cost a draw
+            shown = self.hovered is not None or self.selected is not None
+            return shown and self.scene is not None and self.scene.overlays["marker_labels"]
         if part is self.parts.get("marker_selection"):
             return self.selected is not None and self._present(self.selected)
         return True
@@ -216,7 +219,7 @@ class Markers(Drawing):
         if not self.parts:
             return
         positions = self.overlay.positions[frame]
-        parts.set_some_points(self.parts["markers"], positions)
+        self.parts["markers"].set_points(positions)
         if self.selected is not None:
             self.parts["marker_selection"].set_points(positions[self.selected][None])
         self.parts["marker_selection"].set_visible(self._visible and self.part_wanted(self.parts["marker_selection"]))

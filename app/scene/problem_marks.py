@@ -13,7 +13,6 @@ sets both and calls ``scene.redraw(marks)`` when they change. A finding about th
 from __future__ import annotations
 
 import numpy as np
-import pyvista as pv
 
 from gmr_studio.app.model.problems import LEVEL_COLOURS
 from gmr_studio.app.scene import vtk_parts as parts
@@ -44,9 +43,10 @@ class ProblemMarks(Drawing):
         if snapshot is None or self.flags is None or self.flags.shape != snapshot.positions.shape[:2]:
             return  # flags of another motion (the checks are running again): nothing drawn
         self.levels = tuple(level for level in LEVELS if level >= self.min_level and (self.flags == level).any())
-        sphere = pv.Sphere(radius=MARK_RADIUS * snapshot.motion.size, theta_resolution=16, phi_resolution=12)
         for level in self.levels:
-            part = parts.glyph_part(0, sphere, color=LEVEL_COLOURS[level])
+            part = parts.sphere_part(
+                snapshot.positions.shape[1], MARK_RADIUS * snapshot.motion.size, color=LEVEL_COLOURS[level]
+            )
             part.actor.GetProperty().LightingOff()  # flat: the same colour from every side
             self.add(f"problems_{level}", part)
 
@@ -56,7 +56,14 @@ class ProblemMarks(Drawing):
         positions = self.scene.snapshot.positions[frame]
         levels = self.flags[frame]
         for level in self.levels:
-            parts.set_some_points(self.parts[f"problems_{level}"], positions[levels == level])
+            part = self.parts[f"problems_{level}"]
+            part.set_points(np.where((levels == level)[:, None], positions, np.nan))
+            part.set_visible(self._visible and self.part_wanted(part))
+
+    def part_wanted(self, part: parts.Part) -> bool:
+        # a level with no joint flagged at this frame is hidden: the front layer is then
+        # left undrawn (:func:`~app.scene.vtk_parts.draws_anything`)
+        return bool(part.drawn.any())
 
     def flagged(self, frame: int) -> dict[int, np.ndarray]:
         """{level: joint indices} drawn at ``frame`` (for tests)."""

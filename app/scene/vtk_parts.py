@@ -3,10 +3,12 @@
 Each part owns a :class:`pyvista.PolyData` with a fixed number of points and the actor that
 draws it; :meth:`Part.set_points` writes new coordinates into the existing VTK array and
 marks it modified, so a frame costs a copy of a few hundred floats and one render. No VTK
-filter runs on a frame change: spheres, cubes and bones are templates that the mapper
-places (:func:`glyph_part`, :func:`bone_part`: instanced by ``vtkGlyph3DMapper``), lines are
-drawn as they are, and labels are quads of one texture, drawn in screen space
-(:class:`LabelPart`).
+filter runs on a frame change: spheres and bones are drawn by the GPU as shaded imposters
+(:func:`sphere_part`, :func:`bone_part`: one square or box each, the surface and depth
+computed per pixel, so they cost the same at any size and are round at any zoom), cubes and
+rings are templates that the mapper places (:func:`glyph_part`: instanced by
+``vtkGlyph3DMapper``), lines are drawn as they are, and labels are quads of one texture,
+drawn in screen space (:class:`LabelPart`).
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkRenderingCore import (
     vtkActor,
     vtkGlyph3DMapper,
+    vtkMapper,
     vtkPolyDataMapper,
     vtkPolyDataMapper2D,
     vtkProp,
@@ -27,6 +30,7 @@ from vtkmodules.vtkRenderingCore import (
     vtkTexture,
     vtkTexturedActor2D,
 )
+from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLSphereMapper, vtkOpenGLStickMapper
 
 
 def rgb_bytes(colors: np.ndarray) -> np.ndarray:
@@ -88,8 +92,56 @@ def glyph_part(n_points: int, source: pv.PolyData, colors: np.ndarray | None = N
     return part
 
 
-def _glyph_actor(mapper: vtkGlyph3DMapper, mesh: pv.PolyData, n: int, colors, color) -> vtkActor:
-    """The actor of a glyph mapper over ``mesh`` (``n`` points): one colour per glyph from
+class SpherePart(Part):
+    """Spheres of one radius (the scene's units) at ``n`` points; a point given as NaN is
+    not drawn (its sphere's radius is set to 0), so missing markers and unflagged joints
+    cost no new arrays: the points and radii are written in place every frame.
+
+    Drawn by ``vtkOpenGLSphereMapper``: each sphere is one screen-facing square whose
+    fragment shader computes the sphere's surface, normal and depth, so it is lit and hides
+    what is behind it like a mesh sphere, with no triangles to transform. In software
+    OpenGL 38 tessellated spheres (16x12) cost about 1.9 ms a frame at 1018x425, as
+    imposters about 0.1 ms (docs/app.md, "Performance").
+    """
+
+    def __init__(self, n_points: int, radius: float) -> None:
+        super().__init__(n_points)
+        self.radius = float(radius)
+        self.mesh.verts = np.column_stack([np.ones(n_points, dtype=np.int64), np.arange(n_points)]).ravel()
+        # the mapper reads the radii as 32-bit floats (a 64-bit array crashes its shader setup)
+        self.mesh.point_data["radius"] = np.full(n_points, self.radius, dtype=np.float32)
+        self._radii = self.mesh.point_data["radius"] if n_points else np.zeros(0, np.float32)
+
+    def set_points(self, points: np.ndarray) -> None:
+        """Write (n, 3) coordinates; rows with a NaN are not drawn."""
+        if not self.n_points:
+            return
+        points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+        present = np.isfinite(points).all(axis=1)
+        self._view[:] = np.where(present[:, None], points, 0.0)
+        self._radii[:] = np.where(present, self.radius, 0.0)
+        self.mesh.GetPoints().Modified()
+
+    @property
+    def drawn(self) -> np.ndarray:
+        """(n,) bool: the points drawn now."""
+        return np.asarray(self._radii) > 0
+
+
+def sphere_part(n_points: int, radius: float, colors: np.ndarray | None = None, color=(1.0, 1.0, 1.0)) -> SpherePart:
+    """Spheres of ``radius`` at ``n_points`` points, coloured per point (``colors`` (n, 3) in
+    [0, 1]) or all one ``color``; update with :meth:`SpherePart.set_points`."""
+    part = SpherePart(n_points, radius)
+    mapper = vtkOpenGLSphereMapper()
+    mapper.SetInputData(part.mesh)
+    mapper.SetRadius(part.radius)
+    mapper.SetScaleArray("radius")
+    part.actor = _glyph_actor(mapper, part.mesh, n_points, colors, color)
+    return part
+
+
+def _glyph_actor(mapper: vtkMapper, mesh: pv.PolyData, n: int, colors, color) -> vtkActor:
+    """The actor of a glyph or sphere mapper over ``mesh`` (``n`` points): one colour per glyph from
     ``colors`` (n, 3) in [0, 1] (a ``colors`` point array the mapper reads by name), or all
     one ``color``."""
     if colors is not None and n:
@@ -104,16 +156,6 @@ def _glyph_actor(mapper: vtkGlyph3DMapper, mesh: pv.PolyData, n: int, colors, co
     if colors is None:
         actor.GetProperty().SetColor(*color)
     return actor
-
-
-def set_some_points(part: Part, points: np.ndarray) -> None:
-    """Give a single-colour glyph part a new set of points (any number; rows with NaN are
-    left out, so gaps are simply not drawn). VTK's glyph masking does not notice changed
-    masks, so the point set itself is replaced."""
-    points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-    kept = points[np.isfinite(points).all(axis=1)]
-    part.mesh.points = kept if len(kept) else np.zeros((0, 3))
-    part._view = part.mesh.points if len(kept) else np.zeros((0, 3))
 
 
 def segments_part(
@@ -152,32 +194,34 @@ def segments_part(
 
 
 class BonePart(Part):
-    """Bones between point pairs as cylinders of a fixed radius (the scene's units), each
-    the template :func:`bone_template` placed, turned and stretched by the glyph mapper.
+    """Bones between point pairs as cylinders of a fixed radius (the scene's units), drawn by
+    the GPU as imposters (``vtkOpenGLStickMapper``: one screen-facing box a bone, the
+    cylinder's surface and depth computed per pixel), as spheres are (:class:`SpherePart`).
 
     The points of the mesh are the bones' midpoints (B,); :meth:`set_joints` computes them,
-    the directions and the lengths from the joints' positions, in place.
+    the directions and the lengths from the joints' positions, in place. The mapper reads a
+    unit ``direction`` and a ``scale`` of (length, radius, radius) per bone, as 32-bit
+    floats, and a colour per bone (it has no single-colour mode: one ``color`` is repeated).
     """
 
     def __init__(self, pairs: np.ndarray, radius: float, colors: np.ndarray | None, color) -> None:
         self.pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
         super().__init__(len(self.pairs))
         n = len(self.pairs)
+        self.radius = float(radius)
         if n:  # pyvista refuses empty arrays; a one-joint figure has no bones
-            self.mesh.point_data["direction"] = np.tile([1.0, 0.0, 0.0], (n, 1))
-            self.mesh.point_data["scale"] = np.zeros((n, 3))
+            self.mesh.verts = np.column_stack([np.ones(n, dtype=np.int64), np.arange(n)]).ravel()
+            self.mesh.point_data["direction"] = np.tile(np.float32([1.0, 0.0, 0.0]), (n, 1))
+            self.mesh.point_data["scale"] = np.zeros((n, 3), dtype=np.float32)
             self._direction = self.mesh.point_data["direction"]
             self._scale = self.mesh.point_data["scale"]
-            self._scale[:, 1:] = 1.0
-        mapper = vtkGlyph3DMapper()
+            self._scale[:, 1:] = self.radius
+        mapper = vtkOpenGLStickMapper()
         mapper.SetInputData(self.mesh)
-        mapper.SetSourceData(bone_template(radius))
         mapper.SetOrientationArray("direction")
-        mapper.SetOrientationModeToDirection()
         mapper.SetScaleArray("scale")
-        mapper.SetScaleModeToScaleByVectorComponents()
-        mapper.SetScaling(True)
-        self.actor = _glyph_actor(mapper, self.mesh, n, colors, color)
+        rgb = colors if colors is not None else np.broadcast_to(np.asarray(color, dtype=np.float64), (n, 3))
+        self.actor = _glyph_actor(mapper, self.mesh, n, rgb, color)
 
     def set_joints(self, joints: np.ndarray) -> None:
         """Place every bone between its two joints: ``joints`` (J, 3), NaN-free."""
@@ -185,16 +229,12 @@ class BonePart(Part):
             return
         a, b = joints[self.pairs[:, 0]], joints[self.pairs[:, 1]]
         along = b - a
+        length = np.sqrt(np.einsum("ij,ij->i", along, along))
         self._view[:] = 0.5 * (a + b)
-        self._direction[:] = along
-        self._scale[:, 0] = np.sqrt(np.einsum("ij,ij->i", along, along))
+        self._direction[:] = along / np.where(length > 0, length, 1.0)[:, None]
+        self._scale[:, 0] = length
         self.mesh.GetPoints().Modified()
         self.mesh.GetPointData().Modified()
-
-
-def bone_template(radius: float) -> pv.PolyData:
-    """A capped cylinder of ``radius`` and length 1 along X, centred at the origin."""
-    return pv.Cylinder(center=(0.0, 0.0, 0.0), direction=(1.0, 0.0, 0.0), radius=radius, height=1.0, resolution=12)
 
 
 def bone_part(pairs: np.ndarray, radius: float, colors: np.ndarray | None = None, color=(1.0, 1.0, 1.0)) -> BonePart:

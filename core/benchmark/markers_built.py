@@ -8,13 +8,15 @@
    (Plug-in Gait outputs PELO..., LFEO...) and opensim-core's walking5 (LHJC, LKJC, LAJC).
 3. Speed: 10,000 frames of the 40-marker Plug-in Gait full-body sample (its 721 frames
    repeated, 2 mm of noise added) through skeleton building, the closed form and the
-   refinement (issue 22: < 10 s); wall and CPU seconds (the machine is shared).
+   refinement (issue 22: < 10 s); wall and CPU seconds and the load average when it ends
+   (the machine is shared).
 
 Run: ``.venv/bin/python -m gmr_studio.core.benchmark.markers_built``.
 """
 
 from __future__ import annotations
 
+import os
 import time
 
 import numpy as np
@@ -78,9 +80,11 @@ def speed_report(n_frames: int = 10_000) -> None:
     built = markers_to_built_motion(big, refine=True)
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
     rms = np.sqrt(np.nanmean(built.refinement.residuals**2))
+    load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
     print(
         f"\nSpeed: {n_frames} frames x {big.n_markers} markers, build + closed form + refinement "
-        f"({built.refinement.iterations} iterations): {wall:.2f} s wall, {cpu:.2f} s CPU (residual RMS {rms:.2f} mm)"
+        f"({built.refinement.iterations} iterations): {wall:.2f} s wall, {cpu:.2f} s CPU (residual RMS {rms:.2f} mm; "
+        f"load average {load})"
     )
 
 

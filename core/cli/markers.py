@@ -98,6 +98,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--scale", type=float, help="skeleton units per marker unit, overriding the map's")
     parser.add_argument("--aim", choices=("markers", "chain"), default="markers", help="bone directions from")
     parser.add_argument("--pelvis-fit", choices=("note", "points"), default="note", help="Procrustes variant")
+    parser.add_argument(
+        "--root-at",
+        choices=("fit", "pelvis"),
+        help="the closed form's root: by the least-squares translation of all joints (fit; the default with "
+        "--skeleton) or at the pelvis markers' root (pelvis: the paper's; the default for a built skeleton)",
+    )
     parser.add_argument("--calibrate", type=frame_slice, metavar="A:B", help="calibrate the map on these frames")
     parser.add_argument("--save-map", help="write the calibrated map here (.toml)")
     parser.add_argument(
@@ -216,6 +222,7 @@ def run(args: argparse.Namespace) -> int:
         fill_gaps=args.fill_gaps,
         pelvis_method=args.pelvis_fit,
         aim=args.aim,
+        root_at=args.root_at or "fit",
     )
     refinement = None
     if args.refine:

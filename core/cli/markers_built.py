@@ -40,7 +40,10 @@ def run_built(args: argparse.Namespace, markers: MarkerSet) -> int:
     unknown = sorted(set(args.weights or {}) - set(markers.labels))
     if unknown:
         raise OperationError(f"--weights names markers the file does not have: {', '.join(unknown)}")
-    built = markers_to_built_motion(markers, hip=args.hip, knee=args.knee, refine=args.refine, weights=args.weights)
+    root_at = args.root_at or "pelvis"
+    built = markers_to_built_motion(
+        markers, hip=args.hip, knee=args.knee, refine=args.refine, weights=args.weights, root_at=root_at
+    )
     result, skeleton = built.result, built.built
     output = Path(args.output)
     motion = result.motion

@@ -165,9 +165,8 @@ def joint_centre_trajectories(
     if hip == "davis":
         leg = params.get("LegLength")
         if leg is None:
-            ank = roles.get("ANK", "L")
-            knee = roles.get("KNE", "L")
-            leg = np.nanmedian(np.linalg.norm(lasi - knee, axis=-1) + np.linalg.norm(knee - ank, axis=-1))
+            ank, kne = roles.get("ANK", "L"), roles.get("KNE", "L")
+            leg = np.nanmedian(np.linalg.norm(lasi - kne, axis=-1) + np.linalg.norm(kne - ank, axis=-1))
             notes.append(f"no LegLength parameter: {leg:.0f} mm measured (ASIS-knee-ankle, median)")
         local = jc.hip_davis(leg, np.nanmedian(width), radius)
         how = "Davis et al. 1991 (Plug-in Gait), leg length and ASIS distance (median over the take)"

@@ -18,7 +18,7 @@ from gmr_studio.core.markers.build import BuiltSkeleton, build_skeleton
 from gmr_studio.core.markers.markerset import MarkerSet
 from gmr_studio.core.markers.refine import Refinement
 from gmr_studio.core.markers.sets import SetMatch
-from gmr_studio.core.markers.solve import MarkerMotion
+from gmr_studio.core.markers.solve import MarkerMotion, RootAt
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -93,6 +93,7 @@ def markers_to_built_motion(
     weights: dict[str, float] | None = None,
     place_markers: bool = True,
     knee: str = "functional",
+    root_at: RootAt = "pelvis",
 ) -> BuiltMotion:
     """Build the skeleton (:func:`build_skeleton`), run the paper's closed form on it with the
     twists from the segments' third markers, and with ``refine`` the global refinement
@@ -109,14 +110,22 @@ def markers_to_built_motion(
     offsets carry its own errors (a fixed-length chain, one marker for each twist); a marker
     seen in few frames (the knee markers of walking5's TRC excerpt: one frame with a pelvis)
     would otherwise keep them. Of the ``iterations``, the last :data:`PLACED_ITERATIONS` run
-    after the placement (so it costs no more); ``residuals_before`` stays the closed form's."""
+    after the placement (so it costs no more); ``residuals_before`` stays the closed form's.
+    ``root_at``: where the closed form puts the root (:mod:`core.markers.root_fit`): by default
+    at the pelvis markers' root, the mid-point of the hip centres the markers place rigidly,
+    which the app shows as the recovered pelvis (docs/markersets.md, "Figures", has both)."""
     from gmr_studio.core.markers.refine import attach_markers, refine_motion
     from gmr_studio.core.markers.solve import solve_positions
 
     markers = markers.in_units("mm")
     built = build_skeleton(markers, hip=hip, knee=knee)
     result = solve_positions(
-        built.centres, built.skeleton, built.pelvis, frame_time=1.0 / markers.rate, twist_markers=built.twist_markers
+        built.centres,
+        built.skeleton,
+        built.pelvis,
+        frame_time=1.0 / markers.rate,
+        twist_markers=built.twist_markers,
+        root_at=root_at,
     )
     note = f"from markers {markers.source or '(memory)'}: skeleton built from set {built.set_match.definition.name}"
     result = dataclasses.replace(

@@ -154,7 +154,7 @@ def _swap_parameter_data(out: bytearray, body: int, end: int, group: int, name: 
         if count:
             dtype = "<i2" if kind == 2 else "<f4"
             value = float(np.frombuffer(bytes(out[first : first + width]), dtype)[0])
-            if kind == 2:
-                value = float(int(value) & 0xFFFF)  # words such as DATA_START are unsigned
+            if kind == 2 and name == "DATA_START":
+                value = float(int(value) & 0xFFFF)  # a block number, unsigned (a SCALE keeps its sign)
             return data_end, {(group, name): value}
     return data_end, {}

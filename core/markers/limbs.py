@@ -137,3 +137,22 @@ def least_change_twists(u: np.ndarray, c: np.ndarray) -> np.ndarray:
     step = np.swapaxes(swings[:-1], -1, -2) @ swings[1:]
     delta = -twist_angle(step, u)
     return np.concatenate([[0.0], np.cumsum(delta)])
+
+
+def marker_twists(u: np.ndarray, c: np.ndarray, third: np.ndarray) -> np.ndarray:
+    """Twists (N,) about the rest direction u (3,) from a third marker rigid with the bone.
+
+    c (N, 3) unit bone directions and third (N, 3) the marker from the bone's start, both in
+    the parent's frame. Undoing the swing, ``v = S(u -> c)^T third`` is the marker in the
+    rest frame turned by the twist alone; its part perpendicular to u, compared with its mean
+    direction ``w0`` over the frames, gives ``gamma = atan2(u . (w0 x v), w0 . v)``. The rest
+    pose's twist is thereby the take's mean one (the marker is rigid with the bone, so any
+    constant choice gives the same positions).
+    """
+    v = np.einsum("fba,fb->fa", swing(u, c), third)
+    v -= np.outer(v @ u, u)
+    v /= np.linalg.norm(v, axis=1, keepdims=True)
+    w0 = v.mean(axis=0)
+    w0 -= (w0 @ u) * u
+    w0 /= np.linalg.norm(w0)
+    return np.arctan2(np.cross(w0, v) @ u, v @ w0)

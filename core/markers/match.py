@@ -15,11 +15,19 @@ rounding) the one closest in time to the query wins: when the reference is the q
 trial with nothing excluded, that is the query frame itself, whose distance is zero. With
 ``exclude_within`` seconds, reference frames that close in time to the query are not
 candidates (the "twist from the same trial" experiment).
+
+:func:`reference_poses` prepares a reference motion for both (its poses in the skeleton's
+joint order, their pelvis-frame features, its root-from-pelvis rotations and times).
 """
 
 from __future__ import annotations
 
 import numpy as np
+
+from gmr_studio.core.errors import OperationError
+from gmr_studio.core.kinematics import joint_world_transform, world_positions
+from gmr_studio.core.markers.pelvis import pelvis_rotations
+from gmr_studio.core.motion import Motion
 
 #: distances held at once: chunks of query frames x all reference frames
 CHUNK_ELEMENTS = 4_000_000
@@ -92,3 +100,28 @@ def best_matches(
         index[rows] = np.where(ok, chosen, -1)
         distance[rows] = np.where(ok, np.sqrt(best[:, 0] / np.maximum(count[rows], 1)), np.nan)
     return index, distance
+
+
+def reference_poses(reference: Motion | None, skeleton: Motion, triple_index, home, pelvis_method):
+    """What the solver matches against in a reference motion (None: None): local rotations
+    (G, J, 3, 3) in skeleton joint order, pelvis-frame positions (G, J, 3), root-from-pelvis
+    rotations (G, 3, 3) and times (G,)."""
+    if reference is None:
+        return None
+    missing = [n for n in skeleton.names if n not in reference.names]
+    if missing:
+        raise OperationError(
+            f"the reference motion is not of the skeleton: it lacks the joints {', '.join(missing[:6])}"
+            + (" ..." if len(missing) > 6 else "")
+        )
+    order = [reference.joint_index(n) for n in skeleton.names]
+    if reference.n_frames == 0:
+        raise OperationError("the reference motion has no frames")
+    positions, local = world_positions(reference)[:, order], reference.rotations[:, order]
+    rotations, _, valid, reasons = pelvis_rotations(positions[:, triple_index], home, method=pelvis_method)
+    if not valid.all():
+        raise OperationError("the reference motion's own pelvis is degenerate: " + "; ".join(reasons))
+    root = triple_index[0]
+    features = np.einsum("fba,fjb->fja", rotations, positions - positions[:, root : root + 1])
+    correction = np.swapaxes(rotations, -1, -2) @ joint_world_transform(reference, order[root])[0]
+    return local, features, correction, np.arange(reference.n_frames) * reference.frame_time

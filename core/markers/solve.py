@@ -12,7 +12,10 @@
    previous frame (:func:`~core.markers.limbs.least_change_twists`);
 4. the joints named in ``roots`` become roots of their own trees (soft-linked to their
    parent, as a GMR split does) holding their measured world positions; the others are
-   rotational, with the skeleton's bone lengths.
+   rotational, with the skeleton's bone lengths;
+5. the root is placed by the least-squares translation of the joints onto their virtual
+   markers given those rotations (``root_at="fit"``, :mod:`core.markers.root_fit`), or stays
+   at the pelvis root virtual marker as in the paper (``root_at="pelvis"``).
 
 A joint whose bone direction cannot be measured in a frame (no virtual marker, a gap, a
 bone of length zero) takes its whole local rotation from the matched reference pose, or
@@ -38,12 +41,13 @@ from typing import Literal
 import numpy as np
 
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.kinematics import joint_world_transform, world_positions
-from gmr_studio.core.markers.limbs import least_change_twists, limb_rotation, swing, twist_of
+from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.markers.limbs import least_change_twists, limb_rotation, marker_twists, twist_of
 from gmr_studio.core.markers.markerset import MarkerSet, frame_ranges, gap_runs
-from gmr_studio.core.markers.match import best_matches
+from gmr_studio.core.markers.match import best_matches, reference_poses
 from gmr_studio.core.markers.pelvis import PelvisFrames, PelvisMethod, pelvis_rotations, rest_positions
-from gmr_studio.core.markers.targets import check_map_fits, inverse_variance, transported
+from gmr_studio.core.markers.root_fit import hanging_from_root, root_translations
+from gmr_studio.core.markers.targets import below_missing_bones, check_map_fits, inverse_variance, transported
 from gmr_studio.core.motion import Motion
 from gmr_studio.core.operations import split
 
@@ -57,6 +61,7 @@ SOURCE_NAMES = {
     TWIST_MARKER: "twist from its marker",
 }
 Aim = Literal["markers", "chain"]
+RootAt = Literal["fit", "pelvis"]
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -114,6 +119,7 @@ def markers_to_motion(
     fill_gaps: int = 0,
     pelvis_method: PelvisMethod = "note",
     aim: Aim = "markers",
+    root_at: RootAt = "fit",
 ) -> MarkerMotion:
     """Convert markers to a GMR motion of ``skeleton`` (see the module docstring).
 
@@ -133,6 +139,9 @@ def markers_to_motion(
     pelvis_method : "note" or "points" (:func:`~core.markers.pelvis.pelvis_rotations`).
     aim : bone directions from the measured parent ("markers", the note's) or from the
         parent where the solved chain put it ("chain": errors do not add up along a limb).
+    root_at : "fit": the root by the least-squares translation of all the joints given the
+        rotations, each weighted by its calibration's inverse variance
+        (:mod:`core.markers.root_fit`); "pelvis": at the pelvis root virtual marker (the paper).
 
     Returns
     -------
@@ -172,6 +181,7 @@ def markers_to_motion(
         if name in skeleton.names and begin in virtual.names:
             starts[:, skeleton.joint_index(name)] = aligned[:, virtual.names.index(begin)]
     times = (start + np.arange(markers.n_frames)) / markers.rate
+    weights = inverse_variance(resolved, skeleton.names)
     result = solve_positions(
         measured,
         skeleton,
@@ -184,6 +194,8 @@ def markers_to_motion(
         pelvis_method=pelvis_method,
         aim=aim,
         bone_starts=starts,
+        root_at=root_at,
+        weights=weights,
     )
     note = f"from markers {markers.source or '(memory)'} with map {resolved.name}"
     motion = result.motion.replace(comments=(note, *result.motion.comments))
@@ -194,7 +206,7 @@ def markers_to_motion(
         reasons=(*virtual.reasons, *result.reasons),
         pelvis_note=resolved.pelvis_note,
         targets=targets,
-        weights=inverse_variance(resolved, skeleton.names),
+        weights=weights,
     )
 
 
@@ -212,6 +224,8 @@ def solve_positions(
     aim: Aim = "markers",
     twist_markers: np.ndarray | None = None,
     bone_starts: np.ndarray | None = None,
+    root_at: RootAt = "fit",
+    weights: np.ndarray | None = None,
 ) -> MarkerMotion:
     """The solver on joint positions already in skeleton space.
 
@@ -224,10 +238,13 @@ def solve_positions(
     twist_markers : (F, J, 3) for each joint a third marker rigid with its bone (the lateral
         knee for the thigh...; NaN: none): where present with the bone's direction, the twist
         is the angle about the bone of that marker's direction, measured from its mean
-        direction over the frames (:func:`marker_twists`), before any reference or least change.
+        direction over the frames (:func:`~core.markers.limbs.marker_twists`), before any reference or least change.
     bone_starts : (F, J, 3) where each joint's bone starts according to the marker map (its
         ``[bones]``; NaN: none): with ``aim="markers"`` the bone is aimed from there, before the
-        measured parent (they agree on the skeleton the map was made for).
+        measured parent (they agree on the skeleton the map was made for). The joints below a
+        bone the skeleton lacks (:func:`~core.markers.targets.below_missing_bones`) are left
+        out of the root's fit: the skeleton cannot reach their markers.
+    weights : (J,) each joint's weight in the root's fit (None: 1 each).
     Other parameters as in :func:`markers_to_motion`.
     """
     if skeleton.convention != "pre":
@@ -256,7 +273,7 @@ def solve_positions(
     )
     if not valid.any():
         raise OperationError("no frame has a usable pelvis: " + "; ".join(reasons))
-    reference_data = _prepare_reference(reference, skeleton, triple_index, home, pelvis_method)
+    reference_data = reference_poses(reference, skeleton, triple_index, home, pelvis_method)
     good = np.flatnonzero(valid)
     m = measured[good]
     have = np.isfinite(m).all(axis=2)
@@ -330,29 +347,15 @@ def solve_positions(
         chain[:, j] = chain[:, p] + np.einsum("fab,b->fa", world[:, j], offset)
         if j in root_set:
             chain[:, j] = np.where(have[:, j, None], m[:, j], chain[:, j])
+    if root_at == "fit":
+        follows = hanging_from_root(skeleton, pelvis_root, root_set - {pelvis_root}, have)
+        reachable = ~below_missing_bones(measured, bone_starts, skeleton) if bone_starts is not None else True
+        shift = root_translations(chain, m, follows & reachable, weights)
+        chain = np.where(follows[..., None], chain + shift[:, None], chain)
     return _assemble(
         skeleton, valid, good, local, world, chain, sources, root_set, frame_time,
         measured, rotations_p, residuals, match, distance, reasons, pelvis,
     )  # fmt: skip
-
-
-def marker_twists(u: np.ndarray, c: np.ndarray, third: np.ndarray) -> np.ndarray:
-    """Twists (N,) about the rest direction u (3,) from a third marker rigid with the bone.
-
-    c (N, 3) unit bone directions and third (N, 3) the marker from the bone's start, both in
-    the parent's frame. Undoing the swing, ``v = S(u -> c)^T third`` is the marker in the
-    rest frame turned by the twist alone; its part perpendicular to u, compared with its mean
-    direction ``w0`` over the frames, gives ``gamma = atan2(u . (w0 x v), w0 . v)``. The rest
-    pose's twist is thereby the take's mean one (the marker is rigid with the bone, so any
-    constant choice gives the same positions).
-    """
-    v = np.einsum("fba,fb->fa", swing(u, c), third)
-    v -= np.outer(v @ u, u)
-    v /= np.linalg.norm(v, axis=1, keepdims=True)
-    w0 = v.mean(axis=0)
-    w0 -= (w0 @ u) * u
-    w0 /= np.linalg.norm(w0)
-    return np.arctan2(np.cross(w0, v) @ u, v @ w0)
 
 
 def _hold(values: np.ndarray, ok: np.ndarray) -> np.ndarray:
@@ -363,30 +366,6 @@ def _hold(values: np.ndarray, ok: np.ndarray) -> np.ndarray:
     before, after = gap_runs(ok)
     source = np.where(before >= 0, before, after)
     return values[source]
-
-
-def _prepare_reference(reference: Motion | None, skeleton: Motion, triple_index, home, pelvis_method):
-    """Local rotations (G, J, 3, 3) in skeleton joint order, pelvis-frame positions (G, J, 3),
-    root-from-pelvis rotations (G, 3, 3) and times (G,) of a reference motion."""
-    if reference is None:
-        return None
-    missing = [n for n in skeleton.names if n not in reference.names]
-    if missing:
-        raise OperationError(
-            f"the reference motion is not of the skeleton: it lacks the joints {', '.join(missing[:6])}"
-            + (" ..." if len(missing) > 6 else "")
-        )
-    order = [reference.joint_index(n) for n in skeleton.names]
-    if reference.n_frames == 0:
-        raise OperationError("the reference motion has no frames")
-    positions, local = world_positions(reference)[:, order], reference.rotations[:, order]
-    rotations, _, valid, reasons = pelvis_rotations(positions[:, triple_index], home, method=pelvis_method)
-    if not valid.all():
-        raise OperationError("the reference motion's own pelvis is degenerate: " + "; ".join(reasons))
-    root = triple_index[0]
-    features = np.einsum("fba,fjb->fja", rotations, positions - positions[:, root : root + 1])
-    correction = np.swapaxes(rotations, -1, -2) @ joint_world_transform(reference, order[root])[0]
-    return local, features, correction, np.arange(reference.n_frames) * reference.frame_time
 
 
 def _assemble(

@@ -4,6 +4,7 @@
   file's own marker set (issue 22: not "pelvis marker root missing in frames 0-141").
 - :func:`transported`: targets for the joints below a bone the skeleton lacks (CMU's BVH has
   no thorax bone): the markers moved by that bone.
+- :func:`below_missing_bones`: those joints, which the root's fit leaves out.
 - :func:`inverse_variance`: each joint's weight, ``1 / rms^2`` of its calibrated virtual marker.
 """
 
@@ -59,6 +60,32 @@ def transported(motion: Motion, measured: np.ndarray, starts: np.ndarray, skelet
             shift[:, j] = gap
             moved = True
     return measured + shift if moved else None
+
+
+def below_missing_bones(measured: np.ndarray, starts: np.ndarray, skeleton: Motion) -> np.ndarray:
+    """(J,) bool: the joints below a bone the skeleton lacks, whose measured positions the
+    skeleton cannot reach (CMU's BVH: the neck and arms, below the map's thorax).
+
+    A joint's bone (``starts`` (F, J, 3), NaN: the map gives none) starts where the skeleton
+    starts it when it is the measured position (``measured`` (F, J, 3)) of the joint's parent
+    or of an ancestor the parent sits on through bones of length zero; any other start (a
+    virtual marker the skeleton has no joint for) is a bone the skeleton lacks, and the joint
+    and everything below it are below it.
+    """
+    below = np.zeros(skeleton.n_joints, bool)
+    lengths = np.linalg.norm(skeleton.offsets, axis=1)
+    for j in skeleton.topological_order:
+        p = int(skeleton.parents[j])
+        if p < 0:
+            continue
+        same_place = [p]
+        while lengths[same_place[-1]] == 0 and skeleton.parents[same_place[-1]] >= 0:
+            same_place.append(int(skeleton.parents[same_place[-1]]))
+        own_start = not np.isfinite(starts[:, j]).any() or any(
+            np.array_equal(starts[:, j], measured[:, a], equal_nan=True) for a in same_place
+        )
+        below[j] = below[p] or not own_start
+    return below
 
 
 def inverse_variance(marker_map, names) -> np.ndarray | None:
