@@ -120,3 +120,57 @@ def test_more_reference_frames_than_a_chunk_holds_one_query_frame_at_a_time(rng,
     index, distance = matches(reference[order], np.ones((4, 3), bool), reference, np.zeros(4), np.zeros(12))
     np.testing.assert_array_equal(index, order)
     np.testing.assert_array_equal(distance, 0.0)
+
+
+# ------------------------------------------------------------------ reference_poses
+def test_reference_poses_in_the_skeletons_order_and_pelvis_frame(rng):
+    """A reference with the skeleton's joints in another order: local rotations and positions
+    come back in skeleton order; features are the joints in the pelvis frame from the root;
+    the correction takes the pelvis frame to the root's world rotation; times from frame 0."""
+    from gmr_studio.core.kinematics import joint_world_transform, world_positions
+    from gmr_studio.core.markers.match import reference_poses
+    from gmr_studio.core.markers.pelvis import pelvis_rotations
+    from tests.conftest import random_motion
+
+    skeleton = random_motion(rng, [-1, 0, 0, 0, 3], n_frames=1)
+    shuffled = [3, 0, 4, 1, 2]  # reference joint k is skeleton joint shuffled[k]
+    names = [skeleton.names[j] for j in shuffled]
+    parents = [-1 if skeleton.parents[j] < 0 else shuffled.index(int(skeleton.parents[j])) for j in shuffled]
+    reference = random_motion(rng, parents, n_frames=5).replace(names=names, frame_time=0.25)
+    triple = [0, 1, 2]
+    local, features, correction, times = reference_poses(reference, skeleton, triple, None, "note")
+    order = [names.index(n) for n in skeleton.names]
+    np.testing.assert_array_equal(local, reference.rotations[:, order])
+    positions = world_positions(reference)[:, order]
+    rotations = pelvis_rotations(positions[:, triple])[0]
+    expected = np.einsum("fba,fjb->fja", rotations, positions - positions[:, :1])
+    np.testing.assert_allclose(features, expected, atol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(features[:, 0], axis=-1), 0.0, atol=1e-12)
+    root_world = joint_world_transform(reference, order[0])[0]
+    np.testing.assert_allclose(rotations @ correction, root_world, atol=1e-12)
+    np.testing.assert_allclose(times, [0.0, 0.25, 0.5, 0.75, 1.0])
+    assert reference_poses(None, skeleton, triple, None, "note") is None
+
+
+def test_reference_poses_refusals(rng):
+    from gmr_studio.core.errors import OperationError
+    from gmr_studio.core.markers.match import reference_poses
+    from tests.conftest import random_motion
+
+    skeleton = random_motion(rng, [-1, 0, 0, 0, 0, 0, 0, 0, 0], n_frames=1)  # j0 .. j8
+    seven = random_motion(rng, [-1, 0], n_frames=2)  # j0, j1: seven missing, six listed
+    with pytest.raises(OperationError, match=r"^the reference motion is not of the skeleton: it lacks the joints "
+                       r"j2, j3, j4, j5, j6, j7 \.\.\.$"):  # fmt: skip
+        reference_poses(seven, skeleton, [0, 1, 2], None, "note")
+    six = random_motion(rng, [-1, 0, 0], n_frames=2).replace(names=("j0", "j1", "j2"))
+    with pytest.raises(OperationError, match=r"it lacks the joints j3, j4, j5, j6, j7, j8$"):  # six: all listed
+        reference_poses(six, skeleton, [0, 1, 2], None, "note")
+    empty = skeleton.frame_slice(slice(0, 0))
+    with pytest.raises(OperationError, match=r"^the reference motion has no frames$"):
+        reference_poses(empty, skeleton, [0, 1, 2], None, "note")
+    assert reference_poses(skeleton, skeleton, [0, 1, 2], None, "note")[3].tolist() == [0.0]  # one frame will do
+    flat = skeleton.replace(  # every joint at the root
+        offsets=np.zeros_like(skeleton.offsets), translations=np.zeros_like(skeleton.translations)
+    )
+    with pytest.raises(OperationError, match=r"^the reference motion's own pelvis is degenerate: "):
+        reference_poses(flat, flat, [0, 1, 2], None, "note")

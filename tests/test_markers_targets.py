@@ -11,7 +11,7 @@ from gmr_studio.core.errors import OperationError
 from gmr_studio.core.kinematics import world_positions
 from gmr_studio.core.markers.markermap import MarkerMap, VirtualMarker, joints_map
 from gmr_studio.core.markers.markerset import MarkerSet
-from gmr_studio.core.markers.targets import check_map_fits, inverse_variance, transported
+from gmr_studio.core.markers.targets import below_missing_bones, check_map_fits, inverse_variance, transported
 from tests.conftest import random_motion
 from tests.test_markers_build import generated_markers
 
@@ -175,3 +175,72 @@ def test_weights_are_inverse_variances_scaled_to_mean_one():
     weights = inverse_variance(marker_map, ["a", "b", "c", "d", "e"])
     np.testing.assert_allclose(weights, [1.6, 0.4, 1.0, 1.0, 1.0], rtol=1e-15)
     assert inverse_variance(marker_map.replace(virtual=marker_map.virtual[2:4]), ["c", "d"]) is None
+
+
+# ------------------------------------------------------------------ below_missing_bones
+#: 0 root; 1 at the root (a bone of length 0); 2 on 1; 3 on 2; 4 on 3; 5 on the root
+BELOW_PARENTS = [-1, 0, 1, 2, 3, 0]
+
+
+def below_case(rng):
+    motion = random_motion(rng, BELOW_PARENTS, n_frames=3)
+    offsets = np.array(motion.offsets)
+    offsets[1] = 0.0
+    skeleton = motion.replace(offsets=offsets)
+    measured = rng.normal(size=(3, 6, 3))
+    starts = np.full_like(measured, np.nan)
+    return skeleton, measured, starts
+
+
+def test_a_bone_starting_at_its_parent_or_an_ancestor_at_the_same_place_is_the_skeletons(rng):
+    skeleton, measured, starts = below_case(rng)
+    assert not below_missing_bones(measured, starts, skeleton).any()  # no start given: all own
+    starts[:, 2] = measured[:, 0]  # 2's parent 1 sits on the root: the root's place is 1's
+    starts[:, 3] = measured[:, 2]
+    starts[:, 5] = measured[:, 0]
+    starts[:, 0] = rng.normal(size=(3, 3))  # a root has no bone
+    assert not below_missing_bones(measured, starts, skeleton).any()
+    gappy = measured.copy()
+    gappy[1, 2] = np.nan
+    starts[:, 3] = gappy[:, 2]  # NaN where the parent is missing too: the same place
+    assert not below_missing_bones(gappy, starts, skeleton).any()
+
+
+def test_a_bone_starting_elsewhere_is_missing_and_everything_below_it_is_below(rng):
+    skeleton, measured, starts = below_case(rng)
+    starts[:, 3] = rng.normal(size=(3, 3))  # a virtual marker the skeleton has no joint for
+    assert below_missing_bones(measured, starts, skeleton).tolist() == [False, False, False, True, True, False]
+    starts[:, 3] = measured[:, 1]  # the grandparent, but 2 is no bone of length 0
+    assert below_missing_bones(measured, starts, skeleton).tolist() == [False, False, False, True, True, False]
+    starts[:, 3] = np.nan
+    starts[:, 2] = measured[:, 1] + 1.0
+    assert below_missing_bones(measured, starts, skeleton).tolist() == [False, False, True, True, True, False]
+    starts[:, 2] = np.nan
+    starts[0, 5] = measured[0, 0]  # seen in one frame only, and there the root's: still not the root's track
+    assert below_missing_bones(measured, starts, skeleton).tolist() == [False, False, False, False, False, True]
+
+
+def test_zero_length_bones_are_climbed_to_the_root_and_no_further(rng):
+    skeleton, measured, starts = below_case(rng)
+    offsets = np.array(skeleton.offsets)
+    offsets[[0, 2]] = 0.0  # the root, 1 and 2 all at one place
+    flat = skeleton.replace(offsets=offsets)
+    starts[:, 3] = measured[:, 0]  # 3 starts at the root, through 2 and 1
+    assert not below_missing_bones(measured, starts, flat).any()
+    starts[:, 3] = np.nan
+    starts[:, 5] = measured[:, 5]  # the root's own place is no other joint's (not the last joint's)
+    assert below_missing_bones(measured, starts, flat).tolist() == [False, False, False, False, False, True]
+    starts[:, 5] = np.nan
+    starts[:, 3] = measured[:, 5]  # climbing from 2 stops at the root: the last joint is no place of 2's
+    assert below_missing_bones(measured, starts, flat).tolist() == [False, False, False, True, True, False]
+
+
+def test_the_climb_stops_at_a_bone_of_some_length(rng):
+    skeleton, measured, starts = below_case(rng)
+    offsets = np.array(skeleton.offsets)
+    offsets[3] = 0.0  # 3 sits on 2, which has a length; 1 sits on the root
+    chain = skeleton.replace(offsets=offsets)
+    starts[:, 4] = measured[:, 2]  # 4's parent 3 is at 2: its own start
+    assert not below_missing_bones(measured, starts, chain).any()
+    starts[:, 4] = measured[:, 1]  # beyond 2's bone: not 4's place
+    assert below_missing_bones(measured, starts, chain).tolist() == [False, False, False, False, True, False]
