@@ -226,6 +226,10 @@ MODULES: dict[str, tuple[list[str], float]] = {
     ),
     "core/markers/built_motion.py": (["tests/test_markers_built_motion.py", "tests/test_markers_build.py"], 60),
     "core/markers/report.py": (["tests/test_markers_report.py"], 60),
+    "core/markers/build.py": (
+        ["tests/test_markers_build_mutants.py", "tests/test_markers_build.py", "tests/test_markers_built_motion.py"],
+        60,
+    ),
     # the marker set, then the TRC reader's and the maps' synthetic tests (the maps' real files cost four seconds)
     "core/markers/markerset.py": (
         [
