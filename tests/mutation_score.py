@@ -61,7 +61,7 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "core/table.py": (["tests/test_table_records.py", "tests/test_curves_cli.py", "tests/test_compare_cli.py"], 60),
     # the glTF reader (issue 25): its synthetic files (two seconds; the real ones take ten more)
     "core/formats/gltf_in/sampling.py": (["tests/test_gltf_sampling_mutants.py", "tests/test_gltf_read.py"], 60),
-    "core/formats/gltf_in/pose.py": (["tests/test_gltf_read.py"], 60),
+    "core/formats/gltf_in/pose.py": (["tests/test_gltf_pose_mutants.py", "tests/test_gltf_read.py"], 60),
     "core/channels.py": (
         [
             "tests/test_channels.py",
