@@ -143,3 +143,19 @@ def test_the_chain_above_a_root_is_top_first_and_only_the_posed_nodes():
     assert pose._chain(parents, 3, {0: None, 1: None, 2: None}) == [0, 1, 2]
     assert pose._chain(parents, 3, {1: None, 2: None}) == [1, 2]
     assert pose._chain(parents, 0, {0: None}) == []
+
+
+def test_uniform_scales_fold_into_offsets_exactly_and_two_equal_frames_are_static():
+    """A bone along x under turned parents scaled 2 and 1.5 stays along x, three times as
+    long, bit for bit (the scale kept a number, no matrix rounding); a channel holding it
+    for two frames does not move it."""
+    parents = np.array([-1, 0, 1])
+    turn = turns([1, 2, 3], [37, 37])
+    t = [np.zeros((1, 3)), np.array([[0.3, 0, 0]]), np.array([[0.0, 0.7, 0]] * 2)]
+    q = [turn[:1], turn, turns([0, 1, 0], [20])]
+    s = [np.full((1, 3), 2.0), np.full((1, 3), 1.5), np.ones((1, 3))]
+    poses, block = node_poses([0, 1, 2], t, q, s)
+    _, translations, moving = skeleton_pose(poses, parents, [0, 1, 2], 2, block)
+    np.testing.assert_array_equal(translations[:, 1], [[0.6, 0, 0]] * 2)
+    np.testing.assert_array_equal(translations[:, 2], [[0, 3.0 * 0.7, 0]] * 2)
+    assert moving.tolist() == [False, False, False]

@@ -5,6 +5,8 @@ STEP between keys, CUBICSPLINE against an independent Hermite spline, keys read 
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 from scipy.interpolate import CubicHermiteSpline
@@ -210,3 +212,11 @@ def test_cubicspline_rotation_is_normalised():
 def test_a_zero_quaternion_becomes_the_identity():
     out = normalised(np.array([[0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 2.0, 0.0]]))
     np.testing.assert_array_equal(out, [[0, 0, 0, 1], [0, 0, 1, 0]])
+
+
+def test_samplers_and_clocks_are_frozen():
+    clock = frame_times([np.array([0.0, 1.0])], None)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        clock.frame_time = 0.5  # type: ignore[misc]
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        Sampler(np.zeros(1), np.zeros((1, 3)), "STEP").interpolation = "LINEAR"  # type: ignore[misc]
