@@ -62,6 +62,11 @@ MODULES: dict[str, tuple[list[str], float]] = {
     # the glTF reader (issue 25): its synthetic files (two seconds; the real ones take ten more)
     "core/formats/gltf_in/sampling.py": (["tests/test_gltf_sampling_mutants.py", "tests/test_gltf_read.py"], 60),
     "core/formats/gltf_in/pose.py": (["tests/test_gltf_pose_mutants.py", "tests/test_gltf_read.py"], 60),
+    # the reader's own files first; tests/test_gltf.py reads back what the writer exports (pre-rotation too)
+    "core/formats/gltf_in/rest.py": (
+        ["tests/test_gltf_rest_mutants.py", "tests/test_gltf_read.py", "tests/test_gltf.py"],
+        60,
+    ),
     "core/channels.py": (
         [
             "tests/test_channels.py",
