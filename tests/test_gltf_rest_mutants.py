@@ -116,10 +116,9 @@ def test_pre_rotation_exports_read_back_static_to_float32_and_moving_beyond():
     pre[:, 1] = [0.0, 0.5, 0.0]
     pre[:, 2] = [0.3, 0.1, 0.0] * (1 + 1e-7 * np.arange(frames))[:, None]  # float32 rounding
     pre[:, 3] = [0.2, 0, 0] + 1e-5 * np.arange(frames)[:, None]  # moves, if little
-    offsets = pre[0].copy()
-    local, placed, moving = pre_from_export(
-        rotations, _export(rotations, pre), offsets, parents, np.array([True, False, True, True])
-    )
+    written = _export(rotations, pre)
+    offsets = written[0].copy()  # as the reader had them, post-rotation
+    local, placed, moving = pre_from_export(rotations, written, offsets, parents, np.array([True, False, True, True]))
     assert moving.tolist() == [True, False, False, True]
     np.testing.assert_allclose(local, pre, rtol=0, atol=1e-6)
     np.testing.assert_allclose(local[:, [0, 3]], pre[:, [0, 3]], rtol=0, atol=1e-14)
