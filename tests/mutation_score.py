@@ -67,6 +67,7 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ["tests/test_gltf_rest_mutants.py", "tests/test_gltf_read.py", "tests/test_gltf.py"],
         60,
     ),
+    "core/formats/gltf_in/scene.py": (["tests/test_gltf_scene_mutants.py", "tests/test_gltf_read.py"], 60),
     "core/channels.py": (
         [
             "tests/test_channels.py",
