@@ -52,17 +52,17 @@ def _column_major(linear: np.ndarray, translation) -> list[float]:
 
 
 def test_matrices_become_trs_mirrors_with_one_negative_scale():
+    """Scaled unevenly (determinant 3), shrunk (0.125, between 0 and 1), mirrored
+    (-0.5, between -1 and 0): T R S again, one negative scale for the mirror only."""
     turn = Rotation.from_rotvec([0.2, -0.5, 0.9])
-    scaled = turn.as_matrix() @ np.diag([2.0, 3.0, 0.5])
-    mirrored = turn.as_matrix() @ np.diag([-1.5, 1.0, 1.0])
-    t, q, s = static_trs(
-        document([{"matrix": _column_major(scaled, [1, 2, 3])}, {"matrix": _column_major(mirrored, [0, 0, 0])}])
-    )
-    np.testing.assert_allclose(t, [[1, 2, 3], [0, 0, 0]], rtol=0, atol=1e-15)
-    np.testing.assert_allclose(s, [[2, 3, 0.5], [-1.5, 1, 1]], rtol=0, atol=1e-14)
-    for k, linear in enumerate((scaled, mirrored)):
+    scales = ([2.0, 3.0, 0.5], [0.5, 0.5, 0.5], [-0.5, 1.0, 1.0])
+    linears = [turn.as_matrix() @ np.diag(scale) for scale in scales]
+    t, q, s = static_trs(document([{"matrix": _column_major(linear, [1, 2, k])} for k, linear in enumerate(linears)]))
+    np.testing.assert_allclose(t, [[1, 2, 0], [1, 2, 1], [1, 2, 2]], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(s, scales, rtol=0, atol=1e-14)
+    for k, linear in enumerate(linears):
         np.testing.assert_allclose(Rotation.from_quat(q[k]).as_matrix() @ np.diag(s[k]), linear, rtol=0, atol=1e-14)
-    assert q[0] @ turn.as_quat() == pytest.approx(1.0, abs=1e-14) or q[0] @ turn.as_quat() == pytest.approx(-1.0)
+    assert abs(q[0] @ turn.as_quat()) == pytest.approx(1.0, abs=1e-14)
 
 
 def test_a_matrix_last_row_within_its_tolerance_is_affine():
@@ -94,6 +94,7 @@ def test_trs_defaults_and_quaternions_normalised_or_the_identity():
 def test_choose_by_default_index_digits_or_name_with_its_note():
     doc = document([{}], skins=[{"name": "body", "joints": [0]}, {"joints": [0]}])
     assert choose(doc, "skins", None, "--skin") == (0, "skin 0 'body' of 2 (--skin to choose)")
+    assert choose(doc, "skins", 0, "--skin") == (0, "skin 0 'body' of 2 (--skin to choose)")
     assert choose(doc, "skins", 1, "--skin") == (1, "skin 1 of 2 (--skin to choose)")
     assert choose(doc, "skins", "1", "--skin") == (1, "skin 1 of 2 (--skin to choose)")
     assert choose(doc, "skins", "body", "--skin") == (0, "skin 0 'body' of 2 (--skin to choose)")
@@ -170,3 +171,8 @@ def test_a_skin_without_joints_is_refused(listed, message):
     doc = document([{}], skins=[{"joints": listed}])
     with pytest.raises(MotionFileError, match=f"skin 0: {message}"):
         skeleton_nodes(doc, node_parents(doc), 0)
+
+
+def test_the_nodes_between_node_0_and_a_joint_below_it_are_joints():
+    doc = document(chain(3), skins=[{"joints": [2, 0]}])
+    assert skeleton_nodes(doc, node_parents(doc), 0) == ([0, 1, 2], [])
