@@ -83,7 +83,7 @@ def test_external_buffers_beside_the_file_escaped_names_and_paths_refused(tmp_pa
     (tmp_path / "my data.bin").write_bytes(b"0123456789")
     d = doc(path=tmp_path / "c.gltf", buffers=[{"byteLength": 4, "uri": "my%20data.bin"}])
     assert bytes(d.buffer(0, "w")) == b"0123"
-    for uri in ("C:/x.bin", "c:x.bin", "\\\\server\\x.bin", "/x.bin", "file:///x.bin"):
+    for uri in ("C:/x.bin", "c:x.bin", "c:", "\\\\server\\x.bin", "/x.bin", "file:///x.bin"):
         bad = doc(path=tmp_path / "c.gltf", buffers=[{"byteLength": 4, "uri": uri}])
         assert refused(bad.buffer, 0, "w") == f"buffer 0: uri {uri!r} is not a path relative to the file"
     (tmp_path / "a").write_bytes(b"abcd")  # a one-letter name is relative
@@ -256,6 +256,8 @@ def test_glb_chunks_json_then_binary():
     document, binary = parse_glb("m.glb", _glb([(container.CHUNK_JSON, JSON_TEXT), (container.CHUNK_BIN, b"1234")]))
     assert document == {"asset": ASSET} and bytes(binary) == b"1234"
     assert parse_glb("m.glb", _glb([(container.CHUNK_JSON, JSON_TEXT)]))[1] is None
+    empty = parse_glb("m.glb", _glb([(container.CHUNK_JSON, JSON_TEXT), (container.CHUNK_BIN, b"")]))[1]
+    assert empty is not None and len(empty) == 0  # a last chunk of its 8-byte header alone
     other = parse_glb("m.glb", _glb([(container.CHUNK_JSON, JSON_TEXT), (0x12345678, b"1234")]))
     assert other[1] is None  # a second chunk that is no BIN
 
@@ -311,3 +313,43 @@ def test_open_by_magic_or_suffix_and_a_byte_order_mark_is_skipped():
     assert open_gltf("m.gltf", glb).json == {"asset": ASSET}  # binary by its magic, whatever the name
     assert refused(open_gltf, "M.GLB", JSON_TEXT).startswith("not a binary glTF file")  # by its suffix
     assert open_gltf("m.gltf", b"\xef\xbb\xbf" + JSON_TEXT).binary is None
+
+
+@pytest.mark.parametrize(
+    ("kind", "width"), [("SCALAR", 1), ("VEC2", 2), ("VEC3", 3), ("VEC4", 4), ("MAT2", 4), ("MAT3", 9), ("MAT4", 16)]
+)
+def test_each_type_reads_its_number_of_components(kind, width):
+    d = _accessor_doc(np.arange(2 * width, dtype="<f4").tobytes(), count=2, type=kind)
+    np.testing.assert_array_equal(d.accessor(0, "w"), np.arange(2 * width).reshape(2, width))
+
+
+def test_a_view_of_one_byte_and_counts_of_zero():
+    np.testing.assert_array_equal(_accessor_doc(b"\x07", componentType=5121).accessor(0, "w"), [[7]])
+    zero = _accessor_doc(np.zeros(1, "<f4").tobytes(), count=0)
+    assert refused(zero.accessor, 0, "w") == "accessor 0: 'count' must be a whole number >= 1, not 0"
+
+
+def test_sparse_values_may_replace_every_element_consecutively():
+    values = _sparse_doc([0, 1, 2, 3], [1.0, 2.0, 3.0, 4.0]).accessor(0, "w")[:, 0]
+    np.testing.assert_array_equal(values, [1, 2, 3, 4])
+    d = _sparse_doc([0, 1, 2], [1.0, 2.0, 3.0], n=2)
+    assert refused(d.accessor, 0, "w") == "accessor 0: 3 sparse values for 2 elements"
+
+
+def test_a_buffer_file_that_cannot_be_read_says_why(tmp_path, monkeypatch):
+    (tmp_path / "x.bin").write_bytes(b"0123")
+    for error, reason in ((OSError(13, "Permission denied"), "Permission denied"), (OSError("plain"), "plain")):
+
+        def fail(*args, error=error, **kwargs):
+            raise error
+
+        monkeypatch.setattr(container.Path, "open", fail)
+        d = doc(path=tmp_path / "c.gltf", buffers=[{"byteLength": 4, "uri": "x.bin"}])
+        assert refused(d.buffer, 0, "w") == f"buffer 0: cannot read 'x.bin': {reason}"
+
+
+def test_bytes_after_the_last_chunk_too_few_for_a_header_are_ignored_and_empty_views_refused():
+    data = _glb([(container.CHUNK_JSON, JSON_TEXT)], extra=7) + b"\0" * 7
+    assert parse_glb("m.glb", data)[0] == {"asset": ASSET}
+    d = doc(b"\0" * 4, buffers=[{"byteLength": 4}], bufferViews=[{"buffer": 0, "byteLength": 0}])
+    assert refused(d.view, 0, "w") == "bufferView 0: 'byteLength' must be a whole number >= 1, not 0"

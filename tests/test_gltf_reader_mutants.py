@@ -9,6 +9,7 @@ import json
 
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation
 
 from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats.gltf_in import reader
@@ -89,6 +90,10 @@ def _animation_edit(change):
             lambda a, b: a["channels"][0].update(sampler=1),
             "animation 0 channel 0: sampler 1 out of range (the animation has 1)",
         ),
+        (
+            lambda a, b: a["channels"][0].update(sampler="0"),
+            "animation 0 channel 0: sampler '0' out of range (the animation has 1)",
+        ),
         (lambda a, b: a["samplers"].__setitem__(0, 7), "animation 0 channel 0 sampler 0: must be an object"),
         (
             lambda a, b: a["samplers"][0].update(interpolation="CUBIC"),
@@ -130,6 +135,9 @@ def test_two_keys_in_decreasing_time_are_refused(tmp_path):
     builder = two_nodes()
     builder.animation([(0, "rotation", [1.0, 0.0], TURNS, "LINEAR")])
     assert message(builder, tmp_path) == "animation 0 channel 0 sampler 0: key times must not decrease (key 1)"
+    later = two_nodes()  # the key that goes back is named, not the repeat before it
+    later.animation([(0, "rotation", [0.0, 1.0, 1.0, 0.5], TURNS * 2, "LINEAR")])
+    assert message(later, tmp_path) == "animation 0 channel 0 sampler 0: key times must not decrease (key 3)"
 
 
 def test_cubicspline_rotation_keys_are_checked_on_their_values_not_tangents(tmp_path):
@@ -213,6 +221,19 @@ def test_the_bind_note_counts_the_joints_turned(tmp_path):
         "taken out of their frames"
     )
     assert expected in motion.comments
+    three = GltfBuilder()
+    for k in range(3):
+        three.node(name=f"j{k}", children=[k + 1] if k < 2 else [])
+    half_degree = np.eye(4)
+    half_degree[:3, :3] = Rotation.from_rotvec([0, 0, np.radians(0.5)]).as_matrix()
+    for inverses, count, angle in (
+        ([np.eye(4), half_degree, turn], 2, 90),
+        ([np.eye(4), half_degree, np.eye(4)], 1, 0.5),
+    ):
+        binds = np.array([np.linalg.inv(m).T.ravel() for m in inverses])
+        three.doc["skins"] = [{"joints": [0, 1, 2], "inverseBindMatrices": three.accessor(binds)}]
+        note = next(c for c in read(three, tmp_path).comments if c.startswith("rest pose"))
+        assert f"(up to {angle} deg, {count} joints)" in note
     still = two_nodes()
     still.doc["skins"] = [{"joints": [0, 1], "inverseBindMatrices": still.accessor(np.array([np.eye(4).ravel()] * 2))}]
     assert not any(c.startswith("rest pose") for c in read(still, tmp_path).comments)
@@ -267,3 +288,49 @@ def test_the_sample_limit_counts_frames_times_joints(tmp_path, monkeypatch):
 def test_bytes_in_hand_are_read_instead_of_the_file(tmp_path):
     data = two_nodes().save(tmp_path / "r.glb").read_bytes()
     assert read_gltf(tmp_path / "gone.glb", data=data).names == ("root", "tip")
+
+
+def test_options_are_keywords(tmp_path):
+    path = two_nodes().save(tmp_path / "r.glb")
+    with pytest.raises(TypeError):
+        read_gltf(path, 0)  # type: ignore[misc]
+
+
+def test_scale_notes_read_the_first_frame_and_the_first_axis(tmp_path):
+    """Scales equal across axes to 1e-5 (uniform for the notes) but not to the bit: the
+    notes read axis x at the first frame, and the spread of x over the frames against 1e-5
+    of it; a shrunk uneven scale is named too."""
+    builder = GltfBuilder()
+    builder.node(name="folded", scale=[2, 2.00001, 2.00001])
+    for name in ("drift", "grows", "xonly", "nearly"):
+        builder.node(name=name)
+    builder.node(name="small", scale=[0.5, 0.25, 0.5])
+    scales = {
+        1: [[2, 2, 2], [2.00001] * 3],  # a spread of 1e-5 is 5e-6 of 2: still
+        2: [[1, 1.000008, 1.000008], [3, 3.00002, 3.00002]],
+        3: [[1, 1.000005, 1.000005], [1.000012, 1.000007, 1.000007]],  # x spreads 1.2e-5, y and z 2e-6
+        4: [[1.000005, 1.000012, 1.000012], [1.000012] * 3],  # x within 1e-5 of 1 at the first frame
+    }
+    builder.animation([(node, "scale", [0.0, 1.0], value, "LINEAR") for node, value in scales.items()])
+    comments = read(builder, tmp_path).comments
+    assert "uniform scale folded into the offsets: 'folded' (2), 'drift' (2)" in comments
+    assert (
+        "animated uniform scale folded into per-frame translations: 'grows' (1 to 3), 'xonly' (1 to 1.00001)"
+        in comments
+    )
+    warning = next(c for c in comments if c.startswith("WARNING"))
+    assert "on 'small' (axes up to 2:1): joint" in warning
+
+
+def test_scale_notes_at_their_tolerance(tmp_path, monkeypatch):
+    """With a tolerance of 0.5 (binary, exact): axes 2:3 are uniform enough (ratio 1.5),
+    a scale of 1.5 is one, a spread of 1 over a scale of 2 is still; just beyond, notes."""
+    monkeypatch.setattr(reader, "SCALE_NOTE_TOLERANCE", 0.5)
+    builder = GltfBuilder()
+    builder.node(name="ratio", scale=[2, 3, 2], children=[1])
+    builder.node(name="near", scale=[1.5, 1.5, 1.5], children=[2])
+    builder.node(name="spread")
+    builder.animation([(2, "scale", [0.0, 1.0], [[2, 2, 2], [3, 3, 3]], "LINEAR")])
+    comments = read(builder, tmp_path).comments
+    assert "uniform scale folded into the offsets: 'ratio' (2), 'spread' (2)" in comments
+    assert not any("WARNING" in c or "animated" in c for c in comments)
