@@ -70,6 +70,7 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "core/formats/gltf_in/scene.py": (["tests/test_gltf_scene_mutants.py", "tests/test_gltf_read.py"], 60),
     "core/formats/gltf_in/reader.py": (["tests/test_gltf_reader_mutants.py", "tests/test_gltf_read.py"], 60),
     "core/formats/gltf_in/container.py": (["tests/test_gltf_container_mutants.py", "tests/test_gltf_read.py"], 60),
+    "core/formats/gltf_in/contents.py": (["tests/test_gltf_contents_mutants.py", "tests/test_gltf_read.py"], 60),
     "core/channels.py": (
         [
             "tests/test_channels.py",
