@@ -60,8 +60,17 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "app/model/joint_transforms.py": (["tests/test_joint_transforms.py"], 60),
     "core/table.py": (["tests/test_table_records.py", "tests/test_curves_cli.py", "tests/test_compare_cli.py"], 60),
     # the glTF reader (issue 25): its synthetic files (two seconds; the real ones take ten more)
-    "core/formats/gltf_in/sampling.py": (["tests/test_gltf_read.py"], 60),
-    "core/formats/gltf_in/pose.py": (["tests/test_gltf_read.py"], 60),
+    "core/formats/gltf_in/sampling.py": (["tests/test_gltf_sampling_mutants.py", "tests/test_gltf_read.py"], 60),
+    "core/formats/gltf_in/pose.py": (["tests/test_gltf_pose_mutants.py", "tests/test_gltf_read.py"], 60),
+    # the reader's own files first; tests/test_gltf.py reads back what the writer exports (pre-rotation too)
+    "core/formats/gltf_in/rest.py": (
+        ["tests/test_gltf_rest_mutants.py", "tests/test_gltf_read.py", "tests/test_gltf.py"],
+        60,
+    ),
+    "core/formats/gltf_in/scene.py": (["tests/test_gltf_scene_mutants.py", "tests/test_gltf_read.py"], 60),
+    "core/formats/gltf_in/reader.py": (["tests/test_gltf_reader_mutants.py", "tests/test_gltf_read.py"], 60),
+    "core/formats/gltf_in/container.py": (["tests/test_gltf_container_mutants.py", "tests/test_gltf_read.py"], 60),
+    "core/formats/gltf_in/contents.py": (["tests/test_gltf_contents_mutants.py", "tests/test_gltf_read.py"], 60),
     "core/channels.py": (
         [
             "tests/test_channels.py",
