@@ -220,6 +220,11 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ["tests/test_markers_file_model_mutants.py", "tests/test_markers_sets.py::test_file_model_comparison_exact"],
         60,
     ),
+    # the fit's edges on small synthetic arrays, then the root's translation on noisy CMU joints
+    # (60 frames of a small AMC: a second) and the command line on one small real C3D
+    "core/markers/root_fit.py": (["tests/test_markers_root_fit_mutants.py", "tests/test_markers_root_fit.py"], 60),
+    # read_markers: the suffix's reader, its options, the refusal (a TRC written by the tests)
+    "core/markers/__init__.py": (["tests/test_markers_read_markers_mutants.py"], 60),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
