@@ -60,8 +60,17 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "app/model/joint_transforms.py": (["tests/test_joint_transforms.py"], 60),
     "core/table.py": (["tests/test_table_records.py", "tests/test_curves_cli.py", "tests/test_compare_cli.py"], 60),
     # the glTF reader (issue 25): its synthetic files (two seconds; the real ones take ten more)
-    "core/formats/gltf_in/sampling.py": (["tests/test_gltf_read.py"], 60),
-    "core/formats/gltf_in/pose.py": (["tests/test_gltf_read.py"], 60),
+    "core/formats/gltf_in/sampling.py": (["tests/test_gltf_sampling_mutants.py", "tests/test_gltf_read.py"], 60),
+    "core/formats/gltf_in/pose.py": (["tests/test_gltf_pose_mutants.py", "tests/test_gltf_read.py"], 60),
+    # the reader's own files first; tests/test_gltf.py reads back what the writer exports (pre-rotation too)
+    "core/formats/gltf_in/rest.py": (
+        ["tests/test_gltf_rest_mutants.py", "tests/test_gltf_read.py", "tests/test_gltf.py"],
+        60,
+    ),
+    "core/formats/gltf_in/scene.py": (["tests/test_gltf_scene_mutants.py", "tests/test_gltf_read.py"], 60),
+    "core/formats/gltf_in/reader.py": (["tests/test_gltf_reader_mutants.py", "tests/test_gltf_read.py"], 60),
+    "core/formats/gltf_in/container.py": (["tests/test_gltf_container_mutants.py", "tests/test_gltf_read.py"], 60),
+    "core/formats/gltf_in/contents.py": (["tests/test_gltf_contents_mutants.py", "tests/test_gltf_read.py"], 60),
     "core/channels.py": (
         [
             "tests/test_channels.py",
@@ -211,6 +220,11 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ["tests/test_markers_file_model_mutants.py", "tests/test_markers_sets.py::test_file_model_comparison_exact"],
         60,
     ),
+    # the fit's edges on small synthetic arrays, then the root's translation on noisy CMU joints
+    # (60 frames of a small AMC: a second) and the command line on one small real C3D
+    "core/markers/root_fit.py": (["tests/test_markers_root_fit_mutants.py", "tests/test_markers_root_fit.py"], 60),
+    # read_markers: the suffix's reader, its options, the refusal (a TRC written by the tests)
+    "core/markers/__init__.py": (["tests/test_markers_read_markers_mutants.py"], 60),
     # the marker sets and skeleton building (issue 24): synthetic markers, core tests only
     "core/markers/match.py": (["tests/test_markers_match_mutants.py", "tests/test_markers_math.py"], 60),
     "core/markers/targets.py": (["tests/test_markers_targets.py"], 60),

@@ -91,7 +91,7 @@ def regular_grid(keys: np.ndarray) -> tuple[float, np.ndarray] | None:
     if not smallest > 0:
         return None
     counts = np.round(gaps / smallest)
-    if counts.max() > MAX_FRAMES or counts.sum() >= MAX_FRAMES:
+    if counts.sum() >= MAX_FRAMES:  # (each gap counts at most the sum)
         return None
     index = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
     step = float(keys[-1] - keys[0]) / float(index[-1])
@@ -135,8 +135,8 @@ def sample(sampler: Sampler, times: np.ndarray, rotation: bool, located: tuple |
     values = sampler.values.reshape(keys.size, 3, -1)[:, 1] if cubic else sampler.values
     before, nxt, gap, fraction = located if located is not None else segments(keys, times)
     if sampler.interpolation == "STEP" or keys.size == 1 or not fraction.any():  # every frame on a key
-        if before.size == keys.size and before[0] == 0 and before[-1] == keys.size - 1:
-            return values  # one frame per key, in order (before never decreases): no copy
+        if np.array_equal(before, np.arange(keys.size)):
+            return values  # frame k on key k (STEP frames between keys may be as many): no copy
         return values[before]  # (quaternions are normalised when they become matrices)
     fraction = fraction[:, None]
     if cubic:
