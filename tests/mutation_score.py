@@ -148,6 +148,10 @@ MODULES: dict[str, tuple[list[str], float]] = {
     ),
     # the marker fits (issue 24): synthetic markers from a known skeleton
     "core/markers/procrustes.py": (["tests/test_procrustes_mutants.py", "tests/test_markers_math.py"], 60),
+    "core/markers/limbs.py": (
+        ["tests/test_limbs_mutants.py", "tests/test_markers_math.py", "tests/test_markers_build.py"],
+        60,
+    ),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
