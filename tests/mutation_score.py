@@ -152,6 +152,7 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ["tests/test_limbs_mutants.py", "tests/test_markers_math.py", "tests/test_markers_build.py"],
         60,
     ),
+    "core/markers/joint_centres.py": (["tests/test_joint_centres_mutants.py", "tests/test_markers_build.py"], 60),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
