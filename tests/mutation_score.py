@@ -165,6 +165,7 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ],
         60,
     ),
+    "core/markers/pelvis_guess.py": (["tests/test_pelvis_guess_mutants.py", "tests/test_markers_pelvis_guess.py"], 60),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
