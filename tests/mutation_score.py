@@ -166,6 +166,10 @@ MODULES: dict[str, tuple[list[str], float]] = {
         60,
     ),
     "core/markers/pelvis_guess.py": (["tests/test_pelvis_guess_mutants.py", "tests/test_markers_pelvis_guess.py"], 60),
+    "core/markers/functional_joints.py": (
+        ["tests/test_functional_joints_mutants.py", "tests/test_markers_knee_axis.py", "tests/test_markers_build.py"],
+        60,
+    ),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
