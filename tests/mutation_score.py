@@ -170,6 +170,15 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ["tests/test_functional_joints_mutants.py", "tests/test_markers_knee_axis.py", "tests/test_markers_build.py"],
         60,
     ),
+    # the refinement: the builder's generated sets (exact case, a perturbed pose) and the solver's exact case
+    "core/markers/refine.py": (
+        [
+            "tests/test_refine_mutants.py",
+            "tests/test_markers_build.py",
+            "tests/test_markers_solve.py::test_refinement_keeps_the_exact_case",
+        ],
+        60,
+    ),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
