@@ -255,6 +255,39 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ],
         60,
     ),
+    # the marker fits (issue 24): synthetic markers from a known skeleton
+    "core/markers/procrustes.py": (["tests/test_procrustes_mutants.py", "tests/test_markers_math.py"], 60),
+    "core/markers/limbs.py": (
+        ["tests/test_limbs_mutants.py", "tests/test_markers_math.py", "tests/test_markers_build.py"],
+        60,
+    ),
+    "core/markers/joint_centres.py": (["tests/test_joint_centres_mutants.py", "tests/test_markers_build.py"], 60),
+    # the pelvis: synthetic clusters and triples first, then the real CMU markers
+    "core/markers/pelvis.py": (
+        [
+            "tests/test_pelvis_mutants.py",
+            "tests/test_markers_math.py",
+            "tests/test_markers_solve.py::test_recover_pelvis_on_joint_markers_is_the_root_rotation",
+            "tests/test_markers_pelvis_fit.py",
+            "tests/test_markers_solve.py::test_real_cmu_markers_against_the_amc",
+            "tests/test_markers_jointmap.py::test_recover_pelvis_on_the_bvh_and_a_skeleton_no_map_pairs",
+        ],
+        60,
+    ),
+    "core/markers/pelvis_guess.py": (["tests/test_pelvis_guess_mutants.py", "tests/test_markers_pelvis_guess.py"], 60),
+    "core/markers/functional_joints.py": (
+        ["tests/test_functional_joints_mutants.py", "tests/test_markers_knee_axis.py", "tests/test_markers_build.py"],
+        60,
+    ),
+    # the refinement: the builder's generated sets (exact case, a perturbed pose) and the solver's exact case
+    "core/markers/refine.py": (
+        [
+            "tests/test_refine_mutants.py",
+            "tests/test_markers_build.py",
+            "tests/test_markers_solve.py::test_refinement_keeps_the_exact_case",
+        ],
+        60,
+    ),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
