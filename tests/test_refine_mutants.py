@@ -1,11 +1,13 @@
 """The refinement (core/markers/refine.py) on a built skeleton: the seed's residuals, fixed
 joints, markers refitted to the skeleton, the motions refused, the defaults, tiny rotations
-(the mutation run's first blind spots, docs/reliability.md)."""
+(the mutation run's first blind spots, docs/reliability.md); then the walks up the skeleton
+(joints listed root last, a fixed root), Gauss-Newton's speed and the OpenBLAS thread helper."""
 
 from __future__ import annotations
 
 import dataclasses
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,7 +16,14 @@ from scipy.spatial.transform import Rotation
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.kinematics import forward_kinematics, world_positions
 from gmr_studio.core.markers.built_motion import markers_to_built_motion
-from gmr_studio.core.markers.refine import marker_places, refine_joints, refine_motion, rotation_from_vector
+from gmr_studio.core.markers.refine import (
+    _openblas,
+    marker_places,
+    one_blas_thread,
+    refine_joints,
+    refine_motion,
+    rotation_from_vector,
+)
 from gmr_studio.core.rotations import nearest_rotation
 from tests.test_markers_build import generated_markers
 
@@ -101,3 +110,85 @@ def test_a_missing_marker_is_as_if_it_were_not_there():
     alone = refine_motion(seed.frame_slice(slice(2, 3)), targets[2:3, keep], bones[keep], offsets[keep], iterations=3)
     np.testing.assert_allclose(together.motion.rotations[2], alone.motion.rotations[0], atol=1e-12)
     np.testing.assert_allclose(together.motion.translations[2], alone.motion.translations[0], atol=1e-12)
+
+
+def reversed_joints(motion):
+    """The same motion with its joints listed the other way round (the root last, every parent
+    after its children), and the index map old -> new (J,)."""
+    order = np.arange(motion.n_joints)[::-1]  # new joint i is old joint order[i]
+    new_index = np.argsort(order)
+
+    def reindex(parents):
+        return None if parents is None else np.where(parents[order] < 0, -1, new_index[parents[order]])
+
+    return dataclasses.replace(
+        motion,
+        names=tuple(motion.names[i] for i in order),
+        parents=reindex(motion.parents),
+        soft_parents=reindex(motion.soft_parents),
+        offsets=motion.offsets[order],
+        link_offsets=None if motion.link_offsets is None else motion.link_offsets[order],
+        rotation_orders=tuple(motion.rotation_orders[i] for i in order),
+        has_translation=motion.has_translation[order],
+        rotations=motion.rotations[:, order],
+        translations=motion.translations[:, order],
+    ), new_index
+
+
+def test_the_refinement_does_not_depend_on_the_order_the_joints_are_listed_in():
+    # markers on a few bones only and two joints fixed: joints without a free rotation in the
+    # walks up the skeleton; listed root last, the root is no longer index 0 and parents follow
+    # their children
+    motion, seed, targets, _, _ = seeded()
+    bones = np.array([3, 5, 9, 14, 15, 19, 12])
+    fixed = np.array([2, 11])
+    reordered, new_index = reversed_joints(seed)
+    assert reordered.roots[0] == seed.n_joints - 1
+    result = refine_motion(seed, targets[:, bones], bones, motion.offsets[bones], iterations=3, fixed=tuple(fixed))
+    other = refine_motion(
+        reordered, targets[:, bones], new_index[bones], motion.offsets[bones], iterations=3,
+        fixed=tuple(new_index[fixed]),
+    )  # fmt: skip
+    assert np.nanmax(result.residuals) < 0.2 * np.nanmax(result.residuals_before)
+    np.testing.assert_allclose(other.residuals, result.residuals, atol=1e-8)
+    np.testing.assert_allclose(other.motion.rotations[:, new_index], result.motion.rotations, atol=1e-8)
+
+
+def test_a_fixed_root_keeps_its_rotation_while_the_joints_below_it_fit_the_markers():
+    motion, seed, targets, _, _ = seeded()
+    bones = np.array([3, 5, 9, 14, 15, 19, 12])  # none on the root's own bone
+    result = refine_motion(seed, targets[:, bones], bones, motion.offsets[bones], iterations=8, fixed=(0,))
+    np.testing.assert_array_equal(result.motion.rotations[:, 0], seed.rotations[:, 0])
+    assert np.nanmax(result.residuals_before) > 10.0
+    assert np.nanmax(result.residuals) < 1e-6
+
+
+def test_six_iterations_bring_a_pose_turned_by_about_three_degrees_back_to_rounding():
+    # Levenberg-Marquardt from lambda 1e-3, lowered 0.3-fold at each step kept: Gauss-Newton's
+    # quadratic convergence (a start or a factor ten times too large stalls it at 1e-3)
+    _, seed, targets, bones, offsets = seeded()
+    result = refine_motion(seed, targets, bones, offsets, iterations=6)
+    assert np.nanmax(result.residuals_before) > 100.0
+    assert np.nanmax(result.residuals) < 1e-8 * np.nanmax(result.residuals_before)
+
+
+def test_one_blas_thread_sets_numpys_openblas_to_one_thread_and_restores_it():
+    folder = Path(np.__file__).resolve().parent.parent / "numpy.libs"
+    if not list(folder.glob("*openblas*.so*")):
+        pytest.skip("this numpy bundles no OpenBLAS (the helper then does nothing)")
+    functions = _openblas()
+    assert functions is not None
+    setter, getter = functions
+    before = getter()
+    setter(2)
+    try:
+        start = getter()
+        with one_blas_thread():
+            assert getter() == 1
+        assert getter() == start
+        with pytest.raises(RuntimeError), one_blas_thread():
+            assert getter() == 1
+            raise RuntimeError("inside the block")
+        assert getter() == start
+    finally:
+        setter(before)
