@@ -11,10 +11,11 @@ import warnings
 import numpy as np
 import pytest
 
+from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.kinematics import world_positions
 from gmr_studio.core.markers import MarkerSet, markers_to_motion
 from gmr_studio.core.markers.markermap import MarkerMap, VirtualMarker
-from gmr_studio.core.markers.solve import FROM_REFERENCE, HELD, SOURCE_NAMES, TWIST_MARKER, solve_positions
+from gmr_studio.core.markers.solve import FROM_REFERENCE, HELD, MEASURED, SOURCE_NAMES, TWIST_MARKER, solve_positions
 from gmr_studio.core.motion import Motion, build_translations
 from gmr_studio.core.rotations import matrix_from_euler, rotation_angle
 
@@ -183,3 +184,37 @@ def test_a_twist_marker_decides_the_twist_whatever_the_reference():
         assert (result.sources[:, 3] == TWIST_MARKER).all()
         knee.append(result.motion.rotations[:, 3])
     np.testing.assert_allclose(knee[0], knee[1], atol=1e-12)
+
+
+def test_a_post_rotation_reference_gives_the_twists_of_its_gmr_form():
+    post = leg().replace(convention="post")
+    truth = pre_from_post(post)
+    np.testing.assert_allclose(world_positions(post), world_positions(truth), atol=1e-9)
+    markers = MarkerSet(labels=truth.names, positions=world_positions(truth), rate=30.0, units="mm")
+    results = [markers_to_motion(markers, truth, bones_map({}), reference=r) for r in (truth, post)]
+    np.testing.assert_array_equal(results[1].matches, np.arange(6))
+    np.testing.assert_allclose(results[1].motion.rotations, results[0].motion.rotations, atol=1e-9)
+    np.testing.assert_allclose(results[1].motion.rotations, truth.rotations, atol=1e-9)
+
+
+def test_a_frame_without_pelvis_copies_the_frame_before_it_even_the_first():
+    truth = leg()
+    positions = world_positions(truth)
+    positions[1, 0] = np.nan  # after frame 0: its copy, not frame 2's
+    result = solve_positions(positions, truth, PELVIS, reference=truth)
+    np.testing.assert_array_equal(result.frame_valid, [True, False, True, True, True, True])
+    np.testing.assert_array_equal(result.motion.rotations[1], result.motion.rotations[0])
+    np.testing.assert_array_equal(result.motion.translations[1], result.motion.translations[0])
+
+
+def test_gaps_stay_gaps_by_default_and_the_note_names_the_source():
+    truth = leg()
+    positions = world_positions(truth)
+    positions[2, 3] = np.nan  # a one-frame gap in the knee
+    markers = MarkerSet(labels=truth.names, positions=positions, rate=30.0, units="mm")
+    kept = markers_to_motion(markers, truth, bones_map({}), reference=truth)
+    assert np.isnan(kept.measured[2, 3]).all() and kept.sources[2, 3] == FROM_REFERENCE
+    assert kept.motion.comments[0] == "from markers (memory) with map leg"
+    filled = markers_to_motion(markers.replace(source="walk.trc"), truth, bones_map({}), reference=truth, fill_gaps=1)
+    assert np.isfinite(filled.measured[2, 3]).all() and filled.sources[2, 3] == MEASURED
+    assert filled.motion.comments[0] == "from markers walk.trc with map leg"
