@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.errors import OperationError
 from gmr_studio.core.kinematics import world_positions
 from gmr_studio.core.markers import MarkerSet, markers_to_motion
 from gmr_studio.core.markers.markermap import MarkerMap, VirtualMarker
@@ -22,11 +23,11 @@ from gmr_studio.core.rotations import matrix_from_euler, rotation_angle
 PELVIS = ("pelvis", "lhip", "back")
 
 
-def leg(n_frames: int = 6, straight_foot: bool = False) -> Motion:
+def leg(n_frames: int = 6, straight_foot: bool = False, scale: float = 1.0) -> Motion:
     """pelvis (0) -> lhip (1) -> knee (3) -> dummy (4, zero offset) -> foot (5); back (2).
     ``straight_foot``: the foot unrotated, its offset along the knee's (a twist of the knee
-    about its bone moves no joint)."""
-    offsets = np.array(
+    about its bone moves no joint); ``scale`` multiplies every length."""
+    offsets = scale * np.array(
         [[0.0, 90.0, 0.0], [10.0, -5.0, 0.0], [0.0, 20.0, -3.0], [0.0, -40.0, 2.0], [0.0, 0.0, 0.0], [0.0, -38.0, 4.0]]
     )
     rng = np.random.default_rng(7)
@@ -42,7 +43,7 @@ def leg(n_frames: int = 6, straight_foot: bool = False) -> Motion:
         rotation_orders=["ZYX"] * 6,
         has_translation=np.array([True, False, False, False, False, False]),
         rotations=rotations,
-        translations=build_translations(n_frames, offsets, {0: rng.normal(size=(n_frames, 3)) * 5}),
+        translations=build_translations(n_frames, offsets, {0: rng.normal(size=(n_frames, 3)) * 5 * scale}),
         frame_time=1 / 30,
     )
 
@@ -218,3 +219,24 @@ def test_gaps_stay_gaps_by_default_and_the_note_names_the_source():
     filled = markers_to_motion(markers.replace(source="walk.trc"), truth, bones_map({}), reference=truth, fill_gaps=1)
     assert np.isfinite(filled.measured[2, 3]).all() and filled.sources[2, 3] == MEASURED
     assert filled.motion.comments[0] == "from markers walk.trc with map leg"
+
+
+def test_no_pelvis_or_two_pelvis_markers_are_refused_with_the_reason():
+    truth = leg()
+    for pelvis in (None, PELVIS[:2]):
+        with pytest.raises(OperationError, match="names no pelvis markers"):
+            solve_positions(world_positions(truth), truth, pelvis)
+
+
+@pytest.mark.parametrize("scale", [1.0, 1e-3])
+def test_a_marker_on_its_parent_gives_no_direction_one_just_off_it_does(scale):
+    # the bone is measured when the marker is more than 1e-12 of the bone's length from its start
+    truth = leg(scale=scale)
+    length = np.linalg.norm(truth.offsets[3])
+    positions = world_positions(truth)
+    unit = np.array([0.6, 0.0, 0.8])
+    for distance, source in ((0.0, FROM_REFERENCE), (0.25e-12 * length, FROM_REFERENCE), (5e-12 * length, MEASURED)):
+        moved = positions.copy()
+        moved[2, 3] = moved[2, 1] + distance * unit
+        result = solve_positions(moved, truth, PELVIS, reference=truth)
+        assert result.sources[2, 3] == source, distance
