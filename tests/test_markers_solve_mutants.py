@@ -40,7 +40,7 @@ def leg(n_frames: int = 6, straight_foot: bool = False, scale: float = 1.0) -> M
         names=["pelvis", "lhip", "back", "knee", "dummy", "foot"],
         parents=np.array([-1, 0, 0, 1, 3, 4]),
         offsets=offsets,
-        rotation_orders=["ZYX"] * 6,
+        rotation_orders=["ZYX", "XYZ", "ZXY", "YZX", "ZYX", "XZY"],
         has_translation=np.array([True, False, False, False, False, False]),
         rotations=rotations,
         translations=build_translations(n_frames, offsets, {0: rng.normal(size=(n_frames, 3)) * 5 * scale}),
@@ -240,3 +240,13 @@ def test_a_marker_on_its_parent_gives_no_direction_one_just_off_it_does(scale):
         moved[2, 3] = moved[2, 1] + distance * unit
         result = solve_positions(moved, truth, PELVIS, reference=truth)
         assert result.sources[2, 3] == source, distance
+
+
+def test_the_motion_keeps_the_orders_the_first_frames_root_and_the_frames_times():
+    truth = leg()
+    result = solve_positions(world_positions(truth), truth, PELVIS, reference=truth, exclude_within=0.5 / 30)
+    assert result.motion.rotation_orders == truth.rotation_orders
+    np.testing.assert_array_equal(result.motion.offsets[0], result.motion.translations[0, 0])
+    np.testing.assert_array_equal(result.motion.offsets[1:], truth.offsets[1:])
+    # the frames at i / 30 s: half a frame's exclusion leaves out each frame itself
+    assert (result.matches >= 0).all() and (result.matches != np.arange(6)).all()
