@@ -6,6 +6,7 @@ known rotations: its joints are the markers (the exact case), so every figure is
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 
 import numpy as np
@@ -16,6 +17,7 @@ from gmr_studio.core.errors import OperationError
 from gmr_studio.core.kinematics import world_positions
 from gmr_studio.core.markers import MarkerSet, markers_to_motion
 from gmr_studio.core.markers.markermap import MarkerMap, VirtualMarker
+from gmr_studio.core.markers.report import conversion_table
 from gmr_studio.core.markers.solve import FROM_REFERENCE, HELD, MEASURED, SOURCE_NAMES, TWIST_MARKER, solve_positions
 from gmr_studio.core.motion import Motion, build_translations
 from gmr_studio.core.rotations import matrix_from_euler, rotation_angle
@@ -187,7 +189,7 @@ def test_a_twist_marker_decides_the_twist_whatever_the_reference():
     np.testing.assert_allclose(knee[0], knee[1], atol=1e-12)
 
 
-def test_a_post_rotation_reference_gives_the_twists_of_its_gmr_form():
+def test_a_post_rotation_skeleton_and_reference_are_taken_in_their_gmr_form():
     post = leg().replace(convention="post")
     truth = pre_from_post(post)
     np.testing.assert_allclose(world_positions(post), world_positions(truth), atol=1e-9)
@@ -196,6 +198,8 @@ def test_a_post_rotation_reference_gives_the_twists_of_its_gmr_form():
     np.testing.assert_array_equal(results[1].matches, np.arange(6))
     np.testing.assert_allclose(results[1].motion.rotations, results[0].motion.rotations, atol=1e-9)
     np.testing.assert_allclose(results[1].motion.rotations, truth.rotations, atol=1e-9)
+    on_post = markers_to_motion(markers, post, bones_map({}), reference=post)  # the skeleton converted too
+    np.testing.assert_allclose(on_post.motion.rotations, truth.rotations, atol=1e-9)
 
 
 def test_a_frame_without_pelvis_copies_the_frame_before_it_even_the_first():
@@ -250,3 +254,13 @@ def test_the_motion_keeps_the_orders_the_first_frames_root_and_the_frames_times(
     np.testing.assert_array_equal(result.motion.offsets[1:], truth.offsets[1:])
     # the frames at i / 30 s: half a frame's exclusion leaves out each frame itself
     assert (result.matches >= 0).all() and (result.matches != np.arange(6)).all()
+
+
+def test_the_result_is_compared_by_identity_and_its_codes_feed_the_conversion_table():
+    truth = leg()
+    result = solve_positions(world_positions(truth), truth, PELVIS, reference=truth)
+    copy = dataclasses.replace(result)
+    assert result == result and result != copy and len({result, copy}) == 2  # hashable: arrays inside
+    rows = conversion_table(result, None)  # counts the codes with np.bincount: 0 measured ... 4 twist marker
+    assert [row["source"] for row in rows] == ["root", "measured", "measured", "measured", "from reference", "measured"]
+    assert [row["measured"] for row in rows] == [1.0, 1.0, 1.0, 1.0, 0.0, 1.0]
