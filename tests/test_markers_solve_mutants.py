@@ -187,6 +187,9 @@ def test_a_twist_marker_decides_the_twist_whatever_the_reference():
         assert (result.sources[:, 3] == TWIST_MARKER).all()
         knee.append(result.motion.rotations[:, 3])
     np.testing.assert_allclose(knee[0], knee[1], atol=1e-12)
+    # measured from the marker's mean direction: the truth but for one twist, the same in every frame
+    offset = np.swapaxes(knee[0], -1, -2) @ truth.rotations[:, 3]
+    np.testing.assert_allclose(offset, np.broadcast_to(offset[0], offset.shape), atol=1e-9)
 
 
 def test_a_post_rotation_skeleton_and_reference_are_taken_in_their_gmr_form():
@@ -230,6 +233,8 @@ def test_no_pelvis_or_two_pelvis_markers_are_refused_with_the_reason():
     for pelvis in (None, PELVIS[:2]):
         with pytest.raises(OperationError, match="names no pelvis markers"):
             solve_positions(world_positions(truth), truth, pelvis)
+    with pytest.raises(OperationError, match="pelvis root 'lhip' is not a root"):  # a child of joint 0
+        solve_positions(world_positions(truth), truth, ("lhip", "pelvis", "back"))
 
 
 @pytest.mark.parametrize("scale", [1.0, 1e-3])
@@ -264,3 +269,23 @@ def test_the_result_is_compared_by_identity_and_its_codes_feed_the_conversion_ta
     rows = conversion_table(result, None)  # counts the codes with np.bincount: 0 measured ... 4 twist marker
     assert [row["source"] for row in rows] == ["root", "measured", "measured", "measured", "from reference", "measured"]
     assert [row["measured"] for row in rows] == [1.0, 1.0, 1.0, 1.0, 0.0, 1.0]
+
+
+def test_a_gap_after_the_first_frame_holds_the_first_frames_rotation():
+    truth = leg()
+    positions = world_positions(truth)
+    positions[1:3, 3] = np.nan
+    result = solve_positions(positions, truth, PELVIS)
+    assert (result.sources[1:3, 3] == HELD).all()
+    np.testing.assert_array_equal(result.motion.rotations[1:3, 3], result.motion.rotations[[0, 0], 3])
+    # the codes index np.bincount's counts in the conversion table: 0 to 4, one per name
+    assert sorted(SOURCE_NAMES) == list(range(len(SOURCE_NAMES)))
+
+
+def test_a_child_of_the_first_joint_becomes_a_root_and_the_pelvis_origin_is_its_root():
+    truth = leg()
+    positions = world_positions(truth)
+    result = solve_positions(positions, truth, PELVIS, reference=truth, roots=("lhip",))
+    assert result.motion.parents[1] == -1 and result.motion.soft_parents[1] == 0
+    np.testing.assert_allclose(world_positions(result.motion), positions, atol=1e-9)
+    np.testing.assert_array_equal(result.pelvis.origins, positions[:, 0])
