@@ -289,3 +289,25 @@ def test_a_child_of_the_first_joint_becomes_a_root_and_the_pelvis_origin_is_its_
     assert result.motion.parents[1] == -1 and result.motion.soft_parents[1] == 0
     np.testing.assert_allclose(world_positions(result.motion), positions, atol=1e-9)
     np.testing.assert_array_equal(result.pelvis.origins, positions[:, 0])
+
+
+def test_a_bone_exactly_at_the_threshold_is_not_measured():
+    # a second tree (a prop, unrotated without a reference) whose tip is 1e-12 of its unit bone
+    # from it, exactly: the threshold is strict
+    base = leg(n_frames=2)
+    offsets = np.vstack([base.offsets, [[50.0, 0.0, 0.0], [1.0, 0.0, 0.0]]])
+    skeleton = Motion(
+        names=[*base.names, "prop", "tip"],
+        parents=np.array([*base.parents, -1, 6]),
+        offsets=offsets,
+        rotation_orders=[*base.rotation_orders, "ZYX", "ZYX"],
+        has_translation=np.array([True, False, False, False, False, False, True, False]),
+        rotations=np.broadcast_to(np.eye(3), (2, 8, 3, 3)).copy(),
+        translations=build_translations(2, offsets, {}),
+        frame_time=1 / 30,
+    )
+    for distance, source in ((1e-12, HELD), (2e-12, MEASURED)):
+        measured = np.concatenate([world_positions(base), np.zeros((2, 2, 3))], axis=1)
+        measured[:, 7, 0] = distance
+        result = solve_positions(measured, skeleton, PELVIS)
+        assert (result.sources[:, 7] == source).all(), distance
