@@ -278,6 +278,9 @@ def test_a_gap_after_the_first_frame_holds_the_first_frames_rotation():
     result = solve_positions(positions, truth, PELVIS)
     assert (result.sources[1:3, 3] == HELD).all()
     np.testing.assert_array_equal(result.motion.rotations[1:3, 3], result.motion.rotations[[0, 0], 3])
+    positions[0, 3] = np.nan  # now frames 0-2: they take the first measured frame's, frame 3's
+    start = solve_positions(positions, truth, PELVIS)
+    np.testing.assert_array_equal(start.motion.rotations[:3, 3], start.motion.rotations[[3, 3, 3], 3])
     # the codes index np.bincount's counts in the conversion table: 0 to 4, one per name
     assert sorted(SOURCE_NAMES) == list(range(len(SOURCE_NAMES)))
 
@@ -291,11 +294,16 @@ def test_a_child_of_the_first_joint_becomes_a_root_and_the_pelvis_origin_is_its_
     np.testing.assert_array_equal(result.pelvis.origins, positions[:, 0])
 
 
-def test_a_bone_exactly_at_the_threshold_is_not_measured():
-    # a second tree (a prop, unrotated without a reference) whose tip is 1e-12 of its unit bone
-    # from it, exactly: the threshold is strict
+@pytest.mark.parametrize(
+    "bone, cases",
+    [
+        (1.0, ((1e-12, HELD), (2e-12, MEASURED))),  # exactly 1e-12 of the bone: the threshold is strict
+    ],
+)
+def test_a_bone_exactly_at_the_threshold_is_not_measured(bone, cases):
+    # a second tree (a prop, unrotated without a reference) whose tip is a hair from it
     base = leg(n_frames=2)
-    offsets = np.vstack([base.offsets, [[50.0, 0.0, 0.0], [1.0, 0.0, 0.0]]])
+    offsets = np.vstack([base.offsets, [[50.0, 0.0, 0.0], [bone, 0.0, 0.0]]])
     skeleton = Motion(
         names=[*base.names, "prop", "tip"],
         parents=np.array([*base.parents, -1, 6]),
@@ -306,7 +314,7 @@ def test_a_bone_exactly_at_the_threshold_is_not_measured():
         translations=build_translations(2, offsets, {}),
         frame_time=1 / 30,
     )
-    for distance, source in ((1e-12, HELD), (2e-12, MEASURED)):
+    for distance, source in cases:
         measured = np.concatenate([world_positions(base), np.zeros((2, 2, 3))], axis=1)
         measured[:, 7, 0] = distance
         result = solve_positions(measured, skeleton, PELVIS)
