@@ -14,6 +14,7 @@ from gmr_studio.core.markers.limbs import (
     about_axis,
     least_change_twists,
     limb_rotation,
+    marker_twists,
     perpendicular,
     swing,
     twist_angle,
@@ -94,3 +95,54 @@ def test_least_change_twists_of_one_direction_and_of_none():
     u = np.array([0.0, 0.0, 1.0])
     np.testing.assert_array_equal(least_change_twists(u, np.array([[0.0, 1.0, 0.0]])), [0.0])
     assert least_change_twists(u, np.zeros((0, 3))).shape == (0,)
+
+
+def _marker_take(rng, u, gammas, marker):
+    """Unit bone directions (N, 3) and a marker rigid with the bone (N, 3), both in the
+    parent's frame, for twists ``gammas`` (N,) about the rest direction u."""
+    c = rng.normal(size=(len(gammas), 3))
+    c /= np.linalg.norm(c, axis=1, keepdims=True)
+    rotations = limb_rotation(u, c, gammas)
+    return c, rotations @ marker
+
+
+def test_marker_twists_recover_the_twists_about_their_mean_direction(rng):
+    u = np.array([0.0, 0.6, 0.8])
+    gammas = np.array([0.3, -0.5, 1.1, 0.2, -0.9])
+    # the marker has a part along the bone and is not at unit distance: only its turn counts
+    marker = 2.5 * u + np.array([1.5, 0.48, -0.36])
+    c, third = _marker_take(rng, u, gammas, marker)
+    got = marker_twists(u, c, third)
+    assert got.shape == (5,)
+    # the same twists up to one constant, the angle of the marker's mean direction
+    offset = np.angle(np.exp(1j * (gammas - got)))
+    np.testing.assert_allclose(offset, offset[0], atol=1e-12)
+    # the rest pose is the mean one: the twists' directions average along angle zero
+    assert abs(np.sum(np.sin(got))) < 1e-12
+    assert np.sum(np.cos(got)) > 0
+    # the limb turned by the twists found puts the marker where it was, the rest marker
+    # being the original turned by the constant
+    rest_marker = about_axis(u, offset[0]) @ marker
+    np.testing.assert_allclose(limb_rotation(u, c, got) @ rest_marker, third, atol=1e-12)
+
+
+def test_marker_twists_of_an_unswung_bone_are_measured_from_the_mean_direction():
+    u = np.array([0.0, 0.0, 1.0])
+    # the marker along x then along y: mean direction at 45 degrees, twists -45 and +45
+    third = np.array([[2.0, 0.0, 0.7], [0.0, 2.0, -0.3]])
+    np.testing.assert_allclose(marker_twists(u, np.tile(u, (2, 1)), third), [-np.pi / 4, np.pi / 4], atol=1e-15)
+    # along x, along x, along -y: mean direction below x (angle atan2(-1, 2)), no swing
+    third = np.array([[1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
+    mean_angle = np.arctan2(-1.0, 2.0)
+    np.testing.assert_allclose(
+        marker_twists(u, np.tile(u, (3, 1)), third), [-mean_angle, -mean_angle, -np.pi / 2 - mean_angle], atol=1e-15
+    )
+
+
+def test_marker_twists_undo_the_swing_of_a_bent_bone():
+    # the bone turned a quarter turn about x (z to -y); the marker, rigid with it, goes from
+    # x (twist 0) to x as well, and on the other frame from y to z (twist a quarter turn)
+    u = np.array([0.0, 0.0, 1.0])
+    c = np.array([[0.0, -1.0, 0.0], [0.0, -1.0, 0.0]])
+    third = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    np.testing.assert_allclose(marker_twists(u, c, third), [-np.pi / 4, np.pi / 4], atol=1e-15)
