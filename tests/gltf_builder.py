@@ -94,3 +94,18 @@ def quaternion(axis, degrees: float) -> np.ndarray:
     axis = np.asarray(axis, dtype=np.float64) / np.linalg.norm(axis)
     half = np.radians(degrees) / 2
     return np.append(axis * np.sin(half), np.cos(half))
+
+
+def post_rotation_forward(parents, rotations, translations) -> tuple[np.ndarray, np.ndarray]:
+    """World rotations (F, J, 3, 3) and positions (F, J, 3) of a post-rotation motion, joint by
+    joint in a loop (a reference apart from the core's FK): W_j = W_p R_j, P_j = P_p + W_p t_j.
+    ``parents`` (J,) with each parent before its children; rotations (F, J, 3, 3),
+    translations (F, J, 3)."""
+    worlds, places = np.empty_like(rotations), np.empty_like(translations)
+    for j, p in enumerate(parents):
+        if p < 0:
+            worlds[:, j], places[:, j] = rotations[:, j], translations[:, j]
+        else:
+            worlds[:, j] = worlds[:, p] @ rotations[:, j]
+            places[:, j] = places[:, p] + (worlds[:, p] @ translations[:, j, :, None])[..., 0]
+    return worlds, places

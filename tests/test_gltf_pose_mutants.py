@@ -12,7 +12,7 @@ from scipy.spatial.transform import Rotation
 
 from gmr_studio.core.formats.gltf_in import pose
 from gmr_studio.core.formats.gltf_in.pose import CHUNK_FRAMES, node_poses, skeleton_pose
-from tests.gltf_builder import quaternion
+from tests.gltf_builder import post_rotation_forward, quaternion
 
 F = 3
 #: node 0 and 1 the armature; joints 2 (root) .. 7, parents first
@@ -60,15 +60,8 @@ def gltf_positions(trs) -> np.ndarray:
 
 
 def post_rotation_positions(rotations, translations, parents) -> np.ndarray:
-    """Joint positions (F, J, 3) of a post-rotation motion: P_j = P_p + W_p t_j, W_j = W_p R_j."""
-    worlds, places = np.empty_like(rotations), np.empty_like(translations)
-    for j, p in enumerate(parents):
-        if p < 0:
-            worlds[:, j], places[:, j] = rotations[:, j], translations[:, j]
-        else:
-            worlds[:, j] = worlds[:, p] @ rotations[:, j]
-            places[:, j] = places[:, p] + (worlds[:, p] @ translations[:, j, :, None])[..., 0]
-    return places
+    """Joint positions (F, J, 3) of a post-rotation motion (:func:`tests.gltf_builder.post_rotation_forward`)."""
+    return post_rotation_forward(parents, rotations, translations)[1]
 
 
 def skeleton(trs):

@@ -14,7 +14,7 @@ from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats.gltf_in import rest
 from gmr_studio.core.formats.gltf_in.container import open_gltf
 from gmr_studio.core.formats.gltf_in.rest import bind_rotations, pre_from_export, turn_to_bind
-from tests.gltf_builder import GltfBuilder
+from tests.gltf_builder import GltfBuilder, post_rotation_forward
 
 
 def _document(tmp_path, inverse_binds: np.ndarray | None, listed: list[int]):
@@ -58,17 +58,6 @@ def test_no_skin_or_no_matrices_bind_at_the_identity_and_a_short_list_is_refused
         bind_rotations(doc, 0, [1, 2, 3])
 
 
-def _forward(parents, rotations, translations):
-    worlds, places = np.empty_like(rotations), np.empty_like(translations)
-    for j, p in enumerate(parents):
-        if p < 0:
-            worlds[:, j], places[:, j] = rotations[:, j], translations[:, j]
-        else:
-            worlds[:, j] = worlds[:, p] @ rotations[:, j]
-            places[:, j] = places[:, p] + (worlds[:, p] @ translations[:, j, :, None])[..., 0]
-    return worlds, places
-
-
 def test_taking_the_bind_out_keeps_every_position_and_turns_each_frame_by_its_bind():
     rng = np.random.default_rng(3)
     frames, parents = 4, np.array([-1, 0, 1, 0])
@@ -78,8 +67,8 @@ def test_taking_the_bind_out_keeps_every_position_and_turns_each_frame_by_its_bi
     moving = np.array([True, False, True, False])
     translations = np.where(moving[:, None], rng.normal(size=(frames, 4, 3)), offsets)
     turned, moved, placed = turn_to_bind(bind, parents, rotations, translations, offsets, moving)
-    worlds, positions = _forward(parents, rotations, translations)
-    new_worlds, new_positions = _forward(parents, turned, moved)
+    worlds, positions = post_rotation_forward(parents, rotations, translations)
+    new_worlds, new_positions = post_rotation_forward(parents, turned, moved)
     np.testing.assert_allclose(new_positions, positions, rtol=0, atol=1e-12)
     np.testing.assert_allclose(new_worlds, worlds @ np.swapaxes(bind, -1, -2), rtol=0, atol=1e-12)
     np.testing.assert_array_equal(moved[:, ~moving], np.broadcast_to(placed[~moving], (frames, 2, 3)))

@@ -20,29 +20,11 @@ from gmr_studio.core.markers.markermap import (
     marker_map_text,
     save_marker_map,
 )
+from tests.test_markers_map import SMALL_MAP
 
 PERMUTATION = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
 
-SMALL = """format = "gmr-markermap 1"
-name = "small"
-units = "mm"
-
-[alignment]
-rotation = [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]
-scale = 0.5
-
-[pelvis]
-markers = ["hips", "left", "back"]
-
-[virtual.hips]
-cluster = ["A", "B", "C", "D"]
-[virtual.left]
-mean = ["A", "B"]
-[virtual.back]
-marker = "C"
-[virtual.knee]
-cluster = ["@left", "E", "F"]
-"""
+SMALL = SMALL_MAP.lstrip("\n")  # the small map of tests/test_markers_map.py
 
 
 def written(tmp_path, text: str, name: str = "map.toml"):

@@ -88,7 +88,7 @@ def glyph_part(n_points: int, source: pv.PolyData, colors: np.ndarray | None = N
     mapper.SetSourceData(source)
     mapper.SetScaling(False)
     mapper.OrientOff()
-    part.actor = _glyph_actor(mapper, part.mesh, n_points, colors, color)
+    part.actor = _coloured_actor(mapper, part.mesh, n_points, colors, color)
     return part
 
 
@@ -101,13 +101,13 @@ class SpherePart(Part):
     fragment shader computes the sphere's surface, normal and depth, so it is lit and hides
     what is behind it like a mesh sphere, with no triangles to transform. In software
     OpenGL 38 tessellated spheres (16x12) cost about 1.9 ms a frame at 1018x425, as
-    imposters about 0.1 ms (docs/app.md, "Performance").
+    imposters about 0.3 ms (docs/app.md, "Performance").
     """
 
     def __init__(self, n_points: int, radius: float) -> None:
         super().__init__(n_points)
         self.radius = float(radius)
-        self.mesh.verts = np.column_stack([np.ones(n_points, dtype=np.int64), np.arange(n_points)]).ravel()
+        self.mesh.verts = _vertex_cells(n_points)
         # the mapper reads the radii as 32-bit floats (a 64-bit array crashes its shader setup)
         self.mesh.point_data["radius"] = np.full(n_points, self.radius, dtype=np.float32)
         self._radii = self.mesh.point_data["radius"] if n_points else np.zeros(0, np.float32)
@@ -128,6 +128,11 @@ class SpherePart(Part):
         return np.asarray(self._radii) > 0
 
 
+def _vertex_cells(n: int) -> np.ndarray:
+    """The cell array of ``n`` vertex cells, one per point (what the imposter mappers draw)."""
+    return np.column_stack([np.ones(n, dtype=np.int64), np.arange(n)]).ravel()
+
+
 def sphere_part(n_points: int, radius: float, colors: np.ndarray | None = None, color=(1.0, 1.0, 1.0)) -> SpherePart:
     """Spheres of ``radius`` at ``n_points`` points, coloured per point (``colors`` (n, 3) in
     [0, 1]) or all one ``color``; update with :meth:`SpherePart.set_points`."""
@@ -136,11 +141,11 @@ def sphere_part(n_points: int, radius: float, colors: np.ndarray | None = None, 
     mapper.SetInputData(part.mesh)
     mapper.SetRadius(part.radius)
     mapper.SetScaleArray("radius")
-    part.actor = _glyph_actor(mapper, part.mesh, n_points, colors, color)
+    part.actor = _coloured_actor(mapper, part.mesh, n_points, colors, color)
     return part
 
 
-def _glyph_actor(mapper: vtkMapper, mesh: pv.PolyData, n: int, colors, color) -> vtkActor:
+def _coloured_actor(mapper: vtkMapper, mesh: pv.PolyData, n: int, colors, color) -> vtkActor:
     """The actor of a glyph or sphere mapper over ``mesh`` (``n`` points): one colour per glyph from
     ``colors`` (n, 3) in [0, 1] (a ``colors`` point array the mapper reads by name), or all
     one ``color``."""
@@ -210,7 +215,7 @@ class BonePart(Part):
         n = len(self.pairs)
         self.radius = float(radius)
         if n:  # pyvista refuses empty arrays; a one-joint figure has no bones
-            self.mesh.verts = np.column_stack([np.ones(n, dtype=np.int64), np.arange(n)]).ravel()
+            self.mesh.verts = _vertex_cells(n)
             self.mesh.point_data["direction"] = np.tile(np.float32([1.0, 0.0, 0.0]), (n, 1))
             self.mesh.point_data["scale"] = np.zeros((n, 3), dtype=np.float32)
             self._direction = self.mesh.point_data["direction"]
@@ -221,7 +226,7 @@ class BonePart(Part):
         mapper.SetOrientationArray("direction")
         mapper.SetScaleArray("scale")
         rgb = colors if colors is not None else np.broadcast_to(np.asarray(color, dtype=np.float64), (n, 3))
-        self.actor = _glyph_actor(mapper, self.mesh, n, rgb, color)
+        self.actor = _coloured_actor(mapper, self.mesh, n, rgb, color)
 
     def set_joints(self, joints: np.ndarray) -> None:
         """Place every bone between its two joints: ``joints`` (J, 3), NaN-free."""
