@@ -52,3 +52,47 @@ def test_long_undo_labels_are_elided_and_do_not_widen_the_toolbar(qtbot, studio)
     redo = studio.actions["redo"]
     assert len(redo.text()) <= UNDO_LABEL_CHARS and redo.toolTip() == f"Redo {label}"
     assert toolbar.sizeHint().width() <= width
+
+
+def test_a_frame_change_lays_nothing_out_and_repaints_no_dock_frame(qtbot, studio):
+    """Issue 26: during playback only what shows the frame repaints. The time label keeps
+    one size per document (its text changing width asked the window to lay out every dock
+    again on each frame), and the timeline is opaque, so neither its dock nor the window
+    behind it is painted again; the label is still wide enough for every frame's text."""
+    from PyQt6.QtCore import QEvent, QObject
+    from PyQt6.QtWidgets import QApplication, QDockWidget, QMainWindow
+
+    from gmr_studio.app.docks.timeline import time_text
+    from gmr_studio.core.demo import MOTION_FILE, demo_folder
+
+    open_file(studio, demo_folder() / MOTION_FILE)
+    state = studio.state
+    state.select(1)
+    state.set_frame(1)
+    qtbot.wait(200)  # the window settles after the document and selection arrive
+
+    class Events(QObject):
+        def __init__(self) -> None:
+            super().__init__()
+            self.seen: list[tuple[str, str]] = []
+
+        def eventFilter(self, watched, event) -> bool:
+            if event.type() == QEvent.Type.LayoutRequest:
+                self.seen.append(("layout", type(watched).__name__))
+            elif event.type() == QEvent.Type.Paint and isinstance(watched, (QDockWidget, QMainWindow)):
+                self.seen.append(("paint", type(watched).__name__))
+            return False
+
+    events = Events()
+    QApplication.instance().installEventFilter(events)
+    try:
+        for frame in (9, 10, 99, 100, state.n_frames - 1, 0):
+            state.set_frame(frame)
+            QApplication.processEvents()
+            label = studio.timeline.time_label
+            assert label.text() == time_text(state.motion, frame)
+            assert label.fontMetrics().horizontalAdvance(label.text()) <= label.width()
+    finally:
+        QApplication.instance().removeEventFilter(events)
+    assert events.seen == [], str(events.seen)
+    assert studio.timeline.autoFillBackground()

@@ -54,6 +54,9 @@ class Timeline(QWidget):
         super().__init__(parent)
         self.state = state
         self.player = player
+        # opaque: a frame change repaints the slider and the labels, not the dock and the
+        # window behind them (the dock's title style alone reloaded an icon file each time)
+        self.setAutoFillBackground(True)
         layout = QHBoxLayout(self)
         layout.setContentsMargins(6, 2, 6, 2)
         for name in ("first_frame", "step_back", "play", "step_forward", "last_frame"):
@@ -83,7 +86,6 @@ class Timeline(QWidget):
         self.frame_box.valueChanged.connect(state.set_frame)
         layout.addWidget(self.frame_box)
         self.time_label = QLabel(self)
-        self.time_label.setMinimumWidth(150)
         layout.addWidget(self.time_label)
         loop = QToolButton(self)
         loop.setDefaultAction(actions["loop"])
@@ -119,7 +121,20 @@ class Timeline(QWidget):
             widget.blockSignals(False)
         self.slider.setPageStep(max(1, round(self.state.motion.frame_rate)) if self.state.motion else 10)
         self.setEnabled(self.state.motion is not None)
+        self._fit_time_label()
         self._on_frame_changed(self.state.frame)
+
+    def _fit_time_label(self) -> None:
+        """Size the time label once per document for its widest text, at a fixed size: a label
+        whose size follows its text asks the window to lay out its docks again on every frame
+        (a layout pass and a repaint of the dock area, about 7% of a frame during playback)."""
+        motion = self.state.motion
+        widest = time_text(motion, motion.n_frames - 1) if motion is not None else ""
+        metrics = self.time_label.fontMetrics()
+        digit = max("0123456789", key=metrics.horizontalAdvance)  # every digit as the widest one
+        widest = widest.translate(str.maketrans("0123456789", digit * 10))
+        width = max(150, metrics.horizontalAdvance(widest) + metrics.averageCharWidth())
+        self.time_label.setFixedSize(width, self.time_label.sizeHint().height())
 
     def _on_frame_changed(self, frame: int) -> None:
         for widget in (self.slider, self.frame_box):
