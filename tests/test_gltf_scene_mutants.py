@@ -176,3 +176,30 @@ def test_a_skin_without_joints_is_refused(listed, message):
 def test_the_nodes_between_node_0_and_a_joint_below_it_are_joints():
     doc = document(chain(3), skins=[{"joints": [2, 0]}])
     assert skeleton_nodes(doc, node_parents(doc), 0) == ([0, 1, 2], [])
+
+
+@pytest.mark.parametrize(
+    "linear",
+    [
+        np.array([[1.0, 0.3, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]),  # a shear of x by y
+        np.array([[1.0, 2.0, 0.0], [1.0, 2.0, 0.0], [0.0, 0.0, 1.0]]),  # singular: two parallel columns
+        Rotation.from_rotvec([0.2, -0.5, 0.9]).as_matrix() @ np.array([[1, 2e-5, 0], [0, 1, 0], [0, 0, 1]]),
+    ],
+)
+def test_a_matrix_that_shears_or_is_singular_is_refused(linear):
+    """A node matrix must be T R S (glTF 2.0, 'Transformations'): columns scaled to unit
+    length form a rotation. A shear, even small, or two parallel columns (determinant 0),
+    cannot be one and is refused with the node and how far it is from a rotation."""
+    with pytest.raises(MotionFileError, match=r"node 0: its matrix shears \(.* by [0-9.e-]+\), so it is no"):
+        static_trs(document([{"matrix": _column_major(linear, [0, 0, 0])}]))
+
+
+def test_a_float32_rotation_and_scale_is_not_a_shear():
+    """Real files store matrices in float32: a rotation times uneven scales rounded to float32
+    stays within the tolerance and reads back as its T R S to float32 precision."""
+    turn = Rotation.from_rotvec([1.1, 0.4, -2.3])
+    linear = (turn.as_matrix() @ np.diag([0.01, 0.02, 0.03])).astype(np.float32).astype(float)
+    t, q, s = static_trs(document([{"matrix": _column_major(linear, [0.5, 0, 0])}]))
+    assert t.tolist() == [[0.5, 0, 0]]
+    np.testing.assert_allclose(s, [[0.01, 0.02, 0.03]], rtol=1e-6)
+    assert abs(q[0] @ turn.as_quat()) == pytest.approx(1.0, abs=1e-12)

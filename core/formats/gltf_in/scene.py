@@ -3,7 +3,9 @@
 - :func:`node_parents`: each node's parent, checked (indices in range, one parent each,
   no cycles).
 - :func:`static_trs`: each node's own translation, rotation (quaternion ``x, y, z, w``)
-  and scale, a ``matrix`` decomposed into them (glTF's ``T R S``, column-major).
+  and scale, a ``matrix`` decomposed into them (glTF's ``T R S``, column-major); a matrix
+  that shears (or collapses an axis) is no ``T R S`` and is refused, as the specification
+  requires node matrices to be decomposable.
 - :func:`skeleton_nodes`: the joints (a skin's joints and the nodes between them) in
   depth-first order, and the nodes above them (the armature) whose transform the roots
   take on. Without a skin, every node of the scene is a joint.
@@ -16,6 +18,10 @@ import numpy as np
 
 from gmr_studio.core.formats.gltf_in.container import GltfDocument
 from gmr_studio.core.quaternions import quaternion_from_matrix
+
+#: largest |U^T U - I| of a node matrix's columns scaled to unit length U (float32 files
+#: round a rotation times a scale to about 1e-7; a shear of 1e-5 radians is refused)
+SHEAR_TOLERANCE = 1e-5
 
 
 def node_parents(doc: GltfDocument) -> np.ndarray:
@@ -56,6 +62,13 @@ def static_trs(doc: GltfDocument) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             lengths = np.linalg.norm(linear, axis=0)
             if not (lengths > 0).all():
                 raise doc.error(f"{where}: its matrix collapses an axis (scale 0)")
+            cosines = (linear / lengths).T @ (linear / lengths)  # the identity for a rotation times a scale
+            shear = float(np.abs(cosines - np.eye(3)).max())
+            if not shear <= SHEAR_TOLERANCE:
+                raise doc.error(
+                    f"{where}: its matrix shears (its columns' cosines differ from the identity's by {shear:.3g}), "
+                    "so it is no translation, rotation and scale (T R S), as glTF requires of a node matrix"
+                )
             if np.linalg.det(linear) < 0:
                 lengths[0] = -lengths[0]  # a mirror: the TRS the specification asks for has one negative scale
             translation[index] = matrix[:3, 3]
