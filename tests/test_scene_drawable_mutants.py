@@ -119,3 +119,35 @@ def test_a_part_not_wanted_stays_hidden_while_the_drawing_is_shown():
         assert dots.parts["dots"].visible and not dots.parts["spare"].visible
         dots.set_visible(False)
         assert not dots.parts["dots"].visible and not dots.parts["spare"].visible
+
+
+def _drawable_classes() -> list[type]:
+    """Every class the view draws with: :class:`Drawing` and its subclasses in app/scene."""
+    import importlib
+
+    for name in ("figure", "highlight", "problem_marks", "overlays", "ghost_layer", "onion", "layer_onion"):
+        importlib.import_module(f"gmr_studio.app.scene.{name}")
+    found, todo = [], [Drawing]
+    while todo:
+        cls = todo.pop()
+        found.append(cls)
+        todo.extend(cls.__subclasses__())
+    return [cls for cls in found if cls.__module__.startswith("gmr_studio.app.scene.")]
+
+
+def test_every_drawable_has_the_protocols_members_of_the_same_kind():
+    """The scene reads ``visible`` as a value (``if drawable.visible:``): a drawable whose
+    ``visible`` were a method would always count as shown. Each member is what the protocol
+    declares it: a property, or a method."""
+    from gmr_studio.app.scene.drawable import Drawable
+
+    members = ("build", "show_frame", "wanted", "visible", "set_visible", "remove")
+    declared = {name: isinstance(Drawable.__dict__[name], property) for name in members}
+    assert declared == {name: name == "visible" for name in members}
+    classes = _drawable_classes()
+    assert len(classes) > 8, [cls.__name__ for cls in classes]
+    for cls in classes:
+        for name, is_property in declared.items():
+            member = next(vars(c)[name] for c in cls.__mro__ if name in vars(c))
+            assert isinstance(member, property) == is_property, f"{cls.__name__}.{name}"
+            assert is_property or callable(member), f"{cls.__name__}.{name}"
