@@ -279,3 +279,53 @@ def test_no_document_no_ghost(qtbot):
         assert ghosts.parts == {} and ghosts.ghosts == [] and ghosts.error_joints is None
         ghosts.set_visible(True)  # no snapshot: no frame to show
         ghosts.show_frame(0)
+
+
+def test_a_ghost_or_marker_layer_shorter_than_the_document_shows_its_last_frame(qtbot):
+    """After an edit that lengthens the document (an undone trim), the view rebuilds before
+    the layers recompute (its slots are connected first): for that moment a layer has fewer
+    frames than the document and shows its last one. A marker layer before a motion layer
+    does not stop the motion layer's frame."""
+    state = StudioState()
+    state.open_document(snapshot_of(figure_motion(6)), "a.gmr")
+    layers = Layers(state)
+    points = np.arange(4 * 2 * 3, dtype=float).reshape(4, 2, 3) / 10  # four frames of six
+    markers = MarkerSet(labels=("m0", "m1"), positions=points, rate=30.0, units="m")
+    with scene_of(state.snapshot) as scene:
+        ghosts = GhostLayers(state, layers)
+        scene.add_drawable(ghosts)
+        layers.layers.append(
+            MarkerLayer(markers, "m.trc", (0.9, 0.1, 0.5), overlay=MarkerOverlay(markers, None, points))
+        )
+        whole = posed_motion(
+            FIGURE_NAMES, FIGURE_PARENTS, figure_world(6) + np.array([0.0, 0.0, 0.05]), FIGURE_SOFT_PARENTS
+        )
+        layer = layers.add(snapshot_of(whole), "b.gmr", offset=0.0, align="none")
+        (spheres,), (_, joints) = ghosts.ghosts
+        scene.show_frame(5)  # the ghost's last frame (B has all six)
+        np.testing.assert_allclose(joints.mesh.points, layer.ghost[5])
+        np.testing.assert_allclose(spheres.mesh.points, points[3])
+        scene.show_frame(1)
+        np.testing.assert_allclose(joints.mesh.points, layer.ghost[1])
+        np.testing.assert_allclose(spheres.mesh.points, points[1])
+        layer.ghost = layer.ghost[:3]  # as computed for a three-frame document
+        scene.redraw(ghosts)
+        (spheres,), (_, joints) = ghosts.ghosts
+        scene.show_frame(4)
+        np.testing.assert_allclose(joints.mesh.points, layer.ghost[2])
+        np.testing.assert_allclose(spheres.mesh.points, points[3])
+
+
+def test_hiding_writes_no_frame_and_needs_no_scene(qtbot):
+    state = StudioState()
+    lone = GhostLayers(state, Layers(state))
+    lone.set_visible(False)  # not in a scene yet: nothing to write
+    lone.set_visible(True)
+    assert lone.visible and lone.parts == {}
+    with compared(qtbot) as (scene, _state, layers, ghosts):
+        joints = ghosts.parts["ghost_0_1"]
+        scene.show_frame(1)
+        ghosts.set_visible(False)
+        scene.show_frame(2)  # hidden drawables are skipped...
+        ghosts.set_visible(False)  # ... and hiding again writes nothing either
+        np.testing.assert_allclose(joints.mesh.points, layers[0].ghost[1])
