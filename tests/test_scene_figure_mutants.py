@@ -11,7 +11,16 @@ import pytest
 from gmr_studio.app.model.tree_colors import PALETTE
 from gmr_studio.app.scene.figure import SkeletonFigure, SoftLinks, dash_points, figure_bones
 from gmr_studio.app.scene.vtk_parts import rgb_bytes
-from tests.tiny_scene import FIGURE_SIZE, figure_motion, holds, posed_motion, scene_of, snapshot_of
+from tests.tiny_scene import (
+    FIGURE_SIZE,
+    figure_motion,
+    holds,
+    look_down_at,
+    picture,
+    posed_motion,
+    scene_of,
+    snapshot_of,
+)
 
 pytestmark = pytest.mark.gui
 TREES = np.array([0, 0, 0, 0, 1, 1])  # the figure's joints: Root's tree, then Arm's
@@ -149,3 +158,36 @@ def test_a_figure_without_links_draws_no_dash():
         assert links.links.shape == (0, 2) and links.parts["soft_links"].n_points == 0
         scene.show_frame(1)
         np.testing.assert_allclose(scene.figure.parts["joints"].mesh.points, world[1])
+
+
+def _along(rgb: np.ndarray, colour) -> np.ndarray:
+    """Cosine between each pixel's RGB and ``colour``'s (1: the same hue, any shading)."""
+    colour = np.asarray(colour, dtype=float)
+    return rgb @ colour / np.maximum(np.linalg.norm(rgb, axis=-1) * np.linalg.norm(colour), 1e-9)
+
+
+def test_the_picture_a_joint_its_bones_and_the_ring_in_their_colours_and_sizes():
+    """Chest (frame 0, at (0, 0.2)) seen from above, 1000 pixels a unit: its sphere 12.8
+    pixels round in its tree's blue, the bones up to Head and down to Hips 5.2 pixels
+    thick, the selection's yellow ring 24.3 pixels round."""
+    with scene_of(snapshot_of(figure_motion()), size=(200, 200)) as scene:
+        look_down_at(scene, (0.0, 0.2, 0.0), 0.1)
+        image = picture(scene)
+        background = image[2, 2]
+        drawn = np.abs(image - background).max(axis=-1) > 30
+        blue = PALETTE[0]
+        joint = np.flatnonzero(drawn[100])  # the row through the joint's centre (bones vertical)
+        assert abs(joint.min() - (100 - 12.8)) <= 1.5 and abs(joint.max() - (100 + 12.8)) <= 1.5
+        assert _along(image[100, 100], blue) > 0.99 and image[100, 100].max() > 0.8 * 255 * blue.max()
+        for row in (30, 170):  # 70 pixels above and below: a bone
+            bone = np.flatnonzero(drawn[row])
+            assert abs(bone.min() - (100 - 5.2)) <= 1.5 and abs(bone.max() - (100 + 5.2)) <= 1.5
+            assert _along(image[row, 100], blue) > 0.99
+        assert not drawn[:, :80].any() and not drawn[:, 121:].any()  # nothing else in view
+        scene.set_selection(2)
+        image = picture(scene)
+        yellow = (image[..., 0] > 150) & (image[..., 1] > 120) & (image[..., 2] < 100)
+        rows, columns = np.nonzero(yellow)
+        reach = np.hypot(rows - 100, columns - 100)
+        assert 23.0 <= reach.max() <= 25.5 and yellow[100, 100]
+        assert np.median(_along(image[yellow], (1.0, 0.85, 0.1))) > 0.99  # edges blend with the blue

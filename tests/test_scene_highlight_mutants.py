@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from gmr_studio.app.scene.highlight import JointsHighlight, PivotMarker
-from tests.tiny_scene import FIGURE_SIZE, figure_motion, holds, scene_of, snapshot_of
+from tests.tiny_scene import FIGURE_SIZE, figure_motion, holds, look_down_at, picture, scene_of, snapshot_of
 
 pytestmark = pytest.mark.gui
 
@@ -102,3 +102,20 @@ def test_the_pivot_stays_put_and_is_not_drawn_without_a_point_or_a_snapshot():
         pivot.point = np.array([0.1, 0.2, 0.3])
         pivot.build(scene)
         assert pivot.parts == {}
+
+
+def test_the_picture_a_red_translucent_sphere_the_joint_seen_through_it():
+    """Chest (frame 0, at (0, 0.2)) seen from above, 1000 pixels a unit, highlighted: a red
+    disc 0.04 of the size round (32 pixels), the joint's blue showing through at its centre."""
+    with scene_of(snapshot_of(figure_motion()), size=(200, 200)) as scene:
+        look_down_at(scene, (0.0, 0.2, 0.0), 0.1)
+        plain = picture(scene)
+        highlight = JointsHighlight()
+        highlight.names = ("Chest",)
+        scene.add_drawable(highlight)
+        image = picture(scene)
+        reddened = (image[..., 0] - plain[..., 0] > 40) & (image[..., 0] > image[..., 1] + 40)
+        rows, columns = np.nonzero(reddened)
+        assert 31.0 <= np.hypot(rows - 100, columns - 100).max() <= 33.5
+        assert reddened[100, 100] and image[100, 100, 2] > plain[2, 2, 2] + 20  # blue through the red
+        assert not reddened[:, :66].any() and not reddened[:, 135:].any()

@@ -10,7 +10,7 @@ import pytest
 
 from gmr_studio.app.model.problems import LEVEL_COLOURS
 from gmr_studio.app.scene.problem_marks import ProblemMarks
-from tests.tiny_scene import FIGURE_SIZE, figure_motion, holds, scene_of, snapshot_of
+from tests.tiny_scene import FIGURE_SIZE, figure_motion, holds, look_down_at, picture, scene_of, snapshot_of
 
 pytestmark = pytest.mark.gui
 
@@ -102,3 +102,26 @@ def test_no_marks_without_flags_a_snapshot_or_with_flags_of_another_motion():
         marks.flags = FLAGS
         marks.build(scene)
         assert marks.levels == () and marks.parts == {} and marks.flagged(0) == {}
+
+
+def test_the_picture_a_flagged_joint_in_its_flat_colour_over_the_ring():
+    """Chest (frame 0, at (0, 0.2)) seen from above, 1000 pixels a unit, selected and
+    flagged a warning: a disc of flat orange 1.45 joint radii round (18.6 pixels) over the
+    yellow wire ring, which shows around it; at a frame without a flag, no orange."""
+    with scene_of(snapshot_of(figure_motion()), size=(200, 200)) as scene:
+        look_down_at(scene, (0.0, 0.2, 0.0), 0.1)
+        scene.set_selection(2)
+        marks = marks_in(scene, flags_of({(0, 2): 2}))
+        scene.show_frame(0)
+        image = picture(scene)
+        orange = (np.abs(image - np.rint(np.array(LEVEL_COLOURS[2]) * 255)) <= 2).all(axis=-1)
+        rows, columns = np.nonzero(orange)
+        reach = np.hypot(rows - 100, columns - 100)
+        assert 17.5 <= reach.max() <= 19.5
+        assert orange[100, 83:118].all()  # the whole disc, the ring's lines under it hidden
+        yellow = (image[..., 0] > 150) & (image[..., 1] > 120) & (image[..., 2] < 100) & ~orange
+        assert yellow[100, 120:124].any() and yellow[100, 76:80].any()  # the ring around it
+        scene.show_frame(2)
+        assert not marks.flagged(2)[2].size
+        image = picture(scene)
+        assert not (np.abs(image - np.rint(np.array(LEVEL_COLOURS[2]) * 255)) <= 2).all(axis=-1).any()

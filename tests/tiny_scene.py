@@ -93,3 +93,24 @@ def props_of(renderer) -> list:
 def holds(renderer, actor) -> bool:
     """Whether ``actor`` is in ``renderer`` (compared by VTK object)."""
     return any(prop is actor for prop in props_of(renderer))
+
+
+def look_down_at(scene: SkeletonScene, centre, half_height: float) -> None:
+    """Only the figure and what was added to the scene, seen from +z down onto the x-y plane
+    (parallel projection, y up, ``half_height`` world units from the centre to the top edge;
+    the ground, the soft links and the following camera switched off)."""
+    for overlay in ("ground", "soft_links", "follow"):
+        scene.set_overlay(overlay, False)
+    scene.plotter.enable_parallel_projection()
+    camera = scene.plotter.camera
+    camera.focal_point = tuple(centre)
+    camera.position = (centre[0], centre[1], centre[2] + 5.0)
+    camera.up = (0.0, 1.0, 0.0)
+    camera.parallel_scale = half_height
+
+
+def picture(scene: SkeletonScene) -> np.ndarray:
+    """(H, W, 3) int: the scene as drawn now (its front layer too)."""
+    from gmr_studio.app.media.video import scene_image
+
+    return scene_image(scene).astype(int)
