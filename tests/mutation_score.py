@@ -294,6 +294,12 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ["tests/test_markers_solve_mutants.py", "tests/test_markers_root_fit.py", "tests/test_markers_solve.py"],
         60,
     ),
+    # the view's drawables (issue 24): a tiny synthetic figure in an off-screen scene (no window)
+    "app/scene/drawable.py": (["tests/test_scene_drawable_mutants.py"], 60),
+    "app/scene/figure.py": (["tests/test_scene_figure_mutants.py", "tests/test_scene_drawable_mutants.py"], 60),
+    "app/scene/highlight.py": (["tests/test_scene_highlight_mutants.py"], 60),
+    "app/scene/problem_marks.py": (["tests/test_scene_problem_marks_mutants.py"], 60),
+    "app/scene/ghost_layer.py": (["tests/test_scene_ghost_layer_mutants.py"], 60),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [

@@ -1,0 +1,193 @@
+"""The figure (app/scene/figure.py, issue 24) on a tiny synthetic skeleton
+(:mod:`tests.tiny_scene`): which joint pairs are bones and which are dashed links, the
+parts' sizes as fractions of the motion's size, their colours per tree, the points written
+in place each frame, and the selection ring shown only with a selection."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from gmr_studio.app.model.tree_colors import PALETTE
+from gmr_studio.app.scene.figure import SkeletonFigure, SoftLinks, dash_points, figure_bones
+from gmr_studio.app.scene.vtk_parts import rgb_bytes
+from tests.tiny_scene import (
+    FIGURE_SIZE,
+    figure_motion,
+    holds,
+    look_down_at,
+    picture,
+    posed_motion,
+    scene_of,
+    snapshot_of,
+)
+
+pytestmark = pytest.mark.gui
+TREES = np.array([0, 0, 0, 0, 1, 1])  # the figure's joints: Root's tree, then Arm's
+
+
+def test_bones_leave_out_the_anchors_bone_and_links_hold_it_and_the_split():
+    motion = figure_motion()
+    assert motion.anchors.tolist() == [True, False, False, False, False, False]
+    bones, links = figure_bones(motion)
+    assert bones.dtype == np.int64 and links.dtype == np.int64
+    assert bones.tolist() == [[2, 1], [3, 2], [5, 4]]
+    assert links.tolist() == [[4, 2], [1, 0]]  # the split root to its soft parent, the anchor's bone
+
+
+def test_bones_and_links_of_joint_zero_without_anchors():
+    world = np.array([[[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]]])
+    motion = posed_motion(("Hips", "Head", "Arm", "Hand"), (-1, 0, -1, 2), world, (-1, -1, 0, -1))
+    assert not motion.anchors.any()
+    bones, links = figure_bones(motion)
+    assert bones.tolist() == [[1, 0], [3, 2]]
+    assert links.tolist() == [[2, 0]]
+    single = posed_motion(("Hips", "Head"), (-1, 0), world[:, :2])
+    bones, links = figure_bones(single)
+    assert bones.tolist() == [[1, 0]] and links.shape == (0, 2)
+
+
+def test_dashes_split_a_line_into_equal_steps_from_end_to_end():
+    a, b = np.array([[1.0, 2.0, 3.0], [0.0, 0.0, 0.0]]), np.array([[16.0, 2.0, 3.0], [0.0, -3.0, 0.0]])
+    points = dash_points(a, b)
+    assert points.shape == (2, 16, 3)  # eight dashes: sixteen points, consecutive pairs
+    np.testing.assert_allclose(points[0, :, 0], np.arange(1.0, 17.0))
+    np.testing.assert_allclose(points[0, :, 1:], np.broadcast_to([2.0, 3.0], (16, 2)))
+    np.testing.assert_allclose(points[1, :, 1], -np.arange(16) / 5.0)
+    np.testing.assert_allclose(dash_points(a, b, dashes=2)[0, :, 0], [1.0, 6.0, 11.0, 16.0])
+
+
+def test_the_figures_parts_their_sizes_and_colours():
+    with scene_of(snapshot_of(figure_motion())) as scene:
+        figure = scene.figure
+        assert scene.snapshot.motion.size == pytest.approx(FIGURE_SIZE)
+        r = 0.016 * FIGURE_SIZE
+        assert set(figure.parts) == {"joints", "roots", "bones", "selection"}
+        for part in figure.parts.values():
+            assert holds(scene.plotter.renderer, part.actor) and not holds(scene.front_renderer, part.actor)
+        joints = figure.parts["joints"]
+        assert joints.n_points == 6 and joints.radius == pytest.approx(r)
+        np.testing.assert_array_equal(joints.mesh.point_data["colors"], rgb_bytes(PALETTE[TREES]))
+        roots = figure.parts["roots"]
+        assert roots.n_points == 2 and figure.roots.tolist() == [0, 4]
+        np.testing.assert_array_equal(roots.mesh.point_data["colors"], rgb_bytes(PALETTE[[0, 1]]))
+        cube = np.reshape(roots.actor.GetMapper().GetSource().GetBounds(), (3, 2))
+        np.testing.assert_allclose(cube, np.broadcast_to([-1.5 * r, 1.5 * r], (3, 2)), rtol=1e-6)
+        bones = figure.parts["bones"]
+        assert bones.pairs.tolist() == [[2, 1], [3, 2], [5, 4]]
+        assert bones.radius == pytest.approx(0.0065 * FIGURE_SIZE)
+        np.testing.assert_array_equal(bones.mesh.point_data["colors"], rgb_bytes(0.85 * PALETTE[[0, 0, 1]]))
+        ring = figure.parts["selection"]
+        assert ring.n_points == 1
+        sphere = np.reshape(ring.actor.GetMapper().GetSource().GetBounds(), (3, 2))
+        np.testing.assert_allclose(sphere[:, 1], 1.9 * r, rtol=0.02)  # a tessellated sphere: its poles at 1.9 r
+        prop = ring.actor.GetProperty()
+        assert prop.GetRepresentationAsString() == "Wireframe"
+        assert prop.GetColor() == pytest.approx((1.0, 0.85, 0.1))  # yellow
+
+
+def test_a_frame_is_written_into_the_same_arrays():
+    snapshot = snapshot_of(figure_motion())
+    with scene_of(snapshot) as scene:
+        figure = scene.figure
+        arrays = {name: part.mesh.GetPoints().__this__ for name, part in figure.parts.items()}
+        scene.set_selection(3)
+        scene.show_frame(2)
+        positions = snapshot.positions[2]
+        np.testing.assert_allclose(figure.parts["joints"].mesh.points, positions)
+        np.testing.assert_allclose(figure.parts["roots"].mesh.points, positions[[0, 4]])
+        np.testing.assert_allclose(figure.parts["bones"].mesh.points, positions[[[2, 1], [3, 2], [5, 4]]].mean(axis=1))
+        np.testing.assert_allclose(figure.parts["selection"].mesh.points, positions[[3]])
+        scene.set_selection(5)
+        scene.show_frame(1)
+        np.testing.assert_allclose(figure.parts["selection"].mesh.points, snapshot.positions[1][[5]])
+        assert {name: part.mesh.GetPoints().__this__ for name, part in figure.parts.items()} == arrays
+
+
+def test_the_ring_shows_with_a_selection_only():
+    with scene_of(snapshot_of(figure_motion())) as scene:
+        figure = scene.figure
+        others = [figure.parts[name] for name in ("joints", "roots", "bones")]
+        ring = figure.parts["selection"]
+        assert all(part.visible for part in others) and not ring.visible
+        scene.set_selection(0)  # joint 0: a selection, though its index is falsy
+        assert all(part.visible for part in others) and ring.visible
+        figure.set_visible(False)
+        assert not any(part.visible for part in [*others, ring])
+        scene.set_selection(None)
+        figure.set_visible(True)
+        assert all(part.visible for part in others) and not ring.visible
+
+
+def test_without_a_snapshot_nothing_is_built_or_drawn():
+    with scene_of(None) as scene:
+        for drawable in (SkeletonFigure(), SoftLinks()):
+            drawable.build(scene)
+            assert drawable.parts == {}
+            drawable.show_frame(0)  # nothing to write
+            assert drawable.parts == {}
+
+
+def test_soft_links_are_dashed_grey_lines_between_the_linked_joints():
+    snapshot = snapshot_of(figure_motion())
+    with scene_of(snapshot) as scene:
+        links = next(d for d in scene.drawables if isinstance(d, SoftLinks))
+        part = links.parts["soft_links"]
+        assert links.links.tolist() == [[4, 2], [1, 0]]
+        assert part.n_points == 32 and part.visible
+        assert holds(scene.plotter.renderer, part.actor)
+        lines = part.mesh.lines.reshape(-1, 3)
+        np.testing.assert_array_equal(lines, np.column_stack([np.full(16, 2), np.arange(32).reshape(16, 2)]))
+        prop = part.actor.GetProperty()
+        assert prop.GetLineWidth() == pytest.approx(1.5)
+        assert prop.GetColor() == pytest.approx((0.62, 0.62, 0.66))
+        scene.show_frame(1)
+        positions = snapshot.positions[1]
+        expected = dash_points(positions[[4, 1]], positions[[2, 0]]).reshape(-1, 3)
+        np.testing.assert_allclose(part.mesh.points, expected)
+        scene.set_overlay("soft_links", False)
+        assert not links.wanted(scene) and not part.visible
+        scene.set_overlay("soft_links", True)
+        assert links.wanted(scene) and part.visible
+
+
+def test_a_figure_without_links_draws_no_dash():
+    world = np.array([[[0.0, 0.0, 0.0], [0.0, 1.0, 0.0]], [[0.5, 0.0, 0.0], [0.5, 1.0, 0.0]]])
+    with scene_of(snapshot_of(posed_motion(("Hips", "Head"), (-1, 0), world))) as scene:
+        links = next(d for d in scene.drawables if isinstance(d, SoftLinks))
+        assert links.links.shape == (0, 2) and links.parts["soft_links"].n_points == 0
+        scene.show_frame(1)
+        np.testing.assert_allclose(scene.figure.parts["joints"].mesh.points, world[1])
+
+
+def _along(rgb: np.ndarray, colour) -> np.ndarray:
+    """Cosine between each pixel's RGB and ``colour``'s (1: the same hue, any shading)."""
+    colour = np.asarray(colour, dtype=float)
+    return rgb @ colour / np.maximum(np.linalg.norm(rgb, axis=-1) * np.linalg.norm(colour), 1e-9)
+
+
+def test_the_picture_a_joint_its_bones_and_the_ring_in_their_colours_and_sizes():
+    """Chest (frame 0, at (0, 0.2)) seen from above, 1000 pixels a unit: its sphere 12.8
+    pixels round in its tree's blue, the bones up to Head and down to Hips 5.2 pixels
+    thick, the selection's yellow ring 24.3 pixels round."""
+    with scene_of(snapshot_of(figure_motion()), size=(200, 200)) as scene:
+        look_down_at(scene, (0.0, 0.2, 0.0), 0.1)
+        image = picture(scene)
+        background = image[2, 2]
+        drawn = np.abs(image - background).max(axis=-1) > 30
+        blue = PALETTE[0]
+        joint = np.flatnonzero(drawn[100])  # the row through the joint's centre (bones vertical)
+        assert abs(joint.min() - (100 - 12.8)) <= 1.5 and abs(joint.max() - (100 + 12.8)) <= 1.5
+        assert _along(image[100, 100], blue) > 0.99 and image[100, 100].max() > 0.8 * 255 * blue.max()
+        for row in (30, 170):  # 70 pixels above and below: a bone
+            bone = np.flatnonzero(drawn[row])
+            assert abs(bone.min() - (100 - 5.2)) <= 1.5 and abs(bone.max() - (100 + 5.2)) <= 1.5
+            assert _along(image[row, 100], blue) > 0.99
+        assert not drawn[:, :80].any() and not drawn[:, 121:].any()  # nothing else in view
+        scene.set_selection(2)
+        image = picture(scene)
+        yellow = (image[..., 0] > 150) & (image[..., 1] > 120) & (image[..., 2] < 100)
+        rows, columns = np.nonzero(yellow)
+        reach = np.hypot(rows - 100, columns - 100)
+        assert 23.0 <= reach.max() <= 25.5 and yellow[100, 100]
+        assert np.median(_along(image[yellow], (1.0, 0.85, 0.1))) > 0.99  # edges blend with the blue

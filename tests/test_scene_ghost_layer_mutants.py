@@ -1,0 +1,331 @@
+"""The comparison layers drawn (app/scene/ghost_layer.py, issue 24) on the tiny synthetic
+skeleton (:mod:`tests.tiny_scene`): a ghost B of the figure, 0.05 nearer (+z) with its Hand
+0.1 higher, over A's first four frames of six; the error view of the active layer; a marker
+set layer; the colour map and its scale."""
+
+from __future__ import annotations
+
+from contextlib import contextmanager
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from gmr_studio.app.model.layers import ComparisonLayer, Layers
+from gmr_studio.app.model.marker_layers import MarkerLayer
+from gmr_studio.app.model.state import MarkerOverlay, StudioState
+from gmr_studio.app.scene.ghost_layer import GhostLayers, error_colours, error_scale_top
+from gmr_studio.app.scene.vtk_parts import rgb_bytes
+from gmr_studio.core.compare import compare_motions
+from gmr_studio.core.compare.clock import ghost_positions
+from gmr_studio.core.markers import MarkerSet
+from tests.tiny_scene import (
+    FIGURE_NAMES,
+    FIGURE_PARENTS,
+    FIGURE_SIZE,
+    FIGURE_SOFT_PARENTS,
+    figure_motion,
+    figure_world,
+    holds,
+    posed_motion,
+    scene_of,
+    snapshot_of,
+)
+
+pytestmark = pytest.mark.gui  # a QApplication (the layers' signals)
+GREEN, YELLOW, RED, GREY = (0.2, 0.75, 0.35), (1.0, 0.85, 0.1), (0.9, 0.15, 0.1), (0.5, 0.5, 0.5)
+HAND_ERROR = np.hypot(0.05, 0.1)  # B's Hand: 0.05 nearer and 0.1 higher
+
+
+def b_motion(names=FIGURE_NAMES):
+    """B: the figure's first four frames, 0.05 nearer, its Hand 0.1 higher (joints ``names``)."""
+    world = figure_world(4) + np.array([0.0, 0.0, 0.05])
+    world[:, 5, 1] += 0.1
+    keep = [FIGURE_NAMES.index(name) for name in names]
+    parents = [keep.index(FIGURE_PARENTS[j]) if FIGURE_PARENTS[j] in keep else -1 for j in keep]
+    soft = [keep.index(FIGURE_SOFT_PARENTS[j]) if FIGURE_SOFT_PARENTS[j] in keep else -1 for j in keep]
+    return posed_motion(names, parents, world[:, keep], soft)
+
+
+@contextmanager
+def compared(qtbot, oit: bool = False):
+    """(scene, state, layers, ghosts): A (six frames) in a scene, B added as a layer."""
+    state = StudioState()
+    state.open_document(snapshot_of(figure_motion(6)), "a.gmr")
+    layers = Layers(state)
+    with scene_of(state.snapshot) as scene:
+        scene.plotter.renderer.SetUseOIT(oit)
+        ghosts = GhostLayers(state, layers)
+        scene.add_drawable(ghosts)
+        layers.add(snapshot_of(b_motion()), "b.gmr", offset=0.0, align="none")
+        yield scene, state, layers, ghosts
+
+
+def test_the_colour_map_from_green_to_red_and_grey_for_no_error():
+    errors = np.array([0.0, 0.5, 1.0, 2.0, 4.0, 8.0, -1.0, np.nan])
+    rgb = error_colours(errors, 4.0)
+    green, yellow = np.array(GREEN), np.array(YELLOW)
+    quarter, half = green + 0.25 * (yellow - green), (green + yellow) / 2
+    expected = [GREEN, quarter, half, YELLOW, RED, RED, GREEN, GREY]  # over [0, 4], clipped
+    np.testing.assert_allclose(rgb, np.array(expected), atol=1e-12)
+    assert error_colours(np.zeros((2, 3)), 4.0).shape == (2, 3, 3)
+    # a scale of 0 (everything agrees): 0 is green, anything more red
+    np.testing.assert_allclose(error_colours(np.array([0.0, 1e-9]), 0.0), [GREEN, RED])
+    np.testing.assert_allclose(error_colours(np.array([0.25]), 0.5), [YELLOW])
+
+
+def test_the_scale_tops_at_the_largest_error_or_a_thousandth_of_the_size():
+    def top(largest, size):
+        return error_scale_top(SimpleNamespace(comparison=SimpleNamespace(position=SimpleNamespace(max=largest))), size)
+
+    assert top(0.3, 2.0) == 0.3 and isinstance(top(np.float32(0.3), 2.0), float)
+    assert top(3e-6, 2.0) == 3e-6  # above a millionth of the size: the largest error
+    assert top(2e-6, 2.0) == pytest.approx(2e-3)  # a millionth exactly: everything agrees
+    assert top(0.0, 2.0) == pytest.approx(2e-3) and top(np.nan, 2.0) == pytest.approx(2e-3)
+
+
+def test_a_new_ghost_drawing_has_no_error_colours(qtbot):
+    state = StudioState()
+    ghosts = GhostLayers(state, Layers(state))
+    assert ghosts.show_errors is True and ghosts.ghosts == [] and ghosts.error_rgb.shape == (0, 0, 3)
+    assert ghosts.error_joints is None and ghosts.legend is None
+
+
+def test_a_layer_is_a_translucent_ghost_in_its_colour_at_the_documents_frame(qtbot):
+    with compared(qtbot) as (scene, _state, layers, ghosts):
+        layer = layers[0]
+        bones, joints = ghosts.parts["ghost_0_0"], ghosts.parts["ghost_0_1"]
+        assert ghosts.ghosts == [(bones, joints)]
+        assert bones.pairs.tolist() == [[2, 1], [3, 2], [5, 4]]  # the anchor's bone left out
+        assert bones.radius == pytest.approx(0.005 * FIGURE_SIZE)
+        assert joints.n_points == 6 and joints.radius == pytest.approx(0.012 * FIGURE_SIZE)
+        for part in (bones, joints):
+            assert holds(scene.plotter.renderer, part.actor) and part.visible
+            prop = part.actor.GetProperty()
+            assert prop.GetOpacity() == pytest.approx(layer.opacity) and prop.GetAmbient() == pytest.approx(0.6)
+        np.testing.assert_array_equal(bones.mesh.point_data["colors"], rgb_bytes(np.tile(layer.colour, (3, 1))))
+        assert joints.actor.GetProperty().GetColor() == pytest.approx(layer.colour)
+        for frame in (0, 3):
+            scene.show_frame(frame)
+            np.testing.assert_allclose(joints.mesh.points, layer.ghost[frame])
+            np.testing.assert_allclose(bones.mesh.points, layer.ghost[frame][[[2, 1], [3, 2], [5, 4]]].mean(axis=1))
+            assert joints.visible and bones.visible
+        scene.show_frame(5)  # beyond B's last frame: not drawn, the points left as they were
+        assert not joints.visible and not bones.visible
+        np.testing.assert_allclose(joints.mesh.points, layer.ghost[3])
+        scene.show_frame(1)
+        assert joints.visible and bones.visible
+        ghosts.set_visible(False)
+        scene.show_frame(2)
+        assert not joints.visible and not bones.visible
+        ghosts.set_visible(True)  # shown again: at the scene's frame at once
+        assert joints.visible and bones.visible
+        np.testing.assert_allclose(joints.mesh.points, layer.ghost[2])
+
+
+def test_the_layers_appearance_rebuilds_the_ghost(qtbot):
+    with compared(qtbot) as (scene, _state, layers, ghosts):
+        layers.set_colour(0, (0.1, 0.2, 0.3))
+        assert ghosts.parts["ghost_0_1"].actor.GetProperty().GetColor() == pytest.approx((0.1, 0.2, 0.3))
+        layers.set_opacity(0, 0.25)
+        assert ghosts.parts["ghost_0_0"].actor.GetProperty().GetOpacity() == pytest.approx(0.25)
+        layers.set_visible(0, False)  # hidden: no ghost drawn, no active layer, no error view
+        assert not ghosts.parts["ghost_0_0"].visible and not ghosts.parts["ghost_0_1"].visible
+        assert ghosts.error_joints is None and "error_joints" not in ghosts.parts
+        scene.show_frame(1)
+        assert not ghosts.parts["ghost_0_1"].visible
+        layers.remove(0)
+        assert ghosts.parts == {} and ghosts.ghosts == []
+        scene.show_frame(2)  # nothing to write
+
+
+def test_ghosts_are_blended_in_drawing_order_and_the_renderers_setting_comes_back(qtbot):
+    with compared(qtbot, oit=True) as (scene, _state, layers, ghosts):
+        renderer = scene.plotter.renderer
+        assert not renderer.GetUseOIT()  # ghosts shown: no order-independent translucency
+        layers.remove(0)
+        assert renderer.GetUseOIT()  # no ghost: the renderer's own setting
+        layers.add(snapshot_of(b_motion()), "b.gmr", offset=0.0, align="none")
+        assert not renderer.GetUseOIT()
+        scene.remove_drawable(ghosts)
+        assert renderer.GetUseOIT()
+    with compared(qtbot, oit=False) as (scene, _state, layers, ghosts):
+        layers.remove(0)
+        assert not scene.plotter.renderer.GetUseOIT()
+
+
+def test_the_error_view_colours_the_matched_joints_and_links_them_to_their_matches(qtbot):
+    with compared(qtbot) as (scene, state, layers, ghosts):
+        comparison = layers[0].comparison
+        assert ghosts.top == pytest.approx(HAND_ERROR)
+        spheres, lines = ghosts.error_joints, ghosts.error_lines
+        assert spheres is ghosts.parts["error_joints"] and lines is ghosts.parts["error_lines"]
+        assert spheres.n_points == 6 and spheres.radius == pytest.approx(0.021 * FIGURE_SIZE)
+        assert lines.n_points == 12
+        cells = lines.mesh.lines.reshape(-1, 3)
+        np.testing.assert_array_equal(cells, np.column_stack([np.full(6, 2), np.arange(6), 6 + np.arange(6)]))
+        prop = lines.actor.GetProperty()
+        assert prop.GetColor() == pytest.approx((0.95, 0.95, 0.95)) and prop.GetLineWidth() == pytest.approx(1.5)
+        expected = rgb_bytes(error_colours(np.array([0.05] * 5 + [HAND_ERROR]), HAND_ERROR))
+        np.testing.assert_array_equal(ghosts.error_rgb[:4], np.broadcast_to(expected, (4, 6, 3)))
+        assert (expected[:5] != expected[5]).any()  # the Hand's colour is another
+        scene.show_frame(2)
+        np.testing.assert_array_equal(spheres.mesh.point_data["colors"], expected)
+        np.testing.assert_allclose(spheres.mesh.points, comparison.positions_a[2])
+        np.testing.assert_allclose(lines.mesh.points, np.concatenate([comparison.positions_a[2], layers[0].ghost[2]]))
+        scene.show_frame(4)  # B has no sample: grey, the lines of no length
+        np.testing.assert_array_equal(spheres.mesh.point_data["colors"], np.full((6, 3), 128))
+        a = state.snapshot.positions[4]
+        np.testing.assert_allclose(lines.mesh.points, np.concatenate([a, a]))
+        ghosts.set_show_errors(False)
+        assert ghosts.show_errors is False and ghosts.error_joints is None and ghosts.error_lines is None
+        assert not {"error_joints", "error_lines", "error_legend"} & set(ghosts.parts)
+        ghosts.set_show_errors(True)
+        assert ghosts.error_joints is not None and ghosts.parts["error_legend"].actor is ghosts.legend
+
+
+def test_a_frame_not_compared_shows_the_documents_joints_in_grey(qtbot):
+    state = StudioState()
+    state.open_document(snapshot_of(figure_motion(6)), "a.gmr")
+    layers = Layers(state)
+    with scene_of(state.snapshot) as scene:
+        ghosts = GhostLayers(state, layers)
+        scene.add_drawable(ghosts)
+        b = snapshot_of(b_motion(FIGURE_NAMES[1:]))  # no Root: A's joints 1 to 5 matched
+        layer = ComparisonLayer(b, "b.gmr", (0.3, 0.6, 0.9), offset=0.0)
+        layer.comparison = compare_motions(state.motion, b.motion, offset=0.0, frames=(0, 3), label_b="b.gmr")
+        a = state.motion
+        layer.ghost = ghost_positions(
+            b.positions, a.n_frames, a.frame_rate, b.motion.frame_rate, layer.comparison.alignment
+        )
+        layers.layers.append(layer)
+        layers.changed.emit()
+        assert layer.comparison.index_a.tolist() == [1, 2, 3, 4, 5] and layer.comparison.row_of_frame(3) is None
+        scene.show_frame(1)
+        np.testing.assert_allclose(ghosts.error_joints.mesh.points, layer.comparison.positions_a[1])
+        scene.show_frame(3)
+        np.testing.assert_array_equal(ghosts.error_joints.mesh.point_data["colors"], np.full((5, 3), 128))
+        points = state.snapshot.positions[3, 1:]
+        np.testing.assert_allclose(ghosts.error_joints.mesh.points, points)
+        np.testing.assert_allclose(ghosts.error_lines.mesh.points, np.concatenate([points, points]))
+
+
+def test_the_legend_runs_from_zero_to_the_top_in_the_maps_colours(qtbot):
+    with compared(qtbot) as (scene, _state, _layers, ghosts):
+        legend = ghosts.legend
+        assert holds(scene.plotter.renderer, legend) and ghosts.parts["error_legend"].n_points == 0
+        assert legend.GetTitle() == "error (file units)"
+        table = legend.GetLookupTable()
+        assert table.GetRange() == pytest.approx((0.0, HAND_ERROR))
+        assert table.GetNumberOfTableValues() == 256
+        values = np.array([table.GetTableValue(i) for i in range(256)])
+        expected = error_colours(np.linspace(0.0, HAND_ERROR, 256), HAND_ERROR)
+        np.testing.assert_allclose(values[:, :3], expected, atol=0.51 / 255)  # the table keeps bytes
+        np.testing.assert_array_equal(values[:, 3], 1.0)
+        # a bar at the view's right, below its middle, five labels of three digits
+        assert legend.GetPositionCoordinate().GetValue()[:2] == pytest.approx((0.86, 0.08))
+        assert (legend.GetWidth(), legend.GetHeight()) == pytest.approx((0.08, 0.4))
+        assert (legend.GetMaximumWidthInPixels(), legend.GetMaximumHeightInPixels()) == (70, 260)
+        assert legend.GetNumberOfLabels() == 5 and legend.GetLabelFormat() == "%.3g"
+        for text in (legend.GetTitleTextProperty(), legend.GetLabelTextProperty()):
+            assert text.GetFontSize() == 13 and not text.GetBold() and not text.GetItalic()
+            assert text.GetColor() == pytest.approx((0.9, 0.9, 0.9))
+
+
+def test_a_marker_layer_is_spheres_in_its_colour_gaps_not_drawn(qtbot):
+    state = StudioState()
+    state.open_document(snapshot_of(figure_motion(6)), "a.gmr")
+    layers = Layers(state)
+    points = np.arange(6 * 2 * 3, dtype=float).reshape(6, 2, 3) / 10
+    points[2, 1] = np.nan  # a gap
+    markers = MarkerSet(labels=("m0", "m1"), positions=points, rate=30.0, units="m")
+    layer = MarkerLayer(markers, "m.trc", (0.9, 0.1, 0.5), overlay=MarkerOverlay(markers, None, points))
+    with scene_of(state.snapshot) as scene:
+        ghosts = GhostLayers(state, layers)
+        scene.add_drawable(ghosts)
+        layers.layers.append(layer)
+        layers.changed.emit()
+        (spheres,) = ghosts.ghosts[0]
+        assert ghosts.parts["ghost_0_0"] is spheres and spheres.n_points == 2
+        assert spheres.radius == pytest.approx(0.011 * FIGURE_SIZE)
+        prop = spheres.actor.GetProperty()
+        assert prop.GetColor() == pytest.approx((0.9, 0.1, 0.5)) and prop.GetOpacity() == pytest.approx(0.9)
+        assert ghosts.error_joints is None  # a marker set is drawn, not compared
+        for frame in (1, 5):
+            scene.show_frame(frame)
+            np.testing.assert_allclose(spheres.mesh.points, points[frame])
+            assert spheres.visible and spheres.drawn.all()
+        scene.show_frame(2)
+        assert spheres.drawn.tolist() == [True, False]
+        layers.set_visible(0, False)  # rebuilt: a new part, hidden at every frame
+        scene.show_frame(3)
+        assert not ghosts.parts["ghost_0_0"].visible
+        layers.set_visible(0, True)
+        (spheres,) = ghosts.ghosts[0]
+        ghosts.set_visible(False)
+        ghosts.show_frame(4)
+        assert not spheres.visible
+        ghosts.set_visible(True)
+        assert spheres.visible
+        np.testing.assert_allclose(spheres.mesh.points, points[3])
+
+
+def test_no_document_no_ghost(qtbot):
+    state = StudioState()
+    layers = Layers(state)
+    with scene_of(None) as scene:
+        ghosts = GhostLayers(state, layers)
+        scene.add_drawable(ghosts)
+        assert ghosts.parts == {} and ghosts.ghosts == [] and ghosts.error_joints is None
+        ghosts.set_visible(True)  # no snapshot: no frame to show
+        ghosts.show_frame(0)
+
+
+def test_a_ghost_or_marker_layer_shorter_than_the_document_shows_its_last_frame(qtbot):
+    """After an edit that lengthens the document (an undone trim), the view rebuilds before
+    the layers recompute (its slots are connected first): for that moment a layer has fewer
+    frames than the document and shows its last one. A marker layer before a motion layer
+    does not stop the motion layer's frame."""
+    state = StudioState()
+    state.open_document(snapshot_of(figure_motion(6)), "a.gmr")
+    layers = Layers(state)
+    points = np.arange(4 * 2 * 3, dtype=float).reshape(4, 2, 3) / 10  # four frames of six
+    markers = MarkerSet(labels=("m0", "m1"), positions=points, rate=30.0, units="m")
+    with scene_of(state.snapshot) as scene:
+        ghosts = GhostLayers(state, layers)
+        scene.add_drawable(ghosts)
+        layers.layers.append(
+            MarkerLayer(markers, "m.trc", (0.9, 0.1, 0.5), overlay=MarkerOverlay(markers, None, points))
+        )
+        whole = posed_motion(
+            FIGURE_NAMES, FIGURE_PARENTS, figure_world(6) + np.array([0.0, 0.0, 0.05]), FIGURE_SOFT_PARENTS
+        )
+        layer = layers.add(snapshot_of(whole), "b.gmr", offset=0.0, align="none")
+        (spheres,), (_, joints) = ghosts.ghosts
+        scene.show_frame(5)  # the ghost's last frame (B has all six)
+        np.testing.assert_allclose(joints.mesh.points, layer.ghost[5])
+        np.testing.assert_allclose(spheres.mesh.points, points[3])
+        scene.show_frame(1)
+        np.testing.assert_allclose(joints.mesh.points, layer.ghost[1])
+        np.testing.assert_allclose(spheres.mesh.points, points[1])
+        layer.ghost = layer.ghost[:3]  # as computed for a three-frame document
+        scene.redraw(ghosts)
+        (spheres,), (_, joints) = ghosts.ghosts
+        scene.show_frame(4)
+        np.testing.assert_allclose(joints.mesh.points, layer.ghost[2])
+        np.testing.assert_allclose(spheres.mesh.points, points[3])
+
+
+def test_hiding_writes_no_frame_and_needs_no_scene(qtbot):
+    state = StudioState()
+    lone = GhostLayers(state, Layers(state))
+    lone.set_visible(False)  # not in a scene yet: nothing to write
+    lone.set_visible(True)
+    assert lone.visible and lone.parts == {}
+    with compared(qtbot) as (scene, _state, layers, ghosts):
+        joints = ghosts.parts["ghost_0_1"]
+        scene.show_frame(1)
+        ghosts.set_visible(False)
+        scene.show_frame(2)  # hidden drawables are skipped...
+        ghosts.set_visible(False)  # ... and hiding again writes nothing either
+        np.testing.assert_allclose(joints.mesh.points, layers[0].ghost[1])
