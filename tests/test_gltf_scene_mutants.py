@@ -203,3 +203,29 @@ def test_a_float32_rotation_and_scale_is_not_a_shear():
     assert t.tolist() == [[0.5, 0, 0]]
     np.testing.assert_allclose(s, [[0.01, 0.02, 0.03]], rtol=1e-6)
     assert abs(q[0] @ turn.as_quat()) == pytest.approx(1.0, abs=1e-12)
+
+
+def test_a_mirror_with_tiny_scales_is_still_a_mirror():
+    """The mirror is told by the unit columns' determinant: the matrix's own, a product of
+    three scales of 1e-110, underflows to -0.0 and would read the mirror as a rotation."""
+    turn = Rotation.from_rotvec([0.3, 0.2, -0.4])
+    linear = turn.as_matrix() @ np.diag([-1e-110, 1e-110, 1e-110])
+    assert np.linalg.det(linear) == 0.0  # the underflow this guards against
+    _t, q, s = static_trs(document([{"matrix": _column_major(linear, [0, 0, 0])}]))
+    np.testing.assert_allclose(s, [[-1e-110, 1e-110, 1e-110]], rtol=1e-14)
+    np.testing.assert_allclose(Rotation.from_quat(q[0]).as_matrix() @ np.diag(s[0]), linear, rtol=0, atol=1e-124)
+
+
+def test_a_shear_exactly_at_the_tolerance_is_kept(monkeypatch):
+    """The shear allowed is at most SHEAR_TOLERANCE: a matrix exactly at it reads as T R S,
+    one a float above it is refused."""
+    import gmr_studio.core.formats.gltf_in.scene as scene_module
+
+    linear = np.array([[1.0, 3e-6, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    unit = linear / np.linalg.norm(linear, axis=0)
+    shear = float(np.abs(unit.T @ unit - np.eye(3)).max())
+    monkeypatch.setattr(scene_module, "SHEAR_TOLERANCE", shear)
+    assert static_trs(document([{"matrix": _column_major(linear, [0, 0, 0])}]))[2].shape == (1, 3)
+    monkeypatch.setattr(scene_module, "SHEAR_TOLERANCE", np.nextafter(shear, 0.0))
+    with pytest.raises(MotionFileError, match="its matrix shears"):
+        static_trs(document([{"matrix": _column_major(linear, [0, 0, 0])}]))

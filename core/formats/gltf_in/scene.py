@@ -62,14 +62,14 @@ def static_trs(doc: GltfDocument) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             lengths = np.linalg.norm(linear, axis=0)
             if not (lengths > 0).all():
                 raise doc.error(f"{where}: its matrix collapses an axis (scale 0)")
-            cosines = (linear / lengths).T @ (linear / lengths)  # the identity for a rotation times a scale
-            shear = float(np.abs(cosines - np.eye(3)).max())
+            unit = linear / lengths  # a rotation, or a mirror, for a T R S matrix
+            shear = float(np.abs(unit.T @ unit - np.eye(3)).max())
             if not shear <= SHEAR_TOLERANCE:
                 raise doc.error(
                     f"{where}: its matrix shears (its columns' cosines differ from the identity's by {shear:.3g}), "
                     "so it is no translation, rotation and scale (T R S), as glTF requires of a node matrix"
                 )
-            if np.linalg.det(linear) < 0:
+            if np.linalg.det(unit) < 0:  # not det(linear): tiny scales underflow it to -0.0
                 lengths[0] = -lengths[0]  # a mirror: the TRS the specification asks for has one negative scale
             translation[index] = matrix[:3, 3]
             rotation[index] = np.roll(quaternion_from_matrix(linear / lengths), -1)
