@@ -294,6 +294,17 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ["tests/test_markers_solve_mutants.py", "tests/test_markers_root_fit.py", "tests/test_markers_solve.py"],
         60,
     ),
+    # the view's GPU parts: small parts drawn off screen (their arrays, actors and pixels), then
+    # the imposters' first picture tests (a second in all: no window, no real file)
+    "app/scene/vtk_parts.py": (
+        [
+            "tests/test_vtk_parts_arrays.py",
+            "tests/test_vtk_parts_pictures.py",
+            "tests/test_app_drawables.py::test_imposter_spheres_cover_their_disc_and_a_missing_point_draws_nothing",
+            "tests/test_app_drawables.py::test_imposter_bones_run_from_joint_to_joint",
+        ],
+        60,
+    ),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
