@@ -300,6 +300,17 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "app/scene/highlight.py": (["tests/test_scene_highlight_mutants.py"], 60),
     "app/scene/problem_marks.py": (["tests/test_scene_problem_marks_mutants.py"], 60),
     "app/scene/ghost_layer.py": (["tests/test_scene_ghost_layer_mutants.py"], 60),
+    # the view's GPU parts: small parts drawn off screen (their arrays, actors and pixels), then
+    # the imposters' first picture tests (a second in all: no window, no real file)
+    "app/scene/vtk_parts.py": (
+        [
+            "tests/test_vtk_parts_arrays.py",
+            "tests/test_vtk_parts_pictures.py",
+            "tests/test_app_drawables.py::test_imposter_spheres_cover_their_disc_and_a_missing_point_draws_nothing",
+            "tests/test_app_drawables.py::test_imposter_bones_run_from_joint_to_joint",
+        ],
+        60,
+    ),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
