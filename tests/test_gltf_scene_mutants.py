@@ -229,3 +229,13 @@ def test_a_shear_exactly_at_the_tolerance_is_kept(monkeypatch):
     monkeypatch.setattr(scene_module, "SHEAR_TOLERANCE", np.nextafter(shear, 0.0))
     with pytest.raises(MotionFileError, match="its matrix shears"):
         static_trs(document([{"matrix": _column_major(linear, [0, 0, 0])}]))
+
+
+def test_a_rotation_within_the_shear_tolerance_is_no_mirror():
+    """Columns of unit length 5e-6 from perpendicular (inside the tolerance): the
+    determinant is a hair under 1 (1 - 1.25e-11), still a rotation with positive scales."""
+    linear = np.array([[1.0, 5e-6, 0.0], [0.0, np.sqrt(1 - 25e-12), 0.0], [0.0, 0.0, 1.0]])
+    assert 0.999 < np.linalg.det(linear) < 1.0
+    _t, q, s = static_trs(document([{"matrix": _column_major(linear, [0, 0, 0])}]))
+    np.testing.assert_allclose(s, [[1.0, 1.0, 1.0]], rtol=0, atol=1e-15)
+    assert abs(q[0][3]) == pytest.approx(1.0, abs=1e-10)  # nearly the identity, not a half turn
