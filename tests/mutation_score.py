@@ -294,6 +294,8 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ["tests/test_markers_solve_mutants.py", "tests/test_markers_root_fit.py", "tests/test_markers_solve.py"],
         60,
     ),
+    # the view's overlays (issue 24): a stand-in scene with a bare renderer, a tiny synthetic motion
+    "app/scene/overlays.py": (["tests/test_app_overlays_mutants.py"], 60),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
