@@ -85,16 +85,38 @@ def _grid(across: tuple[int, int], up: int, a, b, floor: float) -> np.ndarray:
 
 def test_the_ground_grid_spans_the_path_with_a_margin_at_the_lowest_point():
     # size 4: a step of 1 (nice_step(4 / 4)) and a margin of 1.6; a NaN row is left out
-    positions = np.array([[[0.0, 0.0, -0.5], [2.0, 1.0, 1.5]], [[np.nan, 9.0, 9.0], [1.0, 0.5, 0.0]]])
+    positions = np.array([[[0.0, 3.0, -0.5], [2.0, 4.0, 1.5]], [[np.nan, 9.0, 9.0], [1.0, 3.5, 0.0]]])
     coords, (low, high, floor) = overlays.ground_lines(positions, 4.0, 2)
-    np.testing.assert_array_equal(low, [0.0, 0.0, -0.5])
-    np.testing.assert_array_equal(high, [2.0, 1.0, 1.5])
+    np.testing.assert_array_equal(low, [0.0, 3.0, -0.5])
+    np.testing.assert_array_equal(high, [2.0, 4.0, 1.5])
     assert floor == -0.5
-    np.testing.assert_array_equal(coords, _grid((0, 1), 2, range(-2, 5), range(-2, 4), -0.5))
+    np.testing.assert_array_equal(coords, _grid((0, 1), 2, range(-2, 5), range(1, 7), -0.5))
     # Y up: the grid lies in X and Z at the lowest Y; size 8: a step of 2 and a margin of 3.2
     coords, (_, _, floor) = overlays.ground_lines(positions[..., [0, 2, 1]], 8.0, 1)
     assert floor == -0.5
-    np.testing.assert_array_equal(coords, _grid((0, 2), 1, range(-4, 7, 2), range(-4, 7, 2), -0.5))
+    np.testing.assert_array_equal(coords, _grid((0, 2), 1, range(-4, 7, 2), range(-2, 9, 2), -0.5))
+
+
+@pytest.mark.parametrize(
+    ("size", "a", "b"),
+    [
+        (6.0, range(-4, 7, 2), range(-4, 5, 2)),  # a quarter is 1.5: steps of 2 (a fifth, 1.2, would give 1)
+        (4.8, range(-2, 5), range(-2, 4)),  # a quarter is 1.2: steps of 1 (a third, 1.6, would give 2)
+    ],
+)
+def test_the_grids_step_is_the_nice_step_nearest_a_quarter_of_the_size(size, a, b):
+    positions = np.array([[[0.0, 0.0, 0.0], [2.0, 1.0, 1.0]]])
+    coords, _ = overlays.ground_lines(positions, size, 2)
+    np.testing.assert_allclose(coords, _grid((0, 1), 2, a, b, 0.0), rtol=0, atol=1e-12)
+
+
+def test_the_grid_ends_at_its_last_step_whatever_the_rounding_of_tenths():
+    # steps of 0.1 (size 0.3): the lines from 0.6 to 1.1 are not multiples of 0.1 in binary,
+    # yet there are six of them each way and none beyond 1.1
+    positions = np.array([[[0.82, 0.82, 0.0], [0.97, 0.97, 0.1]]])
+    coords, _ = overlays.ground_lines(positions, 0.3, 2)
+    ticks = np.linspace(0.6, 1.1, 6)
+    np.testing.assert_allclose(coords, _grid((0, 1), 2, ticks, ticks, 0.0), rtol=0, atol=1e-12)
 
 
 def test_triads_run_one_segment_along_each_column_of_the_rotation():
@@ -205,11 +227,11 @@ def test_joint_labels_are_placed_beside_the_joints_at_the_frame(snapshot):
 
 
 def _marker_overlay(n_frames: int = N_FRAMES) -> MarkerOverlay:
-    """Three markers; LASI missing at frame 2 and C7 at the last frame."""
-    positions = np.random.default_rng(5).normal(size=(n_frames, 3, 3))
+    """Four markers; LASI missing at frame 2 and C7 at the last frame."""
+    positions = np.random.default_rng(5).normal(size=(n_frames, 4, 3))
     positions[2, 1] = np.nan
     positions[-1, 2, 0] = np.nan
-    return MarkerOverlay(SimpleNamespace(labels=("RASI", "LASI", "C7")), None, positions)
+    return MarkerOverlay(SimpleNamespace(labels=("RASI", "LASI", "C7", "T10")), None, positions)
 
 
 def _markers(snapshot) -> tuple[StandInScene, overlays.Markers]:
@@ -240,8 +262,9 @@ def test_markers_are_spheres_where_present_and_the_selected_ones_ring(snapshot):
     assert not ring.visible  # nothing selected
     positions = markers.overlay.positions
     markers.show_frame(2)
-    np.testing.assert_array_equal(spheres.drawn, [True, False, True])
-    np.testing.assert_array_equal(_points(spheres)[[0, 2]], positions[2, [0, 2]])
+    assert spheres.n_points == 4
+    np.testing.assert_array_equal(spheres.drawn, [True, False, True, True])
+    np.testing.assert_array_equal(_points(spheres)[[0, 2, 3]], positions[2, [0, 2, 3]])
     scene.frame = 2
     markers.set_highlight(None, 1)  # selected where it is missing: no ring
     markers.show_frame(2)
