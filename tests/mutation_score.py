@@ -296,6 +296,9 @@ MODULES: dict[str, tuple[list[str], float]] = {
     ),
     # the view's overlays (issue 24): a stand-in scene with a bare renderer, a tiny synthetic motion
     "app/scene/overlays.py": (["tests/test_app_overlays_mutants.py"], 60),
+    # the dock policy: plain widgets and tabbed docks of a small main window (the app's docks'
+    # own tests open the real window on a real take: seconds a mutant)
+    "app/docks/frame_follow.py": (["tests/test_app_frame_follow_mutants.py"], 60),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
