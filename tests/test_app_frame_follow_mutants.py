@@ -64,6 +64,25 @@ def test_a_visible_widget_follows_every_frame_and_a_hidden_one_catches_up_once_s
     assert updates == [3, 4, 5, 5, 8] and follower.calls == 5 and not follower.stale
 
 
+def test_nothing_missed_nothing_updated_and_a_widget_moved_into_sight_catches_up(qtbot):
+    state, parent = FrameState(), QWidget()
+    qtbot.addWidget(parent)
+    parent.resize(200, 100)
+    fresh, moved = QLabel("fresh", parent), QLabel("moved", parent)
+    moved.setGeometry(500, 0, 50, 20)  # outside its parent: shown, yet nothing of it is seen
+    updates = {"fresh": [], "moved": []}
+    followers = {name: follow_frame(w, state, updates[name].append) for name, w in (("fresh", fresh), ("moved", moved))}
+    parent.show()
+    qtbot.waitExposed(parent)
+    assert updates == {"fresh": [], "moved": []} and followers["fresh"].calls == 0  # no frame missed yet
+    state.set_frame(6)
+    assert updates == {"fresh": [6], "moved": []} and followers["moved"].stale
+    moved.move(10, 40)  # into sight: brought to the frame at once
+    assert seen(moved) and updates == {"fresh": [6], "moved": [6]} and not followers["moved"].stale
+    moved.move(20, 40)
+    assert updates == {"fresh": [6], "moved": [6]}
+
+
 def test_a_dock_behind_another_tab_waits_until_it_is_in_front(qtbot):
     state, window = FrameState(), QMainWindow()
     qtbot.addWidget(window)

@@ -4,7 +4,8 @@
 :class:`FrameFollower`: while the widget is seen (its dock shown and its tab in front) every
 frame change calls it at once, so it is painted in the same pass as the view and the
 timeline and never lags; while unseen nothing runs, the follower only notes the frame, and
-brings the widget up to date when it is seen again (shown, or its tab brought to front). A
+brings the widget up to date at the first event it gets once seen again (shown, its tab
+brought to front, moved or resized into sight), before it is painted. A
 dock is therefore updated at most once per drawn frame (the state emits one frame change
 per frame drawn) and never while nobody can see it.
 
@@ -69,7 +70,7 @@ class FrameFollower(QObject):
             self.update(self.state.frame)
 
     def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 (Qt's name)
-        if watched is self.widget and event.type() == QEvent.Type.Show:
+        if watched is self.widget:  # shown, or moved, resized or painted into sight
             self._catch_up()
         return False
 
