@@ -12,10 +12,12 @@ from PyQt6.QtWidgets import QDockWidget, QLabel, QMainWindow, QSizePolicy, QWidg
 
 from gmr_studio.app.docks.frame_follow import seen
 from gmr_studio.app.window import layout
+from tests import app_fixtures
 
 pytestmark = pytest.mark.gui
 RIGHT, BOTTOM = Qt.DockWidgetArea.RightDockWidgetArea, Qt.DockWidgetArea.BottomDockWidgetArea
 HORIZONTAL, VERTICAL = Qt.Orientation.Horizontal, Qt.Orientation.Vertical
+studio = app_fixtures.studio
 
 
 def test_the_side_column_is_a_fifth_of_the_window_within_its_limits():
@@ -181,3 +183,96 @@ def test_a_layout_is_restored_only_from_this_version(qtbot, tmp_path):
     settings.setValue("window/state", window.saveState(2))
     side[1].show()
     assert layout.restore_layout(window, settings) and side[1].isHidden()  # the saved state applied
+
+
+class StubDock:
+    """What fit_docks reads of a dock: visible, floating, width, height."""
+
+    def __init__(self, width: int = 0, height: int = 0, *, visible: bool = True, floating: bool = False) -> None:
+        self.size, self.visible, self.floating = (width, height), visible, floating
+
+    def isVisible(self) -> bool:
+        return self.visible
+
+    def isFloating(self) -> bool:
+        return self.floating
+
+    def width(self) -> int:
+        return self.size[0]
+
+    def height(self) -> int:
+        return self.size[1]
+
+
+class StubWindow(StubDock):
+    """A window that records the docks it is asked to resize: (docks, sizes, orientation)."""
+
+    def __init__(self, width: int, height: int) -> None:
+        super().__init__(width, height)
+        self.resized: list[tuple[list, list[int], Qt.Orientation]] = []
+
+    def resizeDocks(self, docks, sizes, orientation) -> None:
+        self.resized.append((list(docks), list(sizes), orientation))
+
+
+def _fit(view_size: tuple[int, int], side: list[StubDock], bottom: list[StubDock], window=(1000, 1000)) -> list:
+    stub = StubWindow(*window)
+    layout.fit_docks(stub, StubDock(*view_size), side, bottom)
+    return stub.resized
+
+
+def test_the_column_gives_way_below_59_percent_of_the_area_only():
+    column = [StubDock(300, 400), StubDock(300, 400)]  # wider than its 230 pixels
+    assert _fit((589, 1000), column, []) == [(column, [230, 230], HORIZONTAL)]
+    assert _fit((590, 1000), column, []) == []  # 59% exactly: kept
+    assert _fit((600, 1000), column, []) == []
+    hidden = [StubDock(300, 400, visible=False), StubDock(400, 400, floating=True)]
+    assert _fit((500, 1000), hidden, []) == []  # no docked column: nothing to fit
+    docked = StubDock(250, 400)
+    assert _fit((500, 1000), [*hidden, docked], []) == [([docked], [230], HORIZONTAL)]  # its width alone counts
+
+
+def test_a_squeezed_column_comes_back_only_below_199_pixels_beside_a_wide_view():
+    def widened(width: int, view: int) -> bool:
+        return bool(_fit((view, 1000), [StubDock(width, 400)], [], window=(1000, 1000)))
+
+    assert widened(198, 431) and not widened(199, 431)  # narrower than 2 x 100 - 1 pixels
+    assert widened(100, 431) and not widened(100, 430)  # the view keeps more than 200 pixels
+
+
+def test_tall_bottom_docks_go_back_to_240_pixels_below_35_percent_of_the_area_only():
+    tall, short = StubDock(1000, 500), StubDock(1000, 100)
+    hidden, floating = StubDock(1000, 600, visible=False), StubDock(1000, 600, floating=True)
+    bottom = [tall, short, hidden, floating]
+    assert _fit((1000, 349), [], bottom) == [([tall], [240], VERTICAL)]  # only the visible docked tall one
+    assert _fit((1000, 350), [], bottom) == []  # 35% exactly: kept
+    assert _fit((1000, 349), [], [short, hidden, floating]) == []
+
+
+def test_a_dock_shown_beside_two_apart_joins_the_first_ones_tabs(qtbot):
+    window, _, _, (curves, contacts, error) = _window(qtbot)
+    curves.show(), contacts.show()
+    window.splitDockWidget(curves, contacts, HORIZONTAL)  # side by side, not tabbed
+    qtbot.waitUntil(lambda: seen(curves) and seen(contacts))
+    layout.tab_when_shown(window, [curves, contacts, error])
+    error.show()
+    qtbot.waitUntil(lambda: seen(error) and not seen(curves))
+    assert window.tabifiedDockWidgets(curves) == [error] and window.tabifiedDockWidgets(contacts) == []
+    assert seen(contacts)
+    curves.raise_()  # a tab switch: the docks stay where they are (they were once moved, and Qt crashed)
+    qtbot.waitUntil(lambda: seen(curves) and not seen(error))
+    error.hide()  # the tab in front hidden: the same
+    qtbot.waitUntil(lambda: not error.isVisible())
+    assert seen(curves) and seen(contacts) and window.tabifiedDockWidgets(contacts) == []
+    error.show()  # back among the curves' tabs, in front
+    qtbot.waitUntil(lambda: seen(error) and not seen(curves))
+    assert window.tabifiedDockWidgets(curves) == [error] and window.tabifiedDockWidgets(contacts) == []
+
+
+def test_the_window_never_squeezes_the_view_the_slider_or_the_column_below_their_minimums(studio):
+    """Issue 13: at any window size the view keeps 200 x 150 pixels, the frame slider 120
+    pixels, and the Forest and Inspector 100 pixels of content."""
+    view = studio.view
+    assert (view.minimumWidth(), view.minimumHeight()) == (200, 150)
+    assert studio.timeline.slider.minimumWidth() == 120
+    assert [d.widget().minimumWidth() for d in (studio.forest_dock, studio.inspector_dock)] == [100, 100]
