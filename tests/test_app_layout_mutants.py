@@ -8,7 +8,7 @@ from types import SimpleNamespace
 
 import pytest
 from PyQt6.QtCore import QSettings, QSize, Qt
-from PyQt6.QtWidgets import QDockWidget, QLabel, QMainWindow, QSizePolicy, QWidget
+from PyQt6.QtWidgets import QDockWidget, QLabel, QMainWindow, QSizePolicy, QTabBar, QWidget
 
 from gmr_studio.app.docks.frame_follow import seen
 from gmr_studio.app.window import layout
@@ -51,32 +51,31 @@ def test_the_timeline_strip_is_as_tall_as_its_widgets_need(qtbot):
     assert dock.widget().maximumHeight() == 37
 
 
-def _window(qtbot, size=(1400, 900)) -> tuple[QMainWindow, QWidget, list[QDockWidget], list[QDockWidget]]:
-    """A main window: a view, a Forest/Inspector column on the right, three hidden bottom docks."""
+def _window(
+    qtbot, size=(1400, 900), bottom=("curves", "contacts", "error"), *, tabbed: bool = False
+) -> tuple[QMainWindow, QWidget, list[QDockWidget], list[QDockWidget]]:
+    """A main window: a view, a Forest/Inspector column on the right, hidden bottom docks
+    (tabbed when shown, ``tabbed``, from before the window is shown, as the app does)."""
     window = QMainWindow()
     qtbot.addWidget(window)
     view = QLabel("view")
     window.setCentralWidget(view)
     docks = {}
-    for name, area in (
-        ("forest", RIGHT),
-        ("inspector", RIGHT),
-        ("curves", BOTTOM),
-        ("contacts", BOTTOM),
-        ("error", BOTTOM),
-    ):
+    for name, area in {"forest": RIGHT, "inspector": RIGHT, **dict.fromkeys(bottom, BOTTOM)}.items():
         dock = docks[name] = QDockWidget(name, window)
         dock.setObjectName(name)
         dock.setWidget(QLabel(name))
         window.addDockWidget(area, dock)
     window.splitDockWidget(docks["forest"], docks["inspector"], VERTICAL)
-    bottom = [docks["curves"], docks["contacts"], docks["error"]]
-    for dock in bottom:
+    hidden = [docks[name] for name in bottom]
+    for dock in hidden:
         dock.hide()
+    if tabbed:
+        layout.tab_when_shown(window, hidden)
     window.resize(*size)
     window.show()
     qtbot.waitExposed(window)
-    return window, view, [docks["forest"], docks["inspector"]], bottom
+    return window, view, [docks["forest"], docks["inspector"]], hidden
 
 
 def test_analysis_docks_open_at_a_usable_height_and_tab_together(qtbot):
@@ -276,3 +275,32 @@ def test_the_window_never_squeezes_the_view_the_slider_or_the_column_below_their
     assert (view.minimumWidth(), view.minimumHeight()) == (200, 150)
     assert studio.timeline.slider.minimumWidth() == 120
     assert [d.widget().minimumWidth() for d in (studio.forest_dock, studio.inspector_dock)] == [100, 100]
+
+
+def test_a_single_analysis_dock_opens_at_a_usable_height(qtbot):
+    window, _, _, (curves, _, _) = _window(qtbot)
+    layout.tab_when_shown(window, [curves])
+    curves.show()
+    qtbot.waitUntil(lambda: curves.height() == 240)
+
+
+def _tabs(window: QMainWindow) -> list[list[str]]:
+    """The titles on each tab bar of the window's dock areas."""
+    bars = [bar for bar in window.findChildren(QTabBar) if bar.count() > 1]
+    return [[bar.tabText(i) for i in range(bar.count())] for bar in bars]
+
+
+def test_a_dock_shown_again_comes_back_to_its_place_among_its_tabs_in_front(qtbot):
+    names = ("curves", "error", "problems", "contacts")  # the dock apart last: listed after the tabs
+    window, _, _, (curves, error, problems, contacts) = _window(qtbot, bottom=names, tabbed=True)
+    curves.show(), contacts.show()
+    window.addDockWidget(Qt.DockWidgetArea.LeftDockWidgetArea, contacts)  # put apart by the user
+    qtbot.waitUntil(lambda: seen(curves) and seen(contacts))
+    error.show(), problems.show()  # tabs of the curves, the first shown
+    qtbot.waitUntil(lambda: seen(problems))
+    assert _tabs(window) == [["curves", "error", "problems"]] and seen(contacts)
+    error.hide()
+    qtbot.waitUntil(lambda: not error.isVisible())
+    error.show()
+    qtbot.waitUntil(lambda: seen(error))  # in front, in its place (not moved to the end)
+    assert _tabs(window) == [["curves", "error", "problems"]] and seen(contacts) and not seen(problems)
