@@ -302,6 +302,10 @@ MODULES: dict[str, tuple[list[str], float]] = {
     # the layout's rules on a small main window of plain widgets (the real window's layout tests
     # open a real take at two sizes: ten seconds a mutant)
     "app/window/layout.py": (["tests/test_app_layout_mutants.py"], 60),
+    # the view's widget kind: environments given as dicts, the process-wide choice reset per test
+    "app/scene/render_widget.py": (["tests/test_app_render_widget_mutants.py"], 60),
+    # the classroom's drawing: a tiny synthetic motion, a stand-in scene with bare renderers
+    "app/scene/teach_overlay.py": (["tests/test_app_teach_overlay_mutants.py"], 60),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
