@@ -5,6 +5,7 @@ colours, widths, frames and visibility, in a stand-in scene with bare VTK render
 
 from __future__ import annotations
 
+import dataclasses
 from types import SimpleNamespace
 
 import numpy as np
@@ -42,7 +43,8 @@ def test_the_bones_turn_with_the_amount_from_the_posed_skeleton(snapshot, amount
     np.testing.assert_array_equal(geometry.chain, positions[[0, 1, 3]])
     np.testing.assert_allclose(geometry.pre, [positions[1], _turned(snapshot, 4, 3, amount)], rtol=0, atol=1e-12)
     np.testing.assert_allclose(geometry.post, [positions[3], _turned(snapshot, 4, 4, amount)], rtol=0, atol=1e-12)
-    geometry = teaching_geometry(snapshot, 1, 4, amount)  # two children: two post bones
+    geometry = teaching_geometry(snapshot, 1, 4, amount)  # a child of the root, with two children
+    np.testing.assert_allclose(geometry.pre, [positions[0], _turned(snapshot, 4, 1, amount)], rtol=0, atol=1e-12)
     expected = [positions[1], _turned(snapshot, 4, 2, amount), positions[1], _turned(snapshot, 4, 3, amount)]
     np.testing.assert_allclose(geometry.post, expected, rtol=0, atol=1e-12)
     if amount == 1.0:  # the posed skeleton itself
@@ -58,6 +60,8 @@ def test_a_root_has_no_pre_bone_and_a_leaf_no_post_bone(snapshot):
     leaf = teaching_geometry(snapshot, 2, 2, 0.5)
     np.testing.assert_array_equal(leaf.post, [positions[2], positions[2]])
     assert leaf.post.shape == (2, 3) and root.pre.shape == (2, 3)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        leaf.pre = root.pre  # the geometry drawn is not changed behind the drawing
 
 
 class StandInScene:
@@ -128,3 +132,14 @@ def test_no_drawing_without_a_joint_of_the_motion(snapshot):
     scene.snapshot = None
     overlay.joint = 0
     assert not overlay.wanted(scene)
+
+
+def test_a_new_overlay_draws_the_posed_bones_and_the_root_too(snapshot):
+    scene, overlay = StandInScene(snapshot), TeachOverlay()
+    overlay.shown, overlay.joint = True, 0  # the root: a joint like any other
+    assert overlay.wanted(scene)
+    overlay.build(scene)
+    overlay.show_frame(5)  # a new overlay's amount is 1: the pose itself
+    positions = snapshot.positions[5]
+    np.testing.assert_allclose(_points(overlay.parts["post"]), [positions[0], positions[1]], rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(_points(overlay.parts["pre"]), [positions[0], positions[0]])
