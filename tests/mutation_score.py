@@ -311,6 +311,18 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ],
         60,
     ),
+    # the view's overlays (issue 24): a stand-in scene with a bare renderer, a tiny synthetic motion
+    "app/scene/overlays.py": (["tests/test_app_overlays_mutants.py"], 60),
+    # the dock policy: plain widgets and tabbed docks of a small main window (the app's docks'
+    # own tests open the real window on a real take: seconds a mutant)
+    "app/docks/frame_follow.py": (["tests/test_app_frame_follow_mutants.py"], 60),
+    # the layout's rules on a small main window of plain widgets (the real window's layout tests
+    # open a real take at two sizes: ten seconds a mutant)
+    "app/window/layout.py": (["tests/test_app_layout_mutants.py"], 60),
+    # the view's widget kind: environments given as dicts, the process-wide choice reset per test
+    "app/scene/render_widget.py": (["tests/test_app_render_widget_mutants.py"], 60),
+    # the classroom's drawing: a tiny synthetic motion, a stand-in scene with bare renderers
+    "app/scene/teach_overlay.py": (["tests/test_app_teach_overlay_mutants.py"], 60),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [

@@ -11,6 +11,7 @@ from PyQt6.QtCore import QEvent, QPointF, Qt
 from PyQt6.QtGui import QImage, QMouseEvent
 from PyQt6.QtWidgets import QApplication
 
+from gmr_studio.app.docks.frame_follow import seen
 from gmr_studio.app.docks.timeplot import CURSOR_COLOUR, TimePlot
 from gmr_studio.app.media.video import image_pixels
 from gmr_studio.core.contacts import foot_contacts
@@ -234,3 +235,21 @@ def test_a_hidden_dock_costs_nothing_and_catches_up_when_shown(walk):
     assert plot.cursor.value() == pytest.approx(30 * plot.scale)
     state.set_frame(40)
     assert follower.calls == calls + 2 and plot.cursor.value() == pytest.approx(40 * plot.scale)
+
+
+def test_a_dock_behind_another_tab_costs_nothing_and_catches_up_in_front(qtbot, walk):
+    """Qt keeps a tabbed dock behind another visible (moved out of the window): it is not
+    updated until its tab is brought to front, then once, to the frame shown."""
+    state, curves, contacts = walk.state, walk.curves.frame_follower, walk.contact_bars.strip.frame_follower
+    walk.contacts_dock.show()  # tabbed with the curves, in front (layout.tab_when_shown)
+    qtbot.waitUntil(lambda: walk.contacts_dock in walk.tabifiedDockWidgets(walk.curves_dock))
+    walk.curves_dock.raise_()
+    qtbot.waitUntil(lambda: seen(walk.curves) and not seen(walk.contact_bars.strip))
+    assert walk.contact_bars.strip.isVisible()
+    before = curves.calls, contacts.calls
+    for frame in (10, 20, 30):
+        state.set_frame(frame)
+    assert (curves.calls, contacts.calls) == (before[0] + 3, before[1]) and contacts.stale
+    walk.contacts_dock.raise_()
+    qtbot.waitUntil(lambda: seen(walk.contact_bars.strip))
+    assert contacts.calls == before[1] + 1 and not contacts.stale and curves.calls == before[0] + 3

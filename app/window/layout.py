@@ -19,7 +19,7 @@ is replaced too (:func:`restore_layout`), so nobody is left with a tiny view.
 
 from __future__ import annotations
 
-from PyQt6.QtCore import QSettings, Qt
+from PyQt6.QtCore import QEvent, QObject, QSettings, Qt
 from PyQt6.QtWidgets import QDockWidget, QMainWindow, QSizePolicy
 
 LAYOUT_VERSION = 2
@@ -55,20 +55,47 @@ def make_strip(dock: QDockWidget) -> None:
 def tab_when_shown(window: QMainWindow, docks: list[QDockWidget]) -> None:
     """Whenever one of ``docks`` is shown while another is, put it in the other's tabs and
     in front. Tabbing is done at show time: tabbing hidden docks before the window is shown
-    leaves stray tab bars behind in Qt's layout."""
+    leaves stray tab bars behind in Qt's layout.
 
-    def on_visibility(dock: QDockWidget, visible: bool) -> None:
-        if not visible or dock.isFloating():
+    "Shown" is the dock's show event, not its ``visibilityChanged``: Qt sends that one too
+    when a tab is brought to front or the tab in front is hidden, and tabbing the dock then
+    (inside Qt's own tab switch) moved docks a user had put apart and crashed Qt."""
+    TabWhenShown(window, docks)
+
+
+class TabWhenShown(QObject):
+    """The event filter of :func:`tab_when_shown` (owned by the window): a dock shown by the
+    app or the user is placed; the docks shown with the window (a restored layout) or again
+    with it after it was minimised (a spontaneous show) keep their restored tab in front."""
+
+    def __init__(self, window: QMainWindow, docks: list[QDockWidget]) -> None:
+        super().__init__(window)
+        self.window, self.docks = window, list(docks)
+        self.window_shown = window.isVisible()  # the docks' show events come before the window's own
+        window.installEventFilter(self)
+        for dock in self.docks:
+            dock.installEventFilter(self)
+
+    def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 (Qt's name)
+        if event.type() == QEvent.Type.Show and not event.spontaneous():
+            if watched is self.window:
+                self.window_shown = True
+            elif any(watched is d for d in self.docks):
+                self.place(watched)
+        return False
+
+    def place(self, dock: QDockWidget) -> None:
+        """A tab of the first other dock shown, in front; else the area at a usable height."""
+        if dock.isFloating():
             return
-        others = [d for d in docks if d is not dock and d.isVisible() and not d.isFloating()]
-        if others and dock not in window.tabifiedDockWidgets(others[0]):
-            window.tabifyDockWidget(others[0], dock)
+        others = [d for d in self.docks if d is not dock and d.isVisible() and not d.isFloating()]
+        if others and dock not in self.window.tabifiedDockWidgets(others[0]):
+            self.window.tabifyDockWidget(others[0], dock)
             dock.raise_()
-        elif not others and dock.height() < BOTTOM_HEIGHT:  # the area opens at a usable height
-            window.resizeDocks([dock], [BOTTOM_HEIGHT], Qt.Orientation.Vertical)
-
-    for dock in docks:
-        dock.visibilityChanged.connect(lambda visible, d=dock: on_visibility(d, visible))
+        elif others and self.window_shown:
+            dock.raise_()  # shown again among its old tabs: in front too
+        elif not others and dock.height() < BOTTOM_HEIGHT:  # the first: the area opens at a usable height
+            self.window.resizeDocks([dock], [BOTTOM_HEIGHT], Qt.Orientation.Vertical)
 
 
 def fit_docks(window: QMainWindow, view, side: list[QDockWidget], bottom: list[QDockWidget]) -> None:

@@ -1,0 +1,145 @@
+"""The classroom's drawing (app/scene/teach_overlay.py) on a tiny synthetic motion: the chain
+from the root, the pre-rotation bone and the post-rotation bones turned by the slider's amount
+(worked out from the motion's own rotations and translations), and the drawable's parts,
+colours, widths, frames and visibility, in a stand-in scene with bare VTK renderers."""
+
+from __future__ import annotations
+
+import dataclasses
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from vtkmodules.vtkRenderingCore import vtkRenderer
+
+from gmr_studio.app.model.state import Snapshot
+from gmr_studio.app.scene.teach_overlay import TeachOverlay, teaching_geometry
+from gmr_studio.core.classroom import scaled_rotation
+from tests.conftest import random_motion
+
+#: 0 root, 1 under it, 2 and 3 children of 1, 4 under 3
+PARENTS = [-1, 0, 1, 1, 3]
+N_FRAMES = 6
+
+
+@pytest.fixture
+def snapshot() -> Snapshot:
+    return Snapshot.of(random_motion(np.random.default_rng(11), PARENTS, n_frames=N_FRAMES, angle=2.0))
+
+
+def _turned(snapshot: Snapshot, frame: int, joint: int, amount: float) -> np.ndarray:
+    """Where ``joint`` is with its own rotation scaled by ``amount`` (its parent's frame kept)."""
+    motion = snapshot.motion
+    parent = motion.parents[joint]
+    rotation = scaled_rotation(motion.rotations[frame, joint], amount)
+    offset = motion.translations[frame, joint]
+    return snapshot.positions[frame, parent] + snapshot.rotations[frame, parent] @ rotation @ offset
+
+
+@pytest.mark.parametrize("amount", [1.0, 0.0, 0.35])
+def test_the_bones_turn_with_the_amount_from_the_posed_skeleton(snapshot, amount):
+    positions = snapshot.positions[4]
+    geometry = teaching_geometry(snapshot, 3, 4, amount)
+    np.testing.assert_array_equal(geometry.chain, positions[[0, 1, 3]])
+    np.testing.assert_allclose(geometry.pre, [positions[1], _turned(snapshot, 4, 3, amount)], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(geometry.post, [positions[3], _turned(snapshot, 4, 4, amount)], rtol=0, atol=1e-12)
+    geometry = teaching_geometry(snapshot, 1, 4, amount)  # a child of the root, with two children
+    np.testing.assert_allclose(geometry.pre, [positions[0], _turned(snapshot, 4, 1, amount)], rtol=0, atol=1e-12)
+    expected = [positions[1], _turned(snapshot, 4, 2, amount), positions[1], _turned(snapshot, 4, 3, amount)]
+    np.testing.assert_allclose(geometry.post, expected, rtol=0, atol=1e-12)
+    if amount == 1.0:  # the posed skeleton itself
+        np.testing.assert_allclose(geometry.pre[1], positions[1], rtol=0, atol=1e-12)
+        np.testing.assert_allclose(geometry.post[[1, 3]], positions[[2, 3]], rtol=0, atol=1e-12)
+
+
+def test_a_root_has_no_pre_bone_and_a_leaf_no_post_bone(snapshot):
+    positions = snapshot.positions[2]
+    root = teaching_geometry(snapshot, 0, 2, 0.5)
+    np.testing.assert_array_equal(root.chain, positions[[0]])
+    np.testing.assert_array_equal(root.pre, [positions[0], positions[0]])
+    leaf = teaching_geometry(snapshot, 2, 2, 0.5)
+    np.testing.assert_array_equal(leaf.post, [positions[2], positions[2]])
+    assert leaf.post.shape == (2, 3) and root.pre.shape == (2, 3)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        leaf.pre = root.pre  # the geometry drawn is not changed behind the drawing
+
+
+class StandInScene:
+    """What the overlay reads of a scene: the snapshot, the frame and the renderers."""
+
+    def __init__(self, snapshot: Snapshot | None) -> None:
+        self.plotter = SimpleNamespace(renderer=vtkRenderer())
+        self.front_renderer = vtkRenderer()
+        self.snapshot = snapshot
+        self.frame = 0
+
+
+def _points(part) -> np.ndarray:
+    return np.asarray(part.mesh.points)
+
+
+def test_the_overlay_draws_the_joints_chain_and_bones_in_front(snapshot):
+    scene, overlay = StandInScene(snapshot), TeachOverlay()
+    overlay.joint = 1
+    assert not overlay.wanted(scene)  # the Teach dock hidden
+    overlay.build(scene)
+    assert overlay.parts == {} and overlay.geometry is None
+    overlay.shown = True
+    assert overlay.wanted(scene)
+    scene.frame = N_FRAMES + 3  # past the end: the last frame's geometry sizes the parts
+    overlay.build(scene)
+    assert scene.front_renderer.GetViewProps().GetNumberOfItems() == 3
+    assert scene.plotter.renderer.GetViewProps().GetNumberOfItems() == 0
+    chain, pre, post = (overlay.parts[name] for name in ("chain", "pre", "post"))
+    assert (chain.n_points, pre.n_points, post.n_points) == (2, 2, 4)
+    lines = {name: np.asarray(part.mesh.lines).reshape(-1, 3)[:, 1:].tolist() for name, part in overlay.parts.items()}
+    assert lines == {"chain": [[0, 1]], "pre": [[0, 1]], "post": [[0, 1], [2, 3]]}
+    widths = [part.actor.GetProperty().GetLineWidth() for part in (chain, pre, post)]
+    assert widths == [4.0, 7.0, 7.0]
+    colours = [part.actor.GetProperty().GetColor() for part in (chain, pre, post)]
+    assert colours == [pytest.approx(c) for c in ((1.0, 0.85, 0.2), (0.95, 0.3, 0.85), (0.2, 0.85, 0.95))]
+    assert overlay.geometry is None  # drawn at the next frame shown
+    overlay.amount = 0.25
+    overlay.show_frame(3)
+    expected = teaching_geometry(snapshot, 1, 3, 0.25)
+    np.testing.assert_array_equal(_points(chain), expected.chain)
+    np.testing.assert_array_equal(_points(pre), expected.pre)
+    np.testing.assert_array_equal(_points(post), expected.post)
+    np.testing.assert_array_equal(overlay.geometry.post, expected.post)
+    overlay.set_visible(True)
+    assert overlay.geometry is not None and chain.visible
+    overlay.set_visible(False)  # hidden: no geometry to show
+    assert overlay.geometry is None and not chain.visible
+
+
+def test_no_drawing_without_a_joint_of_the_motion(snapshot):
+    scene, overlay = StandInScene(snapshot), TeachOverlay()
+    overlay.shown = True
+    for joint in (None, -1, 5):
+        overlay.joint = joint
+        assert not overlay.wanted(scene)
+        overlay.build(scene)
+        overlay.show_frame(0)
+        assert overlay.parts == {} and overlay.geometry is None
+    overlay.joint = 4
+    overlay.build(scene)
+    assert overlay.wanted(scene) and set(overlay.parts) == {"chain", "pre", "post"}
+    overlay.joint = 9  # the joint gone (another motion): the parts kept but not written
+    before = _points(overlay.parts["chain"]).copy()
+    overlay.show_frame(2)
+    np.testing.assert_array_equal(_points(overlay.parts["chain"]), before)
+    assert overlay.geometry is None
+    scene.snapshot = None
+    overlay.joint = 0
+    assert not overlay.wanted(scene)
+
+
+def test_a_new_overlay_draws_the_posed_bones_and_the_root_too(snapshot):
+    scene, overlay = StandInScene(snapshot), TeachOverlay()
+    overlay.shown, overlay.joint = True, 0  # the root: a joint like any other
+    assert overlay.wanted(scene)
+    overlay.build(scene)
+    overlay.show_frame(5)  # a new overlay's amount is 1: the pose itself
+    positions = snapshot.positions[5]
+    np.testing.assert_allclose(_points(overlay.parts["post"]), [positions[0], positions[1]], rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(_points(overlay.parts["pre"]), [positions[0], positions[0]])
