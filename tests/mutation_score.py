@@ -142,6 +142,8 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "core/checks/context.py": (["tests/test_check_context_mutants.py", "tests/test_checks.py"], 60),
     # the pictures of docs/checks.md: their one test file (matplotlib, a real take)
     "core/checks/figures.py": (["tests/test_check_figures_mutants.py"], 60),
+    # the raw markers' checks: small synthetic sets first, then the demo's markers and one small real C3D
+    "core/checks/markers.py": (["tests/test_checks_markers_mutants.py", "tests/test_checks_markers.py"], 60),
     "core/compare/offset.py": (
         ["tests/test_offset_mutants.py", "tests/test_compare_offset.py", "tests/test_compare.py"],
         60,
