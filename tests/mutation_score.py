@@ -144,6 +144,7 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "core/checks/figures.py": (["tests/test_check_figures_mutants.py"], 60),
     # the raw markers' checks: small synthetic sets first, then the demo's markers and one small real C3D
     "core/checks/markers.py": (["tests/test_checks_markers_mutants.py", "tests/test_checks_markers.py"], 60),
+    "core/checks/run.py": (["tests/test_check_run_mutants.py", "tests/test_checks.py"], 60),
     "core/compare/offset.py": (
         ["tests/test_offset_mutants.py", "tests/test_compare_offset.py", "tests/test_compare.py"],
         60,
