@@ -44,7 +44,7 @@ def test_the_positions_given_are_the_ones_checked():
     assert run_checks(motion, settings) == []
     (pop,) = run_checks(motion, settings, positions=positions)
     assert (pop.kind, pop.start, pop.names) == ("pop", 12, ("LeftHand",))
-    whole, inner = check_data(motion, settings)
+    whole, _inner = check_data(motion, settings)
     np.testing.assert_array_equal(whole.positions, world_positions(motion))
 
 
