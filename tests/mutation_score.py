@@ -145,6 +145,9 @@ MODULES: dict[str, tuple[list[str], float]] = {
     # the raw markers' checks: small synthetic sets first, then the demo's markers and one small real C3D
     "core/checks/markers.py": (["tests/test_checks_markers_mutants.py", "tests/test_checks_markers.py"], 60),
     "core/checks/run.py": (["tests/test_check_run_mutants.py", "tests/test_checks.py"], 60),
+    # the checks' model without a window (the windows' tests, tests/test_app_problems.py, take
+    # half a minute a mutant)
+    "app/model/problems.py": (["tests/test_problems_model_mutants.py"], 60),
     "core/compare/offset.py": (
         ["tests/test_offset_mutants.py", "tests/test_compare_offset.py", "tests/test_compare.py"],
         60,
