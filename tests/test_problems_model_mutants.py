@@ -316,3 +316,54 @@ def test_the_tooltip_of_frames(qtbot):
     assert model.describe(0, 5).split("\n") == [finding_line(f) for f in eight[:6]]
     assert model.describe(0, 7, most=7).split("\n") == [finding_line(f) for f in eight[:7]] + ["... and 1 more"]
     assert model.describe(2, 2) == finding_line(eight[2]) and model.describe(9, 9) == ""
+
+
+def test_a_new_model_has_nothing_and_is_not_running(qtbot):
+    model = Problems(StudioState())
+    assert (model.findings, model.flags, model.running, model.error) == ([], None, False, "")
+    assert not model.frame_levels().size
+
+
+def test_the_panels_units_are_constants(qtbot):
+    with pytest.raises(AttributeError):  # dataclasses.FrozenInstanceError
+        LIMITS["pop"].factor = 1.0
+    assert len({LIMITS[kind] for kind in KINDS}) == len(KINDS)  # hashable: frozen
+
+
+def test_back_to_a_checked_motion_while_another_is_checked(qtbot):
+    """Undo to a motion already checked while the edit's job runs: the kept findings are
+    shown at once and stay when the stale job ends (its findings kept for a redo)."""
+    state, model, _ = _model()
+    first, second = Snapshot.of(knocked_walk(12)), Snapshot.of(knocked_walk(20))
+    state.open_document(first, None)
+    model.wait()
+    kept = list(model.findings)
+    state.apply_snapshot(second)  # the edit: a job starts
+    job = model._job
+    state.apply_snapshot(first)  # the undo: from the cache
+    assert model.findings == kept and not model.running
+    model.wait()
+    assert job.isFinished() and model._job is None
+    assert model.findings == kept and not model.running
+    state.apply_snapshot(second)  # the redo: the stale job's findings, at once
+    assert model._job is None and [(f.kind, f.start) for f in model.findings] == [("pop", 20), ("bone-length", 20)]
+
+
+def test_a_refresh_asked_while_a_job_runs_gets_a_run_of_its_own(qtbot, monkeypatch):
+    """The first run fails (say, out of memory), the motion is asked for again meanwhile:
+    it is checked again after it, and its findings shown, not the stale failure."""
+    calls = []
+
+    def fails_once(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 1:
+            raise MemoryError("transient")
+        return run_checks(*args, **kwargs)
+
+    monkeypatch.setattr(problems_module, "run_checks", fails_once)
+    state, model, _ = _model()
+    state.open_document(Snapshot.of(knocked_walk(12)), None)
+    model.refresh()  # the same motion asked for while its job runs
+    model.wait()
+    assert len(calls) == 2 and model.error == ""
+    assert [(f.kind, f.start) for f in model.findings] == [("pop", 12), ("bone-length", 12)]
