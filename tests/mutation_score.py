@@ -148,6 +148,8 @@ MODULES: dict[str, tuple[list[str], float]] = {
     # the checks' model without a window (the windows' tests, tests/test_app_problems.py, take
     # half a minute a mutant)
     "app/model/problems.py": (["tests/test_problems_model_mutants.py"], 60),
+    # the Problems dock on its own (a state, its problems, the dock; no window)
+    "app/docks/problems_dock.py": (["tests/test_problems_dock_mutants.py"], 60),
     "core/compare/offset.py": (
         ["tests/test_offset_mutants.py", "tests/test_compare_offset.py", "tests/test_compare.py"],
         60,
