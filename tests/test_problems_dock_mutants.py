@@ -47,7 +47,8 @@ def dock(qtbot):
     widget = ProblemsDock(problems)
     qtbot.addWidget(widget)
     problems._publish(FOUND, None)
-    return widget
+    yield widget
+    problems.wait()  # a settings change started a job: a running thread must not be collected
 
 
 def rows(dock) -> list[tuple[str, ...]]:
@@ -235,3 +236,38 @@ def test_the_layout(dock):
     assert [panel.itemAt(1).layout().stretch(i) for i in range(2)] == [1, 0]
     assert dock.limits_table.horizontalHeader().stretchLastSection()
     assert np.all([dock.filter_box.itemData(i) for i in range(3)] == np.array([1, 2, 3]))
+
+
+def test_findings_of_one_frame_keep_the_checks_order_when_sorted(qtbot):
+    """A pop and its stretched bone at frame 12 (sort keys equal by frames): listed as the
+    checks list them, pop first; sorted by frames again, equal keys keep the order they had."""
+    state = StudioState()
+    problems = Problems(state)
+    state.open_document(Snapshot.of(knocked_walk(12)), None)
+    problems.wait()
+    dock = ProblemsDock(problems)
+    qtbot.addWidget(dock)
+    assert [r[0] for r in rows(dock)] == ["pop", "bone-length"]
+    dock.table.sortByColumn(0, Qt.SortOrder.DescendingOrder)
+    assert [r[0] for r in rows(dock)] == ["bone-length", "pop"]
+    dock.table.sortByColumn(2, Qt.SortOrder.AscendingOrder)
+    assert [r[0] for r in rows(dock)] == ["bone-length", "pop"]
+
+
+def test_the_settings_cells_are_made_once(dock):
+    """The cells are updated in place (an edit's own signal refills the table: its item must
+    not be replaced under it)."""
+    limits = dock.limits_table
+    cells = [limits.item(KINDS.index("pop"), c) for c in range(5)]
+    dock.problems.set_settings(CheckSettings(pop_limits=(0.02, 0.03, 0.05)))
+    assert [limits.item(KINDS.index("pop"), c) for c in range(5)] == cells
+    assert cells[1].text() == "2"
+    cells[3].setText("6")  # edited in place: the refill keeps the edited cell
+    assert dock.problems.settings.pop_limits == pytest.approx((0.02, 0.03, 0.06)) and cells[3].text() == "6"
+
+
+def test_the_buttons_and_rows_of_the_top_and_the_settings(dock):
+    top = dock.layout().itemAt(0).layout()
+    widgets = [top.itemAt(i).widget() for i in range(top.count())]
+    assert widgets == [dock.step_buttons[-1], dock.step_buttons[1], dock.summary, dock.filter_box, dock.settings_button]
+    assert dock.limits_table.verticalHeader().defaultSectionSize() == dock.fontMetrics().height() + 6
