@@ -150,6 +150,9 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "app/model/problems.py": (["tests/test_problems_model_mutants.py"], 60),
     # the Problems dock on its own (a state, its problems, the dock; no window)
     "app/docks/problems_dock.py": (["tests/test_problems_dock_mutants.py"], 60),
+    # the window's wiring: a window each test (half a second), small synthetic documents
+    "app/window/comparison.py": (["tests/test_window_comparison_mutants.py"], 120),
+    "app/window/checks.py": (["tests/test_window_checks_mutants.py"], 120),
     "core/compare/offset.py": (
         ["tests/test_offset_mutants.py", "tests/test_compare_offset.py", "tests/test_compare.py"],
         60,
