@@ -142,6 +142,17 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "core/checks/context.py": (["tests/test_check_context_mutants.py", "tests/test_checks.py"], 60),
     # the pictures of docs/checks.md: their one test file (matplotlib, a real take)
     "core/checks/figures.py": (["tests/test_check_figures_mutants.py"], 60),
+    # the raw markers' checks: small synthetic sets first, then the demo's markers and one small real C3D
+    "core/checks/markers.py": (["tests/test_checks_markers_mutants.py", "tests/test_checks_markers.py"], 60),
+    "core/checks/run.py": (["tests/test_check_run_mutants.py", "tests/test_checks.py"], 60),
+    # the checks' model without a window (the windows' tests, tests/test_app_problems.py, take
+    # half a minute a mutant)
+    "app/model/problems.py": (["tests/test_problems_model_mutants.py"], 60),
+    # the Problems dock on its own (a state, its problems, the dock; no window)
+    "app/docks/problems_dock.py": (["tests/test_problems_dock_mutants.py"], 60),
+    # the window's wiring: a window each test (half a second), small synthetic documents
+    "app/window/comparison.py": (["tests/test_window_comparison_mutants.py"], 120),
+    "app/window/checks.py": (["tests/test_window_checks_mutants.py"], 120),
     "core/compare/offset.py": (
         ["tests/test_offset_mutants.py", "tests/test_compare_offset.py", "tests/test_compare.py"],
         60,
