@@ -17,7 +17,6 @@ from PyQt6.QtWidgets import (
     QComboBox,
     QDoubleSpinBox,
     QFileDialog,
-    QGraphicsItem,
     QHBoxLayout,
     QLabel,
     QPushButton,
@@ -133,10 +132,6 @@ class CurvesDock(QWidget):
         plot.frame_requested.connect(state.set_frame)
         plot.range_selected.connect(state.set_frame_range)
         self.frame_follower = follow_frame(self, state, plot.set_cursor)  # only while shown
-        # the axes draw the grid, so their bounds cover the plot and every cursor move
-        # repainted them (~3 ms a frame): cached as pixmaps, a move only blits two strips
-        for side in ("left", "bottom"):
-            plot.plot_item.getAxis(side).setCacheMode(QGraphicsItem.CacheMode.DeviceCoordinateCache)
         state.range_changed.connect(self._on_range_changed)
         state.document_changed.connect(self._on_document_changed)
         state.motion_changed.connect(lambda: self.refresh(autoscale=False))
