@@ -135,3 +135,24 @@ def test_a_layout_from_an_older_version_is_upgraded(qtbot, tmp_path):
     assert str(QSettings(str(path), QSettings.Format.IniFormat).value("window/layout_version")) == str(
         layout.LAYOUT_VERSION
     )
+
+
+def test_a_comparison_added_keeps_the_analysis_area_and_the_view_as_they_were(qtbot, studio):
+    """Adding a comparison shows the Error dock as a tab of the Curves at the area's height:
+    shown beside the Curves before being tabbed, it squeezed the area to its size hint (240
+    pixels down to 175) and the view jumped 65 pixels taller."""
+    from gmr_studio.app.docks.frame_follow import seen
+    from gmr_studio.app.model.state import Snapshot
+    from gmr_studio.core.demo import MOTION_FILE, demo_folder
+    from gmr_studio.core.formats import load_gmr
+
+    open_file(studio, demo_folder() / MOTION_FILE)
+    studio.curves_dock.show()
+    qtbot.waitUntil(lambda: studio.curves_dock.height() == layout.BOTTOM_HEIGHT)
+    view_height = studio.view.interactor.height()
+    studio.layers.add(Snapshot.of(load_gmr(demo_folder() / MOTION_FILE)), "walk.gmr")
+    qtbot.waitUntil(lambda: seen(studio.error_dock) and not seen(studio.curves_dock))
+    qtbot.wait(50)
+    assert studio.error_dock in studio.tabifiedDockWidgets(studio.curves_dock)
+    assert studio.view.interactor.height() == view_height  # the area (tab bar included) kept its 240 pixels
+    assert layout.BOTTOM_HEIGHT - 40 < studio.error_dock.height() < layout.BOTTOM_HEIGHT
