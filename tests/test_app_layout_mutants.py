@@ -304,3 +304,35 @@ def test_a_dock_shown_again_comes_back_to_its_place_among_its_tabs_in_front(qtbo
     error.show()
     qtbot.waitUntil(lambda: seen(error))  # in front, in its place (not moved to the end)
     assert _tabs(window) == [["curves", "error", "problems"]] and seen(contacts) and not seen(problems)
+
+
+def test_a_dock_tabbed_into_a_low_area_gets_the_usable_height(qtbot):
+    """A tab group lower than 240 pixels (a user's, or squeezed by a dock shown beside it
+    before tabbing) is given 240 pixels, tab bar included, once Qt has laid the tabs out; a
+    hidden or floating dock is left alone."""
+    window, view, _, (curves, contacts, error) = _window(qtbot)
+    placer = layout.TabWhenShown(window, [curves, contacts, error])
+    curves.show()
+    qtbot.waitUntil(lambda: curves.height() == 240)
+    window.resizeDocks([curves], [150], VERTICAL)
+    qtbot.waitUntil(lambda: curves.height() == 150)
+    low_view = view.height()
+    error.show()  # tabbed, then the area back to 240 pixels
+    qtbot.waitUntil(lambda: view.height() == low_view - 90)
+    assert window.tabifiedDockWidgets(curves) == [error] and 200 < error.height() < 240
+    window.resizeDocks([error], [150], VERTICAL)
+    qtbot.waitUntil(lambda: view.height() == low_view)
+    contacts.setFloating(True)
+    contacts.show()
+    qtbot.waitUntil(contacts.isVisible)
+    height = contacts.height()
+    placer.usable_height(contacts)  # floating: its own window keeps its height
+    qtbot.wait(20)
+    assert contacts.height() == height and view.height() == low_view
+    contacts.hide()
+    contacts.setFloating(False)
+    placer.usable_height(contacts)  # hidden: nothing
+    qtbot.wait(20)
+    assert view.height() == low_view
+    placer.usable_height(error)
+    qtbot.waitUntil(lambda: view.height() == low_view - 90)
