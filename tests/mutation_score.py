@@ -300,6 +300,24 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "app/scene/highlight.py": (["tests/test_scene_highlight_mutants.py"], 60),
     "app/scene/problem_marks.py": (["tests/test_scene_problem_marks_mutants.py"], 60),
     "app/scene/ghost_layer.py": (["tests/test_scene_ghost_layer_mutants.py"], 60),
+    # the scene itself: its list of drawables, the camera, the projection and the onion skins,
+    # on the tiny figure (no window)
+    "app/scene/scene.py": (
+        [
+            "tests/test_scene_scene_mutants.py",
+            "tests/test_scene_drawable_mutants.py",
+            "tests/test_scene_figure_mutants.py",
+            "tests/test_scene_highlight_mutants.py",
+        ],
+        60,
+    ),
+    "app/scene/camera.py": (["tests/test_scene_camera_mutants.py", "tests/test_scene_scene_mutants.py"], 60),
+    "app/scene/picking.py": (
+        ["tests/test_scene_picking_mutants.py", "tests/test_app_picking.py", "tests/test_scene_camera_mutants.py"],
+        60,
+    ),
+    "app/scene/onion.py": (["tests/test_scene_onion_mutants.py", "tests/test_scene_layer_onion_mutants.py"], 60),
+    "app/scene/layer_onion.py": (["tests/test_scene_layer_onion_mutants.py"], 60),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
