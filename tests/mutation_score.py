@@ -305,6 +305,7 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "app/scene/scene.py": (
         [
             "tests/test_scene_scene_mutants.py",
+            "tests/test_scene_render_mutants.py",
             "tests/test_scene_drawable_mutants.py",
             "tests/test_scene_figure_mutants.py",
             "tests/test_scene_highlight_mutants.py",
