@@ -334,6 +334,25 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "app/scene/render_widget.py": (["tests/test_app_render_widget_mutants.py"], 60),
     # the classroom's drawing: a tiny synthetic motion, a stand-in scene with bare renderers
     "app/scene/teach_overlay.py": (["tests/test_app_teach_overlay_mutants.py"], 60),
+    # the scene itself: its list of drawables, the camera, the projection and the onion skins,
+    # on the tiny figure (no window)
+    "app/scene/scene.py": (
+        [
+            "tests/test_scene_scene_mutants.py",
+            "tests/test_scene_render_mutants.py",
+            "tests/test_scene_drawable_mutants.py",
+            "tests/test_scene_figure_mutants.py",
+            "tests/test_scene_highlight_mutants.py",
+        ],
+        60,
+    ),
+    "app/scene/camera.py": (["tests/test_scene_camera_mutants.py", "tests/test_scene_scene_mutants.py"], 60),
+    "app/scene/picking.py": (
+        ["tests/test_scene_picking_mutants.py", "tests/test_app_picking.py", "tests/test_scene_camera_mutants.py"],
+        60,
+    ),
+    "app/scene/onion.py": (["tests/test_scene_onion_mutants.py", "tests/test_scene_layer_onion_mutants.py"], 60),
+    "app/scene/layer_onion.py": (["tests/test_scene_layer_onion_mutants.py"], 60),
 }
 #: operators left out (regular expressions, matched from the start of cosmic-ray's names)
 EXCLUDE = [
