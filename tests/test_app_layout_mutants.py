@@ -308,10 +308,16 @@ def test_a_dock_shown_again_comes_back_to_its_place_among_its_tabs_in_front(qtbo
 
 def test_a_dock_tabbed_into_a_low_area_gets_the_usable_height(qtbot):
     """A tab group lower than 240 pixels (a user's, or squeezed by a dock shown beside it
-    before tabbing) is given 240 pixels, tab bar included, once Qt has laid the tabs out; a
-    hidden or floating dock is left alone."""
-    window, view, _, (curves, contacts, error) = _window(qtbot)
+    before tabbing) is given 240 pixels, tab bar included, as soon as the tabs are laid out;
+    a hidden or floating dock, or one in the side column, is left alone."""
+    window, view, (forest, _), (curves, contacts, error) = _window(qtbot)
     placer = layout.TabWhenShown(window, [curves, contacts, error])
+    window.resizeDocks([forest], [150], VERTICAL)
+    qtbot.waitUntil(lambda: forest.height() < 240)
+    side = forest.height()
+    placer.usable_height(forest)  # the side column's split is not the analysis area's
+    qtbot.wait(20)
+    assert forest.height() == side
     curves.show()
     qtbot.waitUntil(lambda: curves.height() == 240)
     window.resizeDocks([curves], [150], VERTICAL)

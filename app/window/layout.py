@@ -19,7 +19,7 @@ is replaced too (:func:`restore_layout`), so nobody is left with a tiny view.
 
 from __future__ import annotations
 
-from PyQt6.QtCore import QEvent, QObject, QSettings, Qt, QTimer
+from PyQt6.QtCore import QEvent, QObject, QSettings, Qt
 from PyQt6.QtWidgets import QDockWidget, QMainWindow, QSizePolicy
 
 LAYOUT_VERSION = 2
@@ -93,17 +93,20 @@ class TabWhenShown(QObject):
             self.window.tabifyDockWidget(others[0], dock)
             dock.raise_()
             # a dock shown beside the others before it is tabbed squeezes the area to its
-            # size hint (the Error dock took the Curves' 240 pixels down to 175): once Qt has
-            # laid the tabs out, the area is given its usable height again
-            QTimer.singleShot(0, lambda: self.usable_height(dock))
+            # size hint (the Error dock took the Curves' 240 pixels down to 175): the tabs are
+            # laid out at once, and the area given its usable height again
+            self.window.layout().activate()
+            self.usable_height(dock)
         elif others and self.window_shown:
             dock.raise_()  # shown again among its old tabs: in front too
         elif not others and dock.height() < BOTTOM_HEIGHT:  # the first: the area opens at a usable height
             self.window.resizeDocks([dock], [BOTTOM_HEIGHT], Qt.Orientation.Vertical)
 
     def usable_height(self, dock: QDockWidget) -> None:
-        """The tabs holding ``dock`` (with their tab bar) at least :data:`BOTTOM_HEIGHT` high."""
-        if dock.isVisible() and not dock.isFloating() and dock.height() < BOTTOM_HEIGHT:
+        """The tabs holding ``dock`` (with their tab bar) at least :data:`BOTTOM_HEIGHT` high,
+        in the bottom area (the side column's docks keep the column's split)."""
+        bottom = self.window.dockWidgetArea(dock) == Qt.DockWidgetArea.BottomDockWidgetArea
+        if bottom and dock.isVisible() and not dock.isFloating() and dock.height() < BOTTOM_HEIGHT:
             self.window.resizeDocks([dock], [BOTTOM_HEIGHT], Qt.Orientation.Vertical)
 
 
