@@ -342,3 +342,21 @@ def test_a_dock_tabbed_into_a_low_area_gets_the_usable_height(qtbot):
     assert view.height() == low_view
     placer.usable_height(error)
     qtbot.waitUntil(lambda: view.height() == low_view - 90)
+
+
+def test_tabs_exactly_at_the_usable_height_are_left_as_they_are(qtbot):
+    """The rule lifts tabs below 240 pixels only: a tab group whose dock is exactly 240
+    pixels high (266 with its tab bar) is not brought down to 240 with its tab bar."""
+    window, _, _, (curves, contacts, error) = _window(qtbot)
+    placer = layout.TabWhenShown(window, [curves, contacts, error])
+    curves.show()
+    qtbot.waitUntil(lambda: curves.height() == 240)
+    error.show()
+    qtbot.waitUntil(lambda: seen(error) and window.tabifiedDockWidgets(curves) == [error])
+    tab_bar = 240 - error.height()
+    assert 0 < tab_bar < 40
+    window.resizeDocks([error], [240 + tab_bar], VERTICAL)
+    qtbot.waitUntil(lambda: error.height() == 240)
+    placer.usable_height(error)
+    qtbot.wait(20)
+    assert error.height() == 240
