@@ -96,3 +96,22 @@ def test_a_frame_change_lays_nothing_out_and_repaints_no_dock_frame(qtbot, studi
         QApplication.instance().removeEventFilter(events)
     assert events.seen == [], str(events.seen)
     assert studio.timeline.autoFillBackground()
+
+
+def test_the_time_label_keeps_150_pixels_without_a_document_and_fits_a_long_take(studio):
+    """Before any document the label holds its place at 150 pixels; a take whose widest time
+    text is longer gets that text's width (every digit as the widest one), fixed."""
+    from gmr_studio.app.docks.timeline import time_text
+    from gmr_studio.core.demo import MOTION_FILE, demo_folder
+
+    label = studio.timeline.time_label
+    assert studio.state.motion is None
+    assert (label.minimumWidth(), label.maximumWidth()) == (150, 150)
+    open_file(studio, demo_folder() / MOTION_FILE)
+    motion = studio.state.motion
+    metrics = label.fontMetrics()
+    digit = max("0123456789", key=metrics.horizontalAdvance)
+    widest = time_text(motion, motion.n_frames - 1).translate(str.maketrans("0123456789", digit * 10))
+    expected = max(150, metrics.horizontalAdvance(widest) + metrics.averageCharWidth())
+    assert expected > 150
+    assert (label.minimumWidth(), label.maximumWidth()) == (expected, expected)
