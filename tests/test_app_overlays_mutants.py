@@ -255,9 +255,9 @@ def test_markers_are_spheres_where_present_and_the_selected_ones_ring(snapshot):
     spheres, ring = markers.parts["markers"], markers.parts["marker_selection"]
     assert spheres.radius == pytest.approx(0.009 * size, rel=1e-12)
     assert spheres.actor.GetProperty().GetColor() == pytest.approx((0.92, 0.92, 0.95))
-    bounds = np.asarray(ring.actor.GetMapper().GetSource().GetBounds()).reshape(3, 2)
-    assert bounds[2, 1] - bounds[2, 0] == pytest.approx(4 * 0.009 * size, rel=1e-6)  # pole to pole: twice the radius
-    assert ring.actor.GetProperty().GetRepresentation() == 1  # VTK_WIREFRAME
+    assert ring.radius == pytest.approx(2 * 0.009 * size, rel=1e-12)  # twice the marker's radius
+    np.testing.assert_allclose(np.linalg.norm(ring.circle.points, axis=1), 2 * 0.009 * size, rtol=1e-12)
+    assert ring.actor.GetCamera() is scene.plotter.renderer.GetActiveCamera()  # turned to the view
     assert ring.actor.GetProperty().GetColor() == pytest.approx(SELECTION_COLOR)
     assert not ring.visible  # nothing selected
     positions = markers.overlay.positions

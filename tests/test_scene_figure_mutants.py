@@ -78,11 +78,13 @@ def test_the_figures_parts_their_sizes_and_colours():
         assert bones.radius == pytest.approx(0.0065 * FIGURE_SIZE)
         np.testing.assert_array_equal(bones.mesh.point_data["colors"], rgb_bytes(0.85 * PALETTE[[0, 0, 1]]))
         ring = figure.parts["selection"]
-        assert ring.n_points == 1
-        sphere = np.reshape(ring.actor.GetMapper().GetSource().GetBounds(), (3, 2))
-        np.testing.assert_allclose(sphere[:, 1], 1.9 * r, rtol=0.02)  # a tessellated sphere: its poles at 1.9 r
+        assert ring.n_points == 1 and ring.radius == pytest.approx(1.9 * r)
+        circle = np.asarray(ring.circle.points)
+        np.testing.assert_allclose(np.linalg.norm(circle[:, :2], axis=1), 1.9 * r, rtol=1e-12)
+        assert not circle[:, 2].any()  # in the follower's x-y plane, which it turns to the camera
+        assert ring.actor.GetCamera() is scene.plotter.renderer.GetActiveCamera()
         prop = ring.actor.GetProperty()
-        assert prop.GetRepresentationAsString() == "Wireframe"
+        assert prop.GetLineWidth() == pytest.approx(2.5)
         assert prop.GetColor() == pytest.approx((1.0, 0.85, 0.1))  # yellow
 
 
@@ -98,9 +100,11 @@ def test_a_frame_is_written_into_the_same_arrays():
         np.testing.assert_allclose(figure.parts["roots"].mesh.points, positions[[0, 4]])
         np.testing.assert_allclose(figure.parts["bones"].mesh.points, positions[[[2, 1], [3, 2], [5, 4]]].mean(axis=1))
         np.testing.assert_allclose(figure.parts["selection"].mesh.points, positions[[3]])
+        np.testing.assert_allclose(figure.parts["selection"].actor.GetPosition(), positions[3])
         scene.set_selection(5)
         scene.show_frame(1)
         np.testing.assert_allclose(figure.parts["selection"].mesh.points, snapshot.positions[1][[5]])
+        np.testing.assert_allclose(figure.parts["selection"].actor.GetPosition(), snapshot.positions[1][5])
         assert {name: part.mesh.GetPoints().__this__ for name, part in figure.parts.items()} == arrays
 
 
@@ -169,7 +173,8 @@ def _along(rgb: np.ndarray, colour) -> np.ndarray:
 def test_the_picture_a_joint_its_bones_and_the_ring_in_their_colours_and_sizes():
     """Chest (frame 0, at (0, 0.2)) seen from above, 1000 pixels a unit: its sphere 12.8
     pixels round in its tree's blue, the bones up to Head and down to Hips 5.2 pixels
-    thick, the selection's yellow ring 24.3 pixels round."""
+    thick, the selection's yellow ring 24.3 pixels round and 2.5 wide, the joint showing
+    through it."""
     with scene_of(snapshot_of(figure_motion()), size=(200, 200)) as scene:
         look_down_at(scene, (0.0, 0.2, 0.0), 0.1)
         image = picture(scene)
@@ -188,6 +193,15 @@ def test_the_picture_a_joint_its_bones_and_the_ring_in_their_colours_and_sizes()
         image = picture(scene)
         yellow = (image[..., 0] > 150) & (image[..., 1] > 120) & (image[..., 2] < 100)
         rows, columns = np.nonzero(yellow)
-        reach = np.hypot(rows - 100, columns - 100)
-        assert 23.0 <= reach.max() <= 25.5 and yellow[100, 100]
+        reach = np.hypot(rows - 99.5, columns - 99.5)
+        assert 22.0 <= reach.min() and reach.max() <= 26.5  # a ring: nothing yellow inside it
+        assert _along(image[100, 100], blue) > 0.99  # the joint inside the ring is not covered
+        around = np.unique(np.floor(np.degrees(np.arctan2(rows - 99.5, columns - 99.5)) / 10))
+        assert len(around) >= 30  # all round, but where the bones in front hide it: 30 of 36 tens of degrees
         assert np.median(_along(image[yellow], (1.0, 0.85, 0.1))) > 0.99  # edges blend with the blue
+        camera = scene.plotter.camera  # seen from the side (+x) now: the ring still faces the camera
+        camera.position, camera.up = (5.0, 0.2, 0.0), (0.0, 1.0, 0.0)
+        image = picture(scene)
+        rows, columns = np.nonzero((image[..., 0] > 150) & (image[..., 1] > 120) & (image[..., 2] < 100))
+        reach = np.hypot(rows - 99.5, columns - 99.5)
+        assert 22.0 <= reach.min() and reach.max() <= 26.5 and np.ptp(columns) > 45  # round, not edge on

@@ -70,8 +70,8 @@ class SkeletonFigure(Drawing):
         self.add("roots", parts.glyph_part(len(self.roots), cube, colors[self.roots]))
         bones, _ = figure_bones(motion)
         self.add("bones", parts.bone_part(bones, BONE_RADIUS * size, 0.85 * colors[bones[:, 0]]))
-        ring = self.add("selection", parts.glyph_part(1, pv.Sphere(radius=1.9 * r), color=SELECTION_COLOR))
-        ring.actor.GetProperty().SetRepresentationToWireframe()
+        camera = scene.plotter.renderer.GetActiveCamera()
+        self.add("selection", parts.ring_part(1.9 * r, camera, color=SELECTION_COLOR))
 
     def part_wanted(self, part: parts.Part) -> bool:
         return part is not self.parts.get("selection") or (self.scene is not None and self.scene.selected is not None)

@@ -17,7 +17,6 @@ overlays, selection) and updated in place on a frame change. Sizes are fractions
 from __future__ import annotations
 
 import numpy as np
-import pyvista as pv
 
 from gmr_studio.app.scene import vtk_parts as parts
 from gmr_studio.app.scene.drawable import Drawing
@@ -185,9 +184,8 @@ class Markers(Drawing):
             "markers", parts.sphere_part(self.overlay.positions.shape[1], MARKER_RADIUS * size, color=MARKER_COLOR)
         )
         self.add("marker_labels", parts.label_part(self._label_texts(), color=MARKER_LABEL_COLOR))
-        ring = parts.glyph_part(1, pv.Sphere(radius=2.0 * MARKER_RADIUS * size), color=SELECTION_COLOR)
-        ring.actor.GetProperty().SetRepresentationToWireframe()
-        self.add("marker_selection", ring)
+        camera = scene.plotter.renderer.GetActiveCamera()
+        self.add("marker_selection", parts.ring_part(2.0 * MARKER_RADIUS * size, camera, color=SELECTION_COLOR))
 
     def _label_texts(self) -> list[str]:
         labels = self.overlay.markers.labels

@@ -6,9 +6,10 @@ marks it modified, so a frame costs a copy of a few hundred floats and one rende
 filter runs on a frame change: spheres and bones are drawn by the GPU as shaded imposters
 (:func:`sphere_part`, :func:`bone_part`: one square or box each, the surface and depth
 computed per pixel, so they cost the same at any size and are round at any zoom), cubes and
-rings are templates that the mapper places (:func:`glyph_part`: instanced by
-``vtkGlyph3DMapper``), lines are drawn as they are, and labels are quads of one texture,
-drawn in screen space (:class:`LabelPart`).
+markers are templates that the mapper places (:func:`glyph_part`: instanced by
+``vtkGlyph3DMapper``), a selection ring is a circle turned to the camera and moved by its
+actor's position (:func:`ring_part`), lines are drawn as they are, and labels are quads of
+one texture, drawn in screen space (:class:`LabelPart`).
 """
 
 from __future__ import annotations
@@ -20,6 +21,8 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkRenderingCore import (
     vtkActor,
+    vtkCamera,
+    vtkFollower,
     vtkGlyph3DMapper,
     vtkMapper,
     vtkPolyDataMapper,
@@ -161,6 +164,49 @@ def _coloured_actor(mapper: vtkMapper, mesh: pv.PolyData, n: int, colors, color)
     if colors is None:
         actor.GetProperty().SetColor(*color)
     return actor
+
+
+RING_SEGMENTS = 48  # a circle of 48 chords: round to 1/300 of its radius
+
+
+class RingPart(Part):
+    """A circle of ``radius`` (the scene's units) around one point, turned to the camera at
+    every render (``vtkFollower``): a selection ring. The mesh holds the one point (the
+    centre, written in place as every part's); the actor draws a closed line of
+    :data:`RING_SEGMENTS` chords in its own x-y plane, moved by its position, so following
+    the point costs no upload and no filter. A wireframe sphere of the same size drew about
+    5,000 line segments: 0.65 ms of every frame at 1018x425 in software OpenGL
+    (docs/app.md, "Performance")."""
+
+    def __init__(self, radius: float, camera: vtkCamera, color, width: float) -> None:
+        super().__init__(1)
+        self.radius = float(radius)
+        angles = np.linspace(0.0, 2.0 * np.pi, RING_SEGMENTS, endpoint=False)
+        self.circle = pv.PolyData(self.radius * np.column_stack([np.cos(angles), np.sin(angles), 0.0 * angles]))
+        self.circle.lines = np.concatenate([[RING_SEGMENTS + 1], np.arange(RING_SEGMENTS), [0]])
+        mapper = vtkPolyDataMapper()
+        mapper.SetInputData(self.circle)
+        mapper.ScalarVisibilityOff()
+        self.actor = vtkFollower()
+        self.actor.SetMapper(mapper)
+        self.actor.SetCamera(camera)
+        prop = self.actor.GetProperty()
+        prop.SetAmbient(1.0)
+        prop.SetDiffuse(0.0)
+        prop.SetSpecular(0.0)
+        prop.SetColor(*color)
+        prop.SetLineWidth(width)
+
+    def set_points(self, points: np.ndarray) -> None:
+        """Centre the ring on ``points`` (1, 3) (NaN read as 0: hide the ring for a gap)."""
+        super().set_points(points)
+        self.actor.SetPosition(*self._view[0])
+
+
+def ring_part(radius: float, camera: vtkCamera, color=(1.0, 1.0, 1.0), width: float = 2.5) -> RingPart:
+    """A selection ring of ``radius`` facing ``camera`` (the renderer's active camera), ``width``
+    pixels wide; place it with :meth:`RingPart.set_points`."""
+    return RingPart(radius, camera, color, width)
 
 
 def segments_part(
