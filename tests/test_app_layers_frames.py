@@ -44,7 +44,7 @@ def test_a_frame_change_updates_the_layer_in_place(studio):
     objects = [(part.actor.__this__, part.mesh.__this__, part.mesh.GetPoints().__this__) for part in parts]
     inputs = [part.actor.GetMapper().GetInputDataObject(0, 0).__this__ for part in (joints, error_joints)]
     colours = error_joints.mesh.point_data.VTKObject.GetArray("colors").__this__
-    props, legend = _props(renderer), ghosts.legend.__this__
+    props, legend = _props(renderer), ghosts.legend.actor.__this__
     # the colours of every compared frame, computed once when the layer was drawn
     assert ghosts.error_rgb.shape == (len(c.frames), c.n_pairs, 3)
     np.testing.assert_array_equal(ghosts.error_rgb, rgb_bytes(error_colours(c.position_error, c.position.max)))
@@ -60,7 +60,7 @@ def test_a_frame_change_updates_the_layer_in_place(studio):
         renderer.ResetCameraClippingRange()  # ... to everything drawn, the ghost included
         assert camera.GetClippingRange() == pytest.approx(fitted) and not studio.view.scene._clipping_stale
         # the same actors, poly data, points and colour arrays as before, nothing added
-        assert _props(renderer) == props and ghosts.legend.__this__ == legend
+        assert _props(renderer) == props and ghosts.legend.actor.__this__ == legend
         assert [(p.actor.__this__, p.mesh.__this__, p.mesh.GetPoints().__this__) for p in parts] == objects
         assert [p.actor.GetMapper().GetInputDataObject(0, 0).__this__ for p in (joints, error_joints)] == inputs
         assert error_joints.mesh.point_data.VTKObject.GetArray("colors").__this__ == colours

@@ -15,6 +15,7 @@ from gmr_studio.app.model.layers import ComparisonLayer, Layers
 from gmr_studio.app.model.marker_layers import MarkerLayer
 from gmr_studio.app.model.state import MarkerOverlay, StudioState
 from gmr_studio.app.scene.ghost_layer import GhostLayers, error_colours, error_scale_top
+from gmr_studio.app.scene.legend import BAR_HEIGHT, BAR_WIDTH, LABEL_GAP, label_texts
 from gmr_studio.app.scene.vtk_parts import rgb_bytes
 from gmr_studio.core.compare import compare_motions
 from gmr_studio.core.compare.clock import ghost_positions
@@ -27,6 +28,7 @@ from tests.tiny_scene import (
     figure_motion,
     figure_world,
     holds,
+    picture,
     posed_motion,
     scene_of,
     snapshot_of,
@@ -48,12 +50,12 @@ def b_motion(names=FIGURE_NAMES):
 
 
 @contextmanager
-def compared(qtbot, oit: bool = False):
+def compared(qtbot, oit: bool = False, size: tuple[int, int] = (160, 160)):
     """(scene, state, layers, ghosts): A (six frames) in a scene, B added as a layer."""
     state = StudioState()
     state.open_document(snapshot_of(figure_motion(6)), "a.gmr")
     layers = Layers(state)
-    with scene_of(state.snapshot) as scene:
+    with scene_of(state.snapshot, size=size) as scene:
         scene.plotter.renderer.SetUseOIT(oit)
         ghosts = GhostLayers(state, layers)
         scene.add_drawable(ghosts)
@@ -181,7 +183,7 @@ def test_the_error_view_colours_the_matched_joints_and_links_them_to_their_match
         assert ghosts.show_errors is False and ghosts.error_joints is None and ghosts.error_lines is None
         assert not {"error_joints", "error_lines", "error_legend"} & set(ghosts.parts)
         ghosts.set_show_errors(True)
-        assert ghosts.error_joints is not None and ghosts.parts["error_legend"].actor is ghosts.legend
+        assert ghosts.error_joints is not None and ghosts.parts["error_legend"] is ghosts.legend
 
 
 def test_a_frame_not_compared_shows_the_documents_joints_in_grey(qtbot):
@@ -210,26 +212,64 @@ def test_a_frame_not_compared_shows_the_documents_joints_in_grey(qtbot):
         np.testing.assert_allclose(ghosts.error_lines.mesh.points, np.concatenate([points, points]))
 
 
-def test_the_legend_runs_from_zero_to_the_top_in_the_maps_colours(qtbot):
+def test_the_legends_labels_run_from_zero_to_the_top_in_three_digits():
+    assert label_texts(3.8) == ["0", "0.95", "1.9", "2.85", "3.8"]
+    assert label_texts(HAND_ERROR) == ["0", "0.028", "0.0559", "0.0839", "0.112"]
+
+
+def test_the_legend_is_a_bar_in_the_maps_colours_its_labels_and_title_in_one_texture(qtbot):
     with compared(qtbot) as (scene, _state, _layers, ghosts):
         legend = ghosts.legend
-        assert holds(scene.plotter.renderer, legend) and ghosts.parts["error_legend"].n_points == 0
-        assert legend.GetTitle() == "error (file units)"
-        table = legend.GetLookupTable()
-        assert table.GetRange() == pytest.approx((0.0, HAND_ERROR))
-        assert table.GetNumberOfTableValues() == 256
-        values = np.array([table.GetTableValue(i) for i in range(256)])
-        expected = error_colours(np.linspace(0.0, HAND_ERROR, 256), HAND_ERROR)
-        np.testing.assert_allclose(values[:, :3], expected, atol=0.51 / 255)  # the table keeps bytes
-        np.testing.assert_array_equal(values[:, 3], 1.0)
-        # a bar at the view's right, below its middle, five labels of three digits
-        assert legend.GetPositionCoordinate().GetValue()[:2] == pytest.approx((0.86, 0.08))
-        assert (legend.GetWidth(), legend.GetHeight()) == pytest.approx((0.08, 0.4))
-        assert (legend.GetMaximumWidthInPixels(), legend.GetMaximumHeightInPixels()) == (70, 260)
-        assert legend.GetNumberOfLabels() == 5 and legend.GetLabelFormat() == "%.3g"
-        for text in (legend.GetTitleTextProperty(), legend.GetLabelTextProperty()):
-            assert text.GetFontSize() == 13 and not text.GetBold() and not text.GetItalic()
-            assert text.GetColor() == pytest.approx((0.9, 0.9, 0.9))
+        assert ghosts.parts["error_legend"] is legend and holds(scene.plotter.renderer, legend.actor)
+        image = legend.image
+        height, width = image.shape[:2]
+        alpha = image[..., 3]
+        bar_rows = np.flatnonzero((alpha[:, :BAR_WIDTH] == 255).all(axis=1))  # the bar: opaque all across
+        assert len(bar_rows) == BAR_HEIGHT and np.ptp(bar_rows) == BAR_HEIGHT - 1
+        bottom = bar_rows[0]
+        top = ghosts.top
+        assert top == pytest.approx(HAND_ERROR, rel=1e-12)
+        values = (np.arange(BAR_HEIGHT) + 0.5) / BAR_HEIGHT * top  # bottom (0, green) to top (red)
+        expected = rgb_bytes(error_colours(values, top))
+        for column in (0, BAR_WIDTH - 1):
+            np.testing.assert_array_equal(image[bottom : bottom + BAR_HEIGHT, column, :3], expected)
+        assert (alpha[bottom : bottom + BAR_HEIGHT, :BAR_WIDTH] == 255).all()
+        assert not alpha[: bottom + BAR_HEIGHT, BAR_WIDTH : BAR_WIDTH + LABEL_GAP].any()  # a gap, then the labels
+        # a label beside each fifth of the bar, bottom to top, in light grey text
+        labels = alpha[:, BAR_WIDTH + LABEL_GAP :] > 0
+        for k in range(5):
+            centre = bottom + round(k * (BAR_HEIGHT - 1) / 4)
+            assert labels[max(centre - 3, 0) : centre + 4].any(), k
+            assert not labels[centre + 12 : centre + 14].any() or k == 4  # and nothing between two
+        text = image[..., :3][image[..., 3] == 255]
+        assert (text.max(axis=1) >= 220).any()  # 0.9 grey at full cover
+        # the title above the bar, centred over the legend
+        title = alpha[bottom + BAR_HEIGHT + 8 :]
+        columns = np.flatnonzero(title.any(axis=0))
+        assert title.any() and abs((columns[0] + columns[-1]) / 2 - (width - 1) / 2) <= 2
+        assert height > BAR_HEIGHT + 20 and width > 80  # "error (file units)": wider than the bar and its labels
+        # one quad of the image's size, anchored at (0.86, 0.08) of the view, one texel a pixel
+        np.testing.assert_array_equal(legend.mesh.points[:, :2], [[0, 0], [width, 0], [width, height], [0, height]])
+        coordinate = legend.actor.GetPositionCoordinate()
+        assert coordinate.GetCoordinateSystemAsString() == "Normalized Viewport"
+        assert coordinate.GetValue()[:2] == pytest.approx((0.86, 0.08))
+        assert legend.actor.GetTexture().GetInput().GetDimensions() == (width, height, 1)
+        assert not legend.actor.GetTexture().GetInterpolate()
+
+
+def test_the_legend_is_drawn_at_the_views_right_upright(qtbot):
+    with compared(qtbot, size=(400, 400)) as (scene, _state, _layers, ghosts):
+        for overlay in ("ground", "soft_links"):
+            scene.set_overlay(overlay, False)
+        image = picture(scene)
+        bottom = int(np.flatnonzero((ghosts.legend.image[:, :BAR_WIDTH, 3] == 255).all(axis=1))[0])
+        x = round(0.86 * 400) + BAR_WIDTH // 2
+        low, high = 400 - 1 - (round(0.08 * 400) + bottom), 400 - 1 - (round(0.08 * 400) + bottom + BAR_HEIGHT - 1)
+        green, red = rgb_bytes(error_colours(np.array([0.0, HAND_ERROR]), HAND_ERROR))
+        assert np.abs(image[low - 1, x] - green).max() <= 8 and np.abs(image[high + 1, x] - red).max() <= 8
+        assert np.abs(image[low + 3, x] - image[2, 2]).max() <= 2  # below the bar: the background
+        ghosts.set_show_errors(False)
+        assert np.abs(picture(scene)[high + 1, x] - image[2, 2]).max() <= 2
 
 
 def test_a_marker_layer_is_spheres_in_its_colour_gaps_not_drawn(qtbot):

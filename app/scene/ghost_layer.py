@@ -24,8 +24,6 @@ only where a ghost's surfaces overlap, by a few levels of shading).
 from __future__ import annotations
 
 import numpy as np
-from vtkmodules.vtkCommonCore import vtkLookupTable
-from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
 
 from gmr_studio.app.model.layers import ComparisonLayer, Layers
 from gmr_studio.app.model.marker_layers import MARKER_LAYER_RADIUS, MarkerLayer
@@ -33,6 +31,7 @@ from gmr_studio.app.model.state import StudioState
 from gmr_studio.app.scene import vtk_parts as parts
 from gmr_studio.app.scene.drawable import Drawing
 from gmr_studio.app.scene.figure import figure_bones
+from gmr_studio.app.scene.legend import LegendPart, legend_part
 
 #: the error colour map: anchors (position in [0, 1], RGB), interpolated linearly
 COLOUR_MAP = np.array([(0.0, 0.2, 0.75, 0.35), (0.5, 1.0, 0.85, 0.1), (1.0, 0.9, 0.15, 0.1)])
@@ -70,7 +69,7 @@ class GhostLayers(Drawing):
         self.ghosts: list[tuple[parts.Part, ...]] = []
         self.error_joints: parts.Part | None = None
         self.error_lines: parts.Part | None = None
-        self.legend: vtkScalarBarActor | None = None
+        self.legend: LegendPart | None = None
         self.top = 1.0
         #: (R, P, 3) uint8: the error colour of each matched joint at each compared frame
         #: (rows of the active comparison), what a frame change writes into the error view
@@ -126,10 +125,10 @@ class GhostLayers(Drawing):
         self.top = error_scale_top(layer, size)
         self.error_rgb = parts.rgb_bytes(error_colours(layer.comparison.position_error, self.top))
         self._no_error_rgb = parts.rgb_bytes(np.broadcast_to(NO_ERROR_COLOUR, (n, 3)))
-        self.legend = _legend(self.top, layer.comparison.units_text)
-        holder = parts.Part(0)
-        holder.actor = self.legend
-        self.add("error_legend", holder)
+        top = self.top
+        self.legend = self.add(
+            "error_legend", legend_part(top, layer.comparison.units_text, lambda values: error_colours(values, top))
+        )
 
     def remove(self) -> None:
         if self.scene is not None and self._oit is not None:
@@ -177,31 +176,3 @@ class GhostLayers(Drawing):
             self.error_joints.set_points(a)
             self.error_joints.mesh.point_data["colors"][:] = rgb
             self.error_lines.set_points(np.concatenate([a, np.where(np.isfinite(b), b, a)]))
-
-
-def _legend(top: float, units: str) -> vtkScalarBarActor:
-    """A vertical colour bar from 0 to ``top`` titled with the units, at the view's right."""
-    table = vtkLookupTable()
-    table.SetNumberOfTableValues(256)
-    table.SetRange(0.0, top)
-    rgb = error_colours(np.linspace(0.0, top, 256), top)
-    for i, (r, g, b) in enumerate(rgb):
-        table.SetTableValue(i, r, g, b, 1.0)
-    table.Build()
-    bar = vtkScalarBarActor()
-    bar.SetLookupTable(table)
-    bar.SetTitle(f"error ({units})")
-    bar.UnconstrainedFontSizeOn()
-    bar.SetNumberOfLabels(5)
-    bar.SetLabelFormat("%.3g")
-    bar.SetMaximumWidthInPixels(70)
-    bar.SetMaximumHeightInPixels(260)
-    bar.GetPositionCoordinate().SetValue(0.86, 0.08)
-    bar.SetWidth(0.08)
-    bar.SetHeight(0.4)
-    for text in (bar.GetTitleTextProperty(), bar.GetLabelTextProperty()):
-        text.SetFontSize(13)
-        text.SetBold(False)
-        text.SetItalic(False)
-        text.SetColor(0.9, 0.9, 0.9)
-    return bar

@@ -319,7 +319,7 @@ class LabelPart(Part):
         self._build_texture()
 
     def _build_texture(self) -> None:
-        tiles, dims = _render_texts(self.texts, self.color, self.size)
+        tiles, dims = render_texts(self.texts, self.color, self.size)
         pad = 2  # empty texels between the rows: a quad's edge never samples its neighbour
         width = max([w for w, _ in dims] + [1]) + pad
         height = max(sum(h + pad for _, h in dims), 1)
@@ -368,7 +368,7 @@ class LabelPart(Part):
         self.mesh.GetPoints().Modified()
 
 
-def _render_texts(texts: list[str], color, size: int) -> tuple[list[np.ndarray], list[tuple[int, int]]]:
+def render_texts(texts: list[str], color, size: int) -> tuple[list[np.ndarray], list[tuple[int, int]]]:
     """Each text as an (h, w, 4) RGBA image (VTK's rows: bottom first) and its (w, h)."""
     renderer = vtkTextRenderer()
     prop = vtkTextProperty()

@@ -1,0 +1,91 @@
+"""The error view's legend: a colour bar from 0 to the scale's top, five labels and a title,
+drawn once into one texture and shown as one screen-space quad at the view's right.
+
+VTK's ``vtkScalarBarActor`` drew the same as a dozen props, and laid itself out again at
+every render in which the camera had moved (it watches the renderer's time, which follows
+the camera's): 0.4 ms of every frame at 1018x425 in software OpenGL, the largest part of a
+comparison layer's cost. This legend is built when the layer's error scale is
+(:meth:`app.scene.ghost_layer.GhostLayers.build`) and costs one textured quad a frame.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk
+from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkRenderingCore import vtkPolyDataMapper2D, vtkTexture, vtkTexturedActor2D
+
+from gmr_studio.app.scene import vtk_parts as parts
+
+BAR_WIDTH, BAR_HEIGHT = 22, 200  # pixels
+N_LABELS = 5  # 0, a quarter of the top, ..., the top
+LABEL_GAP = 4  # pixels between the bar and its labels, and below the title
+TEXT_COLOUR = (0.9, 0.9, 0.9)
+TEXT_SIZE = 13
+ANCHOR = (0.86, 0.08)  # the legend's bottom left corner, in fractions of the view's size
+
+
+def label_texts(top: float) -> list[str]:
+    """The labels from 0 to ``top``, bottom first, three significant digits."""
+    return [f"{value:.3g}" for value in np.linspace(0.0, top, N_LABELS)]
+
+
+def legend_image(top: float, units: str, colours: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
+    """(H, W, 4) uint8 RGBA, rows bottom first (VTK's order): the bar (``colours`` of
+    (BAR_HEIGHT,) values from 0 at its bottom to ``top`` -> (BAR_HEIGHT, 3) in [0, 1]) on
+    the left, each label centred on its height right of it, the title "error (units)"
+    centred above; transparent elsewhere."""
+    labels = label_texts(top)
+    tiles, dims = parts.render_texts([*labels, f"error ({units})"], TEXT_COLOUR, TEXT_SIZE)
+    label_height = max(h for _, h in dims[:-1])
+    title_w, title_h = dims[-1]
+    bottom = (label_height + 1) // 2  # the lowest label centred on the bar's bottom row
+    width = max(BAR_WIDTH + LABEL_GAP + max(w for w, _ in dims[:-1]), title_w)
+    height = bottom + BAR_HEIGHT + label_height // 2 + LABEL_GAP + title_h
+    image = np.zeros((height, width, 4), np.uint8)
+    values = (np.arange(BAR_HEIGHT) + 0.5) / BAR_HEIGHT * top
+    image[bottom : bottom + BAR_HEIGHT, :BAR_WIDTH, :3] = parts.rgb_bytes(colours(values))[:, None]
+    image[bottom : bottom + BAR_HEIGHT, :BAR_WIDTH, 3] = 255
+    for k, (tile, (w, h)) in enumerate(zip(tiles[:-1], dims[:-1], strict=True)):
+        centre = bottom + round(k * (BAR_HEIGHT - 1) / (N_LABELS - 1))
+        row = min(max(centre - h // 2, 0), height - h)
+        image[row : row + h, BAR_WIDTH + LABEL_GAP : BAR_WIDTH + LABEL_GAP + w] = tile
+    left = (width - title_w) // 2
+    image[height - title_h :, left : left + title_w] = tiles[-1]
+    return image
+
+
+class LegendPart(parts.Part):
+    """The legend's quad (4 points, pixels from :data:`ANCHOR`) and its texture,
+    :attr:`image` (H, W, 4)."""
+
+    def __init__(self, top: float, units: str, colours: Callable[[np.ndarray], np.ndarray]) -> None:
+        super().__init__(4)
+        self.top = float(top)
+        self.image = legend_image(top, units, colours)
+        height, width = self.image.shape[:2]
+        self._view[:] = [(0.0, 0.0, 0.0), (width, 0.0, 0.0), (width, height, 0.0), (0.0, height, 0.0)]
+        self.mesh.faces = np.array([4, 0, 1, 2, 3])
+        self.mesh.active_texture_coordinates = np.array([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)])
+        texels = vtkImageData()
+        texels.SetDimensions(width, height, 1)
+        texels.GetPointData().SetScalars(numpy_to_vtk(self.image.reshape(-1, 4), deep=True))
+        texture = vtkTexture()
+        texture.SetInputData(texels)
+        texture.InterpolateOff()  # one texel a pixel: the text stays sharp
+        mapper = vtkPolyDataMapper2D()
+        mapper.SetInputData(self.mesh)
+        mapper.ScalarVisibilityOff()
+        self.actor = vtkTexturedActor2D()
+        self.actor.SetMapper(mapper)
+        self.actor.SetTexture(texture)
+        self.actor.GetPositionCoordinate().SetCoordinateSystemToNormalizedViewport()
+        self.actor.GetPositionCoordinate().SetValue(*ANCHOR)
+
+
+def legend_part(top: float, units: str, colours: Callable[[np.ndarray], np.ndarray]) -> LegendPart:
+    """The legend of an error scale from 0 to ``top`` (``units`` in its title), coloured by
+    ``colours`` (values (N,) -> (N, 3) in [0, 1])."""
+    return LegendPart(top, units, colours)
