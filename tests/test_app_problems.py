@@ -170,12 +170,12 @@ def test_the_flagged_joint_is_drawn_in_the_warning_colour(studio):
     row, column = round(y), round(x)
     assert red[row - 1 : row + 2, column - 1 : column + 2].all()
     assert not colour_pixels(image, 2).any()
-    assert scene.front_renderer.GetDraw()  # the marks' layer is drawn
+    assert not scene.front_renderer.GetDraw()  # the marks are drawn in front in the main renderer: no second pass
     state.set_frame(POP_FRAME + 20)  # no finding there: nothing flagged
     scene.render(now=True)
     image = screen_image(studio)
     assert not colour_pixels(image, 3).any() and not colour_pixels(image, 2).any()
-    assert not scene.front_renderer.GetDraw()  # an empty layer costs a pass: not drawn
+    assert not scene.front_renderer.GetDraw()
     state.set_frame(3)  # the rest pose: every joint orange
     scene.render(now=True)
     image = screen_image(studio)

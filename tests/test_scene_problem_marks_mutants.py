@@ -1,15 +1,17 @@
 """The problem marks (app/scene/problem_marks.py, issue 24) on the tiny synthetic skeleton
 (:mod:`tests.tiny_scene`): a flat sphere in its level's colour around each joint the checks
-flag at the frame, in the front layer, levels below the chosen one left out, nothing for
+flag at the frame, drawn in front of everything, levels below the chosen one left out, nothing for
 flags of another motion."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+import pyvista as pv
 
 from gmr_studio.app.model.problems import LEVEL_COLOURS
 from gmr_studio.app.scene.problem_marks import ProblemMarks
+from gmr_studio.app.scene.vtk_parts import draws_anything
 from tests.tiny_scene import FIGURE_SIZE, figure_motion, holds, look_down_at, picture, scene_of, snapshot_of
 
 pytestmark = pytest.mark.gui
@@ -36,13 +38,13 @@ def marks_in(scene, flags: np.ndarray | None, min_level: int | None = None) -> P
     return marks
 
 
-def test_each_level_flagged_gets_a_flat_part_in_its_colour_in_the_front_layer():
+def test_each_level_flagged_gets_a_flat_part_in_its_colour_in_the_main_renderer():
     with scene_of(snapshot_of(figure_motion())) as scene:
         marks = marks_in(scene, FLAGS)
         assert marks.levels == (1, 2, 3) and set(marks.parts) == {"problems_1", "problems_2", "problems_3"}
         for level in (1, 2, 3):
             part = marks.parts[f"problems_{level}"]
-            assert holds(scene.front_renderer, part.actor) and not holds(scene.plotter.renderer, part.actor)
+            assert holds(scene.plotter.renderer, part.actor) and not holds(scene.front_renderer, part.actor)
             assert part.n_points == 6  # a sphere per joint, hidden where not flagged
             assert part.radius == pytest.approx(1.45 * 0.016 * FIGURE_SIZE)  # just around the joint's sphere
             prop = part.actor.GetProperty()
@@ -125,3 +127,21 @@ def test_the_picture_a_flagged_joint_in_its_flat_colour_over_the_ring():
         assert not marks.flagged(2)[2].size
         image = picture(scene)
         assert not (np.abs(image - np.rint(np.array(LEVEL_COLOURS[2]) * 255)) <= 2).all(axis=-1).any()
+
+
+def test_a_flagged_joint_shows_through_what_is_in_front_of_it_and_needs_no_second_layer():
+    """Chest flagged an error, seen from above through an opaque white board between it and
+    the camera: the board hides the figure but not the red disc; the front layer is not drawn."""
+    with scene_of(snapshot_of(figure_motion()), size=(200, 200)) as scene:
+        look_down_at(scene, (0.0, 0.2, 0.0), 0.1)
+        marks = marks_in(scene, flags_of({(0, 2): 3}))
+        scene.plotter.add_mesh(pv.Plane(center=(0.0, 0.2, 0.3), i_size=1.0, j_size=1.0), color="white", lighting=False)
+        scene.show_frame(0)
+        image = picture(scene)
+        red = (np.abs(image - np.rint(np.array(LEVEL_COLOURS[3]) * 255)) <= 2).all(axis=-1)
+        rows, columns = np.nonzero(red)
+        assert 17.5 <= np.hypot(rows - 100, columns - 100).max() <= 19.5 and red[100, 85:116].all()
+        assert (image[~red] >= 250).all(axis=-1).mean() > 0.95  # the board covers the rest: the figure hidden
+        assert not draws_anything(scene.front_renderer)  # no second layer to draw
+        marks.set_visible(False)
+        assert (picture(scene) >= 250).all()  # without the mark, only the board
