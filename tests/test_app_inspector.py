@@ -179,3 +179,34 @@ def test_scrolled_text_is_drawn_where_the_scroll_area_shows_it(qtbot, studio):
     drawn, expected = text_pixels(shown, 0), text_pixels(full, top)
     assert expected > 200
     assert abs(drawn - expected) <= 0.1 * expected
+
+
+@pytest.mark.gui
+def test_a_frame_change_rewrites_the_numbers_in_place_and_a_selection_stays(qtbot, studio):
+    from PyQt6.QtGui import QTextCursor, QTextDocument
+
+    from gmr_studio.app.docks.rich_text import SLOT_CLOSE, SLOT_OPEN
+    from gmr_studio.app.model import extensions
+
+    open_file(studio, shared_path(CMU), markers=shared_path("cmu/subject01/01_01.c3d"))
+    state = studio.state
+    assert extensions.recover_pelvis_frames(state, quiet=True)
+    state.set_overlay("pelvis", True)
+    state.select(state.motion.joint_index("LeftHand"))
+    state.select_marker(0)
+    state.set_frame(100)  # the pelvis recovered (not at frame 0), marker 0 seen
+    label = studio.inspector.label
+    # every number: the frame and its time, two angle lines, two local matrices (3 rows) and
+    # their angles, the world position, two world rotations (3 rows and angles), the
+    # marker, the pelvis residual and rotation (3 rows)
+    assert label.slots_held == 2 + 2 + 2 * 4 + 1 + 2 * 4 + 1 + 1 + 3 == 26
+    start = label.plain_text().index("World position")
+    label.cursor.setPosition(start)
+    label.cursor.setPosition(start + len("World position"), QTextCursor.MoveMode.KeepAnchor)
+    for frame in (101, 500, 2000, 3):
+        state.set_frame(frame)
+        whole = QTextDocument()
+        whole.setHtml(label.text().replace(SLOT_OPEN, "").replace(SLOT_CLOSE, ""))
+        assert label.plain_text() == whole.toPlainText()  # as if parsed whole
+        assert f"Frame {frame} of 2752" in studio.inspector.text()
+        assert label.selected_text() == "World position" and label.slots_held == 26

@@ -13,6 +13,7 @@ import numpy as np
 from PyQt6.QtWidgets import QLabel, QVBoxLayout, QWidget
 
 from gmr_studio.app.docks.frame_follow import follow_frame
+from gmr_studio.app.docks.rich_text import slot
 from gmr_studio.app.docks.timeplot import TimePlot
 from gmr_studio.app.model.formatting import format_lengths
 from gmr_studio.app.model.layers import Layers
@@ -86,13 +87,13 @@ def inspector_section(layers: Layers, frame: int, joint: int | None) -> list[str
         return [f"<p><b>Compared with {name}</b>: frame {frame} not compared.</p>"]
     error = comparison.position_error[row, pair]
     rotation = np.nan if comparison.rotation_error is None else comparison.rotation_error[row, pair]
-    units = html.escape(comparison.units_text)
+    units = comparison.units_text
     rows = (
         ("Match", html.escape(comparison.names_b[pair])),
-        ("Position (document)", format_lengths(comparison.positions_a[row, pair], size)),
-        ("Position (match)", format_lengths(comparison.positions_b[row, pair], size)),
-        ("Position error", f"{error:.4g} {units}" if np.isfinite(error) else "not compared (a gap)"),
-        ("Rotation error", f"{rotation:.4g} deg" if np.isfinite(rotation) else "none (a root or no rotations)"),
+        ("Position (document)", slot(format_lengths(comparison.positions_a[row, pair], size))),
+        ("Position (match)", slot(format_lengths(comparison.positions_b[row, pair], size))),
+        ("Position error", slot(f"{error:.4g} {units}" if np.isfinite(error) else "not compared (a gap)")),
+        ("Rotation error", slot(f"{rotation:.4g} deg" if np.isfinite(rotation) else "none (a root or no rotations)")),
     )
     table = "".join(f"<tr><td><b>{k}</b>&nbsp;</td><td>{v}</td></tr>" for k, v in rows)
     return [f"<p style='margin-bottom:2px'><b>Compared with {name}</b></p><table>{table}</table>"]

@@ -18,18 +18,10 @@ import html
 from pathlib import Path
 
 import numpy as np
-from PyQt6.QtCore import QPointF, QRectF, QSize, Qt
-from PyQt6.QtGui import (
-    QAbstractTextDocumentLayout,
-    QFontDatabase,
-    QGuiApplication,
-    QKeySequence,
-    QPainter,
-    QTextCursor,
-    QTextDocument,
-)
-from PyQt6.QtWidgets import QMenu, QScrollArea, QSizePolicy, QWidget
+from PyQt6.QtGui import QFontDatabase
+from PyQt6.QtWidgets import QScrollArea, QWidget
 
+from gmr_studio.app.docks.rich_text import RichText, slot, slot_lines
 from gmr_studio.app.model.formatting import format_angles, format_lengths, format_matrix
 from gmr_studio.app.model.joint_transforms import (
     LocalTransform,
@@ -42,116 +34,6 @@ from gmr_studio.app.model.state import StudioState
 from gmr_studio.core.clock import frame_seconds
 from gmr_studio.core.curves import values_at
 from gmr_studio.core.rotations import complete_order, euler_from_matrix
-
-
-class RichText(QWidget):
-    """Rich text wrapped to the widget's width, as a word-wrapped ``QLabel`` draws it, but
-    laid out once per change: a label lays its document out three to four times per
-    ``setText`` (size hint, height for width, paint), ~11 ms of every frame during playback
-    under software rendering, against ~3 ms here. Text is selectable by mouse and copied
-    with the copy key or the context menu, as in a selectable label."""
-
-    MARGIN = 6  # pixels around the text, as the label's margin
-
-    def __init__(self, parent: QWidget | None = None) -> None:
-        super().__init__(parent)
-        self.document = QTextDocument(self)
-        self.document.setDocumentMargin(0)
-        self.document.setDefaultFont(self.font())
-        self._html = ""
-        self.cursor = QTextCursor(self.document)  # the selection
-        self.setSizePolicy(QSizePolicy.Policy.Preferred, QSizePolicy.Policy.Minimum)
-        self.setFocusPolicy(Qt.FocusPolicy.ClickFocus)
-        self.setCursor(Qt.CursorShape.IBeamCursor)
-        self.setContextMenuPolicy(Qt.ContextMenuPolicy.DefaultContextMenu)
-
-    def text(self) -> str:
-        return self._html
-
-    def setText(self, html_text: str) -> None:  # noqa: N802 (QLabel's name)
-        if html_text == self._html:
-            return
-        self._html = html_text
-        self.document.setHtml(html_text)
-        self.cursor = QTextCursor(self.document)
-        self._fit()
-
-    def _fit(self) -> None:
-        width = max(1, self.width() - 2 * self.MARGIN)
-        if width != self.document.textWidth():  # a new text keeps the width; setting it again lays out twice
-            self.document.setTextWidth(width)
-        height = round(self.document.size().height()) + 2 * self.MARGIN
-        if height != self.minimumHeight():
-            self.setMinimumHeight(height)
-        self.update()
-
-    def sizeHint(self) -> QSize:  # noqa: N802 (Qt's name)
-        return QSize(round(self.document.idealWidth()) + 2 * self.MARGIN, self.minimumHeight())
-
-    def resizeEvent(self, event) -> None:  # noqa: N802 (Qt's name)
-        if event.size().width() != event.oldSize().width():
-            self._fit()
-        super().resizeEvent(event)
-
-    def paintEvent(self, event) -> None:  # noqa: N802 (Qt's name)
-        painter = QPainter(self)
-        painter.translate(self.MARGIN, self.MARGIN)
-        context = QAbstractTextDocumentLayout.PaintContext()
-        context.palette = self.palette()
-        context.palette.setColor(context.palette.ColorRole.Text, self.palette().color(self.foregroundRole()))
-        # only the exposed part (what the scroll area shows): the layout skips the blocks
-        # outside it (about half the text's drawing time at the default size)
-        context.clip = QRectF(event.rect()).translated(-self.MARGIN, -self.MARGIN)
-        if self.cursor.hasSelection():
-            selection = QAbstractTextDocumentLayout.Selection()
-            selection.cursor = self.cursor
-            selection.format.setBackground(self.palette().highlight())
-            selection.format.setForeground(self.palette().highlightedText())
-            context.selections = [selection]
-        self.document.documentLayout().draw(painter, context)
-        painter.end()
-
-    def selected_text(self) -> str:
-        return self.cursor.selection().toPlainText()
-
-    def _position_at(self, point: QPointF) -> int:
-        layout = self.document.documentLayout()
-        return layout.hitTest(point - QPointF(self.MARGIN, self.MARGIN), Qt.HitTestAccuracy.FuzzyHit)
-
-    def mousePressEvent(self, event) -> None:  # noqa: N802 (Qt's name)
-        if event.button() == Qt.MouseButton.LeftButton:
-            self.cursor.setPosition(max(self._position_at(event.position()), 0))
-            self.update()
-        super().mousePressEvent(event)
-
-    def mouseMoveEvent(self, event) -> None:  # noqa: N802 (Qt's name)
-        if event.buttons() & Qt.MouseButton.LeftButton:
-            position = self._position_at(event.position())
-            if position >= 0:
-                self.cursor.setPosition(position, QTextCursor.MoveMode.KeepAnchor)
-                self.update()
-
-    def keyPressEvent(self, event) -> None:  # noqa: N802 (Qt's name)
-        if event.matches(QKeySequence.StandardKey.Copy):
-            self.copy()
-        elif event.matches(QKeySequence.StandardKey.SelectAll):
-            self.select_all()
-        else:
-            super().keyPressEvent(event)
-
-    def contextMenuEvent(self, event) -> None:  # noqa: N802 (Qt's name)
-        menu = QMenu(self)
-        menu.addAction("&Copy", self.copy).setEnabled(self.cursor.hasSelection())
-        menu.addAction("Select &All", self.select_all)
-        menu.exec(event.globalPos())
-
-    def copy(self) -> None:
-        if self.cursor.hasSelection():
-            QGuiApplication.clipboard().setText(self.selected_text())
-
-    def select_all(self) -> None:
-        self.cursor.select(QTextCursor.SelectionType.Document)
-        self.update()
 
 
 class Inspector(QScrollArea):
@@ -183,9 +65,7 @@ class Inspector(QScrollArea):
         """The shown text without markup (for tests and copying)."""
         if self._stale:
             self._refresh()
-        document = QTextDocument()
-        document.setHtml(self.label.text())
-        return document.toPlainText()
+        return self.label.plain_text()
 
     def shown_frame(self) -> int | None:
         """The frame the text describes (None without a motion)."""
@@ -208,7 +88,7 @@ class Inspector(QScrollArea):
         self.label.setText(self._html())
 
     def _pre(self, text: str) -> str:
-        return f"<pre style='font-family:\"{self._mono}\"; margin:0 0 6px 0'>{html.escape(text)}</pre>"
+        return f"<pre style='font-family:\"{self._mono}\"; margin:0 0 6px 0'>{slot_lines(text)}</pre>"
 
     def _html(self) -> str:
         state = self.state
@@ -216,7 +96,8 @@ class Inspector(QScrollArea):
         if motion is None:
             return "<i>No motion</i>"
         f = state.frame
-        parts = [f"<b>Frame {f}</b> of {motion.n_frames} &nbsp; ({frame_seconds(f, motion.frame_time):.3f} s)"]
+        seconds = f"{frame_seconds(f, motion.frame_time):.3f}"
+        parts = [f"<b>Frame {slot(str(f))}</b> of {motion.n_frames} &nbsp; ({slot(seconds)} s)"]
         j = state.selected
         if j is None:
             parts.append("<p><i>Click a joint in the view or the forest to inspect it.</i></p>")
@@ -268,7 +149,7 @@ class Inspector(QScrollArea):
         for quantity, what in (("channels", "the file's own"), ("gmr-euler", "the GMR rotation")):
             columns, values = values_at(state.motion, j, quantity, f, state.positions, state.file_channels)
             labels = " ".join(c.rsplit(".", 1)[1] for c in columns)
-            shown = f"{format_angles(values)} deg" if columns else "none"
+            shown = f"{slot(format_angles(values))} deg" if columns else "none"
             lines.append(f"<b>{quantity}</b> ({what}{': ' + labels if labels else ''}): {shown}")
         return "<p style='margin:6px 0 6px 0'>" + "<br/>".join(lines) + "</p>"
 
@@ -278,12 +159,12 @@ class Inspector(QScrollArea):
             out.append(self._pre(format_matrix(shown.matrix, size)))
         if shown.angles is not None:
             where = "the file's channel values" if shown.from_file else "from the matrix"
-            angles = format_angles(shown.angles)
+            angles = slot(format_angles(shown.angles))
             out.append(f"<p style='margin:0 0 6px 0'>Euler {shown.order} ({where}): {angles} deg</p>")
         return out
 
     def _world_html(self, title: str, rotation: np.ndarray, order: str) -> str:
-        euler = format_angles(np.degrees(euler_from_matrix(rotation, order)))
+        euler = slot(format_angles(np.degrees(euler_from_matrix(rotation, order))))
         return (
             f"<p style='margin-bottom:2px'><b>World rotation</b> ({html.escape(title)}; Euler {order}: {euler} deg)</p>"
             + self._pre(format_matrix(rotation))
@@ -303,14 +184,13 @@ class Inspector(QScrollArea):
                 point = overlay.positions[f, m]
                 gap = not np.isfinite(point).all()
                 where = "missing (a gap)" if gap else format_lengths(point, self.state.motion.size)
-                out.append(f"<p><b>Marker {html.escape(markers.labels[m])}</b>: {where}</p>")
+                out.append(f"<p><b>Marker {html.escape(markers.labels[m])}</b>: {slot(where)}</p>")
         pelvis = self.state.pelvis
         if pelvis is not None and self.state.overlays["pelvis"]:
             residual = pelvis.residuals[f]
-            units = html.escape(pelvis.source.units)
-            text = f"{residual:.3g} {units}" if np.isfinite(residual) else "not recovered at this frame"
+            text = f"{residual:.3g} {pelvis.source.units}" if np.isfinite(residual) else "not recovered at this frame"
             labels = html.escape(", ".join(pelvis.source.fit_labels or pelvis.source.labels)) or "X1, X2, X3"
-            out.append(f"<p><b>Pelvis fit residual</b> (RMS of {labels}): {text}</p>")
+            out.append(f"<p><b>Pelvis fit residual</b> (RMS of {labels}): {slot(text)}</p>")
             if np.isfinite(residual):
                 out.append("<p style='margin-bottom:2px'><b>Pelvis rotation</b> (recovered, motion axes)</p>")
                 out.append(self._pre(format_matrix(pelvis.rotations[f])))

@@ -1,0 +1,239 @@
+"""Rich text for the docks: laid out once per change, selectable, and rewritten slot by slot.
+
+:class:`RichText` draws HTML wrapped to its width as a word-wrapped ``QLabel`` would, with
+one layout per change. The inspector shows the selected joint's numbers at every frame: it
+marks each number as a *slot* (:func:`slot`), and a new frame, whose text differs from the
+shown one in slots only, rewrites the changed slots in place instead of parsing and laying
+out the whole text again (0.25 against 0.6 ms a frame on CMU 01_01's LeftHand).
+"""
+
+from __future__ import annotations
+
+import html
+import re
+from dataclasses import dataclass
+
+import numpy as np
+from PyQt6.QtCore import QPointF, QRectF, QSize, Qt
+from PyQt6.QtGui import (
+    QAbstractTextDocumentLayout,
+    QGuiApplication,
+    QKeySequence,
+    QPainter,
+    QTextCharFormat,
+    QTextCursor,
+    QTextDocument,
+)
+from PyQt6.QtWidgets import QMenu, QSizePolicy, QWidget
+
+SLOT_OPEN, SLOT_CLOSE = "\ue000", "\ue001"  # private-use characters: never in a shown text
+_SLOT = re.compile(f"{SLOT_OPEN}([^{SLOT_CLOSE}]*){SLOT_CLOSE}")
+
+
+def slot(text: str) -> str:
+    """``text`` (plain: escaped here) marked as a slot of :meth:`RichText.setText`'s HTML: a
+    value that changes while the text around it stays (a frame's number). One line, no
+    runs of spaces unless inside a ``<pre>`` (else the whole text is parsed every time)."""
+    return f"{SLOT_OPEN}{html.escape(text)}{SLOT_CLOSE}"
+
+
+def slot_lines(text: str) -> str:
+    """Each line of ``text`` as its own slot (the lines of a ``<pre>`` are blocks)."""
+    return "\n".join(slot(line) for line in text.split("\n"))
+
+
+def _utf16_length(text: str) -> int:
+    """The length of ``text`` in document positions (UTF-16 code units)."""
+    return len(text.encode("utf-16-le")) // 2
+
+
+@dataclass
+class _Slot:
+    """Where a slot's value is in the document: first position, length, and its format."""
+
+    start: int
+    length: int
+    format: QTextCharFormat
+    value: str
+
+
+class RichText(QWidget):
+    """Rich text wrapped to the widget's width, as a word-wrapped ``QLabel`` draws it, but
+    laid out once per change: a label lays its document out three to four times per
+    ``setText`` (size hint, height for width, paint), ~11 ms of every frame during playback
+    under software rendering, against ~3 ms here. Text is selectable by mouse and copied
+    with the copy key or the context menu, as in a selectable label.
+
+    A text whose values are marked as slots (:func:`slot`) and whose rest is the text shown
+    already is not parsed again: only the slots whose values changed are written into the
+    document (its layout redoes their blocks only), and a selection made by the user stays.
+    A slot is plain text within one block (one line of a ``<pre>``: :func:`slot_lines`).
+    """
+
+    MARGIN = 6  # pixels around the text, as the label's margin
+
+    def __init__(self, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.document = QTextDocument(self)
+        self.document.setDocumentMargin(0)
+        self.document.setDefaultFont(self.font())
+        self.document.setUndoRedoEnabled(False)  # slots are rewritten every frame: keep no history
+        self._html = ""
+        self._template = ""  # the text with every slot emptied: what must stay for slots to be written alone
+        self._slots: list[_Slot] = []
+        self.cursor = QTextCursor(self.document)  # the selection
+        self.setSizePolicy(QSizePolicy.Policy.Preferred, QSizePolicy.Policy.Minimum)
+        self.setFocusPolicy(Qt.FocusPolicy.ClickFocus)
+        self.setCursor(Qt.CursorShape.IBeamCursor)
+        self.setContextMenuPolicy(Qt.ContextMenuPolicy.DefaultContextMenu)
+
+    def text(self) -> str:
+        return self._html
+
+    def setText(self, html_text: str) -> None:  # noqa: N802 (QLabel's name)
+        if html_text == self._html:
+            return
+        self._html = html_text
+        template = _SLOT.sub(SLOT_OPEN + SLOT_CLOSE, html_text)
+        values = [html.unescape(value) for value in _SLOT.findall(html_text)]
+        if self._slots and template == self._template:
+            self._write_slots(values)
+        else:
+            self._template = template
+            self.document.setHtml(html_text)
+            self._slots = self._find_slots(values)
+            if not self._slots:
+                self._template = ""  # not written slot by slot: parsed whole next time
+            self.cursor = QTextCursor(self.document)
+        self._fit()
+
+    @property
+    def slots_held(self) -> int:
+        """How many slots a text of the same template would have rewritten in place (0: the
+        next text is parsed whole)."""
+        return len(self._slots)
+
+    def plain_text(self) -> str:
+        """The text as shown, without markup."""
+        return self.document.toPlainText()
+
+    def _find_slots(self, values: list[str]) -> list[_Slot]:
+        """Take the slot marks out of the parsed document and note where each slot is (its
+        start, length and character format). [] when there is none, or when a slot did not
+        come out of the HTML parser as its value (white space folded outside a ``<pre>``,
+        a slot across blocks): such a text is always parsed whole."""
+        raw = self.document.toRawText()  # a character a document position (a UTF-16 pair: two)
+        where = np.cumsum([0] + [2 if ord(c) > 0xFFFF else 1 for c in raw])  # code point -> position
+        marks = [i for i, c in enumerate(raw) if c in (SLOT_OPEN, SLOT_CLOSE)]
+        cursor = QTextCursor(self.document)
+        cursor.beginEditBlock()
+        for index in reversed(marks):
+            cursor.setPosition(int(where[index]))
+            cursor.deleteChar()
+        cursor.endEditBlock()
+        pairs = [(marks[k], marks[k + 1]) for k in range(0, len(marks) - 1, 2)]
+        if not values or len(marks) != 2 * len(values) or any(raw[a] != SLOT_OPEN for a, _ in pairs):
+            return []
+        slots = []
+        for k, ((first, last), value) in enumerate(zip(pairs, values, strict=True)):
+            if raw[first + 1 : last] != value:
+                return []
+            start, length = int(where[first]) - 2 * k, int(where[last] - where[first]) - 1
+            cursor.setPosition(start + 1 if length else start)
+            slots.append(_Slot(start, length, cursor.charFormat(), value))
+        return slots
+
+    def _write_slots(self, values: list[str]) -> None:
+        """Write each changed value over its slot, in its character format, in one edit (the
+        layout redoes the changed blocks once, at its end: 0.35 against 0.5 ms one by one)."""
+        cursor = QTextCursor(self.document)
+        cursor.beginEditBlock()
+        shift = 0  # how far the slots after a rewritten one moved
+        for held, value in zip(self._slots, values, strict=True):
+            held.start += shift
+            if value == held.value:
+                continue
+            cursor.setPosition(held.start)
+            cursor.setPosition(held.start + held.length, QTextCursor.MoveMode.KeepAnchor)
+            cursor.insertText(value, held.format)
+            length = _utf16_length(value)
+            shift += length - held.length
+            held.length, held.value = length, value
+        cursor.endEditBlock()
+
+    def _fit(self) -> None:
+        width = max(1, self.width() - 2 * self.MARGIN)
+        if width != self.document.textWidth():  # a new text keeps the width; setting it again lays out twice
+            self.document.setTextWidth(width)
+        height = round(self.document.size().height()) + 2 * self.MARGIN
+        if height != self.minimumHeight():
+            self.setMinimumHeight(height)
+        self.update()
+
+    def sizeHint(self) -> QSize:  # noqa: N802 (Qt's name)
+        return QSize(round(self.document.idealWidth()) + 2 * self.MARGIN, self.minimumHeight())
+
+    def resizeEvent(self, event) -> None:  # noqa: N802 (Qt's name)
+        if event.size().width() != event.oldSize().width():
+            self._fit()
+        super().resizeEvent(event)
+
+    def paintEvent(self, event) -> None:  # noqa: N802 (Qt's name)
+        painter = QPainter(self)
+        painter.translate(self.MARGIN, self.MARGIN)
+        context = QAbstractTextDocumentLayout.PaintContext()
+        context.palette = self.palette()
+        context.palette.setColor(context.palette.ColorRole.Text, self.palette().color(self.foregroundRole()))
+        # only the exposed part (what the scroll area shows): the layout skips the blocks
+        # outside it (about half the text's drawing time at the default size)
+        context.clip = QRectF(event.rect()).translated(-self.MARGIN, -self.MARGIN)
+        if self.cursor.hasSelection():
+            selection = QAbstractTextDocumentLayout.Selection()
+            selection.cursor = self.cursor
+            selection.format.setBackground(self.palette().highlight())
+            selection.format.setForeground(self.palette().highlightedText())
+            context.selections = [selection]
+        self.document.documentLayout().draw(painter, context)
+        painter.end()
+
+    def selected_text(self) -> str:
+        return self.cursor.selection().toPlainText()
+
+    def _position_at(self, point: QPointF) -> int:
+        layout = self.document.documentLayout()
+        return layout.hitTest(point - QPointF(self.MARGIN, self.MARGIN), Qt.HitTestAccuracy.FuzzyHit)
+
+    def mousePressEvent(self, event) -> None:  # noqa: N802 (Qt's name)
+        if event.button() == Qt.MouseButton.LeftButton:
+            self.cursor.setPosition(max(self._position_at(event.position()), 0))
+            self.update()
+        super().mousePressEvent(event)
+
+    def mouseMoveEvent(self, event) -> None:  # noqa: N802 (Qt's name)
+        if event.buttons() & Qt.MouseButton.LeftButton:
+            position = self._position_at(event.position())
+            if position >= 0:
+                self.cursor.setPosition(position, QTextCursor.MoveMode.KeepAnchor)
+                self.update()
+
+    def keyPressEvent(self, event) -> None:  # noqa: N802 (Qt's name)
+        if event.matches(QKeySequence.StandardKey.Copy):
+            self.copy()
+        elif event.matches(QKeySequence.StandardKey.SelectAll):
+            self.select_all()
+        else:
+            super().keyPressEvent(event)
+
+    def contextMenuEvent(self, event) -> None:  # noqa: N802 (Qt's name)
+        menu = QMenu(self)
+        menu.addAction("&Copy", self.copy).setEnabled(self.cursor.hasSelection())
+        menu.addAction("Select &All", self.select_all)
+        menu.exec(event.globalPos())
+
+    def copy(self) -> None:
+        if self.cursor.hasSelection():
+            QGuiApplication.clipboard().setText(self.selected_text())
+
+    def select_all(self) -> None:
+        self.cursor.select(QTextCursor.SelectionType.Document)
+        self.update()

@@ -1,0 +1,204 @@
+"""RichText's slots (app/docks/rich_text.py): a text that differs from the shown one in its
+slots only is written slot by slot, and shows exactly what parsing it whole would show."""
+
+from __future__ import annotations
+
+import pytest
+from PyQt6.QtCore import Qt
+from PyQt6.QtGui import QFont, QTextCursor, QTextDocument
+
+from gmr_studio.app.docks.rich_text import SLOT_CLOSE, SLOT_OPEN, RichText, slot, slot_lines
+
+pytestmark = pytest.mark.gui
+
+
+def parsed(html_text: str) -> str:
+    """The plain text of ``html_text`` parsed whole, marks taken out."""
+    document = QTextDocument()
+    document.setHtml(html_text.replace(SLOT_OPEN, "").replace(SLOT_CLOSE, ""))
+    return document.toPlainText()
+
+
+def page(frame: int, angles: str, rows: list[str]) -> str:
+    """A text like the inspector's: a bold slot, slots in a paragraph, a <pre> of slot lines."""
+    return (
+        f"<p><b>Frame {slot(str(frame))}</b> of 120 &nbsp; (a &lt;test&gt;)</p>"
+        f"<p>Euler ZYX: {slot(angles)} deg, then the rest</p>"
+        f"<pre style='margin:0'>{slot_lines(chr(10).join(rows))}</pre><p>The end</p>"
+    )
+
+
+def test_a_slot_is_escaped_text_between_two_marks_and_lines_are_slots_each():
+    assert slot("a<b & c") == f"{SLOT_OPEN}a&lt;b &amp; c{SLOT_CLOSE}"
+    assert slot_lines("1 2\n 3") == f"{SLOT_OPEN}1 2{SLOT_CLOSE}\n{SLOT_OPEN} 3{SLOT_CLOSE}"
+
+
+def test_new_values_are_written_in_place_as_parsing_would_show_them(qtbot):
+    label = RichText()
+    qtbot.addWidget(label)
+    first = page(7, "1.000, 2.000, 3.000", ["    0.5   -0.25", "  1 | 2"])
+    label.setText(first)
+    assert label.slots_held == 4 and label.plain_text() == parsed(first)
+    assert SLOT_OPEN not in label.document.toRawText() and SLOT_CLOSE not in label.document.toRawText()
+    blocks = label.document.blockCount()
+    # longer, shorter, empty, escaped and non-BMP values, each slot moved by those before it
+    for frame, angles, rows in (
+        (1234, "-179.999, 0.000, 12.500", ["  -10.5    0.25", "1 | 2 | 3"]),
+        (3, "0, 0, 0", ["0", "x"]),
+        (99, "a<b & c \U0001f600", ["\U0001f600  1", "  2  "]),
+        (7, "1.000, 2.000, 3.000", ["    0.5   -0.25", "  1 | 2"]),
+    ):
+        text = page(frame, angles, rows)
+        label.setText(text)
+        assert label.plain_text() == parsed(text), (frame, label.plain_text())
+        assert label.slots_held == 4 and label.document.blockCount() == blocks
+        assert label.text() == text
+    assert not label.document.isUndoAvailable()  # written every frame: no history kept
+
+
+def test_a_rewritten_slot_keeps_its_format_and_the_users_selection_stays(qtbot):
+    label = RichText()
+    qtbot.addWidget(label)
+    label.setText(page(7, "1, 2, 3", ["a", "b"]))
+    end = label.plain_text().index("The end")
+    label.cursor.setPosition(end)
+    label.cursor.setPosition(end + 7, QTextCursor.MoveMode.KeepAnchor)
+    assert label.selected_text() == "The end"
+    label.setText(page(123456, "4.5, 5.5, 6.5", ["aaaa", "bbbb"]))
+    assert label.selected_text() == "The end"  # moved with the text before it, not reset
+    start = label.plain_text().index("123456")
+    cursor = QTextCursor(label.document)
+    cursor.setPosition(start + 1)
+    assert cursor.charFormat().fontWeight() == QFont.Weight.Bold  # the frame's number stays bold
+    cursor.setPosition(label.plain_text().index("4.5") + 1)
+    assert cursor.charFormat().fontWeight() != QFont.Weight.Bold
+    # another text around the slots: parsed whole, the selection gone
+    other = page(1, "1, 2, 3", ["a", "b"]).replace("The end", "Another end")
+    label.setText(other)
+    assert label.plain_text() == parsed(other) and not label.cursor.hasSelection()
+    assert label.slots_held == 4
+
+
+def test_slots_the_parser_does_not_give_back_as_written_make_the_text_parsed_whole(qtbot):
+    label = RichText()
+    qtbot.addWidget(label)
+    folded = "<p>Offset: {}</p>"  # outside a <pre> the parser folds runs of spaces
+    label.setText(folded.format(slot("1   2")))
+    assert label.slots_held == 0 and label.plain_text() == "Offset: 1 2"
+    label.setText(folded.format(slot("3   4")))
+    assert label.slots_held == 0 and label.plain_text() == "Offset: 3 4"
+    label.setText("<p>no slot at all</p>")
+    assert label.slots_held == 0 and label.plain_text() == "no slot at all"
+    label.setText(folded.format(slot("5 6")))  # a slot as parsed: held again
+    assert label.slots_held == 1 and label.plain_text() == "Offset: 5 6"
+    assert SLOT_OPEN not in label.document.toRawText()
+
+
+def shown(qtbot, html_text: str, width: int = 300) -> RichText:
+    label = RichText()
+    qtbot.addWidget(label)
+    label.resize(width, 50)
+    label.setText(html_text)
+    label.show()
+    qtbot.waitExposed(label)
+    return label
+
+
+def test_the_text_is_laid_out_to_the_width_and_asks_for_its_height(qtbot):
+    label = shown(qtbot, "<p>" + " ".join(["word"] * 60) + "</p>", width=300)
+    margin = RichText.MARGIN
+    assert label.document.textWidth() == 300 - 2 * margin
+    tall = label.minimumHeight()
+    assert tall == round(label.document.size().height()) + 2 * margin and tall > 3 * label.fontMetrics().height()
+    hint = label.sizeHint()
+    assert hint.width() == round(label.document.idealWidth()) + 2 * margin and hint.height() == tall
+    label.resize(600, tall)  # wider: fewer lines, a lower minimum
+    assert label.document.textWidth() == 600 - 2 * margin and label.minimumHeight() < tall
+    label.resize(600, tall + 40)  # only taller: the text is not laid out again
+    assert label.document.textWidth() == 600 - 2 * margin
+
+
+def test_the_text_is_drawn_inside_the_margin_and_a_selection_in_the_highlight(qtbot):
+    from PyQt6.QtGui import QColor, QPalette
+
+    label = shown(qtbot, "<p>MMMM MMMM MMMM</p>")
+    palette = label.palette()
+    palette.setColor(QPalette.ColorRole.Window, QColor("white"))
+    palette.setColor(QPalette.ColorRole.WindowText, QColor("black"))
+    palette.setColor(QPalette.ColorRole.Highlight, QColor(0, 0, 255))
+    label.setPalette(palette)
+    label.setAutoFillBackground(True)
+    image = label.grab().toImage()
+    dark = [
+        (x, y) for y in range(image.height()) for x in range(image.width()) if image.pixelColor(x, y).lightness() < 100
+    ]
+    xs, ys = [x for x, _ in dark], [y for _, y in dark]
+    margin = RichText.MARGIN
+    assert dark and min(xs) >= margin and min(ys) >= margin and min(xs) <= margin + 3
+    assert not any(image.pixelColor(x, y).blue() > 200 > image.pixelColor(x, y).red() for x, y in dark)
+    label.select_all()
+    image = label.grab().toImage()
+    blue = sum(
+        1
+        for y in range(image.height())
+        for x in range(image.width())
+        if image.pixelColor(x, y).blue() > 200 and image.pixelColor(x, y).red() < 60
+    )
+    assert blue > 200  # the selected text on the highlight colour
+
+
+def _mouse(kind, x: float, y: float, button, buttons):
+    from PyQt6.QtCore import QPointF
+    from PyQt6.QtGui import QMouseEvent
+
+    point = QPointF(x, y)
+    return QMouseEvent(kind, point, point, button, buttons, Qt.KeyboardModifier.NoModifier)
+
+
+def test_dragging_with_the_left_button_selects_and_the_copy_key_copies(qtbot):
+    from PyQt6.QtCore import QEvent
+    from PyQt6.QtGui import QGuiApplication, QKeySequence
+    from PyQt6.QtWidgets import QApplication
+
+    label = shown(qtbot, "<p>alpha beta gamma</p>")
+    left, none = Qt.MouseButton.LeftButton, Qt.MouseButton.NoButton
+    y = RichText.MARGIN + label.fontMetrics().height() / 2
+    end_of_alpha = RichText.MARGIN + label.fontMetrics().horizontalAdvance("alpha")
+    label.mousePressEvent(_mouse(QEvent.Type.MouseButtonPress, RichText.MARGIN, y, left, left))
+    label.mouseMoveEvent(_mouse(QEvent.Type.MouseMove, end_of_alpha + 1, y, none, none))  # no button held
+    assert not label.cursor.hasSelection()
+    label.mouseMoveEvent(_mouse(QEvent.Type.MouseMove, end_of_alpha + 1, y, none, left))
+    assert label.selected_text() == "alpha"
+    label.mousePressEvent(_mouse(QEvent.Type.MouseButtonPress, 200, y, Qt.MouseButton.RightButton, none))
+    assert label.selected_text() == "alpha"  # another button leaves the selection
+    QGuiApplication.clipboard().setText("before")
+    qtbot.keyClick(label, Qt.Key.Key_X, Qt.KeyboardModifier.ControlModifier)  # another key: nothing
+    assert QGuiApplication.clipboard().text() == "before"
+    copy = QKeySequence(QKeySequence.StandardKey.Copy)[0]
+    qtbot.keyClick(label, copy.key(), copy.keyboardModifiers())
+    assert QGuiApplication.clipboard().text() == "alpha"
+    every = QKeySequence(QKeySequence.StandardKey.SelectAll)[0]
+    qtbot.keyClick(label, every.key(), every.keyboardModifiers())
+    assert label.selected_text() == "alpha beta gamma"
+    label.mousePressEvent(_mouse(QEvent.Type.MouseButtonPress, RichText.MARGIN, y, left, left))
+    assert not label.cursor.hasSelection()
+    QGuiApplication.clipboard().setText("kept")
+    label.copy()  # nothing selected: the clipboard is left alone
+    assert QApplication.clipboard().text() == "kept"
+
+
+def test_the_context_menu_copies_when_there_is_a_selection_and_selects_all(qtbot, monkeypatch):
+    from PyQt6.QtCore import QPoint
+    from PyQt6.QtGui import QContextMenuEvent
+    from PyQt6.QtWidgets import QMenu
+
+    label = shown(qtbot, "<p>alpha beta</p>")
+    offered = []
+    monkeypatch.setattr(
+        QMenu, "exec", lambda menu, *_: offered.append([(a.text(), a.isEnabled()) for a in menu.actions()])
+    )
+    event = QContextMenuEvent(QContextMenuEvent.Reason.Mouse, QPoint(5, 5), QPoint(5, 5))
+    label.contextMenuEvent(event)
+    label.select_all()
+    label.contextMenuEvent(event)
+    assert offered == [[("&Copy", False), ("Select &All", True)], [("&Copy", True), ("Select &All", True)]]
