@@ -292,6 +292,8 @@ MODULES: dict[str, tuple[list[str], float]] = {
     # the dock policy: plain widgets and tabbed docks of a small main window (the app's docks'
     # own tests open the real window on a real take: seconds a mutant)
     "app/docks/frame_follow.py": (["tests/test_app_frame_follow_mutants.py"], 60),
+    # the inspector's text: a bare widget (slots, layout, painting, selection, keys, menu)
+    "app/docks/rich_text.py": (["tests/test_app_rich_text.py"], 60),
     # the layout's rules on a small main window of plain widgets (the real window's layout tests
     # open a real take at two sizes: ten seconds a mutant)
     "app/window/layout.py": (["tests/test_app_layout_mutants.py"], 60),
