@@ -202,3 +202,80 @@ def test_the_context_menu_copies_when_there_is_a_selection_and_selects_all(qtbot
     label.select_all()
     label.contextMenuEvent(event)
     assert offered == [[("&Copy", False), ("Select &All", True)], [("&Copy", True), ("Select &All", True)]]
+
+
+def test_only_the_slots_that_changed_are_written_and_each_in_its_own_format(qtbot):
+    label = RichText()
+    qtbot.addWidget(label)
+    text = "<p>x<b>{}</b>y {} z <i>{}</i></p>"  # a bold slot right after plain text, an italic one
+    label.setText(text.format(slot("1"), slot("2"), slot("3")))
+    assert label.plain_text() == "x1y 2 z 3"
+    label.setText(text.format(slot("1"), slot("2"), slot("345")))  # the first two unchanged, the last one longer
+    assert label.plain_text() == "x1y 2 z 345" and label.slots_held == 3
+    label.setText(text.format(slot("1"), slot("22"), slot("345")))  # one in the middle
+    assert label.plain_text() == "x1y 22 z 345"
+    label.setText(text.format(slot("10"), slot("22"), slot("6")))
+    assert label.plain_text() == "x10y 22 z 6"
+    cursor = QTextCursor(label.document)
+    weights = []
+    for position in range(1, len("x10y 22 z 6") + 1):
+        cursor.setPosition(position)  # the format of the character before the position
+        weights.append((cursor.charFormat().fontWeight() == QFont.Weight.Bold, cursor.charFormat().fontItalic()))
+    assert [bold for bold, _ in weights] == [False, True, True] + [False] * 8  # only "10" bold
+    assert [italic for _, italic in weights] == [False] * 10 + [True]  # only "6" italic
+
+
+def test_positions_count_a_character_beyond_16_bits_as_two(qtbot):
+    label = RichText()
+    qtbot.addWidget(label)
+    text = "<p>\U0001f600\U0001f600 {} <b>\uffff</b> {} {}</p>"
+    label.setText(text.format(slot("\U0001f642"), slot("a"), slot("b")))
+    assert label.slots_held == 3 and label.plain_text() == "\U0001f600\U0001f600 \U0001f642 \uffff a b"
+    label.setText(text.format(slot("\U0001f642\U0001f642"), slot("cc"), slot("d")))
+    assert label.plain_text() == "\U0001f600\U0001f600 \U0001f642\U0001f642 \uffff cc d"
+
+
+def test_stray_marks_in_the_text_around_the_slots_make_it_parsed_whole(qtbot):
+    label = RichText()
+    qtbot.addWidget(label)
+    for text in (slot("1") + SLOT_OPEN, SLOT_CLOSE + slot("1"), slot("1") + SLOT_OPEN + " " + SLOT_OPEN):
+        label.setText(f"<p>{text}</p>")
+        assert label.slots_held == 0 and label.plain_text().strip() == "1"  # every mark taken out
+    label.setText(f"<p>{slot('2')}</p>")
+    assert label.slots_held == 1 and label.plain_text() == "2"
+
+
+def test_the_margin_is_six_pixels_and_the_document_has_none(qtbot):
+    label = shown(qtbot, "<p>M</p>", width=100)
+    assert RichText.MARGIN == 6 and label.document.documentMargin() == 0
+    assert label.minimumHeight() == round(label.document.size().height()) + 12
+    line = label.document.documentLayout().blockBoundingRect(label.document.firstBlock())
+    assert line.top() == 0 and line.left() == 0
+    label.resize(5, 40)  # narrower than the margins: the text keeps a width of one pixel
+    assert label.document.textWidth() == 1
+
+
+def test_an_exposed_strip_draws_the_lines_in_it(qtbot):
+    from PyQt6.QtCore import QRect
+
+    label = shown(qtbot, "<p>" + "<br>".join(["MMMM MMMM"] * 8) + "</p>", width=200)
+    line = label.fontMetrics().lineSpacing()
+    for k in (2, 6):  # a strip through line k only: that line drawn in it
+        top = RichText.MARGIN + k * line
+        image = label.grab(QRect(0, top + 2, 200, line - 4)).toImage()
+        dark = sum(
+            1 for y in range(image.height()) for x in range(image.width()) if image.pixelColor(x, y).lightness() < 100
+        )
+        assert dark > 20, k
+
+
+def test_dragging_back_to_the_start_selects_from_it(qtbot):
+    from PyQt6.QtCore import QEvent
+
+    label = shown(qtbot, "<p>alpha beta</p>")
+    left = Qt.MouseButton.LeftButton
+    y = RichText.MARGIN + label.fontMetrics().height() / 2
+    end_of_alpha = RichText.MARGIN + label.fontMetrics().horizontalAdvance("alpha")
+    label.mousePressEvent(_mouse(QEvent.Type.MouseButtonPress, end_of_alpha + 1, y, left, left))
+    label.mouseMoveEvent(_mouse(QEvent.Type.MouseMove, 0, y, Qt.MouseButton.NoButton, left))  # position 0
+    assert label.selected_text() == "alpha" and label.cursor.position() == 0
