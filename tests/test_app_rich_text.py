@@ -228,11 +228,11 @@ def test_only_the_slots_that_changed_are_written_and_each_in_its_own_format(qtbo
 def test_positions_count_a_character_beyond_16_bits_as_two(qtbot):
     label = RichText()
     qtbot.addWidget(label)
-    text = "<p>\U0001f600\U0001f600 {} <b>\uffff</b> {} {}</p>"
+    text = "<p>\U0001f600\U00010000 {} <b>\uffff</b> {} {}</p>"  # U+10000: the first of them
     label.setText(text.format(slot("\U0001f642"), slot("a"), slot("b")))
-    assert label.slots_held == 3 and label.plain_text() == "\U0001f600\U0001f600 \U0001f642 \uffff a b"
+    assert label.slots_held == 3 and label.plain_text() == "\U0001f600\U00010000 \U0001f642 \uffff a b"
     label.setText(text.format(slot("\U0001f642\U0001f642"), slot("cc"), slot("d")))
-    assert label.plain_text() == "\U0001f600\U0001f600 \U0001f642\U0001f642 \uffff cc d"
+    assert label.plain_text() == "\U0001f600\U00010000 \U0001f642\U0001f642 \uffff cc d"
 
 
 def test_stray_marks_in_the_text_around_the_slots_make_it_parsed_whole(qtbot):
@@ -255,14 +255,18 @@ def test_the_margin_is_six_pixels_and_the_document_has_none(qtbot):
     assert label.document.textWidth() == 1
 
 
-def test_an_exposed_strip_draws_the_lines_in_it(qtbot):
+def test_an_exposed_strip_draws_the_line_it_crosses(qtbot):
+    """Eight one-line paragraphs of full blocks; a strip 4 pixels high through the middle of
+    line k is painted alone: the layout draws the blocks that meet the exposed part, taken
+    to the document's coordinates (the margin off), so line k shows in it."""
     from PyQt6.QtCore import QRect
 
-    label = shown(qtbot, "<p>" + "<br>".join(["MMMM MMMM"] * 8) + "</p>", width=200)
-    line = label.fontMetrics().lineSpacing()
-    for k in (2, 6):  # a strip through line k only: that line drawn in it
-        top = RichText.MARGIN + k * line
-        image = label.grab(QRect(0, top + 2, 200, line - 4)).toImage()
+    label = shown(qtbot, "".join(["<p style='margin:0'>\u2588\u2588\u2588\u2588</p>"] * 8), width=200)
+    line = label.document.documentLayout().blockBoundingRect(label.document.firstBlock()).height()
+    assert line >= 13
+    for k in (2, 6):
+        top = round(RichText.MARGIN + k * line + line - 10)  # 10 to 6 pixels above the line's bottom
+        image = label.grab(QRect(0, top, 200, 4)).toImage()
         dark = sum(
             1 for y in range(image.height()) for x in range(image.width()) if image.pixelColor(x, y).lightness() < 100
         )
