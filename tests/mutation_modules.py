@@ -276,6 +276,17 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "app/scene/highlight.py": (["tests/test_scene_highlight_mutants.py"], 60),
     "app/scene/problem_marks.py": (["tests/test_scene_problem_marks_mutants.py"], 60),
     "app/scene/ghost_layer.py": (["tests/test_scene_ghost_layer_mutants.py"], 60),
+    # the error legend: its texture to the pixel, its quad and its pixels drawn off screen
+    # (no scene), then the ghost layers' legend tests (the tiny figure and its moved copy compared)
+    "app/scene/legend.py": (
+        [
+            "tests/test_scene_legend_mutants.py",
+            "tests/test_scene_ghost_layer_mutants.py::test_the_legends_labels_run_from_zero_to_the_top_in_three_digits",
+            "tests/test_scene_ghost_layer_mutants.py::test_the_legend_is_a_bar_in_the_maps_colours_its_labels_and_title_in_one_texture",
+            "tests/test_scene_ghost_layer_mutants.py::test_the_legend_is_drawn_at_the_views_right_upright",
+        ],
+        60,
+    ),
     # the view's GPU parts: small parts drawn off screen (their arrays, actors and pixels), then
     # the imposters' first picture tests (a second in all: no window, no real file)
     "app/scene/vtk_parts.py": (

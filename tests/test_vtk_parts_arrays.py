@@ -1,6 +1,7 @@
 """The view's GPU parts (app/scene/vtk_parts.py) by their arrays and actors: the points, radii,
 directions and scales written in place, the colours handed to the mappers, the labels' texture
-atlas and quads, and which renderers draw anything (issue 24's mutation tests; no window)."""
+atlas and quads, the selection ring's circle and place, and which renderers draw anything
+(issue 24's mutation tests; no window)."""
 
 from __future__ import annotations
 
@@ -10,7 +11,15 @@ import pyvista as pv
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkImageData, vtkTable
 from vtkmodules.vtkRenderingAnnotation import vtkAxesActor
-from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer, vtkTextProperty, vtkTextRenderer
+from vtkmodules.vtkRenderingCore import (
+    vtkActor,
+    vtkCamera,
+    vtkFollower,
+    vtkPolyDataMapper,
+    vtkRenderer,
+    vtkTextProperty,
+    vtkTextRenderer,
+)
 
 from gmr_studio.app.scene import vtk_parts as parts
 
@@ -165,6 +174,38 @@ def test_one_bone_colour_is_repeated_per_bone_and_no_bones_is_nothing():
     empty = parts.bone_part(np.zeros((0, 2)), 0.1)
     empty.set_joints(np.zeros((1, 3)))
     assert empty.n_points == 0 and empty.pairs.shape == (0, 2) and not empty.mesh.point_data.keys()
+
+
+def test_a_ring_is_a_closed_circle_of_48_chords_in_its_followers_plane():
+    camera = vtkCamera()
+    ring = parts.ring_part(0.5, camera, color=(0.2, 0.4, 0.6), width=3.0)
+    assert isinstance(ring.actor, vtkFollower) and ring.actor.GetCamera() is camera
+    assert ring.radius == 0.5 and isinstance(ring.radius, float) and ring.n_points == 1
+    angles = np.arange(48) * (2 * np.pi / 48)  # a chord every 7.5 degrees, from +x anticlockwise
+    np.testing.assert_allclose(
+        ring.circle.points, 0.5 * np.column_stack([np.cos(angles), np.sin(angles), 0 * angles]), atol=1e-15
+    )
+    np.testing.assert_array_equal(ring.circle.lines, [49, *range(48), 0])  # one polyline, back to its start
+    mapper = ring.actor.GetMapper()
+    assert mapper.GetInput() is ring.circle and not mapper.GetScalarVisibility()
+    prop = ring.actor.GetProperty()
+    assert (prop.GetAmbient(), prop.GetDiffuse(), prop.GetSpecular()) == (1.0, 0.0, 0.0)  # flat: its colour
+    assert prop.GetColor() == pytest.approx((0.2, 0.4, 0.6)) and prop.GetLineWidth() == 3.0
+    plain = parts.ring_part(2, camera)
+    assert plain.radius == 2.0 and isinstance(plain.radius, float)
+    assert plain.actor.GetProperty().GetColor() == (1.0, 1.0, 1.0) and plain.actor.GetProperty().GetLineWidth() == 2.5
+
+
+def test_a_ring_follows_its_point_by_its_actors_position():
+    ring = parts.ring_part(0.5, vtkCamera())
+    address, circle = ring.mesh.GetPoints().__this__, ring.circle.points.copy()
+    ring.set_points(np.array([[1.0, -2.0, 3.0]]))
+    np.testing.assert_array_equal(ring.mesh.points, [[1.0, -2.0, 3.0]])
+    assert ring.actor.GetPosition() == (1.0, -2.0, 3.0)
+    ring.set_points(np.array([[np.nan, 4.0, 5.0]]))  # a gap: read as 0 (hide the ring)
+    assert ring.actor.GetPosition() == (0.0, 4.0, 5.0)
+    assert ring.mesh.GetPoints().__this__ == address
+    np.testing.assert_array_equal(ring.circle.points, circle)  # the circle itself never moves
 
 
 def _reference_tile(text: str, color, size: int) -> np.ndarray:

@@ -1,6 +1,7 @@
 """The view's GPU parts (app/scene/vtk_parts.py) by the pixels they cover: imposter spheres and
 bones in their colours and shading, glyphs at their own size, labels' texels where they are
-placed (issue 24's mutation tests; an off-screen window, 100 pixels per unit)."""
+placed, a selection ring round from any side (issue 24's mutation tests; an off-screen window,
+100 pixels per unit)."""
 
 from __future__ import annotations
 
@@ -108,3 +109,32 @@ def test_labels_show_their_texels_in_their_quads_and_hidden_ones_nothing():
     outside = image.copy()
     outside[SIZE - 44 - h : SIZE - 44, 56 : 56 + w] = 0
     assert not outside.any() and drawn.max() >= 200
+
+
+def _ring_picture(centre, radius: float, eye) -> np.ndarray:
+    """(200, 200) bool: the pixels a white ring of ``radius`` around ``centre`` covers, seen
+    from ``eye`` (a direction) in parallel projection, 100 pixels a unit, centred on it."""
+    plotter = pv.Plotter(off_screen=True, window_size=(200, 200), lighting="none")
+    plotter.set_background((0, 0, 0))
+    ring = parts.ring_part(radius, plotter.renderer.GetActiveCamera(), width=2.0)
+    ring.set_points(np.array([centre], dtype=float))
+    plotter.renderer.AddActor(ring.actor)
+    plotter.enable_parallel_projection()
+    camera = plotter.camera
+    camera.focal_point = tuple(centre)
+    camera.position = tuple(np.asarray(centre) + 10 * np.asarray(eye, dtype=float))
+    camera.up = (0.0, 1.0, 0.0) if abs(eye[1]) < 0.9 else (0.0, 0.0, 1.0)
+    camera.parallel_scale = 1.0
+    image = np.asarray(plotter.screenshot(return_img=True))[..., :3].astype(int)
+    plotter.close()
+    return image.max(axis=-1) > 100
+
+
+@pytest.mark.parametrize("eye", [(0, 0, 1), (1, 0, 0), (0.3, 0.8, -0.5)])
+def test_a_ring_faces_the_camera_round_about_its_point(eye):
+    drawn = _ring_picture((0.4, -0.3, 0.2), 0.5, eye)
+    rows, columns = np.nonzero(drawn)
+    reach = np.hypot(rows - 99.5, columns - 99.5)
+    assert 48.0 <= reach.min() and reach.max() <= 52.0  # 50 pixels round, nothing inside
+    around = np.unique(np.floor(np.degrees(np.arctan2(rows - 99.5, columns - 99.5)) / 10))
+    assert len(around) == 36  # all the way round

@@ -1,0 +1,97 @@
+"""The error legend (app/scene/legend.py, issue 24's mutation tests): its texture laid out to
+the pixel (a 22 x 200 bar, five labels of 13-point light grey text, each centred on its
+height, the title centred above), the quad that shows it one texel a pixel at (0.86, 0.08) of
+the view, and the pixels it covers there (an off-screen plotter, no scene, no window)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import pyvista as pv
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+from gmr_studio.app.scene.legend import label_texts, legend_image, legend_part
+from gmr_studio.app.scene.vtk_parts import render_texts, rgb_bytes
+
+pytestmark = pytest.mark.gui
+WIDE, HIGH = 22, 200  # the bar, pixels
+GAP = 4  # between the bar and the labels, and between the top label and the title
+GREY, POINTS = (0.9, 0.9, 0.9), 13  # the text's colour and size
+
+
+def ramp(values: np.ndarray) -> np.ndarray:
+    """A colour map that tells every value apart: (N,) in [0, 2] -> (N, 3)."""
+    t = np.asarray(values) / 2.0
+    return np.column_stack([t, 1.0 - t, 0.25 + 0.5 * t])
+
+
+def layout(top: float, units: str):
+    """The texts' tiles and sizes as the legend should use them: labels, then the title."""
+    return render_texts([*label_texts(top), f"error ({units})"], GREY, POINTS)
+
+
+@pytest.mark.parametrize(
+    ("top", "units"),
+    [
+        (2.0, "a unit with a long name"),  # the title is the widest: it sets the width
+        (1234.5, "m"),  # the top label, "1.23e+03", is the widest: the bar and its labels set the width
+    ],
+)
+def test_the_texture_holds_the_bar_the_labels_on_their_heights_and_the_title_centred(top, units):
+    tiles, dims = layout(top, units)
+    image = legend_image(top, units, lambda v: ramp(v * 2.0 / top))
+    label_h = max(h for _, h in dims[:-1])
+    title_w, title_h = dims[-1]
+    labels_w = WIDE + GAP + max(w for w, _ in dims[:-1])
+    assert (title_w > labels_w) == (units != "m")  # each case sets the width as its comment says
+    bottom = (label_h + 1) // 2  # the bar's bottom row: the lowest label's middle row
+    height = bottom + HIGH + label_h // 2 + GAP + title_h
+    assert image.shape == (height, max(labels_w, title_w), 4) and image.dtype == np.uint8
+    expected = np.zeros_like(image)
+    values = (np.arange(HIGH) + 0.5) / HIGH * 2.0  # each bar row at its value's colour, bottom first
+    expected[bottom : bottom + HIGH, :WIDE, :3] = rgb_bytes(ramp(values))[:, None]
+    expected[bottom : bottom + HIGH, :WIDE, 3] = 255
+    for k, (tile, (w, h)) in enumerate(zip(tiles[:-1], dims[:-1], strict=True)):
+        middle = bottom + [0, 50, 100, 149, 199][k]  # 0, a quarter... the top: on their bar rows
+        expected[middle - h // 2 : middle - h // 2 + h, WIDE + GAP : WIDE + GAP + w] = tile
+    left = (image.shape[1] - title_w) // 2
+    expected[height - title_h :, left : left + title_w] = tiles[-1]
+    np.testing.assert_array_equal(image, expected)
+    written = image[..., 3] > 0
+    written[bottom : bottom + HIGH, :WIDE] = False  # the text alone, not the bar
+    text = image[..., :3][written]
+    assert (text == text[:, :1]).all() and text.max() == 229  # light grey (0.9) text and its dark shadow
+
+
+def test_the_quad_shows_the_texture_one_texel_a_pixel_at_the_views_right():
+    part = legend_part(2.0, "m", ramp)
+    assert part.top == 2.0 and isinstance(part.top, float)
+    height, width = part.image.shape[:2]
+    np.testing.assert_array_equal(part.mesh.points, [[0, 0, 0], [width, 0, 0], [width, height, 0], [0, height, 0]])
+    np.testing.assert_array_equal(part.mesh.faces, [4, 0, 1, 2, 3])
+    np.testing.assert_array_equal(part.mesh.active_texture_coordinates, [[0, 0], [1, 0], [1, 1], [0, 1]])
+    texels = part.actor.GetTexture().GetInput()
+    assert texels.GetDimensions() == (width, height, 1)
+    np.testing.assert_array_equal(vtk_to_numpy(texels.GetPointData().GetScalars()), part.image.reshape(-1, 4))
+    assert not part.actor.GetTexture().GetInterpolate() and not part.actor.GetMapper().GetScalarVisibility()
+    coordinate = part.actor.GetPositionCoordinate()
+    assert coordinate.GetCoordinateSystemAsString() == "Normalized Viewport"
+    assert coordinate.GetValue() == pytest.approx((0.86, 0.08, 0.0))
+
+
+def test_the_legend_covers_its_pixels_in_the_view_upright():
+    part = legend_part(2.0, "m", ramp)
+    size = (800, 600)
+    plotter = pv.Plotter(off_screen=True, window_size=size)
+    plotter.set_background((0, 0, 0))
+    plotter.renderer.AddActor(part.actor)
+    picture = np.asarray(plotter.screenshot(return_img=True))[..., :3].astype(int)
+    plotter.close()
+    height, width = part.image.shape[:2]
+    x0, y0 = round(0.86 * size[0]), round(0.08 * size[1])  # the quad's bottom left, from the bottom left
+    drawn = picture[size[1] - y0 - height : size[1] - y0, x0 : x0 + width][::-1]  # rows bottom first
+    over_black = part.image[..., :3].astype(int) * part.image[..., 3:].astype(int) // 255
+    assert np.abs(drawn - over_black).max() <= 3
+    outside = picture.copy()
+    outside[size[1] - y0 - height : size[1] - y0, x0 : x0 + width] = 0
+    assert not outside.any()
