@@ -8,7 +8,8 @@ selected and the Curves dock shown, it prints side by side:
   ``QWidget``) of the app's view size with 38 joints as spheres and a grid, no docks and
   no multisampling, its points moved every frame: the reference every ratio is taken to;
 - **default**: ``state.set_frame(f)`` until Qt has processed what follows (every drawable
-  moved, the docks updated, the view's render), median over consecutive frames;
+  moved, the docks updated, the view's render), median over consecutive frames, the same
+  frames for every figure;
 - **+ axes, trail, labels**, and **+ one comparison layer** (01_01.amc), as ratios to default;
 - the docks' own costs, each timed alone: the inspector's text, the curves' cursor (moved
   and repainted), the foot contacts' bars (cursor moved and repainted).
@@ -46,6 +47,9 @@ def _median_ms(seconds: list[float]) -> float:
 
 
 WARM_UP = 20  # untimed updates before each figure
+# every figure over the same frames (what is drawn changes along the take: markers, flagged
+# joints), so that a ratio compares the same poses with and without what it adds
+FIRST = 100
 
 
 def _timed(step, count: int, warm_up: int = WARM_UP) -> list[float]:
@@ -179,18 +183,18 @@ def measure(width: int, height: int, frames: int, bare: list[float] | None) -> d
     if bare is None:
         bare = bare_reference(app, view.width(), view.height(), frames, state.positions)
     figures["bare"] = bare
-    figures["default"] = _frames(app, state, 100, frames)
+    figures["default"] = _frames(app, state, FIRST, frames)
     for name in ("axes", "trails", "labels"):
         state.set_overlay(name, True)
-    figures["overlays"] = _frames(app, state, 100 + frames, frames)
+    figures["overlays"] = _frames(app, state, FIRST, frames)
     for name in ("axes", "trails", "labels"):
         state.set_overlay(name, False)
     window.layers.add(load_snapshot(data / AMC), data / AMC, "cmu")
     app.processEvents()
-    figures["layer"] = _frames(app, state, 100 + 2 * frames, frames)
+    figures["layer"] = _frames(app, state, FIRST, frames)
     window.layers.remove(0)
     app.processEvents()
-    figures["default again"] = _frames(app, state, 100 + 3 * frames, frames)
+    figures["default again"] = _frames(app, state, FIRST, frames)
     figures["docks"] = _dock_costs(app, window, min(frames, 200))
     close_bench_window(window, scratch)
     return figures
