@@ -4,7 +4,8 @@
 one layout per change. The inspector shows the selected joint's numbers at every frame: it
 marks each number as a *slot* (:func:`slot`), and a new frame, whose text differs from the
 shown one in slots only, rewrites the changed slots in place instead of parsing and laying
-out the whole text again (0.25 against 0.6 ms a frame on CMU 01_01's LeftHand).
+out the whole text again: on CMU 01_01's LeftHand with markers and pelvis (26 slots) the
+inspector's refresh takes 0.70 ms against 0.98, its text shown in 0.35 ms against 0.6.
 """
 
 from __future__ import annotations
