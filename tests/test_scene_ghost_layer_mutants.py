@@ -15,7 +15,7 @@ from gmr_studio.app.model.layers import ComparisonLayer, Layers
 from gmr_studio.app.model.marker_layers import MarkerLayer
 from gmr_studio.app.model.state import MarkerOverlay, StudioState
 from gmr_studio.app.scene.ghost_layer import GhostLayers, error_colours, error_scale_top
-from gmr_studio.app.scene.legend import BAR_HEIGHT, BAR_WIDTH, LABEL_GAP, label_texts
+from gmr_studio.app.scene.legend import BAR_HEIGHT, BAR_WIDTH, EDGE, LABEL_GAP, label_texts, legend_fit
 from gmr_studio.app.scene.vtk_parts import rgb_bytes
 from gmr_studio.core.compare import compare_motions
 from gmr_studio.core.compare.clock import ghost_positions
@@ -263,7 +263,9 @@ def test_the_legend_is_drawn_at_the_views_right_upright(qtbot):
             scene.set_overlay(overlay, False)
         image = picture(scene)
         bottom = int(np.flatnonzero((ghosts.legend.image[:, :BAR_WIDTH, 3] == 255).all(axis=1))[0])
-        x = round(0.86 * 400) + BAR_WIDTH // 2
+        shift, scale = ghosts.legend.fitted  # moved left to keep the title inside the view, not shrunk
+        assert scale == 1.0 and shift == pytest.approx(0.86 * 400 + ghosts.legend.image.shape[1] + EDGE - 400)
+        x = round(0.86 * 400 - shift) + BAR_WIDTH // 2
         low, high = 400 - 1 - (round(0.08 * 400) + bottom), 400 - 1 - (round(0.08 * 400) + bottom + BAR_HEIGHT - 1)
         green, red = rgb_bytes(error_colours(np.array([0.0, HAND_ERROR]), HAND_ERROR))
         assert np.abs(image[low - 1, x] - green).max() <= 8 and np.abs(image[high + 1, x] - red).max() <= 8
@@ -369,3 +371,21 @@ def test_hiding_writes_no_frame_and_needs_no_scene(qtbot):
         scene.show_frame(2)  # hidden drawables are skipped...
         ghosts.set_visible(False)  # ... and hiding again writes nothing either
         np.testing.assert_allclose(joints.mesh.points, layers[0].ghost[1])
+
+
+def test_in_a_small_view_the_legend_is_shrunk_to_fit_and_kept_off_the_right_side(qtbot):
+    with compared(qtbot, size=(200, 150)) as (scene, _state, _layers, ghosts):
+        for overlay in ("ground", "soft_links"):
+            scene.set_overlay(overlay, False)
+        image = picture(scene)  # rendered: the legend fitted before the render
+        legend = ghosts.legend
+        height, width = legend.image.shape[:2]
+        shift, scale = legend.fitted
+        assert (shift, scale) == legend_fit((200, 150), (width, height)) and scale < 1 and shift > 0
+        background = image[2, 2]
+        drawn = np.abs(image - background).max(axis=-1) > 30
+        drawn[:, :120] = False  # the figure is at the view's left and centre
+        columns, rows = np.flatnonzero(drawn.any(axis=0)), np.flatnonzero(drawn.any(axis=1))
+        assert columns.max() <= 200 - EDGE and rows.min() >= 150 - round(0.08 * 150) - round(scale * height) - 2
+        red = rgb_bytes(error_colours(np.array([ghosts.top]), ghosts.top))[0]
+        assert (np.abs(image[rows.min() : rows.min() + 40, 120:] - red).max(axis=-1) <= 12).any()  # the bar's top

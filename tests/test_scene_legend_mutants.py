@@ -10,7 +10,7 @@ import pytest
 import pyvista as pv
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
-from gmr_studio.app.scene.legend import label_texts, legend_image, legend_part
+from gmr_studio.app.scene.legend import EDGE, label_texts, legend_fit, legend_image, legend_part
 from gmr_studio.app.scene.vtk_parts import render_texts, rgb_bytes
 
 pytestmark = pytest.mark.gui
@@ -95,3 +95,42 @@ def test_the_legend_covers_its_pixels_in_the_view_upright():
     outside = picture.copy()
     outside[size[1] - y0 - height : size[1] - y0, x0 : x0 + width] = 0
     assert not outside.any()
+
+
+@pytest.mark.parametrize(
+    ("view", "expected"),
+    [
+        ((1000, 1000), (0.0, 1.0)),  # room enough: as drawn, at the anchor
+        ((1000, 200), (0.0, 0.84)),  # short: 84% of the height (8% free above and below)
+        ((200, 1000), (60.0, 0.8)),  # narrow: 40% of the width, moved left to keep 8 pixels free
+        ((10, 1000), (8.6, 0.04)),  # narrower than its anchor allows: moved to the view's left side
+    ],
+)
+def test_a_legend_is_shrunk_and_moved_to_fit_the_view(view, expected):
+    shift, scale = legend_fit(view, (100, 200))
+    assert (shift, scale) == pytest.approx(expected, abs=1e-12)
+    left = 0.86 * view[0] - shift
+    assert left >= -1e-12 and scale * 200 <= 0.84 * view[1] + 1e-9 and scale * 100 <= 0.4 * view[0] + 1e-9
+    assert left + scale * 100 <= view[0] - EDGE + 1e-9 or left == pytest.approx(0.0)
+
+
+def test_fitting_rewrites_the_quad_only_when_the_view_asks_and_smooths_a_shrunk_texture():
+    part = legend_part(2.0, "m", ramp)
+    height, width = part.image.shape[:2]
+    points = part.mesh.GetPoints()
+    part.fit((2000, 2000))  # room enough: nothing to rewrite
+    assert part.fitted == (0.0, 1.0) and not part.actor.GetTexture().GetInterpolate()
+    stamp = points.GetMTime()
+    shift, scale = legend_fit((300, 200), (width, height))
+    assert scale < 1 and shift > 0
+    part.fit((300, 200))
+    assert part.fitted == (shift, scale) and part.actor.GetTexture().GetInterpolate()
+    left, right, top = -shift, scale * width - shift, scale * height
+    np.testing.assert_allclose(part.mesh.points, [[left, 0, 0], [right, 0, 0], [right, top, 0], [left, top, 0]])
+    assert points.GetMTime() > stamp
+    stamp = points.GetMTime()
+    part.fit((300, 200))  # the same view: the quad is left alone
+    assert points.GetMTime() == stamp
+    part.fit((2000, 2000))  # room again: one texel a pixel
+    np.testing.assert_allclose(part.mesh.points, [[0, 0, 0], [width, 0, 0], [width, height, 0], [0, height, 0]])
+    assert not part.actor.GetTexture().GetInterpolate()

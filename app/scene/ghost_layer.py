@@ -147,6 +147,11 @@ class GhostLayers(Drawing):
         if shown and self.scene is not None and self.scene.snapshot is not None:
             self.show_frame(self.scene.frame)
 
+    def before_render(self) -> None:
+        """Fit the legend to the view's size (a small view shrinks it, a narrow one moves it left)."""
+        if self.legend is not None:
+            self.legend.fit(tuple(self.scene.plotter.renderer.GetSize()))
+
     # -------------------------------------------------------------------- frames
     def show_frame(self, frame: int) -> None:
         """Write frame ``frame`` into the ghosts and the error view."""

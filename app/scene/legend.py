@@ -25,6 +25,9 @@ LABEL_GAP = 4  # pixels between the bar and its labels, and below the title
 TEXT_COLOUR = (0.9, 0.9, 0.9)
 TEXT_SIZE = 13
 ANCHOR = (0.86, 0.08)  # the legend's bottom left corner, in fractions of the view's size
+EDGE = 8  # pixels kept free at the view's right side: a legend that would cross it moves left
+FIT_HEIGHT = 0.84  # of the view's height at most (from the anchor's 8% to 8% below the top)
+FIT_WIDTH = 0.4  # of the view's width at most
 
 
 def label_texts(top: float) -> list[str]:
@@ -57,9 +60,24 @@ def legend_image(top: float, units: str, colours: Callable[[np.ndarray], np.ndar
     return image
 
 
+def legend_fit(view: tuple[int, int], image: tuple[int, int]) -> tuple[float, float]:
+    """(shift, scale) of a legend of ``image`` (width, height) pixels in a view of ``view``
+    (width, height) pixels: shrunk (never enlarged) to at most :data:`FIT_HEIGHT` of the
+    view's height and :data:`FIT_WIDTH` of its width, and moved left by ``shift`` pixels from
+    :data:`ANCHOR` where its right side would come nearer than :data:`EDGE` to the view's
+    (not beyond the view's left side)."""
+    view_width, view_height = view
+    width, height = image
+    scale = min(1.0, FIT_HEIGHT * view_height / height, FIT_WIDTH * view_width / width)
+    left = ANCHOR[0] * view_width
+    shift = min(max(left + scale * width + EDGE - view_width, 0.0), left)
+    return shift, scale
+
+
 class LegendPart(parts.Part):
     """The legend's quad (4 points, pixels from :data:`ANCHOR`) and its texture,
-    :attr:`image` (H, W, 4)."""
+    :attr:`image` (H, W, 4). Drawn one texel a pixel until :meth:`fit` shrinks it to a
+    small view."""
 
     def __init__(self, top: float, units: str, colours: Callable[[np.ndarray], np.ndarray]) -> None:
         super().__init__(4)
@@ -83,6 +101,22 @@ class LegendPart(parts.Part):
         self.actor.SetTexture(texture)
         self.actor.GetPositionCoordinate().SetCoordinateSystemToNormalizedViewport()
         self.actor.GetPositionCoordinate().SetValue(*ANCHOR)
+        self.fitted = (0.0, 1.0)  # (shift, scale) of the quad now
+
+    def fit(self, view: tuple[int, int]) -> None:
+        """Shrink and move the quad for a view of (width, height) pixels
+        (:func:`legend_fit`): called before each render; the quad is rewritten only when
+        the view's size asks for another fit, and a shrunk texture is interpolated."""
+        fitted = legend_fit(view, (self.image.shape[1], self.image.shape[0]))
+        if fitted == self.fitted:
+            return
+        self.fitted = fitted
+        shift, scale = fitted
+        left, right = -shift, scale * self.image.shape[1] - shift
+        height = scale * self.image.shape[0]
+        self._view[:] = [(left, 0.0, 0.0), (right, 0.0, 0.0), (right, height, 0.0), (left, height, 0.0)]
+        self.mesh.GetPoints().Modified()
+        self.actor.GetTexture().SetInterpolate(scale < 1.0)
 
 
 def legend_part(top: float, units: str, colours: Callable[[np.ndarray], np.ndarray]) -> LegendPart:
