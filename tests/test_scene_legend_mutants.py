@@ -118,9 +118,11 @@ def test_fitting_rewrites_the_quad_only_when_the_view_asks_and_smooths_a_shrunk_
     part = legend_part(2.0, "m", ramp)
     height, width = part.image.shape[:2]
     points = part.mesh.GetPoints()
+    assert part.fitted == (0.0, 1.0)  # as built: one texel a pixel at the anchor
+    stamp = points.GetMTime()
     part.fit((2000, 2000))  # room enough: nothing to rewrite
     assert part.fitted == (0.0, 1.0) and not part.actor.GetTexture().GetInterpolate()
-    stamp = points.GetMTime()
+    assert points.GetMTime() == stamp
     shift, scale = legend_fit((300, 200), (width, height))
     assert scale < 1 and shift > 0
     part.fit((300, 200))
