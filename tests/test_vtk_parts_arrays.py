@@ -318,3 +318,15 @@ def test_a_renderer_draws_anything_only_with_a_visible_prop_that_has_points():
     assert parts.draws_anything(_renderer_with(empty, vtkActor())) is True  # a mapper to come
     assert parts.draws_anything(_renderer_with(_actor_of(None))) is True  # an input to come
     assert parts.draws_anything(_renderer_with(_actor_of(vtkTable()))) is True  # no points to count
+
+
+def test_a_sphere_part_coloured_per_point_holds_its_colour_array_written_in_place():
+    part = parts.sphere_part(3, 0.1, colors=np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]))
+    array = part.mesh.GetPointData().GetArray("colors")
+    stamp = array.GetMTime()
+    np.testing.assert_array_equal(part.colors, [[255, 0, 0], [0, 255, 0], [0, 0, 255]])
+    part.colors[:] = [[1, 2, 3], [4, 5, 6], [7, 8, 9]]
+    np.testing.assert_array_equal(vtk_to_numpy(array), [[1, 2, 3], [4, 5, 6], [7, 8, 9]])  # VTK's own array
+    assert array.GetMTime() > stamp  # marked modified: drawn anew
+    assert parts.sphere_part(3, 0.1, color=(1.0, 0.0, 0.0)).colors is None
+    assert parts.sphere_part(0, 0.1, np.zeros((0, 3))).colors is None

@@ -102,9 +102,7 @@ class RichText(QWidget):
         else:
             self._template = template
             self.document.setHtml(html_text)
-            self._slots = self._find_slots(values)
-            if not self._slots:
-                self._template = ""  # not written slot by slot: parsed whole next time
+            self._slots = self._find_slots(values)  # none held: the next text is parsed whole
             self.cursor = QTextCursor(self.document)
         self._fit()
 

@@ -67,7 +67,7 @@ class GhostLayers(Drawing):
         self.show_errors = True
         # per layer: (bones, joints) of a motion, (spheres,) of a marker set
         self.ghosts: list[tuple[parts.Part, ...]] = []
-        self.error_joints: parts.Part | None = None
+        self.error_joints: parts.SpherePart | None = None
         self.error_lines: parts.Part | None = None
         self.legend: LegendPart | None = None
         self.top = 1.0
@@ -75,7 +75,6 @@ class GhostLayers(Drawing):
         #: (rows of the active comparison), what a frame change writes into the error view
         self.error_rgb = np.zeros((0, 0, 3), np.uint8)
         self._no_error_rgb = np.zeros((0, 3), np.uint8)  # (P, 3): a frame not compared
-        self._error_colour_array: np.ndarray | None = None  # (P, 3) uint8: the error joints' colours, VTK's
         self._oit: bool | None = None  # the renderer's own setting, restored
         layers.changed.connect(self._on_layers_changed)
         layers.appearance_changed.connect(lambda _index: self._on_layers_changed())
@@ -121,8 +120,6 @@ class GhostLayers(Drawing):
         self.error_joints = self.add(
             "error_joints", parts.sphere_part(n, ERROR_JOINT_RADIUS * size, colors=np.zeros((n, 3)))
         )
-        # the colour array, looked up once: pyvista's lookup by name costs 0.1 ms a frame
-        self._error_colour_array = self.error_joints.mesh.point_data["colors"]
         pairs = np.column_stack([np.arange(n), n + np.arange(n)])
         self.error_lines = self.add("error_lines", parts.segments_part(2 * n, pairs, color=LINE_COLOUR, width=1.5))
         self.top = error_scale_top(layer, size)
@@ -182,5 +179,5 @@ class GhostLayers(Drawing):
                 rgb = self.error_rgb[row]
                 a, b = comparison.positions_a[row], comparison.positions_b[row]
             self.error_joints.set_points(a)
-            self._error_colour_array[:] = rgb  # written in place, the VTK array marked modified
+            self.error_joints.colors[:] = rgb  # written in place, the VTK array marked modified
             self.error_lines.set_points(np.concatenate([a, np.where(np.isfinite(b), b, a)]))

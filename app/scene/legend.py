@@ -13,9 +13,6 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
-from vtkmodules.util.numpy_support import numpy_to_vtk
-from vtkmodules.vtkCommonDataModel import vtkImageData
-from vtkmodules.vtkRenderingCore import vtkPolyDataMapper2D, vtkTexture, vtkTexturedActor2D
 
 from gmr_studio.app.scene import vtk_parts as parts
 
@@ -87,18 +84,8 @@ class LegendPart(parts.Part):
         self._view[:] = [(0.0, 0.0, 0.0), (width, 0.0, 0.0), (width, height, 0.0), (0.0, height, 0.0)]
         self.mesh.faces = np.array([4, 0, 1, 2, 3])
         self.mesh.active_texture_coordinates = np.array([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)])
-        texels = vtkImageData()
-        texels.SetDimensions(width, height, 1)
-        texels.GetPointData().SetScalars(numpy_to_vtk(self.image.reshape(-1, 4), deep=True))
-        texture = vtkTexture()
-        texture.SetInputData(texels)
-        texture.InterpolateOff()  # one texel a pixel: the text stays sharp
-        mapper = vtkPolyDataMapper2D()
-        mapper.SetInputData(self.mesh)
-        mapper.ScalarVisibilityOff()
-        self.actor = vtkTexturedActor2D()
-        self.actor.SetMapper(mapper)
-        self.actor.SetTexture(texture)
+        self.actor = parts.overlay_actor(self.mesh)
+        self.actor.SetTexture(parts.rgba_texture(self.image))  # one texel a pixel until fitted
         self.actor.GetPositionCoordinate().SetCoordinateSystemToNormalizedViewport()
         self.actor.GetPositionCoordinate().SetValue(*ANCHOR)
         self.fitted = (0.0, 1.0)  # (shift, scale) of the quad now

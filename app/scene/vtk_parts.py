@@ -114,6 +114,8 @@ class SpherePart(Part):
         # the mapper reads the radii as 32-bit floats (a 64-bit array crashes its shader setup)
         self.mesh.point_data["radius"] = np.full(n_points, self.radius, dtype=np.float32)
         self._radii = self.mesh.point_data["radius"] if n_points else np.zeros(0, np.float32)
+        #: (n, 3) uint8: the per-point colours VTK draws, written in place (None: one colour)
+        self.colors: np.ndarray | None = None
 
     def set_points(self, points: np.ndarray) -> None:
         """Write (n, 3) coordinates; rows with a NaN are not drawn."""
@@ -145,6 +147,8 @@ def sphere_part(n_points: int, radius: float, colors: np.ndarray | None = None, 
     mapper.SetRadius(part.radius)
     mapper.SetScaleArray("radius")
     part.actor = _coloured_actor(mapper, part.mesh, n_points, colors, color)
+    if colors is not None and n_points:
+        part.colors = part.mesh.point_data["colors"]
     return part
 
 
@@ -307,11 +311,7 @@ class LabelPart(Part):
         super().__init__(4 * len(self.texts))
         self.size = size
         self.color = color
-        self.actor = vtkTexturedActor2D()
-        mapper = vtkPolyDataMapper2D()
-        mapper.SetInputData(self.mesh)
-        mapper.ScalarVisibilityOff()
-        self.actor.SetMapper(mapper)
+        self.actor = overlay_actor(self.mesh)
         n = len(self.texts)
         if n:
             self.mesh.faces = np.column_stack([np.full(n, 4), np.arange(4 * n).reshape(-1, 4)]).ravel()
@@ -332,13 +332,7 @@ class LabelPart(Part):
             coords[k] = [(0.0, v0), (u, v0), (u, v1), (0.0, v1)]
             self._boxes[k] = (w, h)
             row += h + pad
-        image = vtkImageData()
-        image.SetDimensions(width, height, 1)
-        image.GetPointData().SetScalars(numpy_to_vtk(atlas.reshape(-1, 4), deep=True))
-        texture = vtkTexture()
-        texture.SetInputData(image)
-        texture.InterpolateOff()
-        self.actor.SetTexture(texture)
+        self.actor.SetTexture(rgba_texture(atlas))
         if len(self.texts):
             self.mesh.active_texture_coordinates = coords.reshape(-1, 2)
 
@@ -366,6 +360,30 @@ class LabelPart(Part):
         quads[:, :, 1] = np.column_stack([y0, y0, y0 + h, y0 + h])
         quads[:, :, 2] = 0.0
         self.mesh.GetPoints().Modified()
+
+
+def rgba_texture(image: np.ndarray) -> vtkTexture:
+    """A texture of ``image`` (H, W, 4) uint8 RGBA, rows bottom first (VTK's order), drawn
+    one texel a pixel (not interpolated: text stays sharp)."""
+    height, width = image.shape[:2]
+    texels = vtkImageData()
+    texels.SetDimensions(width, height, 1)
+    texels.GetPointData().SetScalars(numpy_to_vtk(image.reshape(-1, 4), deep=True))
+    texture = vtkTexture()
+    texture.SetInputData(texels)
+    texture.InterpolateOff()
+    return texture
+
+
+def overlay_actor(mesh: pv.PolyData) -> vtkTexturedActor2D:
+    """A screen-space actor drawing ``mesh``'s polygons (points in display pixels) with the
+    texture it is given, no scalar colours."""
+    mapper = vtkPolyDataMapper2D()
+    mapper.SetInputData(mesh)
+    mapper.ScalarVisibilityOff()
+    actor = vtkTexturedActor2D()
+    actor.SetMapper(mapper)
+    return actor
 
 
 def render_texts(texts: list[str], color, size: int) -> tuple[list[np.ndarray], list[tuple[int, int]]]:
