@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 from PyQt6.QtCore import Qt
 from PyQt6.QtWidgets import QApplication
@@ -128,3 +129,36 @@ def test_imposter_bones_run_from_joint_to_joint():
     assert abs(columns.min() - 50) <= 1 and abs(columns.max() - 149) <= 1
     assert abs(rows.min() - 95) <= 1 and abs(rows.max() - 104) <= 1
     assert shown.sum() > 0.9 * 100 * 10
+
+
+@pytest.mark.gui
+def test_the_screen_shows_the_frame_vtk_rendered_copied_without_its_depth(studio):
+    """The view copies only colour to its window (render_widget.blit_colour_only): what the X
+    server shows of the view is VTK's image of the frame, pixel for pixel, and a new frame
+    reaches the screen."""
+    from PyQt6.QtGui import QGuiApplication
+
+    from gmr_studio.app.media.video import image_pixels, scene_image
+
+    app_fixtures.open_file(studio, shared_path(BVH))
+    state, interactor = studio.state, studio.view.interactor
+    assert interactor.ren_win.GetFrameBlitMode() == interactor.ren_win.BlitToCurrent
+    state.select(state.motion.joint_index("LeftHand"))
+
+    def screen() -> np.ndarray:
+        QApplication.processEvents()
+        interactor.ren_win.Render()  # what the widget's paint does, finished before the grab
+        grabbed = QGuiApplication.primaryScreen().grabWindow(int(interactor.winId())).toImage()
+        return image_pixels(grabbed)
+
+    shown = {}
+    for frame in (300, 1200):
+        state.set_frame(frame)
+        shown[frame] = screen()
+        rendered = scene_image(studio.view.scene)
+        assert shown[frame].shape == rendered.shape
+        assert np.array_equal(shown[frame], rendered), f"frame {frame}: the screen differs from VTK's image"
+        figure = np.any(np.abs(rendered.astype(int) - (40, 43, 51)) > 12, axis=-1)  # not the background
+        assert figure.mean() > 0.01  # the figure and the ground are there, not an empty view
+    moved = np.any(shown[300] != shown[1200], axis=-1)
+    assert moved.sum() > 500  # the figure walked: the second frame reached the screen

@@ -33,6 +33,7 @@ class SkeletonView(QWidget):
         # no multisampling: it quadruples the cost of a frame in software OpenGL (Xvfb, VMs)
         self.kind = render_widget.preferred_kind()
         self.interactor = render_widget.interactor_class(self.kind)(self, auto_update=False, multi_samples=0)
+        render_widget.blit_colour_only(self.interactor.ren_win)
         self.interactor.setAcceptDrops(False)  # files dropped here go to the main window
         for key in ("q", "e", "v", "b", "r", "plus", "minus"):  # pyvista's default key bindings
             self.interactor.clear_events_for_key(key, raise_on_missing=False)
