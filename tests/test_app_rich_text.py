@@ -283,3 +283,100 @@ def test_dragging_back_to_the_start_selects_from_it(qtbot):
     label.mousePressEvent(_mouse(QEvent.Type.MouseButtonPress, end_of_alpha + 1, y, left, left))
     label.mouseMoveEvent(_mouse(QEvent.Type.MouseMove, 0, y, Qt.MouseButton.NoButton, left))  # position 0
     assert label.selected_text() == "alpha" and label.cursor.position() == 0
+
+
+def _scrolled(qtbot, rows: int = 40, height: int = 120):
+    """A RichText of ``rows`` one-slot lines in a scroll area showing its first lines only."""
+    from PyQt6.QtWidgets import QScrollArea
+
+    area = QScrollArea()
+    qtbot.addWidget(area)
+    label = RichText()
+    area.setWidget(label)
+    area.setWidgetResizable(True)
+    area.resize(300, height)
+    label.setText(lines_page([f"row {k} value 0" for k in range(rows)]))
+    area.show()
+    qtbot.waitExposed(area)
+    return area, label
+
+
+def lines_page(rows: list[str]) -> str:
+    return f"<pre style='margin:0'>{slot_lines(chr(10).join(rows))}</pre>"
+
+
+def _block_texts(label: RichText) -> list[str]:
+    block, texts = label.document.firstBlock(), []
+    while block.isValid():
+        texts.append(block.text())
+        block = block.next()
+    return texts
+
+
+def test_a_slot_off_screen_is_written_when_its_line_is_painted_or_the_text_read(qtbot):
+    from PyQt6.QtWidgets import QApplication
+
+    area, label = _scrolled(qtbot)
+    line = label.document.documentLayout().blockBoundingRect(label.document.firstBlock()).height()
+    seen = int((area.viewport().height() - RichText.MARGIN) // line)  # lines wholly on screen
+    assert 3 <= seen < 20
+    label.setText(lines_page([f"row {k} value 1" for k in range(40)]))
+    texts = _block_texts(label)
+    assert texts[:seen] == [f"row {k} value 1" for k in range(seen)]  # on screen: written
+    assert texts[seen + 2 :] == [f"row {k} value 0" for k in range(seen + 2, 40)]  # off screen: not yet
+    assert label.slots_pending == 40 - len([t for t in texts if t.endswith("1")])
+    area.verticalScrollBar().setValue(area.verticalScrollBar().maximum())  # the last lines into sight
+    QApplication.processEvents()
+    texts = _block_texts(label)
+    assert texts[-seen:] == [f"row {k} value 1" for k in range(40 - seen, 40)]  # painted: written first
+    assert 0 < label.slots_pending < 40 - 2 * seen
+    assert label.plain_text().split("\n") == [f"row {k} value 1" for k in range(40)]  # read: all of them
+    assert label.slots_pending == 0 and _block_texts(label) == [f"row {k} value 1" for k in range(40)]
+
+
+def test_a_hidden_text_writes_nothing_until_read(qtbot):
+    label = RichText()
+    qtbot.addWidget(label)
+    label.setText(lines_page(["a", "b"]))
+    label.setText(lines_page(["c", "d"]))
+    assert label.slots_pending == 2 and _block_texts(label) == ["a", "b"]
+    assert label.plain_text() == "c\nd" and label.slots_pending == 0
+
+
+def test_only_the_lines_rewritten_are_repainted_and_a_line_that_grows_repaints_all(qtbot):
+    from PyQt6.QtCore import QRect
+    from PyQt6.QtWidgets import QApplication
+
+    _area, label = _scrolled(qtbot, rows=6, height=400)  # every line on screen
+    QApplication.processEvents()
+    painted: list[QRect] = []
+    paint = label.paintEvent
+
+    def noted(event) -> None:
+        painted.append(event.rect())
+        paint(event)
+
+    label.paintEvent = noted
+    layout = label.document.documentLayout()
+    line = layout.blockBoundingRect(label.document.firstBlock()).height()
+    rows = [f"row {k} value 0" for k in range(6)]
+    rows[3] = "row 3 value 2"
+    label.setText(lines_page(rows))
+    QApplication.processEvents()
+    assert len(painted) == 1 and painted[0].width() == label.width()
+    top = RichText.MARGIN + layout.blockBoundingRect(label.document.findBlock(0).next().next().next()).top()
+    assert painted[0].top() == int(top) and painted[0].height() <= line + 3  # line 3 alone
+    painted.clear()
+    label.setText(lines_page(rows))  # nothing changed: nothing painted
+    QApplication.processEvents()
+    assert painted == []
+    paragraphs = "".join(f"<p style='margin:0'>{slot(row)}</p>" for row in rows)
+    label.setText(paragraphs)  # another text: parsed whole, painted whole
+    QApplication.processEvents()
+    painted.clear()
+    rows[1] = "a long value " * 12  # wraps: every line after it moves
+    label.setText("".join(f"<p style='margin:0'>{slot(row.strip())}</p>" for row in rows))
+    assert label.slots_held == 6 and label.slots_pending == 0  # written in place, and it grew
+    QApplication.processEvents()
+    assert painted and painted[0].height() >= label.height() - 1
+    assert label.minimumHeight() == round(label.document.size().height()) + 2 * RichText.MARGIN
