@@ -6,7 +6,8 @@ downsampling and clip-to-view so that a 100,000-frame curve redraws in a few
 milliseconds. Interaction:
 
 - a cursor line at the current frame (:meth:`TimePlot.set_cursor`, cheap: it only moves
-  the line);
+  the line, and only when it would be drawn half a pixel or more from where it is: a long
+  take has several frames a pixel, and a move repaints the plot under the line);
 - left click or left drag in the plot, or dragging the cursor: :attr:`TimePlot.frame_requested`
   with the frame under the pointer (the owner sets the frame; the plot does not);
 - Shift + left drag: selects a frame range, shown shaded; :attr:`TimePlot.range_selected`
@@ -113,6 +114,9 @@ class TimePlot(QWidget):
         self.n_frames = 0
         self.unit = ""
         self.cursor_frame = 0
+        self._pixels_per_x = 0.0  # the plot's width over its x range (0: not laid out yet)
+        self.view_box.sigRangeChanged.connect(self._place_cursor)
+        self.view_box.sigResized.connect(self._place_cursor)
         self.range: tuple[int, int] | None = None
         self._items: list[pg.PlotDataItem] = []
         self._colours: list[str] = []
@@ -204,11 +208,25 @@ class TimePlot(QWidget):
 
     # ------------------------------------------------------------- cursor, seeking
     def set_cursor(self, frame: int) -> None:
-        """Move the cursor to ``frame`` (no signal)."""
+        """Move the cursor to ``frame`` (no signal). The line is moved only when it would be
+        drawn half a pixel or more away (with 2752 frames on 1000 pixels, one frame in three):
+        a move repaints the plot under the line's old and new places."""
         self.cursor_frame = int(frame)
+        x = self.cursor_frame * self.scale
+        if abs(x - self.cursor.value()) * self._pixels_per_x >= 0.5 or not self._pixels_per_x:
+            self._move_cursor(x)
+
+    def _move_cursor(self, x: float) -> None:
         self.cursor.blockSignals(True)
-        self.cursor.setValue(self.cursor_frame * self.scale)
+        self.cursor.setValue(x)
         self.cursor.blockSignals(False)
+
+    def _place_cursor(self, *_) -> None:
+        """The view's range or size changed: a pixel is another length of x, and the cursor
+        goes exactly to its frame."""
+        (x0, x1), width = self.view_box.viewRange()[0], self.view_box.width()
+        self._pixels_per_x = width / (x1 - x0) if x1 > x0 and width > 0 else 0.0
+        self._move_cursor(self.cursor_frame * self.scale)
 
     def frame_at_x(self, x: float) -> int:
         """The frame nearest x (in the plot's unit), clamped to the frames plotted."""
