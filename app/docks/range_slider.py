@@ -19,7 +19,7 @@ from collections.abc import Callable
 import numpy as np
 from PyQt6.QtCore import QEvent, QRectF, Qt, pyqtSignal
 from PyQt6.QtGui import QColor, QHelpEvent, QMouseEvent, QPainter, QPaintEvent
-from PyQt6.QtWidgets import QSlider, QStyle, QStyleOptionSlider, QToolTip, QWidget
+from PyQt6.QtWidgets import QAbstractSlider, QSlider, QStyle, QStyleOptionSlider, QToolTip, QWidget
 
 from gmr_studio.app.model.problems import LEVEL_COLOURS
 
@@ -57,6 +57,7 @@ class RangeSlider(QSlider):
         #: (first, last) frames -> what is flagged there (the tooltip over a flag), or None
         self.flag_text: Callable[[int, int], str] | None = None
         self._anchor: int | None = None
+        self._painted_handle = None  # the handle's rectangle when last painted
 
     def set_frame_range(self, start: int, stop: int) -> None:
         """Show ``[start, stop)`` (start < 0: no range); no signal."""
@@ -134,7 +135,21 @@ class RangeSlider(QSlider):
         half = FLAG_MIN_WIDTH / 2 + 0.5  # a flag is at least this wide around its frame
         return self.flag_text(self.frame_at(x - half), self.frame_at(x + half))
 
+    def _handle(self):
+        """The handle's rectangle as the style places it for the current position."""
+        return self.style().subControlRect(
+            QStyle.ComplexControl.CC_Slider, self._option(), QStyle.SubControl.SC_SliderHandle, self
+        )
+
     # -------------------------------------------------------------------- events
+    def sliderChange(self, change: QAbstractSlider.SliderChange) -> None:  # noqa: N802 (Qt's name)
+        """A new value repaints the slider only if the handle moves: on a long take several
+        frames share a pixel (2752 frames on 600 pixels), and a frame change during playback
+        would repaint the groove, the flags and the handle where they are."""
+        if change == QAbstractSlider.SliderChange.SliderValueChange and self._handle() == self._painted_handle:
+            return
+        super().sliderChange(change)
+
     def event(self, event: QEvent) -> bool:
         if event.type() == QEvent.Type.ToolTip and isinstance(event, QHelpEvent):
             text = self.flag_text_at(event.pos().x())
@@ -144,6 +159,7 @@ class RangeSlider(QSlider):
         return super().event(event)
 
     def paintEvent(self, event: QPaintEvent) -> None:  # noqa: N802 (Qt's name)
+        self._painted_handle = self._handle()
         super().paintEvent(event)
         if self.levels is not None:
             painter = QPainter(self)
