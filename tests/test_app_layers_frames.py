@@ -57,8 +57,9 @@ def test_a_frame_change_updates_the_layer_in_place(studio):
         QApplication.processEvents()
         camera = renderer.GetActiveCamera()
         fitted = camera.GetClippingRange()
-        renderer.ResetCameraClippingRange()  # ... to everything drawn, the ghost included
-        assert camera.GetClippingRange() == pytest.approx(fitted) and not studio.view.scene._clipping_stale
+        renderer.ResetCameraClippingRange()  # VTK's own fit to everything drawn, the ghost included
+        tight = camera.GetClippingRange()  # ... within the planes fitted to the take's box
+        assert fitted[0] <= tight[0] and fitted[1] >= tight[1] and not studio.view.scene._clipping_stale
         # the same actors, poly data, points and colour arrays as before, nothing added
         assert _props(renderer) == props and ghosts.legend.actor.__this__ == legend
         assert [(p.actor.__this__, p.mesh.__this__, p.mesh.GetPoints().__this__) for p in parts] == objects
@@ -98,8 +99,12 @@ def test_the_comparison_bench_reports_wall_and_main_thread_ratios(capsys):
     lines = capsys.readouterr().out.splitlines()
     wall = [float(line.split("median")[1].split()[0]) for line in lines[:2]]
     assert lines[0].startswith("set frame + render, no comparison") and "comparison layer (amc)" in lines[1]
-    assert float(lines[2].split()[-1]) == pytest.approx(wall[1] / wall[0], abs=2e-3)
+
+    def rounding(pair):  # how far a ratio of two values printed to 0.01 ms can be from the printed ratio
+        return pair[1] / pair[0] * (0.005 / pair[0] + 0.005 / pair[1]) + 5e-4
+
+    assert float(lines[2].split()[-1]) == pytest.approx(wall[1] / wall[0], abs=rounding(wall))
     assert "main-thread CPU" in lines[3]
     cpu = [float(value) for value in lines[3].split("median")[1].replace("ms", "").split("/")]
     assert all(value > 0 for value in wall + cpu)
-    assert float(lines[4].split()[-1]) == pytest.approx(cpu[1] / cpu[0], abs=2e-3)
+    assert float(lines[4].split()[-1]) == pytest.approx(cpu[1] / cpu[0], abs=rounding(cpu))

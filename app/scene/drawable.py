@@ -17,10 +17,32 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Protocol
 
+import numpy as np
+
 from gmr_studio.app.scene import vtk_parts as parts
 
 if TYPE_CHECKING:
     from gmr_studio.app.scene.scene import SkeletonScene
+
+
+#: the box of nothing (what a drawable drawing nothing in the world holds): min +inf, max -inf
+EMPTY_BOX = np.array([[np.inf] * 3, [-np.inf] * 3])
+
+
+def box_of(points: np.ndarray, pad: float = 0.0) -> np.ndarray:
+    """(2, 3) the smallest box (min and max corners) holding the finite points of (..., 3)
+    ``points``, grown by ``pad`` on every side; :data:`EMPTY_BOX` when there is none."""
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    finite = points[np.isfinite(points).all(axis=1)]
+    if not len(finite):
+        return EMPTY_BOX.copy()
+    return np.stack([finite.min(axis=0) - pad, finite.max(axis=0) + pad])
+
+
+def union_box(boxes) -> np.ndarray:
+    """(2, 3) the smallest box holding every (2, 3) box of ``boxes``."""
+    stacked = np.array([EMPTY_BOX, *boxes])
+    return np.stack([stacked[:, 0].min(axis=0), stacked[:, 1].max(axis=0)])
 
 
 class Drawable(Protocol):
@@ -42,6 +64,12 @@ class Drawable(Protocol):
 
     def remove(self) -> None:
         """Take every actor out of the renderer."""
+
+    def extent(self) -> np.ndarray | None:
+        """(2, 3) a box holding everything this drawable may draw at any frame of its build
+        (:data:`EMPTY_BOX`: nothing in the world), or None when it cannot say: the scene
+        fits the camera's near and far planes to the union of the shown drawables' boxes,
+        and asks VTK to measure every actor only when one says None."""
 
 
 class Drawing:
@@ -85,6 +113,9 @@ class Drawing:
             for part in self.parts.values():
                 renderer.RemoveViewProp(part.actor)
         self.parts.clear()
+
+    def extent(self) -> np.ndarray | None:
+        return None  # unknown unless a subclass says (the scene then measures the actors)
 
     # -- for subclasses -------------------------------------------------------------
     def part_wanted(self, part: parts.Part) -> bool:

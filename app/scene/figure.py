@@ -15,7 +15,7 @@ import numpy as np
 import pyvista as pv
 
 from gmr_studio.app.scene import vtk_parts as parts
-from gmr_studio.app.scene.drawable import Drawing
+from gmr_studio.app.scene.drawable import EMPTY_BOX, Drawing
 from gmr_studio.core.motion import Motion
 
 SELECTION_COLOR = (1.0, 0.85, 0.1)
@@ -76,6 +76,12 @@ class SkeletonFigure(Drawing):
     def part_wanted(self, part: parts.Part) -> bool:
         return part is not self.parts.get("selection") or (self.scene is not None and self.scene.selected is not None)
 
+    def extent(self) -> np.ndarray:
+        """Every joint at every frame, grown by the selection's ring and a root's cube."""
+        if not self.parts:
+            return EMPTY_BOX
+        return self.scene.document_box(2.0 * JOINT_RADIUS * self.scene.snapshot.motion.size)
+
     def show_frame(self, frame: int) -> None:
         if not self.parts:
             return
@@ -100,6 +106,9 @@ class SoftLinks(Drawing):
 
     def wanted(self, scene) -> bool:
         return scene.overlays["soft_links"]
+
+    def extent(self) -> np.ndarray:
+        return self.scene.document_box() if self.parts else EMPTY_BOX  # dashes between joints
 
     def show_frame(self, frame: int) -> None:
         if not self.parts or not len(self.links):

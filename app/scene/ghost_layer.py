@@ -29,7 +29,7 @@ from gmr_studio.app.model.layers import ComparisonLayer, Layers
 from gmr_studio.app.model.marker_layers import MARKER_LAYER_RADIUS, MarkerLayer
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.app.scene import vtk_parts as parts
-from gmr_studio.app.scene.drawable import Drawing
+from gmr_studio.app.scene.drawable import EMPTY_BOX, Drawing, box_of, union_box
 from gmr_studio.app.scene.figure import figure_bones
 from gmr_studio.app.scene.legend import LegendPart, legend_part
 
@@ -91,6 +91,7 @@ class GhostLayers(Drawing):
             self._oit = bool(renderer.GetUseOIT())
         self.ghosts = []
         self.error_joints = self.error_lines = self.legend = None
+        self._box = None  # measured when first asked
         document = scene.snapshot
         renderer.SetUseOIT(self._oit)
         if document is None:
@@ -129,6 +130,21 @@ class GhostLayers(Drawing):
         self.legend = self.add(
             "error_legend", legend_part(top, layer.comparison.units_text, lambda values: error_colours(values, top))
         )
+
+    def extent(self) -> np.ndarray:
+        """Every layer's ghost or markers at every frame, and both ends of the error lines."""
+        if not self.ghosts:
+            return EMPTY_BOX
+        if self._box is None:
+            pad = ERROR_JOINT_RADIUS * self.scene.snapshot.motion.size
+            drawn = [layer.positions if isinstance(layer, MarkerLayer) else layer.ghost for layer in self.layers.layers]
+            boxes = [box_of(points, pad) for points in drawn]
+            active = self.layers.active
+            if self.error_joints is not None and active is not None:
+                comparison = active.comparison
+                boxes += [box_of(comparison.positions_a, pad), box_of(comparison.positions_b, pad)]
+            self._box = union_box(boxes)
+        return self._box
 
     def remove(self) -> None:
         if self.scene is not None and self._oit is not None:

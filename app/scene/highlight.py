@@ -7,7 +7,7 @@ import numpy as np
 import pyvista as pv
 
 from gmr_studio.app.scene import vtk_parts as parts
-from gmr_studio.app.scene.drawable import Drawing
+from gmr_studio.app.scene.drawable import EMPTY_BOX, Drawing, box_of
 
 HIGHLIGHT_COLOUR = (1.0, 0.15, 0.15)
 HIGHLIGHT_RADIUS = 0.04  # of the motion's size: around the document's joints (0.016)
@@ -41,6 +41,9 @@ class JointsHighlight(Drawing):
         if self.part is not None:
             self.part.set_points(self.scene.snapshot.positions[frame, self.joints])
 
+    def extent(self) -> np.ndarray:
+        return self.scene.document_box(HIGHLIGHT_RADIUS * self.scene.snapshot.motion.size) if self.parts else EMPTY_BOX
+
 
 PIVOT_COLOR = (1.0, 0.25, 0.85)
 
@@ -68,3 +71,8 @@ class PivotMarker(Drawing):
 
     def show_frame(self, frame: int) -> None:
         pass  # the pivot does not follow the frame: the dialog moves it
+
+    def extent(self) -> np.ndarray:
+        if not self.parts:
+            return EMPTY_BOX
+        return box_of(self.point, 0.6 * self.scene.snapshot.motion.size)  # the sphere on its vertical line

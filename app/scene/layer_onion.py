@@ -18,7 +18,7 @@ import numpy as np
 
 from gmr_studio.app.model.layers import GHOST_OPACITY, ComparisonLayer, Layers
 from gmr_studio.app.scene import vtk_parts as parts
-from gmr_studio.app.scene.drawable import Drawing
+from gmr_studio.app.scene.drawable import Drawing, box_of, union_box
 from gmr_studio.app.scene.onion import OnionSettings, ghost_opacity, pose_lines, pose_points, slot_of
 
 LINE_WIDTH = 2.5  # as the document's onion poses
@@ -79,6 +79,7 @@ class LayerOnions(Drawing):
     def build(self, scene) -> None:
         super().build(scene)
         self.pools, self.slot_frames, self.links = [], [], []
+        self._box = None  # measured when first asked
         if scene.snapshot is None or not self.wanted(scene):
             return
         count = self.settings.count
@@ -91,6 +92,13 @@ class LayerOnions(Drawing):
                 part.set_visible(False)
             self.pools.append(pool)
             self.slot_frames.append(np.full(2 * count, -1, dtype=np.int64))
+
+    def extent(self) -> np.ndarray:
+        """Every layer's ghost at every frame (its onion poses are some of them)."""
+        if self._box is None:
+            posed = [layer for layer, pool in zip(self.layers.layers, self.pools, strict=True) if pool]
+            self._box = union_box([box_of(layer.ghost) for layer in posed])
+        return self._box
 
     def set_visible(self, shown: bool) -> None:
         self._visible = bool(shown)

@@ -16,7 +16,7 @@ import dataclasses
 import numpy as np
 
 from gmr_studio.app.scene import vtk_parts as parts
-from gmr_studio.app.scene.drawable import Drawing
+from gmr_studio.app.scene.drawable import EMPTY_BOX, Drawing
 from gmr_studio.app.scene.figure import dash_points, figure_bones
 
 BEFORE_COLOR = np.array([0.35, 0.65, 1.0])  # poses earlier than the current frame
@@ -112,6 +112,9 @@ class OnionSkins(Drawing):
 
     def wanted(self, scene) -> bool:
         return self.settings.shown
+
+    def extent(self) -> np.ndarray:
+        return self.scene.document_box() if self.pool else EMPTY_BOX  # the document at other frames
 
     def show_frame(self, frame: int) -> None:
         if not self.pool:

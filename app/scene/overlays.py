@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from gmr_studio.app.scene import vtk_parts as parts
-from gmr_studio.app.scene.drawable import Drawing
+from gmr_studio.app.scene.drawable import EMPTY_BOX, Drawing, box_of
 from gmr_studio.app.scene.figure import SELECTION_COLOR
 
 GROUND_COLOR = (0.36, 0.38, 0.42)
@@ -94,7 +94,11 @@ class Ground(Drawing):
         coords, self.bounds = ground_lines(scene.figure_positions(), scene.snapshot.motion.size, scene.up_axis)
         grid = parts.segments_part(len(coords), np.arange(len(coords)).reshape(-1, 2), color=GROUND_COLOR, width=1.0)
         grid.set_points(coords)
+        self.box = box_of(coords)
         self.add("ground", grid)
+
+    def extent(self) -> np.ndarray:
+        return self.box if self.parts else EMPTY_BOX
 
     def wanted(self, scene) -> bool:
         return scene.overlays["ground"]
@@ -116,6 +120,9 @@ class JointAxes(Drawing):
 
     def wanted(self, scene) -> bool:
         return scene.overlays["axes"]
+
+    def extent(self) -> np.ndarray:
+        return self.scene.document_box(AXIS_LENGTH * self.scene.snapshot.motion.size) if self.parts else EMPTY_BOX
 
     def show_frame(self, frame: int) -> None:
         if self.parts:
@@ -139,6 +146,9 @@ class Trail(Drawing):
     def wanted(self, scene) -> bool:
         return scene.overlays["trails"] and scene.selected is not None
 
+    def extent(self) -> np.ndarray:
+        return self.scene.document_box() if self.parts else EMPTY_BOX
+
     def show_frame(self, frame: int) -> None:
         if self.parts and self.scene.selected is not None:
             index = np.clip(np.arange(frame - self.length + 1, frame + 1), 0, None)
@@ -156,6 +166,9 @@ class JointLabels(Drawing):
 
     def wanted(self, scene) -> bool:
         return scene.overlays["labels"]
+
+    def extent(self) -> np.ndarray:
+        return EMPTY_BOX  # drawn in screen space
 
     def show_frame(self, frame: int) -> None:
         pass
@@ -183,6 +196,7 @@ class Markers(Drawing):
         self.add(
             "markers", parts.sphere_part(self.overlay.positions.shape[1], MARKER_RADIUS * size, color=MARKER_COLOR)
         )
+        self._box = None  # measured when first asked
         self.add("marker_labels", parts.label_part(self._label_texts(), color=MARKER_LABEL_COLOR))
         camera = scene.plotter.renderer.GetActiveCamera()
         self.add("marker_selection", parts.ring_part(2.0 * MARKER_RADIUS * size, camera, color=SELECTION_COLOR))
@@ -199,6 +213,15 @@ class Markers(Drawing):
 
     def wanted(self, scene) -> bool:
         return scene.overlays["markers"]
+
+    def extent(self) -> np.ndarray:
+        """The markers at every frame, grown by the selected one's ring (the labels are in
+        screen space)."""
+        if not self.parts:
+            return EMPTY_BOX
+        if self._box is None:
+            self._box = box_of(self.overlay.positions, 2.0 * MARKER_RADIUS * self.scene.snapshot.motion.size)
+        return self._box
 
     def part_wanted(self, part: parts.Part) -> bool:
         if part is self.parts.get("marker_labels"):  # an empty label's quad would cost a draw
@@ -244,10 +267,14 @@ class PelvisTriad(Drawing):
     def build(self, scene) -> None:
         super().build(scene)
         if self.pelvis is not None and scene.snapshot is not None:
+            self.box = box_of(self.pelvis.origins, PELVIS_AXIS_LENGTH * scene.snapshot.motion.size)
             self.add("pelvis", parts.segments_part(6, np.arange(6).reshape(3, 2), AXIS_COLORS, width=5.0))
 
     def wanted(self, scene) -> bool:
         return scene.overlays["pelvis"]
+
+    def extent(self) -> np.ndarray:
+        return self.box if self.parts else EMPTY_BOX
 
     def show_frame(self, frame: int) -> None:
         if not self.parts:

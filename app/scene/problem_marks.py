@@ -16,7 +16,7 @@ import numpy as np
 
 from gmr_studio.app.model.problems import LEVEL_COLOURS
 from gmr_studio.app.scene import vtk_parts as parts
-from gmr_studio.app.scene.drawable import Drawing
+from gmr_studio.app.scene.drawable import EMPTY_BOX, Drawing
 from gmr_studio.app.scene.figure import JOINT_RADIUS
 
 MARK_RADIUS = 1.45 * JOINT_RADIUS  # of the motion's size: just around the joint's sphere
@@ -71,6 +71,9 @@ class ProblemMarks(Drawing):
             part = self.parts[f"problems_{level}"]
             part.set_points(np.where((levels == level)[:, None], positions, np.nan))
             part.set_visible(self._visible and self.part_wanted(part))
+
+    def extent(self) -> np.ndarray:
+        return self.scene.document_box(MARK_RADIUS * self.scene.snapshot.motion.size) if self.parts else EMPTY_BOX
 
     def part_wanted(self, part: parts.Part) -> bool:
         # a level with no joint flagged at this frame is hidden: it costs no draw

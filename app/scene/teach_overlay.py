@@ -21,7 +21,7 @@ import numpy as np
 
 from gmr_studio.app.model.state import Snapshot
 from gmr_studio.app.scene import vtk_parts as parts
-from gmr_studio.app.scene.drawable import Drawing
+from gmr_studio.app.scene.drawable import EMPTY_BOX, Drawing
 from gmr_studio.core.classroom import scaled_rotation
 
 CHAIN_COLOR = (1.0, 0.85, 0.2)
@@ -102,6 +102,11 @@ class TeachOverlay(Drawing):
         self.parts["pre"].set_points(geometry.pre)
         self.parts["post"].set_points(geometry.post)
         self.geometry = geometry
+
+    def extent(self) -> np.ndarray:
+        """The document's joints, grown by its size: a bone turned about its joint stays
+        within its length of it."""
+        return self.scene.document_box(self.scene.snapshot.motion.size) if self.parts else EMPTY_BOX
 
     def set_visible(self, shown: bool) -> None:
         super().set_visible(shown)
