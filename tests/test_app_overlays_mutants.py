@@ -47,6 +47,10 @@ class StandInScene:
     def display_positions(self, points: np.ndarray) -> np.ndarray:
         return 100 * np.asarray(points)[:, :2] + np.array([7.0, 9.0])
 
+    def near_points(self, display: np.ndarray) -> np.ndarray:
+        """Display pixels as the world points (x, y, -1): the label quads' corners as placed."""
+        return np.column_stack([display, np.full(len(display), -1.0)])
+
 
 @pytest.fixture
 def snapshot() -> Snapshot:
@@ -198,8 +202,11 @@ def test_the_trail_is_the_selected_joints_last_second(snapshot):
 
 
 def _corners(part) -> np.ndarray:
-    """(N, 2) each label quad's bottom left corner in display pixels."""
-    return np.asarray(part.mesh.points).reshape(-1, 4, 3)[:, 0, :2]
+    """(N, 2) each label quad's bottom left corner in display pixels (as put into the mesh
+    by the stand-in's near_points)."""
+    quads = np.asarray(part.mesh.points).reshape(-1, 4, 3)
+    np.testing.assert_array_equal(quads[..., :2], part.corners)
+    return quads[:, 0, :2]
 
 
 def test_joint_labels_are_placed_beside_the_joints_at_the_frame(snapshot):
@@ -217,9 +224,9 @@ def test_joint_labels_are_placed_beside_the_joints_at_the_frame(snapshot):
     labels.set_visible(True)
     labels.before_render()
     anchors = scene.display_positions(snapshot.positions[12])
-    np.testing.assert_allclose(_corners(part), anchors + LABEL_OFFSET, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(_corners(part), np.round(anchors + LABEL_OFFSET), rtol=0, atol=1e-9)
     labels.show_frame(13)  # the frame is read from the scene just before a render
-    np.testing.assert_allclose(_corners(part), anchors + LABEL_OFFSET, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(_corners(part), np.round(anchors + LABEL_OFFSET), rtol=0, atol=1e-9)
     scene.overlays["labels"] = False
     assert not labels.wanted(scene)
     scene.overlays["labels"] = True
@@ -300,12 +307,12 @@ def test_marker_labels_name_the_hovered_and_selected_markers_beside_them(snapsho
     assert labels.texts == ["RASI", ""] and labels.visible
     markers.before_render()
     positions = markers.overlay.positions[9]
-    np.testing.assert_allclose(_corners(labels)[0], scene.display_positions(positions[[0]])[0] + LABEL_OFFSET)
+    np.testing.assert_allclose(_corners(labels)[0], np.round(scene.display_positions(positions[[0]])[0] + LABEL_OFFSET))
     assert (_corners(labels)[1] == -1e4).all()  # no selected marker: its label out of sight
     markers.set_highlight(None, 2)  # selected only
     assert labels.texts == ["", "C7"] and labels.visible
     markers.before_render()
-    np.testing.assert_allclose(_corners(labels)[1], scene.display_positions(positions[[2]])[0] + LABEL_OFFSET)
+    np.testing.assert_allclose(_corners(labels)[1], np.round(scene.display_positions(positions[[2]])[0] + LABEL_OFFSET))
     assert (_corners(labels)[0] == -1e4).all()
     markers.set_highlight(1, 0)
     assert labels.texts == ["LASI", "RASI"]

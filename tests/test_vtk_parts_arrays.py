@@ -22,6 +22,7 @@ from vtkmodules.vtkRenderingCore import (
 )
 
 from gmr_studio.app.scene import vtk_parts as parts
+from gmr_studio.app.scene.labels import LabelPart, label_part
 
 #: VTK's mapper settings (vtkSystemIncludes.h)
 SCALAR_MODE_USE_CELL_DATA, SCALAR_MODE_USE_POINT_FIELD_DATA, COLOR_MODE_DIRECT_SCALARS = 2, 3, 2
@@ -220,7 +221,7 @@ def _reference_tile(text: str, color, size: int) -> np.ndarray:
     return vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h_img, w_img, 4)[: extent[1], : extent[0]]
 
 
-def _atlas(part: parts.LabelPart) -> np.ndarray:
+def _atlas(part: LabelPart) -> np.ndarray:
     image = part.actor.GetTexture().GetInput()
     width, height, depth = image.GetDimensions()
     assert depth == 1
@@ -229,7 +230,7 @@ def _atlas(part: parts.LabelPart) -> np.ndarray:
 
 def test_labels_are_packed_into_one_texture_each_text_as_vtk_draws_it():
     texts = ["Ab", "", "Hello"]
-    part = parts.label_part(texts, color=(1.0, 0.5, 0.0), size=15)
+    part = label_part(texts, color=(1.0, 0.5, 0.0), size=15)
     tiles = [_reference_tile("Ab", (1.0, 0.5, 0.0), 15), np.zeros((1, 1, 4), np.uint8)]
     tiles.append(_reference_tile("Hello", (1.0, 0.5, 0.0), 15))
     sizes = [(t.shape[1], t.shape[0]) for t in tiles]
@@ -251,42 +252,60 @@ def test_labels_are_packed_into_one_texture_each_text_as_vtk_draws_it():
 
 def test_labels_default_to_white_13_point_text():
     reference = _reference_tile("Ab", (1.0, 1.0, 1.0), 13)
-    for part in (parts.label_part(["Ab"]), parts.LabelPart(["Ab"])):
+    for part in (label_part(["Ab"]), LabelPart(["Ab"])):
         atlas = _atlas(part)
         np.testing.assert_array_equal(atlas[: reference.shape[0], : reference.shape[1]], reference)
         assert part.widths().tolist() == [reference.shape[1]]
 
 
 def test_an_empty_text_and_no_texts_keep_a_texture():
-    assert _atlas(parts.label_part([""])).shape == (3, 3, 4)
-    assert parts.label_part([""]).widths().tolist() == [1]
-    empty = parts.label_part([])
+    assert _atlas(label_part([""])).shape == (3, 3, 4)
+    assert label_part([""]).widths().tolist() == [1]
+    empty = label_part([])
     assert _atlas(empty).shape == (1, 3, 4) and empty.n_points == 0 and empty.widths().shape == (0,)
-    empty.place(np.zeros((0, 2)))
+    empty.place(np.zeros((0, 2)), _lifted)
 
 
 def test_new_texts_rebuild_the_texture():
-    part = parts.label_part(["a", "b"])
+    part = label_part(["a", "b"])
     part.set_texts(["Hello", "x"])
     assert part.texts == ["Hello", "x"]
     assert part.widths().tolist() == [_reference_tile(t, (1, 1, 1), 13).shape[1] for t in ("Hello", "x")]
 
 
-def test_labels_are_placed_at_their_anchors_plus_the_offset_and_hidden_off_screen():
-    part = parts.label_part(["Ab", "Hello", "x"])
+def _lifted(display: np.ndarray) -> np.ndarray:
+    """Display pixels (K, 2) as the world points (x, y, 0): the quads' corners in the mesh."""
+    return np.column_stack([display, np.zeros(len(display))])
+
+
+def test_labels_are_placed_at_their_anchors_plus_the_offset_on_whole_pixels_and_hidden_off_screen():
+    part = label_part(["Ab", "Hello", "x"])
     w = part.widths()
     h = [_reference_tile(t, (1, 1, 1), 13).shape[0] for t in part.texts]
+    assert part.heights().tolist() == h
     address = _points_address(part)
-    part.place(np.array([[10.0, 20.0], [np.nan, 5.0], [100.0, 200.0]]))
+    part.place(np.array([[10.0, 20.0], [np.nan, 5.0], [100.2, 199.6]]), _lifted)
     quads = part.mesh.points.reshape(3, 4, 3)
-    for k, (x, y) in ((0, (16.0, 24.0)), (2, (106.0, 204.0))):
+    for k, (x, y) in ((0, (16.0, 24.0)), (2, (106.0, 204.0))):  # 106.2 and 203.6 on whole pixels
         np.testing.assert_allclose(quads[k], [(x, y, 0), (x + w[k], y, 0), (x + w[k], y + h[k], 0), (x, y + h[k], 0)])
-    assert (quads[1, :, :2] < 0).all() and (quads[1, :, 2] == 0).all()  # left of and below any view
-    part.place(np.array([[10.0, 20.0], [1.0, 2.0], [3.0, np.inf]]), offset=(1.0, -2.0))
+        np.testing.assert_allclose(part.corners[k], quads[k, :, :2])
+    assert (quads[1, :, :2] <= -1e4 + 100).all() and (quads[1, :, 2] == 0).all()  # left of and below any view
+    part.place(np.array([[10.0, 20.0], [1.0, 2.0], [3.0, np.inf]]), _lifted, offset=(1.0, -2.0))
     np.testing.assert_allclose(quads[1, 0], (2.0, 0.0, 0.0))
     np.testing.assert_allclose(quads[0, 2], (11.0 + w[0], 18.0 + h[0], 0.0))
-    assert (quads[2, :, :2] < 0).all()
+    assert (quads[2, :, :2] <= -1e4 + 100).all()
     assert _points_address(part) == address
+    onto = []
+    part.place(np.array([[1.0, 1.0]] * 3), lambda display: onto.append(display.copy()) or _lifted(display))
+    assert onto[0].shape == (12, 2)  # every corner handed over at once
+
+
+def test_labels_draw_last_in_the_opaque_pass_with_the_texels_own_colours_and_no_bounds():
+    part = label_part(["Ab"])
+    assert part.draw_last and part.actor.GetForceOpaque() and not part.actor.GetUseBounds()
+    prop = part.actor.GetProperty()
+    assert not prop.GetLighting() and prop.GetColor() == (1.0, 1.0, 1.0)
+    assert not part.actor.GetMapper().GetScalarVisibility()
 
 
 def _renderer_with(*props) -> vtkRenderer:

@@ -93,22 +93,38 @@ def test_glyphs_are_drawn_at_their_own_size_in_their_colours():
     assert not image[..., 1].any()
 
 
-def test_labels_show_their_texels_in_their_quads_and_hidden_ones_nothing():
-    part = parts.label_part(["Ab", "Hello"], color=(1.0, 1.0, 0.0))
-    part.place(np.array([[50.0, 40.0], [np.nan, 10.0]]))
-    image = _picture(part.actor)
-    image_data = part.actor.GetTexture().GetInput()
-    width, height, _ = image_data.GetDimensions()
-    atlas = vtk_to_numpy(image_data.GetPointData().GetScalars()).reshape(height, width, 4).astype(int)
-    w, h = (int(v) for v in part._boxes[0])
-    tile = atlas[:h, :w]
-    over_black = tile[..., :3] * tile[..., 3:] / 255  # texels blended over the background
-    # the quad's bottom left at (56, 44) from the bottom left: image rows count from the top
-    drawn = image[SIZE - 44 - h : SIZE - 44, 56 : 56 + w][::-1]
-    np.testing.assert_allclose(drawn, over_black, atol=3)
-    outside = image.copy()
-    outside[SIZE - 44 - h : SIZE - 44, 56 : 56 + w] = 0
-    assert not outside.any() and drawn.max() >= 200
+def test_labels_show_their_texels_on_whole_pixels_in_front_of_everything_and_hidden_ones_nothing():
+    """Two labels placed in display pixels through a scene's camera (a perspective one
+    looking at a white board): the first shows its texels one a pixel, blended over the
+    board in front of it, the board showing between its letters; the hidden one draws nothing."""
+    from gmr_studio.app.scene.labels import label_part
+    from tests.tiny_scene import picture, scene_of
+
+    with scene_of(None, size=(SIZE, SIZE)) as scene:
+        plotter = scene.plotter
+        plotter.set_background((0, 0, 0))
+        board = plotter.add_mesh(pv.Plane(center=(0, 0, 0), i_size=10, j_size=10), color="white", lighting=False)
+        plotter.camera.position, plotter.camera.focal_point, plotter.camera.up = (0, 0, 5), (0, 0, 0), (0, 1, 0)
+        part = label_part(["Ab", "Hello"], color=(1.0, 1.0, 0.0))
+        plotter.renderer.AddViewProp(part.actor)  # after the board, as the scene puts labels last
+        plotter.renderer.ResetCameraClippingRange()
+        part.place(np.array([[50.0, 40.0], [np.nan, 10.0]]), scene.near_points)
+        plotter.ren_win.Render()
+        image = picture(scene)
+        image_data = part.actor.GetTexture().GetInput()
+        width, height, _ = image_data.GetDimensions()
+        atlas = vtk_to_numpy(image_data.GetPointData().GetScalars()).reshape(height, width, 4).astype(int)
+        w, h = (int(v) for v in part._boxes[0])
+        tile = atlas[:h, :w]
+        over_white = tile[..., :3] * tile[..., 3:] / 255 + 255 * (1 - tile[..., 3:] / 255)  # blended over the board
+        # the quad's bottom left at (56, 44) from the bottom left: image rows count from the top
+        drawn = image[SIZE - 44 - h : SIZE - 44, 56 : 56 + w][::-1]
+        np.testing.assert_allclose(drawn, over_white, atol=3)
+        assert (tile[..., 3] == 0).any() and drawn.min() < 60  # letters and the board between them
+        outside = image.copy()
+        outside[SIZE - 44 - h : SIZE - 44, 56 : 56 + w] = 255
+        assert (outside == 255).all()  # the other label hidden: the board everywhere else
+        plotter.remove_actor(board)
 
 
 def _ring_picture(centre, radius: float, eye) -> np.ndarray:

@@ -100,6 +100,7 @@ def render_filmstrip(
 
     from gmr_studio.app.media.video import save_screenshot
     from gmr_studio.app.scene import vtk_parts as parts
+    from gmr_studio.app.scene.labels import label_part
     from gmr_studio.app.scene.scene import SkeletonScene, up_axis_of
 
     if layout not in ("path", "side"):
@@ -132,14 +133,14 @@ def render_filmstrip(
         anchors[:, up] = below
         _side_camera(plotter, shown, up, anchors)
         # every pose labelled (screen-space labels never hide one another as VTK's placer does)
-        labels = parts.label_part([f"{f}" for f in frames], size=14)
+        labels = label_part([f"{f}" for f in frames], size=14)
         plotter.renderer.AddViewProp(labels.actor)
         plotter.render()
         centres = scene.display_positions(anchors)
         centres[:, 0] -= labels.widths() / 2 + 6.0  # centred under the pose
-        labels.place(centres)
+        labels.place(centres, scene.near_points)
         if drawn is not None:
-            drawn["labels"] = np.column_stack([centres + np.array([6.0, 4.0]), labels.widths(), labels._boxes[:, 1]])
+            drawn["labels"] = np.column_stack([labels.corners[:, 0], labels.widths(), labels.heights()])
         return save_screenshot(scene, out)
     finally:
         plotter.close()

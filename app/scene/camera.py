@@ -11,6 +11,7 @@ scene's ``plotter``, ``snapshot``, ``frame``, ``overlays``, ``up_axis``, ``groun
 from __future__ import annotations
 
 import numpy as np
+import pyvista as pv
 
 from gmr_studio.app.model.state import Snapshot
 from gmr_studio.app.scene.figure import JOINT_RADIUS
@@ -22,6 +23,9 @@ def actor_positions(snapshot: Snapshot) -> np.ndarray:
     :attr:`~core.motion.Motion.anchors` (a root pinned at the origin far from the actor)."""
     anchors = snapshot.motion.anchors
     return snapshot.positions[:, ~anchors] if anchors.any() else snapshot.positions
+
+
+NEAR_DEPTH = -0.999  # normalised depth of what is drawn in front of everything (-1: the near plane)
 
 
 class SceneCamera:
@@ -38,6 +42,18 @@ class SceneCamera:
         xy = np.column_stack([screen[:, 0], height - screen[:, 1]])
         xy[behind] = np.nan
         return xy
+
+    def near_points(self, display: np.ndarray) -> np.ndarray:
+        """(K, 3) world points drawn at display pixels ``display`` (K, 2: x right, y up from
+        the bottom left of the render window) just beyond the camera's near plane: what is put
+        there is in front of everything in the view (screen-space labels). The inverse of
+        :meth:`display_positions` at that depth."""
+        width, height = (int(v) for v in self.plotter.render_window.GetSize())
+        display = np.asarray(display, dtype=np.float64).reshape(-1, 2)
+        ndc = np.column_stack([2.0 * display[:, 0] / max(width, 1) - 1.0, 2.0 * display[:, 1] / max(height, 1) - 1.0])
+        clip = np.column_stack([ndc, np.full(len(ndc), NEAR_DEPTH), np.ones(len(ndc))])
+        world = clip @ np.linalg.inv(self.view_projection()).T
+        return world[:, :3] / world[:, 3:]
 
     def _follow_point(self, frame: int) -> np.ndarray:
         """(3,) the point the camera follows: the joints' centroid, on the floor."""
@@ -128,7 +144,7 @@ class SceneCamera:
         """(4, 4) world -> clip matrix of the current camera."""
         width, height = self.viewport()
         matrix = self.plotter.camera.GetCompositeProjectionTransformMatrix(width / max(height, 1), -1, 1)
-        return np.array([[matrix.GetElement(i, j) for j in range(4)] for i in range(4)])
+        return pv.array_from_vtkmatrix(matrix)
 
     def viewport(self) -> tuple[int, int]:
         """(width, height) of the view in the units of mouse events (logical pixels)."""

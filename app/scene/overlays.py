@@ -21,6 +21,7 @@ import numpy as np
 from gmr_studio.app.scene import vtk_parts as parts
 from gmr_studio.app.scene.drawable import EMPTY_BOX, Drawing, box_of
 from gmr_studio.app.scene.figure import SELECTION_COLOR
+from gmr_studio.app.scene.labels import label_part
 
 GROUND_COLOR = (0.36, 0.38, 0.42)
 MARKER_COLOR = (0.92, 0.92, 0.95)
@@ -162,7 +163,7 @@ class JointLabels(Drawing):
     def build(self, scene) -> None:
         super().build(scene)
         if scene.snapshot is not None:
-            self.add("labels", parts.label_part(list(scene.snapshot.motion.names)))
+            self.add("labels", label_part(list(scene.snapshot.motion.names)))
 
     def wanted(self, scene) -> bool:
         return scene.overlays["labels"]
@@ -175,7 +176,8 @@ class JointLabels(Drawing):
 
     def before_render(self) -> None:
         if self.parts and self._visible:
-            self.parts["labels"].place(self.scene.display_positions(self.scene.snapshot.positions[self.scene.frame]))
+            anchors = self.scene.display_positions(self.scene.snapshot.positions[self.scene.frame])
+            self.parts["labels"].place(anchors, self.scene.near_points)
 
 
 class Markers(Drawing):
@@ -197,7 +199,7 @@ class Markers(Drawing):
             "markers", parts.sphere_part(self.overlay.positions.shape[1], MARKER_RADIUS * size, color=MARKER_COLOR)
         )
         self._box = None  # measured when first asked
-        self.add("marker_labels", parts.label_part(self._label_texts(), color=MARKER_LABEL_COLOR))
+        self.add("marker_labels", label_part(self._label_texts(), color=MARKER_LABEL_COLOR))
         camera = scene.plotter.renderer.GetActiveCamera()
         self.add("marker_selection", parts.ring_part(2.0 * MARKER_RADIUS * size, camera, color=SELECTION_COLOR))
 
@@ -253,7 +255,7 @@ class Markers(Drawing):
             points = np.array(
                 [positions[m] if m is not None else np.full(3, np.nan) for m in (self.hovered, self.selected)]
             )
-            self.parts["marker_labels"].place(self.scene.display_positions(points))
+            self.parts["marker_labels"].place(self.scene.display_positions(points), self.scene.near_points)
 
 
 class PelvisTriad(Drawing):

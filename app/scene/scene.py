@@ -224,6 +224,7 @@ class SkeletonScene(SceneCamera):
             self.up_axis = up_axis_of(snapshot)
         for drawable in self.drawables:
             drawable.build(self)
+        self._draw_labels_last()
         self.new_document = False
         if reset_camera:
             self._reset_camera()
@@ -245,11 +246,25 @@ class SkeletonScene(SceneCamera):
     def redraw(self, drawable: Drawable, *, render: bool = True) -> None:
         """Build ``drawable`` again (its own data changed), show this frame, render."""
         drawable.build(self)
+        self._draw_labels_last()
         drawable.set_visible(drawable.wanted(self))
         if self.snapshot is not None and drawable.visible:
             drawable.show_frame(self.frame)
         if render:
             self.render()
+
+    def _draw_labels_last(self) -> None:
+        """Put the parts drawn last (:attr:`app.scene.labels.LabelPart.draw_last`: labels in
+        front of everything, whose letters' edges blend over what is drawn before them) at
+        the end of the main renderer's props, which VTK draws in order."""
+        renderer = self.plotter.renderer
+        for drawable in self.drawables:
+            if getattr(drawable, "front", False):
+                continue
+            for part in getattr(drawable, "parts", {}).values():
+                if getattr(part, "draw_last", False):
+                    renderer.RemoveViewProp(part.actor)
+                    renderer.AddViewProp(part.actor)
 
     def set_markers(self, overlay: MarkerOverlay | None) -> None:
         """Show the marker overlay (or none)."""

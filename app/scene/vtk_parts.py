@@ -8,8 +8,8 @@ filter runs on a frame change: spheres and bones are drawn by the GPU as shaded 
 computed per pixel, so they cost the same at any size and are round at any zoom), cubes and
 markers are templates that the mapper places (:func:`glyph_part`: instanced by
 ``vtkGlyph3DMapper``), a selection ring is a circle turned to the camera and moved by its
-actor's position (:func:`ring_part`), lines are drawn as they are, and labels are quads of
-one texture, drawn in screen space (:class:`LabelPart`).
+actor's position (:func:`ring_part`), and lines are drawn as they are. Labels, quads of one
+texture at display pixels, are in :mod:`app.scene.labels`.
 """
 
 from __future__ import annotations
@@ -298,70 +298,6 @@ def bone_part(pairs: np.ndarray, radius: float, colors: np.ndarray | None = None
     return BonePart(pairs, radius, colors, color)
 
 
-class LabelPart(Part):
-    """Text labels that follow points: every text rendered once into one texture, and drawn
-    as one quad per label in screen space (one mapper, one draw, no text layout per frame).
-
-    :meth:`place` takes the labels' anchors in display pixels (x right, y up, from the
-    bottom left); an anchor with NaN hides its label.
-    """
-
-    def __init__(self, texts: list[str], color=(1.0, 1.0, 1.0), size: int = 13) -> None:
-        self.texts = list(texts)
-        super().__init__(4 * len(self.texts))
-        self.size = size
-        self.color = color
-        self.actor = overlay_actor(self.mesh)
-        n = len(self.texts)
-        if n:
-            self.mesh.faces = np.column_stack([np.full(n, 4), np.arange(4 * n).reshape(-1, 4)]).ravel()
-        self._boxes = np.zeros((n, 2))
-        self._build_texture()
-
-    def _build_texture(self) -> None:
-        tiles, dims = render_texts(self.texts, self.color, self.size)
-        pad = 2  # empty texels between the rows: a quad's edge never samples its neighbour
-        width = max([w for w, _ in dims] + [1]) + pad
-        height = max(sum(h + pad for _, h in dims), 1)
-        atlas = np.zeros((height, width, 4), np.uint8)
-        coords = np.zeros((len(self.texts), 4, 2))
-        row = 0
-        for k, (tile, (w, h)) in enumerate(zip(tiles, dims, strict=True)):
-            atlas[row : row + h, :w] = tile
-            u, v0, v1 = w / width, row / height, (row + h) / height
-            coords[k] = [(0.0, v0), (u, v0), (u, v1), (0.0, v1)]
-            self._boxes[k] = (w, h)
-            row += h + pad
-        self.actor.SetTexture(rgba_texture(atlas))
-        if len(self.texts):
-            self.mesh.active_texture_coordinates = coords.reshape(-1, 2)
-
-    def widths(self) -> np.ndarray:
-        """(N,) each label's width in pixels."""
-        return self._boxes[:, 0].copy()
-
-    def set_texts(self, texts: list[str]) -> None:
-        """Other texts (as many as before)."""
-        self.texts = list(texts)
-        self._build_texture()
-        self.mesh.Modified()
-
-    def place(self, anchors: np.ndarray, offset: tuple[float, float] = (6.0, 4.0)) -> None:
-        """Put label k with its bottom left corner ``offset`` pixels from ``anchors[k]`` ((N, 2))."""
-        if not self.n_points:
-            return
-        anchors = np.asarray(anchors, dtype=np.float64).reshape(-1, 2)
-        hidden = ~np.isfinite(anchors).all(axis=1)
-        x0 = np.where(hidden, -1e4, anchors[:, 0] + offset[0])
-        y0 = np.where(hidden, -1e4, anchors[:, 1] + offset[1])
-        w, h = self._boxes[:, 0], self._boxes[:, 1]
-        quads = self._view.reshape(-1, 4, 3)
-        quads[:, :, 0] = np.column_stack([x0, x0 + w, x0 + w, x0])
-        quads[:, :, 1] = np.column_stack([y0, y0, y0 + h, y0 + h])
-        quads[:, :, 2] = 0.0
-        self.mesh.GetPoints().Modified()
-
-
 def rgba_texture(image: np.ndarray) -> vtkTexture:
     """A texture of ``image`` (H, W, 4) uint8 RGBA, rows bottom first (VTK's order), drawn
     one texel a pixel (not interpolated: text stays sharp)."""
@@ -408,11 +344,6 @@ def render_texts(texts: list[str], color, size: int) -> tuple[list[np.ndarray], 
         tiles.append(np.ascontiguousarray(pixels[:h, :w, :4]))
         dims.append((w, h))
     return tiles, dims
-
-
-def label_part(texts: list[str], color=(1.0, 1.0, 1.0), size: int = 13) -> LabelPart:
-    """Labels for ``texts``, placed each render with :meth:`LabelPart.place`."""
-    return LabelPart(texts, color, size)
 
 
 def draws_anything(renderer) -> bool:

@@ -1,0 +1,53 @@
+"""Screen-space labels in a scene (app/scene/labels.py, SkeletonScene._draw_labels_last):
+placed at every render at the joints' display pixels, drawn after every other actor, in
+front of the figure."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from gmr_studio.app.scene.labels import LabelPart
+from tests.tiny_scene import FIGURE_NAMES, figure_motion, picture, props_of, scene_of, snapshot_of
+
+pytestmark = pytest.mark.gui
+
+
+def _labels(scene) -> LabelPart:
+    return scene.parts["labels"]
+
+
+def test_joint_labels_sit_at_the_joints_display_pixels_drawn_last_in_front_of_the_figure():
+    with scene_of(snapshot_of(figure_motion(3)), size=(300, 300)) as scene:
+        scene.set_overlay("labels", True)
+        scene.show_frame(1)
+        image = picture(scene)
+        labels = _labels(scene)
+        assert props_of(scene.plotter.renderer)[-1] is labels.actor  # drawn after everything else
+        anchors = scene.display_positions(scene.snapshot.positions[1])
+        np.testing.assert_array_equal(labels.corners[:, 0], np.round(anchors + np.array([6.0, 4.0])))
+        assert labels.texts == list(FIGURE_NAMES)
+        # each label's quad, as projected back, covers the pixels its corners say
+        world = labels.mesh.points.reshape(-1, 4, 3)
+        back = scene.display_positions(world.reshape(-1, 3)).reshape(-1, 4, 2)
+        np.testing.assert_allclose(back, labels.corners, atol=1e-3)
+        # a label's bright letters are on screen where its quad is (y from the top in the image)
+        x0, y0 = labels.corners[3, 0].astype(int)  # Head's label
+        w, h = int(labels.widths()[3]), int(labels.heights()[3])
+        patch = image[300 - y0 - h : 300 - y0, x0 : x0 + w]
+        assert (patch.min(axis=-1) > 200).sum() > 20
+        scene.set_overlay("labels", False)
+        without = picture(scene)[300 - y0 - h : 300 - y0, x0 : x0 + w]
+        assert (without.min(axis=-1) > 200).sum() < (patch.min(axis=-1) > 200).sum() / 4
+
+
+def test_labels_stay_last_when_other_drawables_are_built_again():
+    with scene_of(snapshot_of(figure_motion(3))) as scene:
+        scene.set_overlay("labels", True)
+        renderer = scene.plotter.renderer
+        last = props_of(renderer)[-1]
+        assert last is _labels(scene).actor
+        scene.redraw(scene.figure)  # the figure's actors made again, added at the end
+        assert props_of(renderer)[-1] is _labels(scene).actor
+        labels_of = [p for p in props_of(renderer) if p is _labels(scene).actor]
+        assert len(labels_of) == 1  # moved, not added twice
