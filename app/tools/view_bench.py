@@ -11,6 +11,11 @@ selected and the Curves dock shown, it prints side by side:
   moved, the docks updated, the view's render), median over consecutive frames, the same
   frames for every figure;
 - **+ axes, trail, labels**, and **+ one comparison layer** (01_01.amc), as ratios to default;
+
+measured in :data:`ROUNDS` rounds, each of them all four in turn on a share of the frames:
+a figure is the median of its rounds, a ratio the median of the rounds' own ratios, so
+that a machine whose speed drifts during the run (a shared one does, by 10-30% over a
+minute) weighs on both sides of each ratio alike;
 - the docks' own costs, each timed alone: the inspector's text, the curves' cursor (moved
   and repainted), the foot contacts' bars (cursor moved and repainted).
 
@@ -47,6 +52,7 @@ def _median_ms(seconds: list[float]) -> float:
 
 
 WARM_UP = 20  # untimed updates before each figure
+ROUNDS = 3  # every figure measured in this many rounds, in turn (see the module docstring)
 # every figure over the same frames (what is drawn changes along the take: markers, flagged
 # joints), so that a ratio compares the same poses with and without what it adds
 FIRST = 100
@@ -157,8 +163,11 @@ def _dock_costs(app, window, frames: int) -> dict[str, float]:
     return {name: _median_ms(values) for name, values in costs.items()}
 
 
-def measure(width: int, height: int, frames: int, bare: list[float] | None) -> dict:
-    """Every figure at one window size, in this process (the view of this process's kind)."""
+def measure(width: int, height: int, frames: int, bare: list[float] | None, rounds: int = ROUNDS) -> dict:
+    """Every figure at one window size, in this process (the view of this process's kind):
+    [wall ms, CPU ms] medians over ``rounds`` rounds of ``frames / rounds`` frames each, and
+    the rounds' own ratios (``ratios``: name -> [wall, CPU]). ``bare`` given: the parent's
+    reference, not measured again."""
     from gmr_studio.app.model import extensions
     from gmr_studio.app.model.loading import load_snapshot
     from gmr_studio.app.scene import render_widget
@@ -180,48 +189,57 @@ def measure(width: int, height: int, frames: int, bare: list[float] | None) -> d
         "markers": state.marker_overlay.markers.n_markers,
         "pelvis": state.pelvis is not None,
     }
-    if bare is None:
-        bare = bare_reference(app, view.width(), view.height(), frames, state.positions)
-    figures["bare"] = bare
-    figures["default"] = _frames(app, state, FIRST, frames)
-    for name in ("axes", "trails", "labels"):
-        state.set_overlay(name, True)
-    figures["overlays"] = _frames(app, state, FIRST, frames)
-    for name in ("axes", "trails", "labels"):
-        state.set_overlay(name, False)
-    window.layers.add(load_snapshot(data / AMC), data / AMC, "cmu")
-    app.processEvents()
-    figures["layer"] = _frames(app, state, FIRST, frames)
-    window.layers.remove(0)
-    app.processEvents()
-    figures["default again"] = _frames(app, state, FIRST, frames)
+    other = load_snapshot(data / AMC)
+    block = max(frames // rounds, 1)
+    measured: dict[str, list[list[float]]] = {name: [] for name in ("bare", "default", "overlays", "layer")}
+    for _round in range(rounds):
+        reference = bare if bare is not None else bare_reference(app, *figures["view"], block, state.positions)
+        measured["bare"].append(reference)
+        measured["default"].append(_frames(app, state, FIRST, block))
+        for name in ("axes", "trails", "labels"):
+            state.set_overlay(name, True)
+        measured["overlays"].append(_frames(app, state, FIRST, block))
+        for name in ("axes", "trails", "labels"):
+            state.set_overlay(name, False)
+        window.layers.add(other, data / AMC, "cmu")
+        app.processEvents()
+        measured["layer"].append(_frames(app, state, FIRST, block))
+        window.layers.remove(0)
+        app.processEvents()
+    for name, values in measured.items():
+        figures[name] = np.median(np.array(values), axis=0).tolist()
+    figures["ratios"] = {
+        name: np.median(np.array(measured[name]) / np.array(measured[reference]), axis=0).tolist()
+        for name, reference in (("default", "bare"), ("overlays", "default"), ("layer", "default"))
+    }
+    figures["rounds"] = rounds
     figures["docks"] = _dock_costs(app, window, min(frames, 200))
     close_bench_window(window, scratch)
     return figures
 
 
 def report(figures: dict) -> None:
-    """Print one size's figures: wall ms, fps and the ratio, then CPU ms and its ratio."""
-    bare = figures["bare"]
-    # the two default blocks bracket the others: the faster of the two, by wall time
-    default = min(figures["default"], figures["default again"], key=lambda ms: ms[0])
+    """Print one size's figures: wall ms, fps and the ratio, then CPU ms and its ratio (the
+    ratios: medians of the rounds' own, so not always the quotient of the two medians)."""
     width, height = figures["view"]
     print(
         f"  view {width}x{height} ({figures['share']:.0%} of the window, {figures['kind']} widget), "
-        f"{figures['markers']} markers, pelvis triads {'on' if figures['pelvis'] else 'off'}"
+        f"{figures['markers']} markers, pelvis triads {'on' if figures['pelvis'] else 'off'}, "
+        f"{figures['rounds']} rounds"
     )
-    rows = (  # (label, [wall, CPU] ms, the row it is a ratio to)
-        ("bare VTK widget, 38 spheres + grid", bare, None),
-        ("default overlays, Curves shown", default, ("bare", bare)),
-        ("+ axes, trail, labels", figures["overlays"], ("default", default)),
-        ("+ one comparison layer", figures["layer"], ("default", default)),
+    rows = (  # (label, figure, the figure it is a ratio to)
+        ("bare VTK widget, 38 spheres + grid", "bare", None),
+        ("default overlays, Curves shown", "default", "bare"),
+        ("+ axes, trail, labels", "overlays", "default"),
+        ("+ one comparison layer", "layer", "default"),
     )
     print(f"  {'':<38} {'wall':>10} {'':>9}  {'':15}  {'CPU':>8}")
-    for label, (wall, cpu), reference in rows:
+    for label, name, reference in rows:
+        wall, cpu = figures[name]
         ratio = cpu_ratio = ""
         if reference is not None:
-            name, (reference_wall, reference_cpu) = reference
-            ratio, cpu_ratio = f"{wall / reference_wall:5.2f}x {name}", f"{cpu / reference_cpu:5.2f}x"
+            wall_ratio, cpu_ratio_value = figures["ratios"][name]
+            ratio, cpu_ratio = f"{wall_ratio:5.2f}x {reference}", f"{cpu_ratio_value:5.2f}x"
         print(f"  {label:<38} {wall:7.2f} ms  {1000 / wall:5.0f} fps  {ratio:15}  {cpu:5.2f} ms  {cpu_ratio}")
     docks = ", ".join(f"{name} {ms:.2f} ms" for name, ms in figures["docks"].items())
     print(f"  docks, each alone: {docks}")
@@ -231,7 +249,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
         prog="python -m gmr_studio.app.tools.view_bench", description=__doc__.splitlines()[0]
     )
-    parser.add_argument("--frames", type=int, default=300, help="frames timed per figure")
+    parser.add_argument("--frames", type=int, default=300, help="frames timed per figure (over all rounds)")
+    parser.add_argument("--rounds", type=int, default=ROUNDS, help="rounds every figure is measured in, in turn")
     parser.add_argument("--kind", choices=("native", "framebuffer"), default="native")
     parser.add_argument("--size", help="one WxH instead of both sizes")
     parser.add_argument("--bare", help="(internal) the bare reference measured by the parent: WALL,CPU ms")
@@ -246,7 +265,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     sizes = [tuple(int(v) for v in args.size.split("x"))] if args.size else list(SIZES)
     for width, height in sizes:
         bare = [float(v) for v in args.bare.split(",")] if args.bare else None
-        figures = measure(width, height, args.frames, bare)
+        figures = measure(width, height, args.frames, bare, args.rounds)
         if args.child:
             print(json.dumps(figures, default=float))
             continue
@@ -255,7 +274,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.kind == "native":
             command = [sys.executable, "-m", "gmr_studio.app.tools.view_bench", "--kind", "framebuffer", "--child"]
             bare_text = ",".join(map(str, figures["bare"]))
-            command += ["--size", f"{width}x{height}", "--frames", str(args.frames), "--bare", bare_text]
+            command += ["--size", f"{width}x{height}", "--frames", str(args.frames), "--rounds", str(args.rounds)]
+            command += ["--bare", bare_text]
             child = subprocess.run(command, capture_output=True, text=True, env=dict(os.environ))
             if child.returncode == 0:
                 framebuffer = json.loads(child.stdout.strip().splitlines()[-1])
