@@ -133,3 +133,32 @@ def test_a_drawable_or_a_prop_that_cannot_say_where_it_draws_has_vtk_measure_eve
         assert scene.world_box() is None
         scene.plotter.remove_actor(actor)
         assert scene.world_box() is not None
+
+
+def test_every_part_sends_its_points_unshifted_and_a_figure_far_from_the_origin_draws_the_same():
+    """Drawing.add turns VTK's shift and scale off (vtk_parts.unshifted): every mapper in the
+    scene takes its points as they are. A figure moved 2000 of its sizes from the origin,
+    with the camera moved alike, draws the same picture as at the origin (float32 keeps
+    ~1e-4 of the size there)."""
+    from vtkmodules.vtkRenderingCore import vtkPolyDataMapper
+
+    from tests.tiny_scene import look_down_at, picture
+
+    shift = np.array([1600.0, 0.0, -1200.0])
+    images = []
+    for offset in (np.zeros(3), shift):
+        world = figure_world(3) + offset
+        with scene_of(
+            snapshot_of(posed_motion(FIGURE_NAMES, FIGURE_PARENTS, world, FIGURE_SOFT_PARENTS)), (300, 300)
+        ) as scene:
+            props = scene.plotter.renderer.GetViewProps()
+            mappers = [props.GetItemAsObject(i).GetMapper() for i in range(props.GetNumberOfItems())]
+            methods = {m.GetVBOShiftScaleMethod() for m in mappers if hasattr(m, "GetVBOShiftScaleMethod")}
+            assert methods == {vtkPolyDataMapper.DISABLE_SHIFT_SCALE}
+            look_down_at(scene, offset + np.array([0.05, 0.2, 0.0]), 0.3)  # chest, head and arm
+            scene.show_frame(1)
+            images.append(picture(scene))
+    differing = np.abs(images[0] - images[1]).max(axis=-1) > 40
+    figure = np.abs(images[0] - images[0][0, 0]).max(axis=-1) > 20  # not the background
+    assert figure.sum() > 300  # the figure is in the picture
+    assert differing.sum() <= 12  # a few edge pixels at most

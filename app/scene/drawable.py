@@ -123,7 +123,9 @@ class Drawing:
         return True
 
     def add(self, name: str, part: parts.Part) -> parts.Part:
-        """Put ``part`` in the renderer under ``name`` (replacing a part of that name)."""
+        """Put ``part`` in the renderer under ``name`` (replacing a part of that name), its
+        points sent to OpenGL as they are (:func:`app.scene.vtk_parts.unshifted`)."""
+        parts.unshifted(part.actor)
         renderer = self._renderer()
         old = self.parts.pop(name, None)
         if old is not None:

@@ -41,6 +41,19 @@ def rgb_bytes(colors: np.ndarray) -> np.ndarray:
     return np.clip(np.rint(np.asarray(colors, dtype=np.float64) * 255), 0, 255).astype(np.uint8)
 
 
+def unshifted(actor) -> None:
+    """Have ``actor``'s mapper send its points to OpenGL as they are, not shifted and scaled
+    about their range. VTK's default shift and scale keep float32 precise for data far from
+    the origin; to choose it VTK measures every point array whenever it changes, and that
+    measure asks the C library for the processors online (open and read a file in /sys)
+    twice per array: a frame's points change every frame, and this was a tenth of a
+    millisecond of each render. Motion capture sits within a few thousand units of the
+    origin, where float32 keeps ~1e-4 of a unit."""
+    mapper = actor.GetMapper() if hasattr(actor, "GetMapper") else None
+    if mapper is not None and hasattr(mapper, "SetVBOShiftScaleMethod"):
+        mapper.SetVBOShiftScaleMethod(vtkPolyDataMapper.DISABLE_SHIFT_SCALE)
+
+
 class Part:
     """A poly data with ``n`` points, drawn by ``actor``; coordinates updated in place."""
 
