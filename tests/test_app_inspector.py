@@ -198,7 +198,9 @@ def test_a_frame_change_rewrites_the_numbers_in_place_and_a_selection_stays(qtbo
     label = studio.inspector.label
     # every number: the frame and its time, two angle lines, two local matrices (3 rows) and
     # their angles, the world position, two world rotations (3 rows and angles), the
-    # marker, the pelvis residual and rotation (3 rows)
+    # marker, the pelvis residual and rotation (3 rows); the text read (the sections off
+    # screen were left as at frame 0, where the pelvis was not recovered)
+    assert "Pelvis rotation" in label.plain_text()
     assert label.slots_held == 2 + 2 + 2 * 4 + 1 + 2 * 4 + 1 + 1 + 3 == 26
     start = label.plain_text().index("World position")
     label.cursor.setPosition(start)
@@ -210,3 +212,45 @@ def test_a_frame_change_rewrites_the_numbers_in_place_and_a_selection_stays(qtbo
         assert label.plain_text() == whole.toPlainText()  # as if parsed whole
         assert f"Frame {frame} of 2752" in studio.inspector.text()
         assert label.selected_text() == "World position" and label.slots_held == 26
+
+
+@pytest.mark.gui
+def test_a_new_frame_builds_only_the_sections_on_screen_and_the_rest_when_seen(qtbot, studio, monkeypatch):
+    """Sections whose numbers are off screen keep an earlier frame's text (stale) and are
+    not computed; reading the text, or scrolling them into sight, gives the frame's own."""
+    from PyQt6.QtWidgets import QApplication
+
+    from gmr_studio.app.docks import inspector as inspector_module
+    from gmr_studio.app.model.formatting import format_matrix
+
+    open_file(studio, shared_path(CMU))
+    state, inspector = studio.state, studio.inspector
+    studio.inspector_dock.show()
+    qtbot.waitExposed(inspector)
+    state.select(state.motion.joint_index("LeftHand"))
+    state.set_frame(100)
+    inspector.verticalScrollBar().setValue(0)
+    QApplication.processEvents()
+    label = inspector.label
+    on_screen = label.slots_on_screen()
+    assert any(on_screen) and not all(on_screen)  # the top numbers shown, the world rotations not
+    computed = []
+    world_rotation = inspector_module.bvh_world_rotation
+    monkeypatch.setattr(inspector_module, "bvh_world_rotation", lambda *a: computed.append(a[2]) or world_rotation(*a))
+
+    def first_row(frame: int) -> str:  # the BVH world rotation's first row at ``frame``
+        return format_matrix(world_rotation(state.motion, state.rotations, frame, state.selected)).split("\n")[0]
+
+    state.set_frame(101)
+    assert computed == []  # the BVH world rotation's section is off screen: not computed
+    assert label.slots_pending > 0 and "Frame 101 of" in label.document.toPlainText()
+    assert first_row(101) not in label.document.toPlainText()  # an earlier frame's numbers still there
+    text = inspector.text()  # read: every section as it is now
+    assert computed == [101] and first_row(101) in text and label.slots_pending == 0
+    computed.clear()
+    state.set_frame(2000)
+    assert computed == []
+    bar = inspector.verticalScrollBar()
+    bar.setValue(bar.maximum())  # the bottom sections into sight: built as the frame is now
+    inspector.viewport().grab()
+    assert computed == [2000] and first_row(2000) in label.document.toPlainText()

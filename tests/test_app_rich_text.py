@@ -380,3 +380,46 @@ def test_only_the_lines_rewritten_are_repainted_and_a_line_that_grows_repaints_a
     QApplication.processEvents()
     assert painted and painted[0].height() >= label.height() - 1
     assert label.minimumHeight() == round(label.document.size().height()) + 2 * RichText.MARGIN
+
+
+def test_stale_slots_take_the_owners_fresh_text_when_seen_or_read(qtbot):
+    from PyQt6.QtWidgets import QApplication
+
+    area, label = _scrolled(qtbot)
+    now = {"value": 1}
+    asked = []
+
+    def fresh() -> str:
+        asked.append(now["value"])
+        return lines_page([f"row {k} value {now['value']}" for k in range(40)])
+
+    label.fill = fresh
+    seen = label.slots_on_screen()
+    assert seen[0] and not seen[-1]
+    off = [k for k in range(40) if not seen[k]]
+    # the lines off screen keep their old values in the text given, marked stale
+    given = [f"row {k} value {0 if k in off else 1}" for k in range(40)]
+    label.setText(lines_page(given), stale=off)
+    assert asked == [] and label.slots_pending == len(off)
+    assert _block_texts(label)[0] == "row 0 value 1" and _block_texts(label)[-1] == "row 39 value 0"
+    area.verticalScrollBar().setValue(area.verticalScrollBar().maximum())  # a stale line into sight
+    QApplication.processEvents()
+    assert asked == [1] and _block_texts(label)[-1] == "row 39 value 1"
+    now["value"] = 2
+    label.setText(lines_page([f"row {k} value 2" if seen[k] else given[k] for k in range(40)]), stale=off)
+    assert label.plain_text().split("\n") == [f"row {k} value 2" for k in range(40)]  # read: fresh
+    assert asked == [1, 2] and label.slots_pending == 0
+    assert label.text() == fresh()  # the text as it is now
+
+
+def test_stale_slots_in_a_text_of_another_template_are_parsed_from_the_fresh_text(qtbot):
+    label = RichText()
+    qtbot.addWidget(label)
+    label.fill = lambda: "<p>fresh " + slot("9") + "</p><p>" + slot("8") + "</p>"
+    label.setText("<p>a " + slot("1") + "</p>")
+    label.setText("<p>old " + slot("1") + "</p><p>" + slot("2") + "</p>", stale=[1])  # another template
+    assert label.plain_text() == "fresh 9\n8" and label.slots_held == 2
+    # a fill whose template differs from the text shown: parsed whole when the slot is read
+    label.setText("<p>fresh " + slot("3") + "</p><p>" + slot("2") + "</p>", stale=[1])
+    label.fill = lambda: "<p>other " + slot("5") + "</p>"
+    assert label.plain_text() == "other 5" and label.slots_held == 1 and label.slots_pending == 0

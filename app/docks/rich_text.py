@@ -11,13 +11,17 @@ A slot costs only when seen, as a dock does (:mod:`app.docks.frame_follow`): a c
 value is written into the document only if its line is in the part of the widget on screen
 (the scroll area shows a third of the inspector's text at the default layout), and only
 the lines written are repainted; a value off screen is written when its line is painted
-(scrolled, resized or shown into sight) or the text is read.
+(scrolled, resized or shown into sight) or the text is read. Its owner need not even
+compute it: a text may come with *stale* slots (:meth:`RichText.setText`), values left from
+an earlier text; when one of them must be written or read, the widget asks the owner for
+the whole text as it is now (:attr:`RichText.fill`) and takes its values.
 """
 
 from __future__ import annotations
 
 import html
 import re
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -47,6 +51,11 @@ def slot(text: str) -> str:
 def slot_lines(text: str) -> str:
     """Each line of ``text`` as its own slot (the lines of a ``<pre>`` are blocks)."""
     return "\n".join(slot(line) for line in text.split("\n"))
+
+
+def _split(html_text: str) -> tuple[str, list[str]]:
+    """(template, values): ``html_text`` with every slot emptied, and the slots' values."""
+    return _SLOT.sub(SLOT_OPEN + SLOT_CLOSE, html_text), [html.unescape(v) for v in _SLOT.findall(html_text)]
 
 
 def _utf16_length(text: str) -> int:
@@ -92,6 +101,10 @@ class RichText(QWidget):
         self._template = ""  # the text with every slot emptied: what must stay for slots to be written alone
         self._slots: list[_Slot] = []
         self._wanted: list[str] = []  # the latest value of every slot (written or not yet)
+        self._stale: set[int] = set()  # slots whose values in the text are left from an earlier one
+        #: the owner's whole text as it is now, every value fresh: asked for when a stale slot
+        #: must be written or the text is read (None: no text is given with stale slots)
+        self.fill: Callable[[], str] | None = None
         self.cursor = QTextCursor(self.document)  # the selection
         self.setSizePolicy(QSizePolicy.Policy.Preferred, QSizePolicy.Policy.Minimum)
         self.setFocusPolicy(Qt.FocusPolicy.ClickFocus)
@@ -99,24 +112,48 @@ class RichText(QWidget):
         self.setContextMenuPolicy(Qt.ContextMenuPolicy.DefaultContextMenu)
 
     def text(self) -> str:
+        """The text shown, every value in it fresh."""
+        if self._stale:
+            self._take_fresh()
         return self._html
 
-    def setText(self, html_text: str) -> None:  # noqa: N802 (QLabel's name)
-        if html_text == self._html:
+    def setText(self, html_text: str, stale: Iterable[int] = ()) -> None:  # noqa: N802 (QLabel's name)
+        """Show ``html_text``. ``stale``: indices of slots whose values in it are left from an
+        earlier text (not computed for this one); :attr:`fill` gives them when needed."""
+        stale = set(stale)
+        if html_text == self._html and stale == self._stale:
             return
         self._html = html_text
-        template = _SLOT.sub(SLOT_OPEN + SLOT_CLOSE, html_text)
-        values = [html.unescape(value) for value in _SLOT.findall(html_text)]
+        template, values = _split(html_text)
         if self._slots and template == self._template:
-            self._wanted = values
+            self._wanted, self._stale = values, stale
             self._fit(self._write_slots(self._on_screen()))
-        else:
-            self._template = template
-            self.document.setHtml(html_text)
-            self._slots = self._find_slots(values)  # none held: the next text is parsed whole
-            self._wanted = values if self._slots else []
-            self.cursor = QTextCursor(self.document)
-            self._fit(None)
+            return
+        if stale:  # parsed whole: every value must be this text's
+            self._html = self.fill()
+            template, values = _split(self._html)
+        self._parse(template, values)
+
+    def _parse(self, template: str, values: list[str]) -> None:
+        """Parse :attr:`_html` whole (its template and values given)."""
+        self._template = template
+        self._stale = set()
+        self.document.setHtml(self._html)
+        self._slots = self._find_slots(values)  # none held: the next text is parsed whole
+        self._wanted = values if self._slots else []
+        self.cursor = QTextCursor(self.document)
+        self._fit(None)
+
+    def _take_fresh(self) -> bool:
+        """Take the owner's text as it is now (:attr:`fill`): its values for every slot, or,
+        when its template differs, the text parsed whole (False)."""
+        self._html = self.fill()
+        template, values = _split(self._html)
+        if self._slots and template == self._template:
+            self._wanted, self._stale = values, set()
+            return True
+        self._parse(template, values)
+        return False
 
     @property
     def slots_held(self) -> int:
@@ -126,8 +163,21 @@ class RichText(QWidget):
 
     @property
     def slots_pending(self) -> int:
-        """How many slots hold an older value than the text's, their lines not on screen."""
-        return sum(held.value != value for held, value in zip(self._slots, self._wanted, strict=True))
+        """How many slots hold an older value than the text's, or a stale one, their lines
+        not on screen."""
+        pairs = enumerate(zip(self._slots, self._wanted, strict=True))
+        return len(self._stale.union(i for i, (held, value) in pairs if held.value != value))
+
+    def slots_on_screen(self) -> list[bool]:
+        """For each slot, whether its line is in the part of the widget on screen."""
+        return self._lines_meeting(self._on_screen())
+
+    def _lines_meeting(self, within: QRectF | None) -> list[bool]:
+        """For each slot, whether its line meets ``within`` (document coordinates; None: none)."""
+        if within is None:
+            return [False] * len(self._slots)
+        top, bottom = within.top(), within.bottom()
+        return [held.bottom >= top and held.top <= bottom for held in self._slots]
 
     def plain_text(self) -> str:
         """The text without markup, every slot's latest value in it."""
@@ -179,10 +229,10 @@ class RichText(QWidget):
         redoes the changed blocks once, at its end: 0.35 against 0.5 ms one by one). The
         lines written, to repaint (document coordinates), or None when a line changed height
         (every line after it moved: everything is repainted)."""
-        chosen = [
-            within is not None and value != held.value and held.bottom >= within.top() and held.top <= within.bottom()
-            for held, value in zip(self._slots, self._wanted, strict=True)
-        ]
+        seen = self._lines_meeting(within)
+        if any(seen[i] for i in self._stale) and not self._take_fresh():
+            return None  # the text as it is now has another template: parsed whole
+        chosen = [on and value != held.value for on, held, value in zip(seen, self._slots, self._wanted, strict=True)]
         if not any(chosen):
             return []
         cursor = QTextCursor(self.document)
@@ -212,6 +262,8 @@ class RichText(QWidget):
 
     def _write_pending(self) -> None:
         """Write every slot not written yet (the text is read)."""
+        if self._stale and not self._take_fresh():
+            return  # parsed whole
         if self.slots_pending:
             self._fit(self._write_slots(QRectF(0, -1, 1, self.document.size().height() + 2)))
 
