@@ -170,6 +170,12 @@ def _along(rgb: np.ndarray, colour) -> np.ndarray:
     return rgb @ colour / np.maximum(np.linalg.norm(rgb, axis=-1) * np.linalg.norm(colour), 1e-9)
 
 
+def _yellow(image: np.ndarray) -> np.ndarray:
+    """(H, W) the pixels of the ring's yellow (1, 0.85, 0.1), alone or blended with the blue,
+    not the orange of the other tree's joints (0.98, 0.49, 0.05) lit from the front."""
+    return (image[..., 0] > 150) & (image[..., 1] > 150) & (image[..., 2] < 100)
+
+
 def test_the_picture_a_joint_its_bones_and_the_ring_in_their_colours_and_sizes():
     """Chest (frame 0, at (0, 0.2)) seen from above, 1000 pixels a unit: its sphere 12.8
     pixels round in its tree's blue, the bones up to Head and down to Hips 5.2 pixels
@@ -191,7 +197,7 @@ def test_the_picture_a_joint_its_bones_and_the_ring_in_their_colours_and_sizes()
         assert not drawn[:, :80].any() and not drawn[:, 121:].any()  # nothing else in view
         scene.set_selection(2)
         image = picture(scene)
-        yellow = (image[..., 0] > 150) & (image[..., 1] > 120) & (image[..., 2] < 100)
+        yellow = _yellow(image)
         rows, columns = np.nonzero(yellow)
         reach = np.hypot(rows - 99.5, columns - 99.5)
         assert 22.0 <= reach.min() and reach.max() <= 26.5  # a ring: nothing yellow inside it
@@ -202,6 +208,6 @@ def test_the_picture_a_joint_its_bones_and_the_ring_in_their_colours_and_sizes()
         camera = scene.plotter.camera  # seen from the side (+x) now: the ring still faces the camera
         camera.position, camera.up = (5.0, 0.2, 0.0), (0.0, 1.0, 0.0)
         image = picture(scene)
-        rows, columns = np.nonzero((image[..., 0] > 150) & (image[..., 1] > 120) & (image[..., 2] < 100))
+        rows, columns = np.nonzero(_yellow(image))
         reach = np.hypot(rows - 99.5, columns - 99.5)
         assert 22.0 <= reach.min() and reach.max() <= 26.5 and np.ptp(columns) > 45  # round, not edge on

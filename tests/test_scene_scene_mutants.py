@@ -342,3 +342,18 @@ def test_the_pelvis_triad_is_drawn_at_the_frames_it_was_recovered():
         assert not scene.is_shown("pelvis")
         scene.set_pelvis(None)
         assert scene.pelvis is None and "pelvis" not in scene.parts
+
+
+def test_the_scene_is_lit_by_one_headlight_and_a_sphere_is_brightest_where_it_faces_the_camera():
+    from tests.tiny_scene import look_down_at, picture
+
+    with scene_of(snapshot_of(figure_motion()), size=(200, 200)) as scene:
+        lights = scene.plotter.renderer.GetLights()
+        assert lights.GetNumberOfItems() == 1 and lights.GetItemAsObject(0).LightTypeIsHeadlight()
+        look_down_at(scene, (0.0, 0.2, 0.0), 0.1)  # the chest's sphere, 12.8 pixels round
+        image = picture(scene).sum(axis=-1)
+        centre, rim = image[100, 100], image[100, 100 + 11]
+        assert centre > rim + 60  # lit head on at its centre, darker towards its edge
+        scene.plotter.camera.position = (-5.0, 0.2, 0.0)  # from the side: the light follows the camera
+        side = picture(scene).sum(axis=-1)
+        assert side[100, 100] == pytest.approx(centre, abs=12)
