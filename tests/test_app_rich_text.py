@@ -3,6 +3,7 @@ slots only is written slot by slot, and shows exactly what parsing it whole woul
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 from PyQt6.QtCore import Qt
 from PyQt6.QtGui import QFont, QTextCursor, QTextDocument
@@ -423,3 +424,45 @@ def test_stale_slots_in_a_text_of_another_template_are_parsed_from_the_fresh_tex
     label.setText("<p>fresh " + slot("3") + "</p><p>" + slot("2") + "</p>", stale=[1])
     label.fill = lambda: "<p>other " + slot("5") + "</p>"
     assert label.plain_text() == "other 5" and label.slots_held == 1 and label.slots_pending == 0
+
+
+def test_two_lines_rewritten_far_apart_are_drawn_each_alone_as_a_whole_repaint_draws_them(qtbot):
+    """The screen after the two lines' paint is what a whole repaint draws. (Another test's
+    window on the same X display may cover this one for a moment: raised and grabbed again.)"""
+    import time
+
+    from PyQt6.QtCore import QPoint
+    from PyQt6.QtGui import QGuiApplication
+    from PyQt6.QtWidgets import QApplication
+
+    from gmr_studio.app.media.video import image_pixels
+
+    area, label = _scrolled(qtbot, rows=8, height=400)  # every line on screen
+
+    def page(first: str, second: str, rows: list[str]) -> str:  # a first line of two slots
+        return f"<p style='margin:0'>Frame {slot(first)} at {slot(second)} s</p>" + lines_page(rows)
+
+    rows = [f"row {k} value 0" for k in range(8)]
+    label.setText(page("1", "0.1", rows))
+    QApplication.processEvents()
+    rows[1], rows[6] = "row 1 value 12345", "row 6 value 9"
+    label.setText(page("2", "0.2", rows))  # the first line asked for twice: drawn once
+    QApplication.processEvents()
+    line = label.document.documentLayout().blockBoundingRect(label.document.firstBlock()).height()
+    assert len(label.painted) == 3  # the first line, lines 1 and 6, not the four between them
+    assert all(rect.height() <= line + 3 for rect in label.painted)
+    assert label.painted[2].top() - label.painted[1].top() >= 4 * line
+    whole = image_pixels(label.grab().toImage())  # a grab paints the whole widget
+    assert len(label.painted) == 1 and label.painted[0] == label.rect()
+    origin = label.mapTo(area, QPoint(0, 0))
+    for _attempt in range(20):
+        area.raise_()
+        QApplication.processEvents()
+        shown = QGuiApplication.primaryScreen().grabWindow(
+            int(area.winId()), origin.x(), origin.y(), label.width(), label.height()
+        )
+        if np.array_equal(image_pixels(shown.toImage()), whole):
+            break
+        time.sleep(0.05)
+    else:
+        pytest.fail("the screen never showed what a whole repaint draws")

@@ -25,18 +25,20 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 import numpy as np
-from PyQt6.QtCore import QPointF, QRectF, QSize, Qt
+from PyQt6.QtCore import QPointF, QRect, QRectF, QSize, Qt
 from PyQt6.QtGui import (
     QAbstractTextDocumentLayout,
     QGuiApplication,
     QKeySequence,
     QPainter,
+    QRegion,
     QTextCharFormat,
     QTextCursor,
     QTextDocument,
 )
 from PyQt6.QtWidgets import QMenu, QSizePolicy, QWidget
 
+OVERHANG = 4  # pixels a line's glyphs may reach beyond its block (accents, descenders)
 SLOT_OPEN, SLOT_CLOSE = "\ue000", "\ue001"  # private-use characters: never in a shown text
 _SLOT = re.compile(f"{SLOT_OPEN}([^{SLOT_CLOSE}]*){SLOT_CLOSE}")
 
@@ -106,6 +108,9 @@ class RichText(QWidget):
         #: must be written or the text is read (None: no text is given with stale slots)
         self.fill: Callable[[], str] | None = None
         self.cursor = QTextCursor(self.document)  # the selection
+        self._asked: list[QRect] = []  # the lines asked to be repainted since the last paint
+        #: the parts of the widget the last paint drew the text in (for tests)
+        self.painted: list[QRect] = []
         self.setSizePolicy(QSizePolicy.Policy.Preferred, QSizePolicy.Policy.Minimum)
         self.setFocusPolicy(Qt.FocusPolicy.ClickFocus)
         self.setCursor(Qt.CursorShape.IBeamCursor)
@@ -286,7 +291,9 @@ class RichText(QWidget):
             self.update()
             return
         for line in lines:  # the whole width: a shorter value leaves the end of a longer one
-            self.update(0, int(line.top()) + self.MARGIN, self.width(), int(line.height()) + 2)
+            rect = QRect(0, int(line.top()) + self.MARGIN, self.width(), int(line.height()) + 2)
+            self._asked.append(rect)
+            self.update(rect)
 
     def sizeHint(self) -> QSize:  # noqa: N802 (Qt's name)
         return QSize(round(self.document.idealWidth()) + 2 * self.MARGIN, self.minimumHeight())
@@ -313,10 +320,39 @@ class RichText(QWidget):
             selection.format.setForeground(self.palette().highlightedText())
             context.selections = [selection]
         # only the exposed part (what the scroll area shows, the lines rewritten): the layout
-        # skips the blocks outside it (about half the text's drawing time at the default size)
-        context.clip = self._document_rect(event.rect())
-        self.document.documentLayout().draw(painter, context)
+        # skips the blocks outside it (about half the text's drawing time at the default
+        # size); when the exposed part is just lines rewritten, each alone, not the lines
+        # between them (the inspector's frame number and angles have its table between them)
+        self.painted = self._parts_to_paint(event)
+        for rect in self.painted:
+            # each part drawn within itself, once (the painter otherwise keeps to the whole
+            # exposed region); the layout's clip grown by a few pixels, so that a
+            # neighbouring line's glyphs that reach into the part are drawn too
+            area = self._document_rect(rect)
+            painter.setClipRect(area)
+            context.clip = area.adjusted(0, -OVERHANG, 0, OVERHANG)
+            self.document.documentLayout().draw(painter, context)
         painter.end()
+
+    def _parts_to_paint(self, event) -> list[QRect]:
+        """The rectangles to draw the text in for ``event``: the lines asked for when the
+        exposed region is only those, else the region's bounding rectangle."""
+        region = event.region()
+        asked = sorted((rect for rect in self._asked if region.intersects(rect)), key=QRect.top)
+        self._asked = []
+        merged: list[QRect] = []  # each line once (two slots of a line, or a line asked twice)
+        for rect in asked:
+            if merged and rect.top() <= merged[-1].bottom() + 1:
+                merged[-1] = merged[-1].united(rect)
+            else:
+                merged.append(QRect(rect))
+        if merged:
+            covered = QRegion()
+            for rect in merged:
+                covered = covered.united(QRegion(rect))
+            if region.subtracted(covered).isEmpty():
+                return [rect.intersected(event.rect()) for rect in merged]
+        return [event.rect()]
 
     def selected_text(self) -> str:
         self._write_pending()
