@@ -248,13 +248,17 @@ def test_the_legend_is_a_bar_in_the_maps_colours_its_labels_and_title_in_one_tex
         columns = np.flatnonzero(title.any(axis=0))
         assert title.any() and abs((columns[0] + columns[-1]) / 2 - (width - 1) / 2) <= 2
         assert height > BAR_HEIGHT + 20 and width > 80  # "error (file units)": wider than the bar and its labels
-        # one quad of the image's size, anchored at (0.86, 0.08) of the view, one texel a pixel
-        np.testing.assert_array_equal(legend.mesh.points[:, :2], [[0, 0], [width, 0], [width, height], [0, height]])
-        coordinate = legend.actor.GetPositionCoordinate()
-        assert coordinate.GetCoordinateSystemAsString() == "Normalized Viewport"
-        assert coordinate.GetValue()[:2] == pytest.approx((0.86, 0.08))
+        # one quad of the image's size fitted to the view, anchored at (0.86, 0.08) of it
+        # (moved left to keep the title in it), placed before the render
+        picture(scene)
+        view_width, view_height = scene.plotter.renderer.GetSize()
+        shift, scale = legend.fitted
+        assert (shift, scale) == legend_fit((view_width, view_height), (width, height))
+        x, y = 0.86 * view_width - shift, 0.08 * view_height
+        w, h = scale * width, scale * height
+        np.testing.assert_allclose(legend.corners[0], [[x, y], [x + w, y], [x + w, y + h], [x, y + h]])
         assert legend.actor.GetTexture().GetInput().GetDimensions() == (width, height, 1)
-        assert not legend.actor.GetTexture().GetInterpolate()
+        assert legend.actor.GetTexture().GetInterpolate() == (scale < 1)
 
 
 def test_the_legend_is_drawn_at_the_views_right_upright(qtbot):

@@ -1,13 +1,12 @@
 """The error legend (app/scene/legend.py, issue 24's mutation tests): its texture laid out to
 the pixel (a 22 x 200 bar, five labels of 13-point light grey text, each centred on its
-height, the title centred above), the quad that shows it one texel a pixel at (0.86, 0.08) of
-the view, and the pixels it covers there (an off-screen plotter, no scene, no window)."""
+height, the title centred above), the screen-space quad that shows it one texel a pixel at
+(0.86, 0.08) of the view, and the pixels it covers there (an off-screen scene, no window)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-import pyvista as pv
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 from gmr_studio.app.scene.legend import EDGE, label_texts, legend_fit, legend_image, legend_part
@@ -63,36 +62,46 @@ def test_the_texture_holds_the_bar_the_labels_on_their_heights_and_the_title_cen
     assert (text == text[:, :1]).all() and text.max() == 229  # light grey (0.9) text and its dark shadow
 
 
+def _lifted(display: np.ndarray) -> np.ndarray:
+    """Display pixels (K, 2) as the world points (x, y, 0): the quad's corners in the mesh."""
+    return np.column_stack([display, np.zeros(len(display))])
+
+
 def test_the_quad_shows_the_texture_one_texel_a_pixel_at_the_views_right():
     part = legend_part(2.0, "m", ramp)
     assert part.top == 2.0 and isinstance(part.top, float)
     height, width = part.image.shape[:2]
-    np.testing.assert_array_equal(part.mesh.points, [[0, 0, 0], [width, 0, 0], [width, height, 0], [0, height, 0]])
     np.testing.assert_array_equal(part.mesh.faces, [4, 0, 1, 2, 3])
     np.testing.assert_array_equal(part.mesh.active_texture_coordinates, [[0, 0], [1, 0], [1, 1], [0, 1]])
     texels = part.actor.GetTexture().GetInput()
     assert texels.GetDimensions() == (width, height, 1)
     np.testing.assert_array_equal(vtk_to_numpy(texels.GetPointData().GetScalars()), part.image.reshape(-1, 4))
     assert not part.actor.GetTexture().GetInterpolate() and not part.actor.GetMapper().GetScalarVisibility()
-    coordinate = part.actor.GetPositionCoordinate()
-    assert coordinate.GetCoordinateSystemAsString() == "Normalized Viewport"
-    assert coordinate.GetValue() == pytest.approx((0.86, 0.08, 0.0))
+    assert part.draw_last and not part.actor.GetUseBounds()
+    part.place((2000, 1000), _lifted)  # room enough: at (0.86, 0.08) of the view, one texel a pixel
+    x, y = 0.86 * 2000, 0.08 * 1000
+    corners = [[x, y], [x + width, y], [x + width, y + height], [x, y + height]]
+    np.testing.assert_allclose(part.corners[0], corners)
+    np.testing.assert_allclose(part.mesh.points, np.column_stack([corners, np.zeros(4)]))
 
 
 def test_the_legend_covers_its_pixels_in_the_view_upright():
+    from tests.tiny_scene import picture, scene_of
+
     part = legend_part(2.0, "m", ramp)
     size = (800, 600)
-    plotter = pv.Plotter(off_screen=True, window_size=size)
-    plotter.set_background((0, 0, 0))
-    plotter.renderer.AddActor(part.actor)
-    picture = np.asarray(plotter.screenshot(return_img=True))[..., :3].astype(int)
-    plotter.close()
+    with scene_of(None, size=size) as scene:
+        scene.plotter.set_background((0, 0, 0))
+        scene.plotter.renderer.AddActor(part.actor)
+        scene.plotter.renderer.ResetCameraClippingRange()
+        part.place(size, scene.near_points)
+        image = picture(scene)
     height, width = part.image.shape[:2]
     x0, y0 = round(0.86 * size[0]), round(0.08 * size[1])  # the quad's bottom left, from the bottom left
-    drawn = picture[size[1] - y0 - height : size[1] - y0, x0 : x0 + width][::-1]  # rows bottom first
+    drawn = image[size[1] - y0 - height : size[1] - y0, x0 : x0 + width][::-1]  # rows bottom first
     over_black = part.image[..., :3].astype(int) * part.image[..., 3:].astype(int) // 255
     assert np.abs(drawn - over_black).max() <= 3
-    outside = picture.copy()
+    outside = image.copy()
     outside[size[1] - y0 - height : size[1] - y0, x0 : x0 + width] = 0
     assert not outside.any()
 
@@ -114,25 +123,20 @@ def test_a_legend_is_shrunk_and_moved_to_fit_the_view(view, expected):
     assert left + scale * 100 <= view[0] - EDGE + 1e-9 or left == pytest.approx(0.0)
 
 
-def test_fitting_rewrites_the_quad_only_when_the_view_asks_and_smooths_a_shrunk_texture():
+def test_a_fitted_quad_is_shrunk_and_moved_and_a_shrunk_texture_smoothed():
     part = legend_part(2.0, "m", ramp)
     height, width = part.image.shape[:2]
-    points = part.mesh.GetPoints()
     assert part.fitted == (0.0, 1.0)  # as built: one texel a pixel at the anchor
-    stamp = points.GetMTime()
-    part.fit((2000, 2000))  # room enough: nothing to rewrite
+    part.fit((2000, 2000))  # room enough: as built
     assert part.fitted == (0.0, 1.0) and not part.actor.GetTexture().GetInterpolate()
-    assert points.GetMTime() == stamp
     shift, scale = legend_fit((300, 200), (width, height))
     assert scale < 1 and shift > 0
-    part.fit((300, 200))
+    part.place((300, 200), _lifted)
     assert part.fitted == (shift, scale) and part.actor.GetTexture().GetInterpolate()
-    left, right, top = -shift, scale * width - shift, scale * height
-    np.testing.assert_allclose(part.mesh.points, [[left, 0, 0], [right, 0, 0], [right, top, 0], [left, top, 0]])
-    assert points.GetMTime() > stamp
-    stamp = points.GetMTime()
-    part.fit((300, 200))  # the same view: the quad is left alone
-    assert points.GetMTime() == stamp
-    part.fit((2000, 2000))  # room again: one texel a pixel
-    np.testing.assert_allclose(part.mesh.points, [[0, 0, 0], [width, 0, 0], [width, height, 0], [0, height, 0]])
+    left, bottom = 0.86 * 300 - shift, 0.08 * 200
+    right, top = left + scale * width, bottom + scale * height
+    np.testing.assert_allclose(part.corners[0], [[left, bottom], [right, bottom], [right, top], [left, top]])
+    assert right <= 300 - EDGE + 1e-9
+    part.place((2000, 2000), _lifted)  # room again: one texel a pixel
+    np.testing.assert_allclose(np.ptp(part.corners[0], axis=0), [width, height])
     assert not part.actor.GetTexture().GetInterpolate()

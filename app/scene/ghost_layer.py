@@ -161,9 +161,10 @@ class GhostLayers(Drawing):
             self.show_frame(self.scene.frame)
 
     def before_render(self) -> None:
-        """Fit the legend to the view's size (a small view shrinks it, a narrow one moves it left)."""
+        """Put the legend at the view's right, fitted to its size (a small view shrinks it,
+        a narrow one moves it left), in front of everything."""
         if self.legend is not None:
-            self.legend.fit(tuple(self.scene.plotter.renderer.GetSize()))
+            self.legend.place(tuple(self.scene.plotter.renderer.GetSize()), self.scene.near_points)
 
     # -------------------------------------------------------------------- frames
     def show_frame(self, frame: int) -> None:

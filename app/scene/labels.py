@@ -1,13 +1,15 @@
-"""Text labels that follow points on screen, in front of everything: :class:`LabelPart`.
+"""Screen-space pictures in front of everything: quads of one texture placed in display pixels.
 
-Every text is rendered once into one texture (:func:`app.scene.vtk_parts.render_texts`),
-and each label is one quad of it, one texel a pixel, placed in display pixels at every
-render. The quads are put into the world just beyond the camera's near plane
-(:meth:`app.scene.camera.SceneCamera.near_points`) and drawn by VTK's usual 3D mapper with
-the opaque geometry: in front of everything, its blending over what is drawn before it, a
-texel with nothing in it discarded. VTK's 2D mapper, which draws display coordinates as
-they are, rebuilds its shader program each time its points change: with 38 joint labels
-that was 0.4 ms of each frame in software OpenGL, against nothing measurable here.
+:class:`ScreenQuads` holds a texture and a quad for each part of it; at every render its
+quads are placed in display pixels and put into the world just beyond the camera's near
+plane (:meth:`app.scene.camera.SceneCamera.near_points`), drawn by VTK's usual 3D mapper
+with the opaque geometry: in front of everything, its blending over what is drawn before
+it, a texel with nothing in it discarded. :class:`LabelPart` is the text labels that follow
+points (every text rendered once into one texture, one quad a label, one texel a pixel);
+the error view's legend (:mod:`app.scene.legend`) is one quad. VTK's 2D mapper, which draws
+display coordinates as they are, rebuilds its shader program each time its points change
+and runs its pipeline at every render: with 38 joint labels that was 0.4 ms of each frame in
+software OpenGL, against nothing measurable here.
 """
 
 from __future__ import annotations
@@ -28,19 +30,15 @@ HIDDEN = -1e4  # display pixels left of and below any view: where a hidden label
 _DISCARD_EMPTY = "//VTK::TCoord::Impl\n  if (gl_FragData[0].a <= 0.0) { discard; }\n"
 
 
-class LabelPart(Part):
-    """Labels for ``texts`` drawn in ``color`` at ``size`` points: one texture, one quad
-    each, placed with :meth:`place`. A scene draws them after its other actors
-    (:attr:`draw_last`), so that their edges blend over what is behind them."""
+class ScreenQuads(Part):
+    """``n`` quads of one texture, placed in display pixels with :meth:`place_corners`. A
+    scene draws them after its other actors (:attr:`draw_last`), so that their edges blend
+    over what is behind them."""
 
     draw_last = True
 
-    def __init__(self, texts: list[str], color=(1.0, 1.0, 1.0), size: int = 13) -> None:
-        self.texts = list(texts)
-        super().__init__(4 * len(self.texts))
-        self.size = size
-        self.color = color
-        n = len(self.texts)
+    def __init__(self, n: int) -> None:
+        super().__init__(4 * n)
         if n:
             self.mesh.faces = np.column_stack([np.full(n, 4), np.arange(4 * n).reshape(-1, 4)]).ravel()
         mapper = vtkPolyDataMapper()
@@ -54,10 +52,37 @@ class LabelPart(Part):
         self.actor.ForceOpaqueOn()  # with the opaque geometry: no translucent pass for text
         self.actor.UseBoundsOff()  # at the near plane: never a reason to move it
         self.actor.GetShaderProperty().AddFragmentShaderReplacement("//VTK::TCoord::Impl", True, _DISCARD_EMPTY, False)
-        self._boxes = np.zeros((n, 2))
-        #: (N, 4, 2) the display pixels of each quad's corners at the last placement (before
+        #: (n, 4, 2) the display pixels of each quad's corners at the last placement (before
         #: any: all 0, and the quads' points all at the origin, drawing nothing)
         self.corners = np.zeros((n, 4, 2))
+
+    def set_texture(self, image: np.ndarray, coords: np.ndarray) -> None:
+        """Draw ``image`` (H, W, 4) uint8 RGBA, rows bottom first: quad k shows the part of
+        it at texture coordinates ``coords[k]`` ((n, 4, 2), its corners in order)."""
+        self.actor.SetTexture(rgba_texture(image))
+        if len(coords):
+            self.mesh.active_texture_coordinates = np.asarray(coords, dtype=np.float64).reshape(-1, 2)
+
+    def place_corners(self, corners: np.ndarray, onto: Unprojection) -> None:
+        """Put the quads' corners at ``corners`` ((n, 4, 2) display pixels: x right, y up
+        from the bottom left), into the world by ``onto``."""
+        if not self.n_points:
+            return
+        self.corners[:] = corners
+        self._view[:] = onto(self.corners.reshape(-1, 2))
+        self.mesh.GetPoints().Modified()
+
+
+class LabelPart(ScreenQuads):
+    """Labels for ``texts`` drawn in ``color`` at ``size`` points: one texture, one quad
+    each, one texel a pixel, placed with :meth:`place`."""
+
+    def __init__(self, texts: list[str], color=(1.0, 1.0, 1.0), size: int = 13) -> None:
+        self.texts = list(texts)
+        super().__init__(len(self.texts))
+        self.size = size
+        self.color = color
+        self._boxes = np.zeros((len(self.texts), 2))
         self._build_texture()
 
     def _build_texture(self) -> None:
@@ -74,9 +99,7 @@ class LabelPart(Part):
             coords[k] = [(0.0, v0), (u, v0), (u, v1), (0.0, v1)]
             self._boxes[k] = (w, h)
             row += h + pad
-        self.actor.SetTexture(rgba_texture(atlas))
-        if len(self.texts):
-            self.mesh.active_texture_coordinates = coords.reshape(-1, 2)
+        self.set_texture(atlas, coords)
 
     def widths(self) -> np.ndarray:
         """(N,) each label's width in pixels."""
@@ -103,10 +126,10 @@ class LabelPart(Part):
         x0 = np.where(hidden, HIDDEN, np.round(np.nan_to_num(anchors[:, 0]) + offset[0]))
         y0 = np.where(hidden, HIDDEN, np.round(np.nan_to_num(anchors[:, 1]) + offset[1]))
         w, h = self._boxes[:, 0], self._boxes[:, 1]
-        self.corners[:, :, 0] = np.column_stack([x0, x0 + w, x0 + w, x0])
-        self.corners[:, :, 1] = np.column_stack([y0, y0, y0 + h, y0 + h])
-        self._view[:] = onto(self.corners.reshape(-1, 2))
-        self.mesh.GetPoints().Modified()
+        corners = np.stack(
+            [np.column_stack([x0, x0 + w, x0 + w, x0]), np.column_stack([y0, y0, y0 + h, y0 + h])], axis=-1
+        )
+        self.place_corners(corners, onto)
 
 
 def label_part(texts: list[str], color=(1.0, 1.0, 1.0), size: int = 13) -> LabelPart:

@@ -5,7 +5,8 @@ VTK's ``vtkScalarBarActor`` drew the same as a dozen props, and laid itself out 
 every render in which the camera had moved (it watches the renderer's time, which follows
 the camera's): 0.4 ms of every frame at 1018x425 in software OpenGL, the largest part of a
 comparison layer's cost. This legend is built when the layer's error scale is
-(:meth:`app.scene.ghost_layer.GhostLayers.build`) and costs one textured quad a frame.
+(:meth:`app.scene.ghost_layer.GhostLayers.build`) and costs one textured quad a frame, a
+screen-space quad (:class:`app.scene.labels.ScreenQuads`) placed before each render.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from collections.abc import Callable
 import numpy as np
 
 from gmr_studio.app.scene import vtk_parts as parts
+from gmr_studio.app.scene.labels import ScreenQuads, Unprojection
 
 BAR_WIDTH, BAR_HEIGHT = 22, 200  # pixels
 N_LABELS = 5  # 0, a quarter of the top, ..., the top
@@ -71,39 +73,35 @@ def legend_fit(view: tuple[int, int], image: tuple[int, int]) -> tuple[float, fl
     return shift, scale
 
 
-class LegendPart(parts.Part):
-    """The legend's quad (4 points, pixels from :data:`ANCHOR`) and its texture,
-    :attr:`image` (H, W, 4). Drawn one texel a pixel until :meth:`fit` shrinks it to a
-    small view."""
+class LegendPart(ScreenQuads):
+    """The legend's quad and its texture, :attr:`image` (H, W, 4), its bottom left at
+    :data:`ANCHOR` of the view: one texel a pixel until :meth:`fit` shrinks it to a small
+    view; :meth:`place` puts it there before each render."""
 
     def __init__(self, top: float, units: str, colours: Callable[[np.ndarray], np.ndarray]) -> None:
-        super().__init__(4)
+        super().__init__(1)
         self.top = float(top)
         self.image = legend_image(top, units, colours)
-        height, width = self.image.shape[:2]
-        self._view[:] = [(0.0, 0.0, 0.0), (width, 0.0, 0.0), (width, height, 0.0), (0.0, height, 0.0)]
-        self.mesh.faces = np.array([4, 0, 1, 2, 3])
-        self.mesh.active_texture_coordinates = np.array([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)])
-        self.actor = parts.overlay_actor(self.mesh)
-        self.actor.SetTexture(parts.rgba_texture(self.image))  # one texel a pixel until fitted
-        self.actor.GetPositionCoordinate().SetCoordinateSystemToNormalizedViewport()
-        self.actor.GetPositionCoordinate().SetValue(*ANCHOR)
+        self.set_texture(self.image, np.array([[(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]]))
+        self.actor.GetTexture().InterpolateOff()  # one texel a pixel until fitted
         self.fitted = (0.0, 1.0)  # (shift, scale) of the quad now
 
     def fit(self, view: tuple[int, int]) -> None:
         """Shrink and move the quad for a view of (width, height) pixels
-        (:func:`legend_fit`): called before each render; the quad is rewritten only when
-        the view's size asks for another fit, and a shrunk texture is interpolated."""
+        (:func:`legend_fit`), a shrunk texture interpolated."""
         fitted = legend_fit(view, (self.image.shape[1], self.image.shape[0]))
-        if fitted == self.fitted:
-            return
-        self.fitted = fitted
-        shift, scale = fitted
-        left, right = -shift, scale * self.image.shape[1] - shift
-        height = scale * self.image.shape[0]
-        self._view[:] = [(left, 0.0, 0.0), (right, 0.0, 0.0), (right, height, 0.0), (left, height, 0.0)]
-        self.mesh.GetPoints().Modified()
-        self.actor.GetTexture().SetInterpolate(scale < 1.0)
+        if fitted != self.fitted:
+            self.fitted = fitted
+            self.actor.GetTexture().SetInterpolate(fitted[1] < 1.0)
+
+    def place(self, view: tuple[int, int], onto: Unprojection) -> None:
+        """Fit the legend to a view of (width, height) display pixels and put it there, its
+        bottom left at :data:`ANCHOR` of the view moved left by the fit's shift."""
+        self.fit(view)
+        shift, scale = self.fitted
+        left, bottom = ANCHOR[0] * view[0] - shift, ANCHOR[1] * view[1]
+        right, top = left + scale * self.image.shape[1], bottom + scale * self.image.shape[0]
+        self.place_corners(np.array([[(left, bottom), (right, bottom), (right, top), (left, top)]]), onto)
 
 
 def legend_part(top: float, units: str, colours: Callable[[np.ndarray], np.ndarray]) -> LegendPart:

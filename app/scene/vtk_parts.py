@@ -26,12 +26,10 @@ from vtkmodules.vtkRenderingCore import (
     vtkGlyph3DMapper,
     vtkMapper,
     vtkPolyDataMapper,
-    vtkPolyDataMapper2D,
     vtkProp,
     vtkTextProperty,
     vtkTextRenderer,
     vtkTexture,
-    vtkTexturedActor2D,
 )
 from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLSphereMapper, vtkOpenGLStickMapper
 
@@ -322,17 +320,6 @@ def rgba_texture(image: np.ndarray) -> vtkTexture:
     texture.SetInputData(texels)
     texture.InterpolateOff()
     return texture
-
-
-def overlay_actor(mesh: pv.PolyData) -> vtkTexturedActor2D:
-    """A screen-space actor drawing ``mesh``'s polygons (points in display pixels) with the
-    texture it is given, no scalar colours."""
-    mapper = vtkPolyDataMapper2D()
-    mapper.SetInputData(mesh)
-    mapper.ScalarVisibilityOff()
-    actor = vtkTexturedActor2D()
-    actor.SetMapper(mapper)
-    return actor
 
 
 def render_texts(texts: list[str], color, size: int) -> tuple[list[np.ndarray], list[tuple[int, int]]]:
