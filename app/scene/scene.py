@@ -81,7 +81,7 @@ def one_headlight(plotter: pv.BasePlotter) -> None:
 def without_culling(renderer) -> None:
     """Take VTK's frustum culler out of ``renderer``. Before every render it asks each of
     the scene's dozen actors for its bounds (a pipeline update of each, and a count of the
-    processors read from /proc, since the points changed) to skip those outside the view;
+    processors read from /sys, since the points changed) to skip those outside the view;
     the figure, its overlays and the ground are in view, so it skipped nothing and cost
     about a sixth of each render (0.2-0.3 ms at 1018x425 in software OpenGL)."""
     renderer.GetCullers().RemoveAllItems()
@@ -265,8 +265,8 @@ class SkeletonScene(SceneCamera):
             self.render()
 
     def _draw_labels_last(self) -> None:
-        """Put the parts drawn last (:attr:`app.scene.labels.LabelPart.draw_last`: labels in
-        front of everything, whose letters' edges blend over what is drawn before them) at
+        """Put the parts drawn last (:attr:`app.scene.labels.ScreenQuads.draw_last`: labels and
+        the legend in front of everything, whose edges blend over what is drawn before them) at
         the end of the main renderer's props, which VTK draws in order."""
         renderer = self.plotter.renderer
         for drawable in self.drawables:
