@@ -52,7 +52,7 @@ def _median_ms(seconds: list[float]) -> float:
 
 
 WARM_UP = 20  # untimed updates before each figure
-ROUNDS = 3  # every figure measured in this many rounds, in turn (see the module docstring)
+ROUNDS = 6  # every figure measured in this many rounds, in turn (see the module docstring)
 # every figure over the same frames (what is drawn changes along the take: markers, flagged
 # joints), so that a ratio compares the same poses with and without what it adds
 FIRST = 100
