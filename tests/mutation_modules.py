@@ -298,6 +298,24 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ],
         60,
     ),
+    # the screen-space quads (labels and the legend's quad): the label atlas, quads and their
+    # placement on their own (no scene), their texels drawn off screen, the legend's quad,
+    # then the overlays' labels and the labels in a scene of the tiny figure (three seconds)
+    "app/scene/labels.py": (
+        [
+            "tests/test_vtk_parts_arrays.py::test_labels_are_packed_into_one_texture_each_text_as_vtk_draws_it",
+            "tests/test_vtk_parts_arrays.py::test_labels_default_to_white_13_point_text",
+            "tests/test_vtk_parts_arrays.py::test_an_empty_text_and_no_texts_keep_a_texture",
+            "tests/test_vtk_parts_arrays.py::test_new_texts_rebuild_the_texture",
+            "tests/test_vtk_parts_arrays.py::test_labels_are_placed_at_their_anchors_plus_the_offset_on_whole_pixels_and_hidden_off_screen",
+            "tests/test_vtk_parts_arrays.py::test_labels_draw_last_in_the_opaque_pass_with_the_texels_own_colours_and_no_bounds",
+            "tests/test_vtk_parts_pictures.py::test_labels_show_their_texels_on_whole_pixels_in_front_of_everything_and_hidden_ones_nothing",
+            "tests/test_scene_legend_mutants.py",
+            "tests/test_app_overlays_mutants.py",
+            "tests/test_scene_labels.py",
+        ],
+        60,
+    ),
     # the view's overlays (issue 24): a stand-in scene with a bare renderer, a tiny synthetic motion
     "app/scene/overlays.py": (["tests/test_app_overlays_mutants.py"], 60),
     # the dock policy: plain widgets and tabbed docks of a small main window (the app's docks'
