@@ -310,6 +310,7 @@ MODULES: dict[str, tuple[list[str], float]] = {
             "tests/test_vtk_parts_arrays.py::test_labels_are_placed_at_their_anchors_plus_the_offset_on_whole_pixels_and_hidden_off_screen",
             "tests/test_vtk_parts_arrays.py::test_labels_draw_last_in_the_opaque_pass_with_the_texels_own_colours_and_no_bounds",
             "tests/test_vtk_parts_pictures.py::test_labels_show_their_texels_on_whole_pixels_in_front_of_everything_and_hidden_ones_nothing",
+            "tests/test_vtk_parts_pictures.py::test_a_labels_empty_texels_write_no_depth_so_what_is_drawn_after_it_shows_between_its_letters",
             "tests/test_scene_legend_mutants.py",
             "tests/test_app_overlays_mutants.py",
             "tests/test_scene_labels.py",

@@ -127,6 +127,39 @@ def test_labels_show_their_texels_on_whole_pixels_in_front_of_everything_and_hid
         plotter.remove_actor(board)
 
 
+def test_a_labels_empty_texels_write_no_depth_so_what_is_drawn_after_it_shows_between_its_letters():
+    """A label drawn before a white board behind it (the legend's quad drawn after the labels
+    is such a case): its texels with something in them are in front (near plane) and hide the
+    board, blended over the black background drawn before them; its empty texels are
+    discarded, writing no depth, so the board drawn after shows there."""
+    from gmr_studio.app.scene.labels import label_part
+    from tests.tiny_scene import picture, scene_of
+
+    with scene_of(None, size=(SIZE, SIZE)) as scene:
+        plotter = scene.plotter
+        plotter.set_background((0, 0, 0))
+        part = label_part(["Ab"], color=(1.0, 1.0, 0.0))
+        plotter.renderer.AddViewProp(part.actor)  # before the board
+        board = plotter.add_mesh(pv.Plane(center=(0, 0, 0), i_size=10, j_size=10), color="white", lighting=False)
+        plotter.camera.position, plotter.camera.focal_point, plotter.camera.up = (0, 0, 5), (0, 0, 0), (0, 1, 0)
+        plotter.renderer.ResetCameraClippingRange()
+        part.place(np.array([[50.0, 40.0]]), scene.near_points)
+        plotter.ren_win.Render()
+        image = picture(scene)
+        image_data = part.actor.GetTexture().GetInput()
+        width, height, _ = image_data.GetDimensions()
+        atlas = vtk_to_numpy(image_data.GetPointData().GetScalars()).reshape(height, width, 4).astype(int)
+        w, h = (int(v) for v in part._boxes[0])
+        tile = atlas[:h, :w]
+        empty = tile[..., 3] == 0
+        assert empty.sum() > 20 and (~empty).sum() > 20
+        drawn = image[SIZE - 44 - h : SIZE - 44, 56 : 56 + w][::-1]
+        assert (drawn[empty] == 255).all()  # the board, drawn after the label, between its letters
+        over_black = tile[..., :3] * tile[..., 3:] / 255  # blended over the background: the board hidden
+        np.testing.assert_allclose(drawn[~empty], over_black[~empty], atol=3)
+        plotter.remove_actor(board)
+
+
 def _ring_picture(centre, radius: float, eye) -> np.ndarray:
     """(200, 200) bool: the pixels a white ring of ``radius`` around ``centre`` covers, seen
     from ``eye`` (a direction) in parallel projection, 100 pixels a unit, centred on it."""
