@@ -271,7 +271,7 @@ MODULES: dict[str, tuple[list[str], float]] = {
         60,
     ),
     # the view's drawables (issue 24): a tiny synthetic figure in an off-screen scene (no window)
-    "app/scene/drawable.py": (["tests/test_scene_drawable_mutants.py"], 60),
+    "app/scene/drawable.py": (["tests/test_scene_drawable_mutants.py", "tests/test_scene_world_box.py"], 60),
     "app/scene/figure.py": (["tests/test_scene_figure_mutants.py", "tests/test_scene_drawable_mutants.py"], 60),
     "app/scene/highlight.py": (["tests/test_scene_highlight_mutants.py"], 60),
     "app/scene/problem_marks.py": (["tests/test_scene_problem_marks_mutants.py"], 60),
@@ -332,11 +332,13 @@ MODULES: dict[str, tuple[list[str], float]] = {
     # the classroom's drawing: a tiny synthetic motion, a stand-in scene with bare renderers
     "app/scene/teach_overlay.py": (["tests/test_app_teach_overlay_mutants.py"], 60),
     # the scene itself: its list of drawables, the camera, the projection and the onion skins,
-    # on the tiny figure (no window)
+    # the planes fitted to the take's box and the labels drawn last, on the tiny figure (no window)
     "app/scene/scene.py": (
         [
             "tests/test_scene_scene_mutants.py",
             "tests/test_scene_render_mutants.py",
+            "tests/test_scene_world_box.py",
+            "tests/test_scene_labels.py",
             "tests/test_scene_drawable_mutants.py",
             "tests/test_scene_figure_mutants.py",
             "tests/test_scene_highlight_mutants.py",
