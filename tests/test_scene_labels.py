@@ -51,3 +51,96 @@ def test_labels_stay_last_when_other_drawables_are_built_again():
         assert props_of(renderer)[-1] is _labels(scene).actor
         labels_of = [p for p in props_of(renderer) if p is _labels(scene).actor]
         assert len(labels_of) == 1  # moved, not added twice
+
+
+def test_labels_of_a_drawing_after_a_front_layer_drawing_are_drawn_last_too():
+    """A front-layer drawing (the classroom's) before a drawing with labels (a comparison's
+    legend, added later): the labels after it are moved to the end as well."""
+    from gmr_studio.app.scene.drawable import Drawing
+    from gmr_studio.app.scene.labels import label_part
+    from gmr_studio.app.scene.vtk_parts import sphere_part
+
+    class InFront(Drawing):
+        front = True
+
+        def build(self, scene) -> None:
+            super().build(scene)
+            self.add("dot", sphere_part(1, 0.1))
+
+        def show_frame(self, frame: int) -> None:
+            pass
+
+    class Tagged(Drawing):
+        def build(self, scene) -> None:
+            super().build(scene)
+            self.add("tag", label_part(["tag"]))
+
+        def show_frame(self, frame: int) -> None:
+            pass
+
+    class Plain(Drawing):  # a part not drawn last, after the labels' drawings
+        def build(self, scene) -> None:
+            super().build(scene)
+            self.add("dot", sphere_part(1, 0.1))
+
+        def show_frame(self, frame: int) -> None:
+            pass
+
+    with scene_of(snapshot_of(figure_motion(3))) as scene:
+        scene.set_overlay("labels", True)
+        scene.add_drawable(InFront())
+        tagged, plain = Tagged(), Plain()
+        scene.add_drawable(tagged)
+        scene.add_drawable(plain)
+        scene.redraw(scene.figure)  # the figure's actors made again, added at the end
+        props = props_of(scene.plotter.renderer)
+        assert props[-2:] == [_labels(scene).actor, tagged.parts["tag"].actor]
+        assert props[-3] is scene.figure.parts[list(scene.figure.parts)[-1]].actor  # the rest in their order
+
+
+class Bare:
+    """A drawable that is not a :class:`Drawing` (the protocol only; no ``front``): a label
+    of its own in the main renderer."""
+
+    def __init__(self) -> None:
+        self.parts: dict = {}
+        self.visible = True
+        self.scene = None
+
+    def build(self, scene) -> None:
+        from gmr_studio.app.scene.labels import label_part
+
+        self.remove()
+        self.scene = scene
+        self.parts = {"tag": label_part(["bare"])}
+        scene.plotter.renderer.AddViewProp(self.parts["tag"].actor)
+
+    def show_frame(self, frame: int) -> None:
+        pass
+
+    def wanted(self, scene) -> bool:
+        return True
+
+    def set_visible(self, shown: bool) -> None:
+        self.visible = shown
+        for part in self.parts.values():
+            part.actor.SetVisibility(shown)
+
+    def remove(self) -> None:
+        for part in self.parts.values():
+            self.scene.plotter.renderer.RemoveViewProp(part.actor)
+        self.parts = {}
+
+    def extent(self):
+        return np.array([[0.0, 0.0, 0.0], [0.0, 7.0, 0.0]])
+
+
+def test_a_drawable_without_a_front_layer_is_in_the_main_renderer_its_labels_last_its_box_counted():
+    with scene_of(snapshot_of(figure_motion(3))) as scene:
+        scene.set_overlay("labels", True)
+        bare = Bare()
+        scene.add_drawable(bare)
+        scene.redraw(scene.figure)
+        assert props_of(scene.plotter.renderer)[-1] is bare.parts["tag"].actor
+        box = scene.world_box()
+        assert box is not None and box[1, 1] == 7.0  # its parts counted among the renderer's props, its box in

@@ -162,3 +162,60 @@ def test_every_part_sends_its_points_unshifted_and_a_figure_far_from_the_origin_
     figure = np.abs(images[0] - images[0][0, 0]).max(axis=-1) > 20  # not the background
     assert figure.sum() > 300  # the figure is in the picture
     assert differing.sum() <= 12  # a few edge pixels at most
+
+
+class _InFront(Drawing):
+    """A drawing in the front layer that says where it draws (a dot at (0, 5, 0))."""
+
+    front = True
+
+    def build(self, scene) -> None:
+        from gmr_studio.app.scene import vtk_parts as parts
+
+        super().build(scene)
+        dot = parts.sphere_part(1, 0.1)
+        dot.set_points(np.array([[0.0, 5.0, 0.0]]))
+        self.add("dot", dot)
+
+    def show_frame(self, frame: int) -> None:
+        pass
+
+    def extent(self) -> np.ndarray:
+        return box_of(np.array([[0.0, 5.0, 0.0]]), 0.1)
+
+
+def test_a_front_layer_drawing_counts_in_the_box_but_not_among_the_main_renderers_props():
+    """The main renderer holds the props of the drawables not in front; a front drawing's
+    parts are in the front layer, and its box joins the others'."""
+    with scene_of(snapshot_of(figure_motion(3))) as scene:
+        before = scene.world_box()
+        props = scene.plotter.renderer.GetViewProps().GetNumberOfItems()
+        front = _InFront()
+        scene.add_drawable(front)
+        assert scene.plotter.renderer.GetViewProps().GetNumberOfItems() == props  # its dot not in the main renderer
+        np.testing.assert_array_equal(scene.world_box(), union_box([before, box_of(np.array([[0.0, 5.0, 0.0]]), 0.1)]))
+        front.set_visible(False)
+        np.testing.assert_array_equal(scene.world_box(), before)
+
+
+def test_the_documents_box_is_measured_once_a_snapshot(monkeypatch):
+    from gmr_studio.app.scene import scene as scene_module
+
+    measured = []
+    monkeypatch.setattr(scene_module, "box_of", lambda points: measured.append(points) or box_of(points))
+    with scene_of(snapshot_of(figure_motion(3))) as scene:
+        measured.clear()
+        first = scene.document_box()
+        np.testing.assert_array_equal(first, box_of(scene.snapshot.positions))
+        np.testing.assert_array_equal(scene.document_box(0.5), [first[0] - 0.5, first[1] + 0.5])
+        assert len(measured) <= 1  # measured at most once (maybe already, while the scene was built)
+        scene.document_box()
+        assert len(measured) <= 1
+        scene.set_snapshot(snapshot_of(figure_motion(4)), reset_camera=False)
+        measured.clear()
+        np.testing.assert_array_equal(scene.document_box(), box_of(scene.snapshot.positions))
+        assert scene.document_box()[1, 0] == pytest.approx(0.8 + 0.15)  # the four frames' (the hand at 0.8 + 0.05 f)
+        scene.document_box(1.0)
+        assert len(measured) <= 1
+        scene.document_box()
+        assert len(measured) <= 1
