@@ -288,13 +288,15 @@ MODULES: dict[str, tuple[list[str], float]] = {
         60,
     ),
     # the view's GPU parts: small parts drawn off screen (their arrays, actors and pixels), then
-    # the imposters' first picture tests (a second in all: no window, no real file)
+    # the imposters' first picture tests (a second in all: no window, no real file), and the
+    # scene's parts unshifted
     "app/scene/vtk_parts.py": (
         [
             "tests/test_vtk_parts_arrays.py",
             "tests/test_vtk_parts_pictures.py",
             "tests/test_app_drawables.py::test_imposter_spheres_cover_their_disc_and_a_missing_point_draws_nothing",
             "tests/test_app_drawables.py::test_imposter_bones_run_from_joint_to_joint",
+            "tests/test_scene_world_box.py::test_every_part_sends_its_points_unshifted_and_a_figure_far_from_the_origin_draws_the_same",
         ],
         60,
     ),
