@@ -51,6 +51,11 @@ class StandInScene:
         """Display pixels as the world points (x, y, -1): the label quads' corners as placed."""
         return np.column_stack([display, np.full(len(display), -1.0)])
 
+    def document_box(self, pad: float = 0.0) -> np.ndarray:
+        """The box of every joint at every frame, grown by ``pad``."""
+        flat = self.snapshot.positions.reshape(-1, 3)
+        return np.stack([flat.min(axis=0) - pad, flat.max(axis=0) + pad])
+
 
 @pytest.fixture
 def snapshot() -> Snapshot:
@@ -373,3 +378,54 @@ def test_the_pelvis_triad_follows_the_recovered_frames(snapshot):
     assert not triad.wanted(scene)
     scene.overlays["pelvis"] = True
     assert triad.wanted(scene)
+
+
+def _within(points: np.ndarray, box: np.ndarray) -> bool:
+    finite = points[np.isfinite(points).all(axis=1)]
+    return bool((finite >= box[0] - 1e-12).all() and (finite <= box[1] + 1e-12).all())
+
+
+def test_each_overlays_box_holds_what_it_draws_at_every_frame(snapshot):
+    """Each overlay says where it may draw at any frame: the grid its lines; the triads the
+    joints grown by a triad's length; the trail the joints; the markers every marker grown
+    by the ring (twice a marker's radius), measured once; the pelvis triad its origins grown
+    by its length; the labels nothing in the world (screen space); nothing built: the empty box."""
+    from gmr_studio.app.scene.drawable import EMPTY_BOX
+
+    size = snapshot.motion.size
+    scene = StandInScene(None)
+    drawings = [overlays.Ground(), overlays.JointAxes(), overlays.Trail(), overlays.JointLabels()]
+    drawings += [overlays.Markers(), overlays.PelvisTriad()]
+    ground, axes, trail, labels, markers, pelvis = drawings
+    markers.overlay, pelvis.pelvis = _marker_overlay(), _pelvis(N_FRAMES)
+    for drawing in drawings:
+        drawing.build(scene)  # no document: nothing built
+        np.testing.assert_array_equal(drawing.extent(), EMPTY_BOX)
+    scene.snapshot, scene.selected = snapshot, 2
+    for drawing in drawings:
+        drawing.build(scene)
+    flat = snapshot.positions.reshape(-1, 3)
+    low, high = flat.min(axis=0), flat.max(axis=0)
+    grid = _points(ground.parts["ground"])
+    np.testing.assert_array_equal(ground.extent(), [grid.min(axis=0), grid.max(axis=0)])
+    np.testing.assert_allclose(axes.extent(), [low - 0.06 * size, high + 0.06 * size], rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(trail.extent(), [low, high])
+    np.testing.assert_array_equal(labels.extent(), EMPTY_BOX)
+    present = markers.overlay.positions.reshape(-1, 3)
+    present = present[np.isfinite(present).all(axis=1)]
+    ring = 2 * 0.009 * size
+    box = markers.extent()
+    np.testing.assert_allclose(box, [present.min(axis=0) - ring, present.max(axis=0) + ring], rtol=0, atol=1e-15)
+    assert markers.extent() is box  # measured once
+    origins = pelvis.pelvis.origins[np.isfinite(pelvis.pelvis.origins).all(axis=1)]
+    length = 0.16 * size
+    np.testing.assert_allclose(
+        pelvis.extent(), [origins.min(axis=0) - length, origins.max(axis=0) + length], rtol=0, atol=1e-15
+    )
+    for frame in range(N_FRAMES):
+        for drawing in (axes, trail, markers, pelvis):
+            drawing.show_frame(frame)
+        assert _within(_points(axes.parts["axes"]), axes.extent()), frame
+        assert _within(_points(trail.parts["trails"]), trail.extent()), frame
+        assert _within(_points(markers.parts["markers"]), markers.extent()), frame
+        assert _within(_points(pelvis.parts["pelvis"]), pelvis.extent()), frame

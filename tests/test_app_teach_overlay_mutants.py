@@ -143,3 +143,28 @@ def test_a_new_overlay_draws_the_posed_bones_and_the_root_too(snapshot):
     positions = snapshot.positions[5]
     np.testing.assert_allclose(_points(overlay.parts["post"]), [positions[0], positions[1]], rtol=0, atol=1e-12)
     np.testing.assert_array_equal(_points(overlay.parts["pre"]), [positions[0], positions[0]])
+
+
+def test_the_overlays_box_is_the_documents_joints_grown_by_its_size_and_holds_the_turned_bones(snapshot):
+    """A bone turned about its joint stays within its length of the joint: the box of the
+    document's joints at every frame grown by the motion's size holds every bone drawn at any
+    amount; nothing built (the dock hidden): the empty box."""
+    from gmr_studio.app.scene.drawable import EMPTY_BOX, box_of
+    from tests.tiny_scene import scene_of
+
+    with scene_of(snapshot) as scene:
+        overlay = TeachOverlay()
+        overlay.joint = 1
+        scene.add_drawable(overlay)
+        np.testing.assert_array_equal(overlay.extent(), EMPTY_BOX)
+        overlay.shown = True
+        scene.redraw(overlay)
+        box = overlay.extent()
+        size = snapshot.motion.size
+        np.testing.assert_allclose(box, box_of(snapshot.positions, size), rtol=0, atol=1e-12)
+        for amount in (-1.0, 0.5, 2.0):
+            overlay.amount = amount
+            for frame in range(N_FRAMES):
+                overlay.show_frame(frame)
+                drawn = np.concatenate([overlay.geometry.chain, overlay.geometry.pre, overlay.geometry.post])
+                assert (drawn >= box[0]).all() and (drawn <= box[1]).all(), (amount, frame)

@@ -211,3 +211,23 @@ def test_the_picture_a_joint_its_bones_and_the_ring_in_their_colours_and_sizes()
         rows, columns = np.nonzero(_yellow(image))
         reach = np.hypot(rows - 99.5, columns - 99.5)
         assert 22.0 <= reach.min() and reach.max() <= 26.5 and np.ptp(columns) > 45  # round, not edge on
+
+
+def test_the_figures_box_is_its_joints_at_every_frame_grown_by_the_ring_and_the_links_box_its_joints():
+    """The figure draws joints, bones, a root's cube and the selection's ring (twice a
+    joint's radius) at its joints: their box at every frame grown by the ring holds them;
+    the soft links' dashes are between joints: the joints' box; nothing built: the empty box."""
+    from gmr_studio.app.scene.drawable import EMPTY_BOX, box_of
+    from gmr_studio.app.scene.figure import JOINT_RADIUS
+
+    snapshot = snapshot_of(figure_motion(3))
+    with scene_of(snapshot) as scene:
+        np.testing.assert_allclose(
+            scene.figure.extent(), box_of(snapshot.positions, 2.0 * JOINT_RADIUS * FIGURE_SIZE), rtol=0, atol=1e-15
+        )
+        links = next(d for d in scene.drawables if isinstance(d, SoftLinks))
+        np.testing.assert_array_equal(links.extent(), box_of(snapshot.positions))
+    with scene_of(None) as scene:
+        for drawable in (SkeletonFigure(), SoftLinks()):
+            scene.add_drawable(drawable)
+            np.testing.assert_array_equal(drawable.extent(), EMPTY_BOX)

@@ -393,3 +393,37 @@ def test_in_a_small_view_the_legend_is_shrunk_to_fit_and_kept_off_the_right_side
         assert columns.max() <= 200 - EDGE and rows.min() >= 150 - round(0.08 * 150) - round(scale * height) - 2
         red = rgb_bytes(error_colours(np.array([ghosts.top]), ghosts.top))[0]
         assert (np.abs(image[rows.min() : rows.min() + 40, 120:] - red).max(axis=-1) <= 12).any()  # the bar's top
+
+
+def test_the_layers_box_is_their_ghosts_markers_and_the_compared_joints_grown_by_an_error_joint(qtbot):
+    """The box the layers may draw in at any frame: each layer's ghost (or markers) at every
+    frame and, in the error view, both ends of the error lines (A's and B's compared joints),
+    grown by an error joint's radius; measured once a build; no layer: the empty box."""
+    from gmr_studio.app.scene.drawable import EMPTY_BOX, box_of, union_box
+
+    state = StudioState()
+    state.open_document(snapshot_of(figure_motion(6)), "a.gmr")
+    with scene_of(state.snapshot) as scene:
+        ghosts = GhostLayers(state, Layers(state))
+        scene.add_drawable(ghosts)
+        np.testing.assert_array_equal(ghosts.extent(), EMPTY_BOX)
+    with compared(qtbot) as (scene, state, layers, ghosts):
+        pad = 0.021 * FIGURE_SIZE
+        comparison = layers[0].comparison
+        ends = [box_of(comparison.positions_a, pad), box_of(comparison.positions_b, pad)]
+        box = ghosts.extent()
+        np.testing.assert_array_equal(box, union_box([box_of(layers[0].ghost, pad), *ends]))
+        assert ghosts.extent() is box  # measured once
+        for frame in range(6):
+            scene.show_frame(frame)
+            for part in (*ghosts.ghosts[0], ghosts.error_joints, ghosts.error_lines):
+                points = part.mesh.points
+                assert (points >= box[0]).all() and (points <= box[1]).all(), frame
+        ghosts.set_show_errors(False)  # no error lines: the ghost alone
+        np.testing.assert_array_equal(ghosts.extent(), box_of(layers[0].ghost, pad))
+        points = np.full((6, 1, 3), 7.0)
+        markers = MarkerSet(labels=("m0",), positions=points, rate=30.0, units="m")
+        overlay = MarkerOverlay(markers, None, points)
+        layers.layers.append(MarkerLayer(markers, "m.trc", (0.9, 0.1, 0.5), overlay=overlay))
+        layers.changed.emit()
+        np.testing.assert_array_equal(ghosts.extent(), union_box([box_of(layers[0].ghost, pad), box_of(points, pad)]))

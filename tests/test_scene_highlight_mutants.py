@@ -119,3 +119,39 @@ def test_the_picture_a_red_translucent_sphere_the_joint_seen_through_it():
         assert 31.0 <= np.hypot(rows - 100, columns - 100).max() <= 33.5
         assert reddened[100, 100] and image[100, 100, 2] > plain[2, 2, 2] + 20  # blue through the red
         assert not reddened[:, :66].any() and not reddened[:, 135:].any()
+
+
+def _vtk_bounds(actor) -> np.ndarray:
+    bounds = np.array(actor.GetBounds())
+    return np.stack([bounds[0::2], bounds[1::2]])
+
+
+def test_the_highlights_boxes_hold_the_spheres_at_every_frame_and_the_pivots_line():
+    """A highlight's box is the document's joints at every frame grown by the spheres'
+    radius; the pivot's, its point grown by the line's half length (0.6 of the size), which
+    holds the sphere and the tube; nothing built: the empty box."""
+    from gmr_studio.app.scene.drawable import EMPTY_BOX, box_of
+
+    snapshot = snapshot_of(figure_motion())
+    with scene_of(snapshot) as scene:
+        highlight = JointsHighlight()
+        scene.add_drawable(highlight)
+        np.testing.assert_array_equal(highlight.extent(), EMPTY_BOX)  # no joint named: no part
+        highlight.names = ("Head", "Hand")
+        scene.redraw(highlight)
+        box = highlight.extent()
+        np.testing.assert_allclose(box, box_of(snapshot.positions, 0.04 * FIGURE_SIZE), rtol=0, atol=1e-15)
+        for frame in range(3):
+            scene.show_frame(frame)
+            drawn = _vtk_bounds(highlight.part.actor)
+            assert (drawn[0] >= box[0] - 1e-12).all() and (drawn[1] <= box[1] + 1e-12).all(), frame
+        pivot = PivotMarker()
+        scene.add_drawable(pivot)
+        np.testing.assert_array_equal(pivot.extent(), EMPTY_BOX)  # no point: no part
+        pivot.point = np.array([0.1, 0.2, 0.3])
+        scene.redraw(pivot)
+        box = pivot.extent()
+        np.testing.assert_allclose(box, [[0.1 - 0.48, 0.2 - 0.48, 0.3 - 0.48], [0.1 + 0.48, 0.2 + 0.48, 0.3 + 0.48]])
+        drawn = _vtk_bounds(pivot.parts["pivot"].actor)
+        assert (drawn[0] >= box[0] - 1e-6).all() and (drawn[1] <= box[1] + 1e-6).all()
+        assert drawn[1, scene.up_axis] == pytest.approx(box[1, scene.up_axis])  # the line reaches the box's top

@@ -163,3 +163,34 @@ def test_a_pool_built_is_hidden_until_a_frame_is_shown(qtbot):
         assert any(part.visible for part in drawing.pools[0])
         drawing.build(scene)
         assert len(drawing.pools[0]) == 4 and not any(part.visible for part in drawing.pools[0])
+
+
+def test_the_box_is_every_posed_layers_ghost_at_every_frame_measured_once_a_build(qtbot):
+    """The poses are a layer's ghost at some of its frames: the box of each comparison
+    layer's ghost at every frame holds them (a marker-set layer has none); it is measured
+    once a build, so a layer added is in the next one."""
+    from gmr_studio.app.scene.drawable import EMPTY_BOX, box_of
+
+    with onions(qtbot, OnionSettings(shown=True, step=1, count=2)) as (scene, layers, drawing):
+        ghost = layers[0].ghost
+        points = np.full((6, 1, 3), 50.0)  # markers far from the figure: not onion poses
+        markers = MarkerSet(labels=("m0",), positions=points, rate=30.0, units="m")
+        layers.layers.insert(
+            0, MarkerLayer(markers, "m.trc", (0.9, 0.1, 0.5), overlay=MarkerOverlay(markers, None, points))
+        )
+        layers.changed.emit()
+        box = drawing.extent()
+        np.testing.assert_array_equal(box, box_of(ghost))
+        assert drawing.extent() is box  # kept
+        for frame in range(6):
+            scene.show_frame(frame)
+            for part in drawing.pools[1]:
+                if part.visible:
+                    assert (part.mesh.points >= box[0]).all() and (part.mesh.points <= box[1]).all(), frame
+        moved = snapshot_of(b_motion())
+        moved.positions[:] += 3.0
+        layers.add(moved, "c.gmr", offset=0.0, align="none")  # another layer: built again
+        np.testing.assert_array_equal(drawing.extent(), box_of(np.concatenate([ghost, layers[2].ghost])))
+        layers.layers.clear()
+        layers.changed.emit()
+        np.testing.assert_array_equal(drawing.extent(), EMPTY_BOX)

@@ -136,3 +136,24 @@ def test_no_pool_while_not_shown_or_without_a_document():
         skins = OnionSkins(OnionSettings(shown=True))
         scene.add_drawable(skins)
         assert skins.pool == [] and skins.parts == {}
+
+
+def test_the_skins_box_is_the_documents_joints_at_every_frame():
+    """The poses are the document at other frames (bones and dashes between its joints): the
+    box of its joints at every frame holds each; no pool: the empty box."""
+    from gmr_studio.app.scene.drawable import EMPTY_BOX, box_of
+
+    settings = OnionSettings(shown=False, step=2, count=2)
+    snapshot = snapshot_of(figure_motion(9))
+    with scene_of(snapshot) as scene:
+        skins = OnionSkins(settings)
+        scene.add_drawable(skins)
+        np.testing.assert_array_equal(skins.extent(), EMPTY_BOX)
+        settings.shown = True
+        scene.redraw(skins)
+        box = skins.extent()
+        np.testing.assert_array_equal(box, box_of(snapshot.positions))
+        for frame in range(9):
+            scene.show_frame(frame)
+            for part in skins.poses:
+                assert (part.mesh.points >= box[0]).all() and (part.mesh.points <= box[1]).all(), frame

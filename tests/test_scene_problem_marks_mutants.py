@@ -145,3 +145,19 @@ def test_a_flagged_joint_shows_through_what_is_in_front_of_it_and_needs_no_secon
         assert not draws_anything(scene.front_renderer)  # no second layer to draw
         marks.set_visible(False)
         assert (picture(scene) >= 250).all()  # without the mark, only the board
+
+
+def test_the_marks_box_is_the_documents_joints_grown_by_a_marks_radius():
+    """The marks are drawn at flagged joints only, always within the document's joints at
+    every frame grown by their radius (1.45 joint radii); no flags, no part: the empty box."""
+    from gmr_studio.app.scene.drawable import EMPTY_BOX, box_of
+    from gmr_studio.app.scene.figure import JOINT_RADIUS
+
+    snapshot = snapshot_of(figure_motion())
+    with scene_of(snapshot) as scene:
+        np.testing.assert_array_equal(marks_in(scene, None).extent(), EMPTY_BOX)
+        marks = marks_in(scene, FLAGS)
+        box = marks.extent()
+        pad = 1.45 * JOINT_RADIUS * FIGURE_SIZE
+        np.testing.assert_allclose(box, box_of(snapshot.positions, pad), rtol=0, atol=1e-15)
+        assert box[1, 0] == pytest.approx(0.8 + 0.1 + pad)  # the hand at the last frame
