@@ -11,7 +11,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from gmr_studio.app.scene.camera import SceneCamera, actor_positions
+from gmr_studio.app.scene.camera import NEAR_DEPTH, SceneCamera, actor_positions
 from gmr_studio.app.scene.figure import JOINT_RADIUS
 from gmr_studio.app.scene.picking import project_points
 from tests.tiny_scene import (
@@ -425,3 +425,36 @@ def test_a_box_of_exactly_half_the_size_is_not_widened():
         low, high = np.array([0.26, -0.5, -0.24]), np.array([0.74, 0.5, 0.24])
         np.testing.assert_allclose(scene.plotter.camera.GetFocalPoint(), (low + high) / 2, atol=1e-9)
         assert reach_of(scene, low, high) == pytest.approx(0.9, abs=0.015)
+
+
+def eye_distances(scene, points) -> np.ndarray:
+    """(N,) how far ``points`` (N, 3) are in front of the camera, along its view direction."""
+    camera = scene.plotter.camera
+    forward = unit(np.asarray(camera.GetFocalPoint()) - np.asarray(camera.GetPosition()))
+    return (np.asarray(points) - np.asarray(camera.GetPosition())) @ forward
+
+
+def test_near_points_are_drawn_at_their_pixels_just_beyond_the_near_plane():
+    """Each display pixel (x right, y up, across a view wider than high) gives a world point
+    that projects back to it, at normalised depth NEAR_DEPTH: just beyond the near plane,
+    in front of the whole figure."""
+    display = np.array([[0.0, 0.0], [WIDTH, HEIGHT], [37.5, 121.25], [150.0, 20.0]])
+    with scene_of(snapshot_of(figure_motion()), size=(WIDTH, HEIGHT)) as scene:
+        world = scene.near_points(display)
+        assert world.shape == (4, 3)
+        np.testing.assert_allclose(scene.display_positions(world), display, atol=1e-6)
+        clip = np.column_stack([world, np.ones(4)]) @ scene.view_projection().T
+        np.testing.assert_allclose(clip[:, 2] / clip[:, 3], NEAR_DEPTH, atol=1e-9)
+        near, far = scene.plotter.camera.GetClippingRange()
+        forward = eye_distances(scene, world)
+        assert np.all(forward > near) and np.all(forward < near + 0.01 * (far - near))
+        assert np.all(forward < eye_distances(scene, scene.snapshot.positions[0]).min())
+        np.testing.assert_allclose(scene.near_points(display[2]), world[2:3], rtol=1e-12)  # one pixel: (1, 3)
+
+
+def test_near_points_in_a_view_one_pixel_wide():
+    """A view collapsed to one pixel's width: its one column is the whole width."""
+    with scene_of(snapshot_of(figure_motion()), size=(1, HEIGHT)) as scene:
+        assert tuple(scene.plotter.render_window.GetSize()) == (1, HEIGHT)
+        display = np.array([[0.0, 10.0], [1.0, 80.0]])
+        np.testing.assert_allclose(scene.display_positions(scene.near_points(display)), display, atol=1e-6)
