@@ -452,9 +452,23 @@ def test_near_points_are_drawn_at_their_pixels_just_beyond_the_near_plane():
         np.testing.assert_allclose(scene.near_points(display[2]), world[2:3], rtol=1e-12)  # one pixel: (1, 3)
 
 
-def test_near_points_in_a_view_one_pixel_wide():
-    """A view collapsed to one pixel's width: its one column is the whole width."""
-    with scene_of(snapshot_of(figure_motion()), size=(1, HEIGHT)) as scene:
-        assert tuple(scene.plotter.render_window.GetSize()) == (1, HEIGHT)
-        display = np.array([[0.0, 10.0], [1.0, 80.0]])
+@pytest.mark.parametrize(
+    ("size", "display"), [((1, HEIGHT), [[0.0, 10.0], [1.0, 80.0]]), ((WIDTH, 1), [[10.0, 0.0], [150.0, 1.0]])]
+)
+def test_near_points_in_a_view_one_pixel_wide_or_high(size, display):
+    """A view collapsed to one pixel's width or height: its one column or row is all of it."""
+    with scene_of(snapshot_of(figure_motion()), size=size) as scene:
+        assert tuple(scene.plotter.render_window.GetSize()) == size
+        display = np.array(display)
         np.testing.assert_allclose(scene.display_positions(scene.near_points(display)), display, atol=1e-6)
+
+
+@pytest.mark.parametrize(("size", "expected"), [((0, 100), [-1.0, 0.0]), ((100, 0), [0.0, -1.0])])
+def test_near_points_of_a_view_of_no_width_or_height_are_finite(size, expected):
+    """A view not laid out yet (0 pixels wide or high) is taken as one pixel that way: the
+    points stay finite, never a division by zero. With the identity for the camera's
+    matrix the world point is the normalised device point itself."""
+    window = SimpleNamespace(GetSize=lambda: size)
+    camera = SimpleNamespace(plotter=SimpleNamespace(render_window=window), view_projection=lambda: np.eye(4))
+    display = [[0.0, 50.0]] if size[0] == 0 else [[50.0, 0.0]]
+    np.testing.assert_array_equal(SceneCamera.near_points(camera, display), [[*expected, NEAR_DEPTH]])
