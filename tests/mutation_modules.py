@@ -327,13 +327,7 @@ MODULES: dict[str, tuple[list[str], float]] = {
     # the inspector's text: a bare widget (slots, layout, painting, selection, keys, menu)
     "app/docks/rich_text.py": (["tests/test_app_rich_text.py"], 60),
     # the timeline's slider: a bare widget (ranges, frames <-> pixels, flags, pixels, mouse, repaints)
-    "app/docks/range_slider.py": (
-        [
-            "tests/test_app_range_slider_mutants.py",
-            "tests/test_app_timeline_range.py::test_a_new_frame_repaints_the_slider_only_when_its_handle_moves",
-        ],
-        60,
-    ),
+    "app/docks/range_slider.py": (["tests/test_app_range_slider_mutants.py"], 60),
     # the layout's rules on a small main window of plain widgets (the real window's layout tests
     # open a real take at two sizes: ten seconds a mutant)
     "app/window/layout.py": (["tests/test_app_layout_mutants.py"], 60),

@@ -314,3 +314,39 @@ def test_a_new_range_or_levels_repaint_even_when_the_handle_stays(qtbot):
     slider.setRange(0, 999)  # not a value change: repainted
     QApplication.processEvents()
     assert len(paints) == 3
+
+
+def test_a_new_frame_repaints_the_slider_only_when_its_handle_moves(qtbot):
+    """2752 frames on a 600-pixel slider: several frames share the handle's place, and only
+    a frame that moves the handle repaints it; what is painted shows the handle at the
+    frame's place, as a fresh paint does."""
+    slider = RangeSlider()
+    qtbot.addWidget(slider)
+    slider.setRange(0, 2751)
+    slider.resize(600, 24)
+    slider.show()
+    qtbot.waitExposed(slider)
+    slider.setValue(999)
+    QApplication.processEvents()
+    start = slider._handle().x()
+    paints = []
+    paint = slider.paintEvent
+
+    def noted(event) -> None:
+        paints.append(slider.value())
+        paint(event)
+
+    slider.paintEvent = noted
+    places = set()
+    for frame in range(1000, 1040):
+        slider.setValue(frame)
+        QApplication.processEvents()
+        places.add(slider._handle().x())
+        assert slider._painted_handle == slider._handle()  # drawn where the style puts it
+    moved = places - {start}
+    assert 2 <= len(moved) < 40
+    assert len(paints) == len(moved)  # one paint each time the handle moved, none else
+    drawn = image_pixels(slider.grab().toImage())
+    slider.paintEvent = paint
+    slider.repaint()
+    assert np.array_equal(drawn, image_pixels(slider.grab().toImage()))
