@@ -328,6 +328,8 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "app/docks/rich_text.py": (["tests/test_app_rich_text.py"], 60),
     # the timeline's slider: a bare widget (ranges, frames <-> pixels, flags, pixels, mouse, repaints)
     "app/docks/range_slider.py": (["tests/test_app_range_slider_mutants.py"], 60),
+    # the Curves and Error docks' plot: a bare widget on a small synthetic table
+    "app/docks/timeplot.py": (["tests/test_app_timeplot_mutants.py", "tests/test_app_timeplot_cursor.py"], 60),
     # the layout's rules on a small main window of plain widgets (the real window's layout tests
     # open a real take at two sizes: ten seconds a mutant)
     "app/window/layout.py": (["tests/test_app_layout_mutants.py"], 60),
