@@ -350,3 +350,111 @@ def test_a_new_frame_repaints_the_slider_only_when_its_handle_moves(qtbot):
     slider.paintEvent = paint
     slider.repaint()
     assert np.array_equal(drawn, image_pixels(slider.grab().toImage()))
+
+
+# ----------------------------------------------------------- what the first run let through
+def test_the_range_is_the_plots_yellow_its_band_blended_over_the_slider(qtbot):
+    """The timeline's range is the yellow of the time plots' cursor and range, its edges
+    opaque and its band that yellow at alpha 90 over what the slider draws: every pixel
+    inside it is the plain slider's pixel blended by Qt with (255, 212, 0, 90)."""
+    from PyQt6.QtGui import QColor, QImage, QPainter
+
+    from gmr_studio.app.docks.timeplot import CURSOR_COLOUR, RANGE_BRUSH
+
+    assert RANGE_EDGE.getRgb()[:3] == QColor(CURSOR_COLOUR).getRgb()[:3] == RANGE_BRUSH[:3]
+    slider = make_slider(qtbot, 0, 99, width=500)
+    slider.setValue(99)
+    plain_image = slider.grab().toImage().convertToFormat(QImage.Format.Format_ARGB32_Premultiplied)
+    slider.set_frame_range(20, 40)
+    slider.repaint()
+    pixels = image_pixels(slider.grab().toImage()).astype(int)
+    left, right = int(slider.x_of_frame(19.5)), int(slider.x_of_frame(39.5))
+    painter = QPainter(plain_image)
+    painter.fillRect(left + 1, 1, right - left - 1, slider.height() - 2, QColor(255, 212, 0, 90))
+    painter.end()
+    expected = image_pixels(plain_image).astype(int)
+    inside = np.s_[1 : slider.height() - 1, left + 1 : right]
+    np.testing.assert_array_equal(pixels[inside][..., :3], expected[inside][..., :3])
+    assert (pixels[1 : slider.height(), left, :3] == RANGE_EDGE.getRgb()[:3]).all()  # the edge, opaque
+
+
+def test_a_one_frame_range_is_a_band_two_pixels_wide_between_its_edges(qtbot):
+    """2000 frames on 600 pixels: one frame is a third of a pixel, and its band is drawn 2
+    pixels wide: an edge, one pixel of band, an edge; the band from row 1 to the row above
+    the last, the edges one row lower."""
+    slider = make_slider(qtbot)
+    slider.setValue(0)
+    plain = image_pixels(slider.grab().toImage()).astype(int)
+    slider.set_frame_range(1000, 1001)
+    slider.repaint()
+    pixels = image_pixels(slider.grab().toImage()).astype(int)
+    height = slider.height()
+    changed = np.abs(pixels - plain)[:, :, :3].max(axis=2) > 0
+    x = int(np.floor(slider.x_of_frame(999.5)))
+    np.testing.assert_array_equal(np.flatnonzero(changed.any(axis=0)), [x, x + 1, x + 2])
+    edge = RANGE_EDGE.getRgb()[:3]
+    assert (pixels[1:height, x, :3] == edge).all() and (pixels[1:height, x + 2, :3] == edge).all()
+    np.testing.assert_array_equal(np.flatnonzero(changed[:, x + 1]), np.arange(1, height - 1))
+    np.testing.assert_array_equal(np.flatnonzero(changed[:, x]), np.arange(1, height))
+
+
+def test_the_flags_band_is_five_pixels_high_one_above_the_bottom(qtbot):
+    slider = make_slider(qtbot)
+    slider.setValue(0)
+    plain = image_pixels(slider.grab().toImage()).astype(int)
+    levels = np.zeros(2000, np.int8)
+    levels[1200:1400] = 3
+    slider.set_levels(levels)
+    slider.repaint()
+    pixels = image_pixels(slider.grab().toImage()).astype(int)
+    x0, x1, _ = slider.flag_spans()[0]
+    changed = np.abs(pixels - plain)[:, (x0 + x1) // 2, :3].max(axis=1) > 0
+    height = slider.height()
+    np.testing.assert_array_equal(np.flatnonzero(changed), np.arange(height - 6, height - 1))
+
+
+def test_a_slider_of_two_frames_maps_half_way_between_them(qtbot):
+    slider = make_slider(qtbot, 0, 1, width=300)
+    left, length = slider._span()
+    assert slider.frame_at(left + 0.3 * length) == 0 and slider.frame_at(left + 0.7 * length) == 1
+    assert slider.x_of_frame(1) == pytest.approx(left + length)
+    slider.set_levels(np.array([0, 2], np.int8))
+    assert slider.flag_spans() == [(*expected_span(slider, 1, 1), 2)]
+    assert slider.flag_spans()[0][0] >= slider.x_of_frame(0.5)  # about the second frame only
+
+
+def test_a_flag_on_a_slider_of_one_frame_is_at_the_handle(qtbot):
+    slider = make_slider(qtbot, 4, 4, width=200)
+    slider.set_levels(np.array([0, 0, 0, 0, 3], np.int8))  # levels by frame number: frame 4 flagged
+    ((x0, x1, level),) = slider.flag_spans()
+    left, length = slider._span()
+    assert level == 3 and (x0, x1) == (max(math.floor(left - length / 2), 0), math.ceil(left + length / 2))
+    assert x1 < slider.width()  # one frame counted as one step: half the groove each side
+
+
+def test_a_slider_narrower_than_its_handle_maps_frames_over_one_pixel(qtbot):
+    slider = make_slider(qtbot, 0, 99, width=10)
+    option = slider._option()
+    style = slider.style()
+    groove = style.subControlRect(QStyle.ComplexControl.CC_Slider, option, QStyle.SubControl.SC_SliderGroove, slider)
+    handle = style.subControlRect(QStyle.ComplexControl.CC_Slider, option, QStyle.SubControl.SC_SliderHandle, slider)
+    assert groove.width() - handle.width() < 1  # no room to slide
+    left, length = slider._span()
+    assert length == 1 and slider.x_of_frame(99) == pytest.approx(left + 1)
+    assert slider.frame_at(left + 1) == 99 and slider.frame_at(left) == 0
+
+
+def test_only_a_tooltip_over_a_flag_shows_the_flags_findings(qtbot, monkeypatch):
+    """A "What's this?" help event is a QHelpEvent too: it is the slider's own, not a flag's."""
+    slider = make_slider(qtbot)
+    levels = np.zeros(2000, np.int8)
+    levels[1000] = 2
+    slider.set_levels(levels)
+    slider.flag_text = lambda first, last: "a flag"
+    shown = []
+    monkeypatch.setattr(QToolTip, "showText", lambda *args: shown.append(args[1]))
+    x = round(slider.x_of_frame(1000))
+    slider.event(QHelpEvent(QEvent.Type.WhatsThis, QPoint(x, 5), slider.mapToGlobal(QPoint(x, 5))))
+    assert shown == []
+    slider.event(QHelpEvent(QEvent.Type.ToolTip, QPoint(x, 5), slider.mapToGlobal(QPoint(x, 5))))
+    assert shown == ["a flag"]
