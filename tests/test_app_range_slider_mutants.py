@@ -17,6 +17,7 @@ from gmr_studio.app.docks.range_slider import (
     FLAG_COLOURS,
     FLAG_HEIGHT,
     FLAG_MIN_WIDTH,
+    RANGE_COLOUR,
     RANGE_EDGE,
     RangeSlider,
     range_ending_at,
@@ -362,6 +363,7 @@ def test_the_range_is_the_plots_yellow_its_band_blended_over_the_slider(qtbot):
     from gmr_studio.app.docks.timeplot import CURSOR_COLOUR, RANGE_BRUSH
 
     assert RANGE_EDGE.getRgb()[:3] == QColor(CURSOR_COLOUR).getRgb()[:3] == RANGE_BRUSH[:3]
+    assert RANGE_COLOUR.getRgb()[:3] == RANGE_BRUSH[:3]  # the band too, only more opaque
     slider = make_slider(qtbot, 0, 99, width=500)
     slider.setValue(99)
     plain_image = slider.grab().toImage().convertToFormat(QImage.Format.Format_ARGB32_Premultiplied)
