@@ -308,3 +308,139 @@ def test_the_visible_frames_are_taken_in_the_plots_unit(qtbot):
     plot.set_x_unit("seconds", 0.5)
     plot.view_box.setXRange(5.0, 6.0, padding=0)
     np.testing.assert_array_equal(plot.visible_frames(), [10, 11, 12])
+
+
+# ----------------------------------------------------------- what the first run let through
+BACKGROUND = (0x1E, 0x1F, 0x22)  # the plot's background
+
+
+def blended(under: tuple[int, int, int], rgba: tuple[int, int, int, int]) -> np.ndarray:
+    """(3,) the pixel Qt paints for ``rgba`` over an opaque ``under``."""
+    from PyQt6.QtGui import QPainter
+
+    image = QImage(1, 1, QImage.Format.Format_ARGB32_Premultiplied)
+    image.fill(QColor(*under))
+    painter = QPainter(image)
+    painter.fillRect(0, 0, 1, 1, QColor(*rgba))
+    painter.end()
+    colour = image.pixelColor(0, 0)
+    return np.array([colour.red(), colour.green(), colour.blue()])
+
+
+def plot_pixels(plot: TimePlot) -> np.ndarray:
+    from gmr_studio.app.media.video import image_pixels
+
+    QApplication.processEvents()
+    return image_pixels(plot.plot_widget.grab().toImage()).astype(int)[..., :3]
+
+
+def shaded_background(plot: TimePlot, plain: np.ndarray, shaded: np.ndarray, columns: slice) -> np.ndarray:
+    """The shaded picture's pixels in ``columns`` of the view box where the plain one shows
+    the background (not a grid line, a curve or an axis)."""
+    box = plot.view_box.mapRectToScene(plot.view_box.boundingRect())
+    top, bottom = plot.plot_widget.mapFromScene(box.topLeft()).y(), plot.plot_widget.mapFromScene(box.bottomRight()).y()
+    rows = slice(top + 2, bottom - 2)
+    where = (plain[rows, columns] == BACKGROUND).all(axis=-1)
+    return shaded[rows, columns][where]
+
+
+def test_the_plot_as_built(qtbot):
+    plot = make_plot(qtbot)
+    assert plot.plot_item.getAxis("bottom").grid == 63 and plot.plot_item.getAxis("left").grid == 63  # alpha 0.25
+    assert plot.cursor.movable and plot.region.movable
+    assert plot.cursor.pen.widthF() == 1.5 and plot.cursor.hoverPen.widthF() == 3.0
+    assert (plot.cursor.zValue(), plot.region.zValue()) == (10, 5)  # cursor over range over curves (0)
+    assert plot.legend.opts["offset"] == (8, 8)
+    assert plot.plot_widget.geometry() == plot.rect()  # no margins round the plot
+    for item in plot._items:
+        assert item.opts["autoDownsample"] and item.opts["downsampleMethod"] == "peak"
+        assert item.opts["clipToView"]
+
+
+def test_cursor_range_and_spans_never_widen_the_view(qtbot):
+    plot = make_plot(qtbot)
+    plot.set_cursor(5000)
+    plot.set_range(3000, 4000)
+    plot.set_spans(np.array([[6000, 7000]]))
+    plot.view_box.autoRange(padding=0)
+    (x0, x1), _ = plot.view_box.viewRange()
+    assert -2 < x0 < 2 and 197 < x1 < 201  # the curves' frames (and their pens), nothing beyond
+
+
+def test_setting_the_cursor_sends_no_signal_of_the_line(qtbot):
+    plot = make_plot(qtbot)
+    moved = signals(plot.cursor.sigPositionChanged)
+    plot.set_cursor(120)
+    plot.view_box.setXRange(0, 150, padding=0)
+    assert moved == [] and plot.cursor.value() == 120
+
+
+def test_a_fresh_plot(qtbot):
+    """Before any curves: no rows, frames of one second, the cursor at frame 0, no spans."""
+    plot = TimePlot()
+    qtbot.addWidget(plot)
+    assert plot.csv_text() == "frame,time\n"
+    plot.view_box.setRange(xRange=(3, 4), yRange=(5, 6), padding=0)
+    plot.autoscale()
+    assert plot.view_box.viewRange() == [[3.0, 4.0], [5.0, 6.0]]
+    plot.set_x_unit("seconds", 0.5)
+    assert plot._spans == [] and plot.cursor.value() == 0 and plot.cursor_frame == 0
+    fresh = TimePlot()
+    qtbot.addWidget(fresh)
+    fresh.set_curves(np.arange(3), ["a"], np.zeros(3))
+    fresh.view_box.setXRange(0, 2, padding=0)
+    assert [line.split(",")[:2] for line in fresh.csv_text().splitlines()[1:]] == [["0", "0"], ["1", "1"], ["2", "2"]]
+    unlaid = TimePlot()
+    qtbot.addWidget(unlaid)
+    unlaid.set_cursor(3)  # not laid out: the line goes to its frame
+    assert unlaid.cursor.value() == 3
+
+
+def test_a_view_one_pixel_wide_has_its_pixel_size(qtbot):
+    plot = make_plot(qtbot)
+    plot.view_box.width = lambda: 1.0
+    plot.view_box.setXRange(0, 4, padding=0)
+    assert plot._pixels_per_x == pytest.approx(0.25)
+
+
+def test_in_seconds_autoscale_and_the_cursor_are_in_seconds(qtbot):
+    plot = make_plot(qtbot, n_frames=100, first=10)
+    plot.set_x_unit("seconds", 0.5)
+    plot.autoscale()
+    assert plot.view_box.viewRange()[0] == pytest.approx([5.0, 54.5])
+    plot.set_cursor(60)
+    assert plot.cursor.value() == pytest.approx(30.0)
+
+
+def test_the_range_and_the_spans_are_shaded_in_their_colours(qtbot):
+    """Over the plot's background the range is the cursor's yellow at alpha 40 and a span
+    (a marker's gap) red at alpha 50: each pixel as Qt blends them."""
+    plot = make_plot(qtbot)
+    plot.view_box.setRange(xRange=(0, 199), yRange=(-5, 5), padding=0)
+    plot.cursor.hide()
+    plain = plot_pixels(plot)
+    plot.set_range(40, 80)
+    plot.set_spans(np.array([[120, 160]]))
+    shaded = plot_pixels(plot)
+    x = [round(plot.view_box.mapViewToDevice(QPointF(f, 0)).x()) for f in (40, 79, 120, 159)]
+    from gmr_studio.app.docks.timeplot import RANGE_BRUSH
+
+    assert QColor(255, 212, 0).name() == "#ffd400" and RANGE_BRUSH[:3] == (255, 212, 0)
+    in_range = shaded_background(plot, plain, shaded, slice(x[0] + 2, x[1] - 2))
+    in_span = shaded_background(plot, plain, shaded, slice(x[2] + 2, x[3] - 2))
+    assert len(in_range) > 100 and len(in_span) > 100
+    assert (in_range == blended(BACKGROUND, (255, 212, 0, 40))).all()
+    assert (in_span == blended(BACKGROUND, (200, 60, 60, 50))).all()
+
+
+def test_the_legend_is_a_dark_box_over_the_plot(qtbot):
+    plot = make_plot(qtbot)
+    plot.view_box.setRange(xRange=(0, 199), yRange=(-50, 50), padding=0)  # curves far below the box
+    pixels = plot_pixels(plot)
+    box = plot.legend.mapRectToScene(plot.legend.boundingRect())
+    top_left = plot.plot_widget.mapFromScene(box.topLeft())
+    bottom_right = plot.plot_widget.mapFromScene(box.bottomRight())
+    inside = pixels[top_left.y() + 2 : bottom_right.y() - 2, top_left.x() + 2 : bottom_right.x() - 2].reshape(-1, 3)
+    colours, counts = np.unique(inside, axis=0, return_counts=True)
+    assert counts.max() > inside.shape[0] / 2  # mostly the box over the background (text, grid elsewhere)
+    np.testing.assert_array_equal(colours[counts.argmax()], blended(BACKGROUND, (20, 21, 24, 210)))
