@@ -353,6 +353,7 @@ def test_the_plot_as_built(qtbot):
     assert plot.legend.opts["offset"] == (8, 8)
     assert plot.plot_widget.geometry() == plot.rect()  # no margins round the plot
     for item in plot._items:
+        assert item.opts["pen"].widthF() == 1.2
         assert item.opts["autoDownsample"] and item.opts["downsampleMethod"] == "peak"
         assert item.opts["clipToView"]
 
@@ -444,3 +445,21 @@ def test_the_legend_is_a_dark_box_over_the_plot(qtbot):
     colours, counts = np.unique(inside, axis=0, return_counts=True)
     assert counts.max() > inside.shape[0] / 2  # mostly the box over the background (text, grid elsewhere)
     np.testing.assert_array_equal(colours[counts.argmax()], blended(BACKGROUND, (20, 21, 24, 210)))
+
+
+def test_the_cursor_moves_at_exactly_half_a_pixel(qtbot):
+    plot = make_plot(qtbot)
+    plot.view_box.width = lambda: 100.0
+    plot.view_box.setXRange(0, 200, padding=0)  # half a pixel a frame
+    assert plot._pixels_per_x == 0.5
+    plot.set_cursor(50)
+    plot.set_cursor(51)  # half a pixel away: moved
+    assert plot.cursor.value() == 51
+
+
+def test_a_plot_in_seconds_before_its_first_layout_moves_the_cursor_to_its_frame(qtbot):
+    plot = TimePlot()
+    qtbot.addWidget(plot)
+    plot.set_x_unit("seconds", 0.01)
+    plot.set_cursor(1)
+    assert plot.cursor.value() == pytest.approx(0.01)
