@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 from PyQt6.QtCore import QEvent, QPoint, QPointF, Qt
-from PyQt6.QtGui import QHelpEvent, QMouseEvent
+from PyQt6.QtGui import QColor, QHelpEvent, QImage, QMouseEvent, QPainter
 from PyQt6.QtWidgets import QApplication, QStyle, QToolTip
 
 from gmr_studio.app.docks.range_slider import (
@@ -23,6 +23,7 @@ from gmr_studio.app.docks.range_slider import (
     range_ending_at,
     range_starting_at,
 )
+from gmr_studio.app.docks.timeplot import CURSOR_COLOUR, RANGE_BRUSH
 from gmr_studio.app.media.video import image_pixels
 
 pytestmark = pytest.mark.gui
@@ -44,10 +45,7 @@ def make_slider(qtbot, minimum: int = 0, maximum: int = 1999, width: int = 600) 
 def handle_centre(slider: RangeSlider, value: int) -> float:
     """The x of the style's own handle centre with the slider at ``value``."""
     slider.setValue(value)
-    option = slider._option()
-    rect = slider.style().subControlRect(
-        QStyle.ComplexControl.CC_Slider, option, QStyle.SubControl.SC_SliderHandle, slider
-    )
+    rect = slider._handle()  # the style's own rectangle for the handle there
     return rect.x() + rect.width() / 2
 
 
@@ -358,10 +356,6 @@ def test_the_range_is_the_plots_yellow_its_band_blended_over_the_slider(qtbot):
     """The timeline's range is the yellow of the time plots' cursor and range, its edges
     opaque and its band that yellow at alpha 90 over what the slider draws: every pixel
     inside it is the plain slider's pixel blended by Qt with (255, 212, 0, 90)."""
-    from PyQt6.QtGui import QColor, QImage, QPainter
-
-    from gmr_studio.app.docks.timeplot import CURSOR_COLOUR, RANGE_BRUSH
-
     assert RANGE_EDGE.getRgb()[:3] == QColor(CURSOR_COLOUR).getRgb()[:3] == RANGE_BRUSH[:3]
     assert RANGE_COLOUR.getRgb()[:3] == RANGE_BRUSH[:3]  # the band too, only more opaque
     slider = make_slider(qtbot, 0, 99, width=500)

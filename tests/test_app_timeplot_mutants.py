@@ -8,10 +8,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from PyQt6.QtCore import QPointF, Qt
-from PyQt6.QtGui import QColor, QImage
+from PyQt6.QtGui import QColor, QImage, QPainter
 from PyQt6.QtWidgets import QApplication
 
-from gmr_studio.app.docks.timeplot import PALETTE, SPAN_BRUSH, TimePlot
+from gmr_studio.app.docks.timeplot import PALETTE, RANGE_BRUSH, SPAN_BRUSH, TimePlot
+from gmr_studio.app.media.video import image_pixels
 
 pytestmark = pytest.mark.gui
 LEFT, RIGHT = Qt.MouseButton.LeftButton, Qt.MouseButton.RightButton
@@ -316,8 +317,6 @@ BACKGROUND = (0x1E, 0x1F, 0x22)  # the plot's background
 
 def blended(under: tuple[int, int, int], rgba: tuple[int, int, int, int]) -> np.ndarray:
     """(3,) the pixel Qt paints for ``rgba`` over an opaque ``under``."""
-    from PyQt6.QtGui import QPainter
-
     image = QImage(1, 1, QImage.Format.Format_ARGB32_Premultiplied)
     image.fill(QColor(*under))
     painter = QPainter(image)
@@ -328,8 +327,6 @@ def blended(under: tuple[int, int, int], rgba: tuple[int, int, int, int]) -> np.
 
 
 def plot_pixels(plot: TimePlot) -> np.ndarray:
-    from gmr_studio.app.media.video import image_pixels
-
     QApplication.processEvents()
     return image_pixels(plot.plot_widget.grab().toImage()).astype(int)[..., :3]
 
@@ -424,8 +421,6 @@ def test_the_range_and_the_spans_are_shaded_in_their_colours(qtbot):
     plot.set_spans(np.array([[120, 160]]))
     shaded = plot_pixels(plot)
     x = [round(plot.view_box.mapViewToDevice(QPointF(f, 0)).x()) for f in (40, 79, 120, 159)]
-    from gmr_studio.app.docks.timeplot import RANGE_BRUSH
-
     assert QColor(255, 212, 0).name() == "#ffd400" and RANGE_BRUSH[:3] == (255, 212, 0)
     in_range = shaded_background(plot, plain, shaded, slice(x[0] + 2, x[1] - 2))
     in_span = shaded_background(plot, plain, shaded, slice(x[2] + 2, x[3] - 2))

@@ -93,6 +93,15 @@ def test_glyphs_are_drawn_at_their_own_size_in_their_colours():
     assert not image[..., 1].any()
 
 
+def first_label_tile(part) -> np.ndarray:
+    """(h, w, 4) int RGBA: the first label's texels in its part's texture (rows bottom first)."""
+    image_data = part.actor.GetTexture().GetInput()
+    width, height, _ = image_data.GetDimensions()
+    atlas = vtk_to_numpy(image_data.GetPointData().GetScalars()).reshape(height, width, 4).astype(int)
+    w, h = (int(v) for v in part._boxes[0])
+    return atlas[:h, :w]
+
+
 def test_labels_show_their_texels_on_whole_pixels_in_front_of_everything_and_hidden_ones_nothing():
     """Two labels placed in display pixels through a scene's camera (a perspective one
     looking at a white board): the first shows its texels one a pixel, blended over the
@@ -111,11 +120,8 @@ def test_labels_show_their_texels_on_whole_pixels_in_front_of_everything_and_hid
         part.place(np.array([[50.0, 40.0], [np.nan, 10.0]]), scene.near_points)
         plotter.ren_win.Render()
         image = picture(scene)
-        image_data = part.actor.GetTexture().GetInput()
-        width, height, _ = image_data.GetDimensions()
-        atlas = vtk_to_numpy(image_data.GetPointData().GetScalars()).reshape(height, width, 4).astype(int)
-        w, h = (int(v) for v in part._boxes[0])
-        tile = atlas[:h, :w]
+        tile = first_label_tile(part)
+        h, w = tile.shape[:2]
         over_white = tile[..., :3] * tile[..., 3:] / 255 + 255 * (1 - tile[..., 3:] / 255)  # blended over the board
         # the quad's bottom left at (56, 44) from the bottom left: image rows count from the top
         drawn = image[SIZE - 44 - h : SIZE - 44, 56 : 56 + w][::-1]
@@ -146,11 +152,8 @@ def test_a_labels_empty_texels_write_no_depth_so_what_is_drawn_after_it_shows_be
         part.place(np.array([[50.0, 40.0]]), scene.near_points)
         plotter.ren_win.Render()
         image = picture(scene)
-        image_data = part.actor.GetTexture().GetInput()
-        width, height, _ = image_data.GetDimensions()
-        atlas = vtk_to_numpy(image_data.GetPointData().GetScalars()).reshape(height, width, 4).astype(int)
-        w, h = (int(v) for v in part._boxes[0])
-        tile = atlas[:h, :w]
+        tile = first_label_tile(part)
+        h, w = tile.shape[:2]
         empty = tile[..., 3] == 0
         assert empty.sum() > 20 and (~empty).sum() > 20
         drawn = image[SIZE - 44 - h : SIZE - 44, 56 : 56 + w][::-1]
