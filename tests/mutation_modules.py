@@ -325,7 +325,7 @@ MODULES: dict[str, tuple[list[str], float]] = {
     # own tests open the real window on a real take: seconds a mutant)
     "app/docks/frame_follow.py": (["tests/test_app_frame_follow_mutants.py"], 60),
     # the inspector's text: a bare widget (slots, layout, painting, selection, keys, menu)
-    "app/docks/rich_text.py": (["tests/test_app_rich_text.py"], 60),
+    "app/docks/rich_text.py": (["tests/test_app_rich_text.py", "tests/test_app_rich_text_on_screen.py"], 60),
     # the timeline's slider: a bare widget (ranges, frames <-> pixels, flags, pixels, mouse, repaints)
     "app/docks/range_slider.py": (["tests/test_app_range_slider_mutants.py"], 60),
     # the Curves and Error docks' plot: a bare widget on a small synthetic table

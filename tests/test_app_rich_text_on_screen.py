@@ -1,0 +1,372 @@
+"""RichText on screen (app/docks/rich_text.py): slots written only when their line is seen or
+the text is read, stale slots taking the owner's fresh text, and repaints kept to the lines
+rewritten, each alone, drawing what a whole repaint draws. The slots themselves, layout,
+selection and menu are in tests/test_app_rich_text.py."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PyQt6.QtGui import QTextCursor
+
+from gmr_studio.app.docks.rich_text import RichText, slot, slot_lines
+from tests.test_app_rich_text import shown
+
+pytestmark = pytest.mark.gui
+
+
+def _scrolled(qtbot, rows: int = 40, height: int = 120):
+    """A RichText of ``rows`` one-slot lines in a scroll area showing its first lines only."""
+    from PyQt6.QtWidgets import QScrollArea
+
+    area = QScrollArea()
+    qtbot.addWidget(area)
+    label = RichText()
+    area.setWidget(label)
+    area.setWidgetResizable(True)
+    area.resize(300, height)
+    label.setText(lines_page([f"row {k} value 0" for k in range(rows)]))
+    area.show()
+    qtbot.waitExposed(area)
+    return area, label
+
+
+def lines_page(rows: list[str]) -> str:
+    return f"<pre style='margin:0'>{slot_lines(chr(10).join(rows))}</pre>"
+
+
+def _block_texts(label: RichText) -> list[str]:
+    block, texts = label.document.firstBlock(), []
+    while block.isValid():
+        texts.append(block.text())
+        block = block.next()
+    return texts
+
+
+def test_a_slot_off_screen_is_written_when_its_line_is_painted_or_the_text_read(qtbot):
+    from PyQt6.QtWidgets import QApplication
+
+    area, label = _scrolled(qtbot)
+    line = label.document.documentLayout().blockBoundingRect(label.document.firstBlock()).height()
+    seen = int((area.viewport().height() - RichText.MARGIN) // line)  # lines wholly on screen
+    assert 3 <= seen < 20
+    label.setText(lines_page([f"row {k} value 1" for k in range(40)]))
+    texts = _block_texts(label)
+    assert texts[:seen] == [f"row {k} value 1" for k in range(seen)]  # on screen: written
+    assert texts[seen + 2 :] == [f"row {k} value 0" for k in range(seen + 2, 40)]  # off screen: not yet
+    assert label.slots_pending == 40 - len([t for t in texts if t.endswith("1")])
+    area.verticalScrollBar().setValue(area.verticalScrollBar().maximum())  # the last lines into sight
+    QApplication.processEvents()
+    texts = _block_texts(label)
+    assert texts[-seen:] == [f"row {k} value 1" for k in range(40 - seen, 40)]  # painted: written first
+    assert 0 < label.slots_pending < 40 - 2 * seen
+    assert label.plain_text().split("\n") == [f"row {k} value 1" for k in range(40)]  # read: all of them
+    assert label.slots_pending == 0 and _block_texts(label) == [f"row {k} value 1" for k in range(40)]
+
+
+def test_a_hidden_text_writes_nothing_until_read(qtbot):
+    label = RichText()
+    qtbot.addWidget(label)
+    label.setText(lines_page(["a", "b"]))
+    label.setText(lines_page(["c", "d"]))
+    assert label.slots_pending == 2 and _block_texts(label) == ["a", "b"]
+    assert label.plain_text() == "c\nd" and label.slots_pending == 0
+
+
+def test_only_the_lines_rewritten_are_repainted_and_a_line_that_grows_repaints_all(qtbot):
+    from PyQt6.QtCore import QRect
+    from PyQt6.QtWidgets import QApplication
+
+    _area, label = _scrolled(qtbot, rows=6, height=400)  # every line on screen
+    QApplication.processEvents()
+    painted: list[QRect] = []
+    paint = label.paintEvent
+
+    def noted(event) -> None:
+        painted.append(event.rect())
+        paint(event)
+
+    label.paintEvent = noted
+    layout = label.document.documentLayout()
+    line = layout.blockBoundingRect(label.document.firstBlock()).height()
+    rows = [f"row {k} value 0" for k in range(6)]
+    rows[3] = "row 3 value 2"
+    label.setText(lines_page(rows))
+    QApplication.processEvents()
+    assert len(painted) == 1 and painted[0].width() == label.width()
+    top = RichText.MARGIN + layout.blockBoundingRect(label.document.findBlock(0).next().next().next()).top()
+    assert painted[0].top() == int(top) and painted[0].height() <= line + 3  # line 3 alone
+    painted.clear()
+    label.setText(lines_page(rows))  # nothing changed: nothing painted
+    QApplication.processEvents()
+    assert painted == []
+    paragraphs = "".join(f"<p style='margin:0'>{slot(row)}</p>" for row in rows)
+    label.setText(paragraphs)  # another text: parsed whole, painted whole
+    QApplication.processEvents()
+    painted.clear()
+    rows[1] = "a long value " * 12  # wraps: every line after it moves
+    label.setText("".join(f"<p style='margin:0'>{slot(row.strip())}</p>" for row in rows))
+    assert label.slots_held == 6 and label.slots_pending == 0  # written in place, and it grew
+    QApplication.processEvents()
+    assert painted and painted[0].height() >= label.height() - 1
+    assert label.minimumHeight() == round(label.document.size().height()) + 2 * RichText.MARGIN
+
+
+def test_stale_slots_take_the_owners_fresh_text_when_seen_or_read(qtbot):
+    from PyQt6.QtWidgets import QApplication
+
+    area, label = _scrolled(qtbot)
+    now = {"value": 1}
+    asked = []
+
+    def fresh() -> str:
+        asked.append(now["value"])
+        return lines_page([f"row {k} value {now['value']}" for k in range(40)])
+
+    label.fill = fresh
+    seen = label.slots_on_screen()
+    assert seen[0] and not seen[-1]
+    off = [k for k in range(40) if not seen[k]]
+    # the lines off screen keep their old values in the text given, marked stale
+    given = [f"row {k} value {0 if k in off else 1}" for k in range(40)]
+    label.setText(lines_page(given), stale=off)
+    assert asked == [] and label.slots_pending == len(off)
+    assert _block_texts(label)[0] == "row 0 value 1" and _block_texts(label)[-1] == "row 39 value 0"
+    area.verticalScrollBar().setValue(area.verticalScrollBar().maximum())  # a stale line into sight
+    QApplication.processEvents()
+    assert asked == [1] and _block_texts(label)[-1] == "row 39 value 1"
+    now["value"] = 2
+    label.setText(lines_page([f"row {k} value 2" if seen[k] else given[k] for k in range(40)]), stale=off)
+    assert label.plain_text().split("\n") == [f"row {k} value 2" for k in range(40)]  # read: fresh
+    assert asked == [1, 2] and label.slots_pending == 0
+    assert label.text() == fresh()  # the text as it is now
+
+
+def test_stale_slots_in_a_text_of_another_template_are_parsed_from_the_fresh_text(qtbot):
+    label = RichText()
+    qtbot.addWidget(label)
+    label.fill = lambda: "<p>fresh " + slot("9") + "</p><p>" + slot("8") + "</p>"
+    label.setText("<p>a " + slot("1") + "</p>")
+    label.setText("<p>old " + slot("1") + "</p><p>" + slot("2") + "</p>", stale=[1])  # another template
+    assert label.plain_text() == "fresh 9\n8" and label.slots_held == 2
+    # a fill whose template differs from the text shown: parsed whole when the slot is read
+    label.setText("<p>fresh " + slot("3") + "</p><p>" + slot("2") + "</p>", stale=[1])
+    label.fill = lambda: "<p>other " + slot("5") + "</p>"
+    assert label.plain_text() == "other 5" and label.slots_held == 1 and label.slots_pending == 0
+
+
+def test_two_lines_rewritten_far_apart_are_drawn_each_alone_as_a_whole_repaint_draws_them(qtbot):
+    """The screen after the two lines' paint is what a whole repaint draws. (Another test's
+    window on the same X display may cover this one for a moment: raised and grabbed again.)"""
+    import time
+
+    from PyQt6.QtCore import QPoint
+    from PyQt6.QtGui import QGuiApplication
+    from PyQt6.QtWidgets import QApplication
+
+    from gmr_studio.app.media.video import image_pixels
+
+    area, label = _scrolled(qtbot, rows=8, height=400)  # every line on screen
+
+    def page(first: str, second: str, rows: list[str]) -> str:  # a first line of two slots
+        return f"<p style='margin:0'>Frame {slot(first)} at {slot(second)} s</p>" + lines_page(rows)
+
+    rows = [f"row {k} value 0" for k in range(8)]
+    label.setText(page("1", "0.1", rows))
+    QApplication.processEvents()
+    rows[1], rows[6] = "row 1 value 12345", "row 6 value 9"
+    label.setText(page("2", "0.2", rows))  # the first line asked for twice: drawn once
+    QApplication.processEvents()
+    line = label.document.documentLayout().blockBoundingRect(label.document.firstBlock()).height()
+    assert len(label.painted) == 3  # the first line, lines 1 and 6, not the four between them
+    assert all(rect.height() <= line + 3 for rect in label.painted)
+    assert label.painted[2].top() - label.painted[1].top() >= 4 * line
+    whole = image_pixels(label.grab().toImage())  # a grab paints the whole widget
+    assert len(label.painted) == 1 and label.painted[0] == label.rect()
+    origin = label.mapTo(area, QPoint(0, 0))
+    for _attempt in range(20):
+        area.raise_()
+        QApplication.processEvents()
+        shown = QGuiApplication.primaryScreen().grabWindow(
+            int(area.winId()), origin.x(), origin.y(), label.width(), label.height()
+        )
+        if np.array_equal(image_pixels(shown.toImage()), whole):
+            break
+        time.sleep(0.05)
+    else:
+        pytest.fail("the screen never showed what a whole repaint draws")
+
+
+def _paint_event(*rects):
+    from PyQt6.QtGui import QPaintEvent, QRegion
+
+    region = QRegion()
+    for rect in rects:
+        region = region.united(QRegion(rect))
+    return QPaintEvent(region)
+
+
+def test_the_lines_asked_for_are_drawn_each_once_touching_ones_together(qtbot):
+    """The parts a paint draws when the exposed region is only the lines asked for: sorted
+    from the top, a line that overlaps or touches (starts on the row after) the one before
+    it joined to it, one a row apart or more kept apart; a line asked for outside the
+    region left out; a region with more than the lines in it drawn whole."""
+    from PyQt6.QtCore import QRect
+
+    label = RichText()
+    qtbot.addWidget(label)
+    first, touching = QRect(0, 10, 100, 10), QRect(0, 20, 100, 10)  # rows 10-19 and 20-29
+    apart, after = QRect(0, 31, 100, 5), QRect(0, 36, 100, 4)  # rows 31-35 (row 30 between) and 36-39
+    overlapping, outside = QRect(0, 38, 100, 6), QRect(0, 90, 100, 5)  # rows 38-43; not exposed
+    label._asked = [after, touching, outside, first, overlapping, apart]
+    parts = label._parts_to_paint(_paint_event(first, touching, apart, after, overlapping))
+    assert parts == [QRect(0, 10, 100, 20), QRect(0, 31, 100, 13)]
+    assert label._asked == []  # taken
+    label._asked = [QRect(0, 10, 100, 10), QRect(0, 10, 100, 10)]  # a line asked for twice (two slots)
+    assert label._parts_to_paint(_paint_event(QRect(0, 10, 100, 10))) == [QRect(0, 10, 100, 10)]
+    label._asked = [QRect(0, 10, 100, 10)]
+    exposed = _paint_event(QRect(0, 10, 100, 10), QRect(0, 50, 30, 5))  # more than the line: the whole rect
+    assert label._parts_to_paint(exposed) == [QRect(0, 10, 100, 45)]
+    label._asked = [QRect(0, 10, 300, 10)]  # wider than the exposed part: cut to it
+    assert label._parts_to_paint(_paint_event(QRect(0, 10, 100, 10))) == [QRect(0, 10, 100, 10)]
+
+
+def test_a_line_meets_a_part_of_the_text_it_touches(qtbot):
+    """A slot's line is in a part of the document (on screen, or painted) when it overlaps it
+    or touches it: its bottom at the part's top, or its top at the part's bottom."""
+    from PyQt6.QtCore import QRectF
+
+    label = RichText()
+    qtbot.addWidget(label)
+    label.setText(lines_page(["a", "b", "c", "d"]))
+    tops = [held.top for held in label._slots]
+    bottoms = [held.bottom for held in label._slots]
+    assert tops[1] == bottoms[0] and tops[1] > 0  # lines one after the other
+    assert label._lines_meeting(QRectF(0, 0, 1, tops[2])) == [True, True, True, False]  # to line 2's top
+    assert label._lines_meeting(QRectF(0, bottoms[1], 1, 0.5)) == [False, True, True, False]  # from line 1's bottom
+    assert label._lines_meeting(QRectF(0, bottoms[1] + 0.5, 1, 0.25)) == [False, False, True, False]
+    assert label._lines_meeting(None) == [False] * 4
+
+
+def test_a_line_rewritten_is_repainted_whole_and_at_most_two_rows_beyond(qtbot):
+    """The part repainted for a rewritten line covers its block (whole pixels) and reaches at
+    most two rows past it: the rows of its glyphs, none of the next lines'."""
+    from PyQt6.QtWidgets import QApplication
+
+    _area, label = _scrolled(qtbot, rows=6, height=400)
+    QApplication.processEvents()
+    layout = label.document.documentLayout()
+    for k in (0, 3, 5):
+        rows = [f"row {j} value 0" for j in range(6)]
+        rows[k] = f"row {k} value {k + 10}"
+        label.setText(lines_page(rows))
+        (asked,) = label._asked
+        block = layout.blockBoundingRect(label.document.findBlock(label._slots[k].start))
+        top, bottom = RichText.MARGIN + block.top(), RichText.MARGIN + block.bottom()
+        assert asked.top() <= top and asked.top() + asked.height() >= bottom, k  # the whole line
+        assert asked.top() > top - 1 and asked.top() + asked.height() <= bottom + 2, k
+        assert asked.left() == 0 and asked.width() == label.width()
+        QApplication.processEvents()
+        label.setText(lines_page([f"row {j} value 0" for j in range(6)]))
+        QApplication.processEvents()
+
+
+def test_a_line_that_grows_when_painted_into_sight_lays_the_text_out_again(qtbot):
+    """A value written while its line is painted (it came into sight) that wraps the line:
+    every line after it moved, so the widget asks for its new height and repaints whole."""
+    from PyQt6.QtWidgets import QApplication
+
+    def paragraphs(rows: list[str]) -> str:  # wrapped to the width, unlike a <pre>'s lines
+        return "".join(f"<p style='margin:0'>{slot(row)}</p>" for row in rows)
+
+    area, label = _scrolled(qtbot)
+    rows = [f"row {k} value 0" for k in range(40)]
+    label.setText(paragraphs(rows))
+    QApplication.processEvents()
+    before = label.minimumHeight()
+    rows[39] = " ".join(["long"] * 30)  # off screen: written when painted
+    label.setText(paragraphs(rows))
+    assert label.slots_held == 40 and label.slots_pending == 1 and label.minimumHeight() == before
+    area.verticalScrollBar().setValue(area.verticalScrollBar().maximum())
+    QApplication.processEvents()
+    assert label.slots_pending == 0 and _block_texts(label)[39] == rows[39]
+    assert label.minimumHeight() == round(label.document.size().height()) + 2 * RichText.MARGIN > before
+
+
+def test_the_same_text_with_other_stale_slots_is_taken(qtbot):
+    """The same text given again with other slots marked stale: a value no longer stale is
+    the text's own (the owner is not asked), a newly stale one is asked for when read."""
+    label = RichText()
+    qtbot.addWidget(label)
+    asked = []
+    label.fill = lambda: asked.append(1) or lines_page(["fresh a", "fresh b"])
+    text = lines_page(["old a", "old b"])
+    label.setText(lines_page(["x", "y"]))
+    label.setText(text, stale=[1])
+    label.setText(text)  # the same text, its values now all its own
+    assert label.plain_text() == "old a\nold b" and asked == []
+    label.setText(text, stale=[0])  # the same text again, a value stale
+    assert label.plain_text() == "fresh a\nfresh b" and asked == [1]
+
+
+def test_a_hidden_text_with_stale_slots_is_read_as_the_owner_has_it_now(qtbot):
+    label = RichText()
+    qtbot.addWidget(label)
+    label.fill = lambda: lines_page(["fresh a", "fresh b"])
+    label.setText(lines_page(["a", "b"]))
+    label.setText(lines_page(["a", "old b"]), stale=[1])
+    assert _block_texts(label) == ["a", "b"]  # hidden: nothing written
+    assert label.plain_text() == "fresh a\nfresh b" and label.slots_pending == 0
+    assert _block_texts(label) == ["fresh a", "fresh b"] and label.slots_held == 2
+
+
+def test_stale_slots_read_keep_the_users_selection(qtbot):
+    """Reading a text with stale slots takes the owner's values into the slots held (the
+    same template): not parsed again, so the user's selection stays."""
+    label = RichText()
+    qtbot.addWidget(label)
+    label.fill = lambda: "<p>Frame " + slot("2") + "</p>" + lines_page(["fresh a", "fresh b"])
+    label.setText("<p>Frame " + slot("1") + "</p>" + lines_page(["a", "b"]))
+    label.cursor.setPosition(0)
+    label.cursor.setPosition(5, QTextCursor.MoveMode.KeepAnchor)
+    label.setText("<p>Frame " + slot("2") + "</p>" + lines_page(["a", "b"]), stale=[1, 2])
+    assert label.plain_text() == "Frame 2\nfresh a\nfresh b"
+    assert label.selected_text() == "Frame" and label.slots_held == 3
+
+
+def test_a_stale_slot_on_screen_whose_fresh_text_has_other_slots_is_parsed_whole(qtbot):
+    """A stale slot on screen asks the owner; its text as it is now has another template
+    (here one slot more): parsed whole, and shown whole."""
+    label = shown(qtbot, "<p>a " + slot("1") + "</p><p>" + slot("2") + "</p>")
+    label.fill = lambda: "<p>b " + slot("3") + "</p><p>" + slot("4") + " " + slot("5") + "</p>"
+    label.setText("<p>a " + slot("1") + "</p><p>" + slot("9") + "</p>", stale=[1])
+    assert label.slots_held == 3 and label.slots_pending == 0
+    assert label.document.toPlainText() == "b 3\n4 5"
+
+
+def test_glyphs_reaching_from_a_neighbouring_line_are_drawn_when_a_line_alone_is(qtbot):
+    """A line whose glyphs reach below its block (marks stacked under its letters) over the
+    next line: the next line's part painted alone shows them, as a whole repaint does."""
+    from PyQt6.QtCore import QRect
+    from PyQt6.QtGui import QColor, QImage, QRegion
+
+    marks = ("g" + "\u0329" * 4) * 5
+    label = shown(qtbot, f"<p style='margin:0'>{marks}</p><p style='margin:0'>{slot('xxxx')}</p>")
+    line = label.document.documentLayout().blockBoundingRect(label.document.firstBlock().next())
+
+    def render(region: QRect | None) -> QImage:
+        image = QImage(label.size(), QImage.Format.Format_RGB32)
+        image.fill(QColor("white"))
+        if region is None:
+            label.render(image)
+        else:
+            label.render(image, region.topLeft(), QRegion(region))
+        return image
+
+    whole = render(None)
+    part = QRect(0, int(line.top()) + RichText.MARGIN, label.width(), int(line.height()) + 2)
+    alone = render(part)
+    rows = range(part.top(), part.bottom() + 1)
+    reaching = [(x, y) for y in rows[:3] for x in range(label.width()) if QColor(whole.pixel(x, y)).lightness() < 128]
+    assert len(reaching) > 10  # the marks of the line above, in the next line's top rows
+    assert all(whole.pixel(x, y) == alone.pixel(x, y) for y in rows for x in range(label.width()))
