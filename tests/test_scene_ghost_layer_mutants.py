@@ -15,7 +15,7 @@ from gmr_studio.app.model.layers import ComparisonLayer, Layers
 from gmr_studio.app.model.marker_layers import MarkerLayer
 from gmr_studio.app.model.state import MarkerOverlay, StudioState
 from gmr_studio.app.scene.ghost_layer import GhostLayers, error_colours, error_scale_top
-from gmr_studio.app.scene.legend import BAR_HEIGHT, BAR_WIDTH, EDGE, LABEL_GAP, label_texts, legend_fit
+from gmr_studio.app.scene.legend import BAR_HEIGHT, BAR_WIDTH, EDGE, LABEL_GAP, box_corners, label_texts, legend_fit
 from gmr_studio.app.scene.vtk_parts import rgb_bytes
 from gmr_studio.core.compare import compare_motions
 from gmr_studio.core.compare.clock import ghost_positions
@@ -256,7 +256,8 @@ def test_the_legend_is_a_bar_in_the_maps_colours_its_labels_and_title_in_one_tex
         assert (shift, scale) == legend_fit((view_width, view_height), (width, height))
         x, y = 0.86 * view_width - shift, 0.08 * view_height
         w, h = scale * width, scale * height
-        np.testing.assert_allclose(legend.corners[0], [[x, y], [x + w, y], [x + w, y + h], [x, y + h]])
+        np.testing.assert_allclose(legend.outline, [x, y, x + w, y + h])
+        np.testing.assert_allclose(legend.corners, (x, y) + scale * box_corners(legend.boxes))
         assert legend.actor.GetTexture().GetInput().GetDimensions() == (width, height, 1)
         assert legend.actor.GetTexture().GetInterpolate() == (scale < 1)
 

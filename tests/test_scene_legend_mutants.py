@@ -9,7 +9,15 @@ import numpy as np
 import pytest
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
-from gmr_studio.app.scene.legend import EDGE, label_texts, legend_fit, legend_image, legend_part
+from gmr_studio.app.scene.legend import (
+    EDGE,
+    box_corners,
+    label_texts,
+    legend_fit,
+    legend_image,
+    legend_layout,
+    legend_part,
+)
 from gmr_studio.app.scene.vtk_parts import render_texts, rgb_bytes
 
 pytestmark = pytest.mark.gui
@@ -67,12 +75,44 @@ def _lifted(display: np.ndarray) -> np.ndarray:
     return np.column_stack([display, np.zeros(len(display))])
 
 
-def test_the_quad_shows_the_texture_one_texel_a_pixel_at_the_views_right():
+def test_the_pieces_are_the_bar_each_label_and_the_title_and_nothing_is_drawn_outside_them():
+    top, units = 2.0, "m"
+    image, boxes = legend_layout(top, units, ramp)
+    np.testing.assert_array_equal(image, legend_image(top, units, ramp))
+    _tiles, dims = layout(top, units)
+    label_h = max(h for _, h in dims[:-1])
+    bottom = (label_h + 1) // 2
+    assert boxes.dtype == np.int64 and boxes.shape == (7, 4)
+    np.testing.assert_array_equal(boxes[0], [0, bottom, WIDE, bottom + HIGH])  # the bar
+    for k, (w, h) in enumerate(dims[:-1]):  # each label on its bar row, right of the gap
+        middle = bottom + [0, 50, 100, 149, 199][k]
+        np.testing.assert_array_equal(boxes[1 + k], [WIDE + GAP, middle - h // 2, WIDE + GAP + w, middle - h // 2 + h])
+    title_w, title_h = dims[-1]
+    left = (image.shape[1] - title_w) // 2
+    np.testing.assert_array_equal(boxes[6], [left, image.shape[0] - title_h, left + title_w, image.shape[0]])
+    inside = np.zeros(image.shape[:2], bool)
+    for x0, y0, x1, y1 in boxes:
+        inside[y0:y1, x0:x1] = True
+    assert not image[~inside].any()  # every written texel in a piece
+    assert inside.mean() < 0.6  # and the pieces well under the picture: the empty texels not drawn
+
+
+def test_the_quads_show_the_pieces_and_a_texel_around_them_one_texel_a_pixel_at_the_views_right():
     part = legend_part(2.0, "m", ramp)
     assert part.top == 2.0 and isinstance(part.top, float)
     height, width = part.image.shape[:2]
-    np.testing.assert_array_equal(part.mesh.faces, [4, 0, 1, 2, 3])
-    np.testing.assert_array_equal(part.mesh.active_texture_coordinates, [[0, 0], [1, 0], [1, 1], [0, 1]])
+    pieces = legend_layout(2.0, "m", ramp)[1]
+    expected_boxes = np.clip(pieces + np.array([-1, -1, 1, 1]), 0, (width, height, width, height))
+    np.testing.assert_array_equal(part.boxes, expected_boxes)
+    assert (part.boxes[:, :2] == 0).any() and (part.boxes[:, 2] == width).any()  # clipped to the picture
+    np.testing.assert_array_equal(
+        part.mesh.faces, np.column_stack([np.full(7, 4), np.arange(28).reshape(7, 4)]).ravel()
+    )
+    corners = box_corners(expected_boxes)  # (7, 4, 2): bottom left, bottom right, top right, top left
+    np.testing.assert_array_equal(
+        corners[0], [[0, pieces[0, 1] - 1], [23, pieces[0, 1] - 1], [23, pieces[0, 3] + 1], [0, pieces[0, 3] + 1]]
+    )
+    np.testing.assert_allclose(part.mesh.active_texture_coordinates, (corners / (width, height)).reshape(-1, 2))
     texels = part.actor.GetTexture().GetInput()
     assert texels.GetDimensions() == (width, height, 1)
     np.testing.assert_array_equal(vtk_to_numpy(texels.GetPointData().GetScalars()), part.image.reshape(-1, 4))
@@ -80,9 +120,9 @@ def test_the_quad_shows_the_texture_one_texel_a_pixel_at_the_views_right():
     assert part.draw_last and not part.actor.GetUseBounds()
     part.place((2000, 1000), _lifted)  # room enough: at (0.86, 0.08) of the view, one texel a pixel
     x, y = 0.86 * 2000, 0.08 * 1000
-    corners = [[x, y], [x + width, y], [x + width, y + height], [x, y + height]]
-    np.testing.assert_allclose(part.corners[0], corners)
-    np.testing.assert_allclose(part.mesh.points, np.column_stack([corners, np.zeros(4)]))
+    np.testing.assert_allclose(part.outline, [x, y, x + width, y + height])
+    np.testing.assert_allclose(part.corners, corners + np.array([x, y]))
+    np.testing.assert_allclose(part.mesh.points, _lifted((corners + np.array([x, y])).reshape(-1, 2)))
 
 
 def test_the_legend_covers_its_pixels_in_the_view_upright():
@@ -135,8 +175,12 @@ def test_a_fitted_quad_is_shrunk_and_moved_and_a_shrunk_texture_smoothed():
     assert part.fitted == (shift, scale) and part.actor.GetTexture().GetInterpolate()
     left, bottom = 0.86 * 300 - shift, 0.08 * 200
     right, top = left + scale * width, bottom + scale * height
-    np.testing.assert_allclose(part.corners[0], [[left, bottom], [right, bottom], [right, top], [left, top]])
+    np.testing.assert_allclose(part.outline, [left, bottom, right, top])
+    np.testing.assert_allclose(
+        part.corners, (left, bottom) + scale * box_corners(part.boxes)
+    )  # each piece shrunk with it
     assert right <= 300 - EDGE + 1e-9
     part.place((2000, 2000), _lifted)  # room again: one texel a pixel
-    np.testing.assert_allclose(np.ptp(part.corners[0], axis=0), [width, height])
+    np.testing.assert_allclose(part.outline[2:] - part.outline[:2], [width, height])
+    np.testing.assert_allclose(np.ptp(part.corners[0], axis=0), np.diff(part.boxes[0].reshape(2, 2), axis=0)[0])
     assert not part.actor.GetTexture().GetInterpolate()

@@ -6,10 +6,10 @@ plane (:meth:`app.scene.camera.SceneCamera.near_points`), drawn by VTK's usual 3
 with the opaque geometry: in front of everything, its blending over what is drawn before
 it, a texel with nothing in it discarded. :class:`LabelPart` is the text labels that follow
 points (every text rendered once into one texture, one quad a label, one texel a pixel);
-the error view's legend (:mod:`app.scene.legend`) is one quad. VTK's 2D mapper, which draws
-display coordinates as they are, rebuilds its shader program each time its points change
-and runs its pipeline at every render: with 38 joint labels that was 0.4 ms of each frame in
-software OpenGL, against nothing measurable here.
+the error view's legend (:mod:`app.scene.legend`) is a quad for each of its pieces. VTK's 2D
+mapper, which draws display coordinates as they are, rebuilds its shader program each time
+its points change and runs its pipeline at every render: with 38 joint labels that was 0.4 ms
+of each frame in software OpenGL, against nothing measurable here.
 """
 
 from __future__ import annotations

@@ -1,12 +1,16 @@
 """The error view's legend: a colour bar from 0 to the scale's top, five labels and a title,
-drawn once into one texture and shown as one screen-space quad at the view's right.
+drawn once into one texture and shown at the view's right by one screen-space quad for each
+of its seven pieces (the bar, each label, the title), so that the empty texels between them
+cost nothing.
 
 VTK's ``vtkScalarBarActor`` drew the same as a dozen props, and laid itself out again at
 every render in which the camera had moved (it watches the renderer's time, which follows
 the camera's): 0.4 ms of every frame at 1018x425 in software OpenGL, the largest part of a
 comparison layer's cost. This legend is built when the layer's error scale is
-(:meth:`app.scene.ghost_layer.GhostLayers.build`) and costs one textured quad a frame, a
-screen-space quad (:class:`app.scene.labels.ScreenQuads`) placed before each render.
+(:meth:`app.scene.ghost_layer.GhostLayers.build`) and costs one actor of textured quads a
+frame (:class:`app.scene.labels.ScreenQuads`), placed before each render. One quad over the
+whole picture (about 90 x 235 pixels) shaded 2.0 million instructions a frame in software
+OpenGL, most of them for texels with nothing in them; the pieces' quads cover about 40% of it.
 """
 
 from __future__ import annotations
@@ -27,6 +31,7 @@ ANCHOR = (0.86, 0.08)  # the legend's bottom left corner, in fractions of the vi
 EDGE = 8  # pixels kept free at the view's right side: a legend that would cross it moves left
 FIT_HEIGHT = 0.84  # of the view's height at most (from the anchor's 8% to 8% below the top)
 FIT_WIDTH = 0.4  # of the view's width at most
+PAD = 1  # texels around each piece drawn with it
 
 
 def label_texts(top: float) -> list[str]:
@@ -34,11 +39,15 @@ def label_texts(top: float) -> list[str]:
     return [f"{value:.3g}" for value in np.linspace(0.0, top, N_LABELS)]
 
 
-def legend_image(top: float, units: str, colours: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
-    """(H, W, 4) uint8 RGBA, rows bottom first (VTK's order): the bar (``colours`` of
+def legend_layout(top: float, units: str, colours: Callable[[np.ndarray], np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """The legend's picture and its pieces: ``(image, boxes)``.
+
+    ``image`` (H, W, 4) uint8 RGBA, rows bottom first (VTK's order): the bar (``colours`` of
     (BAR_HEIGHT,) values from 0 at its bottom to ``top`` -> (BAR_HEIGHT, 3) in [0, 1]) on
     the left, each label centred on its height right of it, the title "error (units)"
-    centred above; transparent elsewhere."""
+    centred above; transparent elsewhere. ``boxes`` (2 + N_LABELS, 4) int: the texels of
+    each piece as (x0, y0, x1, y1), ends excluded, rows from the bottom: the bar, the
+    labels bottom first, the title; nothing is drawn outside them."""
     labels = label_texts(top)
     tiles, dims = parts.render_texts([*labels, f"error ({units})"], TEXT_COLOUR, TEXT_SIZE)
     label_height = max(h for _, h in dims[:-1])
@@ -50,13 +59,28 @@ def legend_image(top: float, units: str, colours: Callable[[np.ndarray], np.ndar
     values = (np.arange(BAR_HEIGHT) + 0.5) / BAR_HEIGHT * top
     image[bottom : bottom + BAR_HEIGHT, :BAR_WIDTH, :3] = parts.rgb_bytes(colours(values))[:, None]
     image[bottom : bottom + BAR_HEIGHT, :BAR_WIDTH, 3] = 255
+    boxes = [(0, bottom, BAR_WIDTH, bottom + BAR_HEIGHT)]
     for k, (tile, (w, h)) in enumerate(zip(tiles[:-1], dims[:-1], strict=True)):
         centre = bottom + round(k * (BAR_HEIGHT - 1) / (N_LABELS - 1))
         row = min(max(centre - h // 2, 0), height - h)
         image[row : row + h, BAR_WIDTH + LABEL_GAP : BAR_WIDTH + LABEL_GAP + w] = tile
+        boxes.append((BAR_WIDTH + LABEL_GAP, row, BAR_WIDTH + LABEL_GAP + w, row + h))
     left = (width - title_w) // 2
     image[height - title_h :, left : left + title_w] = tiles[-1]
-    return image
+    boxes.append((left, height - title_h, left + title_w, height))
+    return image, np.array(boxes, dtype=np.int64)
+
+
+def legend_image(top: float, units: str, colours: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
+    """(H, W, 4) uint8 RGBA, rows bottom first: the legend's picture (:func:`legend_layout`)."""
+    return legend_layout(top, units, colours)[0]
+
+
+def box_corners(boxes: np.ndarray) -> np.ndarray:
+    """(K, 4) boxes (x0, y0, x1, y1) -> (K, 4, 2) their corners in a quad's order: bottom
+    left, bottom right, top right, top left."""
+    x0, y0, x1, y1 = np.asarray(boxes, dtype=np.float64).T
+    return np.stack([np.column_stack([x0, x1, x1, x0]), np.column_stack([y0, y0, y1, y1])], axis=-1)
 
 
 def legend_fit(view: tuple[int, int], image: tuple[int, int]) -> tuple[float, float]:
@@ -74,17 +98,24 @@ def legend_fit(view: tuple[int, int], image: tuple[int, int]) -> tuple[float, fl
 
 
 class LegendPart(ScreenQuads):
-    """The legend's quad and its texture, :attr:`image` (H, W, 4), its bottom left at
-    :data:`ANCHOR` of the view: one texel a pixel until :meth:`fit` shrinks it to a small
-    view; :meth:`place` puts it there before each render."""
+    """The legend's texture, :attr:`image` (H, W, 4), and a quad for each of its pieces
+    (:attr:`boxes`, :func:`legend_layout`), the picture's bottom left at :data:`ANCHOR` of
+    the view: one texel a pixel until :meth:`fit` shrinks it to a small view; :meth:`place`
+    puts it there before each render."""
 
     def __init__(self, top: float, units: str, colours: Callable[[np.ndarray], np.ndarray]) -> None:
-        super().__init__(1)
         self.top = float(top)
-        self.image = legend_image(top, units, colours)
-        self.set_texture(self.image, np.array([[(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]]))
+        self.image, pieces = legend_layout(top, units, colours)
+        height, width = self.image.shape[:2]
+        #: (K, 4) the quads' texels (x0, y0, x1, y1): each piece and one texel around it, so
+        #: that a shrunk (interpolated) legend keeps the soft edge it has in one quad
+        self.boxes = np.clip(pieces + np.array([-PAD, -PAD, PAD, PAD]), 0, (width, height, width, height))
+        super().__init__(len(self.boxes))
+        self.set_texture(self.image, box_corners(self.boxes) / (width, height))
         self.actor.GetTexture().InterpolateOff()  # one texel a pixel until fitted
-        self.fitted = (0.0, 1.0)  # (shift, scale) of the quad now
+        self.fitted = (0.0, 1.0)  # (shift, scale) of the picture now
+        #: (left, bottom, right, top) display pixels of the whole picture at the last placement
+        self.outline = np.zeros(4)
 
     def fit(self, view: tuple[int, int]) -> None:
         """Shrink and move the quad for a view of (width, height) pixels
@@ -95,13 +126,15 @@ class LegendPart(ScreenQuads):
             self.actor.GetTexture().SetInterpolate(fitted[1] < 1.0)
 
     def place(self, view: tuple[int, int], onto: Unprojection) -> None:
-        """Fit the legend to a view of (width, height) display pixels and put it there, its
-        bottom left at :data:`ANCHOR` of the view moved left by the fit's shift."""
+        """Fit the legend to a view of (width, height) display pixels and put it there, the
+        picture's bottom left at :data:`ANCHOR` of the view moved left by the fit's shift,
+        each piece's quad on its texels."""
         self.fit(view)
         shift, scale = self.fitted
         left, bottom = ANCHOR[0] * view[0] - shift, ANCHOR[1] * view[1]
-        right, top = left + scale * self.image.shape[1], bottom + scale * self.image.shape[0]
-        self.place_corners(np.array([[(left, bottom), (right, bottom), (right, top), (left, top)]]), onto)
+        height, width = self.image.shape[:2]
+        self.outline = np.array([left, bottom, left + scale * width, bottom + scale * height])
+        self.place_corners((left, bottom) + scale * box_corners(self.boxes), onto)
 
 
 def legend_part(top: float, units: str, colours: Callable[[np.ndarray], np.ndarray]) -> LegendPart:
