@@ -89,7 +89,7 @@ def test_error_view_inspector_and_plot(studio, qtbot):
     np.testing.assert_allclose(c.position_error[c.row_of_frame(frame)], errors, atol=1e-9)
     ghosts = studio.ghosts
     assert ghosts.top == pytest.approx(c.position.max)
-    shown = np.asarray(ghosts.error_joints.mesh.point_data["colors"])
+    shown = np.asarray(studio.view.scene.figure.parts["joints"].mesh.point_data["colors"])[ghosts.error_joints]
     np.testing.assert_array_equal(shown, rgb_bytes(error_colours(errors, c.position.max)))
     # the worst joint of the frame is red, the legs (agreeing to 1e-4) green
     worst = int(np.argmax(errors))

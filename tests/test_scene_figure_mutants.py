@@ -108,6 +108,50 @@ def test_a_frame_is_written_into_the_same_arrays():
         assert {name: part.mesh.GetPoints().__this__ for name, part in figure.parts.items()} == arrays
 
 
+def test_a_tint_draws_some_joints_in_other_colours_and_sizes_until_cleared():
+    snapshot = snapshot_of(figure_motion())
+    r, big = 0.016 * FIGURE_SIZE, 0.021 * FIGURE_SIZE
+    own = rgb_bytes(PALETTE[TREES])
+    with scene_of(snapshot) as scene:
+        figure = scene.figure
+        joints = figure.parts["joints"]
+        assert figure.tint is None
+        rgb = np.array([[10, 20, 30], [40, 50, 60]], np.uint8)
+        figure.tint_joints(np.array([1, 5]), rgb, big)
+        colours = np.asarray(joints.mesh.point_data["colors"])
+        np.testing.assert_array_equal(colours[[1, 5]], rgb)
+        np.testing.assert_array_equal(colours[[0, 2, 3, 4]], own[[0, 2, 3, 4]])
+        np.testing.assert_allclose(joints.mesh.point_data["radius"], [r, big, r, r, r, big], rtol=1e-6)
+        scene.show_frame(2)  # a frame keeps the sizes (and the colours: not written by a frame)
+        np.testing.assert_allclose(joints.mesh.point_data["radius"], [r, big, r, r, r, big], rtol=1e-6)
+        np.testing.assert_array_equal(np.asarray(joints.mesh.point_data["colors"])[[1, 5]], rgb)
+        figure.tint_joints(np.array([1, 5]), rgb[::-1], big)  # new colours, written in place
+        np.testing.assert_array_equal(np.asarray(joints.mesh.point_data["colors"])[[1, 5]], rgb[::-1])
+        figure.tint_joints(np.array([3]), rgb[:1], big)  # other joints: the earlier ones back
+        np.testing.assert_array_equal(joints.mesh.point_data["colors"], np.vstack([own[:3], rgb[:1], own[4:]]))
+        np.testing.assert_allclose(joints.mesh.point_data["radius"], [r, r, r, big, r, r], rtol=1e-6)
+        scene.redraw(figure)  # rebuilt, the same joints: tinted as before
+        joints = figure.parts["joints"]
+        np.testing.assert_array_equal(np.asarray(joints.mesh.point_data["colors"])[3], rgb[0])
+        np.testing.assert_allclose(joints.mesh.point_data["radius"], [r, r, r, big, r, r], rtol=1e-6)
+        figure.clear_tint()
+        assert figure.tint is None
+        np.testing.assert_array_equal(joints.mesh.point_data["colors"], own)
+        np.testing.assert_allclose(joints.mesh.point_data["radius"], r, rtol=1e-6)
+        figure.clear_tint()  # nothing tinted: nothing to do
+        np.testing.assert_array_equal(joints.mesh.point_data["colors"], own)
+    with scene_of(snapshot_of(figure_motion())) as scene:  # a smaller figure: a tint beyond its joints dropped
+        figure = scene.figure
+        figure.tint_joints(np.array([5]), rgb[:1], big)
+        two_joints = np.array([[[0.0, 0.0, 0.0], [0.0, 1.0, 0.0]]] * 2)  # (frames, joints, 3)
+        scene.set_snapshot(snapshot_of(posed_motion(["a", "b"], [-1, 0], two_joints)), reset_camera=False)
+        assert figure.tint is None and figure.parts["joints"].n_points == 2
+        figure.tint_joints(np.array([], np.int64), np.zeros((0, 3), np.uint8), big)  # no joint: nothing drawn otherwise
+        assert figure.tint is not None
+        scene.redraw(figure)
+        assert figure.parts["joints"].sizes.tolist() == pytest.approx([0.016 * scene.snapshot.motion.size] * 2)
+
+
 def test_the_ring_shows_with_a_selection_only():
     with scene_of(snapshot_of(figure_motion())) as scene:
         figure = scene.figure

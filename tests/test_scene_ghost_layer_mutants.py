@@ -160,9 +160,10 @@ def test_the_error_view_colours_the_matched_joints_and_links_them_to_their_match
     with compared(qtbot) as (scene, state, layers, ghosts):
         comparison = layers[0].comparison
         assert ghosts.top == pytest.approx(HAND_ERROR)
-        spheres, lines = ghosts.error_joints, ghosts.error_lines
-        assert spheres is ghosts.parts["error_joints"] and lines is ghosts.parts["error_lines"]
-        assert spheres.n_points == 6 and spheres.radius == pytest.approx(0.021 * FIGURE_SIZE)
+        joints, lines = scene.figure.parts["joints"], ghosts.error_lines
+        own = rgb_bytes(scene.tree_colors.colors(state.motion))  # the joints' own colours
+        assert lines is ghosts.parts["error_lines"] and "error_joints" not in ghosts.parts
+        np.testing.assert_array_equal(ghosts.error_joints, np.arange(6))  # the document's matched joints
         assert lines.n_points == 12
         cells = lines.mesh.lines.reshape(-1, 3)
         np.testing.assert_array_equal(cells, np.column_stack([np.full(6, 2), np.arange(6), 6 + np.arange(6)]))
@@ -172,18 +173,34 @@ def test_the_error_view_colours_the_matched_joints_and_links_them_to_their_match
         np.testing.assert_array_equal(ghosts.error_rgb[:4], np.broadcast_to(expected, (4, 6, 3)))
         assert (expected[:5] != expected[5]).any()  # the Hand's colour is another
         scene.show_frame(2)
-        np.testing.assert_array_equal(spheres.mesh.point_data["colors"], expected)
-        np.testing.assert_allclose(spheres.mesh.points, comparison.positions_a[2])
+        # the figure's own spheres in the error's colours, a little larger, at the document's joints
+        np.testing.assert_array_equal(joints.mesh.point_data["colors"], expected)
+        np.testing.assert_allclose(joints.mesh.point_data["radius"], 0.021 * FIGURE_SIZE, rtol=1e-6)
+        np.testing.assert_allclose(joints.mesh.points, comparison.positions_a[2])
         np.testing.assert_allclose(lines.mesh.points, np.concatenate([comparison.positions_a[2], layers[0].ghost[2]]))
         scene.show_frame(4)  # B has no sample: grey, the lines of no length
-        np.testing.assert_array_equal(spheres.mesh.point_data["colors"], np.full((6, 3), 128))
+        np.testing.assert_array_equal(joints.mesh.point_data["colors"], np.full((6, 3), 128))
         a = state.snapshot.positions[4]
         np.testing.assert_allclose(lines.mesh.points, np.concatenate([a, a]))
-        ghosts.set_show_errors(False)
+        ghosts.set_show_errors(False)  # the joints in their own colours and size again
         assert ghosts.show_errors is False and ghosts.error_joints is None and ghosts.error_lines is None
-        assert not {"error_joints", "error_lines", "error_legend"} & set(ghosts.parts)
+        assert not {"error_lines", "error_legend"} & set(ghosts.parts)
+        np.testing.assert_array_equal(joints.mesh.point_data["colors"], own)
+        np.testing.assert_allclose(joints.mesh.point_data["radius"], 0.016 * FIGURE_SIZE, rtol=1e-6)
+        assert scene.figure.tint is None
         ghosts.set_show_errors(True)
         assert ghosts.error_joints is not None and ghosts.parts["error_legend"] is ghosts.legend
+        np.testing.assert_array_equal(joints.mesh.point_data["colors"], np.full((6, 3), 128))  # at once
+        ghosts.set_visible(False)  # the layers hidden: the figure's own colours
+        np.testing.assert_array_equal(joints.mesh.point_data["colors"], own)
+        ghosts.set_visible(True)
+        np.testing.assert_array_equal(joints.mesh.point_data["colors"], np.full((6, 3), 128))
+        scene.redraw(scene.figure)  # the figure rebuilt alone (new parts): tinted as it was
+        joints = scene.figure.parts["joints"]
+        np.testing.assert_array_equal(joints.mesh.point_data["colors"], np.full((6, 3), 128))
+        np.testing.assert_allclose(joints.mesh.point_data["radius"], 0.021 * FIGURE_SIZE, rtol=1e-6)
+        scene.remove_drawable(ghosts)  # no layers drawn: no tint left behind
+        np.testing.assert_array_equal(scene.figure.parts["joints"].mesh.point_data["colors"], own)
 
 
 def test_a_frame_not_compared_shows_the_documents_joints_in_grey(qtbot):
@@ -203,12 +220,16 @@ def test_a_frame_not_compared_shows_the_documents_joints_in_grey(qtbot):
         layers.layers.append(layer)
         layers.changed.emit()
         assert layer.comparison.index_a.tolist() == [1, 2, 3, 4, 5] and layer.comparison.row_of_frame(3) is None
+        joints = scene.figure.parts["joints"]
+        own = np.array(joints.colors[0])
         scene.show_frame(1)
-        np.testing.assert_allclose(ghosts.error_joints.mesh.points, layer.comparison.positions_a[1])
+        np.testing.assert_array_equal(joints.mesh.point_data["colors"][1:], ghosts.error_rgb[1])
+        np.testing.assert_array_equal(joints.mesh.point_data["colors"][0], own)  # the Root, not matched: its own
+        radii = np.asarray(joints.mesh.point_data["radius"])
+        np.testing.assert_allclose(radii, [0.016 * FIGURE_SIZE] + [0.021 * FIGURE_SIZE] * 5, rtol=1e-6)
         scene.show_frame(3)
-        np.testing.assert_array_equal(ghosts.error_joints.mesh.point_data["colors"], np.full((5, 3), 128))
+        np.testing.assert_array_equal(joints.mesh.point_data["colors"][1:], np.full((5, 3), 128))
         points = state.snapshot.positions[3, 1:]
-        np.testing.assert_allclose(ghosts.error_joints.mesh.points, points)
         np.testing.assert_allclose(ghosts.error_lines.mesh.points, np.concatenate([points, points]))
 
 
@@ -417,7 +438,7 @@ def test_the_layers_box_is_their_ghosts_markers_and_the_compared_joints_grown_by
         assert ghosts.extent() is box  # measured once
         for frame in range(6):
             scene.show_frame(frame)
-            for part in (*ghosts.ghosts[0], ghosts.error_joints, ghosts.error_lines):
+            for part in (*ghosts.ghosts[0], ghosts.error_lines):
                 points = part.mesh.points
                 assert (points >= box[0]).all() and (points <= box[1]).all(), frame
         ghosts.set_show_errors(False)  # no error lines: the ghost alone

@@ -116,6 +116,26 @@ def test_spheres_are_vertex_cells_with_float32_radii_and_nan_rows_get_radius_zer
     assert part.drawn.tolist() == [False, True, False, True]
 
 
+def test_sizes_change_the_radius_of_some_points_drawn_now_and_later_not_of_missing_ones():
+    part = parts.sphere_part(4, 0.25)
+    assert part.sizes.dtype == np.float32 and part.sizes.tolist() == [0.25] * 4
+    part.set_points(np.array([[0.0, 0, 0], [np.nan, 0, 0], [1, 1, 1], [2, 2, 2]]))
+    radius = part.mesh.GetPointData().GetArray("radius")
+    stamp = radius.GetMTime()
+    part.set_sizes(np.array([1, 2]), 0.5)  # the missing point 1 stays undrawn, point 2 grows at once
+    assert radius.GetMTime() > stamp  # VTK told
+    np.testing.assert_array_equal(part.mesh.point_data["radius"], [0.25, 0.0, 0.5, 0.25])
+    np.testing.assert_array_equal(part.sizes, [0.25, 0.5, 0.5, 0.25])
+    assert part.radius == 0.25  # the part's own radius kept
+    part.set_points(np.arange(12.0).reshape(4, 3))  # every point drawn, each at its size
+    np.testing.assert_array_equal(part.mesh.point_data["radius"], [0.25, 0.5, 0.5, 0.25])
+    part.set_sizes(np.array([2]), part.radius)
+    np.testing.assert_array_equal(part.mesh.point_data["radius"], [0.25, 0.5, 0.25, 0.25])
+    empty = parts.sphere_part(0, 0.1)
+    empty.set_sizes(np.zeros(0, np.int64), 0.2)  # nothing to size
+    assert empty.sizes.shape == (0,)
+
+
 def test_an_empty_sphere_part_draws_nothing():
     part = parts.sphere_part(0, 0.1, colors=np.zeros((0, 3)))
     part.set_points(np.zeros((0, 3)))

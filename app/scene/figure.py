@@ -53,7 +53,19 @@ def dash_points(a: np.ndarray, b: np.ndarray, dashes: int = DASHES) -> np.ndarra
 
 
 class SkeletonFigure(Drawing):
-    """Joints, roots, bones in the trees' colours, and the selected joint's ring."""
+    """Joints, roots, bones in the trees' colours, and the selected joint's ring.
+
+    Another drawable may draw some joints in its own colours (:meth:`tint_joints`: the
+    error view colours the compared joints by their error) rather than drawing spheres
+    over them: each joint's sphere is then shaded once. The tint outlives a rebuild of the
+    figure that keeps its joints, until :meth:`clear_tint`.
+    """
+
+    def __init__(self) -> None:
+        super().__init__()
+        #: the tinted joints (K,), their colours (K, 3) uint8 and radius, or None
+        self.tint: tuple[np.ndarray, np.ndarray, float] | None = None
+        self._tree_rgb = np.zeros((0, 3), np.uint8)  # (J, 3): the joints' own colours
 
     def build(self, scene) -> None:
         super().build(scene)
@@ -65,6 +77,11 @@ class SkeletonFigure(Drawing):
         colors = scene.tree_colors.colors(motion)
         r = JOINT_RADIUS * size
         self.add("joints", parts.sphere_part(motion.n_joints, r, colors))
+        self._tree_rgb = np.array(self.parts["joints"].colors)
+        if self.tint is not None and (not len(self.tint[0]) or self.tint[0].max() < motion.n_joints):
+            self.tint_joints(*self.tint)
+        else:
+            self.tint = None
         cube = pv.Cube(x_length=3.0 * r, y_length=3.0 * r, z_length=3.0 * r)
         self.roots = motion.roots
         self.add("roots", parts.glyph_part(len(self.roots), cube, colors[self.roots]))
@@ -75,6 +92,29 @@ class SkeletonFigure(Drawing):
 
     def part_wanted(self, part: parts.Part) -> bool:
         return part is not self.parts.get("selection") or (self.scene is not None and self.scene.selected is not None)
+
+    def tint_joints(self, joints: np.ndarray, rgb: np.ndarray, radius: float) -> None:
+        """Draw joints ``joints`` (K,) in the colours ``rgb`` (K, 3) uint8 as spheres of
+        ``radius`` (the scene's units), the other joints as built; written in place."""
+        joints = np.asarray(joints, dtype=np.int64)
+        if self.tint is not None and not np.array_equal(self.tint[0], joints):
+            self.clear_tint()
+        self.tint = (joints, np.array(rgb, dtype=np.uint8), float(radius))
+        part = self.parts.get("joints")
+        if part is None:
+            return
+        if part.sizes[joints].tolist() != [np.float32(radius)] * len(joints):
+            part.set_sizes(joints, radius)
+        part.colors[joints] = rgb  # the VTK array marked modified
+
+    def clear_tint(self) -> None:
+        """Every joint in its own colour and size again."""
+        tint, self.tint = self.tint, None
+        part = self.parts.get("joints")
+        if tint is None or part is None:
+            return
+        part.set_sizes(tint[0], part.radius)
+        part.colors[tint[0]] = self._tree_rgb[tint[0]]
 
     def extent(self) -> np.ndarray:
         """Every joint at every frame, grown by the selection's ring and a root's cube."""

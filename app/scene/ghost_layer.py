@@ -10,7 +10,10 @@ when the layers change (the scene rebuilds it after an edit too):
 - the error view of the active layer: the document's matched joints coloured by their
   position error at the current frame (:func:`error_colours`, a green-yellow-red map from 0
   to the comparison's largest error, with a legend in the view titled in the document's
-  units), and a thin line from each matched joint to its match.
+  units), and a thin line from each matched joint to its match. The figure draws those
+  joints itself, in the error's colours and a little larger
+  (:meth:`app.scene.figure.SkeletonFigure.tint_joints`): spheres of their own over the
+  joints cost a sixth of a layer's frame in software OpenGL, each of them shaded twice.
 
 Everything is built once per change of the layers (added, removed, recomputed, restyled); a
 frame change only writes points and colours into the existing poly data (the colours of
@@ -67,7 +70,9 @@ class GhostLayers(Drawing):
         self.show_errors = True
         # per layer: (bones, joints) of a motion, (spheres,) of a marker set
         self.ghosts: list[tuple[parts.Part, ...]] = []
-        self.error_joints: parts.SpherePart | None = None
+        #: (P,) the document's joints the error view colours (the active comparison's
+        #: ``index_a``), None without an error view
+        self.error_joints: np.ndarray | None = None
         self.error_lines: parts.Part | None = None
         self.legend: LegendPart | None = None
         self.top = 1.0
@@ -76,6 +81,7 @@ class GhostLayers(Drawing):
         self.error_rgb = np.zeros((0, 0, 3), np.uint8)
         self._no_error_rgb = np.zeros((0, 3), np.uint8)  # (P, 3): a frame not compared
         self._oit: bool | None = None  # the renderer's own setting, restored
+        self._error_radius = 0.0  # the matched joints' spheres, the scene's units
         layers.changed.connect(self._on_layers_changed)
         layers.appearance_changed.connect(lambda _index: self._on_layers_changed())
 
@@ -90,6 +96,7 @@ class GhostLayers(Drawing):
         if self._oit is None:
             self._oit = bool(renderer.GetUseOIT())
         self.ghosts = []
+        self._untint()
         self.error_joints = self.error_lines = self.legend = None
         self._box = None  # measured when first asked
         document = scene.snapshot
@@ -118,9 +125,8 @@ class GhostLayers(Drawing):
 
     def _build_error_view(self, layer: ComparisonLayer, size: float) -> None:
         n = layer.comparison.n_pairs
-        self.error_joints = self.add(
-            "error_joints", parts.sphere_part(n, ERROR_JOINT_RADIUS * size, colors=np.zeros((n, 3)))
-        )
+        self.error_joints = np.asarray(layer.comparison.index_a, dtype=np.int64)
+        self._error_radius = ERROR_JOINT_RADIUS * size
         pairs = np.column_stack([np.arange(n), n + np.arange(n)])
         self.error_lines = self.add("error_lines", parts.segments_part(2 * n, pairs, color=LINE_COLOUR, width=1.5))
         self.top = error_scale_top(layer, size)
@@ -149,7 +155,13 @@ class GhostLayers(Drawing):
     def remove(self) -> None:
         if self.scene is not None and self._oit is not None:
             self.scene.plotter.renderer.SetUseOIT(self._oit)
+        self._untint()
         super().remove()
+
+    def _untint(self) -> None:
+        """The figure's joints in their own colours again (no error view drawn)."""
+        if self.scene is not None:
+            self.scene.figure.clear_tint()
 
     def set_show_errors(self, shown: bool) -> None:
         self.show_errors = bool(shown)
@@ -157,7 +169,9 @@ class GhostLayers(Drawing):
 
     def set_visible(self, shown: bool) -> None:
         super().set_visible(shown)
-        if shown and self.scene is not None and self.scene.snapshot is not None:
+        if not shown:
+            self._untint()
+        elif self.scene is not None and self.scene.snapshot is not None:
             self.show_frame(self.scene.frame)
 
     def before_render(self) -> None:
@@ -195,6 +209,5 @@ class GhostLayers(Drawing):
             else:
                 rgb = self.error_rgb[row]
                 a, b = comparison.positions_a[row], comparison.positions_b[row]
-            self.error_joints.set_points(a)
-            self.error_joints.colors[:] = rgb  # written in place, the VTK array marked modified
+            self.scene.figure.tint_joints(self.error_joints, rgb, self._error_radius)
             self.error_lines.set_points(np.concatenate([a, np.where(np.isfinite(b), b, a)]))

@@ -125,6 +125,9 @@ class SpherePart(Part):
         # the mapper reads the radii as 32-bit floats (a 64-bit array crashes its shader setup)
         self.mesh.point_data["radius"] = np.full(n_points, self.radius, dtype=np.float32)
         self._radii = self.mesh.point_data["radius"] if n_points else np.zeros(0, np.float32)
+        #: (n,) float32: each point's sphere radius when drawn (:attr:`radius` unless
+        #: :meth:`set_sizes` changed it)
+        self.sizes = np.full(n_points, self.radius, dtype=np.float32)
         #: (n, 3) uint8: the per-point colours VTK draws, written in place (None: one colour)
         self.colors: np.ndarray | None = None
 
@@ -135,8 +138,16 @@ class SpherePart(Part):
         points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
         present = np.isfinite(points).all(axis=1)
         self._view[:] = np.where(present[:, None], points, 0.0)
-        self._radii[:] = np.where(present, self.radius, 0.0)
+        self._radii[:] = np.where(present, self.sizes, 0.0)
         self.mesh.GetPoints().Modified()
+
+    def set_sizes(self, indices: np.ndarray, radius: float) -> None:
+        """Draw the spheres of points ``indices`` (K,) with ``radius`` from now on (those
+        drawn now at once, those not drawn, a NaN's, left undrawn)."""
+        if not self.n_points:
+            return
+        self.sizes[indices] = radius
+        self._radii[indices] = np.where(self._radii[indices] > 0, np.float32(radius), np.float32(0.0))
 
     @property
     def drawn(self) -> np.ndarray:
