@@ -33,6 +33,26 @@ def _changed_pixels(before: np.ndarray, after: np.ndarray) -> int:
     return int((np.abs(before.astype(int) - after.astype(int)).max(axis=-1) > 20).sum())
 
 
+def test_a_first_layer_shares_the_right_column_with_the_inspector(studio, qtbot):
+    open_file(studio, shared_path(BVH))
+    studio.state.select(studio.state.motion.joint_index("LeftHand"))
+    inspector = studio.inspector_dock
+    _compare(studio, shared_path(AMC), "cmu")
+    layers_dock = studio.layers_panel.parentWidget()
+    while not hasattr(layers_dock, "setFloating"):  # the panel sits in a scroll area in its dock
+        layers_dock = layers_dock.parentWidget()
+    # even, the tab bar under the Layers tab counted with it (about 25 pixels)
+    qtbot.waitUntil(lambda: abs(layers_dock.height() - inspector.height()) <= 40, timeout=3000)
+    column = layers_dock.height() + inspector.height()
+    assert inspector.height() >= 0.45 * column and layers_dock.isVisible()
+    table = studio.layers_panel.table  # the layer's row in sight, under the document's
+    assert table.rowCount() == 2 and table.visualRect(table.model().index(1, 2)).bottom() <= table.viewport().height()
+    assert studio.layers_panel.minimumSizeHint().height() > layers_dock.height() - 40  # the rest scrolls
+    _compare(studio, shared_path(AMC), "cmu")  # a second layer: the column as the user left it
+    QApplication.processEvents()
+    assert abs(layers_dock.height() - inspector.height()) <= 40
+
+
 def test_bvh_against_its_amc_as_a_ghost(studio):
     open_file(studio, shared_path(BVH))
     document = studio.state.snapshot

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import functools
 
-from PyQt6.QtCore import Qt
+from PyQt6.QtCore import Qt, QTimer
 from PyQt6.QtWidgets import QDockWidget, QWidget
 
 from gmr_studio.app.docks.error_dock import ErrorDock, inspector_section
@@ -38,7 +38,9 @@ def install_comparison(window, state, scene, files, beside) -> tuple[Layers, Gho
     panel.errors_toggled.connect(ghosts.set_show_errors)
     errors = ErrorDock(layers)
     window.error_plot = errors
-    docks = [_hidden_dock(window, "Layers", panel, Qt.DockWidgetArea.RightDockWidgetArea)]
+    # the Layers tab scrolls rather than asking for its full height (about 300 pixels), so
+    # that the Inspector below it keeps its room
+    docks = [_hidden_dock(window, "Layers", _scrolled(panel), Qt.DockWidgetArea.RightDockWidgetArea)]
     docks.append(_hidden_dock(window, "Error", errors, Qt.DockWidgetArea.BottomDockWidgetArea))
     # tabbed only when first shown: tabbing hidden docks before the window is shown leaves
     # stray tab bars behind in Qt's layout (the Error dock joins the analysis tabs by
@@ -47,11 +49,19 @@ def install_comparison(window, state, scene, files, beside) -> tuple[Layers, Gho
     layout.tab_when_shown(window, [beside, docks[0]])  # Layers: a tab of the Forest
     count = [0]
 
+    def share_column() -> None:
+        column = [docks[0], window.inspector_dock]
+        half = sum(dock.height() for dock in column) // 2
+        window.resizeDocks(column, [half, half], Qt.Orientation.Vertical)
+
     def on_layers_changed() -> None:  # a layer added: show the docks, the plot in front
         if len(layers) > count[0]:  # a marker-set layer has no error to plot: Layers only
+            first = not docks[0].isVisible()
             for dock in docks if layers[len(layers) - 1].comparison is not None else docks[:1]:
                 dock.show()
                 dock.raise_()
+            if first:  # the Layers tab and the Inspector share the column evenly, once laid out
+                QTimer.singleShot(0, share_column)
         count[0] = len(layers)
 
     layers.changed.connect(on_layers_changed)
@@ -65,6 +75,17 @@ def install_comparison(window, state, scene, files, beside) -> tuple[Layers, Gho
     window.inspector.sections.append(functools.partial(inspector_section, layers))
     layers.changed.connect(window.inspector._on_changed)
     return layers, ghosts, panel, docks[1]
+
+
+def _scrolled(widget: QWidget) -> QWidget:
+    """``widget`` in a frameless scroll area that lets it grow to the area's size."""
+    from PyQt6.QtWidgets import QFrame, QScrollArea
+
+    area = QScrollArea()
+    area.setWidget(widget)
+    area.setWidgetResizable(True)
+    area.setFrameShape(QFrame.Shape.NoFrame)
+    return area
 
 
 def _hidden_dock(window, title: str, widget: QWidget, area: Qt.DockWidgetArea):
