@@ -118,6 +118,7 @@ def test_the_quads_show_the_pieces_and_a_texel_around_them_one_texel_a_pixel_at_
     np.testing.assert_array_equal(vtk_to_numpy(texels.GetPointData().GetScalars()), part.image.reshape(-1, 4))
     assert not part.actor.GetTexture().GetInterpolate() and not part.actor.GetMapper().GetScalarVisibility()
     assert part.draw_last and not part.actor.GetUseBounds()
+    assert part.outline.shape == (4,) and not part.outline.any()  # not placed yet
     part.place((2000, 1000), _lifted)  # room enough: at (0.86, 0.08) of the view, one texel a pixel
     x, y = 0.86 * 2000, 0.08 * 1000
     np.testing.assert_allclose(part.outline, [x, y, x + width, y + height])
