@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import pytest
 from PyQt6.QtCore import Qt
-from PyQt6.QtWidgets import QApplication, QDockWidget, QMainWindow
+from PyQt6.QtWidgets import QApplication, QDockWidget, QFrame, QMainWindow, QScrollArea
 
 from gmr_studio.app.model.state import Snapshot
 from gmr_studio.app.window import layout
@@ -31,7 +31,10 @@ def docks(window) -> tuple[QDockWidget, QDockWidget]:
 
 def test_the_docks_made_hidden_and_where_they_go(studio):
     layers_dock, error_dock = docks(studio)
-    assert layers_dock.widget() is studio.layers_panel and error_dock.widget() is studio.error_plot
+    scroll = layers_dock.widget()  # the Layers panel scrolls, grown to its dock's size
+    assert isinstance(scroll, QScrollArea) and scroll.widget() is studio.layers_panel
+    assert scroll.widgetResizable() and scroll.frameShape() == QFrame.Shape.NoFrame
+    assert error_dock.widget() is studio.error_plot
     assert studio.error_dock is error_dock and studio.layers_panel.layers is studio.layers
     assert layers_dock.isHidden() and error_dock.isHidden()
     assert studio.dockWidgetArea(layers_dock) == Qt.DockWidgetArea.RightDockWidgetArea
@@ -63,6 +66,26 @@ def test_a_layer_shows_the_docks_once(studio, walk):
     assert layers_dock.isHidden()
     layers.add(Snapshot.of(walk), "again.gmr")  # after removals: a new layer again
     assert layers_dock.isVisible() and error_dock.isVisible()
+
+
+def test_the_first_layer_shares_the_column_with_the_inspector_evenly(studio, walk, qtbot):
+    layers_dock, _ = docks(studio)
+    inspector = studio.inspector_dock
+    studio.state.open_document(Snapshot.of(walk), None)
+    QApplication.processEvents()
+    studio.layers.add(Snapshot.of(walk), "twin.gmr")
+    # once laid out: even (the Layers tab's bar, about 25 pixels, above its dock)
+    qtbot.waitUntil(lambda: 0 <= inspector.height() - layers_dock.height() <= 40, timeout=3000)
+    assert layers_dock.height() > 100
+    studio.resizeDocks([layers_dock, inspector], [120, 400], Qt.Orientation.Vertical)  # the user's split
+    qtbot.waitUntil(lambda: inspector.height() - layers_dock.height() > 150, timeout=3000)
+    before = inspector.height()
+    studio.layers.add(Snapshot.of(walk), "third.gmr")  # the Layers tab in sight already: left as it is
+    qtbot.wait(50)
+    assert inspector.height() == before
+    layers_dock.hide()  # closed, then brought back by a new layer: shared evenly again
+    studio.layers.add(Snapshot.of(walk), "fourth.gmr")
+    qtbot.waitUntil(lambda: 0 <= inspector.height() - layers_dock.height() <= 40, timeout=3000)
 
 
 def test_file_compare_with(studio):
