@@ -140,10 +140,23 @@ def test_a_tint_draws_some_joints_in_other_colours_and_sizes_until_cleared():
         np.testing.assert_allclose(joints.mesh.point_data["radius"], r, rtol=1e-6)
         figure.clear_tint()  # nothing tinted: nothing to do
         np.testing.assert_array_equal(joints.mesh.point_data["colors"], own)
+    with scene_of(snapshot_of(figure_motion())) as scene:  # re-tinting the same joints: no new radii
+        joints = scene.figure.parts["joints"]
+        scene.figure.tint_joints(np.array([1, 5]), rgb, big)
+        radius = joints.mesh.GetPointData().GetArray("radius")
+        stamp = radius.GetMTime()
+        scene.figure.tint_joints(np.array([1, 5]), rgb[::-1], big)  # a frame's new colours
+        assert radius.GetMTime() == stamp
+        np.testing.assert_array_equal(np.asarray(joints.mesh.point_data["colors"])[[1, 5]], rgb[::-1])
+    two_joints = np.array([[[0.0, 0.0, 0.0], [0.0, 1.0, 0.0]]] * 2)  # (frames, joints, 3)
+    with scene_of(snapshot_of(figure_motion())) as scene:  # a tint one past the new figure's joints dropped
+        scene.figure.tint_joints(np.array([0, 2]), rgb, big)
+        scene.set_snapshot(snapshot_of(posed_motion(["a", "b"], [-1, 0], two_joints)), reset_camera=False)
+        assert scene.figure.tint is None
+        np.testing.assert_allclose(scene.figure.parts["joints"].sizes, 0.016 * scene.snapshot.motion.size, rtol=1e-6)
     with scene_of(snapshot_of(figure_motion())) as scene:  # a smaller figure: a tint beyond its joints dropped
         figure = scene.figure
         figure.tint_joints(np.array([5]), rgb[:1], big)
-        two_joints = np.array([[[0.0, 0.0, 0.0], [0.0, 1.0, 0.0]]] * 2)  # (frames, joints, 3)
         scene.set_snapshot(snapshot_of(posed_motion(["a", "b"], [-1, 0], two_joints)), reset_camera=False)
         assert figure.tint is None and figure.parts["joints"].n_points == 2
         figure.tint_joints(np.array([], np.int64), np.zeros((0, 3), np.uint8), big)  # no joint: nothing drawn otherwise
