@@ -364,7 +364,16 @@ class StudioModel(RuleBasedStateMachine):
         joints = scene.parts["joints"]
         np.testing.assert_array_equal(joints.mesh.points, snapshot.positions[state.frame])
         drawn_colors = np.asarray(joints.mesh.point_data["colors"])
-        np.testing.assert_array_equal(drawn_colors[:, :3], np.round(colors * 255))
+        expected = np.round(colors * 255)
+        ghosts = self.window.ghosts  # the error view draws the compared joints in its colours
+        if ghosts.visible and ghosts.error_joints is not None:
+            comparison = self.window.layers.active.comparison
+            row = comparison.row_of_frame(state.frame)
+            grey = np.full((len(ghosts.error_joints), 3), 128)
+            expected[ghosts.error_joints] = grey if row is None else ghosts.error_rgb[row]
+        else:
+            assert scene.figure.tint is None
+        np.testing.assert_array_equal(drawn_colors[:, :3], expected)
         assert scene.parts["roots"].n_points == len(motion.roots)
         for name, shown in state.overlays.items():
             action = self.window.actions[f"overlay_{name}"]  # a switch with nothing to show is off
