@@ -15,7 +15,8 @@ from gmr_studio.app.model.layers import ComparisonLayer, Layers
 from gmr_studio.app.model.marker_layers import MarkerLayer
 from gmr_studio.app.model.state import MarkerOverlay, StudioState
 from gmr_studio.app.scene.ghost_layer import GhostLayers, error_colours, error_scale_top
-from gmr_studio.app.scene.legend import BAR_HEIGHT, BAR_WIDTH, EDGE, LABEL_GAP, box_corners, label_texts, legend_fit
+from gmr_studio.app.scene.labels import box_corners
+from gmr_studio.app.scene.legend import BAR_HEIGHT, BAR_WIDTH, EDGE, LABEL_GAP, label_texts, legend_fit
 from gmr_studio.app.scene.vtk_parts import rgb_bytes
 from gmr_studio.core.compare import compare_motions
 from gmr_studio.core.compare.clock import ghost_positions

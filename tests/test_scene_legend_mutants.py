@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
+from gmr_studio.app.scene.labels import box_corners
 from gmr_studio.app.scene.legend import (
     EDGE,
-    box_corners,
     label_texts,
     legend_fit,
     legend_image,

@@ -103,7 +103,7 @@ class SkeletonFigure(Drawing):
         part = self.parts.get("joints")
         if part is None:
             return
-        if part.sizes[joints].tolist() != [np.float32(radius)] * len(joints):
+        if (part.sizes[joints] != np.float32(radius)).any():
             part.set_sizes(joints, radius)
         part.colors[joints] = rgb  # the VTK array marked modified
 

@@ -30,6 +30,13 @@ HIDDEN = -1e4  # display pixels left of and below any view: where a hidden label
 _DISCARD_EMPTY = "//VTK::TCoord::Impl\n  if (gl_FragData[0].a <= 0.0) { discard; }\n"
 
 
+def box_corners(boxes: np.ndarray) -> np.ndarray:
+    """(K, 4) boxes (x0, y0, x1, y1) -> (K, 4, 2) their corners in a quad's order: bottom
+    left, bottom right, top right, top left (what :meth:`ScreenQuads.place_corners` takes)."""
+    x0, y0, x1, y1 = np.asarray(boxes, dtype=np.float64).T
+    return np.stack([np.column_stack([x0, x1, x1, x0]), np.column_stack([y0, y0, y1, y1])], axis=-1)
+
+
 class ScreenQuads(Part):
     """``n`` quads of one texture, placed in display pixels with :meth:`place_corners`. A
     scene draws them after its other actors (:attr:`draw_last`), so that their edges blend
@@ -126,10 +133,7 @@ class LabelPart(ScreenQuads):
         x0 = np.where(hidden, HIDDEN, np.round(np.nan_to_num(anchors[:, 0]) + offset[0]))
         y0 = np.where(hidden, HIDDEN, np.round(np.nan_to_num(anchors[:, 1]) + offset[1]))
         w, h = self._boxes[:, 0], self._boxes[:, 1]
-        corners = np.stack(
-            [np.column_stack([x0, x0 + w, x0 + w, x0]), np.column_stack([y0, y0, y0 + h, y0 + h])], axis=-1
-        )
-        self.place_corners(corners, onto)
+        self.place_corners(box_corners(np.column_stack([x0, y0, x0 + w, y0 + h])), onto)
 
 
 def label_part(texts: list[str], color=(1.0, 1.0, 1.0), size: int = 13) -> LabelPart:

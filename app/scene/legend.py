@@ -20,7 +20,7 @@ from collections.abc import Callable
 import numpy as np
 
 from gmr_studio.app.scene import vtk_parts as parts
-from gmr_studio.app.scene.labels import ScreenQuads, Unprojection
+from gmr_studio.app.scene.labels import ScreenQuads, Unprojection, box_corners
 
 BAR_WIDTH, BAR_HEIGHT = 22, 200  # pixels
 N_LABELS = 5  # 0, a quarter of the top, ..., the top
@@ -76,13 +76,6 @@ def legend_image(top: float, units: str, colours: Callable[[np.ndarray], np.ndar
     return legend_layout(top, units, colours)[0]
 
 
-def box_corners(boxes: np.ndarray) -> np.ndarray:
-    """(K, 4) boxes (x0, y0, x1, y1) -> (K, 4, 2) their corners in a quad's order: bottom
-    left, bottom right, top right, top left."""
-    x0, y0, x1, y1 = np.asarray(boxes, dtype=np.float64).T
-    return np.stack([np.column_stack([x0, x1, x1, x0]), np.column_stack([y0, y0, y1, y1])], axis=-1)
-
-
 def legend_fit(view: tuple[int, int], image: tuple[int, int]) -> tuple[float, float]:
     """(shift, scale) of a legend of ``image`` (width, height) pixels in a view of ``view``
     (width, height) pixels: shrunk (never enlarged) to at most :data:`FIT_HEIGHT` of the
@@ -111,7 +104,8 @@ class LegendPart(ScreenQuads):
         #: that a shrunk (interpolated) legend keeps the soft edge it has in one quad
         self.boxes = np.clip(pieces + np.array([-PAD, -PAD, PAD, PAD]), 0, (width, height, width, height))
         super().__init__(len(self.boxes))
-        self.set_texture(self.image, box_corners(self.boxes) / (width, height))
+        self._corners = box_corners(self.boxes)  # (K, 4, 2) texels, placed scaled each render
+        self.set_texture(self.image, self._corners / (width, height))
         self.actor.GetTexture().InterpolateOff()  # one texel a pixel until fitted
         self.fitted = (0.0, 1.0)  # (shift, scale) of the picture now
         #: (left, bottom, right, top) display pixels of the whole picture at the last placement
@@ -134,7 +128,7 @@ class LegendPart(ScreenQuads):
         left, bottom = ANCHOR[0] * view[0] - shift, ANCHOR[1] * view[1]
         height, width = self.image.shape[:2]
         self.outline = np.array([left, bottom, left + scale * width, bottom + scale * height])
-        self.place_corners((left, bottom) + scale * box_corners(self.boxes), onto)
+        self.place_corners((left, bottom) + scale * self._corners, onto)
 
 
 def legend_part(top: float, units: str, colours: Callable[[np.ndarray], np.ndarray]) -> LegendPart:

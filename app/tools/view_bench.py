@@ -171,11 +171,9 @@ def _docks_shown(window) -> list[str]:
     """The titles of the docks on screen (shown and not behind another tab), sorted."""
     from PyQt6.QtWidgets import QDockWidget
 
-    return sorted(
-        dock.windowTitle()
-        for dock in window.findChildren(QDockWidget)
-        if dock.isVisible() and not dock.visibleRegion().isEmpty()
-    )
+    from gmr_studio.app.docks.frame_follow import seen
+
+    return sorted(dock.windowTitle() for dock in window.findChildren(QDockWidget) if seen(dock))
 
 
 def _raise(app, *docks) -> list[str]:
