@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 
 import pytest
+from PyQt6 import sip
 
 from gmr_studio.app.model import commands
 from gmr_studio.app.model.state import Snapshot, StudioState
@@ -180,3 +181,13 @@ def test_a_copy_already_gone_is_removed_quietly(saver):
     saver.discard()
     saver.wait()  # the fixture checks that nothing reached the crash log
     assert saver.current is None
+
+
+def test_an_edit_signal_from_a_stack_being_deleted_is_ignored(saver):
+    # seen in CI under load: a closing window's undo stack moved its index as it was deleted,
+    # and the slot asked the deleted stack whether the document was modified
+    edit(saver.state, 1)
+    sip.delete(saver.state.undo_stack)
+    edits = saver.edits
+    saver._on_edited(0)  # no RuntimeError: nothing counted
+    assert saver.edits == edits

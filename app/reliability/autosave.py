@@ -20,6 +20,7 @@ from __future__ import annotations
 import concurrent.futures
 from pathlib import Path
 
+from PyQt6 import sip
 from PyQt6.QtCore import QObject, QTimer, pyqtSignal
 
 from gmr_studio.app.model.state import StudioState
@@ -71,7 +72,8 @@ class Autosaver(QObject):
 
     # ------------------------------------------------------------------ state signals
     def _on_edited(self, _index: int) -> None:
-        if not self.state.modified:
+        # a window closing deletes its undo stack, which may move its index while it goes
+        if sip.isdeleted(self.state.undo_stack) or not self.state.modified:
             return
         self.edits += 1
         if self.every and self.edits % self.every == 0:
