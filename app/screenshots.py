@@ -197,8 +197,13 @@ def window_screenshot(motion_path: str, markers_path: str | None, args: argparse
         width, height = image.shape[1], image.shape[0]
     else:
         width, height = save_screenshot(window.view.scene, out)
+    frame = window.state.frame
     window.state.undo_stack.setClean()
     window.close()
+    window.deleteLater()
+    from PyQt6.QtCore import QEvent
+
+    app.sendPostedEvents(None, QEvent.Type.DeferredDelete.value)
     scratch.cleanup()
-    print(f"wrote {out} ({width}x{height}, frame {window.state.frame})")
+    print(f"wrote {out} ({width}x{height}, frame {frame})")
     return 0
