@@ -47,9 +47,8 @@ class StandInScene:
     def display_positions(self, points: np.ndarray) -> np.ndarray:
         return 100 * np.asarray(points)[:, :2] + np.array([7.0, 9.0])
 
-    def near_points(self, display: np.ndarray) -> np.ndarray:
-        """Display pixels as the world points (x, y, -1): the label quads' corners as placed."""
-        return np.column_stack([display, np.full(len(display), -1.0)])
+    def display_size(self) -> tuple[int, int]:
+        return (2, 2)  # a display pixel (x, y) is the device point (x - 1, y - 1) the quads hold
 
     def document_box(self, pad: float = 0.0) -> np.ndarray:
         """The box of every joint at every frame, grown by ``pad``."""
@@ -207,11 +206,13 @@ def test_the_trail_is_the_selected_joints_last_second(snapshot):
 
 
 def _corners(part) -> np.ndarray:
-    """(N, 2) each label quad's bottom left corner in display pixels (as put into the mesh
-    by the stand-in's near_points)."""
+    """(N, 2) each label quad's bottom left corner in display pixels, once it is checked
+    that the mesh holds their device points (the stand-in's view: a pixel (x, y) is the
+    device point (x - 1, y - 1)), or nothing at all before any placement."""
     quads = np.asarray(part.mesh.points).reshape(-1, 4, 3)
-    np.testing.assert_array_equal(quads[..., :2], part.corners)
-    return quads[:, 0, :2]
+    placed = part.view != (0, 0)
+    np.testing.assert_array_equal(quads[..., :2], part.corners - 1.0 if placed else 0.0)
+    return part.corners[:, 0].copy()
 
 
 def test_joint_labels_are_placed_beside_the_joints_at_the_frame(snapshot):

@@ -11,7 +11,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from gmr_studio.app.scene.camera import NEAR_DEPTH, SceneCamera, actor_positions
+from gmr_studio.app.scene.camera import SceneCamera, actor_positions
 from gmr_studio.app.scene.figure import JOINT_RADIUS
 from gmr_studio.app.scene.picking import project_points
 from tests.tiny_scene import (
@@ -285,6 +285,7 @@ def test_display_pixels_keep_points_from_the_near_to_the_far_plane_exactly():
     -1 and 1 are the near and far planes, both drawn."""
     window = SimpleNamespace(GetSize=lambda: (100, 50))
     flat = SimpleNamespace(plotter=SimpleNamespace(render_window=window), view_projection=lambda: np.eye(4))
+    flat.display_size = lambda: SceneCamera.display_size(flat)
     points = np.array([[0.0, 0.0, -1.0], [1.0, 1.0, 1.0], [-1.0, -0.5, 0.0], [0.0, 0.0, 1.000001], [0.0, 0.0, -1.01]])
     xy = SceneCamera.display_positions(flat, points)
     # x right from the left edge, y up from the bottom
@@ -427,48 +428,14 @@ def test_a_box_of_exactly_half_the_size_is_not_widened():
         assert reach_of(scene, low, high) == pytest.approx(0.9, abs=0.015)
 
 
-def eye_distances(scene, points) -> np.ndarray:
-    """(N,) how far ``points`` (N, 3) are in front of the camera, along its view direction."""
-    camera = scene.plotter.camera
-    forward = unit(np.asarray(camera.GetFocalPoint()) - np.asarray(camera.GetPosition()))
-    return (np.asarray(points) - np.asarray(camera.GetPosition())) @ forward
-
-
-def test_near_points_are_drawn_at_their_pixels_just_beyond_the_near_plane():
-    """Each display pixel (x right, y up, across a view wider than high) gives a world point
-    that projects back to it, at normalised depth NEAR_DEPTH: just beyond the near plane,
-    in front of the whole figure."""
-    display = np.array([[0.0, 0.0], [WIDTH, HEIGHT], [37.5, 121.25], [150.0, 20.0]])
+def test_display_size_is_the_render_windows_and_display_positions_use_it():
+    """The display pixels' range is the render window's size; a point projected at a view
+    wider than high lands where the camera's matrix puts it."""
     with scene_of(snapshot_of(figure_motion()), size=(WIDTH, HEIGHT)) as scene:
-        world = scene.near_points(display)
-        assert world.shape == (4, 3)
-        np.testing.assert_allclose(scene.display_positions(world), display, atol=1e-6)
-        clip = np.column_stack([world, np.ones(4)]) @ scene.view_projection().T
-        np.testing.assert_allclose(clip[:, 2] / clip[:, 3], NEAR_DEPTH, atol=1e-9)
-        near, far = scene.plotter.camera.GetClippingRange()
-        forward = eye_distances(scene, world)
-        assert np.all(forward > near) and np.all(forward < near + 0.01 * (far - near))
-        assert np.all(forward < eye_distances(scene, scene.snapshot.positions[0]).min())
-        np.testing.assert_allclose(scene.near_points(display[2]), world[2:3], rtol=1e-12)  # one pixel: (1, 3)
-
-
-@pytest.mark.parametrize(
-    ("size", "display"), [((1, HEIGHT), [[0.0, 10.0], [1.0, 80.0]]), ((WIDTH, 1), [[10.0, 0.0], [150.0, 1.0]])]
-)
-def test_near_points_in_a_view_one_pixel_wide_or_high(size, display):
-    """A view collapsed to one pixel's width or height: its one column or row is all of it."""
-    with scene_of(snapshot_of(figure_motion()), size=size) as scene:
-        assert tuple(scene.plotter.render_window.GetSize()) == size
-        display = np.array(display)
-        np.testing.assert_allclose(scene.display_positions(scene.near_points(display)), display, atol=1e-6)
-
-
-@pytest.mark.parametrize(("size", "expected"), [((0, 100), [-1.0, 0.0]), ((100, 0), [0.0, -1.0])])
-def test_near_points_of_a_view_of_no_width_or_height_are_finite(size, expected):
-    """A view not laid out yet (0 pixels wide or high) is taken as one pixel that way: the
-    points stay finite, never a division by zero. With the identity for the camera's
-    matrix the world point is the normalised device point itself."""
-    window = SimpleNamespace(GetSize=lambda: size)
-    camera = SimpleNamespace(plotter=SimpleNamespace(render_window=window), view_projection=lambda: np.eye(4))
-    display = [[0.0, 50.0]] if size[0] == 0 else [[50.0, 0.0]]
-    np.testing.assert_array_equal(SceneCamera.near_points(camera, display), [[*expected, NEAR_DEPTH]])
+        assert scene.display_size() == (WIDTH, HEIGHT)
+        assert all(type(v) is int for v in scene.display_size())
+        point = scene.snapshot.positions[0, :1]
+        clip = np.append(point[0], 1.0) @ scene.view_projection().T
+        ndc = clip[:2] / clip[3]
+        expected = [(ndc[0] + 1) / 2 * WIDTH, (ndc[1] + 1) / 2 * HEIGHT]
+        np.testing.assert_allclose(scene.display_positions(point), [expected], atol=1e-6)

@@ -27,10 +27,10 @@ def test_joint_labels_sit_at_the_joints_display_pixels_drawn_last_in_front_of_th
         anchors = scene.display_positions(scene.snapshot.positions[1])
         np.testing.assert_array_equal(labels.corners[:, 0], np.round(anchors + np.array([6.0, 4.0])))
         assert labels.texts == list(FIGURE_NAMES)
-        # each label's quad, as projected back, covers the pixels its corners say
-        world = labels.mesh.points.reshape(-1, 4, 3)
-        back = scene.display_positions(world.reshape(-1, 3)).reshape(-1, 4, 2)
-        np.testing.assert_allclose(back, labels.corners, atol=1e-3)
+        # each label's quad holds the device points of the pixels its corners say
+        device = labels.mesh.points.reshape(-1, 4, 3)
+        np.testing.assert_allclose((device[..., :2] + 1) / 2 * 300, labels.corners, atol=1e-9)
+        assert labels.view == scene.display_size() == (300, 300)
         # a label's bright letters are on screen where its quad is (y from the top in the image)
         x0, y0 = labels.corners[3, 0].astype(int)  # Head's label
         w, h = int(labels.widths()[3]), int(labels.heights()[3])

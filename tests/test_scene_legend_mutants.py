@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
-from gmr_studio.app.scene.labels import box_corners
+from gmr_studio.app.scene.labels import NEAR_DEPTH, box_corners
 from gmr_studio.app.scene.legend import (
     EDGE,
     label_texts,
@@ -70,11 +70,6 @@ def test_the_texture_holds_the_bar_the_labels_on_their_heights_and_the_title_cen
     assert (text == text[:, :1]).all() and text.max() == 229  # light grey (0.9) text and its dark shadow
 
 
-def _lifted(display: np.ndarray) -> np.ndarray:
-    """Display pixels (K, 2) as the world points (x, y, 0): the quad's corners in the mesh."""
-    return np.column_stack([display, np.zeros(len(display))])
-
-
 def test_the_pieces_are_the_bar_each_label_and_the_title_and_nothing_is_drawn_outside_them():
     top, units = 2.0, "m"
     image, boxes = legend_layout(top, units, ramp)
@@ -119,11 +114,17 @@ def test_the_quads_show_the_pieces_and_a_texel_around_them_one_texel_a_pixel_at_
     assert not part.actor.GetTexture().GetInterpolate() and not part.actor.GetMapper().GetScalarVisibility()
     assert part.draw_last and not part.actor.GetUseBounds()
     assert part.outline.shape == (4,) and not part.outline.any()  # not placed yet
-    part.place((2000, 1000), _lifted)  # room enough: at (0.86, 0.08) of the view, one texel a pixel
+    part.place((2000, 1000))  # room enough: at (0.86, 0.08) of the view, one texel a pixel
     x, y = 0.86 * 2000, 0.08 * 1000
     np.testing.assert_allclose(part.outline, [x, y, x + width, y + height])
     np.testing.assert_allclose(part.corners, corners + np.array([x, y]))
-    np.testing.assert_allclose(part.mesh.points, _lifted((corners + np.array([x, y])).reshape(-1, 2)))
+    placed = (corners + np.array([x, y])).reshape(-1, 2)
+    # x / 1000 - 1, y / 500 - 1 at the near depth
+    device = np.column_stack([placed / 1000 * (1, 2) - 1, np.full(len(placed), NEAR_DEPTH)])
+    np.testing.assert_allclose(part.mesh.points, device, rtol=0, atol=1e-15)
+    written = part.mesh.GetPoints().GetMTime()
+    part.place((2000, 1000))  # the same view: nothing written
+    assert part.mesh.GetPoints().GetMTime() == written
 
 
 def test_the_legend_covers_its_pixels_in_the_view_upright():
@@ -135,7 +136,7 @@ def test_the_legend_covers_its_pixels_in_the_view_upright():
         scene.plotter.set_background((0, 0, 0))
         scene.plotter.renderer.AddActor(part.actor)
         scene.plotter.renderer.ResetCameraClippingRange()
-        part.place(size, scene.near_points)
+        part.place(size)
         image = picture(scene)
     height, width = part.image.shape[:2]
     x0, y0 = round(0.86 * size[0]), round(0.08 * size[1])  # the quad's bottom left, from the bottom left
@@ -172,7 +173,7 @@ def test_a_fitted_quad_is_shrunk_and_moved_and_a_shrunk_texture_smoothed():
     assert part.fitted == (0.0, 1.0) and not part.actor.GetTexture().GetInterpolate()
     shift, scale = legend_fit((300, 200), (width, height))
     assert scale < 1 and shift > 0
-    part.place((300, 200), _lifted)
+    part.place((300, 200))
     assert part.fitted == (shift, scale) and part.actor.GetTexture().GetInterpolate()
     left, bottom = 0.86 * 300 - shift, 0.08 * 200
     right, top = left + scale * width, bottom + scale * height
@@ -181,7 +182,7 @@ def test_a_fitted_quad_is_shrunk_and_moved_and_a_shrunk_texture_smoothed():
         part.corners, (left, bottom) + scale * box_corners(part.boxes)
     )  # each piece shrunk with it
     assert right <= 300 - EDGE + 1e-9
-    part.place((2000, 2000), _lifted)  # room again: one texel a pixel
+    part.place((2000, 2000))  # room again: one texel a pixel
     np.testing.assert_allclose(part.outline[2:] - part.outline[:2], [width, height])
     np.testing.assert_allclose(np.ptp(part.corners[0], axis=0), np.diff(part.boxes[0].reshape(2, 2), axis=0)[0])
     assert not part.actor.GetTexture().GetInterpolate()

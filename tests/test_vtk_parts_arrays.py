@@ -22,7 +22,7 @@ from vtkmodules.vtkRenderingCore import (
 )
 
 from gmr_studio.app.scene import vtk_parts as parts
-from gmr_studio.app.scene.labels import LabelPart, label_part
+from gmr_studio.app.scene.labels import NEAR_DEPTH, LabelPart, device_points, label_part
 
 #: VTK's mapper settings (vtkSystemIncludes.h)
 SCALAR_MODE_USE_CELL_DATA, SCALAR_MODE_USE_POINT_FIELD_DATA, COLOR_MODE_DIRECT_SCALARS = 2, 3, 2
@@ -283,7 +283,7 @@ def test_an_empty_text_and_no_texts_keep_a_texture():
     assert label_part([""]).widths().tolist() == [1]
     empty = label_part([])
     assert _atlas(empty).shape == (1, 3, 4) and empty.n_points == 0 and empty.widths().shape == (0,)
-    empty.place(np.zeros((0, 2)), _lifted)
+    empty.place(np.zeros((0, 2)), VIEW)
 
 
 def test_new_texts_rebuild_the_texture():
@@ -293,9 +293,27 @@ def test_new_texts_rebuild_the_texture():
     assert part.widths().tolist() == [_reference_tile(t, (1, 1, 1), 13).shape[1] for t in ("Hello", "x")]
 
 
-def _lifted(display: np.ndarray) -> np.ndarray:
-    """Display pixels (K, 2) as the world points (x, y, 0): the quads' corners in the mesh."""
-    return np.column_stack([display, np.zeros(len(display))])
+VIEW = (400, 200)  # pixels: a display pixel (x, y) is the device point (x / 200 - 1, y / 100 - 1)
+
+
+def _device(xy) -> np.ndarray:
+    """(..., 2) display pixels of :data:`VIEW` -> (..., 3) the device points the quads hold."""
+    xy = np.asarray(xy, dtype=np.float64)
+    return np.stack([xy[..., 0] / 200.0 - 1.0, xy[..., 1] / 100.0 - 1.0, np.full(xy.shape[:-1], NEAR_DEPTH)], -1)
+
+
+def test_device_points_map_the_view_onto_minus_one_to_one_at_the_near_depth():
+    display = np.array([[0.0, 0.0], [400.0, 200.0], [100.0, 150.0], [-1e4, 50.0]])
+    np.testing.assert_allclose(device_points(display, VIEW), _device(display), rtol=0, atol=1e-15)
+    assert NEAR_DEPTH == -0.999  # just beyond the near plane (-1), in front of everything
+    np.testing.assert_array_equal(device_points([3.0, 4.0], (8, 2)), [[-0.25, 3.0, NEAR_DEPTH]])  # one pixel: (1, 3)
+
+
+@pytest.mark.parametrize(("view", "expected"), [((0, 100), [-1.0, 0.0]), ((100, 0), [0.0, -1.0])])
+def test_device_points_of_a_view_of_no_width_or_height_are_finite(view, expected):
+    """A view not laid out yet (0 pixels wide or high) is taken as one pixel that way."""
+    display = [[0.0, 50.0]] if view[0] == 0 else [[50.0, 0.0]]
+    np.testing.assert_array_equal(device_points(display, view), [[*expected, NEAR_DEPTH]])
 
 
 def test_labels_are_placed_at_their_anchors_plus_the_offset_on_whole_pixels_and_hidden_off_screen():
@@ -304,20 +322,40 @@ def test_labels_are_placed_at_their_anchors_plus_the_offset_on_whole_pixels_and_
     h = [_reference_tile(t, (1, 1, 1), 13).shape[0] for t in part.texts]
     assert part.heights().tolist() == h
     address = _points_address(part)
-    part.place(np.array([[10.0, 20.0], [np.nan, 5.0], [100.2, 199.6]]), _lifted)
+    assert part.view == (0, 0)
+    part.place(np.array([[10.0, 20.0], [np.nan, 5.0], [100.2, 199.6]]), VIEW)
     quads = part.mesh.points.reshape(3, 4, 3)
     for k, (x, y) in ((0, (16.0, 24.0)), (2, (106.0, 204.0))):  # 106.2 and 203.6 on whole pixels
-        np.testing.assert_allclose(quads[k], [(x, y, 0), (x + w[k], y, 0), (x + w[k], y + h[k], 0), (x, y + h[k], 0)])
-        np.testing.assert_allclose(part.corners[k], quads[k, :, :2])
-    assert (quads[1, :, :2] <= -1e4 + 100).all() and (quads[1, :, 2] == 0).all()  # left of and below any view
-    part.place(np.array([[10.0, 20.0], [1.0, 2.0], [3.0, np.inf]]), _lifted, offset=(1.0, -2.0))
-    np.testing.assert_allclose(quads[1, 0], (2.0, 0.0, 0.0))
-    np.testing.assert_allclose(quads[0, 2], (11.0 + w[0], 18.0 + h[0], 0.0))
-    assert (quads[2, :, :2] <= -1e4 + 100).all()
+        corners = [(x, y), (x + w[k], y), (x + w[k], y + h[k]), (x, y + h[k])]
+        np.testing.assert_allclose(part.corners[k], corners)
+        np.testing.assert_allclose(quads[k], _device(corners), rtol=0, atol=1e-15)
+    assert (part.corners[1] <= -1e4 + 100).all() and (quads[1, :, :2] < -40).all()  # left of and below any view
+    assert part.view == VIEW
+    part.place(np.array([[10.0, 20.0], [1.0, 2.0], [3.0, np.inf]]), VIEW, offset=(1.0, -2.0))
+    np.testing.assert_allclose(part.corners[1, 0], (2.0, 0.0))
+    np.testing.assert_allclose(part.corners[0, 2], (11.0 + w[0], 18.0 + h[0]))
+    np.testing.assert_allclose(quads, _device(part.corners), rtol=0, atol=1e-15)
+    assert (part.corners[2] <= -1e4 + 100).all()
     assert _points_address(part) == address
-    onto = []
-    part.place(np.array([[1.0, 1.0]] * 3), lambda display: onto.append(display.copy()) or _lifted(display))
-    assert onto[0].shape == (12, 2)  # every corner handed over at once
+
+
+def test_quads_are_written_again_only_when_they_or_the_view_change():
+    """The points (and the renderer's copy of them) are left alone by a placement that
+    changes nothing: a legend fixed to the view costs nothing while the camera moves."""
+    part = label_part(["Ab", "x"])
+    anchors = np.array([[10.0, 20.0], [30.0, 40.0]])
+    part.place(anchors, VIEW)
+    written = part.mesh.GetPoints().GetMTime()
+    before = np.array(part.mesh.points)
+    part.place(anchors.copy(), VIEW)
+    assert part.mesh.GetPoints().GetMTime() == written
+    part.place(anchors, (800, 200))  # the same pixels of a wider view: other device points
+    assert part.mesh.GetPoints().GetMTime() > written and part.view == (800, 200)
+    np.testing.assert_allclose(part.mesh.points[:, 0], (before[:, 0] + 1.0) / 2 - 1.0)
+    written = part.mesh.GetPoints().GetMTime()
+    part.place(anchors + np.array([0.0, 1.0]), (800, 200))  # one pixel up
+    assert part.mesh.GetPoints().GetMTime() > written
+    np.testing.assert_allclose(part.mesh.points[:, 1] - before[:, 1], 0.01)
 
 
 def test_labels_draw_last_in_the_opaque_pass_with_the_texels_own_colours_and_no_bounds():

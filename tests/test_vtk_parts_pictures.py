@@ -103,9 +103,10 @@ def first_label_tile(part) -> np.ndarray:
 
 
 def test_labels_show_their_texels_on_whole_pixels_in_front_of_everything_and_hidden_ones_nothing():
-    """Two labels placed in display pixels through a scene's camera (a perspective one
-    looking at a white board): the first shows its texels one a pixel, blended over the
-    board in front of it, the board showing between its letters; the hidden one draws nothing."""
+    """Two labels placed in display pixels of a scene (a perspective camera looking at a
+    white board): the first shows its texels one a pixel, blended over the board in front
+    of it, the board showing between its letters; the hidden one draws nothing. The camera
+    moved and nothing placed again, the label stays on the same pixels."""
     from gmr_studio.app.scene.labels import label_part
     from tests.tiny_scene import picture, scene_of
 
@@ -117,19 +118,23 @@ def test_labels_show_their_texels_on_whole_pixels_in_front_of_everything_and_hid
         part = label_part(["Ab", "Hello"], color=(1.0, 1.0, 0.0))
         plotter.renderer.AddViewProp(part.actor)  # after the board, as the scene puts labels last
         plotter.renderer.ResetCameraClippingRange()
-        part.place(np.array([[50.0, 40.0], [np.nan, 10.0]]), scene.near_points)
-        plotter.ren_win.Render()
-        image = picture(scene)
+        assert scene.display_size() == (SIZE, SIZE)
+        part.place(np.array([[50.0, 40.0], [np.nan, 10.0]]), scene.display_size())
         tile = first_label_tile(part)
         h, w = tile.shape[:2]
         over_white = tile[..., :3] * tile[..., 3:] / 255 + 255 * (1 - tile[..., 3:] / 255)  # blended over the board
-        # the quad's bottom left at (56, 44) from the bottom left: image rows count from the top
-        drawn = image[SIZE - 44 - h : SIZE - 44, 56 : 56 + w][::-1]
-        np.testing.assert_allclose(drawn, over_white, atol=3)
-        assert (tile[..., 3] == 0).any() and drawn.min() < 60  # letters and the board between them
-        outside = image.copy()
-        outside[SIZE - 44 - h : SIZE - 44, 56 : 56 + w] = 255
-        assert (outside == 255).all()  # the other label hidden: the board everywhere else
+        for position in ((0, 0, 5), (1.0, -0.5, 3)):  # the second: nearer, from elsewhere, not placed again
+            plotter.camera.position = position
+            plotter.renderer.ResetCameraClippingRange()
+            plotter.ren_win.Render()
+            image = picture(scene)
+            # the quad's bottom left at (56, 44) from the bottom left: image rows count from the top
+            drawn = image[SIZE - 44 - h : SIZE - 44, 56 : 56 + w][::-1]
+            np.testing.assert_allclose(drawn, over_white, atol=3)
+            assert (tile[..., 3] == 0).any() and drawn.min() < 60  # letters and the board between them
+            outside = image.copy()
+            outside[SIZE - 44 - h : SIZE - 44, 56 : 56 + w] = 255
+            assert (outside == 255).all()  # the other label hidden: the board everywhere else
         plotter.remove_actor(board)
 
 
@@ -149,7 +154,7 @@ def test_a_labels_empty_texels_write_no_depth_so_what_is_drawn_after_it_shows_be
         board = plotter.add_mesh(pv.Plane(center=(0, 0, 0), i_size=10, j_size=10), color="white", lighting=False)
         plotter.camera.position, plotter.camera.focal_point, plotter.camera.up = (0, 0, 5), (0, 0, 0), (0, 1, 0)
         plotter.renderer.ResetCameraClippingRange()
-        part.place(np.array([[50.0, 40.0]]), scene.near_points)
+        part.place(np.array([[50.0, 40.0]]), scene.display_size())
         plotter.ren_win.Render()
         image = picture(scene)
         tile = first_label_tile(part)

@@ -138,7 +138,7 @@ def render_filmstrip(
         plotter.render()
         centres = scene.display_positions(anchors)
         centres[:, 0] -= labels.widths() / 2 + 6.0  # centred under the pose
-        labels.place(centres, scene.near_points)
+        labels.place(centres, scene.display_size())
         if drawn is not None:
             drawn["labels"] = np.column_stack([labels.corners[:, 0], labels.widths(), labels.heights()])
         return save_screenshot(scene, out)

@@ -25,16 +25,13 @@ def actor_positions(snapshot: Snapshot) -> np.ndarray:
     return snapshot.positions[:, ~anchors] if anchors.any() else snapshot.positions
 
 
-NEAR_DEPTH = -0.999  # normalised depth of what is drawn in front of everything (-1: the near plane)
-
-
 class SceneCamera:
     """The camera and projection methods of :class:`~app.scene.scene.SkeletonScene` (see the module)."""
 
     def display_positions(self, points: np.ndarray) -> np.ndarray:
         """(N, 2) display pixels (x right, y up from the bottom left of the render window)
         of world ``points`` (N, 3) under the current camera; NaN for points behind it."""
-        width, height = (int(v) for v in self.plotter.render_window.GetSize())
+        width, height = self.display_size()
         screen = project_points(
             np.asarray(points, dtype=np.float64).reshape(-1, 3), self.view_projection(), (width, height)
         )
@@ -43,17 +40,10 @@ class SceneCamera:
         xy[behind] = np.nan
         return xy
 
-    def near_points(self, display: np.ndarray) -> np.ndarray:
-        """(K, 3) world points drawn at display pixels ``display`` (K, 2: x right, y up from
-        the bottom left of the render window) just beyond the camera's near plane: what is put
-        there is in front of everything in the view (screen-space labels). The inverse of
-        :meth:`display_positions` at that depth."""
-        width, height = (int(v) for v in self.plotter.render_window.GetSize())
-        display = np.asarray(display, dtype=np.float64).reshape(-1, 2)
-        ndc = np.column_stack([2.0 * display[:, 0] / max(width, 1) - 1.0, 2.0 * display[:, 1] / max(height, 1) - 1.0])
-        clip = np.column_stack([ndc, np.full(len(ndc), NEAR_DEPTH), np.ones(len(ndc))])
-        world = clip @ np.linalg.inv(self.view_projection()).T
-        return world[:, :3] / world[:, 3:]
+    def display_size(self) -> tuple[int, int]:
+        """(width, height) pixels of the render window: the display pixels' range."""
+        width, height = self.plotter.render_window.GetSize()
+        return int(width), int(height)
 
     def _follow_point(self, frame: int) -> np.ndarray:
         """(3,) the point the camera follows: the joints' centroid, on the floor."""

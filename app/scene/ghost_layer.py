@@ -178,7 +178,7 @@ class GhostLayers(Drawing):
         """Put the legend at the view's right, fitted to its size (a small view shrinks it,
         a narrow one moves it left), in front of everything."""
         if self.legend is not None:
-            self.legend.place(tuple(self.scene.plotter.renderer.GetSize()), self.scene.near_points)
+            self.legend.place(tuple(self.scene.plotter.renderer.GetSize()))
 
     # -------------------------------------------------------------------- frames
     def show_frame(self, frame: int) -> None:

@@ -1,33 +1,48 @@
 """Screen-space pictures in front of everything: quads of one texture placed in display pixels.
 
-:class:`ScreenQuads` holds a texture and a quad for each part of it; at every render its
-quads are placed in display pixels and put into the world just beyond the camera's near
-plane (:meth:`app.scene.camera.SceneCamera.near_points`), drawn by VTK's usual 3D mapper
-with the opaque geometry: in front of everything, its blending over what is drawn before
-it, a texel with nothing in it discarded. :class:`LabelPart` is the text labels that follow
-points (every text rendered once into one texture, one quad a label, one texel a pixel);
-the error view's legend (:mod:`app.scene.legend`) is a quad for each of its pieces. VTK's 2D
-mapper, which draws display coordinates as they are, rebuilds its shader program each time
-its points change and runs its pipeline at every render: with 38 joint labels that was 0.4 ms
-of each frame in software OpenGL, against nothing measurable here.
+:class:`ScreenQuads` holds a texture and a quad for each part of it; its quads are placed in
+display pixels and kept in normalised device coordinates, which its vertex shader draws as
+they are (no camera), at the normalised depth :data:`NEAR_DEPTH` just beyond the near plane:
+in front of everything, drawn by VTK's usual 3D mapper with the opaque geometry, its
+blending over what is drawn before it, a texel with nothing in it discarded. A quad stays
+where it is while the camera moves, so a picture fixed to the view (the error view's legend,
+:mod:`app.scene.legend`) is written again only when the view's size changes; the text labels
+that follow points (:class:`LabelPart`: every text rendered once into one texture, one quad a
+label, one texel a pixel) are written at every render.
+
+VTK's 2D mapper, which draws display coordinates as they are, rebuilds its shader program each
+time its points change and runs its pipeline at every render: with 38 joint labels that was 0.4
+ms of each frame in software OpenGL. Quads put into the world at the near plane before each
+render (the earlier way) cost the camera's inverse and the points' upload at every render:
+0.3 ms of a comparison layer's frame for its legend while the rasteriser's threads ran.
+The scene draws every prop without culling (:mod:`app.scene.scene`), which matters here: the
+quads' points are not world points, and a frustum culler would test them as such.
 """
 
 from __future__ import annotations
-
-from collections.abc import Callable
 
 import numpy as np
 from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
 
 from gmr_studio.app.scene.vtk_parts import Part, render_texts, rgba_texture
 
-#: display pixels (K, 2) -> world points (K, 3) drawn there just beyond the near plane
-Unprojection = Callable[[np.ndarray], np.ndarray]
+NEAR_DEPTH = -0.999  # normalised depth of the quads (-1: the near plane): in front of everything
 HIDDEN = -1e4  # display pixels left of and below any view: where a hidden label goes
 
 # a texel with nothing in it writes neither colour nor depth, so what is drawn after the
 # labels still shows between their letters
 _DISCARD_EMPTY = "//VTK::TCoord::Impl\n  if (gl_FragData[0].a <= 0.0) { discard; }\n"
+# the points are normalised device coordinates already: drawn where they are, whatever the camera
+_AS_PLACED = "//VTK::PositionVC::Impl\n  gl_Position = vec4(vertexMC.xyz, 1.0);\n"
+
+
+def device_points(display: np.ndarray, view: tuple[int, int]) -> np.ndarray:
+    """(K, 2) display pixels (x right, y up from the bottom left) of a view of ``view``
+    (width, height) pixels -> (K, 3) normalised device coordinates at :data:`NEAR_DEPTH`
+    (a view of no width or height taken as one pixel)."""
+    display = np.asarray(display, dtype=np.float64).reshape(-1, 2)
+    scale = 2.0 / np.maximum(np.asarray(view, dtype=np.float64), 1.0)
+    return np.column_stack([display * scale - 1.0, np.full(len(display), NEAR_DEPTH)])
 
 
 def box_corners(boxes: np.ndarray) -> np.ndarray:
@@ -51,17 +66,24 @@ class ScreenQuads(Part):
         mapper = vtkPolyDataMapper()
         mapper.SetInputData(self.mesh)
         mapper.ScalarVisibilityOff()
+        # the shader draws the points as they are: no shift and scale of them into the buffer
+        # (VTK's default recentres points far from the origin for their size, as these are)
+        mapper.SetVBOShiftScaleMethod(vtkPolyDataMapper.DISABLE_SHIFT_SCALE)
         self.actor = vtkActor()
         self.actor.SetMapper(mapper)
         prop = self.actor.GetProperty()
         prop.LightingOff()  # the texels' own colours
         prop.SetColor(1.0, 1.0, 1.0)
         self.actor.ForceOpaqueOn()  # with the opaque geometry: no translucent pass for text
-        self.actor.UseBoundsOff()  # at the near plane: never a reason to move it
-        self.actor.GetShaderProperty().AddFragmentShaderReplacement("//VTK::TCoord::Impl", True, _DISCARD_EMPTY, False)
+        self.actor.UseBoundsOff()  # device coordinates, not world points: never in the scene's bounds
+        shaders = self.actor.GetShaderProperty()
+        shaders.AddFragmentShaderReplacement("//VTK::TCoord::Impl", True, _DISCARD_EMPTY, False)
+        shaders.AddVertexShaderReplacement("//VTK::PositionVC::Impl", True, _AS_PLACED, False)
         #: (n, 4, 2) the display pixels of each quad's corners at the last placement (before
-        #: any: all 0, and the quads' points all at the origin, drawing nothing)
+        #: any: all 0, and the quads' points all at the view's centre, drawing nothing)
         self.corners = np.zeros((n, 4, 2))
+        #: (width, height) pixels of the view the quads were last placed in
+        self.view = (0, 0)
 
     def set_texture(self, image: np.ndarray, coords: np.ndarray) -> None:
         """Draw ``image`` (H, W, 4) uint8 RGBA, rows bottom first: quad k shows the part of
@@ -70,13 +92,18 @@ class ScreenQuads(Part):
         if len(coords):
             self.mesh.active_texture_coordinates = np.asarray(coords, dtype=np.float64).reshape(-1, 2)
 
-    def place_corners(self, corners: np.ndarray, onto: Unprojection) -> None:
+    def place_corners(self, corners: np.ndarray, view: tuple[int, int]) -> None:
         """Put the quads' corners at ``corners`` ((n, 4, 2) display pixels: x right, y up
-        from the bottom left), into the world by ``onto``."""
+        from the bottom left) of a view of ``view`` (width, height) pixels; the points are
+        written (and sent to the renderer) only when they or the view changed."""
         if not self.n_points:
             return
+        view = (int(view[0]), int(view[1]))
+        if view == self.view and np.array_equal(corners, self.corners):
+            return
         self.corners[:] = corners
-        self._view[:] = onto(self.corners.reshape(-1, 2))
+        self.view = view
+        self._view[:] = device_points(self.corners, view)
         self.mesh.GetPoints().Modified()
 
 
@@ -122,10 +149,10 @@ class LabelPart(ScreenQuads):
         self._build_texture()
         self.mesh.Modified()
 
-    def place(self, anchors: np.ndarray, onto: Unprojection, offset: tuple[float, float] = (6.0, 4.0)) -> None:
+    def place(self, anchors: np.ndarray, view: tuple[int, int], offset: tuple[float, float] = (6.0, 4.0)) -> None:
         """Put label k with its bottom left corner ``offset`` pixels from ``anchors[k]``
-        ((N, 2) display pixels: x right, y up from the bottom left; NaN hides the label), on
-        whole pixels (each texel on one pixel), into the world by ``onto``."""
+        ((N, 2) display pixels of a view of ``view`` (width, height) pixels: x right, y up
+        from the bottom left; NaN hides the label), on whole pixels (each texel on one pixel)."""
         if not self.n_points:
             return
         anchors = np.asarray(anchors, dtype=np.float64).reshape(-1, 2)
@@ -133,7 +160,7 @@ class LabelPart(ScreenQuads):
         x0 = np.where(hidden, HIDDEN, np.round(np.nan_to_num(anchors[:, 0]) + offset[0]))
         y0 = np.where(hidden, HIDDEN, np.round(np.nan_to_num(anchors[:, 1]) + offset[1]))
         w, h = self._boxes[:, 0], self._boxes[:, 1]
-        self.place_corners(box_corners(np.column_stack([x0, y0, x0 + w, y0 + h])), onto)
+        self.place_corners(box_corners(np.column_stack([x0, y0, x0 + w, y0 + h])), view)
 
 
 def label_part(texts: list[str], color=(1.0, 1.0, 1.0), size: int = 13) -> LabelPart:

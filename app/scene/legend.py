@@ -8,8 +8,8 @@ every render in which the camera had moved (it watches the renderer's time, whic
 the camera's): 0.4 ms of every frame at 1018x425 in software OpenGL, the largest part of a
 comparison layer's cost. This legend is built when the layer's error scale is
 (:meth:`app.scene.ghost_layer.GhostLayers.build`) and costs one actor of textured quads a
-frame (:class:`app.scene.labels.ScreenQuads`), placed before each render. One quad over the
-whole picture (about 90 x 235 pixels) shaded 2.0 million instructions a frame in software
+frame (:class:`app.scene.labels.ScreenQuads`), placed again only when the view's size
+changes. One quad over the whole picture (about 90 x 235 pixels) shaded 2.0 million instructions a frame in software
 OpenGL, most of them for texels with nothing in them; the pieces' quads cover about 40% of it.
 """
 
@@ -20,7 +20,7 @@ from collections.abc import Callable
 import numpy as np
 
 from gmr_studio.app.scene import vtk_parts as parts
-from gmr_studio.app.scene.labels import ScreenQuads, Unprojection, box_corners
+from gmr_studio.app.scene.labels import ScreenQuads, box_corners
 
 BAR_WIDTH, BAR_HEIGHT = 22, 200  # pixels
 N_LABELS = 5  # 0, a quarter of the top, ..., the top
@@ -119,16 +119,16 @@ class LegendPart(ScreenQuads):
             self.fitted = fitted
             self.actor.GetTexture().SetInterpolate(fitted[1] < 1.0)
 
-    def place(self, view: tuple[int, int], onto: Unprojection) -> None:
+    def place(self, view: tuple[int, int]) -> None:
         """Fit the legend to a view of (width, height) display pixels and put it there, the
         picture's bottom left at :data:`ANCHOR` of the view moved left by the fit's shift,
-        each piece's quad on its texels."""
+        each piece's quad on its texels (nothing written while the view keeps its size)."""
         self.fit(view)
         shift, scale = self.fitted
         left, bottom = ANCHOR[0] * view[0] - shift, ANCHOR[1] * view[1]
         height, width = self.image.shape[:2]
         self.outline = np.array([left, bottom, left + scale * width, bottom + scale * height])
-        self.place_corners((left, bottom) + scale * self._corners, onto)
+        self.place_corners((left, bottom) + scale * self._corners, view)
 
 
 def legend_part(top: float, units: str, colours: Callable[[np.ndarray], np.ndarray]) -> LegendPart:

@@ -177,7 +177,7 @@ class JointLabels(Drawing):
     def before_render(self) -> None:
         if self.parts and self._visible:
             anchors = self.scene.display_positions(self.scene.snapshot.positions[self.scene.frame])
-            self.parts["labels"].place(anchors, self.scene.near_points)
+            self.parts["labels"].place(anchors, self.scene.display_size())
 
 
 class Markers(Drawing):
@@ -255,7 +255,7 @@ class Markers(Drawing):
             points = np.array(
                 [positions[m] if m is not None else np.full(3, np.nan) for m in (self.hovered, self.selected)]
             )
-            self.parts["marker_labels"].place(self.scene.display_positions(points), self.scene.near_points)
+            self.parts["marker_labels"].place(self.scene.display_positions(points), self.scene.display_size())
 
 
 class PelvisTriad(Drawing):
