@@ -47,8 +47,9 @@ def _assert_same(layer, expected) -> None:
     np.testing.assert_allclose(layer.ghost[c.frames][:, c.index_b], c.positions_b, atol=1e-9, equal_nan=True)
 
 
-def _ghost_joints(studio) -> np.ndarray:
-    return np.array(studio.ghosts.ghosts[0][1].mesh.points)
+def _ghost_bones(studio) -> np.ndarray:
+    """(B, 3) the middles of the ghost's bones as drawn."""
+    return np.array(studio.ghosts.ghosts[0][0].mesh.points)
 
 
 def test_kind_and_offset_from_the_dock_recompute_the_layer(studio):
@@ -63,7 +64,7 @@ def test_kind_and_offset_from_the_dock_recompute_the_layer(studio):
     assert box.kind.currentText() == "none" and box.auto.isChecked() and box.offset.value() == -1.0
     assert not box.offset.isEnabled()  # found: the number is shown, not editable
     _assert_same(layer, _expected(studio, "none", "auto"))
-    ghost_none, image_none = _ghost_joints(studio), screen_image(studio)
+    ghost_none, image_none = _ghost_bones(studio), screen_image(studio)
 
     # rigid: as core.compare with align="rigid" at the offset found (-1)
     box.kind.setCurrentText("rigid")
@@ -78,9 +79,10 @@ def test_kind_and_offset_from_the_dock_recompute_the_layer(studio):
     assert "offset -1 frames" in details and "translation (" in details
     assert "rotation:" in box.details.toolTip()
     assert "align rigid" in studio.layers_panel.table.item(1, 4).text()
-    # what is drawn follows: the ghost's joints, the error colours' scale, the error plot
-    ghost_rigid = _ghost_joints(studio)
-    np.testing.assert_allclose(ghost_rigid, layer.ghost[FRAME], atol=1e-9)
+    # what is drawn follows: the ghost's bones, the error colours' scale, the error plot
+    ghost_rigid = _ghost_bones(studio)
+    pairs = studio.ghosts.ghosts[0][0].pairs
+    np.testing.assert_allclose(ghost_rigid, layer.ghost[FRAME][pairs].mean(axis=1), atol=1e-9)
     moved = np.linalg.norm(ghost_rigid - ghost_none, axis=1)
     assert moved.max() > 0.5  # file units: the fit moves B by about its translation
     assert studio.ghosts.top == pytest.approx(expected.position.max)
@@ -97,8 +99,8 @@ def test_kind_and_offset_from_the_dock_recompute_the_layer(studio):
     expected = _expected(studio, "rigid", 5.0)
     _assert_same(layer, expected)
     assert layer.comparison.position.mean > in_step + 0.2  # six frames (50 ms) out of step
-    np.testing.assert_allclose(_ghost_joints(studio), layer.ghost[FRAME], atol=1e-9)
-    assert np.linalg.norm(_ghost_joints(studio) - ghost_rigid, axis=1).max() > 0.5
+    np.testing.assert_allclose(_ghost_bones(studio), layer.ghost[FRAME][pairs].mean(axis=1), atol=1e-9)
+    assert np.linalg.norm(_ghost_bones(studio) - ghost_rigid, axis=1).max() > 0.5
 
     # similarity, then auto again: the offset is found again (-1) and kept
     box.kind.setCurrentText("similarity")

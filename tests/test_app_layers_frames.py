@@ -42,9 +42,10 @@ def test_a_frame_change_updates_the_layer_in_place(studio):
     (bones, joints), error_lines = ghosts.ghosts[0], ghosts.error_lines
     error_joints = studio.view.scene.figure.parts["joints"]  # the document's, in the error's colours
     matched = ghosts.error_joints
-    parts = (bones, joints, error_joints, error_lines)
+    assert joints.n_points == 0 and not joints.visible  # every joint of B's ghost is a bone's end
+    parts = (bones, error_joints, error_lines)
     objects = [(part.actor.__this__, part.mesh.__this__, part.mesh.GetPoints().__this__) for part in parts]
-    inputs = [part.actor.GetMapper().GetInputDataObject(0, 0).__this__ for part in (joints, error_joints)]
+    inputs = [part.actor.GetMapper().GetInputDataObject(0, 0).__this__ for part in (bones, error_joints)]
     colours = error_joints.mesh.point_data.VTKObject.GetArray("colors").__this__
     props, legend = _props(renderer), ghosts.legend.actor.__this__
     # the colours of every compared frame, computed once when the layer was drawn
@@ -65,7 +66,7 @@ def test_a_frame_change_updates_the_layer_in_place(studio):
         # the same actors, poly data, points and colour arrays as before, nothing added
         assert _props(renderer) == props and ghosts.legend.actor.__this__ == legend
         assert [(p.actor.__this__, p.mesh.__this__, p.mesh.GetPoints().__this__) for p in parts] == objects
-        assert [p.actor.GetMapper().GetInputDataObject(0, 0).__this__ for p in (joints, error_joints)] == inputs
+        assert [p.actor.GetMapper().GetInputDataObject(0, 0).__this__ for p in (bones, error_joints)] == inputs
         assert error_joints.mesh.point_data.VTKObject.GetArray("colors").__this__ == colours
         # ... holding this frame's values
         shown = np.asarray(error_joints.mesh.point_data["colors"])[matched]
@@ -75,15 +76,16 @@ def test_a_frame_change_updates_the_layer_in_place(studio):
             assert np.isnan(layer.ghost[0]).all() and not bones.visible and not joints.visible
             assert (shown == rgb_bytes(np.array(NO_ERROR_COLOUR))).all()
             continue
-        np.testing.assert_allclose(joints.mesh.points, layer.ghost[frame], atol=1e-6)
         ghost = layer.ghost[frame]  # bones: cylinders placed at each bone's middle
         np.testing.assert_allclose(bones.mesh.points, ghost[bones.pairs].mean(axis=1), atol=1e-6)
         np.testing.assert_allclose(error_joints.mesh.points[matched], c.positions_a[row], atol=1e-6)
-        assert bones.visible and joints.visible
+        assert bones.visible and not joints.visible
         pictures[frame] = screen_image(studio)
     # and drawn: the ghost's colour where the ghost is at each frame, elsewhere as it moves
     masks = {frame: _magenta(image) for frame, image in pictures.items()}
-    assert all(mask.sum() > 30 for mask in masks.values())
+    # (the ghost is its bones, B's joints at their ends; where B agrees with A the document's
+    # figure hides it: 12 to 33 pixels of it show at these frames)
+    assert all(mask.sum() > 8 for mask in masks.values())
     assert (masks[401] != masks[2000]).sum() > 30
     studio.layers.remove(0)
     QApplication.processEvents()

@@ -101,7 +101,9 @@ def test_a_layer_is_a_translucent_ghost_in_its_colour_at_the_documents_frame(qtb
         assert ghosts.ghosts == [(bones, joints)]
         assert bones.pairs.tolist() == [[2, 1], [3, 2], [5, 4]]  # the anchor's bone left out
         assert bones.radius == pytest.approx(0.005 * FIGURE_SIZE)
-        assert joints.n_points == 6 and joints.radius == pytest.approx(0.012 * FIGURE_SIZE)
+        # a sphere only where no bone reaches: the anchor (joint 0), its bone left out
+        assert ghosts.loose[0].tolist() == [0] and ghosts.loose[0].dtype.kind == "i"
+        assert joints.n_points == 1 and joints.radius == pytest.approx(0.012 * FIGURE_SIZE)
         for part in (bones, joints):
             assert holds(scene.plotter.renderer, part.actor) and part.visible
             prop = part.actor.GetProperty()
@@ -110,12 +112,12 @@ def test_a_layer_is_a_translucent_ghost_in_its_colour_at_the_documents_frame(qtb
         assert joints.actor.GetProperty().GetColor() == pytest.approx(layer.colour)
         for frame in (0, 3):
             scene.show_frame(frame)
-            np.testing.assert_allclose(joints.mesh.points, layer.ghost[frame])
+            np.testing.assert_allclose(joints.mesh.points, layer.ghost[frame][[0]])
             np.testing.assert_allclose(bones.mesh.points, layer.ghost[frame][[[2, 1], [3, 2], [5, 4]]].mean(axis=1))
             assert joints.visible and bones.visible
         scene.show_frame(5)  # beyond B's last frame: not drawn, the points left as they were
         assert not joints.visible and not bones.visible
-        np.testing.assert_allclose(joints.mesh.points, layer.ghost[3])
+        np.testing.assert_allclose(joints.mesh.points, layer.ghost[3][[0]])
         scene.show_frame(1)
         assert joints.visible and bones.visible
         ghosts.set_visible(False)
@@ -123,7 +125,25 @@ def test_a_layer_is_a_translucent_ghost_in_its_colour_at_the_documents_frame(qtb
         assert not joints.visible and not bones.visible
         ghosts.set_visible(True)  # shown again: at the scene's frame at once
         assert joints.visible and bones.visible
-        np.testing.assert_allclose(joints.mesh.points, layer.ghost[2])
+        np.testing.assert_allclose(joints.mesh.points, layer.ghost[2][[0]])
+
+
+def test_a_ghost_of_lone_joints_draws_a_sphere_at_each_and_no_bones(qtbot):
+    """Joints no bone reaches (each a root of its own, as after splitting every joint off)
+    are spheres, so such a ghost still shows; the figure's bones' ends are not."""
+    with compared(qtbot) as (scene, _state, layers, ghosts):
+        world = figure_world(4) + np.array([0.0, 0.0, 0.05])
+        lone = layers.add(snapshot_of(posed_motion(FIGURE_NAMES, [-1] * 6, world)), "lone.gmr", offset=0.0)
+        (b_bones, b_joints), (bones, joints) = ghosts.ghosts
+        assert b_joints.n_points == 1 and ghosts.loose[0].tolist() == [0]  # B: its anchor alone
+        assert bones.n_points == 0 and not bones.visible  # nothing to draw: hidden, not an empty actor
+        assert ghosts.loose[1].tolist() == [0, 1, 2, 3, 4, 5] and joints.n_points == 6 and joints.visible
+        for frame in (2, 0):
+            scene.show_frame(frame)
+            np.testing.assert_allclose(joints.mesh.points, lone.ghost[frame])
+            assert joints.visible and not bones.visible and b_bones.visible and b_joints.visible
+        layers.set_visible(1, False)
+        assert [part.visible for part in ghosts.ghosts[1]] == [False, False]
 
 
 def test_the_layers_appearance_rebuilds_the_ghost(qtbot):
@@ -372,16 +392,16 @@ def test_a_ghost_or_marker_layer_shorter_than_the_document_shows_its_last_frame(
         layer = layers.add(snapshot_of(whole), "b.gmr", offset=0.0, align="none")
         (spheres,), (_, joints) = ghosts.ghosts
         scene.show_frame(5)  # the ghost's last frame (B has all six)
-        np.testing.assert_allclose(joints.mesh.points, layer.ghost[5])
+        np.testing.assert_allclose(joints.mesh.points, layer.ghost[5][[0]])
         np.testing.assert_allclose(spheres.mesh.points, points[3])
         scene.show_frame(1)
-        np.testing.assert_allclose(joints.mesh.points, layer.ghost[1])
+        np.testing.assert_allclose(joints.mesh.points, layer.ghost[1][[0]])
         np.testing.assert_allclose(spheres.mesh.points, points[1])
         layer.ghost = layer.ghost[:3]  # as computed for a three-frame document
         scene.redraw(ghosts)
         (spheres,), (_, joints) = ghosts.ghosts
         scene.show_frame(4)
-        np.testing.assert_allclose(joints.mesh.points, layer.ghost[2])
+        np.testing.assert_allclose(joints.mesh.points, layer.ghost[2][[0]])
         np.testing.assert_allclose(spheres.mesh.points, points[3])
 
 
@@ -392,12 +412,14 @@ def test_hiding_writes_no_frame_and_needs_no_scene(qtbot):
     lone.set_visible(True)
     assert lone.visible and lone.parts == {}
     with compared(qtbot) as (scene, _state, layers, ghosts):
-        joints = ghosts.parts["ghost_0_1"]
+        bones = ghosts.parts["ghost_0_0"]
+        ghost = layers[0].ghost
+        assert not np.allclose(ghost[1][bones.pairs].mean(axis=1), ghost[2][bones.pairs].mean(axis=1))
         scene.show_frame(1)
         ghosts.set_visible(False)
         scene.show_frame(2)  # hidden drawables are skipped...
         ghosts.set_visible(False)  # ... and hiding again writes nothing either
-        np.testing.assert_allclose(joints.mesh.points, layers[0].ghost[1])
+        np.testing.assert_allclose(bones.mesh.points, ghost[1][bones.pairs].mean(axis=1))
 
 
 def test_in_a_small_view_the_legend_is_shrunk_to_fit_and_kept_off_the_right_side(qtbot):

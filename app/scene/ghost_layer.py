@@ -3,8 +3,14 @@
 :class:`GhostLayers` is one of the scene's drawables (:mod:`app.scene.drawable`), rebuilt
 when the layers change (the scene rebuilds it after an edit too):
 
-- each visible layer (:mod:`app.layers`) as a ghost skeleton: translucent bones and joints
-  in the layer's colour, at the document's frame (B on A's clock and in A's space);
+- each visible layer (:mod:`app.layers`) as a ghost skeleton: translucent bones in the
+  layer's colour, at the document's frame (B on A's clock and in A's space); its joints are
+  where its bones meet (and where the error lines end), a sphere drawn only for a joint no
+  bone reaches (a lone root, a joint split off by itself), so a ghost split into single
+  joints still shows. Spheres at every joint, 2-3 pixels across in a usual view and inside
+  the document's joints wherever the two agree, were a fifth of a layer's cost in software
+  OpenGL (1.0 of 4.5 million instructions a frame, their translucent blocks and their
+  buffers) for dots the bones' ends already draw;
 - each visible marker-set layer (:mod:`app.marker_layers`) as small spheres in its colour
   at the document's frame (gaps not drawn);
 - the error view of the active layer: the document's matched joints coloured by their
@@ -70,6 +76,9 @@ class GhostLayers(Drawing):
         self.show_errors = True
         # per layer: (bones, joints) of a motion, (spheres,) of a marker set
         self.ghosts: list[tuple[parts.Part, ...]] = []
+        #: per layer: (K,) the joints of a motion's ghost no bone reaches, drawn as its
+        #: ``joints`` spheres (often none); None for a marker set
+        self.loose: list[np.ndarray | None] = []
         #: (P,) the document's joints the error view colours (the active comparison's
         #: ``index_a``), None without an error view
         self.error_joints: np.ndarray | None = None
@@ -95,7 +104,7 @@ class GhostLayers(Drawing):
         renderer = scene.plotter.renderer
         if self._oit is None:
             self._oit = bool(renderer.GetUseOIT())
-        self.ghosts = []
+        self.ghosts, self.loose = [], []
         self._untint()
         self.error_joints = self.error_lines = self.legend = None
         self._box = None  # measured when first asked
@@ -107,16 +116,20 @@ class GhostLayers(Drawing):
         for index, layer in enumerate(self.layers.layers):
             if isinstance(layer, MarkerLayer):
                 built = (parts.sphere_part(layer.markers.n_markers, MARKER_LAYER_RADIUS * size, color=layer.colour),)
+                loose = None
             else:
                 motion = layer.snapshot.motion
-                bones = parts.bone_part(figure_bones(motion)[0], GHOST_BONE_RADIUS * size, color=layer.colour)
-                built = (bones, parts.sphere_part(motion.n_joints, GHOST_JOINT_RADIUS * size, color=layer.colour))
+                pairs = figure_bones(motion)[0]
+                loose = np.setdiff1d(np.arange(motion.n_joints), pairs.ravel())
+                bones = parts.bone_part(pairs, GHOST_BONE_RADIUS * size, color=layer.colour)
+                built = (bones, parts.sphere_part(len(loose), GHOST_JOINT_RADIUS * size, color=layer.colour))
             for k, part in enumerate(built):
                 part.actor.GetProperty().SetOpacity(layer.opacity)
                 part.actor.GetProperty().SetAmbient(0.6)  # translucent over a dark ground: lit brighter
                 self.add(f"ghost_{index}_{k}", part)
-                part.set_visible(layer.visible)
+                part.set_visible(layer.visible and part.n_points > 0)
             self.ghosts.append(built)
+            self.loose.append(loose)
         # blended in drawing order while ghosts are shown (see the module docstring)
         renderer.SetUseOIT(self._oit and not self.ghosts)
         active = self.layers.active
@@ -185,7 +198,7 @@ class GhostLayers(Drawing):
         """Write frame ``frame`` into the ghosts and the error view."""
         if not self.ghosts:
             return
-        for layer, built in zip(self.layers.layers, self.ghosts, strict=True):
+        for layer, built, loose in zip(self.layers.layers, self.ghosts, self.loose, strict=True):
             if isinstance(layer, MarkerLayer):
                 positions = layer.positions
                 built[0].set_points(positions[min(frame, len(positions) - 1)])
@@ -194,11 +207,12 @@ class GhostLayers(Drawing):
             points = layer.ghost[min(frame, len(layer.ghost) - 1)]
             sampled = bool(np.isfinite(points).all())  # outside B's time range: not drawn
             bones, joints = built
-            bones.set_visible(layer.visible and sampled and self._visible)
-            joints.set_visible(layer.visible and sampled and self._visible)
+            shown = layer.visible and sampled and self._visible
+            bones.set_visible(shown and bones.n_points > 0)  # an empty part: no actor to draw
+            joints.set_visible(shown and joints.n_points > 0)
             if sampled:
                 bones.set_joints(points)
-                joints.set_points(points)
+                joints.set_points(points[loose])
         active = self.layers.active
         if self.error_joints is not None and active is not None:
             comparison = active.comparison
