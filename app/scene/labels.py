@@ -29,9 +29,22 @@ from gmr_studio.app.scene.vtk_parts import Part, render_texts, rgba_texture
 NEAR_DEPTH = -0.999  # normalised depth of the quads (-1: the near plane): in front of everything
 HIDDEN = -1e4  # display pixels left of and below any view: where a hidden label goes
 
-# a texel with nothing in it writes neither colour nor depth, so what is drawn after the
-# labels still shows between their letters
-_DISCARD_EMPTY = "//VTK::TCoord::Impl\n  if (gl_FragData[0].a <= 0.0) { discard; }\n"
+# the whole fragment shader: the texel as it is (VTK's own, with its colour, lighting and
+# clipping terms, shaded 30% more instructions a pixel in software OpenGL); a texel with
+# nothing in it writes neither colour nor depth, so what is drawn after the quads still
+# shows between their letters. VTK names the texture coordinates and the texture
+# (``tcoordVCVSOutput``, ``actortexture``) and fills in the version and output tags.
+_FRAGMENT = """//VTK::System::Dec
+//VTK::Output::Dec
+in vec2 tcoordVCVSOutput;
+uniform sampler2D actortexture;
+void main()
+{
+  vec4 texel = texture(actortexture, tcoordVCVSOutput);
+  if (texel.a <= 0.0) { discard; }
+  gl_FragData[0] = texel;
+}
+"""
 # the points are normalised device coordinates already: drawn where they are, whatever the camera
 _AS_PLACED = "//VTK::PositionVC::Impl\n  gl_Position = vec4(vertexMC.xyz, 1.0);\n"
 
@@ -77,7 +90,7 @@ class ScreenQuads(Part):
         self.actor.ForceOpaqueOn()  # with the opaque geometry: no translucent pass for text
         self.actor.UseBoundsOff()  # device coordinates, not world points: never in the scene's bounds
         shaders = self.actor.GetShaderProperty()
-        shaders.AddFragmentShaderReplacement("//VTK::TCoord::Impl", True, _DISCARD_EMPTY, False)
+        shaders.SetFragmentShaderCode(_FRAGMENT)
         shaders.AddVertexShaderReplacement("//VTK::PositionVC::Impl", True, _AS_PLACED, False)
         #: (n, 4, 2) the display pixels of each quad's corners at the last placement (before
         #: any: all 0, and the quads' points all at the view's centre, drawing nothing)
