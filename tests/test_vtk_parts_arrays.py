@@ -307,6 +307,7 @@ def test_device_points_map_the_view_onto_minus_one_to_one_at_the_near_depth():
     np.testing.assert_allclose(device_points(display, VIEW), _device(display), rtol=0, atol=1e-15)
     assert NEAR_DEPTH == -0.999  # just beyond the near plane (-1), in front of everything
     np.testing.assert_array_equal(device_points([3.0, 4.0], (8, 2)), [[-0.25, 3.0, NEAR_DEPTH]])  # one pixel: (1, 3)
+    np.testing.assert_array_equal(device_points([[1.0, 0.5]], (1, 1)), [[1.0, 0.0, NEAR_DEPTH]])  # a view of 1 pixel
 
 
 @pytest.mark.parametrize(("view", "expected"), [((0, 100), [-1.0, 0.0]), ((100, 0), [0.0, -1.0])])
