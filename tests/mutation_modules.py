@@ -327,6 +327,8 @@ MODULES: dict[str, tuple[list[str], float]] = {
     # the dock policy: plain widgets and tabbed docks of a small main window (the app's docks'
     # own tests open the real window on a real take: seconds a mutant)
     "app/docks/frame_follow.py": (["tests/test_app_frame_follow_mutants.py"], 60),
+    # the inspector dock on its own: a bare Inspector over a state with a small random motion
+    "app/docks/inspector.py": (["tests/test_docks_inspector_mutants.py"], 60),
     # the inspector's text: a bare widget (slots, layout, painting, selection, keys, menu)
     "app/docks/rich_text.py": (["tests/test_app_rich_text.py", "tests/test_app_rich_text_on_screen.py"], 60),
     # the timeline's slider: a bare widget (ranges, frames <-> pixels, flags, pixels, mouse, repaints)
