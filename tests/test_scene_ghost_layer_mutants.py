@@ -144,6 +144,13 @@ def test_a_ghost_of_lone_joints_draws_a_sphere_at_each_and_no_bones(qtbot):
             assert joints.visible and not bones.visible and b_bones.visible and b_joints.visible
         layers.set_visible(1, False)
         assert [part.visible for part in ghosts.ghosts[1]] == [False, False]
+        # a ghost of one bone and no joint it leaves out: the bone drawn, no spheres
+        pair = posed_motion(FIGURE_NAMES[1:3], [-1, 0], world[:, 1:3])
+        layers.add(snapshot_of(pair), "pair.gmr", offset=0.0)
+        bones, joints = ghosts.ghosts[2]
+        assert bones.n_points == 1 and joints.n_points == 0 and ghosts.loose[2].size == 0
+        scene.show_frame(1)
+        assert bones.visible and not joints.visible
 
 
 def test_the_layers_appearance_rebuilds_the_ghost(qtbot):
@@ -399,9 +406,11 @@ def test_a_ghost_or_marker_layer_shorter_than_the_document_shows_its_last_frame(
         np.testing.assert_allclose(spheres.mesh.points, points[1])
         layer.ghost = layer.ghost[:3]  # as computed for a three-frame document
         scene.redraw(ghosts)
-        (spheres,), (_, joints) = ghosts.ghosts
+        (spheres,), (bones, joints) = ghosts.ghosts
         scene.show_frame(4)
         np.testing.assert_allclose(joints.mesh.points, layer.ghost[2][[0]])
+        np.testing.assert_allclose(bones.mesh.points, layer.ghost[2][bones.pairs].mean(axis=1))  # its last frame
+        assert not np.allclose(layer.ghost[1][bones.pairs].mean(axis=1), bones.mesh.points)  # not the one before
         np.testing.assert_allclose(spheres.mesh.points, points[3])
 
 

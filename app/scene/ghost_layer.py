@@ -127,7 +127,7 @@ class GhostLayers(Drawing):
                 part.actor.GetProperty().SetOpacity(layer.opacity)
                 part.actor.GetProperty().SetAmbient(0.6)  # translucent over a dark ground: lit brighter
                 self.add(f"ghost_{index}_{k}", part)
-                part.set_visible(layer.visible and part.n_points > 0)
+                part.set_visible(layer.visible)
             self.ghosts.append(built)
             self.loose.append(loose)
         # blended in drawing order while ghosts are shown (see the module docstring)
