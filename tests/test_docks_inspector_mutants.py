@@ -112,6 +112,31 @@ def test_a_joints_table_angles_transforms_and_world_values_at_the_frame(shown):
     assert f"{flat(format_angles(euler_degrees(gmr_world, full)))} deg {flat(format_matrix(gmr_world))}" in second
 
 
+def test_a_child_of_the_root_with_one_child_has_bvh_channels_and_no_root_note(shown):
+    state, inspector = shown
+    snapshot = opened(state)
+    state.set_frame(1)
+    state.select(1)  # its parent is joint 0; its one child j2 gives its BVH rotation
+    text = flat(inspector.text())
+    assert "Joint j1 (index 1) Parent j0 Soft link none" in text
+    bvh = bvh_local(snapshot.motion, 1, 1)
+    assert bvh.channels_of == "j1" and len(bvh.order) == 3
+    assert f"Channels (BVH) {' '.join(a + 'rotation' for a in bvh.order)} Channels (GMR)" in text
+    assert "Local, pre-rotation [R, R t] (GMR) GMR channels of j1" in text  # no root's note
+
+
+def test_numbers_that_change_every_frame_are_paragraphs_of_their_own(shown):
+    """Each changing number is a short block (laid out alone when it changes): the angles'
+    lines with no margin below, the world rotations' two pixels above their matrices."""
+    state, inspector = shown
+    opened(state)
+    state.select(1)
+    source = inspector._html()
+    assert source.count("<p style='margin:0 0 2px 0'>") == 2  # the two world rotations' angles
+    assert source.count("<p style='margin:0 0 0px 0'>") == 4  # both quantities, the BVH and GMR transforms' angles
+    assert source.count("deg</p>") == 6
+
+
 def test_a_root_is_marked_in_the_table_and_the_gmr_transform(shown):
     state, inspector = shown
     snapshot = opened(state)
@@ -141,6 +166,9 @@ def test_a_split_joint_names_its_soft_link_parent(shown):
     state.open_document(Snapshot.of(split(motion, 2)), "m.gmr")
     state.select(2)
     assert "Joint j2 (index 2) Parent none: a root Soft link j1" in flat(inspector.text())
+    state.open_document(Snapshot.of(split(motion, 1)), "m.gmr")
+    state.select(1)
+    assert "Joint j1 (index 1) Parent none: a root Soft link j0" in flat(inspector.text())  # the root's index, 0
 
 
 def test_names_are_escaped(shown):
@@ -255,6 +283,14 @@ def test_a_new_frame_builds_only_the_sections_on_screen(qtbot):
     n_sections = len(inspector._built)
     assert n_sections == 9  # frame, table, angles, two transforms, position, two world rotations, overlays
     built.clear()
+    # the text read is the frame's everywhere: the sections not built have their slots stale,
+    # filled when read, as a tall inspector of the same state shows them all built
+    tall = Inspector(state)
+    qtbot.addWidget(tall)
+    tall.resize(500, 4000)
+    tall.show()
+    qtbot.waitExposed(tall)
+    assert flat(inspector.text()) == flat(tall.text())
     assert flat(inspector.text()).split("World rotation")[2].startswith(" (GMR")
     assert flat(inspector.text()).startswith("Frame 1 of 6")
     # a section that changes its number of slots (a marker selected) builds the text afresh
