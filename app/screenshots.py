@@ -167,8 +167,7 @@ def window_screenshot(motion_path: str, markers_path: str | None, args: argparse
     problem = _prepare(window.state, args) or add_comparison(window, args)
     if problem:
         print(f"gmr-studio: {problem}", file=sys.stderr)
-        window.state.undo_stack.setClean()  # edits made before the refusal: nothing to save
-        window.close()
+        window.close_now()  # edits made before the refusal: nothing to save
         return 2
     if whole_window:
         window.resize(*size)
@@ -185,8 +184,7 @@ def window_screenshot(motion_path: str, markers_path: str | None, args: argparse
     problem = _show_docks(window, args)
     if problem:
         print(f"gmr-studio: {problem}", file=sys.stderr)
-        window.state.undo_stack.setClean()
-        window.close()
+        window.close_now()
         return 2
     app.processEvents()
     if whole_window:
@@ -198,12 +196,7 @@ def window_screenshot(motion_path: str, markers_path: str | None, args: argparse
     else:
         width, height = save_screenshot(window.view.scene, out)
     frame = window.state.frame
-    window.state.undo_stack.setClean()
-    window.close()
-    window.deleteLater()
-    from PyQt6.QtCore import QEvent
-
-    app.sendPostedEvents(None, QEvent.Type.DeferredDelete.value)
+    window.close_now()
     scratch.cleanup()
     print(f"wrote {out} ({width}x{height}, frame {frame})")
     return 0

@@ -34,16 +34,21 @@ def euler_degrees(rotation: np.ndarray, order: str) -> np.ndarray:
     return Rotation.from_matrix(rotation).as_euler(order, degrees=True)
 
 
+def inspector_of(qtbot, state: StudioState, height: int, width: int = 700) -> Inspector:
+    """An inspector of ``state`` shown at ``width`` x ``height`` pixels."""
+    inspector = Inspector(state)
+    qtbot.addWidget(inspector)
+    inspector.resize(width, height)
+    inspector.show()
+    qtbot.waitExposed(inspector)
+    return inspector
+
+
 @pytest.fixture
 def shown(qtbot):
     """(state, inspector): shown, tall enough for every section to be on screen."""
     state = StudioState()
-    inspector = Inspector(state)
-    qtbot.addWidget(inspector)
-    inspector.resize(700, 4000)
-    inspector.show()
-    qtbot.waitExposed(inspector)
-    return state, inspector
+    return state, inspector_of(qtbot, state, 4000)
 
 
 def opened(state: StudioState, seed: int = 5, parents=PARENTS, n_frames: int = 6) -> Snapshot:
@@ -266,11 +271,7 @@ def test_a_new_frame_builds_only_the_sections_on_screen(qtbot):
     """In a short view only the sections with a line in sight are built again at a frame
     change; the others keep their text, their slots stale until seen or read."""
     state = StudioState()
-    inspector = Inspector(state)
-    qtbot.addWidget(inspector)
-    inspector.resize(500, 90)
-    inspector.show()
-    qtbot.waitExposed(inspector)
+    inspector = inspector_of(qtbot, state, 90, width=500)
     opened(state)
     state.select(3)
     built = []
@@ -285,15 +286,11 @@ def test_a_new_frame_builds_only_the_sections_on_screen(qtbot):
     built.clear()
     # the text read is the frame's everywhere: the sections not built have their slots stale,
     # filled when read, as a tall inspector of the same state shows them all built
-    tall = Inspector(state)
-    qtbot.addWidget(tall)
-    tall.resize(500, 4000)
-    tall.show()
-    qtbot.waitExposed(tall)
+    tall = inspector_of(qtbot, state, 4000, width=500)
     assert flat(inspector.text()) == flat(tall.text())
     assert flat(inspector.text()).split("World rotation")[2].startswith(" (GMR")
     assert flat(inspector.text()).startswith("Frame 1 of 6")
-    # a section that changes its number of slots (a marker selected) builds the text afresh
+    # made tall, every section on screen: all built at the next frame
     inspector.resize(500, 4000)
     qtbot.wait(10)
     built.clear()

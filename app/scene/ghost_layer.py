@@ -191,7 +191,7 @@ class GhostLayers(Drawing):
         """Put the legend at the view's right, fitted to its size (a small view shrinks it,
         a narrow one moves it left), in front of everything."""
         if self.legend is not None:
-            self.legend.place(tuple(self.scene.plotter.renderer.GetSize()))
+            self.legend.place(self.scene.display_size())
 
     # -------------------------------------------------------------------- frames
     def show_frame(self, frame: int) -> None:

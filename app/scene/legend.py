@@ -9,8 +9,9 @@ the camera's): 0.4 ms of every frame at 1018x425 in software OpenGL, the largest
 comparison layer's cost. This legend is built when the layer's error scale is
 (:meth:`app.scene.ghost_layer.GhostLayers.build`) and costs one actor of textured quads a
 frame (:class:`app.scene.labels.ScreenQuads`), placed again only when the view's size
-changes. One quad over the whole picture (about 90 x 235 pixels) shaded 2.0 million instructions a frame in software
-OpenGL, most of them for texels with nothing in them; the pieces' quads cover about 40% of it.
+changes. One quad over the whole picture (about 90 x 235 pixels) shaded 2.0 million
+instructions a frame in software OpenGL, most of them for texels with nothing in them; the
+pieces' quads cover about 40% of it.
 """
 
 from __future__ import annotations
@@ -104,7 +105,7 @@ class LegendPart(ScreenQuads):
         #: that a shrunk (interpolated) legend keeps the soft edge it has in one quad
         self.boxes = np.clip(pieces + np.array([-PAD, -PAD, PAD, PAD]), 0, (width, height, width, height))
         super().__init__(len(self.boxes))
-        self._corners = box_corners(self.boxes)  # (K, 4, 2) texels, placed scaled each render
+        self._corners = box_corners(self.boxes)  # (K, 4, 2) texels, placed scaled to the view
         self.set_texture(self.image, self._corners / (width, height))
         self.actor.GetTexture().InterpolateOff()  # one texel a pixel until fitted
         self.fitted = (0.0, 1.0)  # (shift, scale) of the picture now

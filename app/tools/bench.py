@@ -78,15 +78,9 @@ def bench_window(width: int, height: int):
 
 
 def close_bench_window(window, scratch: str) -> None:
-    """Close a :func:`bench_window` without asking to save, delete it at once (Qt's deferred
-    deletion run now, while the application lives: not whenever its wrapper is collected),
-    and remove its settings file."""
-    from PyQt6.QtCore import QEvent
-
-    window.state.undo_stack.setClean()
-    window.close()
-    window.deleteLater()
-    application().sendPostedEvents(None, QEvent.Type.DeferredDelete.value)
+    """Close a :func:`bench_window` without asking to save, delete it at once
+    (:meth:`MainWindow.close_now`), and remove its settings file."""
+    window.close_now()
     if os.path.exists(scratch):
         os.remove(scratch)
 
