@@ -24,10 +24,10 @@ from pathlib import Path
 
 import numpy as np
 
-from gmr_studio.core.kinematics import forward_kinematics
+from gmr_studio.core.kinematics.fk import forward_kinematics
 from gmr_studio.core.markers.markerset import Y_UP_TO_Z_UP, MarkerSet
-from gmr_studio.core.motion import Motion, build_translations
-from gmr_studio.core.rotations import matrix_from_euler
+from gmr_studio.core.model.motion import Motion, build_translations
+from gmr_studio.core.rotations.euler import matrix_from_euler
 from gmr_studio.resources import resource_path
 
 #: joint name -> (parent name, bone vector in the rest pose, cm); the CMU ASF hierarchy

@@ -31,8 +31,8 @@ from pathlib import Path
 
 import numpy as np
 
-from gmr_studio.core.motion import Motion
-from gmr_studio.core.rotations import matrix_from_euler
+from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.rotations.euler import matrix_from_euler
 
 FRAME_RATE = 60.0
 WALK_FRAMES = 300  # 5 s

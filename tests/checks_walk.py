@@ -13,9 +13,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.rigs import ORDER, _humanoid
-from gmr_studio.core.rotations import matrix_from_euler
+from gmr_studio.core.rotations.euler import matrix_from_euler
 
 STRIDE_SECONDS = 1.1
 SPEED = 0.6  # metres per second

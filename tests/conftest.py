@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 from hypothesis import settings
 
-from gmr_studio.core.motion import Motion, build_translations
-from gmr_studio.core.rotations import matrix_from_euler
+from gmr_studio.core.model.motion import Motion, build_translations
+from gmr_studio.core.rotations.euler import matrix_from_euler
 from gmr_studio.core.shared_data import shared_data_dir
 
 settings.register_profile("ci", derandomize=True, database=None, print_blob=True)

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 #: module -> (tests that must catch its mutants, seconds before a mutant's run counts as a hang)
 MODULES: dict[str, tuple[list[str], float]] = {
-    "core/clip.py": (["tests/test_clip_edges.py", "tests/test_clip.py"], 60),
-    "core/contacts.py": (["tests/test_contacts.py", "tests/test_mirror_contacts.py"], 60),
+    "core/edits/clip.py": (["tests/test_clip_edges.py", "tests/test_clip.py"], 60),
+    "core/analysis/contacts.py": (["tests/test_contacts.py", "tests/test_mirror_contacts.py"], 60),
     "core/formats/amass.py": (["tests/test_amass.py"], 60),
     "core/formats/gltf.py": (
         [
@@ -36,7 +36,7 @@ MODULES: dict[str, tuple[list[str], float]] = {
     "core/formats/gltf_in/reader.py": (["tests/test_gltf_reader_mutants.py", "tests/test_gltf_read.py"], 60),
     "core/formats/gltf_in/container.py": (["tests/test_gltf_container_mutants.py", "tests/test_gltf_read.py"], 60),
     "core/formats/gltf_in/contents.py": (["tests/test_gltf_contents_mutants.py", "tests/test_gltf_read.py"], 60),
-    "core/channels.py": (
+    "core/model/channels.py": (
         [
             "tests/test_channels.py",
             "tests/test_joint_transforms.py",
@@ -45,7 +45,7 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ],
         60,
     ),
-    "core/curves.py": (
+    "core/analysis/curves.py": (
         [
             "tests/test_curves_edges.py",
             "tests/test_curves.py",
@@ -56,7 +56,7 @@ MODULES: dict[str, tuple[list[str], float]] = {
         ],
         60,
     ),
-    "core/mirror.py": (
+    "core/edits/mirror.py": (
         [
             "tests/test_mirror_edges.py",
             "tests/test_mirror_contacts.py",

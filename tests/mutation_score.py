@@ -7,7 +7,7 @@ checkout's ``core/``), so the tests import the mutated file. A mutant the tests 
 is a survivor: a blind spot, unless it is *equivalent* (no input can tell it from the code),
 which ``tests/mutation_equivalents.toml`` says with the reason.
 
-    nice .venv/bin/python -m tests.mutation_score run core/clip.py [MODULE ...]   # minutes each
+    nice .venv/bin/python -m tests.mutation_score run core/edits/clip.py [MODULE ...]   # minutes each
     GMR_REQUIRE_GUI=1 nice xvfb-run -a .venv/bin/python -m tests.mutation_score run app/reliability/autosave.py
     .venv/bin/python -m tests.mutation_score                     # the table, from the sessions kept
     .venv/bin/python -m tests.mutation_score survivors MODULE    # each non-equivalent survivor's diff

@@ -10,7 +10,7 @@ from gmr_studio.core.formats import load_gmr, read_motion
 from gmr_studio.core.formats.acclaim import asf_beside, read_amc, read_asf, skeleton_motion
 from gmr_studio.core.formats.amc import parse_amc_frames
 from gmr_studio.core.formats.bvh import read_bvh
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from tests.conftest import shared_files, shared_path
 
 # ------------------------------------------------------------------ independent Acclaim FK

@@ -6,7 +6,7 @@ For each motion file of the shared data (BVH, ASF/AMC) and each rig of :mod:`cor
 - ``gmr info``'s duration is the core clock's, and the timeline's total;
 - ``gmr curves`` (the CLI, from the file in its own convention), the core, the curves dock's
   model (the app's GMR snapshot with the file's channels) and the inspector's numbers
-  (:func:`core.curves.values_at`) agree at sampled frames, for every quantity;
+  (:func:`core.analysis.curves.values_at`) agree at sampled frames, for every quantity;
 - the file compared with itself after each edit kind (shift root, split, join, split all,
   join all, remove dummies, mirror twice) is zero;
 - mirror twice is the identity and keeps the joint count;
@@ -25,19 +25,19 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from gmr_studio.core.analysis.curves import QUANTITIES, joint_curves, values_at
 from gmr_studio.core.cli import main
-from gmr_studio.core.clock import frame_seconds, motion_duration
 from gmr_studio.core.compare import compare_motions
-from gmr_studio.core.convert import pre_from_post
-from gmr_studio.core.curves import QUANTITIES, joint_curves, values_at
-from gmr_studio.core.dummies import find_dummies, remove_dummies
+from gmr_studio.core.edits.dummies import find_dummies, remove_dummies
+from gmr_studio.core.edits.mirror import mirror, side_partners
+from gmr_studio.core.edits.operations import join, join_all, shift_root, split, split_all
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import read_motion_with_channels
 from gmr_studio.core.formats.bvh import write_bvh
-from gmr_studio.core.kinematics import world_positions
-from gmr_studio.core.mirror import mirror, side_partners
-from gmr_studio.core.operations import join, join_all, shift_root, split, split_all
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.rigs import RIGS, make_rig
+from gmr_studio.core.timebase.clock import frame_seconds, motion_duration
 from tests.conftest import shared_files
 
 FILES = shared_files("**/*.bvh") + shared_files("**/*.amc")
@@ -222,7 +222,7 @@ def test_the_long_take_in_memory():
     """The 100,000-frame rig: info's duration is the clock's, and a trimmed copy is found at
     minus its start by the automatic offset (the whole-body search over 100,000 frames)."""
     from gmr_studio.core.cli.info import describe
-    from gmr_studio.core.clip import trim
+    from gmr_studio.core.edits.clip import trim
 
     motion = make_rig("long_take")
     assert describe(motion, "long_take.bvh")["duration"] == motion_duration(motion) == motion.n_frames / 60.0

@@ -16,7 +16,7 @@ from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats import load_gmr, read_motion
 from gmr_studio.core.formats.amass import matrices_from_axis_angle
 from gmr_studio.core.formats.body_model import JOINT_NAMES, load_body_model
-from gmr_studio.core.kinematics import reference_forward_kinematics
+from gmr_studio.core.kinematics.fk import reference_forward_kinematics
 
 N_VERTICES, N_BETAS = 300, 16
 

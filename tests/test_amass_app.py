@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from tests import app_fixtures
 from tests.app_fixtures import open_file
 from tests.test_amass import smpl_joint_positions, synthetic_model, synthetic_sequence

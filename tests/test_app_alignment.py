@@ -14,13 +14,13 @@ from gmr_studio.app.model.alignment import (
     similarity_fit,
 )
 from gmr_studio.core.demo import demo_markers, demo_motion
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers.markerset import Y_UP_TO_Z_UP
-from gmr_studio.core.rotations import axis_permutations, rotation_about_axis
+from gmr_studio.core.rotations.euler import axis_permutations, rotation_about_axis
 
 
 def turn(axis: int, degrees: float) -> np.ndarray:
-    """(3, 3) rotation by ``degrees`` about coordinate axis 0, 1 or 2 (core.rotations)."""
+    """(3, 3) rotation by ``degrees`` about coordinate axis 0, 1 or 2 (core.rotations.euler)."""
     return rotation_about_axis("XYZ"[axis], np.radians(degrees))
 
 

@@ -9,7 +9,7 @@ import pytest
 from gmr_studio.app.dialogs.alignment_dialog import PIVOT_COLOR, AlignmentDialog
 from gmr_studio.app.model.alignment import MarkerAlignment, figure_centre_joint, turned_about
 from gmr_studio.core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
-from gmr_studio.core.rotations import rotation_about_axis
+from gmr_studio.core.rotations.euler import rotation_about_axis
 from tests import app_fixtures
 from tests.app_fixtures import open_file, screen_image
 
@@ -17,7 +17,7 @@ studio = app_fixtures.studio
 
 
 def turn(axis: int, degrees: float) -> np.ndarray:
-    """(3, 3) rotation by ``degrees`` about coordinate axis 0, 1 or 2 (core.rotations)."""
+    """(3, 3) rotation by ``degrees`` about coordinate axis 0, 1 or 2 (core.rotations.euler)."""
     return rotation_about_axis("XYZ"[axis], np.radians(degrees))
 
 

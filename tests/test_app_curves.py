@@ -14,8 +14,8 @@ from PyQt6.QtWidgets import QApplication
 from gmr_studio.app.docks.frame_follow import seen
 from gmr_studio.app.docks.timeplot import CURSOR_COLOUR, TimePlot
 from gmr_studio.app.media.video import image_pixels
-from gmr_studio.core.contacts import foot_contacts
-from gmr_studio.core.curves import joint_curves
+from gmr_studio.core.analysis.contacts import foot_contacts
+from gmr_studio.core.analysis.curves import joint_curves
 from tests import app_fixtures
 from tests.app_fixtures import open_file
 from tests.conftest import shared_path
@@ -203,7 +203,7 @@ def test_contact_bars_show_the_core_contacts_and_seek(walk):
 
 
 def test_the_selected_marker_is_plotted_with_its_gaps_shaded(qtbot, studio):
-    from gmr_studio.core.curves import gap_spans
+    from gmr_studio.core.analysis.curves import gap_spans
 
     open_file(studio, shared_path("cmu/subject01/01_01.bvh"), shared_path("cmu/subject01/01_01.c3d"))
     overlay = studio.state.marker_overlay

@@ -9,7 +9,7 @@ from PyQt6.QtWidgets import QApplication
 
 from gmr_studio.app.docks.timeplot import SPAN_BRUSH
 from gmr_studio.app.media.video import image_pixels
-from gmr_studio.core.curves import gap_spans
+from gmr_studio.core.analysis.curves import gap_spans
 from tests import app_fixtures
 from tests.app_fixtures import open_file
 from tests.conftest import shared_path

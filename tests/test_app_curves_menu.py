@@ -13,9 +13,9 @@ from PyQt6.QtGui import QAction
 from PyQt6.QtWidgets import QApplication, QInputDialog
 
 from gmr_studio.app.model.state import Snapshot
-from gmr_studio.core.clip import resample
-from gmr_studio.core.kinematics import world_positions
-from gmr_studio.core.mirror import mirror
+from gmr_studio.core.edits.clip import resample
+from gmr_studio.core.edits.mirror import mirror
+from gmr_studio.core.kinematics.fk import world_positions
 from tests import app_fixtures
 from tests.app_fixtures import open_file
 from tests.conftest import shared_path

@@ -9,7 +9,7 @@ import pytest
 from PyQt6.QtCore import Qt
 
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from tests import app_fixtures
 from tests.app_fixtures import open_file
 from tests.conftest import shared_path
@@ -29,8 +29,8 @@ def test_a_bad_file_leaves_the_document_as_it_was(qtbot, studio, tmp_path):
 
 
 def test_save_as_gmr_and_export_bvh_round_trip(qtbot, studio, tmp_path):
-    from gmr_studio.core.export import bvh_export, tree_file_name
     from gmr_studio.core.formats import read_motion
+    from gmr_studio.core.formats.bvh_export import bvh_export, tree_file_name
 
     open_file(studio, demo_folder() / MOTION_FILE)
     state = studio.state

@@ -123,7 +123,7 @@ def _move(point):
 def test_world_rotations_are_the_joints_own_not_its_parents(qtbot, studio):
     # planted bug: the parent's GMR world rotation shown as the joint's
     from gmr_studio.app.model.formatting import format_matrix
-    from gmr_studio.core.kinematics import world_rotations
+    from gmr_studio.core.kinematics.fk import world_rotations
 
     open_file(studio, shared_path(CMU))
     state = studio.state

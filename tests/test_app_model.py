@@ -191,7 +191,7 @@ class StudioModel(RuleBasedStateMachine):
         roots = [self.state.motion.names[r] for r in self.state.motion.roots]
         assert self.window.exports.export_bvh(target, per_tree=per_tree), self.window.status.text()
         if per_tree:  # reopen the tree holding most of the first file's joints
-            from gmr_studio.core.export import tree_file_name
+            from gmr_studio.core.formats.bvh_export import tree_file_name
 
             motion = self.state.motion
             known = np.isin(motion.names, self.reference_names)

@@ -19,7 +19,7 @@ from gmr_studio.app.scene.onion import ghost_opacity, onion_frames
 from gmr_studio.app.scene.scene import BACKGROUND
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from gmr_studio.core.formats import load_gmr
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from tests import app_fixtures
 from tests.app_fixtures import open_file, screen_image
 from tests.conftest import shared_path

@@ -22,7 +22,7 @@ from gmr_studio.app.model.problems import LEVEL_COLOURS, Problems, shown_limits
 from gmr_studio.app.model.state import Snapshot
 from gmr_studio.app.window.main_window import MainWindow
 from gmr_studio.core.checks import CheckSettings
-from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.kinematics.convention import pre_from_post
 from tests import app_fixtures
 from tests.app_fixtures import screen_image
 from tests.checks_walk import clean_walk

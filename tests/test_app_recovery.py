@@ -23,9 +23,9 @@ from gmr_studio.app.dialogs.recovery_dialog import RecoveryDialog, item_text, of
 from gmr_studio.app.model import commands
 from gmr_studio.app.reliability import recovery
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
+from gmr_studio.core.edits.operations import split
 from gmr_studio.core.formats import load_gmr
-from gmr_studio.core.kinematics import forward_kinematics
-from gmr_studio.core.operations import split
+from gmr_studio.core.kinematics.fk import forward_kinematics
 from tests import app_fixtures
 from tests.app_fixtures import open_file
 from tests.test_app_autosave_rules import restamp

@@ -12,10 +12,10 @@ import pytest
 from gmr_studio.app.model import commands
 from gmr_studio.app.model.state import UNDO_MEMORY_BUDGET, Snapshot, StudioState, undo_limit_for
 from gmr_studio.core.demo import demo_markers, demo_motion
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.edits.operations import split
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers.pelvis import PelvisFrames
-from gmr_studio.core.operations import split
-from gmr_studio.core.rotations import matrix_from_euler
+from gmr_studio.core.rotations.euler import matrix_from_euler
 from tests.conftest import random_motion
 
 PARENTS = [-1, 0, 1, 2, 1, 4, 0, 6]
@@ -225,7 +225,7 @@ def test_recovered_pelvis_turns_with_the_root(case):
     from gmr_studio.app.model import extensions
     from gmr_studio.core.formats import load_gmr
     from gmr_studio.core.markers import read_markers
-    from gmr_studio.core.rotations import rotation_angle
+    from gmr_studio.core.rotations.euler import rotation_angle
     from tests.conftest import shared_path
 
     if case == "demo":

@@ -14,7 +14,7 @@ from vtkmodules.vtkRenderingCore import vtkRenderer
 
 from gmr_studio.app.model.state import Snapshot
 from gmr_studio.app.scene.teach_overlay import TeachOverlay, teaching_geometry
-from gmr_studio.core.classroom import scaled_rotation
+from gmr_studio.core.analysis.classroom import scaled_rotation
 from tests.conftest import random_motion
 
 #: 0 root, 1 under it, 2 and 3 children of 1, 4 under 3

@@ -9,7 +9,7 @@ from PyQt6.QtWidgets import QToolBar
 
 from gmr_studio.app.model.commands import run_edit
 from gmr_studio.app.window.actions import UNDO_LABEL_CHARS
-from gmr_studio.core.operations import split
+from gmr_studio.core.edits.operations import split
 from tests import app_fixtures
 from tests.app_fixtures import open_file
 from tests.conftest import shared_path

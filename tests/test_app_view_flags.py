@@ -13,8 +13,8 @@ from gmr_studio.app.arguments import build_arguments
 from gmr_studio.app.main import _apply_steps_once_loaded
 from gmr_studio.app.model.edit_steps import apply_steps
 from gmr_studio.app.tools.gallery import dilate, figure_mask
+from gmr_studio.core.edits.operations import shift_root, split, split_all
 from gmr_studio.core.formats import load_gmr
-from gmr_studio.core.operations import shift_root, split, split_all
 from tests import app_fixtures
 from tests.app_fixtures import open_file
 from tests.conftest import shared_path
@@ -83,7 +83,7 @@ def test_the_window_opens_with_the_edits_applied_unsaved_and_undoable(qtbot, stu
 
 def test_gmr_edit_takes_remove_dummies_in_its_place_among_the_steps(tmp_path):
     from gmr_studio.core.cli import main as gmr
-    from gmr_studio.core.dummies import remove_dummies
+    from gmr_studio.core.edits.dummies import remove_dummies
 
     path = shared_path(CMU)
     out = tmp_path / "out.gmr"

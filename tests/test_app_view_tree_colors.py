@@ -8,9 +8,9 @@ import pytest
 
 from gmr_studio.app.model import commands
 from gmr_studio.app.model.tree_colors import PALETTE, TreeColors
+from gmr_studio.core.edits.operations import join, join_all, shift_root, split, split_all
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import load_gmr
-from gmr_studio.core.operations import join, join_all, shift_root, split, split_all
 from tests import app_fixtures
 from tests.app_fixtures import open_file, screen_image
 from tests.conftest import shared_path

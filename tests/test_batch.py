@@ -12,7 +12,7 @@ from gmr_studio.core.cli import main
 from gmr_studio.core.cli.batch import Progress, find_motion_files, plan_outputs, run_batch
 from gmr_studio.core.cli.convert import ConvertOptions
 from gmr_studio.core.formats import load_gmr, read_motion
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.shared_data import shared_data_dir
 from tests.conftest import shared_path
 from tests.test_export import validate_bvh
@@ -113,7 +113,7 @@ def test_batch_to_bvh_with_options(motion_folder, tmp_path, capsys):
 
 
 def test_a_failed_write_leaves_no_output_and_keeps_the_old_file(tmp_path, monkeypatch):
-    import gmr_studio.core.export as core_export
+    import gmr_studio.core.formats.bvh_export as core_export
 
     folder = tmp_path / "in"
     folder.mkdir()

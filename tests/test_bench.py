@@ -15,9 +15,9 @@ from gmr_studio.core.benchmark.data import build_benchmark_data, find_bvh_files
 from gmr_studio.core.benchmark.peers import PEERS, _compare, _pybvh_name, run_peers
 from gmr_studio.core.benchmark.timing import Timing, peak_memory, time_call
 from gmr_studio.core.cli import main
+from gmr_studio.core.edits.operations import shift_root, split
 from gmr_studio.core.formats.bvh import read_bvh
-from gmr_studio.core.kinematics import reference_forward_kinematics, world_positions
-from gmr_studio.core.operations import shift_root, split
+from gmr_studio.core.kinematics.fk import reference_forward_kinematics, world_positions
 from tests.conftest import random_motion, shared_path
 from tests.test_bvh_reader import SMALL
 

@@ -7,8 +7,8 @@ import pytest
 
 from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats.bvh import read_bvh
-from gmr_studio.core.kinematics import world_positions
-from gmr_studio.core.rotations import matrix_from_euler
+from gmr_studio.core.kinematics.fk import world_positions
+from gmr_studio.core.rotations.euler import matrix_from_euler
 from tests.conftest import shared_files, shared_path
 
 SMALL = """HIERARCHY
@@ -193,9 +193,9 @@ def test_an_extra_frame_line_with_the_wrong_count_is_still_an_error():
 
 def test_a_gmr_file_with_more_frames_than_promised_is_refused():
     """GMR is the project's own format: its writer counts right, so extra rows mean damage."""
-    from gmr_studio.core.convert import pre_from_post
     from gmr_studio.core.formats.gmr import read_gmr
     from gmr_studio.core.formats.textmotion import format_text_motion
+    from gmr_studio.core.kinematics.convention import pre_from_post
 
     text = "".join(format_text_motion(pre_from_post(read(SMALL)), "gmr")).replace("Frames: 2", "Frames: 1")
     with pytest.raises(MotionFileError, match="more frame lines than the 1 promised"):

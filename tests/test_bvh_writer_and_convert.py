@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.core.convert import post_from_pre, pre_from_post
+from gmr_studio.core.edits.operations import shift_root, split
 from gmr_studio.core.formats.bvh import bvh_text, read_bvh, write_bvh
-from gmr_studio.core.kinematics import forward_kinematics, world_positions
-from gmr_studio.core.operations import shift_root, split
+from gmr_studio.core.kinematics.convention import post_from_pre, pre_from_post
+from gmr_studio.core.kinematics.fk import forward_kinematics, world_positions
 from tests.conftest import random_motion, shared_files
 from tests.test_bvh_reader import SMALL
 

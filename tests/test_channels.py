@@ -1,4 +1,4 @@
-"""A file's own rotation channels (core.channels.FileChannels) against an independent
+"""A file's own rotation channels (core.model.channels.FileChannels) against an independent
 computation: BVH channels intrinsic in file order, AMC dofs applied in file order about the
 ASF frame C (``C R_last ... R_first C^T``), both turned back into the file's columns, and the
 rule that says whether a file's values still make a motion's rotations."""
@@ -8,8 +8,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.core.channels import FILE_MATCH_TOLERANCE, FileChannels
-from gmr_studio.core.rotations import euler_from_matrix, nearest_rotation
+from gmr_studio.core.model.channels import FILE_MATCH_TOLERANCE, FileChannels
+from gmr_studio.core.rotations.euler import euler_from_matrix, nearest_rotation
 
 
 def about(axis: str, degrees: np.ndarray) -> np.ndarray:

@@ -10,8 +10,8 @@ import pytest
 
 from gmr_studio.core.checks import KINDS
 from gmr_studio.core.cli import main
-from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.formats import write_motion
+from gmr_studio.core.kinematics.convention import pre_from_post
 from tests.checks_walk import clean_walk
 from tests.conftest import shared_path
 
@@ -176,8 +176,8 @@ def test_batch_on_a_dask_cluster(files, capsys):
 
 def test_a_z_up_bvh_checked_with_its_up_axis(tmp_path, capsys):
     """A BVH states no up axis (Y is assumed): a Z-up one is checked with --up y --from-up z."""
-    from gmr_studio.core.conversions import change_up_axis
     from gmr_studio.core.formats.bvh import write_bvh
+    from gmr_studio.core.space.conversions import change_up_axis
     from tests.test_checks import with_translation
 
     def slide(f):

@@ -8,7 +8,7 @@ import numpy as np
 
 from gmr_studio.core.checks import CheckSettings, Finding, run_checks
 from gmr_studio.core.checks.run import _without_flipped_pops, check_data
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from tests.checks_walk import clean_walk
 from tests.test_checks import with_translation
 

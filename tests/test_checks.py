@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.checks import KINDS, CheckSettings, joint_flags, run_checks
-from gmr_studio.core.kinematics import world_rotations
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.kinematics.fk import world_rotations
+from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.rigs import RIGS, make_rig
-from gmr_studio.core.rotations import rotation_about_axis
+from gmr_studio.core.rotations.euler import rotation_about_axis
 from tests.checks_walk import clean_walk
 
 CM = 0.01
@@ -261,7 +261,7 @@ def test_the_convention_rigs_have_no_warning(name):
 def test_a_flip_in_the_gmr_form_names_the_children_together():
     """In GMR (pre) form each child carries its BVH parent's rotation: a flip of the BVH's
     Hips is one finding on the three bones that hang from them."""
-    from gmr_studio.core.convert import pre_from_post
+    from gmr_studio.core.kinematics.convention import pre_from_post
 
     motion = clean_walk(120.0, unit=CM)
     rotations = motion.rotations.copy()
@@ -277,8 +277,8 @@ def test_a_flip_in_the_gmr_form_names_the_children_together():
 @pytest.mark.parametrize("relative", ["cmu/subject01/01_01.bvh", "bvh/assimp_Boxing_Toes.bvh"])
 def test_the_gmr_form_of_a_real_file_gets_the_same_findings(relative):
     """The app holds the GMR form; the checks say the same of it as of the BVH."""
-    from gmr_studio.core.convert import pre_from_post
     from gmr_studio.core.formats import read_motion
+    from gmr_studio.core.kinematics.convention import pre_from_post
     from tests.conftest import shared_path
 
     motion = read_motion(shared_path(relative))

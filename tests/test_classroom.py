@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.core.classroom import (
+from gmr_studio.core.analysis.classroom import (
     deepest_first,
     explain_shift_root,
     joint_chain,
@@ -14,11 +14,11 @@ from gmr_studio.core.classroom import (
     split_to_roots,
     stored_per_frame,
 )
-from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.edits.operations import shift_root
 from gmr_studio.core.formats import read_bvh
-from gmr_studio.core.kinematics import forward_kinematics, reference_forward_kinematics
-from gmr_studio.core.operations import shift_root
-from gmr_studio.core.rotations import matrix_from_euler
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.kinematics.fk import forward_kinematics, reference_forward_kinematics
+from gmr_studio.core.rotations.euler import matrix_from_euler
 from tests.conftest import random_motion, shared_path
 
 FRAMES = (0, 311, 619, 2000)

@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.cli import main
-from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.edits.operations import join, shift_root, split
 from gmr_studio.core.formats import read_motion
 from gmr_studio.core.formats.bvh import read_bvh
-from gmr_studio.core.kinematics import world_positions
-from gmr_studio.core.operations import join, shift_root, split
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.kinematics.fk import world_positions
 from tests.conftest import shared_path
 from tests.test_bvh_reader import SMALL
 

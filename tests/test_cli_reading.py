@@ -9,7 +9,7 @@ import pytest
 
 from gmr_studio.core.cli import build_parser, main
 from gmr_studio.core.formats import load_gmr, read_motion
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from tests.conftest import shared_path
 
 #: subcommand -> arguments that make a complete command line with a motion file FILE

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation, Slerp
 
-from gmr_studio.core.clip import resample, resample_positions, trim
+from gmr_studio.core.edits.clip import resample, resample_positions, trim
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import load_gmr, read_motion
-from gmr_studio.core.kinematics import reference_forward_kinematics
+from gmr_studio.core.kinematics.fk import reference_forward_kinematics
 from tests.conftest import random_motion, shared_path
 
 

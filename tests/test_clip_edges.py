@@ -1,12 +1,12 @@
 """Resampling at the edges: rates below 1 Hz, one frame, no frames (mutation survivors of
-core/clip.py, docs/reliability.md)."""
+core/edits/clip.py, docs/reliability.md)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from gmr_studio.core.clip import resample, resample_positions, trim
+from gmr_studio.core.edits.clip import resample, resample_positions, trim
 from gmr_studio.core.errors import OperationError
 from tests.conftest import random_motion
 

@@ -8,12 +8,12 @@ import pytest
 from gmr_studio.core.compare import compare_motions, compare_tracks, fit_alignment, track_of_points
 from gmr_studio.core.compare.offset import find_offset
 from gmr_studio.core.compare.tracks import Track
-from gmr_studio.core.conversions import change_up_axis, scale_lengths
+from gmr_studio.core.edits.operations import join_all, shift_root, split, split_all
 from gmr_studio.core.formats import load_gmr, read_motion
 from gmr_studio.core.jointmap import match_joints
-from gmr_studio.core.kinematics import forward_kinematics
-from gmr_studio.core.operations import join_all, shift_root, split, split_all
-from gmr_studio.core.rotations import matrix_from_euler, rotation_about_axis, rotation_angle
+from gmr_studio.core.kinematics.fk import forward_kinematics
+from gmr_studio.core.rotations.euler import matrix_from_euler, rotation_about_axis, rotation_angle
+from gmr_studio.core.space.conversions import change_up_axis, scale_lengths
 from tests.conftest import shared_path
 
 THORAX = 2.06488  # the bone the cgspeed BVH dropped (test_jointmap.py)

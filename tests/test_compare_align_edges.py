@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.compare.align import Alignment, fit_alignment, rms_distance
-from gmr_studio.core.rotations import matrix_from_euler
+from gmr_studio.core.rotations.euler import matrix_from_euler
 
 
 def test_the_default_alignment_is_the_identity_on_a_clock_not_searched():

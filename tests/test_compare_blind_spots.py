@@ -13,7 +13,7 @@ from gmr_studio.core.compare.audit import AuditPath, audit_motion
 from gmr_studio.core.compare.result import quantiles, summarize
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from gmr_studio.core.formats import load_gmr
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 
 
 def demo_walk():

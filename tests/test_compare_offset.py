@@ -103,7 +103,7 @@ def test_the_ghost_is_the_comparisons_b_on_as_clock():
     a = make_rig("metres")
     b = a.frame_slice(slice(7, 200)).replace(frame_time=a.frame_time * (1 + 3e-6))  # one rate, printed apart
     result = compare_motions(a, b, offset=-7)
-    from gmr_studio.core.kinematics import world_positions
+    from gmr_studio.core.kinematics.fk import world_positions
 
     ghost = ghost_positions(world_positions(b), a.n_frames, a.frame_rate, b.frame_rate, result.alignment)
     np.testing.assert_array_equal(ghost[:, result.index_b], result.positions_b)

@@ -51,7 +51,7 @@ def test_importing_all_of_core_loads_no_gui_module():
     ]
     # the compiled kernels need the optional numba (the `fast` extra); without it the FK
     # engine runs its numpy backend and that module is the only one that cannot import
-    optional = {"gmr_studio.core._fk_kernels": "numba"}
+    optional = {"gmr_studio.core.kinematics._kernels": "numba"}
     code = (
         "import importlib, importlib.util, sys\n"
         f"optional = {optional!r}\n"

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from gmr_studio.core.curves import (
+from gmr_studio.core.analysis.curves import (
     QUANTITIES,
     gap_spans,
     joint_curves,
@@ -16,8 +16,8 @@ from gmr_studio.core.curves import (
 )
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import load_gmr, read_motion
-from gmr_studio.core.kinematics import reference_forward_kinematics
-from gmr_studio.core.quaternions import (
+from gmr_studio.core.kinematics.fk import reference_forward_kinematics
+from gmr_studio.core.rotations.quaternions import (
     continuous_quaternions,
     matrix_from_quaternion,
     quaternion_from_matrix,

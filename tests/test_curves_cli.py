@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.cli import main
-from gmr_studio.core.clip import resample, trim
+from gmr_studio.core.edits.clip import resample, trim
+from gmr_studio.core.edits.mirror import mirror
 from gmr_studio.core.formats import load_gmr, read_motion
-from gmr_studio.core.kinematics import reference_forward_kinematics
-from gmr_studio.core.mirror import mirror
+from gmr_studio.core.kinematics.fk import reference_forward_kinematics
 from tests.conftest import shared_path
 from tests.test_curves import bvh_channels
 

@@ -1,4 +1,4 @@
-"""Curves at their edges (issue 24, the mutation run of core/curves.py): Euler branches through
+"""Curves at their edges (issue 24, the mutation run of core/analysis/curves.py): Euler branches through
 90 degrees, one- and two-channel wraps, two frames, no channels, the file's values kept bit
 for bit, leaves and independent children, a post motion's GMR rotations, the block type."""
 
@@ -9,8 +9,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from gmr_studio.core.convert import DEFAULT_ORDER, post_from_pre, pre_from_post
-from gmr_studio.core.curves import (
+from gmr_studio.core.analysis.curves import (
     EULER_BRANCH_MIDDLE,
     Curves,
     bvh_rotations,
@@ -22,7 +21,8 @@ from gmr_studio.core.curves import (
     world_acceleration,
 )
 from gmr_studio.core.formats import read_motion_with_channels
-from gmr_studio.core.rotations import euler_from_matrix, matrix_from_euler
+from gmr_studio.core.kinematics.convention import DEFAULT_ORDER, post_from_pre, pre_from_post
+from gmr_studio.core.rotations.euler import euler_from_matrix, matrix_from_euler
 from tests.conftest import random_motion, shared_path
 
 

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from gmr_studio.core.curves import euler_degrees, joint_curves
+from gmr_studio.core.analysis.curves import euler_degrees, joint_curves
+from gmr_studio.core.edits.mirror import mirror
 from gmr_studio.core.formats import read_bvh
-from gmr_studio.core.mirror import mirror
-from gmr_studio.core.rotations import matrix_from_euler
+from gmr_studio.core.rotations.euler import matrix_from_euler
 
 
 def test_two_channel_euler_curves_keep_the_first_channels():

@@ -7,16 +7,16 @@ import csv
 import numpy as np
 import pytest
 
+from gmr_studio.core.analysis.curves import joint_curves, values_at
 from gmr_studio.core.cli import main
-from gmr_studio.core.clock import duration_seconds, frame_seconds, motion_duration
-from gmr_studio.core.convert import pre_from_post
-from gmr_studio.core.curves import joint_curves, values_at
+from gmr_studio.core.edits.mirror import mirror
 from gmr_studio.core.formats import read_motion_with_channels
 from gmr_studio.core.formats.bvh import write_bvh
-from gmr_studio.core.mirror import mirror
+from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.rigs import make_rig
-from gmr_studio.core.rotations import matrix_from_euler
+from gmr_studio.core.rotations.euler import matrix_from_euler
 from gmr_studio.core.table import csv_text
+from gmr_studio.core.timebase.clock import duration_seconds, frame_seconds, motion_duration
 from tests.conftest import shared_path
 
 

@@ -12,9 +12,9 @@ from scipy.spatial.transform import Rotation, Slerp
 
 from gmr_studio.core.cli import main
 from gmr_studio.core.cli.dataset import build_dataset
-from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.formats import read_motion
-from gmr_studio.core.kinematics import reference_forward_kinematics
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.kinematics.fk import reference_forward_kinematics
 from tests.conftest import shared_path
 from tests.test_gltf import matrix_from_quaternion
 

@@ -6,14 +6,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.core.convert import post_from_pre, pre_from_post
-from gmr_studio.core.export import bvh_export, bvh_export_trees
+from gmr_studio.core.edits.operations import join, join_all, shift_root, split, split_all
 from gmr_studio.core.formats.bvh import bvh_text, read_bvh
+from gmr_studio.core.formats.bvh_export import bvh_export, bvh_export_trees
 from gmr_studio.core.formats.gmr import gmr_text, read_gmr
-from gmr_studio.core.kinematics import forward_kinematics, world_positions
-from gmr_studio.core.motion import Motion, build_translations
-from gmr_studio.core.operations import join, join_all, shift_root, split, split_all
-from gmr_studio.core.rotations import EULER_ORDERS, euler_from_matrix, matrix_from_euler
+from gmr_studio.core.kinematics.convention import post_from_pre, pre_from_post
+from gmr_studio.core.kinematics.fk import forward_kinematics, world_positions
+from gmr_studio.core.model.motion import Motion, build_translations
+from gmr_studio.core.rotations.euler import EULER_ORDERS, euler_from_matrix, matrix_from_euler
 
 PARENTS = [-1, 0, 1, 2, 1, 4, 0, 6]
 

@@ -15,7 +15,7 @@ from gmr_studio.core.demo import (
     write_demo,
 )
 from gmr_studio.core.formats.gmr import read_gmr
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers.markerset import Z_UP_TO_Y_UP
 from gmr_studio.core.markers.trc import trc_text
 

@@ -16,8 +16,8 @@ from gmr_studio.app.docks.inspector import Inspector
 from gmr_studio.app.model.formatting import format_angles, format_lengths, format_matrix
 from gmr_studio.app.model.joint_transforms import bvh_local, bvh_world_rotation, gmr_local
 from gmr_studio.app.model.state import Snapshot, StudioState
-from gmr_studio.core.curves import values_at
-from gmr_studio.core.operations import split
+from gmr_studio.core.analysis.curves import values_at
+from gmr_studio.core.edits.operations import split
 from tests.conftest import random_motion
 
 pytestmark = pytest.mark.gui

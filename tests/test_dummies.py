@@ -8,13 +8,13 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.cli import main
-from gmr_studio.core.convert import pre_from_post
-from gmr_studio.core.dummies import find_dummies, remove_dummies
-from gmr_studio.core.export import bvh_export
+from gmr_studio.core.edits.dummies import find_dummies, remove_dummies
+from gmr_studio.core.edits.operations import split
 from gmr_studio.core.formats import read_motion
 from gmr_studio.core.formats.bvh import read_bvh
-from gmr_studio.core.kinematics import world_positions
-from gmr_studio.core.operations import split
+from gmr_studio.core.formats.bvh_export import bvh_export
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.kinematics.fk import world_positions
 from tests.conftest import random_motion, shared_path
 from tests.test_export import assert_round_trip
 

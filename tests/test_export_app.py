@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-import gmr_studio.core.export as export_module
+import gmr_studio.core.formats.bvh_export as export_module
 from gmr_studio.app.model import commands
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from tests import app_fixtures

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.cli import main
-from gmr_studio.core.conversions import Y_TO_Z, change_up_axis, scale_lengths, up_axis_of
+from gmr_studio.core.edits.operations import split
 from gmr_studio.core.formats import load_gmr, read_motion, write_motion
 from gmr_studio.core.formats.bvh import read_bvh
-from gmr_studio.core.kinematics import forward_kinematics, world_positions
-from gmr_studio.core.operations import split
+from gmr_studio.core.kinematics.fk import forward_kinematics, world_positions
+from gmr_studio.core.space.conversions import Y_TO_Z, change_up_axis, scale_lengths, up_axis_of
 from tests.conftest import random_motion, shared_path
 from tests.test_export import validate_bvh
 

@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.cli import main
-from gmr_studio.core.export import bvh_export, bvh_export_trees
+from gmr_studio.core.edits.operations import split, split_all
 from gmr_studio.core.formats import load_gmr, read_motion, write_motion
 from gmr_studio.core.formats.bvh import read_bvh
-from gmr_studio.core.kinematics import world_positions
-from gmr_studio.core.motion import Motion
-from gmr_studio.core.operations import split, split_all
+from gmr_studio.core.formats.bvh_export import bvh_export, bvh_export_trees
+from gmr_studio.core.kinematics.fk import world_positions
+from gmr_studio.core.model.motion import Motion
 from tests import app_fixtures
 from tests.app_fixtures import open_file
 from tests.conftest import shared_path

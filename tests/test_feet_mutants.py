@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.checks import CheckSettings, run_checks
-from gmr_studio.core.rotations import rotation_about_axis
+from gmr_studio.core.rotations.euler import rotation_about_axis
 from tests.checks_walk import clean_walk
 from tests.test_checks import CM, with_translation
 
@@ -96,7 +96,7 @@ def test_slow_rates_take_a_window_of_one_frame(rate, a):
 def test_depths_of_a_motion_without_feet_are_empty():
     from gmr_studio.core.checks.context import CheckData
     from gmr_studio.core.checks.feet import depths
-    from gmr_studio.core.kinematics import world_positions
+    from gmr_studio.core.kinematics.fk import world_positions
     from gmr_studio.core.rigs import make_rig
 
     motion = make_rig("one_joint")

@@ -11,7 +11,7 @@ from gmr_studio.app.media.video import image_pixels
 from gmr_studio.app.model.state import Snapshot
 from gmr_studio.app.scene.onion import pose_lines, pose_points
 from gmr_studio.app.scene.scene import BACKGROUND, GROUND_COLOR
-from gmr_studio.core.kinematics import world_positions, world_rotations
+from gmr_studio.core.kinematics.fk import world_positions, world_rotations
 from gmr_studio.core.rigs import origin_root
 
 pytestmark = pytest.mark.gui

@@ -7,11 +7,11 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from gmr_studio.core import fk_engine
-from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.edits.operations import shift_root, split
 from gmr_studio.core.formats.bvh import read_bvh
-from gmr_studio.core.kinematics import forward_kinematics, reference_forward_kinematics
-from gmr_studio.core.operations import shift_root, split
+from gmr_studio.core.kinematics import engine as fk_engine
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.kinematics.fk import forward_kinematics, reference_forward_kinematics
 from tests.conftest import random_motion, shared_files
 from tests.test_kinematics import per_frame_fk
 
@@ -167,7 +167,7 @@ def test_bad_arguments(rng):
 
 @pytest.mark.skipif(not fk_engine.have_numba(), reason="numba is not installed: the readers use numpy")
 def test_compiled_degree_conversion_matches_numpy(rng):
-    from gmr_studio.core.rotations import matrix_from_euler
+    from gmr_studio.core.rotations.euler import matrix_from_euler
 
     values = rng.uniform(-400, 400, size=(50, 12))
     groups = [
@@ -197,7 +197,7 @@ def test_a_forest_of_roots_is_its_data(rng, backend):
 
 @pytest.mark.parametrize("threads", [2, 3, None])
 def test_threads_give_the_same_bits(threads, rng):
-    from gmr_studio.core.fk_engine import MIN_FRAMES_PER_THREAD
+    from gmr_studio.core.kinematics.engine import MIN_FRAMES_PER_THREAD
 
     motion = shift_root(random_motion(rng, [-1, 0, 1, 1, 3, 0, 5], n_frames=2 * MIN_FRAMES_PER_THREAD + 7), 4)
     for with_rotations in (True, False):

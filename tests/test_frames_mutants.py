@@ -10,8 +10,8 @@ import numpy as np
 from gmr_studio.core.checks import CheckSettings, run_checks
 from gmr_studio.core.checks.context import CheckData
 from gmr_studio.core.checks.frames import _moving_joints, rest_fractions, rest_frames, same_pose_runs
-from gmr_studio.core.kinematics import world_positions
-from gmr_studio.core.rotations import rotation_about_axis
+from gmr_studio.core.kinematics.fk import world_positions
+from gmr_studio.core.rotations.euler import rotation_about_axis
 from tests.checks_walk import clean_walk
 from tests.test_checks import CM
 

@@ -10,12 +10,12 @@ import pygltflib as gl
 import pytest
 
 from gmr_studio.core.cli import main
-from gmr_studio.core.conversions import Y_TO_Z
-from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.edits.operations import split
 from gmr_studio.core.formats import read_motion
 from gmr_studio.core.formats.gltf import export_gltf, infer_metres_per_unit, quaternions_from_matrices
-from gmr_studio.core.kinematics import reference_forward_kinematics
-from gmr_studio.core.operations import split
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.kinematics.fk import reference_forward_kinematics
+from gmr_studio.core.space.conversions import Y_TO_Z
 from tests.conftest import random_motion, shared_path
 
 #: measured worst error of the read-back positions, relative to the size: 1.9e-7 (CMU

@@ -17,10 +17,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.edits.operations import split
 from gmr_studio.core.formats import read_motion
 from gmr_studio.core.formats.gltf import export_gltf
-from gmr_studio.core.operations import split
+from gmr_studio.core.kinematics.convention import pre_from_post
 from tests.conftest import shared_path
 from tests.test_gltf import expected_positions
 

@@ -10,7 +10,7 @@ import pytest
 
 from gmr_studio.core.cli import main
 from gmr_studio.core.formats import read_motion
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from tests.conftest import shared_path
 
 

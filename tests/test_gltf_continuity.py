@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from gmr_studio.core.formats.gltf import export_gltf
-from gmr_studio.core.rotations import rotation_about_axis, rotation_angle
+from gmr_studio.core.rotations.euler import rotation_about_axis, rotation_angle
 from tests.conftest import random_motion
 from tests.test_gltf import accessor_array, load_gltf, matrix_from_quaternion
 

@@ -9,8 +9,8 @@ import pygltflib as gl
 import pytest
 
 from gmr_studio.core.formats.gltf import SCENE_ROOT, build_gltf, export_gltf, quaternions_from_matrices
-from gmr_studio.core.motion import Motion
-from gmr_studio.core.rotations import rotation_about_axis
+from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.rotations.euler import rotation_about_axis
 from tests.conftest import random_motion
 from tests.test_gltf import accessor_array, check_round_trip, load_gltf, matrix_from_quaternion
 

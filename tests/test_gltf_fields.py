@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.formats.gltf import SCENE_ROOT, build_gltf
-from gmr_studio.core.rotations import rotation_about_axis
+from gmr_studio.core.rotations.euler import rotation_about_axis
 from tests.conftest import random_motion
 
 
@@ -68,8 +68,8 @@ def test_buffer_views_after_two_byte_data_stay_aligned():
 
 
 def test_the_unit_note_gives_the_size_in_metres(rng):
-    from gmr_studio.core.conversions import scale_lengths
     from gmr_studio.core.formats.gltf import infer_metres_per_unit
+    from gmr_studio.core.space.conversions import scale_lengths
 
     motion = random_motion(rng, [-1, 0, 1], n_frames=2)
     sized = scale_lengths(motion, 170.0 / motion.size)  # 170 cm

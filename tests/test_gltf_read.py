@@ -13,7 +13,7 @@ from gmr_studio.core.cli import main
 from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats import read_motion
 from gmr_studio.core.formats.gltf_in import read_gltf
-from gmr_studio.core.kinematics import reference_forward_kinematics
+from gmr_studio.core.kinematics.fk import reference_forward_kinematics
 from tests.gltf_builder import GltfBuilder, glb_bytes, quaternion
 from tests.test_gltf_read_real import local_matrix
 

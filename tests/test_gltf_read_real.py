@@ -23,7 +23,7 @@ import pytest
 
 from gmr_studio.core.formats import read_motion
 from gmr_studio.core.formats.gltf_in import gltf_contents
-from gmr_studio.core.kinematics import reference_forward_kinematics
+from gmr_studio.core.kinematics.fk import reference_forward_kinematics
 from tests.conftest import DATA, shared_path
 from tests.test_gltf import matrix_from_quaternion
 

@@ -23,7 +23,7 @@ from gmr_studio.core.formats.gltf_in.sampling import (
     sample,
     segments,
 )
-from gmr_studio.core.quaternions import slerp
+from gmr_studio.core.rotations.quaternions import slerp
 from tests.gltf_builder import GltfBuilder, quaternion
 
 

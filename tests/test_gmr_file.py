@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.edits.operations import shift_root, split, split_all
 from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats.bvh import read_bvh
 from gmr_studio.core.formats.gmr import gmr_text, read_gmr, write_gmr
-from gmr_studio.core.kinematics import forward_kinematics
-from gmr_studio.core.operations import shift_root, split, split_all
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.kinematics.fk import forward_kinematics
 from tests.conftest import random_motion, shared_files
 
 

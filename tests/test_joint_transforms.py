@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from gmr_studio.app.model.joint_transforms import bvh_local, gmr_local
-from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.edits.operations import shift_root, split
 from gmr_studio.core.formats.bvh import read_bvh_with_channels
-from gmr_studio.core.operations import shift_root, split
-from gmr_studio.core.rotations import matrix_from_euler, rotation_about_axis
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.rotations.euler import matrix_from_euler, rotation_about_axis
 from tests.conftest import shared_path
 
 FRAMES = (0, 1, 619, 1500, 2751)
@@ -104,7 +104,7 @@ def test_independent_children_have_no_single_bvh_rotation(rng):
 
 def test_a_rotated_roots_bvh_rotation_is_its_world_rotation_times_its_childs(rng):
     # planted bug: the product's order swapped (off by up to 1.39 on a rotated root)
-    from gmr_studio.core.convert import post_from_pre
+    from gmr_studio.core.kinematics.convention import post_from_pre
     from tests.conftest import random_motion
 
     motion = random_motion(rng, [-1, 0, 1, 2], n_frames=4)  # a chain: no dummies in its BVH form
@@ -121,8 +121,8 @@ def test_a_rotated_roots_bvh_rotation_is_its_world_rotation_times_its_childs(rng
 def test_bvh_world_rotation_is_the_frame_the_children_hang_in(rng):
     # planted bug: the joint's own (GMR) world rotation always shown
     from gmr_studio.app.model.joint_transforms import bvh_world_rotation
-    from gmr_studio.core.convert import post_from_pre
-    from gmr_studio.core.kinematics import world_rotations
+    from gmr_studio.core.kinematics.convention import post_from_pre
+    from gmr_studio.core.kinematics.fk import world_rotations
     from tests.conftest import random_motion
 
     motion = random_motion(rng, [-1, 0, 1, 2, 1], n_frames=3)
@@ -176,7 +176,7 @@ def test_notes_of_a_file_read_as_bvh(cmu):
 def test_a_joint_whose_child_is_joint_0_after_shift_root(rng):
     # planted bug: a child index 0 taken for "independent children" (child < 1)
     from gmr_studio.app.model.joint_transforms import bvh_rotation
-    from gmr_studio.core.convert import post_from_pre
+    from gmr_studio.core.kinematics.convention import post_from_pre
     from tests.conftest import random_motion
 
     motion = shift_root(random_motion(rng, [-1, 0, 1], n_frames=2), 2)  # joint 0 now hangs from 1

@@ -8,7 +8,7 @@ import pytest
 from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats import read_motion
 from gmr_studio.core.jointmap import JointMap, available_joint_maps, load_joint_map, match_joints
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from tests.conftest import shared_path
 
 #: bones the cgspeed BVH dropped (docs/formats.md): their lengths on subject 01's ASF

@@ -9,7 +9,7 @@ import pytest
 
 from gmr_studio.core.checks import CheckSettings, run_checks
 from gmr_studio.core.checks.joints import rotation_steps
-from gmr_studio.core.rotations import rotation_about_axis
+from gmr_studio.core.rotations.euler import rotation_about_axis
 from tests.checks_walk import clean_walk
 from tests.test_checks import CM
 
@@ -106,9 +106,9 @@ def test_a_bone_stretched_by_1_5_percent_is_an_info():
 def test_a_split_roots_soft_link_stretched():
     """The Spine split from the Hips (a root linked to joint 0), moved 3% of its link away
     from them over frames 150-200: a bone-length finding of the link, 3%."""
-    from gmr_studio.core.convert import pre_from_post
-    from gmr_studio.core.kinematics import world_positions
-    from gmr_studio.core.operations import split
+    from gmr_studio.core.edits.operations import split
+    from gmr_studio.core.kinematics.convention import pre_from_post
+    from gmr_studio.core.kinematics.fk import world_positions
 
     motion = split(pre_from_post(clean_walk(120.0, unit=CM)), "Spine")
     s = motion.names.index("Spine")

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.core.kinematics import forward_kinematics, joint_world_transform, world_positions
-from gmr_studio.core.motion import Motion
-from gmr_studio.core.rotations import rotation_about_axis
+from gmr_studio.core.kinematics.fk import forward_kinematics, joint_world_transform, world_positions
+from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.rotations.euler import rotation_about_axis
 from tests.conftest import random_motion
 
 RZ90 = rotation_about_axis("Z", np.pi / 2)

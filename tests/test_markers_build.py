@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers import joint_centres as jc
 from gmr_studio.core.markers.build import SYNONYMS, build_skeleton, functional_centre
 from gmr_studio.core.markers.built_motion import markers_to_built_motion
@@ -16,7 +16,7 @@ from gmr_studio.core.markers.limbs import about_axis
 from gmr_studio.core.markers.markerset import MarkerSet
 from gmr_studio.core.markers.refine import refine_motion
 from gmr_studio.core.markers.sets import identify_marker_set, known_sets, set_by_name
-from gmr_studio.core.rotations import nearest_rotation
+from gmr_studio.core.rotations.euler import nearest_rotation
 
 
 # ------------------------------------------------------------------ formulas, by hand

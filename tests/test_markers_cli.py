@@ -8,13 +8,13 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.cli import main
-from gmr_studio.core.export import bvh_export
 from gmr_studio.core.formats import load_gmr, read_motion, write_motion
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.formats.bvh_export import bvh_export
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers import MarkerSet, load_marker_map
 from gmr_studio.core.markers.markermap import VirtualMarker, marker_map_text
 from gmr_studio.core.markers.trc import trc_text
-from gmr_studio.core.rotations import rotation_angle
+from gmr_studio.core.rotations.euler import rotation_angle
 from tests.conftest import shared_path
 
 CMU01 = "cmu/subject01/"

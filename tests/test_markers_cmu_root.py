@@ -15,7 +15,7 @@ import functools
 import numpy as np
 
 from gmr_studio.core.formats import load_gmr
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers import markers_to_motion, read_markers
 from gmr_studio.core.markers.refine import refine_joints
 from tests.conftest import shared_path

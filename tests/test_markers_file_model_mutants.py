@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.kinematics import world_rotations
+from gmr_studio.core.kinematics.fk import world_rotations
 from gmr_studio.core.markers.file_model import compare_with_file_model, file_model_points, file_model_text
 from gmr_studio.core.markers.markerset import MarkerSet
 from tests.conftest import random_motion

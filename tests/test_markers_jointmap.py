@@ -12,7 +12,7 @@ from gmr_studio.core.cli import main
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import load_gmr
 from gmr_studio.core.jointmap import load_joint_map
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers import markers_to_motion, read_markers, recover_pelvis
 from tests.conftest import shared_path
 from tests.test_markers_pelvis_guess import write_rig

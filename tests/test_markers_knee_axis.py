@@ -17,7 +17,7 @@ from gmr_studio.core.markers.functional_joints import (
     knee_on_flexion_axis,
 )
 from gmr_studio.core.markers.limbs import about_axis
-from gmr_studio.core.rotations import nearest_rotation
+from gmr_studio.core.rotations.euler import nearest_rotation
 from tests.conftest import shared_path
 
 THIGH_LOCAL = np.array([[40.0, 60.0, 250.0], [-30.0, 70.0, 180.0], [50.0, 55.0, 120.0]])  # about the knee
@@ -133,7 +133,7 @@ def test_walking5_anatomical_knees_agree_with_the_lab_model_and_functional_ones_
     # --knee anatomical keeps the condyle mid-point, where Plug-in Gait puts its knee: the lab's
     # LKJC / RKJC stored in the file are 4.7 / 7.9 mm away (median); on the flexion axis (the
     # default) ours move 12 and 25 mm from there, and so from the lab's
-    from gmr_studio.core.kinematics import world_positions
+    from gmr_studio.core.kinematics.fk import world_positions
     from gmr_studio.core.markers.file_model import compare_with_file_model
 
     markers = read_markers(shared_path("c3d/opensim-core_walking5.c3d")).in_units("mm")

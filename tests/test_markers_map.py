@@ -207,7 +207,7 @@ def test_frame_ranges_text():
 )
 def test_pelvis_only_maps_give_pelvis_frames_on_other_marker_sets(relative, map_name):
     from gmr_studio.core.markers import read_markers, recover_pelvis
-    from gmr_studio.core.rotations import rotation_angle
+    from gmr_studio.core.rotations.euler import rotation_angle
     from tests.conftest import shared_path
 
     markers = read_markers(shared_path(relative))

@@ -127,7 +127,7 @@ def test_reference_poses_in_the_skeletons_order_and_pelvis_frame(rng):
     """A reference with the skeleton's joints in another order: local rotations and positions
     come back in skeleton order; features are the joints in the pelvis frame from the root;
     the correction takes the pelvis frame to the root's world rotation; times from frame 0."""
-    from gmr_studio.core.kinematics import joint_world_transform, world_positions
+    from gmr_studio.core.kinematics.fk import joint_world_transform, world_positions
     from gmr_studio.core.markers.match import reference_poses
     from gmr_studio.core.markers.pelvis import pelvis_rotations
     from tests.conftest import random_motion

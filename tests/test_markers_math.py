@@ -12,7 +12,7 @@ from gmr_studio.core.markers.limbs import about_axis, least_change_twists, limb_
 from gmr_studio.core.markers.match import best_matches
 from gmr_studio.core.markers.pelvis import pelvis_rotations
 from gmr_studio.core.markers.procrustes import fit_rigid, frame_from_triple
-from gmr_studio.core.rotations import rotation_angle
+from gmr_studio.core.rotations.euler import rotation_angle
 
 
 def test_fit_rigid_recovers_a_rigid_motion_and_agrees_with_scipy(rng):

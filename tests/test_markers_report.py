@@ -9,7 +9,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers.markerset import MarkerSet, PointOutputs
 from gmr_studio.core.markers.report import (
     conversion_table,

@@ -15,7 +15,7 @@ import pytest
 
 from gmr_studio.core.cli import main
 from gmr_studio.core.formats import load_gmr
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers import markers_to_motion
 from gmr_studio.core.markers.refine import refine_joints
 from gmr_studio.core.markers.root_fit import hanging_from_root, root_translations

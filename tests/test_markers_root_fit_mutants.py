@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from gmr_studio.core.markers.root_fit import hanging_from_root, root_translations
-from gmr_studio.core.motion import Motion, build_translations
+from gmr_studio.core.model.motion import Motion, build_translations
 
 
 def forest() -> Motion:

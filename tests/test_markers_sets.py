@@ -10,7 +10,7 @@ import pytest
 
 from gmr_studio.core.cli import main
 from gmr_studio.core.formats import load_gmr
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers import read_markers
 from gmr_studio.core.markers.build import build_skeleton
 from gmr_studio.core.markers.built_motion import markers_to_built_motion

@@ -10,14 +10,14 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from gmr_studio.core.edits.operations import shift_root, split
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import load_gmr
-from gmr_studio.core.kinematics import forward_kinematics, world_positions
+from gmr_studio.core.kinematics.fk import forward_kinematics, world_positions
 from gmr_studio.core.markers import MarkerSet, load_marker_map, markers_to_motion, read_markers, recover_pelvis
 from gmr_studio.core.markers.solve import FROM_REFERENCE, HELD, MEASURED, solve_positions
-from gmr_studio.core.motion import Motion, build_translations
-from gmr_studio.core.operations import shift_root, split
-from gmr_studio.core.rotations import matrix_from_euler, rotation_angle
+from gmr_studio.core.model.motion import Motion, build_translations
+from gmr_studio.core.rotations.euler import matrix_from_euler, rotation_angle
 from tests.conftest import shared_path
 
 CMU01 = "cmu/subject01/"
@@ -142,7 +142,7 @@ def test_named_roots_hold_their_measured_positions():
 
 def test_named_roots_on_a_skeleton_with_soft_links_split_like_the_operation():
     # the tree of lwrist holds its soft link at lwrist, inside the subtree of lradius: the
-    # new link must go on the cut's other side, as core.operations.split puts it
+    # new link must go on the cut's other side, as core.edits.operations.split puts it
     truth = cmu_motion(CMU02 + "02_01.amc").frame_slice(slice(0, 30))
     skeleton = shift_root(split(load_gmr(shared_path(CMU02 + "02.asf")), "lhumerus"), "lwrist")
     result = markers_to_motion(joint_markers(truth), skeleton, "joints", reference=truth, roots=["lradius"])

@@ -12,15 +12,15 @@ import warnings
 import numpy as np
 import pytest
 
-from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers import MarkerSet, markers_to_motion
 from gmr_studio.core.markers.markermap import MarkerMap, VirtualMarker
 from gmr_studio.core.markers.report import conversion_table
 from gmr_studio.core.markers.solve import FROM_REFERENCE, HELD, MEASURED, SOURCE_NAMES, TWIST_MARKER, solve_positions
-from gmr_studio.core.motion import Motion, build_translations
-from gmr_studio.core.rotations import matrix_from_euler, rotation_angle
+from gmr_studio.core.model.motion import Motion, build_translations
+from gmr_studio.core.rotations.euler import matrix_from_euler, rotation_angle
 
 PELVIS = ("pelvis", "lhip", "back")
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers.markermap import MarkerMap, VirtualMarker, joints_map
 from gmr_studio.core.markers.markerset import MarkerSet
 from gmr_studio.core.markers.targets import below_missing_bones, check_map_fits, inverse_variance, transported

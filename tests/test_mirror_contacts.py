@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.core.contacts import contact_runs, foot_contacts, foot_joints
+from gmr_studio.core.analysis.contacts import contact_runs, foot_contacts, foot_joints
+from gmr_studio.core.edits.mirror import mirror, side_partners
+from gmr_studio.core.edits.operations import shift_root, split
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import load_gmr, read_motion
-from gmr_studio.core.kinematics import reference_forward_kinematics
-from gmr_studio.core.mirror import mirror, side_partners
-from gmr_studio.core.operations import shift_root, split
+from gmr_studio.core.kinematics.fk import reference_forward_kinematics
 from tests.conftest import random_motion, shared_path
 
 

@@ -1,4 +1,4 @@
-"""Mirror at its edges (issue 24, the mutation run of core/mirror.py): each strict rule's
+"""Mirror at its edges (issue 24, the mutation run of core/edits/mirror.py): each strict rule's
 unmatched names, pairs as (left, right), names found through a sided parent (in any joint
 order), the lateral axis's threshold, soft links to the first joint, the roots' rest offsets
 and a motion without frames."""
@@ -10,11 +10,11 @@ import dataclasses
 import numpy as np
 import pytest
 
+from gmr_studio.core.edits.mirror import mirror, side_partners
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.kinematics import world_positions
-from gmr_studio.core.mirror import mirror, side_partners
-from gmr_studio.core.motion import Motion, build_translations
-from gmr_studio.core.rotations import matrix_from_euler
+from gmr_studio.core.kinematics.fk import world_positions
+from gmr_studio.core.model.motion import Motion, build_translations
+from gmr_studio.core.rotations.euler import matrix_from_euler
 
 
 def make_motion(names, parents, offsets, *, n_frames=3, soft=None, seed=0) -> Motion:

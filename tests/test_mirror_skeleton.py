@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.compare import compare_motions
+from gmr_studio.core.edits.mirror import mirror, side_partners
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats.bvh import read_bvh, write_bvh
-from gmr_studio.core.kinematics import world_positions
-from gmr_studio.core.mirror import mirror, side_partners
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.rigs import make_rig
 
 

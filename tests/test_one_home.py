@@ -1,5 +1,5 @@
 """One home per concept (issue 21): one fit, one up-axis rule, rotation helpers in
-core.rotations, the marker alignment in core; the app and the CLI call them."""
+core.rotations.euler, the marker alignment in core; the app and the CLI call them."""
 
 from __future__ import annotations
 
@@ -7,18 +7,18 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from gmr_studio.core import fit
 from gmr_studio.core.compare import fit_alignment
-from gmr_studio.core.conversions import detect_up_axis, figure_up_axis, up_axis_of
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers import procrustes
 from gmr_studio.core.rigs import make_rig
-from gmr_studio.core.rotations import angle_axis_degrees, axis_permutations, rotation_about_axis
+from gmr_studio.core.rotations.euler import angle_axis_degrees, axis_permutations, rotation_about_axis
+from gmr_studio.core.space import similarity as fit
+from gmr_studio.core.space.conversions import detect_up_axis, figure_up_axis, up_axis_of
 
 
 def test_one_fit_for_comparisons_markers_and_the_app(rng):
     from gmr_studio.app.model import alignment as app_alignment
-    from gmr_studio.core import marker_alignment
+    from gmr_studio.core.markers import alignment as marker_alignment
 
     assert procrustes.fit_rigid is fit.fit_rigid
     assert app_alignment.similarity_fit is marker_alignment.similarity_fit

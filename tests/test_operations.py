@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.edits.operations import join, join_all, shift_root, split, split_all
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats.bvh import read_bvh
-from gmr_studio.core.kinematics import forward_kinematics, world_positions
-from gmr_studio.core.operations import join, join_all, shift_root, split, split_all
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.kinematics.fk import forward_kinematics, world_positions
 from tests.conftest import random_motion, shared_files, shared_path
 
 

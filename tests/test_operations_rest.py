@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.cli import main
-from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.edits.operations import join, join_all, shift_root, split, split_all
 from gmr_studio.core.formats.bvh import read_bvh
-from gmr_studio.core.kinematics import world_positions
-from gmr_studio.core.operations import join, join_all, shift_root, split, split_all
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.kinematics.fk import world_positions
 from tests.conftest import random_motion, shared_path
 
 #: a skeleton-only BVH: offsets with bits that a sum and a difference do not give back

@@ -13,7 +13,7 @@ import pytest
 
 from gmr_studio.core.markers import pelvis_guess as guess
 from gmr_studio.core.markers.pelvis_guess import PelvisChoice, candidates, choose_pelvis, side, triangle_quality
-from gmr_studio.core.motion import Motion, identity_rotations
+from gmr_studio.core.model.motion import Motion, identity_rotations
 
 NOTE, NAMED, ANY = (
     "the technical note's: root, left femur, lower back",

@@ -27,7 +27,7 @@ from gmr_studio.app.model.problems import (
 )
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.core.checks import KINDS, CheckSettings, Finding, joint_flags, run_checks
-from gmr_studio.core.convert import pre_from_post
+from gmr_studio.core.kinematics.convention import pre_from_post
 from tests.checks_walk import clean_walk
 from tests.test_checks import with_translation
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from gmr_studio.core.markers.procrustes import fit_rigid
-from gmr_studio.core.rotations import matrix_from_euler
+from gmr_studio.core.rotations.euler import matrix_from_euler
 
 
 def horn_fit(template: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:

@@ -8,9 +8,9 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from gmr_studio.core.edits.operations import join, join_all, shift_root, split, split_all
 from gmr_studio.core.formats.gmr import gmr_text, read_gmr
-from gmr_studio.core.kinematics import forward_kinematics, world_positions
-from gmr_studio.core.operations import join, join_all, shift_root, split, split_all
+from gmr_studio.core.kinematics.fk import forward_kinematics, world_positions
 from tests.conftest import random_motion
 
 #: more examples on demand: GMR_HYPOTHESIS_EXAMPLES=1000 pytest tests/test_properties.py

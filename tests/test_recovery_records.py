@@ -15,7 +15,7 @@ import pytest
 from gmr_studio.app.reliability import recovery
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from gmr_studio.core.formats import load_gmr
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 
 
 @pytest.fixture(scope="module")

@@ -14,7 +14,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.kinematics import forward_kinematics, world_positions
+from gmr_studio.core.kinematics.fk import forward_kinematics, world_positions
 from gmr_studio.core.markers.built_motion import markers_to_built_motion
 from gmr_studio.core.markers.refine import (
     _openblas,
@@ -24,7 +24,7 @@ from gmr_studio.core.markers.refine import (
     refine_motion,
     rotation_from_vector,
 )
-from gmr_studio.core.rotations import nearest_rotation
+from gmr_studio.core.rotations.euler import nearest_rotation
 from tests.test_markers_build import generated_markers
 
 

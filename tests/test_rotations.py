@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from gmr_studio.core.rotations import (
+from gmr_studio.core.rotations.euler import (
     EULER_ORDERS,
     complete_order,
     euler_from_matrix,

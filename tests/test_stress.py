@@ -10,10 +10,10 @@ import sys
 
 import numpy as np
 
-from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.formats.bvh import read_bvh
 from gmr_studio.core.formats.gmr import read_gmr
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.kinematics.fk import world_positions
 from tests.conftest import shared_path
 
 #: the README's claim

@@ -18,10 +18,10 @@ from gmr_studio.core.compare.tracks import (
     track_of_points,
     units_of,
 )
-from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from gmr_studio.core.formats import load_gmr
-from gmr_studio.core.kinematics import forward_kinematics
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.kinematics.fk import forward_kinematics
 
 
 def walk(*comments: str):

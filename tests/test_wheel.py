@@ -107,7 +107,7 @@ def test_gmr_info_and_convert_from_the_wheel(installed):
     converted = run([str(bin_folder / "gmr"), "convert", str(source), "walk.gmr"], work)
     assert converted.returncode == 0, converted.stderr
     from gmr_studio.core.formats import read_motion
-    from gmr_studio.core.kinematics import world_positions
+    from gmr_studio.core.kinematics.fk import world_positions
 
     written = read_motion(work / "walk.gmr")
     assert written.convention == "pre" and written.n_frames == 2752

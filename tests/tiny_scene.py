@@ -23,8 +23,8 @@ import pyvista as pv
 
 from gmr_studio.app.model.state import Snapshot
 from gmr_studio.app.scene.scene import SkeletonScene
-from gmr_studio.core.kinematics import world_positions, world_rotations
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.kinematics.fk import world_positions, world_rotations
+from gmr_studio.core.model.motion import Motion
 
 FIGURE_NAMES = ("Root", "Hips", "Chest", "Head", "Arm", "Hand")
 FIGURE_PARENTS = (-1, 0, 1, 2, -1, 4)

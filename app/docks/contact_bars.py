@@ -1,6 +1,6 @@
 """Foot contact bars under the timeline: one row per foot joint, filled where it is planted.
 
-The contacts come from :func:`core.contacts.foot_contacts` on the document's cached world
+The contacts come from :func:`core.analysis.contacts.foot_contacts` on the document's cached world
 positions, recomputed when the motion or the thresholds change (two spin boxes: height and
 speed as percentages of the skeleton's size). The current frame is a vertical line; a click
 or drag in the bars sets the frame. The bars are an image made once per contacts and width,
@@ -17,7 +17,7 @@ from PyQt6.QtWidgets import QDoubleSpinBox, QHBoxLayout, QLabel, QSizePolicy, QV
 
 from gmr_studio.app.docks.frame_follow import follow_frame
 from gmr_studio.app.model.state import StudioState
-from gmr_studio.core.contacts import DEFAULT_HEIGHT, DEFAULT_SPEED, Contacts, foot_contacts
+from gmr_studio.core.analysis.contacts import DEFAULT_HEIGHT, DEFAULT_SPEED, Contacts, foot_contacts
 
 ROW_HEIGHT = 14
 NAME_WIDTH = 110

@@ -1,6 +1,6 @@
 """The curves dock: a quantity of the selected (and pinned) joints over time, and range actions.
 
-It reads the state and :mod:`core.curves` computes the values (from the motion and the
+It reads the state and :mod:`core.analysis.curves` computes the values (from the motion and the
 cached world positions); the plot (:class:`app.timeplot.TimePlot`) shows them. Each joint
 has its own colour, its axes lighter shades of it and their own line style; the selected marker's coordinates are
 drawn too, with its gaps shaded. Clicking or dragging in the plot sets the state's frame;
@@ -29,10 +29,10 @@ from gmr_studio.app.docks.timeplot import PALETTE, TimePlot
 from gmr_studio.app.model import commands
 from gmr_studio.app.model.playback import Player
 from gmr_studio.app.model.state import StudioState
+from gmr_studio.core.analysis.curves import UNITS, Curves, gap_spans, joint_curves, marker_curves, quantity_name
 from gmr_studio.core.atomic import atomic_write_text
 from gmr_studio.core.cli.curves import csv_text
-from gmr_studio.core.curves import UNITS, Curves, gap_spans, joint_curves, marker_curves, quantity_name
-from gmr_studio.core.mirror import side_partners
+from gmr_studio.core.edits.mirror import side_partners
 
 #: (label, core quantity) in the order the combo box lists them; the rotation's two
 #: conventions are named as in ``gmr curves`` and the inspector (docs/curves.md)
@@ -146,7 +146,7 @@ class CurvesDock(QWidget):
         return self.quantity_box.currentData()
 
     def set_quantity(self, quantity: str) -> None:
-        """Show ``quantity`` (a :data:`core.curves.QUANTITIES` name or an alias such as ``euler``)."""
+        """Show ``quantity`` (a :data:`core.analysis.curves.QUANTITIES` name or an alias such as ``euler``)."""
         self.quantity_box.setCurrentIndex(self.quantity_box.findData(quantity_name(quantity)))
 
     def plotted_joints(self) -> list[int]:

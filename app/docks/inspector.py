@@ -2,7 +2,7 @@
 
 Name, parent, soft-link parent, offset, channels both ways; the joint's two rotation
 quantities, ``channels`` (the file's own) and ``gmr-euler``, named and computed as the curves
-dock and ``gmr curves`` give them (:func:`core.curves.values_at`); the local transform both ways
+dock and ``gmr curves`` give them (:func:`core.analysis.curves.values_at`); the local transform both ways
 (:mod:`app.joint_transforms`): under BVH the post-rotation ``[R, t]`` from the joint's own
 BVH channels (for a motion read from a BVH, the file's channel values next to the matrix;
 an End Site has none), under GMR the pre-rotation ``[R, R t]`` from its GMR channels (a
@@ -32,9 +32,9 @@ from gmr_studio.app.model.joint_transforms import (
     gmr_local,
 )
 from gmr_studio.app.model.state import StudioState
-from gmr_studio.core.clock import frame_seconds
-from gmr_studio.core.curves import values_at
-from gmr_studio.core.rotations import complete_order, euler_from_matrix
+from gmr_studio.core.analysis.curves import values_at
+from gmr_studio.core.rotations.euler import complete_order, euler_from_matrix
+from gmr_studio.core.timebase.clock import frame_seconds
 
 
 class Inspector(QScrollArea):
@@ -195,7 +195,7 @@ class Inspector(QScrollArea):
 
     def _angles_html(self, j: int, f: int) -> str:
         """The joint's two rotation quantities at this frame, named and computed as the curves
-        dock and ``gmr curves`` name and compute them (:func:`core.curves.values_at`). Each
+        dock and ``gmr curves`` name and compute them (:func:`core.analysis.curves.values_at`). Each
         number is on a line of its own under its name (see :func:`_value_line`)."""
         state = self.state
         lines = []

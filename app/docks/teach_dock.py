@@ -22,7 +22,13 @@ from PyQt6.QtWidgets import QGroupBox, QLabel, QSlider, QTextBrowser, QVBoxLayou
 from gmr_studio.app.docks.frame_follow import follow_frame
 from gmr_studio.app.model.commands import MotionEdit
 from gmr_studio.app.model.state import Snapshot, StudioState
-from gmr_studio.core.classroom import JointChain, TradeoffPoint, explain_shift_root, joint_chain, roots_tradeoff
+from gmr_studio.core.analysis.classroom import (
+    JointChain,
+    TradeoffPoint,
+    explain_shift_root,
+    joint_chain,
+    roots_tradeoff,
+)
 
 REFRESH_MS = 60
 MEASURE_DELAY_MS = 250

@@ -30,8 +30,8 @@ from PyQt6.QtGui import QColor
 from PyQt6.QtWidgets import QGraphicsItem, QVBoxLayout, QWidget
 
 from gmr_studio.core.atomic import atomic_write_bytes, atomic_write_text
-from gmr_studio.core.clock import frame_seconds
 from gmr_studio.core.table import csv_text
+from gmr_studio.core.timebase.clock import frame_seconds
 
 LEGEND_TEXT = "#e6e6e6"
 LEGEND_BOX = (20, 21, 24, 210)

@@ -17,7 +17,7 @@ import numpy as np
 
 from gmr_studio.app.scene.scene import SkeletonScene
 from gmr_studio.core.atomic import atomic_write_bytes
-from gmr_studio.core.clock import duration_seconds
+from gmr_studio.core.timebase.clock import duration_seconds
 
 VIDEO_FPS = 30.0
 
@@ -92,7 +92,7 @@ def video_frames(
     span = last - first + 1
     if n_frames <= 0 or span <= 0:
         return np.zeros(0, np.int64)
-    duration = duration_seconds(span, 1.0 / rate) / speed  # the core's one definition (core.clock)
+    duration = duration_seconds(span, 1.0 / rate) / speed  # the core's one definition (core.timebase.clock)
     times = np.arange(max(1, int(np.floor(duration * fps + 1e-9)))) / fps
     return first + np.minimum((times * rate * speed + 1e-9).astype(np.int64), span - 1)
 

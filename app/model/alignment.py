@@ -1,10 +1,9 @@
-"""Marker alignment: its home is :mod:`core.marker_alignment` (pure numpy); this module
-re-exports it for the app (the up-axis rule is :func:`core.conversions.detect_up_axis`)."""
+"""Marker alignment: its home is :mod:`core.markers.alignment` (pure numpy); this module
+re-exports it for the app (the up-axis rule is :func:`core.space.conversions.detect_up_axis`)."""
 
 from __future__ import annotations
 
-from gmr_studio.core.conversions import detect_up_axis
-from gmr_studio.core.marker_alignment import (
+from gmr_studio.core.markers.alignment import (
     MAX_FRAME_OFFSET,
     PELVIS_NAMES,
     SNAP_TOLERANCE,
@@ -18,6 +17,7 @@ from gmr_studio.core.marker_alignment import (
     similarity_fit,
     turned_about,
 )
+from gmr_studio.core.space.conversions import detect_up_axis
 
 __all__ = [
     "MAX_FRAME_OFFSET",

@@ -17,11 +17,11 @@ from PyQt6.QtGui import QUndoCommand
 
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.app.reliability.crash import report_unexpected
-from gmr_studio.core.clip import resample, trim
+from gmr_studio.core.edits.clip import resample, trim
+from gmr_studio.core.edits.mirror import mirror
+from gmr_studio.core.edits.operations import join, join_all, shift_root, split, split_all
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.mirror import mirror
-from gmr_studio.core.motion import Motion
-from gmr_studio.core.operations import join, join_all, shift_root, split, split_all
+from gmr_studio.core.model.motion import Motion
 
 
 class MotionEdit(QUndoCommand):
@@ -101,17 +101,17 @@ def can_join(motion: Motion | None, joint: int | None) -> bool:
 
 
 def trim_to_range(state: StudioState, start: int, stop: int) -> bool:
-    """Keep frames ``[start, stop)`` (:func:`core.clip.trim`)."""
+    """Keep frames ``[start, stop)`` (:func:`core.edits.clip.trim`)."""
     return run_edit(state, f"Trim to frames {start}-{stop - 1}", lambda m: trim(m, start, stop))
 
 
 def resample_to(state: StudioState, rate: float) -> bool:
-    """Resample to ``rate`` frames per second (:func:`core.clip.resample`)."""
+    """Resample to ``rate`` frames per second (:func:`core.edits.clip.resample`)."""
     return run_edit(state, f"Resample to {rate:g} Hz", lambda m: resample(m, rate))
 
 
 def mirror_left_right(state: StudioState) -> bool:
-    """Swap left and right (:func:`core.mirror.mirror`); names without a partner are reported."""
+    """Swap left and right (:func:`core.edits.mirror.mirror`); names without a partner are reported."""
     unmatched: list[str] = []
 
     def operation(motion: Motion) -> Motion:

@@ -21,8 +21,8 @@ import dataclasses
 import numpy as np
 
 from gmr_studio.core.formats.bvh import FileChannels
-from gmr_studio.core.motion import Motion
-from gmr_studio.core.rotations import complete_order, euler_from_matrix
+from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.rotations.euler import complete_order, euler_from_matrix
 
 #: children whose GMR rotations differ by less than this (max abs entry) share one BVH rotation
 SHARED_TOLERANCE = 1e-12

@@ -26,7 +26,7 @@ from gmr_studio.core.compare import ALIGN_KINDS, Comparison, compare_motions
 from gmr_studio.core.compare.clock import DEFAULT_OFFSET, ghost_positions
 from gmr_studio.core.jointmap import available_joint_maps, match_joints
 from gmr_studio.core.markers import MarkerSet
-from gmr_studio.core.rotations import angle_axis_degrees
+from gmr_studio.core.rotations.euler import angle_axis_degrees
 
 #: colours of successive layers (RGB in [0, 1]): none of them a tree colour of the document
 LAYER_COLOURS = ((1.0, 0.45, 0.9), (0.55, 0.9, 1.0), (0.75, 1.0, 0.5), (1.0, 0.8, 0.45))

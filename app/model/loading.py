@@ -15,9 +15,9 @@ from PyQt6.QtCore import QThread, pyqtSignal
 
 from gmr_studio.app.model import memory
 from gmr_studio.app.model.state import Snapshot
-from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats import READERS, read_motion_with_channels
+from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.markers import MARKER_READERS, MarkerSet, read_markers
 
 

@@ -4,7 +4,7 @@ Widgets read the state and subscribe to its signals (handlers named ``_on_<thing
 they change it only through its methods, and the document's motion only through the undo
 stack (:mod:`app.commands`). Widgets never call each other.
 
-The document is a :class:`Snapshot`: an immutable GMR :class:`~core.motion.Motion` with
+The document is a :class:`Snapshot`: an immutable GMR :class:`~core.model.motion.Motion` with
 the world positions (F, J, 3) and rotations (F, J, 3, 3) of every joint for every frame,
 computed once with the vectorised forward kinematics. The views index these arrays; an edit
 swaps in another snapshot, and undo swaps the previous one back (the same objects, so
@@ -21,12 +21,12 @@ from PyQt6.QtCore import QObject, pyqtSignal
 from PyQt6.QtGui import QUndoStack
 
 from gmr_studio.app.model.alignment import MarkerAlignment, auto_alignment, markers_on_motion_frames
-from gmr_studio.core.clock import frame_seconds
 from gmr_studio.core.formats.bvh import FileChannels
-from gmr_studio.core.kinematics import forward_kinematics
+from gmr_studio.core.kinematics.fk import forward_kinematics
 from gmr_studio.core.markers import MarkerSet
 from gmr_studio.core.markers.pelvis import PelvisFrames
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.timebase.clock import frame_seconds
 
 #: overlay name -> shown at start
 OVERLAYS: dict[str, bool] = {

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
 
 PALETTE = np.array(
     [

@@ -26,7 +26,7 @@ from PyQt6.QtCore import QObject, QTimer, pyqtSignal
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.app.reliability import recovery
 from gmr_studio.app.reliability.crash import log_exception
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
 
 #: longest time unsaved edits go without a recovery copy, milliseconds
 INTERVAL_MS = 30_000

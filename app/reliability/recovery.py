@@ -25,7 +25,7 @@ from pathlib import Path
 
 from gmr_studio.core.atomic import atomic_write_text
 from gmr_studio.core.formats.textmotion import format_text_motion
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
 
 APP_NAME = "GMR Studio"
 #: the comment line that carries the record, right after ``GMR 1``

@@ -20,7 +20,7 @@ from gmr_studio.app.scene.picking import project_points
 
 def actor_positions(snapshot: Snapshot) -> np.ndarray:
     """(F, A, 3) world positions of the joints that make the figure: all but the
-    :attr:`~core.motion.Motion.anchors` (a root pinned at the origin far from the actor)."""
+    :attr:`~core.model.motion.Motion.anchors` (a root pinned at the origin far from the actor)."""
     anchors = snapshot.motion.anchors
     return snapshot.positions[:, ~anchors] if anchors.any() else snapshot.positions
 

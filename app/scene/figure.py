@@ -3,7 +3,7 @@
 Sizes are fractions of ``Motion.size``, so any unit works. Each tree of the forest has its
 colour (:mod:`app.model.tree_colors`, kept across edits and undo); roots are cubes of their
 tree's colour; bones are cylinders placed by the glyph mapper (:func:`~app.scene.vtk_parts.bone_part`).
-A bone from an anchor (:attr:`core.motion.Motion.anchors`: a ``Root`` left at the origin while
+A bone from an anchor (:attr:`core.model.motion.Motion.anchors`: a ``Root`` left at the origin while
 the hips walk away) is no part of the figure: it is drawn, like a soft link, as a thin dashed
 grey line (:class:`SoftLinks`). The onion skins and filmstrips draw links the same way
 (:func:`figure_bones`).
@@ -16,7 +16,7 @@ import pyvista as pv
 
 from gmr_studio.app.scene import vtk_parts as parts
 from gmr_studio.app.scene.drawable import EMPTY_BOX, Drawing
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
 
 SELECTION_COLOR = (1.0, 0.85, 0.1)
 SOFT_LINK_COLOR = (0.62, 0.62, 0.66)  # faded: dashed and grey

@@ -22,7 +22,7 @@ import numpy as np
 from gmr_studio.app.model.state import Snapshot
 from gmr_studio.app.scene import vtk_parts as parts
 from gmr_studio.app.scene.drawable import EMPTY_BOX, Drawing
-from gmr_studio.core.classroom import scaled_rotation
+from gmr_studio.core.analysis.classroom import scaled_rotation
 
 CHAIN_COLOR = (1.0, 0.85, 0.2)
 PRE_COLOR = (0.95, 0.3, 0.85)

@@ -143,8 +143,8 @@ def bench_launch() -> None:
 def bench_edits(n_frames: int) -> None:
     from gmr_studio.app.model import commands
     from gmr_studio.app.model.state import Snapshot, StudioState
+    from gmr_studio.core.edits.operations import join, shift_root, split
     from gmr_studio.core.formats import load_gmr
-    from gmr_studio.core.operations import join, shift_root, split
 
     base = load_gmr(shared_data_dir() / BVH)
     repeat = -(-n_frames // base.n_frames)

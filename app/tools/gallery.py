@@ -29,10 +29,10 @@ from gmr_studio.app.model import commands
 from gmr_studio.app.model.loading import load_markers, load_snapshot, motion_suffixes
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.app.scene.scene import BACKGROUND, GROUND_COLOR, SkeletonScene
-from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
+from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.markers.markerset import MarkerSet
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.rigs import RIGS, make_rig
 from gmr_studio.core.shared_data import shared_data_dir
 

@@ -28,8 +28,8 @@ def main() -> None:
     from gmr_studio.app.model.problems import Problems
     from gmr_studio.app.model.state import Snapshot, StudioState
     from gmr_studio.core.benchmark.compare_speed import tiled
-    from gmr_studio.core.convert import pre_from_post
     from gmr_studio.core.formats import read_motion
+    from gmr_studio.core.kinematics.convention import pre_from_post
     from gmr_studio.core.shared_data import shared_file
 
     app = QApplication.instance() or QApplication([])

@@ -16,7 +16,7 @@ from gmr_studio.app.docks.range_slider import range_ending_at, range_starting_at
 from gmr_studio.app.model import commands
 from gmr_studio.app.model.commands import can_join
 from gmr_studio.app.model.state import StudioState
-from gmr_studio.core.mirror import side_partners
+from gmr_studio.core.edits.mirror import side_partners
 
 Key = QKeySequence.StandardKey
 

@@ -55,7 +55,7 @@ class Exports:
     def export_bvh(self, path: str | Path, *, per_tree: bool = False) -> bool:
         """Write the document as standard BVH (post-rotation; dummy joints where GMR siblings
         turn independently; a forest under a ``World`` root, or one file per tree)."""
-        from gmr_studio.core.export import bvh_export, bvh_export_trees, tree_file_name
+        from gmr_studio.core.formats.bvh_export import bvh_export, bvh_export_trees, tree_file_name
 
         motion = self.state.motion
         try:

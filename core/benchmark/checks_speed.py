@@ -17,7 +17,7 @@ from collections import Counter
 from gmr_studio.core.benchmark.compare_speed import tiled
 from gmr_studio.core.checks import CHECKS, KINDS, CheckSettings, run_checks
 from gmr_studio.core.formats import read_motion
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.shared_data import shared_file
 
 

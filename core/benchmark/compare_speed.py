@@ -19,8 +19,8 @@ from gmr_studio.core.benchmark.timing import time_call
 from gmr_studio.core.compare import ALIGN_KINDS, compare_motions, compare_tracks, track_of_motion
 from gmr_studio.core.formats import read_motion
 from gmr_studio.core.jointmap import match_joints
-from gmr_studio.core.motion import Motion
-from gmr_studio.core.rotations import matrix_from_euler
+from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.rotations.euler import matrix_from_euler
 from gmr_studio.core.shared_data import shared_file
 
 

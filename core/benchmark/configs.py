@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from gmr_studio.core import fk_engine
-from gmr_studio.core.motion import Motion
-from gmr_studio.core.operations import shift_root, with_joint_data
+from gmr_studio.core.edits.operations import shift_root, with_joint_data
+from gmr_studio.core.kinematics import engine as fk_engine
+from gmr_studio.core.model.motion import Motion
 
 
 def random_root_sets(n_joints: int, k: int, instances: int, rng: np.random.Generator) -> list[np.ndarray]:
@@ -17,10 +17,10 @@ def random_root_sets(n_joints: int, k: int, instances: int, rng: np.random.Gener
 def with_roots(motion: Motion, roots: np.ndarray) -> Motion:
     """The motion (one tree, pre-rotation) with exactly ``roots`` as its roots.
 
-    The tree is re-rooted at the first of them (:func:`core.operations.shift_root`; not
+    The tree is re-rooted at the first of them (:func:`core.edits.operations.shift_root`; not
     needed when one of them is the root already), then the others are split off, all at
     once: each gets its world rotation and position from one FK pass and becomes a root.
-    That is what :func:`core.operations.split` does one joint at a time (splitting one
+    That is what :func:`core.edits.operations.split` does one joint at a time (splitting one
     joint changes no world transform, so the order does not matter), without copying
     the (F, J, 3, 3) arrays once per joint. Soft links are not recorded (not needed here).
     """

@@ -15,11 +15,11 @@ from __future__ import annotations
 import dataclasses
 from pathlib import Path
 
-from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats.bvh import read_bvh
 from gmr_studio.core.formats.hierarchy import normalise_newlines, parse_header
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.model.motion import Motion
 
 FRAME_TIME = 1 / 120
 

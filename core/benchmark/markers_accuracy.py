@@ -23,9 +23,9 @@ import time
 import numpy as np
 
 from gmr_studio.core.formats import load_gmr
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers import MarkerSet, markers_to_motion, read_markers
-from gmr_studio.core.rotations import rotation_angle
+from gmr_studio.core.rotations.euler import rotation_angle
 from gmr_studio.core.shared_data import shared_file
 
 MM_PER_ASF_UNIT = 25.4 / 0.45  # CMU ASF ":units length 0.45": one unit is 1/0.45 inch

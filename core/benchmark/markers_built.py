@@ -21,7 +21,7 @@ import time
 
 import numpy as np
 
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers import read_markers
 from gmr_studio.core.markers.built_motion import markers_to_built_motion
 from gmr_studio.core.markers.file_model import compare_with_file_model, file_model_text

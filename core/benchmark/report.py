@@ -43,7 +43,7 @@ def summary_lines(result: dict) -> list[str]:
         row("copy of the (F, J, 3) output (yardstick)", yard, None),
         row("BVH, rotations cached at load", bvh, bvh),
         row("BVH, from Euler angles as stored", bvh_euler, bvh_euler),
-        row("BVH, reference core.kinematics (before)", result["reference_bvh_us_per_frame"], bvh),
+        row("BVH, reference core.kinematics.fk (before)", result["reference_bvh_us_per_frame"], bvh),
         row("GMR C_1 single root, cached (mean of instances)", single["us_per_frame"], bvh),
         row("GMR single root (the file's), cached", result["single_root_us_per_frame"], bvh),
         row(
@@ -162,7 +162,7 @@ def markdown_tables(result: dict) -> str:
         f"| copy of the (F, J, 3) output (yardstick) | {yard:.3f} | | 1.00 |",
         f"| BVH, rotations cached at load | {bvh:.3f} | 1.00 | {bvh / yard:.2f} |",
         f"| BVH, from Euler angles as stored | {bvh_euler:.3f} | 1.00 | {bvh_euler / yard:.2f} |",
-        f"| BVH, reference `core.kinematics` (before this work) | {result['reference_bvh_us_per_frame']:.3f} | "
+        f"| BVH, reference `core.kinematics.fk` (before this work) | {result['reference_bvh_us_per_frame']:.3f} | "
         f"{bvh / result['reference_bvh_us_per_frame']:.2f} | {result['reference_bvh_us_per_frame'] / yard:.2f} |",
         f"| GMR single root (Hips), cached | {result['single_root_us_per_frame']:.3f} | "
         f"{bvh / result['single_root_us_per_frame']:.2f} | {result['single_root_us_per_frame'] / yard:.2f} |",

@@ -27,14 +27,14 @@ from pathlib import Path
 
 import numpy as np
 
-from gmr_studio.core import fk_engine
 from gmr_studio.core.benchmark.configs import random_root_sets, with_roots
 from gmr_studio.core.benchmark.data import build_benchmark_data
 from gmr_studio.core.benchmark.peers import run_peers
 from gmr_studio.core.benchmark.timing import merged, peak_memory, time_call, time_interleaved, time_returning
+from gmr_studio.core.edits.operations import join, shift_root, split
 from gmr_studio.core.formats.bvh import read_bvh
-from gmr_studio.core.kinematics import reference_forward_kinematics
-from gmr_studio.core.operations import join, shift_root, split
+from gmr_studio.core.kinematics import engine as fk_engine
+from gmr_studio.core.kinematics.fk import reference_forward_kinematics
 
 
 @dataclasses.dataclass(frozen=True)

@@ -2,7 +2,7 @@
 
 ``run_checks(motion, settings) -> list[Finding]`` runs the checks of
 :class:`CheckSettings.kinds <core.checks.model.CheckSettings>`, vectorised over frames, with
-every threshold relative to the motion's size (:attr:`core.motion.Motion.size`) and rate,
+every threshold relative to the motion's size (:attr:`core.model.motion.Motion.size`) and rate,
 so they hold in centimetres, metres or inches and from 24 to 240 Hz:
 
 ==============  ======================================================  =====================

@@ -8,11 +8,11 @@ from functools import cached_property
 
 import numpy as np
 
+from gmr_studio.core.analysis.contacts import contact_runs
 from gmr_studio.core.checks.model import Finding
 from gmr_studio.core.compare.tracks import units_of
-from gmr_studio.core.contacts import contact_runs
-from gmr_studio.core.conversions import up_axis_of
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.space.conversions import up_axis_of
 
 #: ``Finding.units`` of lengths when the file does not state its unit
 FILE_UNITS = "file units"
@@ -53,7 +53,7 @@ class CheckData:
 
     @cached_property
     def up(self) -> int:
-        """1 (Y) or 2 (Z): the motion's up axis (:func:`core.conversions.up_axis_of`)."""
+        """1 (Y) or 2 (Z): the motion's up axis (:func:`core.space.conversions.up_axis_of`)."""
         return 2 if up_axis_of(self.motion) == "z" else 1
 
     @cached_property

@@ -1,8 +1,8 @@
-"""Foot skating and ground penetration, on the foot contacts of :mod:`core.contacts`.
+"""Foot skating and ground penetration, on the foot contacts of :mod:`core.analysis.contacts`.
 
-Feet. The foot joints (:func:`core.contacts.foot_joints`: foot, toe, ankle, heel) joined by
+Feet. The foot joints (:func:`core.analysis.contacts.foot_joints`: foot, toe, ankle, heel) joined by
 bones make one foot (CMU ``LeftFoot`` + ``LeftToeBase``); contacts are
-:func:`core.contacts.foot_contacts` with the settings' ``contact_height`` and
+:func:`core.analysis.contacts.foot_contacts` with the settings' ``contact_height`` and
 ``contact_speed``.
 
 Touching joints. The joints of a foot that touch the ground are those typically (median
@@ -41,9 +41,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from gmr_studio.core.analysis.contacts import foot_contacts, foot_joints
 from gmr_studio.core.checks.context import CheckData, joint_runs, merge_runs, runs
 from gmr_studio.core.checks.model import CheckSettings, Finding, severity_levels
-from gmr_studio.core.contacts import foot_contacts, foot_joints
 
 #: a touching joint's contact level: this quantile of its heights over its planted frames
 LEVEL_QUANTILE = 0.1

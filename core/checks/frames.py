@@ -26,7 +26,7 @@ import numpy as np
 
 from gmr_studio.core.checks.context import CheckData, runs
 from gmr_studio.core.checks.model import CheckSettings, Finding, severity_levels
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
 
 
 def same_pose_runs(data: CheckData, settings: CheckSettings) -> np.ndarray:

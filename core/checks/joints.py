@@ -15,7 +15,7 @@ Bone length. The length of the bone ending at a non-root joint with translation 
 is ``|t_j|`` (in either convention the world offset is a rotation of ``t_j``), and a split
 root's soft link is ``|P_j - P_soft(j)|``; rigid bones cannot change and are not examined,
 nor is the link from an anchor root (a ``Root`` pinned at the origin,
-:attr:`core.motion.Motion.anchors`) to the hips whose translation carries the walk.
+:attr:`core.model.motion.Motion.anchors`) to the hips whose translation carries the walk.
 Each length's reference is its median over the frames; frames where it differs by more
 than ``bone_limits[0]`` percent make runs (joined across gaps of 0.1 s), valued by the
 largest difference in percent.

@@ -16,7 +16,7 @@ from gmr_studio.core.checks.context import CheckData
 from gmr_studio.core.checks.model import CheckSettings, Finding
 from gmr_studio.core.checks.run import CHECKS
 from gmr_studio.core.markers.markerset import MarkerSet
-from gmr_studio.core.motion import Motion, check_joint_name
+from gmr_studio.core.model.motion import Motion, check_joint_name
 
 #: the checks that apply to markers
 MARKER_KINDS = ("pop", "jitter", "frozen", "duplicate")

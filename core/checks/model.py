@@ -3,7 +3,7 @@
 A finding names its kind (:data:`KINDS`), the joints (indices and names; none means the
 whole pose), an inclusive frame range, a severity (:data:`SEVERITIES`), and a measured value
 with its units. Each kind measures one quantity ``q`` (a length as a fraction of
-:attr:`core.motion.Motion.size`, an angle in degrees, a percentage, seconds or frames) and
+:attr:`core.model.motion.Motion.size`, an angle in degrees, a percentage, seconds or frames) and
 has three limits ``(info, warning, error)``: nothing is reported while ``q`` is below the
 first; past it the severity is the highest limit ``q`` reaches. The settings are plain
 numbers and strings: :meth:`CheckSettings.to_dict` / :meth:`CheckSettings.from_dict` give
@@ -81,7 +81,7 @@ class CheckSettings:
     """
 
     kinds: tuple[str, ...] = KINDS
-    # foot contacts (core.contacts): height and speed thresholds as fractions of the size
+    # foot contacts (core.analysis.contacts): height and speed thresholds as fractions of the size
     contact_height: float = 0.03
     contact_speed: float = 0.4
     #: a planted foot faster than this (size per second) slides; limits: distance slid / size

@@ -17,7 +17,7 @@ from __future__ import annotations
 from gmr_studio.core.checks.context import FILE_UNITS
 from gmr_studio.core.checks.model import KINDS, SEVERITIES, Finding
 from gmr_studio.core.compare.tracks import units_of
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
 
 #: columns of the ``--batch`` table, in order (then one count column per kind)
 SUMMARY_COLUMNS = ("file", "status", "frames", "frame_rate", "units", "findings", *SEVERITIES, "worst")

@@ -9,8 +9,8 @@ import numpy as np
 from gmr_studio.core.checks import feet, frames, joints, spikes
 from gmr_studio.core.checks.context import CheckData
 from gmr_studio.core.checks.model import KINDS, CheckSettings, Finding
-from gmr_studio.core.kinematics import world_positions
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.kinematics.fk import world_positions
+from gmr_studio.core.model.motion import Motion
 
 #: kind -> the check that finds it
 CHECKS: dict[str, Callable[[CheckData, CheckSettings], list[Finding]]] = {

@@ -27,7 +27,7 @@ the largest of its joints' noise, each the same estimate over all the products o
 joint's jittery blocks.
 
 Teleport. For each root that carries the figure (a root, or the child of an anchor root:
-:attr:`core.motion.Motion.anchors`), with steps ``V_f = P_{f+1} - P_f``: the jump at step
+:attr:`core.model.motion.Motion.anchors`), with steps ``V_f = P_{f+1} - P_f``: the jump at step
 f is ``|V_f - (V_{f-1} + V_{f+1}) / 2|`` (the step beyond the root's own velocity). A step
 is a teleport when its jump is at least ``teleport_limits[0] * size`` and twice
 ``|V_{f+1} - V_{f-1}|`` (the root keeps its velocity on both sides: a step, not a pop).

@@ -7,7 +7,7 @@ up; the source's up axis is what its header says, else Y, or ``--from-up``). GMR
 state the conversions in their ``#`` header; BVH has no comment syntax (Blender's importer,
 for one, reads lines at fixed offsets), so for a BVH they are printed instead.
 
-BVH output is standard whatever the motion holds (:mod:`core.export`): dummy joints for
+BVH output is standard whatever the motion holds (:mod:`core.formats.bvh_export`): dummy joints for
 independent siblings, a forest under one ``World`` root, or one file per tree with
 ``--split-trees``. ``--batch IN_DIR OUT_DIR`` converts a folder tree (:mod:`core.cli.batch`). glTF output is
 Y up in metres (:mod:`core.formats.gltf`; ``--metres-per-unit``, else inferred).
@@ -20,13 +20,13 @@ import dataclasses
 from pathlib import Path
 
 from gmr_studio.core.cli.reading import add_reading_options, positive_number, reader_options
-from gmr_studio.core.conversions import change_up_axis, scale_lengths
-from gmr_studio.core.convert import pre_from_post
-from gmr_studio.core.dummies import remove_dummies
+from gmr_studio.core.edits.dummies import remove_dummies
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.export import bvh_export, bvh_export_trees, tree_file_name
 from gmr_studio.core.formats import motion_suffix, read_motion, write_motion
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.formats.bvh_export import bvh_export, bvh_export_trees, tree_file_name
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.space.conversions import change_up_axis, scale_lengths
 
 #: formats ``convert`` reads and writes
 INPUT_SUFFIXES = (".bvh", ".amc", ".gmr", ".npz", ".glb", ".gltf")
@@ -144,7 +144,7 @@ def write_converted(
     metres_per_unit: float | None = None,
 ) -> list[str]:
     """Write ``motion`` (either convention) in the format of ``output``'s suffix; return
-    the files written. BVH: the standard form of :func:`core.export.bvh_export` (dummy
+    the files written. BVH: the standard form of :func:`core.formats.bvh_export.bvh_export` (dummy
     joints where siblings differ, a World root over a forest), or one file per tree."""
     suffix = motion_suffix(output)
     if suffix not in OUTPUT_SUFFIXES:

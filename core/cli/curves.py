@@ -1,9 +1,9 @@
 """``gmr curves FILE --joints J1[,J2...] --quantity Q [--frames A:B] -o OUT.csv|OUT.png``.
 
-The quantities of :mod:`core.curves` (and foot ``contacts``, :mod:`core.contacts`) for some
+The quantities of :mod:`core.analysis.curves` (and foot ``contacts``, :mod:`core.analysis.contacts`) for some
 joints, over all frames or ``A:B`` (0-based, ``B`` excluded, either end may be left out).
 CSV (:mod:`core.table`): a header row, then one row per frame: ``frame`` (0-based, in the
-file), ``time`` (s, :mod:`core.clock`), then one column per ``JOINT.QUANTITY.AXIS``
+file), ``time`` (s, :mod:`core.timebase.clock`), then one column per ``JOINT.QUANTITY.AXIS``
 (``JOINT.channels.Zrotation``, ``lradius.channels.rx``; ``JOINT.speed``, ``JOINT.contact``
 for scalars).
 PNG: the same columns plotted against time (matplotlib, from the ``bench`` extra).
@@ -17,18 +17,18 @@ from pathlib import Path
 
 import numpy as np
 
+from gmr_studio.core.analysis.contacts import DEFAULT_HEIGHT, DEFAULT_SPEED, foot_contacts, foot_joints
+from gmr_studio.core.analysis.curves import ALIASES, QUANTITIES, UNITS, Curves, joint_curves, quantity_name
 from gmr_studio.core.atomic import atomic_write_bytes, atomic_write_text
-from gmr_studio.core.channels import FileChannels
 from gmr_studio.core.cli.reading import add_gltf_options, reader_options
-from gmr_studio.core.clip import frame_range
-from gmr_studio.core.clock import frame_seconds
-from gmr_studio.core.contacts import DEFAULT_HEIGHT, DEFAULT_SPEED, foot_contacts, foot_joints
-from gmr_studio.core.curves import ALIASES, QUANTITIES, UNITS, Curves, joint_curves, quantity_name
+from gmr_studio.core.edits.clip import frame_range
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import read_motion_with_channels
-from gmr_studio.core.kinematics import world_positions
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.kinematics.fk import world_positions
+from gmr_studio.core.model.channels import FileChannels
+from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.table import csv_text as table_csv
+from gmr_studio.core.timebase.clock import frame_seconds
 
 CLI_QUANTITIES = (*QUANTITIES, *ALIASES, "contacts")
 

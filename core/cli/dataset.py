@@ -38,9 +38,9 @@ from gmr_studio.core.cli.batch import find_motion_files, input_suffixes
 from gmr_studio.core.cli.convert import ConvertOptions, positive_number, read_for_conversion
 from gmr_studio.core.cli.progress import Progress
 from gmr_studio.core.cli.reading import add_gltf_options
-from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.errors import MotionFileError, OperationError
-from gmr_studio.core.kinematics import forward_kinematics
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.kinematics.fk import forward_kinematics
 
 QUANTITIES = ("positions", "rotations")
 COLUMNS = {"positions": ("x", "y", "z"), "rotations": ("qx", "qy", "qz", "qw")}

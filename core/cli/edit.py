@@ -1,8 +1,8 @@
 """``gmr edit IN -o OUT [--shift-root J] [--split J] [--join J] [--split-all] [--join-all]
 [--remove-dummies] [--frames A:B] [--rate HZ] [--mirror] ...``: apply the operations in the
 order given, then write ``.gmr`` or ``.bvh`` (a forest under one World root). ``--frames``
-trims to ``A:B`` (0-based, B excluded), ``--rate`` resamples (:mod:`core.clip`), ``--mirror``
-swaps left and right (:mod:`core.mirror`; names that look sided but have no partner are listed
+trims to ``A:B`` (0-based, B excluded), ``--rate`` resamples (:mod:`core.edits.clip`), ``--mirror``
+swaps left and right (:mod:`core.edits.mirror`; names that look sided but have no partner are listed
 on stderr)."""
 
 from __future__ import annotations
@@ -13,11 +13,11 @@ import sys
 from gmr_studio.core.cli.convert import write_converted
 from gmr_studio.core.cli.curves import parse_frames
 from gmr_studio.core.cli.reading import add_reading_options, load_gmr_with_args, positive_number
-from gmr_studio.core.clip import resample, trim
-from gmr_studio.core.dummies import remove_dummies
-from gmr_studio.core.mirror import mirror
-from gmr_studio.core.motion import Motion
-from gmr_studio.core.operations import join, join_all, shift_root, split, split_all
+from gmr_studio.core.edits.clip import resample, trim
+from gmr_studio.core.edits.dummies import remove_dummies
+from gmr_studio.core.edits.mirror import mirror
+from gmr_studio.core.edits.operations import join, join_all, shift_root, split, split_all
+from gmr_studio.core.model.motion import Motion
 
 
 def _mirrored(motion: Motion) -> Motion:

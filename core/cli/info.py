@@ -1,5 +1,5 @@
 """``gmr info FILE [--json]``: what a motion file holds, including its dummy joints
-(zero-offset joints with children that GMR does not need; :mod:`core.dummies`)."""
+(zero-offset joints with children that GMR does not need; :mod:`core.edits.dummies`)."""
 
 from __future__ import annotations
 
@@ -9,9 +9,9 @@ import sys
 from pathlib import Path
 
 from gmr_studio.core.cli.reading import add_reading_options, read_with_args
-from gmr_studio.core.clock import motion_duration
-from gmr_studio.core.dummies import find_dummies
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.edits.dummies import find_dummies
+from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.timebase.clock import motion_duration
 
 #: what ``info`` calls each format, by suffix
 FORMAT_NAMES = {

@@ -33,7 +33,7 @@ from gmr_studio.core.markers import read_markers
 from gmr_studio.core.markers.build import HIP_METHODS, KNEE_METHODS
 from gmr_studio.core.markers.markermap import Alignment, load_marker_map, save_marker_map
 from gmr_studio.core.markers.markerset import MarkerSet
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -233,7 +233,7 @@ def run(args: argparse.Namespace) -> int:
     output = Path(args.output)
     motion = result.motion
     if motion_suffix(output) == ".bvh":
-        from gmr_studio.core.export import bvh_export
+        from gmr_studio.core.formats.bvh_export import bvh_export
 
         motion = bvh_export(motion).motion  # dummies where GMR siblings turn independently
     write_motion(motion, output)
@@ -355,7 +355,7 @@ def truth_on_markers_clock(
 
 
 def _calibrate(args, markers: MarkerSet, skeleton: Motion, marker_map, reference: Motion | None):
-    from gmr_studio.core.kinematics import forward_kinematics
+    from gmr_studio.core.kinematics.fk import forward_kinematics
     from gmr_studio.core.markers.pelvis import rest_positions
     from gmr_studio.core.markers.virtual import calibrate_marker_map, resolve_map
 

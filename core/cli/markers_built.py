@@ -18,7 +18,7 @@ import numpy as np
 
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import motion_suffix, write_motion
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers.markerset import MarkerSet
 
 
@@ -48,7 +48,7 @@ def run_built(args: argparse.Namespace, markers: MarkerSet) -> int:
     output = Path(args.output)
     motion = result.motion
     if motion_suffix(output) == ".bvh":
-        from gmr_studio.core.export import bvh_export
+        from gmr_studio.core.formats.bvh_export import bvh_export
 
         motion = bvh_export(motion).motion
     write_motion(motion, output)

@@ -9,7 +9,7 @@ import numpy as np
 
 from gmr_studio.core.atomic import atomic_write_bytes
 from gmr_studio.core.cli.reading import add_reading_options, read_with_args
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -17,10 +17,10 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from gmr_studio.core.conversions import UP_AXES, change_up_axis, scale_lengths
-from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.formats import motion_suffix, read_motion
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.space.conversions import UP_AXES, change_up_axis, scale_lengths
 
 
 def positive_number(text: str) -> float:

@@ -15,11 +15,11 @@ from pathlib import Path
 
 from gmr_studio.core.benchmark.data import tile_bvh
 from gmr_studio.core.cli.progress import Progress
-from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats.bvh import read_bvh
 from gmr_studio.core.formats.gmr import write_gmr
-from gmr_studio.core.kinematics import forward_kinematics
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.kinematics.fk import forward_kinematics
 from gmr_studio.core.shared_data import shared_file
 
 DEFAULT_BVH = "cmu/subject01/01_01.bvh"

@@ -14,7 +14,7 @@ from typing import Literal
 import numpy as np
 
 from gmr_studio.core.compare.offset import OffsetSearch
-from gmr_studio.core.fit import finite_rows, fit_points
+from gmr_studio.core.space.similarity import finite_rows, fit_points
 
 __all__ = ["ALIGN_KINDS", "Alignment", "finite_rows", "fit_alignment", "rms_distance", "rms_of_squares"]
 
@@ -92,7 +92,7 @@ class Alignment:
 
 def fit_alignment(points_a: np.ndarray, points_b: np.ndarray, kind: str) -> tuple[np.ndarray, np.ndarray, float]:
     """Fit ``a ~ scale * R @ b + t`` over all points present on both sides
-    (:func:`core.fit.fit_points`).
+    (:func:`core.space.similarity.fit_points`).
 
     points_a, points_b : (..., 3) matched points (NaN where missing), same shape.
     kind : "none" (the identity), "rigid" or "similarity".

@@ -22,7 +22,7 @@ from gmr_studio.core.compare.offset import find_offset_of_tracks
 from gmr_studio.core.compare.result import Comparison
 from gmr_studio.core.compare.tracks import Track, space_change, track_of_motion
 from gmr_studio.core.jointmap import JointMap, JointMatch, match_joints
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
 
 #: frames per block of the rotation error (temporaries of ~3 MB for 38 joints)
 ROTATION_BLOCK = 1024
@@ -115,7 +115,7 @@ def compare_tracks(
         if not np.isfinite(offset_frames):
             raise ValueError(f"the offset must be a finite number of frames, not {offset}")
     offset_seconds = offset_frames / a.frame_rate
-    times = rows / a.frame_rate  # (core.clock.frame_seconds, by the rate: the bits the tests pin)
+    times = rows / a.frame_rate  # (core.timebase.clock.frame_seconds, by the rate: the bits the tests pin)
     at = (times + offset_seconds) * rate_b
     check_overlap(at, b.n_frames, rows, offset_frames, offset_seconds)
 

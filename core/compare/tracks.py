@@ -13,10 +13,10 @@ import re
 
 import numpy as np
 
-from gmr_studio.core.conversions import UP_AXES, Y_TO_Z, up_axis_of
-from gmr_studio.core.convert import pre_from_post
-from gmr_studio.core.kinematics import forward_kinematics
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.kinematics.fk import forward_kinematics
+from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.space.conversions import UP_AXES, Y_TO_Z, up_axis_of
 
 #: metres per unit of the length units a file may state
 UNIT_SCALE = {"mm": 1e-3, "cm": 1e-2, "m": 1.0, "in": 0.0254, "ft": 0.3048}

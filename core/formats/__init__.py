@@ -14,15 +14,15 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
-from gmr_studio.core.channels import FileChannels
-from gmr_studio.core.convert import pre_from_post
 from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats.acclaim import read_amc_file, read_amc_file_with_channels, read_asf_file
 from gmr_studio.core.formats.amass import read_amass
 from gmr_studio.core.formats.bvh import read_bvh, read_bvh_with_channels, write_bvh
 from gmr_studio.core.formats.gltf_in import read_gltf
 from gmr_studio.core.formats.gmr import read_gmr, write_gmr
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.model.channels import FileChannels
+from gmr_studio.core.model.motion import Motion
 
 READERS: dict[str, Callable[..., Motion]] = {
     ".bvh": read_bvh,
@@ -51,7 +51,7 @@ def read_motion(path: str | Path, **options) -> Motion:
 
 def read_motion_with_channels(path: str | Path, **options) -> tuple[Motion, FileChannels | None]:
     """:func:`read_motion`, and the file's rotation channels as written for the formats that
-    have their own (BVH channels, AMC dofs: :mod:`core.channels`); None for the others (a
+    have their own (BVH channels, AMC dofs: :mod:`core.model.channels`); None for the others (a
     GMR file's channels are its motion's)."""
     suffix = motion_suffix(path)
     if suffix == ".bvh":
@@ -68,7 +68,7 @@ def load_gmr(path: str | Path, **options) -> Motion:
 
 def write_motion(motion: Motion, path: str | Path) -> None:
     """Write by suffix (.gmr or .bvh), atomically. The motion must already be in the
-    convention of the format (see :func:`core.convert.pre_from_post`)."""
+    convention of the format (see :func:`core.kinematics.convention.pre_from_post`)."""
     writer = WRITERS.get(motion_suffix(path))
     if writer is None:
         known = ", ".join(sorted(WRITERS))

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from gmr_studio.core.channels import FileChannels
 from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats.acclaim_skeleton import (
     ROOT_NAME,
@@ -26,7 +25,8 @@ from gmr_studio.core.formats.amc import (
     skeleton_motion,
 )
 from gmr_studio.core.formats.asf import read_asf
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.channels import FileChannels
+from gmr_studio.core.model.motion import Motion
 
 __all__ = [
     "DEFAULT_FRAME_RATE",

@@ -11,7 +11,7 @@ import dataclasses
 
 import numpy as np
 
-from gmr_studio.core.rotations import matrix_from_euler
+from gmr_studio.core.rotations.euler import matrix_from_euler
 
 #: the joint name of the Acclaim root, in AMC files and in the GMR motion
 ROOT_NAME = "root"

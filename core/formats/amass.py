@@ -27,7 +27,7 @@ import numpy as np
 
 from gmr_studio.core.errors import MotionFileError, read_input
 from gmr_studio.core.formats.body_model import BodyModel, load_body_model, rest_joints
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
 
 #: rotation order of every joint (what a BVH written from it uses)
 ROTATION_ORDER = "ZYX"

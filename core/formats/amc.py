@@ -28,14 +28,14 @@ from pathlib import Path
 
 import numpy as np
 
-from gmr_studio.core.channels import FileChannels
 from gmr_studio.core.errors import MotionFileError, read_input
 from gmr_studio.core.formats.acclaim_skeleton import ROOT_NAME, ROTATION_DOFS, AcclaimSkeleton
 from gmr_studio.core.formats.asf import read_asf
 from gmr_studio.core.formats.frames import out_of_range, within_range
 from gmr_studio.core.formats.hierarchy import normalise_newlines
-from gmr_studio.core.motion import Motion, identity_rotations
-from gmr_studio.core.rotations import complete_order, matrix_from_euler
+from gmr_studio.core.model.channels import FileChannels
+from gmr_studio.core.model.motion import Motion, identity_rotations
+from gmr_studio.core.rotations.euler import complete_order, matrix_from_euler
 
 #: frame rate assumed for AMC files, which do not store one (CMU's motions are 120 Hz)
 DEFAULT_FRAME_RATE = 120.0
@@ -400,7 +400,7 @@ def read_amc_with_channels(
     data: bytes | None = None,
 ) -> tuple[Motion, FileChannels]:
     """Read an AMC file with its skeleton into a GMR (pre-rotation) motion, and the file's
-    rotation dofs as written (:class:`core.channels.FileChannels`, kind ``"amc"``: degrees,
+    rotation dofs as written (:class:`core.model.channels.FileChannels`, kind ``"amc"``: degrees,
     one column per rotation dof in file order, with each bone's ASF frame).
 
     Parameters

@@ -36,7 +36,7 @@ from gmr_studio.core.formats.acclaim_skeleton import (
 )
 from gmr_studio.core.formats.frames import MAX_ABS_VALUE, out_of_range, within_range
 from gmr_studio.core.formats.hierarchy import normalise_newlines
-from gmr_studio.core.motion import check_joint_name
+from gmr_studio.core.model.motion import check_joint_name
 
 _NUMBER = re.compile(r"[+-]?(?:(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|inf|infinity)\Z", re.IGNORECASE)
 _SEPARATORS = str.maketrans({",": " ", "(": " ", ")": " "})

@@ -11,12 +11,12 @@ from __future__ import annotations
 from pathlib import Path
 
 from gmr_studio.core.atomic import atomic_write_text
-from gmr_studio.core.channels import FileChannels
 from gmr_studio.core.errors import read_input
 from gmr_studio.core.formats.frames import parse_frames
 from gmr_studio.core.formats.hierarchy import normalise_newlines, parse_header
 from gmr_studio.core.formats.textmotion import _motion_from_header, format_text_motion, read_text_motion
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.channels import FileChannels
+from gmr_studio.core.model.motion import Motion
 
 __all__ = ["FileChannels", "bvh_text", "read_bvh", "read_bvh_with_channels", "write_bvh"]
 
@@ -28,7 +28,7 @@ def read_bvh(path: str | Path, data: bytes | None = None) -> Motion:
 
 def read_bvh_with_channels(path: str | Path, data: bytes | None = None) -> tuple[Motion, FileChannels]:
     """:func:`read_bvh`, and the file's rotation channel values as written
-    (:class:`core.channels.FileChannels`, re-exported here)."""
+    (:class:`core.model.channels.FileChannels`, re-exported here)."""
     path_text = str(path)
     data = normalise_newlines(read_input(path, data))
     header = parse_header(data, path_text, "bvh")

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from gmr_studio.core.rotations import complete_order, euler_from_matrix
+from gmr_studio.core.rotations.euler import complete_order, euler_from_matrix
 
 _TWO_PI = 2.0 * np.pi
 

@@ -15,7 +15,7 @@ a node hierarchy with one animation, written through pygltflib.
   the up-axis conversion are stated in ``asset.extras``, with the motion's convention
   (``"pre"`` or ``"post"``: which frame a node's rotation is, for reading it back).
 - Up axis: glTF is Y-up. A motion whose comments say ``up axis: z`` is turned with
-  :func:`core.conversions.change_up_axis` (``(x, y, z) -> (x, z, -y)``).
+  :func:`core.space.conversions.change_up_axis` (``(x, y, z) -> (x, z, -y)``).
 - ``skin=True`` adds a mesh of one capsule per bone, rigidly skinned to the joints
   (:mod:`core.formats.gltf_mesh`), for viewers that show only meshes.
 
@@ -32,8 +32,8 @@ import numpy as np
 import pygltflib as gl
 
 from gmr_studio.core.atomic import atomic_write_bytes, atomic_write_text
-from gmr_studio.core.conversions import change_up_axis, scale_lengths, up_axis_of
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.space.conversions import change_up_axis, scale_lengths, up_axis_of
 
 #: name of the node above every tree (numbered if a joint has it already)
 SCENE_ROOT = "World"

@@ -17,8 +17,8 @@ from __future__ import annotations
 import numpy as np
 import pygltflib as gl
 
-from gmr_studio.core.kinematics import forward_kinematics
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.kinematics.fk import forward_kinematics
+from gmr_studio.core.model.motion import Motion
 
 #: segments around a capsule and rings per hemisphere
 AROUND, RINGS = 8, 3

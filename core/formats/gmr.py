@@ -17,7 +17,7 @@ from pathlib import Path
 
 from gmr_studio.core.atomic import atomic_write_text
 from gmr_studio.core.formats.textmotion import format_text_motion, read_text_motion
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
 
 
 def read_gmr(path: str | Path, data: bytes | None = None) -> Motion:

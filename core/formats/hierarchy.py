@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats.frames import MAX_ABS_VALUE, out_of_range, within_range
-from gmr_studio.core.motion import check_joint_name
+from gmr_studio.core.model.motion import check_joint_name
 
 #: channel names as written in files, with what they drive: ("position"|"rotation", axis)
 CHANNEL_NAMES = {f"{axis}{kind}": (kind, axis) for kind in ("position", "rotation") for axis in "XYZ"}

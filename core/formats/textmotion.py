@@ -1,4 +1,4 @@
-"""BVH-like text files to :class:`~core.motion.Motion` and back (shared by BVH and GMR).
+"""BVH-like text files to :class:`~core.model.motion.Motion` and back (shared by BVH and GMR).
 
 Channel values are degrees for rotations and file units for positions. Rotation channels
 of a joint, in file order, give its Euler order (intrinsic, left to right). Position
@@ -17,12 +17,12 @@ from pathlib import Path
 import numpy as np
 
 from gmr_studio.core.errors import MotionFileError, read_input
-from gmr_studio.core.fk_engine import degrees_to_matrices_compiled
 from gmr_studio.core.formats.continuity import continuous_euler
 from gmr_studio.core.formats.frames import format_frames, format_number, parse_frames
 from gmr_studio.core.formats.hierarchy import CHANNEL_NAMES, ParsedHeader, normalise_newlines, parse_header
-from gmr_studio.core.motion import Motion, build_translations
-from gmr_studio.core.rotations import complete_order, euler_from_matrix, matrix_from_euler
+from gmr_studio.core.kinematics.engine import degrees_to_matrices_compiled
+from gmr_studio.core.model.motion import Motion, build_translations
+from gmr_studio.core.rotations.euler import complete_order, euler_from_matrix, matrix_from_euler
 
 #: significant digits of frame values; 15 keeps write -> read to ~1e-15 relative
 FRAME_DIGITS = 15
@@ -185,7 +185,7 @@ def _is_end_site(motion: Motion, j: int, dialect: str) -> bool:
 
 def format_text_motion(motion: Motion, dialect: str) -> Iterator[str]:
     """The file's text in chunks. ``dialect`` 'bvh' needs a post-rotation motion, 'gmr' a
-    pre-rotation one (convert first; see :mod:`core.convert`)."""
+    pre-rotation one (convert first; see :mod:`core.kinematics.convention`)."""
     expected = "post" if dialect == "bvh" else "pre"
     if motion.convention != expected:
         raise ValueError(

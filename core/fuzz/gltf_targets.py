@@ -61,10 +61,10 @@ def _self_contained(path: Path) -> bytes:
 @cache
 def gltf_seeds() -> list[tuple[str, bytes]]:
     """The shared glTF files, and our exports of a short CMU clip (a tree and a forest)."""
-    from gmr_studio.core.convert import pre_from_post
+    from gmr_studio.core.edits.operations import split_all
     from gmr_studio.core.formats.bvh import read_bvh
     from gmr_studio.core.formats.gltf import build_gltf
-    from gmr_studio.core.operations import split_all
+    from gmr_studio.core.kinematics.convention import pre_from_post
 
     seeds = [(path.name, _self_contained(path)) for path in _shared("gltf/**/*.gl*")]
     for path in _shared("bvh/cmu_*.bvh")[:1]:

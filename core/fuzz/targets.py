@@ -76,9 +76,9 @@ def _shared(pattern: str) -> list[Path]:
 
 @cache
 def bvh_seeds() -> list[tuple[str, bytes]]:
-    from gmr_studio.core.convert import post_from_pre, pre_from_post
+    from gmr_studio.core.edits.operations import shift_root
     from gmr_studio.core.formats.bvh import bvh_text, read_bvh
-    from gmr_studio.core.operations import shift_root
+    from gmr_studio.core.kinematics.convention import post_from_pre, pre_from_post
 
     seeds = []
     for path in _shared("**/*.bvh"):
@@ -96,10 +96,10 @@ def bvh_seeds() -> list[tuple[str, bytes]]:
 
 @cache
 def gmr_seeds() -> list[tuple[str, bytes]]:
-    from gmr_studio.core.convert import pre_from_post
+    from gmr_studio.core.edits.operations import shift_root, split, split_all
     from gmr_studio.core.formats.bvh import read_bvh
     from gmr_studio.core.formats.gmr import gmr_text
-    from gmr_studio.core.operations import shift_root, split, split_all
+    from gmr_studio.core.kinematics.convention import pre_from_post
 
     seeds = []
     for path in _shared("**/*.bvh"):

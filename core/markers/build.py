@@ -36,7 +36,7 @@ from gmr_studio.core.markers.functional_joints import fill_from_cluster, functio
 from gmr_studio.core.markers.limbs import swing
 from gmr_studio.core.markers.markerset import MarkerSet
 from gmr_studio.core.markers.sets import SetMatch, identify_marker_set, no_match_text, role_positions
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
 
 #: assumed widths (mm) when the file stores none (adult means; said in the notes)
 DEFAULT_WIDTHS = {"KneeWidth": 100.0, "AnkleWidth": 70.0, "ElbowWidth": 70.0}

@@ -20,10 +20,10 @@ from __future__ import annotations
 import numpy as np
 
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.kinematics import world_rotations
+from gmr_studio.core.kinematics.fk import world_rotations
 from gmr_studio.core.markers.markerset import MarkerSet
-from gmr_studio.core.motion import Motion
-from gmr_studio.core.rotations import nearest_rotation, rotation_angle
+from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.rotations.euler import nearest_rotation, rotation_angle
 
 FILE_POINTS = {
     "pelvis": ("PELO",),

@@ -34,8 +34,8 @@ from functools import cached_property
 
 import numpy as np
 
-from gmr_studio.core.conversions import Y_TO_Z
 from gmr_studio.core.errors import OperationError
+from gmr_studio.core.space.conversions import Y_TO_Z
 
 #: metres per unit
 UNIT_SCALE = {"mm": 1e-3, "cm": 1e-2, "m": 1.0, "in": 0.0254, "ft": 0.3048}

@@ -25,9 +25,9 @@ from __future__ import annotations
 import numpy as np
 
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.kinematics import joint_world_transform, world_positions
+from gmr_studio.core.kinematics.fk import joint_world_transform, world_positions
 from gmr_studio.core.markers.pelvis import pelvis_rotations
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
 
 #: distances held at once: chunks of query frames x all reference frames
 CHUNK_ELEMENTS = 4_000_000

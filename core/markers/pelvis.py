@@ -36,7 +36,7 @@ import numpy as np
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.markers.markerset import MarkerSet, frame_ranges
 from gmr_studio.core.markers.procrustes import fit_rigid, frame_from_triple
-from gmr_studio.core.rotations import nearest_rotation
+from gmr_studio.core.rotations.euler import nearest_rotation
 
 PelvisMethod = Literal["note", "points"]
 
@@ -171,7 +171,7 @@ def recover_pelvis(
         41-marker map) or the path of a map file. The map names the three virtual markers
         (its ``[pelvis]`` section; ``joints`` guesses them from the names, e.g. root,
         lhipjoint, rhipjoint for CMU ASF skeletons).
-    skeleton : a :class:`~core.motion.Motion` whose rest pose gives the home positions (and,
+    skeleton : a :class:`~core.model.motion.Motion` whose rest pose gives the home positions (and,
         for ``joints``, the joint names), or None.
     home : (3, 3) home positions of X1, X2, X3 in skeleton space, overriding the skeleton's
         and the map's; without any, the rotation is the frame P itself.
@@ -294,7 +294,7 @@ def _distinct_cluster_rms(sources, virtual_fit: np.ndarray) -> np.ndarray | None
 
 def rest_positions(skeleton, names) -> np.ndarray:
     """(len(names), 3) world positions of some joints in the skeleton's rest pose."""
-    from gmr_studio.core.kinematics import world_positions
+    from gmr_studio.core.kinematics.fk import world_positions
 
     rest = world_positions(skeleton.rest_pose())[0]
     return rest[[skeleton.joint_index(n) for n in names]]

@@ -187,7 +187,7 @@ def choose_pelvis(
 
 def sampled_positions(skeleton) -> np.ndarray:
     """(S, J, 3) world positions of at most :data:`MOTION_SAMPLES` frames of a skeleton's motion."""
-    from gmr_studio.core.kinematics import world_positions
+    from gmr_studio.core.kinematics.fk import world_positions
 
     step = skeleton.n_frames // MOTION_SAMPLES + 1
     return world_positions(skeleton if step == 1 else skeleton.frame_slice(slice(None, None, step)))

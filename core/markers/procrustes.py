@@ -5,7 +5,7 @@ Two fits, both vectorised over frames (one batched SVD, no loop):
 - :func:`fit_rigid`: the rotation and translation that carry a template point set onto
   measured points in the least-squares sense (orthogonal Procrustes / Kabsch), with a mask
   for missing points and a per-frame RMS residual. Used for marker clusters. Its home is
-  :mod:`core.fit` (every rigid and similarity fit of the project); it is re-exported here.
+  :mod:`core.space.similarity` (every rigid and similarity fit of the project); it is re-exported here.
 - :func:`frame_from_triple`: the technical note's pelvis frame ``[p1, p2, p3]`` of three
   points (Gram-Schmidt, with the note's equation 2 corrected as in MATH.md), used by
   :func:`core.markers.pelvis.recover_pelvis`.
@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from gmr_studio.core.fit import DEGENERATE_RATIO, fit_rigid
+from gmr_studio.core.space.similarity import DEGENERATE_RATIO, fit_rigid
 
 __all__ = ["DEGENERATE_RATIO", "fit_rigid", "frame_from_triple"]
 

@@ -27,7 +27,7 @@ import numpy as np
 
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.markers.limbs import cross_matrix
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
 
 CHUNK = 1024  # frames per batched solve (memory: CHUNK x 3M x 3K floats)
 

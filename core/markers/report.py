@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers.markerset import MarkerSet
 from gmr_studio.core.markers.solve import SOURCE_NAMES, MarkerMotion
-from gmr_studio.core.rotations import rotation_angle
+from gmr_studio.core.rotations.euler import rotation_angle
 
 
 def describe_markers(markers: MarkerSet, path: str) -> dict:

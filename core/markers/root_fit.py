@@ -27,7 +27,7 @@ from collections.abc import Collection
 
 import numpy as np
 
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
 
 
 def hanging_from_root(skeleton: Motion, root: int, split_roots: Collection[int], have: np.ndarray) -> np.ndarray:

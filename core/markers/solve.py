@@ -1,7 +1,7 @@
 """Markers to GMR motion: the pelvis by Procrustes, then every limb down the chains.
 
 :func:`markers_to_motion` turns a marker set, a skeleton and a marker map into a GMR
-:class:`~core.motion.Motion` of the skeleton's joints (technical note, section 2):
+:class:`~core.model.motion.Motion` of the skeleton's joints (technical note, section 2):
 
 1. the virtual markers (joint centres) are computed and aligned to skeleton space;
 2. the pelvis rotation of every frame comes from the three pelvis virtual markers
@@ -40,16 +40,16 @@ from typing import Literal
 
 import numpy as np
 
+from gmr_studio.core.edits.operations import split
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.kinematics import world_positions
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers.limbs import least_change_twists, limb_rotation, marker_twists, twist_of
 from gmr_studio.core.markers.markerset import MarkerSet, frame_ranges, gap_runs
 from gmr_studio.core.markers.match import best_matches, reference_poses
 from gmr_studio.core.markers.pelvis import PelvisFrames, PelvisMethod, pelvis_rotations, rest_positions
 from gmr_studio.core.markers.root_fit import hanging_from_root, root_translations
 from gmr_studio.core.markers.targets import below_missing_bones, check_map_fits, inverse_variance, transported
-from gmr_studio.core.motion import Motion
-from gmr_studio.core.operations import split
+from gmr_studio.core.model.motion import Motion
 
 #: ``sources`` codes, per frame and joint
 MEASURED, FROM_REFERENCE, HELD, ROOT, TWIST_MARKER = 0, 1, 2, 3, 4
@@ -153,7 +153,7 @@ def markers_to_motion(
     OperationError : no frame has a usable pelvis, the reference is of another skeleton, the
         map does not fit the skeleton.
     """
-    from gmr_studio.core.convert import pre_from_post
+    from gmr_studio.core.kinematics.convention import pre_from_post
     from gmr_studio.core.markers.markermap import load_marker_map
     from gmr_studio.core.markers.virtual import compute_virtual_markers, resolve_map
 
@@ -380,7 +380,7 @@ def _assemble(
     position = np.searchsorted(good, nearest)
     is_root = np.zeros(n_joints, bool)
     is_root[sorted(root_set)] = True
-    # the forest and its soft links as core.operations.split leaves them (on the rest pose)
+    # the forest and its soft links as core.edits.operations.split leaves them (on the rest pose)
     structure = skeleton.rest_pose()
     for j in skeleton.topological_order:
         if is_root[j] and structure.parents[j] >= 0:

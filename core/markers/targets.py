@@ -14,7 +14,7 @@ import numpy as np
 
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.markers.markerset import MarkerSet
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
 
 
 def check_map_fits(markers: MarkerSet, marker_map) -> None:
@@ -44,7 +44,7 @@ def transported(motion: Motion, measured: np.ndarray, starts: np.ndarray, skelet
     skeleton cannot reach the markers beyond a missing bone, but it can take their shape.
     None when nothing moves (then the targets are ``measured``).
     """
-    from gmr_studio.core.kinematics import world_positions as positions_of
+    from gmr_studio.core.kinematics.fk import world_positions as positions_of
 
     seed = positions_of(motion)
     shift = np.zeros_like(measured)

@@ -24,7 +24,7 @@ import dataclasses
 
 import numpy as np
 
-from gmr_studio.core.quaternions import matrix_from_quaternion
+from gmr_studio.core.rotations.quaternions import matrix_from_quaternion
 
 #: frames converted from quaternions to matrices at a time
 CHUNK_FRAMES = 2048

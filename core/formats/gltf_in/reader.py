@@ -30,8 +30,8 @@ from gmr_studio.core.formats.gltf_in.pose import NodePose, node_poses, skeleton_
 from gmr_studio.core.formats.gltf_in.rest import bind_rotations, pre_from_export, turn_to_bind
 from gmr_studio.core.formats.gltf_in.sampling import INTERPOLATIONS, Sampler, frame_times, sample, segments
 from gmr_studio.core.formats.gltf_in.scene import choose, node_parents, skeleton_nodes, static_trs
-from gmr_studio.core.motion import Motion
-from gmr_studio.core.rotations import rotation_angle
+from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.rotations.euler import rotation_angle
 
 #: rotation channel order given to every joint (what a BVH written from it uses)
 ROTATION_ORDER = "ZYX"

@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from gmr_studio.core.formats.gltf_in.container import GltfDocument
-from gmr_studio.core.rotations import nearest_rotation
+from gmr_studio.core.rotations.euler import nearest_rotation
 
 #: a translation of a pre-rotation export varying less than this (relative to its length)
 #: over the frames is float32 rounding of a static offset

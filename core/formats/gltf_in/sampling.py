@@ -20,7 +20,7 @@ import dataclasses
 
 import numpy as np
 
-from gmr_studio.core.quaternions import slerp
+from gmr_studio.core.rotations.quaternions import slerp
 
 #: frame rate used when the keys are irregular (or there is only one)
 FALLBACK_RATE = 30.0

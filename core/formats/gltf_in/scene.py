@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from gmr_studio.core.formats.gltf_in.container import GltfDocument
-from gmr_studio.core.quaternions import quaternion_from_matrix
+from gmr_studio.core.rotations.quaternions import quaternion_from_matrix
 
 #: largest |U^T U - I| of a node matrix's columns scaled to unit length U (float32 files
 #: round a rotation times a scale to about 1e-7; a shear of 1e-5 radians is refused)

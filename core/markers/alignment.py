@@ -19,9 +19,9 @@ markers to the motion's rate).
    shift that fits best too (:func:`candidate_frame_offsets`); the offset matches the two
    centroids on average.
 
-Up axis: the project's one rule, :func:`core.conversions.detect_up_axis` (Y or Z, whichever
-the figure spans more in the median frame). The fit is :func:`core.fit.fit_points`, the
-rotations :mod:`core.rotations`. (The app's ``app.model.alignment`` re-exports this module.)
+Up axis: the project's one rule, :func:`core.space.conversions.detect_up_axis` (Y or Z, whichever
+the figure spans more in the median frame). The fit is :func:`core.space.similarity.fit_points`, the
+rotations :mod:`core.rotations.euler`. (The app's ``app.model.alignment`` re-exports this module.)
 """
 
 from __future__ import annotations
@@ -30,9 +30,9 @@ import dataclasses
 
 import numpy as np
 
-from gmr_studio.core.conversions import detect_up_axis, median_extents
-from gmr_studio.core.fit import fit_points
-from gmr_studio.core.rotations import axis_permutations, rotation_about_axis
+from gmr_studio.core.rotations.euler import axis_permutations, rotation_about_axis
+from gmr_studio.core.space.conversions import detect_up_axis, median_extents
+from gmr_studio.core.space.similarity import fit_points
 
 #: candidate unit lengths in metres (CMU's ASF unit is 1/0.45 inch)
 UNIT_LENGTHS = {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254, "ft": 0.3048, "CMU unit": 0.0254 / 0.45}
@@ -100,7 +100,7 @@ def figure_centre_joint(names: tuple[str, ...], tree_roots: np.ndarray) -> int:
 
 
 def similarity_fit(source: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, float, np.ndarray, float]:
-    """Least-squares ``target ~ scale * R @ source + offset`` (Umeyama 1991, :func:`core.fit.fit_points`).
+    """Least-squares ``target ~ scale * R @ source + offset`` (Umeyama 1991, :func:`core.space.similarity.fit_points`).
 
     Parameters
     ----------

@@ -6,15 +6,15 @@ children of one joint turn differently (CMU's LHipJoint, RHipJoint, LowerBack si
 Hips). In pre-rotation each child can absorb the dummy on its own, exactly:
 ``R''_c = R_d R_c`` and ``t''_c = t_c``, its parent becoming the dummy's parent.
 
-The reverse (dummies back in, where a BVH needs them) is :func:`core.convert.post_from_pre`.
+The reverse (dummies back in, where a BVH needs them) is :func:`core.kinematics.convention.post_from_pre`.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from gmr_studio.core.convert import pre_from_post
-from gmr_studio.core.motion import DEFAULT_RELATIVE_TOLERANCE, Motion
+from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.model.motion import DEFAULT_RELATIVE_TOLERANCE, Motion
 
 
 def find_dummies(motion: Motion, *, tolerance: float = DEFAULT_RELATIVE_TOLERANCE) -> list[int]:

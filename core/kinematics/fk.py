@@ -1,6 +1,6 @@
 """Forward kinematics: world positions and rotations of every joint for every frame.
 
-Both conventions of :mod:`core.motion`, vectorised over frames with one Python step per
+Both conventions of :mod:`core.model.motion`, vectorised over frames with one Python step per
 joint (parents before children). With ``W`` the world rotation and ``P`` the world position:
 
 - root r:          ``W_r = R_r``,          ``P_r = t_r`` (its translation is ``G_r``)
@@ -9,7 +9,7 @@ joint (parents before children). With ``W`` the world rotation and ``P`` the wor
 
 :func:`reference_forward_kinematics` is the reference implementation, written for clarity
 (one numpy step per joint). :func:`forward_kinematics`, which the app, the operations and
-the command line call, runs the tuned :mod:`core.fk_engine` (tested against the reference
+the command line call, runs the tuned :mod:`core.kinematics.engine` (tested against the reference
 on random forests and real files; it agrees to ~1e-15 of the size and is ~10x faster).
 """
 
@@ -17,15 +17,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from gmr_studio.core import fk_engine
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.kinematics import engine as fk_engine
+from gmr_studio.core.model.motion import Motion
 
 
 def forward_kinematics(
     motion: Motion, *, with_rotations: bool = True, threads: int | None = 1
 ) -> tuple[np.ndarray, np.ndarray | None]:
     """World positions (F, J, 3) and, if ``with_rotations``, world rotations (F, J, 3, 3)
-    (else None), computed by :func:`core.fk_engine.forward_kinematics` (``threads``: blocks
+    (else None), computed by :func:`core.kinematics.engine.forward_kinematics` (``threads``: blocks
     of frames at once, None for one per core; the result does not depend on it)."""
     return fk_engine.forward_kinematics(motion, with_rotations=with_rotations, threads=threads)
 

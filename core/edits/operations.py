@@ -1,6 +1,6 @@
 """The three GMR operations (paper section 4.1) and their batch forms.
 
-Every function takes a pre-rotation :class:`~core.motion.Motion` and returns a new one;
+Every function takes a pre-rotation :class:`~core.model.motion.Motion` and returns a new one;
 the input is never changed. All are vectorised over frames with Python work per joint.
 World positions of every joint are unchanged by all of them. World rotations are unchanged
 by split and join; shift root moves each bone's frame along the path to the new root (in
@@ -19,9 +19,9 @@ import itertools
 import numpy as np
 
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.kinematics import forward_kinematics, joint_world_transform
-from gmr_studio.core.motion import RIGID_RELATIVE_TOLERANCE, Motion
-from gmr_studio.core.rotations import orthonormalize
+from gmr_studio.core.kinematics.fk import forward_kinematics, joint_world_transform
+from gmr_studio.core.model.motion import RIGID_RELATIVE_TOLERANCE, Motion
+from gmr_studio.core.rotations.euler import orthonormalize
 
 
 def _require_pre(motion: Motion, what: str) -> None:

@@ -1,4 +1,4 @@
-"""Compiled forward-kinematics kernels (numba); imported by :mod:`core.fk_engine` only.
+"""Compiled forward-kinematics kernels (numba); imported by :mod:`core.kinematics.engine` only.
 
 Importing this module raises ImportError when numba is not installed; the engine then
 uses its numpy backend, which performs the same operations in the same order.
@@ -106,7 +106,7 @@ def fk_matrices(  # pragma: no cover - compiled
 
 @numba.njit(inline="always", boundscheck=False)
 def _euler_matrix(a, b, c, code, out):  # pragma: no cover - compiled
-    """core.rotations.matrix_from_euler for one rotation; code = (i, j, k, parity)."""
+    """core.rotations.euler.matrix_from_euler for one rotation; code = (i, j, k, parity)."""
     i = int(code[0])
     j = int(code[1])
     k = int(code[2])
@@ -158,7 +158,7 @@ def fk_euler(  # pragma: no cover - compiled
 def matrices_from_degrees(values, joints, columns, codes, start, stop, out):  # pragma: no cover - compiled
     """out[f, joints[m]] = the rotation of the Euler angles in degrees at ``values[f,
     columns[m]]`` (a column of -1: angle 0), for frames start..stop-1. codes (M, 4) as in
-    :func:`_euler_matrix`. Same operations as numpy.radians + core.rotations.matrix_from_euler."""
+    :func:`_euler_matrix`. Same operations as numpy.radians + core.rotations.euler.matrix_from_euler."""
     scale = np.pi / 180.0
     for f in range(start, stop):
         for m in range(joints.shape[0]):

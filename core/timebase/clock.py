@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
 
 
 def frame_seconds(frames, frame_time: float):

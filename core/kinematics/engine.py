@@ -1,6 +1,6 @@
 """The tuned forward-kinematics engine: world positions (and rotations) of any forest.
 
-Same results as the reference :mod:`core.kinematics` (to rounding, ~1e-15 of the size),
+Same results as the reference :mod:`core.kinematics.fk` (to rounding, ~1e-15 of the size),
 for both conventions. With ``W`` the world rotation and ``P`` the world position:
 
 - root r:          ``P_r = t_r`` (a copy; ``W_r = R_r`` only when someone needs it)
@@ -9,7 +9,7 @@ for both conventions. With ``W`` the world rotation and ``P`` the world position
 
 Two backends compute exactly the same floating-point operations in the same order, so
 their results are bitwise identical (tested): a compiled kernel (numba, optional) and a
-pure-numpy path. Both start from the :class:`~core.motion.Motion` arrays as they are, the
+pure-numpy path. Both start from the :class:`~core.model.motion.Motion` arrays as they are, the
 rotations cached at load as ``(F, J, 3, 3)`` matrices. :func:`positions_from_euler` starts
 from the Euler angles instead (what a file stores) and turns them into matrices on the fly.
 
@@ -47,7 +47,7 @@ in the same runs; docs/benchmark.md has the full benchmark):
   ``llvm.prefetch`` numba intrinsic) recovered most of it (k=30: 0.45 against 0.75-0.97)
   but made every other configuration ~0.1 us/frame slower, even with nothing to
   prefetch, and ties the code to LLVM's intrinsic names: not adopted.
-- **Matrices, not quaternions.** The Motion stores matrices (see core/motion.py); a
+- **Matrices, not quaternions.** The Motion stores matrices (see core/model/motion.py); a
   quaternion kernel would first have to convert them, a pass costing more than the FK.
 - **float64 throughout**: the operations promise 1e-9 of the size over chains of edits,
   and the kernel is bound by arithmetic latency and memory order, not by bytes.
@@ -82,13 +82,13 @@ from typing import Literal
 
 import numpy as np
 
-from gmr_studio.core.motion import Motion
-from gmr_studio.core.rotations import _indices_and_parity, complete_order
+from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.rotations.euler import _indices_and_parity, complete_order
 
 try:  # the compiled backend is optional
     if os.environ.get("GMR_DISABLE_NUMBA") == "1":
         raise ImportError("disabled by GMR_DISABLE_NUMBA=1")
-    from gmr_studio.core import _fk_kernels as _kernels
+    from gmr_studio.core.kinematics import _kernels
 except ImportError:  # pragma: no cover - depends on the environment
     _kernels = None
 
@@ -263,7 +263,7 @@ def _in_blocks(work, n_frames: int, threads: int | None) -> None:
 # ------------------------------------------------------------------ from Euler angles
 def euler_codes(orders: tuple[str, ...]) -> np.ndarray:
     """(J, 4) float64 rows ``(i, j, k, parity)`` of each joint's completed Euler order
-    (see :func:`core.rotations.matrix_from_euler`); ``""`` counts as 'XYZ' (its angles are 0)."""
+    (see :func:`core.rotations.euler.matrix_from_euler`); ``""`` counts as 'XYZ' (its angles are 0)."""
     return np.array([_indices_and_parity(order or "XYZ") for order in orders], dtype=np.float64)
 
 
@@ -272,7 +272,7 @@ def euler_angles(motion: Motion, joints: np.ndarray | None = None) -> np.ndarray
     rotation order (zeros for joints without rotation channels, and for joints left out
     of the (J,) bool mask ``joints``). For BVH files these are the channel values as
     stored (in radians; a joint's missing channels are 0)."""
-    from gmr_studio.core.rotations import euler_from_matrix
+    from gmr_studio.core.rotations.euler import euler_from_matrix
 
     angles = np.zeros((motion.n_frames, motion.n_joints, 3))
     by_order: dict[str, list[int]] = {}
@@ -316,7 +316,7 @@ def positions_from_euler(
             plan.staged.shape[0] > 0, positions, scratch, np.empty((motion.n_joints, 3)),
         )  # fmt: skip
         return positions
-    from gmr_studio.core.rotations import matrix_from_euler
+    from gmr_studio.core.rotations.euler import matrix_from_euler
 
     rotations = np.empty((motion.n_frames, motion.n_joints, 3, 3))
     rotations[:] = np.eye(3)
@@ -401,7 +401,7 @@ def _numpy_fk(
     Each block is turned joint-major with the frames last, ``(J, 3, 3, n)`` (component
     planes), so that every ufunc call runs over long contiguous rows of frames instead of
     3-element ones; this took it from 9.8 to 1.8 us/frame (100,000 frames, 38 joints; the reference
-    core.kinematics takes ~4.4).
+    core.kinematics.fk takes ~4.4).
     """
     n_frames, n_joints = rotations.shape[:2]
     roots = np.flatnonzero(plan.kinds == ROOT)

@@ -23,7 +23,7 @@ import dataclasses
 
 import numpy as np
 
-from gmr_studio.core.rotations import matrix_from_euler
+from gmr_studio.core.rotations.euler import matrix_from_euler
 
 #: a file's channel values still describe a motion when the rotation they make is within this
 #: (max abs matrix entry) of the motion's: exact reads differ by ~1e-15, edits by far more
@@ -67,7 +67,7 @@ class FileChannels:
         return self.labels.get(name) or tuple(f"{axis}rotation" for axis in self.orders[name])
 
     def intrinsic_order(self, name: str) -> str:
-        """The Euler order (:mod:`core.rotations`) whose angles are the columns read right to
+        """The Euler order (:mod:`core.rotations.euler`) whose angles are the columns read right to
         left (AMC: applied in file order about fixed axes) or left to right (BVH)."""
         order = self.orders[name]
         return order if self.kind == "bvh" else order[::-1]

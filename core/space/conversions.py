@@ -18,7 +18,7 @@ module for the rule): what a motion's comments state (``up axis: z``) always win
 that states nothing means Y (:func:`up_axis_of`: BVH, ASF/AMC and GMR are Y up), which is
 what conversions, comparisons, contacts and exports use; a view of such a file
 (:func:`figure_up_axis`) looks at the figure (:func:`detect_up_axis`, also the markers'
-rule, :mod:`core.marker_alignment`), so a Z-up export without a header still stands up.
+rule, :mod:`core.markers.alignment`), so a Z-up export without a header still stands up.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ import re
 
 import numpy as np
 
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.model.motion import Motion
 
 UP_AXES = ("y", "z")
 #: Y up -> Z up: a rotation of +90 degrees about X
@@ -68,8 +68,8 @@ def figure_up_axis(motion: Motion, positions: np.ndarray | None = None) -> int:
     """1 (Y) or 2 (Z): the axis to stand a motion up along in a view (the app's scene,
     filmstrips): what its comments state, as :func:`up_axis_of`; a file that states nothing
     (a Z-up export without a header line) is looked at, :func:`detect_up_axis` on the joints
-    that make the figure (leaving out :attr:`~core.motion.Motion.anchors`) at the frames
-    :attr:`~core.motion.Motion.size` samples, or at ``positions`` (F, J, 3) if given."""
+    that make the figure (leaving out :attr:`~core.model.motion.Motion.anchors`) at the frames
+    :attr:`~core.model.motion.Motion.size` samples, or at ``positions`` (F, J, 3) if given."""
     stated = stated_up_axis(motion)
     if stated is not None:
         return 1 if stated == "y" else 2

@@ -12,7 +12,7 @@ its own name (the dock, ``gmr curves``, their CSV and the inspector use these na
   (the rotation of the bones leaving it; an End Site has none), an AMC bone's rotation dofs in
   its ASF axis frame (``lradius.channels.rx`` alone for CMU's one-axis elbow), a GMR file's
   channels (its GMR rotation). The file's values as written when they still make the
-  motion's rotation (:class:`core.channels.FileChannels`); otherwise (an edit changed it, or
+  motion's rotation (:class:`core.model.channels.FileChannels`); otherwise (an edit changed it, or
   no file said) the same columns computed from the motion, continuous over time.
   ``euler`` is an alias of ``channels`` (what ``gmr curves --quantity euler`` always gave).
 - ``gmr-euler``: the **GMR rotation** ``R_j`` (the rotation of the bone that ends at the
@@ -29,7 +29,7 @@ its own name (the dock, ``gmr curves``, their CSV and the inspector use these na
   over time (one-sided at the ends), via ``numpy.gradient``.
 
 Every quantity is the same whichever convention the motion is held in (a BVH read as it is
-by ``gmr curves``, or converted to GMR by the app). Times are :mod:`core.clock`'s.
+by ``gmr curves``, or converted to GMR by the app). Times are :mod:`core.timebase.clock`'s.
 
 Markers: :func:`marker_curves` gives a marker's coordinates with NaN in its gaps and
 :func:`gap_spans` the gaps as frame ranges (for shading).
@@ -42,14 +42,14 @@ import weakref
 
 import numpy as np
 
-from gmr_studio.core.channels import FileChannels
-from gmr_studio.core.clock import frame_seconds
-from gmr_studio.core.convert import DEFAULT_ORDER
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.kinematics import joint_world_transform
-from gmr_studio.core.motion import Motion
-from gmr_studio.core.quaternions import continuous_quaternions, quaternion_from_matrix
-from gmr_studio.core.rotations import complete_order, euler_from_matrix, rotation_angle
+from gmr_studio.core.kinematics.convention import DEFAULT_ORDER
+from gmr_studio.core.kinematics.fk import joint_world_transform
+from gmr_studio.core.model.channels import FileChannels
+from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.rotations.euler import complete_order, euler_from_matrix, rotation_angle
+from gmr_studio.core.rotations.quaternions import continuous_quaternions, quaternion_from_matrix
+from gmr_studio.core.timebase.clock import frame_seconds
 
 QUANTITIES = (
     "channels",
@@ -160,7 +160,7 @@ def local_translations(motion: Motion, joint: int, composition: str) -> np.ndarr
     BVH's ``t_j`` (a root's is ``G`` either way).
 
     On a post-rotation motion the GMR rotation of a joint is its parent's post rotation
-    (:func:`core.convert.pre_from_post`), used here without converting the whole motion.
+    (:func:`core.kinematics.convention.pre_from_post`), used here without converting the whole motion.
     """
     translation = motion.translations[:, joint]
     parent = int(motion.parents[joint])
@@ -200,7 +200,7 @@ def quantity_name(quantity: str) -> str:
 def gmr_rotations(motion: Motion, joint: int) -> tuple[np.ndarray, str]:
     """(F, 3, 3) a joint's GMR rotation (the bone ending at it) and its GMR Euler order, in
     either convention: a post motion's joint takes its parent's rotation and order (a root
-    the identity), as :func:`core.convert.pre_from_post` gives it."""
+    the identity), as :func:`core.kinematics.convention.pre_from_post` gives it."""
     if motion.convention == "pre":
         return motion.rotations[:, joint], motion.rotation_orders[joint]
     parent = int(motion.parents[joint])
@@ -337,5 +337,5 @@ def gap_spans(positions: np.ndarray) -> np.ndarray:
 
 
 def frame_times(frames: np.ndarray, frame_time: float) -> np.ndarray:
-    """Seconds of 0-based frame numbers: (F,) -> (F,) (:func:`core.clock.frame_seconds`)."""
+    """Seconds of 0-based frame numbers: (F,) -> (F,) (:func:`core.timebase.clock.frame_seconds`)."""
     return frame_seconds(np.asarray(frames), frame_time)

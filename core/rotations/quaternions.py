@@ -1,8 +1,8 @@
 """Unit quaternions for curves and resampling, vectorised over any leading shape.
 
 Convention: components ``(w, x, y, z)``, scalar first; ``q`` and ``-q`` are the same
-rotation. Rotation matrices follow :mod:`core.rotations` (column vectors, active). The
-project stores rotations as matrices (see :mod:`core.motion`); quaternions only appear
+rotation. Rotation matrices follow :mod:`core.rotations.euler` (column vectors, active). The
+project stores rotations as matrices (see :mod:`core.model.motion`); quaternions only appear
 where they are the natural tool: plotting a rotation as four smooth components and
 interpolating between two rotations (slerp).
 """

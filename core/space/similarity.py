@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from gmr_studio.core.rotations import nearest_rotation
+from gmr_studio.core.rotations.euler import nearest_rotation
 
 #: a per-frame fit whose point spread has a second singular value below this fraction of the
 #: first is degenerate (coincident or collinear points: the rotation about their line is free)

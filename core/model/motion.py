@@ -56,7 +56,7 @@ from typing import Literal
 import numpy as np
 
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.rotations import check_order
+from gmr_studio.core.rotations.euler import check_order
 
 Convention = Literal["pre", "post"]
 
@@ -270,7 +270,7 @@ class Motion:
     def _sampled_positions(self) -> np.ndarray:
         """(K, J, 3) world positions at up to :data:`SIZE_SAMPLE_FRAMES` frames spread evenly
         over the motion (the rest pose when there are no frames)."""
-        from gmr_studio.core.kinematics import world_positions
+        from gmr_studio.core.kinematics.fk import world_positions
 
         if not self.n_frames:
             return world_positions(self.rest_pose())

@@ -4,7 +4,7 @@
 as a standard file (docs/formats.md, "BVH export"):
 
 - siblings with different rotations get one zero-offset dummy joint each, named after the
-  child (:func:`core.convert.post_from_pre`);
+  child (:func:`core.kinematics.convention.post_from_pre`);
 - a forest hangs under one synthetic root (``World``: identity, at the origin, 6 zero
   channels); each tree root is a 6-channel joint whose positions are its world positions.
   :func:`bvh_export_trees` gives one motion per tree instead;
@@ -31,10 +31,10 @@ from pathlib import Path
 import numpy as np
 
 from gmr_studio.core.atomic import atomic_write_text
-from gmr_studio.core.convert import post_from_pre, pre_from_post
 from gmr_studio.core.formats.textmotion import format_text_motion
-from gmr_studio.core.motion import Motion
-from gmr_studio.core.rotations import complete_order
+from gmr_studio.core.kinematics.convention import post_from_pre, pre_from_post
+from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.rotations.euler import complete_order
 
 #: name of the synthetic root of an exported forest (numbered if a joint has it already)
 WORLD_ROOT = "World"

@@ -38,8 +38,8 @@ import re
 import numpy as np
 
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.kinematics import world_positions
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.kinematics.fk import world_positions
+from gmr_studio.core.model.motion import Motion
 
 #: (pattern, left, right, strict): the side is group 2; groups 1 and 3 are kept
 SIDE_RULES: tuple[tuple[re.Pattern[str], str, str, bool], ...] = (

@@ -25,10 +25,10 @@ import time
 
 import numpy as np
 
-from gmr_studio.core import fk_engine
-from gmr_studio.core.kinematics import forward_kinematics
-from gmr_studio.core.motion import Motion
-from gmr_studio.core.operations import split
+from gmr_studio.core.edits.operations import split
+from gmr_studio.core.kinematics import engine as fk_engine
+from gmr_studio.core.kinematics.fk import forward_kinematics
+from gmr_studio.core.model.motion import Motion
 
 
 def homogeneous(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray:

@@ -3,11 +3,11 @@
 A joint is planted at a frame when both
 
 - its height above its own lowest point over the motion is under ``height`` times the
-  skeleton's size (:attr:`core.motion.Motion.size`), and
-- its speed (norm of the world velocity, :func:`core.curves.world_speed`) is under
+  skeleton's size (:attr:`core.model.motion.Motion.size`), and
+- its speed (norm of the world velocity, :func:`core.analysis.curves.world_speed`) is under
   ``speed`` times the size per second.
 
-Heights are measured along the motion's up axis (:func:`core.conversions.up_axis_of`: Y
+Heights are measured along the motion's up axis (:func:`core.space.conversions.up_axis_of`: Y
 unless the comments say Z). Each joint's ground is its own lowest point, so an ankle and a
 toe both count as planted when they rest, whatever their height above the floor; a
 motion on uneven ground (stairs) needs other thresholds. Both fractions are adjustable;
@@ -21,10 +21,10 @@ import re
 
 import numpy as np
 
-from gmr_studio.core.conversions import up_axis_of
-from gmr_studio.core.curves import world_speed
-from gmr_studio.core.kinematics import world_positions
-from gmr_studio.core.motion import Motion
+from gmr_studio.core.analysis.curves import world_speed
+from gmr_studio.core.kinematics.fk import world_positions
+from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.space.conversions import up_axis_of
 
 #: height threshold, as a fraction of the skeleton's size
 DEFAULT_HEIGHT = 0.03

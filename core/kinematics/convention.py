@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from gmr_studio.core.motion import Motion, identity_rotations
+from gmr_studio.core.model.motion import Motion, identity_rotations
 
 #: rotation order given to joints whose parent had no rotation channels
 DEFAULT_ORDER = "ZYX"
@@ -125,6 +125,6 @@ def post_from_pre(motion: Motion, *, tolerance: float = 1e-12) -> tuple[Motion, 
 
 
 def _pre_world(motion: Motion) -> tuple[np.ndarray, np.ndarray]:
-    from gmr_studio.core.kinematics import forward_kinematics
+    from gmr_studio.core.kinematics.fk import forward_kinematics
 
     return forward_kinematics(motion)

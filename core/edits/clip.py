@@ -17,8 +17,8 @@ from __future__ import annotations
 import numpy as np
 
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.motion import Motion
-from gmr_studio.core.quaternions import matrix_from_quaternion, quaternion_from_matrix, slerp
+from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.rotations.quaternions import matrix_from_quaternion, quaternion_from_matrix, slerp
 
 #: a new frame time within this fraction of a source frame interval counts as that source frame
 EXACT_TIME_TOLERANCE = 1e-9

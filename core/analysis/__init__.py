@@ -1,0 +1,1 @@
+"""Analysis over time: curves of a joint's quantities, foot contacts, the kinematics classroom."""

@@ -1,0 +1,1 @@
+"""Space: units, up axis, similarity transforms and fits, the figure's travel direction."""
