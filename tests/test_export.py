@@ -16,10 +16,10 @@ from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import load_gmr, read_motion
 from gmr_studio.core.formats.bvh import bvh_text, read_bvh
 from gmr_studio.core.formats.bvh_export import bvh_export, bvh_export_trees, tree_file_name
-from gmr_studio.core.formats.continuity import continuous_euler
 from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.rotations.continuity import continuous_euler
 from gmr_studio.core.rotations.euler import EULER_ORDERS, euler_from_matrix, matrix_from_euler
 from tests.conftest import random_motion, shared_files, shared_path
 from tests.test_bvh_reader import SMALL

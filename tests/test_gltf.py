@@ -12,9 +12,10 @@ import pytest
 from gmr_studio.core.cli import main
 from gmr_studio.core.edits.operations import split
 from gmr_studio.core.formats import read_motion
-from gmr_studio.core.formats.gltf import export_gltf, infer_metres_per_unit, quaternions_from_matrices
+from gmr_studio.core.formats.gltf import export_gltf, infer_metres_per_unit
 from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.kinematics.fk import reference_forward_kinematics
+from gmr_studio.core.rotations.quaternions import quaternion_from_matrix
 from gmr_studio.core.space.conversions import Y_TO_Z
 from tests.conftest import random_motion, shared_path
 
@@ -191,7 +192,7 @@ def test_quaternions_match_matrices(rng):
 
     matrices = Rotation.random(500, random_state=3).as_matrix()
     matrices[:4] = [np.eye(3), np.diag([1, -1, -1]), np.diag([-1, 1, -1]), np.diag([-1, -1, 1])]
-    q = quaternions_from_matrices(matrices)
+    q = quaternion_from_matrix(matrices, scalar_last=True)
     np.testing.assert_allclose(matrix_from_quaternion(q), matrices, atol=1e-14)
 
 

@@ -8,9 +8,10 @@ import numpy as np
 import pygltflib as gl
 import pytest
 
-from gmr_studio.core.formats.gltf import SCENE_ROOT, build_gltf, export_gltf, quaternions_from_matrices
+from gmr_studio.core.formats.gltf import SCENE_ROOT, build_gltf, export_gltf
 from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.rotations.euler import rotation_about_axis
+from gmr_studio.core.rotations.quaternions import quaternion_from_matrix
 from tests.conftest import random_motion
 from tests.test_gltf import accessor_array, check_round_trip, load_gltf, matrix_from_quaternion
 
@@ -78,14 +79,16 @@ def test_quaternions_of_half_turns_and_their_sign():
     angles = np.array([np.pi, np.pi - 1e-7, 2.5, -np.pi + 1e-3])
     for axis in "XYZ":
         matrices = rotation_about_axis(axis, angles)
-        q = quaternions_from_matrices(matrices)
+        q = quaternion_from_matrix(matrices, scalar_last=True)
         np.testing.assert_allclose(matrix_from_quaternion(q), matrices, rtol=0, atol=1e-14)
         np.testing.assert_allclose(np.linalg.norm(q, axis=-1), 1.0, rtol=0, atol=1e-15)
         assert (q[:, 3] >= 0).all()
         k = "XYZ".index(axis)
         np.testing.assert_allclose(np.abs(q[:, k]), np.abs(np.sin(angles / 2)), rtol=0, atol=1e-12)
     tilted = rotation_about_axis("X", np.array([0.7])) @ rotation_about_axis("Z", np.array([np.pi]))
-    np.testing.assert_allclose(matrix_from_quaternion(quaternions_from_matrices(tilted)), tilted, atol=1e-14)
+    np.testing.assert_allclose(
+        matrix_from_quaternion(quaternion_from_matrix(tilted, scalar_last=True)), tilted, atol=1e-14
+    )
 
 
 def test_a_post_rotation_motion_round_trips_too(tmp_path, rng):

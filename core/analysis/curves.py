@@ -17,7 +17,7 @@ its own name (the dock, ``gmr curves``, their CSV and the inspector use these na
   ``euler`` is an alias of ``channels`` (what ``gmr curves --quantity euler`` always gave).
 - ``gmr-euler``: the **GMR rotation** ``R_j`` (the rotation of the bone that ends at the
   joint; on a BVH the parent's channels) as Euler angles in the GMR joint's order (the
-  parent's BVH order), degrees, continuous (:func:`continuous_euler`).
+  parent's BVH order), degrees, continuous (:mod:`core.rotations.continuity`, the writers' rule).
 - ``angle``: the rotation angle of the GMR rotation (degrees, 0 to 180).
 - ``quaternion``: the GMR rotation as ``w, x, y, z`` with signs kept continuous over frames.
 - ``local-pre``: the local translation as GMR composes it, ``R_j t_j`` (``[R, R t]``);
@@ -47,8 +47,9 @@ from gmr_studio.core.kinematics.convention import DEFAULT_ORDER
 from gmr_studio.core.kinematics.fk import joint_world_transform
 from gmr_studio.core.model.channels import FileChannels
 from gmr_studio.core.model.motion import Motion
-from gmr_studio.core.rotations.euler import complete_order, euler_from_matrix, rotation_angle
-from gmr_studio.core.rotations.quaternions import continuous_quaternions, quaternion_from_matrix
+from gmr_studio.core.rotations.continuity import continuous_euler, continuous_quaternions
+from gmr_studio.core.rotations.euler import rotation_angle
+from gmr_studio.core.rotations.quaternions import quaternion_from_matrix
 from gmr_studio.core.timebase.clock import frame_seconds
 
 QUANTITIES = (
@@ -68,9 +69,6 @@ ALIASES = {"euler": "channels"}
 SHARED_TOLERANCE = 1e-12
 #: curves of live motions (:func:`values_at`)
 _CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-#: radians: the Euler branch may change only where the middle angle is beyond this, on the way
-#: through 90 degrees (:func:`continuous_euler`)
-EULER_BRANCH_MIDDLE = np.radians(60.0)
 UNITS = {
     "channels": "deg",
     "gmr-euler": "deg",
@@ -111,48 +109,15 @@ class Curves:
         )
 
 
-def _wrapped(angles: np.ndarray) -> np.ndarray:
-    """Angles in radians wrapped to [-pi, pi)."""
-    return (angles + np.pi) % (2 * np.pi) - np.pi
-
-
-def continuous_euler(angles: np.ndarray) -> np.ndarray:
-    """Three-axis Euler angles over frames (F, 3), radians, made continuous.
-
-    Every rotation has two Tait-Bryan solutions, ``(a, b, c)`` and ``(a + pi, pi - b, c + pi)``;
-    :func:`core.rotations.euler_from_matrix` returns the one with ``|b| <= pi/2``, so a motion
-    whose middle angle passes 90 degrees (a BVH root turning over) jumps there. Frame ``f``
-    switches branch when the other solution is nearer frame ``f - 1`` than its own while the
-    middle angle is beyond :data:`EULER_BRANCH_MIDDLE` at both frames, i.e. when it passes
-    90 degrees (a jump in the data itself, such as CMU's T-pose first frame, switches
-    nothing; the nearness of two frames' solutions does not depend on which branch both are on, so the
-    switches add up with a cumulative sum), then each column is unwrapped. The first frame
-    keeps the principal solution.
-    """
-    if angles.shape[0] < 2:
-        return np.array(angles)
-    other = np.stack([angles[:, 0] + np.pi, np.pi - angles[:, 1], angles[:, 2] + np.pi], axis=-1)
-    stay = np.sum(_wrapped(angles[1:] - angles[:-1]) ** 2, axis=-1)
-    switch = np.sum(_wrapped(other[1:] - angles[:-1]) ** 2, axis=-1)
-    steep = np.abs(angles[:, 1]) > EULER_BRANCH_MIDDLE
-    crossing = (switch < stay) & steep[1:] & steep[:-1]
-    branch = np.concatenate([[0], np.cumsum(crossing) % 2]).astype(bool)
-    return np.unwrap(np.where(branch[:, None], other, angles), axis=0)
-
-
 def euler_degrees(rotations: np.ndarray, order: str) -> np.ndarray:
     """Continuous Euler angles in degrees of rotations over frames: (F, 3, 3) -> (F, len(order)).
 
-    The angles are those of :func:`core.rotations.euler_from_matrix` in the completed
-    order made continuous (:func:`continuous_euler`), keeping the first ``len(order)`` (the
-    others are zero for a rotation that has only those channels).
+    The angles the BVH writer writes for them: :func:`core.rotations.continuity.continuous_euler`
+    (the others are zero for a rotation that has only the order's channels).
     """
     if not order:
         return np.zeros((rotations.shape[0], 0))
-    angles = euler_from_matrix(rotations, complete_order(order))
-    if len(order) < 3:  # the other solution would give the missing axes 180 degrees
-        return np.degrees(np.unwrap(angles[:, : len(order)], axis=0))
-    return np.degrees(continuous_euler(angles))
+    return np.degrees(continuous_euler(rotations, order))
 
 
 def local_translations(motion: Motion, joint: int, composition: str) -> np.ndarray:

@@ -17,7 +17,7 @@ from gmr_studio.core.edits.dummies import remove_dummies
 from gmr_studio.core.formats.acclaim import read_amc, read_asf
 from gmr_studio.core.formats.bvh import read_bvh
 from gmr_studio.core.formats.bvh_export import bvh_export
-from gmr_studio.core.formats.continuity import continuous_euler
+from gmr_studio.core.rotations.continuity import continuous_euler
 from gmr_studio.core.shared_data import shared_file
 
 

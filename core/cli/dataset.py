@@ -41,6 +41,8 @@ from gmr_studio.core.cli.reading import add_gltf_options
 from gmr_studio.core.errors import MotionFileError, OperationError
 from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.kinematics.fk import forward_kinematics
+from gmr_studio.core.rotations.continuity import continuous_quaternions
+from gmr_studio.core.rotations.quaternions import quaternion_from_matrix
 
 QUANTITIES = ("positions", "rotations")
 COLUMNS = {"positions": ("x", "y", "z"), "rotations": ("qx", "qy", "qz", "qw")}
@@ -84,14 +86,12 @@ def file_values(
     source: str, quantity: str, rate: float | None, options: ConvertOptions
 ) -> tuple[tuple[str, ...], np.ndarray, float]:
     """(joint names, values (F, J, 3|4) float32, frame rate) of one file."""
-    from gmr_studio.core.formats.gltf import continuous_quaternions, quaternions_from_matrices
-
     motion = read_for_conversion(source, options)
     if quantity == "positions":
         values = forward_kinematics(motion, with_rotations=False)[0]
     else:
         gmr = pre_from_post(motion)
-        values = continuous_quaternions(quaternions_from_matrices(forward_kinematics(gmr)[1]))
+        values = continuous_quaternions(quaternion_from_matrix(forward_kinematics(gmr)[1], scalar_last=True))
     frame_rate = motion.frame_rate
     if rate is not None:
         values = resample(values, motion.frame_time, rate, quaternions=quantity == "rotations")

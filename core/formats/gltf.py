@@ -33,6 +33,8 @@ import pygltflib as gl
 
 from gmr_studio.core.atomic import atomic_write_bytes, atomic_write_text
 from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.rotations.continuity import continuous_quaternions
+from gmr_studio.core.rotations.quaternions import quaternion_from_matrix
 from gmr_studio.core.space.conversions import change_up_axis, scale_lengths, up_axis_of
 
 #: name of the node above every tree (numbered if a joint has it already)
@@ -67,47 +69,6 @@ def infer_metres_per_unit(motion: Motion) -> tuple[float, str]:
     return factor, f"lengths taken as {name} (size {size:.4g} units = {size * factor:.3g} m), times {factor:.6g}"
 
 
-def quaternions_from_matrices(matrices: np.ndarray) -> np.ndarray:
-    """Unit quaternions ``(x, y, z, w)`` of rotation matrices: (..., 3, 3) -> (..., 4).
-
-    Shepperd's method (the largest of the four squared components is computed directly),
-    vectorised; ``w >= 0``.
-    """
-    m = np.asarray(matrices, dtype=np.float64)
-    m00, m11, m22 = m[..., 0, 0], m[..., 1, 1], m[..., 2, 2]
-    trace = m00 + m11 + m22
-    # squared components times 4: w, x, y, z
-    candidates = np.stack([1 + trace, 1 + m00 - m11 - m22, 1 - m00 + m11 - m22, 1 - m00 - m11 + m22], axis=-1)
-    best = np.argmax(candidates, axis=-1)
-    big = 2.0 * np.sqrt(np.maximum(np.take_along_axis(candidates, best[..., None], -1)[..., 0], 1e-300))
-    zy, yz = m[..., 2, 1], m[..., 1, 2]
-    xz, zx = m[..., 0, 2], m[..., 2, 0]
-    yx, xy = m[..., 1, 0], m[..., 0, 1]
-    options = np.stack(
-        [
-            np.stack([(zy - yz) / big, (xz - zx) / big, (yx - xy) / big, big / 4], -1),
-            np.stack([big / 4, (xy + yx) / big, (xz + zx) / big, (zy - yz) / big], -1),
-            np.stack([(xy + yx) / big, big / 4, (yz + zy) / big, (xz - zx) / big], -1),
-            np.stack([(xz + zx) / big, (yz + zy) / big, big / 4, (yx - xy) / big], -1),
-        ],
-        axis=-2,
-    )
-    quat = np.take_along_axis(options, best[..., None, None], -2)[..., 0, :]
-    quat *= np.where(quat[..., 3:] < 0, -1.0, 1.0)
-    return quat / np.linalg.norm(quat, axis=-1, keepdims=True)
-
-
-def continuous_quaternions(quat: np.ndarray) -> np.ndarray:
-    """Flip signs along the frames so consecutive quaternions are in one hemisphere (glTF
-    interpolates linearly between them): (F, J, 4) -> (F, J, 4)."""
-    if quat.shape[0] < 2:
-        return quat
-    flips = np.einsum("fjq,fjq->fj", quat[1:], quat[:-1]) < 0
-    sign = np.ones(quat.shape[:2])
-    sign[1:] = np.where(np.cumsum(flips, axis=0) % 2 == 1, -1.0, 1.0)
-    return quat * sign[..., None]
-
-
 def local_transforms(motion: Motion) -> tuple[np.ndarray, np.ndarray]:
     """Node translations (F, J, 3) and rotations (F, J, 4, quaternion ``x, y, z, w``) whose
     glTF composition (parent world times ``T(t) R(q)``) is the motion's FK."""
@@ -117,7 +78,7 @@ def local_transforms(motion: Motion) -> tuple[np.ndarray, np.ndarray]:
         translations[:, roots] = motion.translations[:, roots]
     else:
         translations = np.array(motion.translations)
-    return translations, continuous_quaternions(quaternions_from_matrices(motion.rotations))
+    return translations, continuous_quaternions(quaternion_from_matrix(motion.rotations, scalar_last=True))
 
 
 class BufferBuilder:

@@ -17,11 +17,11 @@ from pathlib import Path
 import numpy as np
 
 from gmr_studio.core.errors import MotionFileError, read_input
-from gmr_studio.core.formats.continuity import continuous_euler
 from gmr_studio.core.formats.frames import format_frames, format_number, parse_frames
 from gmr_studio.core.formats.hierarchy import CHANNEL_NAMES, ParsedHeader, normalise_newlines, parse_header
 from gmr_studio.core.kinematics.engine import degrees_to_matrices_compiled
 from gmr_studio.core.model.motion import Motion, build_translations
+from gmr_studio.core.rotations.continuity import continuous_euler
 from gmr_studio.core.rotations.euler import complete_order, euler_from_matrix, matrix_from_euler
 
 #: significant digits of frame values; 15 keeps write -> read to ~1e-15 relative
@@ -236,7 +236,7 @@ def format_text_motion(motion: Motion, dialect: str) -> Iterator[str]:
 def _frame_values(motion: Motion, columns: list[tuple[str, int, str]], chunk: int) -> Iterator[np.ndarray]:
     """(up to chunk, V) channel values in file order, block after block of frames: positions as
     stored, rotations in degrees, continuous over all the frames
-    (:func:`core.formats.continuity.continuous_euler`, carried from block to block). Only
+    (:func:`core.rotations.continuity.continuous_euler`, carried from block to block). Only
     one block of angles is held at a time, so writing needs memory for ``chunk`` frames,
     not for the motion."""
     by_order: dict[str, list[int]] = defaultdict(list)

@@ -15,8 +15,10 @@ import numpy as np
 SLERP_LINEAR_BELOW = 1e-6
 
 
-def quaternion_from_matrix(matrices: np.ndarray) -> np.ndarray:
+def quaternion_from_matrix(matrices: np.ndarray, *, scalar_last: bool = False) -> np.ndarray:
     """Unit quaternions (w, x, y, z) of rotation matrices, ``w >= 0``: (..., 3, 3) -> (..., 4).
+
+    ``scalar_last``: give them as (x, y, z, w), as glTF stores them.
 
     Shepperd's method: of the four candidate formulas, each entry uses the one with the
     largest denominator, so the result is accurate for every rotation (including 180 degrees).
@@ -62,7 +64,8 @@ def quaternion_from_matrix(matrices: np.ndarray) -> np.ndarray:
     best = np.argmax(np.stack([trace, m00, m11, m22], axis=-1), axis=-1)
     chosen = np.take_along_axis(candidates, best[..., None, None], axis=-2)[..., 0, :]
     q = chosen / np.linalg.norm(chosen, axis=-1, keepdims=True)
-    return np.where(q[..., :1] < 0, -q, q)
+    q = np.where(q[..., :1] < 0, -q, q)
+    return np.roll(q, -1, axis=-1) if scalar_last else q
 
 
 def matrix_from_quaternion(
@@ -93,17 +96,6 @@ def matrix_from_quaternion(
     out[..., 2, 1] = yz + wx
     out[..., 2, 2] = 1 - (xx + yy)
     return out
-
-
-def continuous_quaternions(quaternions: np.ndarray) -> np.ndarray:
-    """Quaternions over frames (F, ..., 4) with signs chosen so that consecutive frames lie
-    in the same hemisphere (each ``q_f . q_{f-1} >= 0``): the same rotations, smooth curves."""
-    q = np.asarray(quaternions, dtype=np.float64)
-    if q.shape[0] < 2:
-        return q.copy()
-    flips = np.einsum("f...c,f...c->f...", q[1:], q[:-1]) < 0
-    sign = np.concatenate([np.ones((1, *q.shape[1:-1])), np.where(np.cumsum(flips, axis=0) % 2 == 1, -1.0, 1.0)])
-    return q * sign[..., None]
 
 
 def slerp(q0: np.ndarray, q1: np.ndarray, fraction: np.ndarray) -> np.ndarray:
