@@ -26,8 +26,10 @@ import numpy as np
 
 from gmr_studio.core.kinematics.fk import forward_kinematics
 from gmr_studio.core.markers.markerset import Y_UP_TO_Z_UP, MarkerSet
+from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.model.motion import Motion, build_translations
 from gmr_studio.core.rotations.euler import matrix_from_euler
+from gmr_studio.core.space.units import UNITS
 from gmr_studio.resources import resource_path
 
 #: joint name -> (parent name, bone vector in the rest pose, cm); the CMU ASF hierarchy
@@ -179,7 +181,8 @@ def demo_motion() -> Motion:
         rotations=rotations,
         translations=build_translations(n_frames, offsets, {0: root_path}),
         frame_time=1.0 / FRAME_RATE,
-        comments=("GMR Studio demo: a synthetic walk made by core/demo.py (units: cm, Y up)",),
+        comments=("GMR Studio demo: a synthetic walk made by core/demo.py",),
+        facts=FileFacts(unit=UNITS["cm"], up_axis="y"),
     )
 
 

@@ -31,8 +31,10 @@ from pathlib import Path
 
 import numpy as np
 
+from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.rotations.euler import matrix_from_euler
+from gmr_studio.core.space.units import UNITS
 
 FRAME_RATE = 60.0
 WALK_FRAMES = 300  # 5 s
@@ -206,7 +208,8 @@ def z_up_millimetres() -> Motion:
     translations[:, 0] = motion.translations[:, 0] @ turn.T * 1000.0
     offsets = motion.offsets * 1000.0
     offsets[0] = turn @ motion.offsets[0] * 1000.0
-    return motion.replace(rotations=rotations, translations=translations, offsets=offsets, comments=("units: mm",))
+    mm = FileFacts(unit=UNITS["mm"])
+    return motion.replace(rotations=rotations, translations=translations, offsets=offsets, facts=mm)
 
 
 def t_pose() -> Motion:

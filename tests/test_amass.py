@@ -97,7 +97,7 @@ def test_fk_equals_the_body_models_joints(amass_files):
     assert np.abs(positions - expected).max() <= 1e-12 * motion.size
     gmr = load_gmr(motion_path, body_model=model_path)  # the GMR form keeps them too
     assert np.abs(reference_forward_kinematics(gmr, with_rotations=False)[0] - expected).max() <= 1e-12 * motion.size
-    assert "up axis: z (as AMASS stores it)" in motion.comments
+    assert (motion.facts.up_axis, motion.facts.unit.name) == ("z", "m")
 
 
 def test_pickled_model_reads_the_same(amass_files, tmp_path):
@@ -222,11 +222,7 @@ def test_without_betas_the_template_shape_and_the_comments(amass_files, tmp_path
     motion = read_motion(tmp_path / "plain.npz", body_model=model_path)
     expected = smpl_joint_positions(model, {**sequence, "betas": np.zeros(N_BETAS)})
     assert np.abs(reference_forward_kinematics(motion, with_rotations=False)[0] - expected).max() <= 1e-12
-    assert motion.comments == (
-        "AMASS/SMPL motion plain.npz, body model model.npz, gender male, 0 betas",
-        "units: metres",
-        "up axis: z (as AMASS stores it)",
-    )
+    assert motion.comments == ("AMASS/SMPL motion plain.npz, body model model.npz, gender male, 0 betas",)
     assert motion.convention == "post" and set(motion.rotation_orders) == {"ZYX"}
     assert list(np.flatnonzero(motion.has_translation)) == [0] and motion.parents[0] < 0
     np.savez(tmp_path / "no_gender.npz", **{k: v for k, v in plain.items() if k != "gender"})

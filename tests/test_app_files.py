@@ -137,7 +137,8 @@ def test_asf_amc_with_c3d_markers(qtbot, studio):
     state = studio.state
     assert state.motion.n_frames == 2751 and "lfemur" in state.motion.names
     overlay = state.marker_overlay
-    assert overlay is not None and "CMU unit" in overlay.alignment.method and overlay.alignment.frame_offset == 0
+    assert overlay is not None and overlay.alignment.frame_offset == 0
+    assert "ASF unit (in / 0.45)" in overlay.alignment.method
     assert "Markers" in studio.inspector.text() and "42" in studio.inspector.text()
     # LANK follows the ankle (the end of ltibia) within a few centimetres all through
     ankle = state.positions[:, state.motion.joint_index("ltibia")]

@@ -10,8 +10,8 @@ import pytest
 from gmr_studio.core.cli import main
 from gmr_studio.core.compare import audit
 from gmr_studio.core.compare.audit import BVH_FILE_TOLERANCE, GLTF_FILE_TOLERANCE, OPERATION_TOLERANCE, audit_motion
+from gmr_studio.core.edits.world import scale_lengths
 from gmr_studio.core.formats import read_motion
-from gmr_studio.core.space.conversions import scale_lengths
 from tests.conftest import shared_files, shared_path
 
 EXPECTED_PATHS = {

@@ -12,10 +12,10 @@ import pytest
 
 from gmr_studio.core.compare import audit
 from gmr_studio.core.compare.audit import AuditPath, audit_motion, round_trips, through_gltf
+from gmr_studio.core.edits.world import scale_lengths
 from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.rigs import make_rig
-from gmr_studio.core.space.conversions import scale_lengths
 
 
 def still(names: tuple[str, ...], parents: tuple[int, ...], offsets, n_frames: int = 2) -> Motion:

@@ -174,10 +174,11 @@ def test_batch_on_a_dask_cluster(files, capsys):
     assert "(Dask local:1)" in captured.err
 
 
-def test_a_z_up_bvh_checked_with_its_up_axis(tmp_path, capsys):
-    """A BVH states no up axis (Y is assumed): a Z-up one is checked with --up y --from-up z."""
+def test_a_z_up_bvh_is_checked_along_the_axis_its_figure_stands_on(tmp_path, capsys):
+    """A BVH states no up axis: a Z-up one written by ``gmr edit --up z`` is checked along Z,
+    as the view draws it, with no flag; ``--up y --from-up z`` gives the same."""
+    from gmr_studio.core.edits.world import change_up_axis
     from gmr_studio.core.formats.bvh import write_bvh
-    from gmr_studio.core.space.conversions import change_up_axis
     from tests.test_checks import with_translation
 
     def slide(f):
@@ -192,5 +193,9 @@ def test_a_z_up_bvh_checked_with_its_up_axis(tmp_path, capsys):
     (finding,) = json.loads(capsys.readouterr().out)["findings"]
     assert (finding["start"], finding["end"], finding["joints"][0]) == (100, 120, "RightFoot")
     assert finding["value"] == pytest.approx(2.0, rel=0.1)
-    assert main(["check", str(path), "--only", "foot-skate", "--json", "-"]) == 0  # taken as Y up
+    assert main(["check", str(path), "--only", "foot-skate", "--json", "-"]) == 0  # the figure says Z up
+    (same,) = json.loads(capsys.readouterr().out)["findings"]
+    assert (same["start"], same["end"], same["joints"][0]) == (100, 120, "RightFoot")
+    told_wrong = ["--up", "y", "--from-up", "y"]  # the user says it is Y up: measured along Y
+    assert main(["check", str(path), "--only", "foot-skate", "--json", "-", *told_wrong]) == 0
     assert [(f["start"], f["end"]) for f in json.loads(capsys.readouterr().out)["findings"]] != [(100, 120)]

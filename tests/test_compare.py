@@ -9,11 +9,13 @@ from gmr_studio.core.compare import compare_motions, compare_tracks, fit_alignme
 from gmr_studio.core.compare.offset import find_offset
 from gmr_studio.core.compare.tracks import Track
 from gmr_studio.core.edits.operations import join_all, shift_root, split, split_all
+from gmr_studio.core.edits.world import change_up_axis, scale_lengths
 from gmr_studio.core.formats import load_gmr, read_motion
 from gmr_studio.core.jointmap import match_joints
 from gmr_studio.core.kinematics.fk import forward_kinematics
+from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.rotations.euler import matrix_from_euler, rotation_about_axis, rotation_angle
-from gmr_studio.core.space.conversions import change_up_axis, scale_lengths
+from gmr_studio.core.space.units import UNITS
 from tests.conftest import shared_path
 
 THORAX = 2.06488  # the bone the cgspeed BVH dropped (test_jointmap.py)
@@ -121,6 +123,8 @@ def test_rigid_and_similarity_alignments_recover_a_known_transform(walk):
     translations = walk.translations.copy()
     translations[:, root] = (translations[:, root] - shift) @ turn
     moved = scale_lengths(walk.replace(rotations=rotations, translations=translations), factor)
+    # a figure tilted this much could be lying on its back: the file says it is Y up
+    moved = moved.replace(facts=FileFacts(up_axis="y"))
     plain = compare_motions(walk, moved, align="none")
     assert plain.position.mean > walk.size / 10
     rigid = compare_motions(walk, moved, align="rigid")
@@ -226,14 +230,14 @@ def test_gaps_are_nan_and_left_out(walk):
 
 
 def test_units_and_up_axis_from_what_the_files_state(walk):
-    z_up_mm = change_up_axis(scale_lengths(walk, 10.0), "z").replace(comments=("units: mm", "up axis: z"))
-    a = walk.replace(comments=("units: cm",))
+    z_up_mm = change_up_axis(scale_lengths(walk, 10.0), "z").replace(facts=FileFacts(unit=UNITS["mm"], up_axis="z"))
+    a = walk.replace(facts=FileFacts(unit=UNITS["cm"]))
     result = compare_motions(a, z_up_mm)
     assert result.position.max < 1e-9 * walk.size and np.nanmax(result.rotation_error) < 1e-6
     assert result.alignment.units_scale == pytest.approx(0.1) and result.units == "cm"
     assert any("B turned from z up" in note for note in result.alignment.notes)
     # nothing stated: the caller says it
-    bare = z_up_mm.replace(comments=())
+    bare = z_up_mm.replace(facts=FileFacts())
     assert compare_motions(walk, bare).position.mean > 1.0
     told = compare_motions(walk, bare, scale=0.1, up_b="z")
     assert told.position.max < 1e-9 * walk.size

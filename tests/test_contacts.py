@@ -9,9 +9,10 @@ import pytest
 
 from gmr_studio.core.analysis.contacts import foot_contacts
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
+from gmr_studio.core.edits.world import change_up_axis
 from gmr_studio.core.formats import load_gmr
 from gmr_studio.core.kinematics.fk import world_positions
-from gmr_studio.core.space.conversions import change_up_axis, up_axis_of
+from gmr_studio.core.space.up_axis import up_axis_of
 
 
 def test_a_z_up_walk_has_the_same_planted_frames_as_its_y_up_original():

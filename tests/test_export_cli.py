@@ -9,10 +9,11 @@ import pytest
 
 from gmr_studio.core.cli import main
 from gmr_studio.core.edits.operations import split
+from gmr_studio.core.edits.world import change_up_axis, scale_lengths
 from gmr_studio.core.formats import load_gmr, read_motion, write_motion
 from gmr_studio.core.formats.bvh import read_bvh
 from gmr_studio.core.kinematics.fk import forward_kinematics, world_positions
-from gmr_studio.core.space.conversions import Y_TO_Z, change_up_axis, scale_lengths, up_axis_of
+from gmr_studio.core.space.up_axis import Y_TO_Z, up_axis_of
 from tests.conftest import random_motion, shared_path
 from tests.test_export import validate_bvh
 
@@ -28,10 +29,10 @@ def test_amc_to_gmr_with_scale_and_up_stated_in_the_header(capsys, tmp_path):
     output = tmp_path / "walk.gmr"
     code, out, _ = run(capsys, "convert", source, output, "--scale", "0.056444", "--up", "z", "--frame-rate", "60")
     assert code == 0
-    assert "lengths scaled by 0.056444" in out and "up axis: z" in out
+    assert "lengths scaled by 0.056444" in out and "to z up" in out
     converted = read_motion(output)
     assert converted.frame_time == pytest.approx(1 / 60)
-    assert "lengths scaled by 0.056444 (gmr convert --scale)" in converted.comments
+    assert "lengths scaled by 0.056444" in converted.comments
     assert up_axis_of(converted) == "z" and converted.comments[-1] == "written by gmr convert from 01_01.amc"
     original = read_motion(source)
     expected = 0.056444 * world_positions(original) @ Y_TO_Z.T
@@ -46,7 +47,7 @@ def test_up_axis_round_trip_reads_the_header(capsys, tmp_path):
     z_up, back = tmp_path / "z.gmr", tmp_path / "back.bvh"
     assert run(capsys, "convert", source, z_up, "--up", "z")[0] == 0
     code, out, _ = run(capsys, "convert", z_up, back, "--up", "y")
-    assert code == 0 and "converted from z up" in out
+    assert code == 0 and "world turned from z up to y up" in out
     validate_bvh(back.read_text())
     original = read_bvh(source)
     again = read_bvh(back)
@@ -61,7 +62,7 @@ def test_from_up_overrides_and_nothing_changes_when_axes_agree(capsys, tmp_path)
     code, out, _ = run(capsys, "convert", source, output, "--up", "y")
     assert code == 0 and "up axis" not in out
     code, out, _ = run(capsys, "convert", source, output, "--from-up", "z", "--up", "y")
-    assert code == 0 and "converted from z up" in out and "(x, y, z) -> (x, z, -y)" in out
+    assert code == 0 and "world turned from z up to y up" in out and "(x, y, z) -> (x, z, -y)" in out
     turned = read_motion(output)
     expected = world_positions(read_bvh(source)) @ Y_TO_Z
     assert np.abs(world_positions(turned) - expected).max() <= 1e-9 * turned.size
@@ -69,7 +70,7 @@ def test_from_up_overrides_and_nothing_changes_when_axes_agree(capsys, tmp_path)
 
 def test_up_axis_change_keeps_world_rotations_conjugated(rng):
     motion = random_motion(rng, [-1, 0, 1, 1, 3], n_frames=4)
-    turned = change_up_axis(motion, "z")
+    turned = change_up_axis(motion, "z", "y")
     positions, world = forward_kinematics(motion)
     turned_positions, turned_world = forward_kinematics(turned)
     np.testing.assert_allclose(turned_positions, positions @ Y_TO_Z.T, atol=1e-12)

@@ -15,8 +15,9 @@ from gmr_studio.core.formats import read_motion
 from gmr_studio.core.formats.gltf import export_gltf, infer_metres_per_unit
 from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.kinematics.fk import reference_forward_kinematics
+from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.rotations.quaternions import quaternion_from_matrix
-from gmr_studio.core.space.conversions import Y_TO_Z
+from gmr_studio.core.space.up_axis import Y_TO_Z
 from tests.conftest import random_motion, shared_path
 
 #: measured worst error of the read-back positions, relative to the size: 1.9e-7 (CMU
@@ -97,7 +98,9 @@ def expected_positions(motion, up: str, metres_per_unit: float) -> np.ndarray:
 
 
 def check_round_trip(motion, path: Path, up: str = "y", **options) -> float:
-    """Export, read back, compare every node's positions; return the worst relative error."""
+    """Export, read back, compare every node's positions; return the worst relative error.
+    The motion's file facts state ``up`` (a random forest's figure shows no up axis)."""
+    motion = motion.replace(facts=motion.facts.replace(up_axis=up))
     result = export_gltf(motion, path, **options)
     gltf, blob = load_gltf(path)
     read = node_world_positions(gltf, blob)
@@ -143,7 +146,7 @@ def test_real_file_round_trip_and_names(tmp_path):
 
 def test_z_up_motion_is_turned_y_up(tmp_path, rng):
     motion = random_motion(rng, [-1, 0, 1, 2], n_frames=10)
-    z_up = motion.replace(comments=("up axis: z",))
+    z_up = motion.replace(facts=FileFacts(up_axis="z"))
     check_round_trip(z_up, tmp_path / "z.glb", up="z", metres_per_unit=1.0)
     gltf, _ = load_gltf(tmp_path / "z.glb")
     assert "Z up" in gltf.asset.extras["up_axis"]
@@ -152,7 +155,7 @@ def test_z_up_motion_is_turned_y_up(tmp_path, rng):
 def test_skin_follows_the_nodes(tmp_path, rng):
     """Skinned capsule vertices, moved by glTF's skinning rule (joint world times inverse
     bind), stay at a fixed place in their joint's frame: the capsule of a bone spans it."""
-    motion = random_motion(rng, [-1, 0, 1, 1], n_frames=5, convention="post")
+    motion = random_motion(rng, [-1, 0, 1, 1], n_frames=5, convention="post").replace(facts=FileFacts(up_axis="y"))
     export_gltf(motion, tmp_path / "s.glb", metres_per_unit=1.0)
     gltf, blob = load_gltf(tmp_path / "s.glb")
     (skin,) = gltf.skins
@@ -184,7 +187,7 @@ def test_skin_follows_the_nodes(tmp_path, rng):
 def test_unit_inference():
     motion = read_motion(shared_path("cmu/subject01/01_01.bvh"))
     factor, note = infer_metres_per_unit(motion)
-    assert factor == pytest.approx(0.0254 / 0.45) and "CMU" in note
+    assert factor == pytest.approx(0.0254 / 0.45) and "in / 0.45" in note
 
 
 def test_quaternions_match_matrices(rng):

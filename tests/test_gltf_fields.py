@@ -68,8 +68,8 @@ def test_buffer_views_after_two_byte_data_stay_aligned():
 
 
 def test_the_unit_note_gives_the_size_in_metres(rng):
+    from gmr_studio.core.edits.world import scale_lengths
     from gmr_studio.core.formats.gltf import infer_metres_per_unit
-    from gmr_studio.core.space.conversions import scale_lengths
 
     motion = random_motion(rng, [-1, 0, 1], n_frames=2)
     sized = scale_lengths(motion, 170.0 / motion.size)  # 170 cm

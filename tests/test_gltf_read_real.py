@@ -190,7 +190,7 @@ def test_animation_by_name_and_notes():
     path = shared_path("gltf/bevy_Fox.glb")
     walk = read_motion(path, animation="Walk")
     assert walk.comments[0].endswith("animation 1 'Walk' of 3 (--animation to choose)")
-    assert "units: m" in walk.comments and "up axis: y" in walk.comments
+    assert (walk.facts.unit.name, walk.facts.up_axis) == ("m", "y")
     assert any(c.startswith("armature: the transform of 'root'") for c in walk.comments)
     robot = read_motion(shared_path("gltf/mediaplusarchi_RobotExpressive.glb"))
     assert "uniform scale folded into the offsets: 'RobotArmature' (100)" in robot.comments

@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from gmr_studio.core.edits.world import scale_lengths
 from gmr_studio.core.formats.gltf import build_gltf, export_gltf, infer_metres_per_unit
-from gmr_studio.core.space.conversions import scale_lengths
 from tests.conftest import random_motion
 
 

@@ -11,6 +11,8 @@ from gmr_studio.core.formats.bvh import read_bvh
 from gmr_studio.core.formats.gmr import gmr_text, read_gmr, write_gmr
 from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.kinematics.fk import forward_kinematics
+from gmr_studio.core.model.facts import FileFacts
+from gmr_studio.core.space.units import UNITS
 from tests.conftest import random_motion, shared_files
 
 
@@ -31,7 +33,7 @@ def assert_same_motion(a, b, relative=1e-9):
     assert np.abs(pa - pb[:, index]).max(initial=0) <= relative * a.size
     np.testing.assert_allclose(wa, wb[:, index], atol=1e-12)
     np.testing.assert_allclose(a.offsets, b.offsets[index], rtol=0, atol=0)  # offsets print exactly
-    assert a.frame_time == b.frame_time and a.comments == b.comments
+    assert a.frame_time == b.frame_time and a.comments == b.comments and a.facts == b.facts
 
 
 @pytest.mark.parametrize("path", shared_files("**/*.bvh"))
@@ -46,9 +48,9 @@ def test_round_trip_of_real_files_in_several_configurations(path, tmp_path):
 
 def test_forest_with_soft_links_and_comments(rng):
     motion = split(random_motion(rng, [-1, 0, 1, 1, -1, 4], n_frames=5, translation_joints=(2,)), 3)
-    motion = motion.replace(comments=("converted from test data", "units: cm"))
+    motion = motion.replace(comments=("converted from test data",), facts=FileFacts(unit=UNITS["cm"], up_axis="z"))
     text = gmr_text(motion)
-    assert text.startswith("GMR 1\n# converted from test data\n# units: cm\nHIERARCHY\n")
+    assert text.startswith("GMR 1\n# units: cm\n# up axis: z\n# converted from test data\nHIERARCHY\n")
     assert "SOFTLINK j1" in text and text.count("ROOT ") == 3
     assert_same_motion(motion, reread(motion))
 

@@ -9,8 +9,9 @@ from scipy.spatial.transform import Rotation
 from gmr_studio.core.errors import MotionFileError, OperationError
 from gmr_studio.core.markers import load_marker_map
 from gmr_studio.core.markers.markermap import MAPS_DIR, Alignment, MarkerMap, VirtualMarker, marker_map_text
-from gmr_studio.core.markers.markerset import UNIT_SCALE, MarkerSet, frame_ranges
+from gmr_studio.core.markers.markerset import MarkerSet, frame_ranges
 from gmr_studio.core.markers.virtual import calibrate_marker_map, compute_virtual_markers, resolve_map
+from gmr_studio.core.space.units import unit_named
 
 SMALL_MAP = """
 format = "gmr-markermap 1"
@@ -220,6 +221,6 @@ def test_pelvis_only_maps_give_pelvis_frames_on_other_marker_sets(relative, map_
         atol=1e-12,
     )
     # skin markers on the pelvis keep its shape to a few millimetres, and it turns smoothly
-    assert np.nanmax(frames.residuals) * UNIT_SCALE[frames.units] * 1000 < 10.0  # millimetres
+    assert np.nanmax(frames.residuals) * unit_named(frames.units).metres * 1000 < 10.0  # millimetres
     step = rotation_angle(np.swapaxes(frames.rotations[:-1], -1, -2) @ frames.rotations[1:])
     assert np.degrees(step).max() < 5.0

@@ -143,7 +143,7 @@ def test_a_nan_coordinate_makes_the_sample_a_gap_without_touching_the_input():
         (dict(rate=-5), "not -5.0"),
         (dict(rate=np.inf), "not inf"),
         (dict(rate=np.nan), "not nan"),
-        (dict(units="yd"), r"unknown length unit 'yd': expected one of mm, cm, m, in, ft"),
+        (dict(units="yd"), r"unknown length unit 'yd': expected one of m, cm, mm, in, ft"),
         (dict(outputs="three frames"), "the analysis outputs must have the markers' frames"),
     ],
 )
@@ -183,7 +183,7 @@ def test_in_units_scales_by_the_units_ratio(units, factor):
 
 
 def test_in_units_refuses_an_unknown_unit():
-    with pytest.raises(ValueError, match=r"unknown length unit 'yd': expected one of mm, cm, m, in, ft"):
+    with pytest.raises(ValueError, match=r"unknown length unit 'yd': expected one of m, cm, mm, in, ft"):
         one_marker(1).in_units("yd")
 
 

@@ -10,10 +10,11 @@ from scipy.spatial.transform import Rotation
 from gmr_studio.core.compare import fit_alignment
 from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers import procrustes
+from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.rigs import make_rig
 from gmr_studio.core.rotations.euler import angle_axis_degrees, axis_permutations, rotation_about_axis
 from gmr_studio.core.space import similarity as fit
-from gmr_studio.core.space.conversions import detect_up_axis, figure_up_axis, up_axis_of
+from gmr_studio.core.space.up_axis import detect_up_axis, up_axis_of
 
 
 def test_one_fit_for_comparisons_markers_and_the_app(rng):
@@ -51,13 +52,13 @@ def test_a_fit_onto_a_mirror_image_is_a_rotation_not_a_reflection(kind):
 
 def test_one_up_axis_rule():
     metres, z_up, pinned = make_rig("metres"), make_rig("z_up_millimetres"), make_rig("origin_root")
-    assert [figure_up_axis(m) for m in (metres, z_up, pinned)] == [1, 2, 1]
-    assert up_axis_of(z_up) == "y"  # a file that states nothing means Y to conversions
-    stated = z_up.replace(comments=("up axis: z",))
-    assert up_axis_of(stated) == "z" and figure_up_axis(stated) == 2
-    lying = metres.replace(comments=("up axis: y",))
-    assert figure_up_axis(lying) == 1  # what a file states wins over what it looks like
-    assert detect_up_axis(world_positions(z_up)) == 2
+    # a file that states nothing: the figure decides, for conversions and views alike
+    assert [up_axis_of(m) for m in (metres, z_up, pinned)] == ["y", "z", "y"]
+    stated = z_up.replace(facts=FileFacts(up_axis="z"))
+    assert up_axis_of(stated) == "z"
+    lying = z_up.replace(facts=FileFacts(up_axis="y"))
+    assert up_axis_of(lying) == "y"  # what a file states wins over what it looks like
+    assert detect_up_axis(world_positions(z_up)) == "z"
 
 
 def test_rotation_helpers_live_in_core_rotations():

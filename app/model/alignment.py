@@ -1,5 +1,5 @@
 """Marker alignment: its home is :mod:`core.markers.alignment` (pure numpy); this module
-re-exports it for the app (the up-axis rule is :func:`core.space.conversions.detect_up_axis`)."""
+re-exports it for the app (the up-axis rule is :func:`core.space.up_axis.detect_up_axis`)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,6 @@ from gmr_studio.core.markers.alignment import (
     MAX_FRAME_OFFSET,
     PELVIS_NAMES,
     SNAP_TOLERANCE,
-    UNIT_LENGTHS,
     MarkerAlignment,
     auto_alignment,
     candidate_frame_offsets,
@@ -17,13 +16,12 @@ from gmr_studio.core.markers.alignment import (
     similarity_fit,
     turned_about,
 )
-from gmr_studio.core.space.conversions import detect_up_axis
+from gmr_studio.core.space.up_axis import detect_up_axis
 
 __all__ = [
     "MAX_FRAME_OFFSET",
     "PELVIS_NAMES",
     "SNAP_TOLERANCE",
-    "UNIT_LENGTHS",
     "MarkerAlignment",
     "auto_alignment",
     "candidate_frame_offsets",

@@ -24,12 +24,13 @@ from pathlib import Path
 import numpy as np
 from PyQt6.QtGui import QUndoCommand
 
-from gmr_studio.app.model.alignment import UNIT_LENGTHS, MarkerAlignment
+from gmr_studio.app.model.alignment import MarkerAlignment
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.markers import MarkerSet, read_markers
 from gmr_studio.core.markers.built_motion import BuiltMotion, markers_to_built_motion
 from gmr_studio.core.markers.file_model import FILE_POINTS
+from gmr_studio.core.space.units import UNITS, unit_factor, unit_named
 
 #: how the markers are placed over a skeleton built from them (shown in the alignment dialog)
 FILE_SPACE = "the file's own space (the skeleton was built from these markers)"
@@ -118,7 +119,7 @@ def load_marker_document(path: str | Path, *, refine: bool = False) -> MarkerDoc
 
 def file_alignment(markers: MarkerSet) -> MarkerAlignment:
     """Markers over a skeleton built from them: the file's axes, scaled to millimetres."""
-    scale = UNIT_LENGTHS.get(markers.units, UNIT_LENGTHS["mm"]) / UNIT_LENGTHS["mm"]
+    scale = unit_factor(unit_named(markers.units), UNITS["mm"])
     return MarkerAlignment(scale=scale, method=FILE_SPACE, units=markers.units)
 
 

@@ -41,7 +41,7 @@ from gmr_studio.app.scene.overlays import (
     Trail,
     nice_step,
 )
-from gmr_studio.core.space.conversions import figure_up_axis
+from gmr_studio.core.space import up_axis as space_up_axis
 
 __all__ = [
     "BACKGROUND",
@@ -63,9 +63,9 @@ BACKGROUND = (0.16, 0.17, 0.20)
 
 
 def up_axis_of(snapshot: Snapshot) -> int:
-    """1 (Y) or 2 (Z): the core's one rule for a view (:func:`core.space.conversions.figure_up_axis`:
-    what the file's comments state, else what the figure's joints show), on the cached positions."""
-    return figure_up_axis(snapshot.motion, snapshot.positions)
+    """1 (Y) or 2 (Z): the column of the core's one up axis (:func:`core.space.up_axis.up_axis_of`:
+    what the file states, else what the figure's joints show)."""
+    return space_up_axis.axis_index(space_up_axis.up_axis_of(snapshot.motion))
 
 
 def one_headlight(plotter: pv.BasePlotter) -> None:

@@ -7,7 +7,7 @@ A joint is planted at a frame when both
 - its speed (norm of the world velocity, :func:`core.analysis.curves.world_speed`) is under
   ``speed`` times the size per second.
 
-Heights are measured along the motion's up axis (:func:`core.space.conversions.up_axis_of`: Y
+Heights are measured along the motion's up axis (:func:`core.space.up_axis.up_axis_of`: Y
 unless the comments say Z). Each joint's ground is its own lowest point, so an ankle and a
 toe both count as planted when they rest, whatever their height above the floor; a
 motion on uneven ground (stairs) needs other thresholds. Both fractions are adjustable;
@@ -24,7 +24,7 @@ import numpy as np
 from gmr_studio.core.analysis.curves import world_speed
 from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.model.motion import Motion
-from gmr_studio.core.space.conversions import up_axis_of
+from gmr_studio.core.space.up_axis import axis_index, up_axis_of
 
 #: height threshold, as a fraction of the skeleton's size
 DEFAULT_HEIGHT = 0.03
@@ -82,7 +82,7 @@ def foot_contacts(
     if positions is None:
         positions = world_positions(motion)
     feet = positions[:, index]  # (F, K, 3)
-    up = 2 if up_axis_of(motion) == "z" else 1
+    up = axis_index(up_axis_of(motion))
     heights = feet[..., up] - (feet[..., up].min(axis=0) if feet.shape[0] else 0.0)
     height_threshold = height * motion.size
     speed_threshold = speed * motion.size

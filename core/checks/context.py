@@ -10,12 +10,16 @@ import numpy as np
 
 from gmr_studio.core.analysis.contacts import contact_runs
 from gmr_studio.core.checks.model import Finding
-from gmr_studio.core.compare.tracks import units_of
 from gmr_studio.core.model.motion import Motion
-from gmr_studio.core.space.conversions import up_axis_of
+from gmr_studio.core.space.up_axis import axis_index, up_axis_of
 
 #: ``Finding.units`` of lengths when the file does not state its unit
 FILE_UNITS = "file units"
+
+
+def units_name(motion: Motion) -> str:
+    """The name of the length unit a motion's file states, else ``"file units"``."""
+    return FILE_UNITS if motion.facts.unit is None else motion.facts.unit.name
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -53,8 +57,8 @@ class CheckData:
 
     @cached_property
     def up(self) -> int:
-        """1 (Y) or 2 (Z): the motion's up axis (:func:`core.space.conversions.up_axis_of`)."""
-        return 2 if up_axis_of(self.motion) == "z" else 1
+        """1 (Y) or 2 (Z): the column of the motion's up axis (:func:`core.space.up_axis.up_axis_of`)."""
+        return axis_index(up_axis_of(self.motion))
 
     @cached_property
     def middles(self) -> np.ndarray:
@@ -73,7 +77,7 @@ class CheckData:
 
     @cached_property
     def units(self) -> str:
-        return units_of(self.motion) or FILE_UNITS
+        return units_name(self.motion)
 
     def finding(self, kind: str, joints, start: int, end: int, level: int, value: float, units: str) -> Finding:
         """A finding at this data's frames ``start..end`` (shifted to the file's frames);

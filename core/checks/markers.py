@@ -16,7 +16,9 @@ from gmr_studio.core.checks.context import CheckData
 from gmr_studio.core.checks.model import CheckSettings, Finding
 from gmr_studio.core.checks.run import CHECKS
 from gmr_studio.core.markers.markerset import MarkerSet
+from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.model.motion import Motion, check_joint_name
+from gmr_studio.core.space.units import unit_named
 
 #: the checks that apply to markers
 MARKER_KINDS = ("pop", "jitter", "frozen", "duplicate")
@@ -56,7 +58,7 @@ def marker_motion(markers: MarkerSet) -> Motion:
         rotations=np.broadcast_to(np.eye(3), (n_frames, n_markers, 3, 3)),
         translations=markers.positions,
         frame_time=1.0 / markers.rate,
-        comments=(f"units: {markers.units}",),
+        facts=FileFacts(unit=unit_named(markers.units)),
     )
 
 

@@ -14,9 +14,8 @@ means the whole pose.
 
 from __future__ import annotations
 
-from gmr_studio.core.checks.context import FILE_UNITS
+from gmr_studio.core.checks.context import units_name
 from gmr_studio.core.checks.model import KINDS, SEVERITIES, Finding
-from gmr_studio.core.compare.tracks import units_of
 from gmr_studio.core.model.motion import Motion
 
 #: columns of the ``--batch`` table, in order (then one count column per kind)
@@ -29,7 +28,7 @@ def check_document(file: str, motion: Motion, findings: list[Finding]) -> dict:
         "file": str(file),
         "frames": motion.n_frames,
         "frame_rate": round(motion.frame_rate, 9),
-        "units": units_of(motion) or FILE_UNITS,
+        "units": units_name(motion),
         "findings": [f.to_dict() for f in findings],
     }
 

@@ -21,12 +21,12 @@ from pathlib import Path
 
 from gmr_studio.core.cli.reading import add_reading_options, positive_number, reader_options
 from gmr_studio.core.edits.dummies import remove_dummies
+from gmr_studio.core.edits.world import change_up_axis, scale_lengths
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import motion_suffix, read_motion, write_motion
 from gmr_studio.core.formats.bvh_export import bvh_export, bvh_export_trees, tree_file_name
 from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.model.motion import Motion
-from gmr_studio.core.space.conversions import change_up_axis, scale_lengths
 
 #: formats ``convert`` reads and writes
 INPUT_SUFFIXES = (".bvh", ".amc", ".gmr", ".npz", ".glb", ".gltf")
@@ -129,7 +129,7 @@ def transformed(motion: Motion, options: ConvertOptions) -> tuple[Motion, list[s
         notes.append(motion.comments[-1])
     if options.up is not None:
         turned = change_up_axis(motion, options.up, options.from_up)
-        if turned is not motion:
+        if len(turned.comments) > len(motion.comments):
             notes.append(turned.comments[-1])
         motion = turned
     return motion, notes

@@ -17,10 +17,11 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from gmr_studio.core.edits.world import change_up_axis, scale_lengths
 from gmr_studio.core.formats import motion_suffix, read_motion
 from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.model.motion import Motion
-from gmr_studio.core.space.conversions import UP_AXES, change_up_axis, scale_lengths
+from gmr_studio.core.space.up_axis import UP_AXES
 
 
 def positive_number(text: str) -> float:

@@ -26,6 +26,7 @@ import numpy as np
 
 from gmr_studio.core.edits.dummies import remove_dummies
 from gmr_studio.core.edits.operations import join_all, shift_root, split_all
+from gmr_studio.core.edits.world import change_up_axis, scale_lengths
 from gmr_studio.core.formats.acclaim import asf_beside, read_asf_file
 from gmr_studio.core.formats.bvh import read_bvh
 from gmr_studio.core.formats.bvh_export import bvh_export
@@ -33,7 +34,7 @@ from gmr_studio.core.formats.gmr import gmr_text, read_gmr
 from gmr_studio.core.kinematics.convention import post_from_pre, pre_from_post
 from gmr_studio.core.kinematics.fk import forward_kinematics
 from gmr_studio.core.model.motion import Motion
-from gmr_studio.core.space.conversions import change_up_axis, scale_lengths, up_axis_of
+from gmr_studio.core.space.up_axis import up_axis_of
 
 OPERATION_TOLERANCE = 1e-9
 GMR_FILE_TOLERANCE = 1e-12

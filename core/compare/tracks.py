@@ -9,20 +9,18 @@ the markers of a marker set. Gaps are NaN. Units and up axis are what the source
 from __future__ import annotations
 
 import dataclasses
-import re
 
 import numpy as np
 
 from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.kinematics.fk import forward_kinematics
 from gmr_studio.core.model.motion import Motion
-from gmr_studio.core.space.conversions import UP_AXES, Y_TO_Z, up_axis_of
+from gmr_studio.core.space.units import Unit, unit_factor, unit_named
+from gmr_studio.core.space.up_axis import check_up_axis, up_axis_of, up_turn
 
-#: metres per unit of the length units a file may state
-UNIT_SCALE = {"mm": 1e-3, "cm": 1e-2, "m": 1.0, "in": 0.0254, "ft": 0.3048}
-_UNITS_COMMENT = re.compile(r"^(?:length\s+)?units?\s*:\s*(mm|cm|m|in|ft)\b", re.IGNORECASE)
-#: what a glTF file written by this project says of its source's unit (core.formats.gltf_in)
-_SOURCE_UNITS_COMMENT = re.compile(r"^source units:\s*([0-9.eE+-]+)\s*m\b")
+#: sizes of A and B (in their own units) further apart than this factor, with no unit stated
+#: for both, get a warning: the two are probably in different units
+SIZE_MISMATCH = 3.0
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -35,12 +33,12 @@ class Track:
         ending at the joint), NaN where missing; None when the source has none (markers).
     has_rotation : (J,) bool, the point has an orientation (not a root, not a marker).
     frame_rate : float, frames per second.
-    units : the length unit the source states ("mm", "cm", "m", "in", "ft"), or None.
-    up : "y" or "z", the source's up axis.
+    unit : the length unit the source states (:class:`~core.space.units.Unit`), or None.
+    up : "y" or "z", the source's up axis (:func:`core.space.up_axis.up_axis_of`).
     size : float, the source's size (extent of its rest pose or of its points), in its units.
     label : where it came from (file name), for messages.
-    source_metres : for a file written in metres from a motion in other units (our glTF
-        export), the metres per unit of that source, else None.
+    source_unit : for a file written in metres from a motion in other units (our glTF
+        export), the unit of that source (its file facts), else None.
     """
 
     names: tuple[str, ...]
@@ -48,11 +46,16 @@ class Track:
     rotations: np.ndarray | None
     has_rotation: np.ndarray
     frame_rate: float
-    units: str | None = None
+    unit: Unit | None = None
     up: str = "y"
     size: float = 1.0
     label: str = ""
-    source_metres: float | None = None
+    source_unit: Unit | None = None
+
+    @property
+    def units(self) -> str | None:
+        """The stated unit's name, or None."""
+        return None if self.unit is None else self.unit.name
 
     @property
     def n_frames(self) -> int:
@@ -61,29 +64,6 @@ class Track:
     @property
     def n_points(self) -> int:
         return self.positions.shape[1]
-
-
-def units_of(motion: Motion) -> str | None:
-    """The length unit a motion's comments state (the last ``units: mm`` line), else None."""
-    for comment in reversed(motion.comments):
-        found = _UNITS_COMMENT.match(comment.strip())
-        if found:
-            return found.group(1).lower()
-    return None
-
-
-def source_metres_of(motion: Motion) -> float | None:
-    """The metres per unit of the motion a file was exported from, when its comments say
-    (``source units: 0.0564444 m``), else None."""
-    for comment in reversed(motion.comments):
-        found = _SOURCE_UNITS_COMMENT.match(comment.strip())
-        if found:
-            try:
-                value = float(found.group(1))
-            except ValueError:
-                return None
-            return value if np.isfinite(value) and value > 0 else None
-    return None
 
 
 def track_of_motion(
@@ -108,11 +88,11 @@ def track_of_motion(
         rotations=rotations,
         has_rotation=np.asarray(motion.parents) >= 0,
         frame_rate=motion.frame_rate,
-        units=units_of(motion),
+        unit=motion.facts.unit,
         up=up_axis_of(motion),
         size=motion.size,
         label=label,
-        source_metres=source_metres_of(motion),
+        source_unit=motion.facts.source_unit,
     )
 
 
@@ -121,7 +101,7 @@ def track_of_points(
     positions: np.ndarray,
     frame_rate: float,
     *,
-    units: str | None = None,
+    units: str | Unit | None = None,
     up: str = "y",
     label: str = "",
 ) -> Track:
@@ -135,8 +115,8 @@ def track_of_points(
         rotations=None,
         has_rotation=np.zeros(len(names), dtype=bool),
         frame_rate=float(frame_rate),
-        units=units,
-        up=up,
+        unit=unit_named(units) if isinstance(units, str) else units,
+        up=check_up_axis(up),
         size=size or 1.0,
         label=label,
     )
@@ -170,36 +150,39 @@ def space_change(a: Track, b: Track, *, scale: float | None = None, up_b: str | 
         if not (np.isfinite(scale) and scale > 0):
             raise ValueError(f"the scale must be a positive number, not {scale}")
         notes.append(f"B scaled by {scale:g} (given)")
-    elif a.units and b.units:
-        scale = UNIT_SCALE[b.units] / UNIT_SCALE[a.units]
-        notes.append(f"B in {b.units}, A in {a.units}: B scaled by {scale:g}")
-    elif b.units == "m" and not a.units and b.source_metres:
-        scale = 1.0 / b.source_metres
+    elif a.unit and b.unit:
+        scale = unit_factor(b.unit, a.unit)
+        notes.append(f"B in {b.unit}, A in {a.unit}: B scaled by {scale:g}")
+    elif b.unit and not a.unit and b.source_unit:
+        scale = unit_factor(b.unit, b.source_unit)
         notes.append(
-            f"B in m, exported from units of {b.source_metres:.6g} m (its note); A states none and is taken "
-            f"in those: B scaled by {scale:g}"
+            f"B in {b.unit}, exported from {b.source_unit} (its file facts); A states no unit and is taken "
+            f"in {b.source_unit}: B scaled by {scale:g}"
         )
-    elif a.units == "m" and not b.units and a.source_metres:
-        scale = a.source_metres
+    elif a.unit and not b.unit and a.source_unit:
+        scale = unit_factor(a.source_unit, a.unit)
         notes.append(
-            f"A in m, exported from units of {a.source_metres:.6g} m (its note); B states none and is taken "
-            f"in those: B scaled by {scale:g}"
+            f"A in {a.unit}, exported from {a.source_unit} (its file facts); B states no unit and is taken "
+            f"in {a.source_unit}: B scaled by {scale:g}"
         )
     else:
         scale = 1.0
-        stated = a.units or b.units
+        stated = a.unit or b.unit
         notes.append(
             f"units: only one side states them ({stated}); the other is taken as the same"
             if stated
             else "units: neither file states them; taken as the same"
         )
-    up_source = (up_b or b.up).lower()
-    if up_source not in UP_AXES:
-        raise ValueError(f"the up axis must be one of {', '.join(UP_AXES)}, not {up_source!r}")
+        ratio = (b.size / a.size) if a.size > 0 and b.size > 0 else 1.0
+        if max(ratio, 1.0 / ratio) > SIZE_MISMATCH:
+            notes.append(
+                f"WARNING: B is {ratio:.3g} times A's size, and the files do not both state their units: "
+                "they are probably in different units; give --scale (A units per B unit)"
+            )
+    up_source = check_up_axis(up_b or b.up)
+    rotation = up_turn(up_source, a.up)
     if up_source == a.up:
-        rotation = np.eye(3)
         notes.append(f"up axis: {a.up} on both sides")
     else:
-        rotation = Y_TO_Z if a.up == "z" else Y_TO_Z.T
         notes.append(f"up axis: B turned from {up_source} up to A's {a.up} up")
     return SpaceChange(float(scale), rotation, a.units, b.units, a.up, up_source, tuple(notes))

@@ -12,7 +12,7 @@ post-rotation motion with offsets ``J_j - J_p``, the root translating to ``J_0 +
 and rotations ``R_j = exp(pose_j)`` (Rodrigues). Every world position equals the body
 model's posed joints (before pose correctives, which move vertices, not joints).
 
-Units metres; Z up as AMASS stores it (``up axis: z`` in the comments, so ``gmr convert --up
+Units metres; Z up as AMASS stores it (the file facts say so, so ``gmr convert --up
 y`` and the glTF export turn it). Euler channel order for BVH output: ``ZYX``. Files are
 read with ``allow_pickle=False``.
 """
@@ -27,7 +27,9 @@ import numpy as np
 
 from gmr_studio.core.errors import MotionFileError, read_input
 from gmr_studio.core.formats.body_model import BodyModel, load_body_model, rest_joints
+from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.space.units import UNITS
 
 #: rotation order of every joint (what a BVH written from it uses)
 ROTATION_ORDER = "ZYX"
@@ -128,7 +130,6 @@ def read_amass(
         comments=(
             f"AMASS/SMPL motion {path.name}, body model {Path(model.path).name}, gender {gender_text}, "
             f"{betas.size} betas",
-            "units: metres",
-            "up axis: z (as AMASS stores it)",
         ),
+        facts=FileFacts(unit=UNITS["m"], up_axis="z"),
     )

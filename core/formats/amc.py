@@ -34,8 +34,10 @@ from gmr_studio.core.formats.asf import read_asf
 from gmr_studio.core.formats.frames import out_of_range, within_range
 from gmr_studio.core.formats.hierarchy import normalise_newlines
 from gmr_studio.core.model.channels import FileChannels
+from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.model.motion import Motion, identity_rotations
 from gmr_studio.core.rotations.euler import complete_order, matrix_from_euler
+from gmr_studio.core.space.units import acclaim_unit
 
 #: frame rate assumed for AMC files, which do not store one (CMU's motions are 120 Hz)
 DEFAULT_FRAME_RATE = 120.0
@@ -102,6 +104,7 @@ def skeleton_motion(skeleton: AcclaimSkeleton, n_frames: int = 1, frame_rate: fl
         frame_time=1.0 / frame_rate,
         convention="pre",
         comments=_skeleton_comments(skeleton),
+        facts=FileFacts(unit=acclaim_unit(skeleton.units.length)),
     )
 
 

@@ -64,6 +64,8 @@ def write_bvh(motion: Motion, path: str | Path) -> None:
 
     Leaf joints without channels become End Sites; each joint keeps its rotation order;
     angles are written with 15 significant digits. A GMR motion must be converted first.
+    BVH states no unit: a motion in metres that came from other units (a glTF export read
+    back) is written in those units again (:func:`core.edits.world.in_source_unit`).
     """
     atomic_write_text(path, format_text_motion(motion, "bvh"))
 

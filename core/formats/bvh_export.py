@@ -159,6 +159,7 @@ def bvh_export(motion: Motion, *, world_root: str = WORLD_ROOT) -> BvhExport:
         frame_time=post.frame_time,
         convention="post",
         comments=post.comments,
+        facts=post.facts,
     )
     return BvhExport(result, source_names, tuple(dummies), world)
 

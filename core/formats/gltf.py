@@ -15,7 +15,7 @@ a node hierarchy with one animation, written through pygltflib.
   the up-axis conversion are stated in ``asset.extras``, with the motion's convention
   (``"pre"`` or ``"post"``: which frame a node's rotation is, for reading it back).
 - Up axis: glTF is Y-up. A motion whose comments say ``up axis: z`` is turned with
-  :func:`core.space.conversions.change_up_axis` (``(x, y, z) -> (x, z, -y)``).
+  :func:`core.edits.world.change_up_axis` (``(x, y, z) -> (x, z, -y)``).
 - ``skin=True`` adds a mesh of one capsule per bone, rigidly skinned to the joints
   (:mod:`core.formats.gltf_mesh`), for viewers that show only meshes.
 
@@ -32,15 +32,15 @@ import numpy as np
 import pygltflib as gl
 
 from gmr_studio.core.atomic import atomic_write_bytes, atomic_write_text
+from gmr_studio.core.edits.world import change_up_axis, scale_lengths
 from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.rotations.continuity import continuous_quaternions
 from gmr_studio.core.rotations.quaternions import quaternion_from_matrix
-from gmr_studio.core.space.conversions import change_up_axis, scale_lengths, up_axis_of
+from gmr_studio.core.space.units import LIKELY_UNITS, Unit, unit_of_length
+from gmr_studio.core.space.up_axis import up_axis_of
 
 #: name of the node above every tree (numbered if a joint has it already)
 SCENE_ROOT = "World"
-#: lengths of the units motion files use, in metres, for :func:`infer_metres_per_unit`
-KNOWN_UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254, "CMU (in / 0.45)": 0.0254 / 0.45}
 #: the skeleton size (metres) the inference aims at: a standing adult
 TYPICAL_SIZE_METRES = 1.7
 
@@ -62,11 +62,12 @@ class GltfExport:
 
 
 def infer_metres_per_unit(motion: Motion) -> tuple[float, str]:
-    """(metres per unit, why): the known unit (:data:`KNOWN_UNITS`) that makes the skeleton's
-    size closest, in ratio, to :data:`TYPICAL_SIZE_METRES`."""
+    """(metres per unit, why): the likely unit (:data:`core.space.units.LIKELY_UNITS`) that
+    makes the skeleton's size closest, in ratio, to :data:`TYPICAL_SIZE_METRES`."""
     size = motion.size
-    name, factor = min(KNOWN_UNITS.items(), key=lambda item: abs(np.log(size * item[1] / TYPICAL_SIZE_METRES)))
-    return factor, f"lengths taken as {name} (size {size:.4g} units = {size * factor:.3g} m), times {factor:.6g}"
+    unit = min(LIKELY_UNITS, key=lambda unit: abs(np.log(size * unit.metres / TYPICAL_SIZE_METRES)))
+    factor = unit.metres
+    return factor, f"lengths taken as {unit} (size {size:.4g} units = {size * factor:.3g} m), times {factor:.6g}"
 
 
 def local_transforms(motion: Motion) -> tuple[np.ndarray, np.ndarray]:
@@ -127,31 +128,34 @@ def _unique_name(base: str, taken: set[str]) -> str:
     return name
 
 
-def _stated_units(motion: Motion) -> tuple[str, float] | None:
-    """The length unit the motion's comments state (``units: m``, as the glTF reader
-    writes) and its metres, else None (then the unit is inferred)."""
-    from gmr_studio.core.compare.tracks import UNIT_SCALE, units_of
-
-    unit = units_of(motion)
-    return (unit, UNIT_SCALE[unit]) if unit else None
-
-
 def prepared_for_gltf(motion: Motion, metres_per_unit: float | None = None) -> tuple[Motion, float, str, str]:
     """The motion turned Y-up and scaled to metres, with the factor and notes on both."""
     source_up = up_axis_of(motion)
     up_note = "Y up as in the source" if source_up == "y" else "turned from Z up to Y up: (x, y, z) -> (x, z, -y)"
     turned = change_up_axis(motion, "y", source_up)
-    stated = _stated_units(motion)
+    stated = motion.facts.unit
     if metres_per_unit is None and stated is not None:
-        metres_per_unit = stated[1]
-        unit_note = f"lengths in {stated[0]} as the motion states, times {metres_per_unit:.6g}"
+        metres_per_unit = stated.metres
+        unit_note = f"lengths in {stated} as the motion states, times {metres_per_unit:.6g}"
     elif metres_per_unit is None:
         metres_per_unit, unit_note = infer_metres_per_unit(turned)
     else:
         unit_note = f"lengths times {metres_per_unit:.6g} (metres per unit, given)"
     if not np.isfinite(metres_per_unit) or metres_per_unit <= 0:
         raise ValueError(f"metres per unit must be a positive number, not {metres_per_unit}")
+    unit = stated if stated is not None and stated.metres == metres_per_unit else unit_of_length(metres_per_unit)
+    turned = turned.replace(facts=turned.facts.replace(unit=unit))
     return scale_lengths(turned, metres_per_unit), float(metres_per_unit), unit_note, up_note
+
+
+def source_unit_of(motion: Motion, metres_per_unit: float) -> Unit:
+    """The unit a glTF export records as its source's: the motion's own source unit when it
+    is in metres because it came from a glTF (a chain of conversions keeps its first unit),
+    else the unit its lengths were taken in."""
+    stated = motion.facts.unit
+    if stated is not None and stated.metres == metres_per_unit:
+        return motion.facts.source_unit or stated
+    return unit_of_length(metres_per_unit)
 
 
 def build_gltf(
@@ -161,6 +165,7 @@ def build_gltf(
     from gmr_studio.core.formats.gltf_mesh import add_capsule_skin
 
     scene_motion, factor, unit_note, up_note = prepared_for_gltf(motion, metres_per_unit)
+    source = source_unit_of(motion, factor)
     translations, rotations = local_transforms(scene_motion)
     n_frames, n_joints = scene_motion.n_frames, scene_motion.n_joints
     gltf = gl.GLTF2(
@@ -168,7 +173,8 @@ def build_gltf(
             generator="GMR Studio",
             version="2.0",
             extras={
-                "metres_per_unit": factor,
+                "metres_per_unit": source.metres,
+                "source_unit": source.name,
                 "units": unit_note,
                 "up_axis": up_note,
                 "convention": scene_motion.convention,

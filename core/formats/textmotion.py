@@ -16,7 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
+from gmr_studio.core.edits.world import in_source_unit
 from gmr_studio.core.errors import MotionFileError, read_input
+from gmr_studio.core.formats.facts import fact_comments, facts_from_comments
 from gmr_studio.core.formats.frames import format_frames, format_number, parse_frames
 from gmr_studio.core.formats.hierarchy import CHANNEL_NAMES, ParsedHeader, normalise_newlines, parse_header
 from gmr_studio.core.kinematics.engine import degrees_to_matrices_compiled
@@ -112,6 +114,7 @@ def _motion_from_header(
                     joint.softlink.column,
                 )
             soft_parents[j] = names.index(joint.softlink.text)
+    facts, comments = facts_from_comments(header.comments)
     try:
         return Motion(
             names=names,
@@ -124,7 +127,8 @@ def _motion_from_header(
             translations=translations,
             frame_time=header.frame_time,
             convention="post" if dialect == "bvh" else "pre",
-            comments=(*header.comments, note) if note else header.comments,
+            comments=(*comments, note) if note else comments,
+            facts=facts,
         )
     except ValueError as exc:
         token = first_link or header.frames_token
@@ -192,11 +196,13 @@ def format_text_motion(motion: Motion, dialect: str) -> Iterator[str]:
             f"a {dialect.upper()} file holds a {expected}-rotation motion; this one is "
             f"{motion.convention}-rotation (convert it first)"
         )
+    if dialect == "bvh":  # BVH cannot state a unit: lengths go back to the unit they came from
+        motion = in_source_unit(motion)
     order_of = {j: _written_order(motion, j) for j in range(motion.n_joints)}
     lines: list[str] = []
     if dialect == "gmr":
         lines.append("GMR 1")
-        lines.extend(f"# {c}" if c else "#" for c in motion.comments)
+        lines.extend(f"# {c}" if c else "#" for c in (*fact_comments(motion.facts), *motion.comments))
     lines.append("HIERARCHY")
     columns: list[tuple[str, int, str]] = []  # (kind, joint, order) in file order
 

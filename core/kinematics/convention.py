@@ -120,6 +120,7 @@ def post_from_pre(motion: Motion, *, tolerance: float = 1e-12) -> tuple[Motion, 
         frame_time=motion.frame_time,
         convention="post",
         comments=motion.comments,
+        facts=motion.facts,
     )
     return result, dummies
 

@@ -19,7 +19,7 @@ markers to the motion's rate).
    shift that fits best too (:func:`candidate_frame_offsets`); the offset matches the two
    centroids on average.
 
-Up axis: the project's one rule, :func:`core.space.conversions.detect_up_axis` (Y or Z, whichever
+Up axis: the project's one rule, :func:`core.space.up_axis.detect_up_axis` (Y or Z, whichever
 the figure spans more in the median frame). The fit is :func:`core.space.similarity.fit_points`, the
 rotations :mod:`core.rotations.euler`. (The app's ``app.model.alignment`` re-exports this module.)
 """
@@ -31,11 +31,10 @@ import dataclasses
 import numpy as np
 
 from gmr_studio.core.rotations.euler import axis_permutations, rotation_about_axis
-from gmr_studio.core.space.conversions import detect_up_axis, median_extents
 from gmr_studio.core.space.similarity import fit_points
+from gmr_studio.core.space.units import LIKELY_UNITS, parse_unit, unit_factor, unit_named
+from gmr_studio.core.space.up_axis import axis_index, detect_up_axis, median_extents
 
-#: candidate unit lengths in metres (CMU's ASF unit is 1/0.45 inch)
-UNIT_LENGTHS = {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254, "ft": 0.3048, "CMU unit": 0.0254 / 0.45}
 #: how far (relative) a height ratio may be from a unit conversion and still snap to it
 SNAP_TOLERANCE = 0.25
 #: the frame shifts tried between marker and motion frames (e.g. a BVH with an added T-pose frame)
@@ -74,17 +73,17 @@ class MarkerAlignment:
         in another unit than the marker file's."""
         if not units or not self.units or units == self.units:
             return 1.0
-        return UNIT_LENGTHS[units] / UNIT_LENGTHS[self.units]
+        return unit_factor(unit_named(units), unit_named(self.units))
 
 
 #: joint names (lower case) taken as the figure's centre, before the root of the largest tree
 PELVIS_NAMES = ("hips", "pelvis", "root")
 
 
-def turned_about(alignment: MarkerAlignment, up_axis: int, degrees: float, pivot: np.ndarray) -> MarkerAlignment:
+def turned_about(alignment: MarkerAlignment, up_axis: str, degrees: float, pivot: np.ndarray) -> MarkerAlignment:
     """The alignment followed by a turn of ``degrees`` about the up axis through ``pivot``
     (motion coordinates): ``p' = T (p - c) + c``, so the pivot stays where it is."""
-    turn = rotation_about_axis("XYZ"[up_axis], np.radians(degrees))
+    turn = rotation_about_axis(up_axis.upper(), np.radians(degrees))
     pivot = np.asarray(pivot, dtype=np.float64)
     return alignment.replace(rotation=turn @ alignment.rotation, offset=turn @ (alignment.offset - pivot) + pivot)
 
@@ -136,7 +135,7 @@ def auto_alignment(
     labels : M marker labels.
     joint_positions : (F2, J, 3) the skeleton's world positions.
     names : J joint names.
-    marker_units : unit of the markers (a key of ``UNIT_LENGTHS``), used to snap the scale.
+    marker_units : unit of the markers (a name of :mod:`core.space.units`), used to snap the scale.
     """
     n = min(len(marker_positions), len(joint_positions))
     markers, joints = marker_positions[:n], joint_positions[:n]
@@ -159,17 +158,17 @@ def auto_alignment(
 
 def _heuristic_alignment(all_markers: np.ndarray, joints: np.ndarray, marker_units: str) -> MarkerAlignment:
     markers = markers_on_motion_frames(all_markers, len(joints), 0)
-    marker_up, joint_up = detect_up_axis(markers), detect_up_axis(joints)
+    marker_up, joint_up = axis_index(detect_up_axis(markers)), axis_index(detect_up_axis(joints))
     marker_height = median_extents(markers)[marker_up]
     joint_height = median_extents(joints)[joint_up]
     ratio = joint_height / marker_height if marker_height > 0 else 1.0
     scale, unit_note = ratio, "scale from the figure's height"
-    metres = UNIT_LENGTHS.get(marker_units)
-    if metres:
-        for unit, length in UNIT_LENGTHS.items():
-            factor = metres / length
+    marker_unit = parse_unit(marker_units)
+    if marker_unit is not None:
+        for unit in LIKELY_UNITS:
+            factor = unit_factor(marker_unit, unit)
             if abs(ratio / factor - 1) <= SNAP_TOLERANCE:
-                scale, unit_note = factor, f"{marker_units} -> {unit}"
+                scale, unit_note = factor, f"{marker_unit} -> {unit}"
                 break
     up_vector = np.eye(3)[joint_up]
     candidates = [r for r in axis_permutations() if np.allclose(r @ np.eye(3)[marker_up], up_vector)]

@@ -36,7 +36,9 @@ from gmr_studio.core.markers.functional_joints import fill_from_cluster, functio
 from gmr_studio.core.markers.limbs import swing
 from gmr_studio.core.markers.markerset import MarkerSet
 from gmr_studio.core.markers.sets import SetMatch, identify_marker_set, no_match_text, role_positions
+from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.space.units import unit_named
 
 #: assumed widths (mm) when the file stores none (adult means; said in the notes)
 DEFAULT_WIDTHS = {"KneeWidth": 100.0, "AnkleWidth": 70.0, "ElbowWidth": 70.0}
@@ -373,6 +375,7 @@ def build_skeleton(
         frame_time=1.0 / markers.rate,
         convention="pre",
         comments=(f"skeleton built from the markers of {markers.source or '(memory)'}, set {match.definition.name}",),
+        facts=FileFacts(unit=unit_named(markers.units)),
     )
     return BuiltSkeleton(
         skeleton=skeleton,

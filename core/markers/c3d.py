@@ -44,6 +44,7 @@ import numpy as np
 
 from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.markers.markerset import MarkerSet, PointOutputs, split_subject
+from gmr_studio.core.space.units import parse_unit
 
 #: exit status of the worker when ezc3d raised (its message is on stderr); see c3d_worker
 REJECTED = 3
@@ -51,17 +52,6 @@ REJECTED = 3
 ZeroResidual = Literal["auto", "gap", "keep"]
 
 _PROCESSORS = {84: "Intel", 85: "DEC", 86: "SGI/MIPS"}
-_UNIT_ALIASES = {
-    "mm": "mm",
-    "millimeters": "mm",
-    "millimetres": "mm",
-    "cm": "cm",
-    "m": "m",
-    "meters": "m",
-    "metres": "m",
-    "in": "in",
-    "inches": "in",
-}
 #: the module run in the child process
 WORKER_MODULE = "gmr_studio.core.markers.c3d_worker"
 #: the worker's address-space limit, in bytes (a C3D needs a few times its size)
@@ -215,7 +205,8 @@ def _marker_set(decoded: dict, where: str, zero_residual: ZeroResidual) -> Marke
     rate = meta["rate"]
     if not np.isfinite(rate) or rate <= 0:
         raise MotionFileError(where, f"the point rate is {rate}: expected a positive number of frames per second")
-    units = _UNIT_ALIASES.get(meta["units"].strip().lower())
+    unit = parse_unit(meta["units"])
+    units = None if unit is None else unit.name
     if units is None:
         units = "mm"
         notes.append(f"POINT:UNITS is '{meta['units'].strip()}', not a length unit known here: read as mm")

@@ -38,7 +38,7 @@ import numpy as np
 
 from gmr_studio.core.atomic import atomic_write_text
 from gmr_studio.core.errors import MotionFileError
-from gmr_studio.core.markers.markerset import UNIT_SCALE
+from gmr_studio.core.space.units import UNITS, parse_unit
 from gmr_studio.resources import resource_path
 
 MAPS_DIR = resource_path("markermaps")
@@ -206,8 +206,8 @@ def _map_from_table(table: dict, path: Path) -> MarkerMap:
     if table.get("format", FORMAT) != FORMAT:
         raise fail(f"format is {table['format']!r}: expected {FORMAT!r}")
     units = table.get("units")
-    if units is not None and units not in UNIT_SCALE:
-        raise fail(f"units {units!r}: expected one of {', '.join(UNIT_SCALE)}")
+    if units is not None and (not isinstance(units, str) or parse_unit(units) is None):
+        raise fail(f"units {units!r}: expected one of {', '.join(UNITS)}")
     try:
         section = table.get("alignment", {})
         alignment = Alignment(

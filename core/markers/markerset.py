@@ -35,10 +35,10 @@ from functools import cached_property
 import numpy as np
 
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.space.conversions import Y_TO_Z
+from gmr_studio.core.space.units import unit_factor, unit_named
+from gmr_studio.core.space.up_axis import Y_TO_Z
 
 #: metres per unit
-UNIT_SCALE = {"mm": 1e-3, "cm": 1e-2, "m": 1.0, "in": 0.0254, "ft": 0.3048}
 
 #: rotations taking one up axis to another (column vectors): Z-up (x, y, z) -> Y-up (x, z, -y)
 Y_UP_TO_Z_UP = Y_TO_Z
@@ -139,8 +139,7 @@ class MarkerSet:
         rate = float(self.rate)
         if not np.isfinite(rate) or rate <= 0:
             raise ValueError(f"the frame rate must be a positive number, not {rate}")
-        if self.units not in UNIT_SCALE:
-            raise ValueError(f"unknown length unit {self.units!r}: expected one of {', '.join(UNIT_SCALE)}")
+        units = unit_named(self.units).name  # ValueError naming the known units
         if self.outputs is not None and self.outputs.values.shape[0] != positions.shape[0]:
             raise ValueError("the analysis outputs must have the markers' frames")
         # a marker is missing as a whole: a NaN in any coordinate makes the sample a gap
@@ -155,6 +154,7 @@ class MarkerSet:
         set_field(self, "positions", view)
         set_field(self, "subjects", subjects)
         set_field(self, "rate", rate)
+        set_field(self, "units", units)
         set_field(self, "notes", tuple(self.notes))
 
     @property
@@ -205,11 +205,10 @@ class MarkerSet:
         return self.replace(positions=self.positions[frames], first_frame=self.first_frame + start, outputs=outputs)
 
     def in_units(self, units: str) -> MarkerSet:
-        """The same markers measured in other units (mm, cm, m, in, ft)."""
-        if units not in UNIT_SCALE:
-            raise ValueError(f"unknown length unit {units!r}: expected one of {', '.join(UNIT_SCALE)}")
-        factor = UNIT_SCALE[self.units] / UNIT_SCALE[units]
-        return self.replace(positions=self.positions * factor, units=units)
+        """The same markers measured in other units (a name of :mod:`core.space.units`)."""
+        target = unit_named(units)
+        factor = unit_factor(unit_named(self.units), target)
+        return self.replace(positions=self.positions * factor, units=target.name)
 
     def transformed(
         self, rotation: np.ndarray | None = None, scale: float = 1.0, offset=(0.0, 0.0, 0.0), units: str | None = None

@@ -401,6 +401,7 @@ def _assemble(
         translations=translations,
         frame_time=frame_time,
         convention="pre",
+        facts=skeleton.facts,
     )
     full_sources = sources[position]
     full_match = np.where(valid, match[position], -1)

@@ -22,10 +22,10 @@ from gmr_studio.core.atomic import atomic_write_text
 from gmr_studio.core.errors import MotionFileError, read_input
 from gmr_studio.core.formats.frames import out_of_range, within_range
 from gmr_studio.core.formats.hierarchy import normalise_newlines
-from gmr_studio.core.markers.markerset import UNIT_SCALE, MarkerSet, split_subject
+from gmr_studio.core.markers.markerset import MarkerSet, split_subject
+from gmr_studio.core.space.units import UNITS, parse_unit
 
 _NUMBER = re.compile(rb"\s*[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?\s*\Z")
-_UNIT_ALIASES = {"mm": "mm", "millimeters": "mm", "cm": "cm", "m": "m", "meters": "m", "in": "in", "inches": "in"}
 
 
 def read_trc(path: str | Path, data: bytes | None = None) -> MarkerSet:
@@ -57,9 +57,10 @@ def read_trc(path: str | Path, data: bytes | None = None) -> MarkerSet:
     if not np.isfinite(rate) or rate <= 0:
         raise fail(f"expected a positive DataRate, found '{rate_text}'", 3, rate_column)
     units_text, units_column = header["Units"]
-    units = _UNIT_ALIASES.get(units_text.lower())
-    if units is None:
-        raise fail(f"unknown Units '{units_text}': expected one of {', '.join(UNIT_SCALE)}", 3, units_column)
+    unit = parse_unit(units_text)
+    if unit is None:
+        raise fail(f"unknown Units '{units_text}': expected one of {', '.join(UNITS)}", 3, units_column)
+    units = unit.name
     markers_text, markers_column = header["NumMarkers"]
     if not markers_text.isdigit():
         raise fail(f"expected a whole NumMarkers, found '{markers_text}'", 3, markers_column)

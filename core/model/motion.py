@@ -23,7 +23,9 @@ translations       (F, J, 3) float64    local translation ``t_j`` per frame; equ
                                         False; for a root, its world position ``G``
 frame_time         float                seconds per frame
 convention         "pre" or "post"      how a local transform is composed (below)
-comments           tuple of str         free header lines (units, provenance)
+comments           tuple of str         free header lines (provenance, notes of edits)
+facts              FileFacts            what the file states of its space: length unit, up
+                                        axis, the unit the data came from (:mod:`.facts`)
 =================  ===================  ===================================================
 
 Conventions. ``"post"`` is BVH and ASF/AMC: ``L_j = [R_j, t_j]``, a joint's rotation moves
@@ -56,6 +58,7 @@ from typing import Literal
 import numpy as np
 
 from gmr_studio.core.errors import OperationError
+from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.rotations.euler import check_order
 
 Convention = Literal["pre", "post"]
@@ -110,6 +113,7 @@ class Motion:
     soft_parents: np.ndarray | None = None
     link_offsets: np.ndarray | None = None
     comments: tuple[str, ...] = ()
+    facts: FileFacts = dataclasses.field(default_factory=FileFacts)
 
     def __post_init__(self) -> None:
         names = tuple(check_joint_name(str(n)) for n in self.names)
@@ -165,6 +169,8 @@ class Motion:
         set_field(self, "rotation_orders", orders)
         set_field(self, "frame_time", frame_time)
         set_field(self, "comments", tuple(str(c) for c in self.comments))
+        if not isinstance(self.facts, FileFacts):
+            raise ValueError(f"facts must be FileFacts, not {type(self.facts).__name__}")
         for field, value in (
             ("parents", parents),
             ("soft_parents", soft),
@@ -267,7 +273,7 @@ class Motion:
 
     # ------------------------------------------------------------------------ scale
     @cached_property
-    def _sampled_positions(self) -> np.ndarray:
+    def sampled_positions(self) -> np.ndarray:
         """(K, J, 3) world positions at up to :data:`SIZE_SAMPLE_FRAMES` frames spread evenly
         over the motion (the rest pose when there are no frames)."""
         from gmr_studio.core.kinematics.fk import world_positions
@@ -286,7 +292,7 @@ class Motion:
         left at the world origin by many game and dataset exports while the hips below it
         carry the walk. A still motion (a T-pose) has none.
         """
-        points = self._sampled_positions
+        points = self.sampled_positions
         degree = np.zeros(self.n_joints, np.int64)
         neighbour = np.full(self.n_joints, -1, np.int64)
         for links in (self.parents, self.soft_parents):
@@ -314,7 +320,7 @@ class Motion:
         found from positions and the links between joints, whatever their kind), so
         tolerances scaled by it are too.
         """
-        points = self._sampled_positions[:, ~self.anchors]
+        points = self.sampled_positions[:, ~self.anchors]
         extent = float(np.max(points.max(axis=1) - points.min(axis=1))) if points.size else 0.0
         return extent if np.isfinite(extent) and extent > 0 else 1.0
 

@@ -10,10 +10,10 @@
   (:mod:`.sampling`); without an animation the motion is the nodes' pose, one frame.
 - node transforms become joint rotations and translations as :mod:`.pose` says; uniform
   scale folds into lengths, non-uniform or animated scale is named in the notes.
-- units metres and Y up (the specification's); the motion's comments say so (``units: m``,
-  ``up axis: y``), so ``gmr compare`` and ``--up`` know. A file this project wrote also
-  states the unit of its source (``source units: ...``), which ``gmr compare`` uses when the
-  other side states no units.
+- units metres and Y up (the specification's): the motion's file facts say so, so ``gmr
+  compare`` and ``--up`` know. A file this project wrote also records the unit of its source
+  (``asset.extras``), which becomes the facts' ``source_unit``: a BVH written from it is in
+  that unit again, and ``gmr compare`` uses it when the other side states no units.
 
 Every note is a line of :attr:`Motion.comments`. Errors: :class:`~core.errors.MotionFileError`.
 """
@@ -30,8 +30,10 @@ from gmr_studio.core.formats.gltf_in.pose import NodePose, node_poses, skeleton_
 from gmr_studio.core.formats.gltf_in.rest import bind_rotations, pre_from_export, turn_to_bind
 from gmr_studio.core.formats.gltf_in.sampling import INTERPOLATIONS, Sampler, frame_times, sample, segments
 from gmr_studio.core.formats.gltf_in.scene import choose, node_parents, skeleton_nodes, static_trs
+from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.rotations.euler import rotation_angle
+from gmr_studio.core.space.units import UNITS, Unit, unit_of_length
 
 #: rotation channel order given to every joint (what a BVH written from it uses)
 ROTATION_ORDER = "ZYX"
@@ -100,10 +102,7 @@ def _read(doc: GltfDocument, animation, skin, frame_rate) -> Motion:
     names, renamed = _joint_names(doc, joints)
     comments = [
         f"glTF {doc.path.name}: " + ", ".join(filter(None, [skin_note or "no skin: every node is a joint", anim_note])),
-        "units: m",
-        "up axis: y",
         clock.note,
-        *_source_units(doc),
         *_armature_notes(doc, above, joints, parents, index),
         _bind_note(bind, from_skin),
         pre_note,
@@ -122,6 +121,7 @@ def _read(doc: GltfDocument, animation, skin, frame_rate) -> Motion:
         frame_time=clock.frame_time,
         convention=convention,
         comments=tuple(c for c in comments if c),
+        facts=FileFacts(unit=UNITS["m"], up_axis="y", source_unit=_source_unit(doc)),
     )
 
 
@@ -226,11 +226,16 @@ def _bind_note(bind: np.ndarray, from_skin: int) -> str:
     )
 
 
-def _source_units(doc: GltfDocument) -> list[str]:
-    factor = _extras(doc).get("metres_per_unit")
-    if isinstance(factor, (int, float)) and not isinstance(factor, bool) and np.isfinite(factor) and factor > 0:
-        return [f"source units: {factor:.15g} m (written by GMR Studio from a motion in those units)"]
-    return []
+def _source_unit(doc: GltfDocument) -> Unit | None:
+    """The unit of the motion a glTF written by this project came from (its metres per unit
+    in ``asset.extras``; metres: None), else None."""
+    extras = _extras(doc)
+    factor = extras.get("metres_per_unit")
+    if not isinstance(factor, (int, float)) or isinstance(factor, bool) or not np.isfinite(factor) or factor <= 0:
+        return None
+    name = extras.get("source_unit")
+    unit = unit_of_length(float(factor), name if isinstance(name, str) and name else None)
+    return None if unit.name == "m" else unit
 
 
 def _node_label(doc: GltfDocument, node: int) -> str:

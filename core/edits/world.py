@@ -1,0 +1,81 @@
+"""Edits of the whole world of a motion: its length unit (``scale_lengths``) and its up axis
+(``change_up_axis``), for ``gmr convert --scale --up``, the app's Scale and Up axis edits,
+and the readers' options.
+
+Both are changes of the world frame applied consistently to every joint, in either
+convention, so that the rest pose, the offsets and the motion all move together:
+
+- scale ``s``: every offset and translation times ``s`` (rotations unchanged); the motion's
+  stated unit (:attr:`~core.model.facts.FileFacts.unit`) becomes the unit ``1 / s`` as long;
+- up axis: a rotation ``Q`` of the world (:func:`core.space.up_axis.up_turn`).
+  ``R'_j = Q R_j Q^T`` for every joint, ``t'_j = Q t_j`` for every offset and translation.
+  Then every world position is ``Q P_j`` and every world rotation ``Q W_j Q^T`` (FK of either
+  convention commutes with the change of basis), and the rest pose turns with the world.
+  Rotation orders swap their Y and Z letters (``ZYX`` -> ``YZX``: ``Q Ry Q^T = Rz`` and
+  ``Q Rz Q^T = Ry^-1``), so each joint keeps an equivalent decomposition. The motion's
+  stated up axis becomes the target.
+
+Data converted to metres from other units (a glTF export read back) goes back to the unit it
+came from with :func:`in_source_unit`, which the writers of formats that cannot state a unit
+(BVH) call, so a chain of conversions keeps its first unit.
+
+A note of each edit is added to the motion's comments (provenance, never read back).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.space.units import unit_factor
+from gmr_studio.core.space.up_axis import check_up_axis, up_axis_of, up_turn
+
+
+def scale_lengths(motion: Motion, factor: float) -> Motion:
+    """Every offset and translation times ``factor`` (> 0); the stated unit follows."""
+    if not np.isfinite(factor) or factor <= 0:
+        raise ValueError(f"the scale must be a positive number, not {factor}")
+    if factor == 1:
+        return motion
+    facts = motion.facts
+    unit = None if facts.unit is None else facts.unit.scaled(factor)
+    return motion.replace(
+        offsets=motion.offsets * factor,
+        translations=motion.translations * factor,
+        comments=(*motion.comments, f"lengths scaled by {factor:.15g}"),
+        facts=facts.replace(unit=unit),
+    )
+
+
+def change_up_axis(motion: Motion, target: str, source: str | None = None) -> Motion:
+    """The motion with its world turned so that ``target`` ('y' or 'z') is up.
+
+    ``source``: the motion's up axis (default: :func:`core.space.up_axis.up_axis_of`).
+    Nothing turns when they agree (the stated up axis becomes ``target`` either way). Every
+    world position ``P`` becomes ``Q P``; see the module docstring.
+    """
+    source = check_up_axis(source or up_axis_of(motion))
+    target = check_up_axis(target)
+    if source == target:
+        return motion if motion.facts.up_axis == target else motion.replace(facts=motion.facts.replace(up_axis=target))
+    q = up_turn(source, target)
+    swap = str.maketrans("YZ", "ZY")
+    mapping = "(x, y, z) -> (x, -z, y)" if target == "z" else "(x, y, z) -> (x, z, -y)"
+    return motion.replace(
+        rotations=q @ motion.rotations @ q.T,
+        offsets=motion.offsets @ q.T,
+        translations=motion.translations @ q.T,
+        rotation_orders=tuple(order.translate(swap) for order in motion.rotation_orders),
+        comments=(*motion.comments, f"world turned from {source} up to {target} up: {mapping}"),
+        facts=motion.facts.replace(up_axis=target),
+    )
+
+
+def in_source_unit(motion: Motion) -> Motion:
+    """The motion in the unit its data came from (:attr:`~core.model.facts.FileFacts.source_unit`)
+    when its facts know both units; else the motion itself."""
+    facts = motion.facts
+    if facts.source_unit is None or facts.unit is None:
+        return motion
+    scaled = scale_lengths(motion, unit_factor(facts.unit, facts.source_unit))
+    return scaled.replace(facts=facts.replace(unit=facts.source_unit, source_unit=None))
