@@ -55,6 +55,22 @@ def test_up_axis_round_trip_reads_the_header(capsys, tmp_path):
     assert np.abs(world_positions(again) - world_positions(original)).max() <= 5e-15 * original.size
 
 
+def test_the_last_up_axis_a_file_states_is_its_up_axis(capsys, tmp_path):
+    """A file turned to Z up and back to Y up states both; the later statement holds."""
+    source = shared_path("bvh/cmu_cgspeed_npybvh_example_75f.bvh")
+    z_up, back = tmp_path / "z.gmr", tmp_path / "back.gmr"
+    assert run(capsys, "convert", source, z_up, "--up", "z")[0] == 0
+    assert run(capsys, "convert", z_up, back, "--up", "y")[0] == 0
+    again = read_motion(back)
+    stated = [c.split(" (")[0] for c in again.comments if c.startswith("up axis")]
+    assert stated == ["up axis: z", "up axis: y"]
+    assert up_axis_of(again) == "y"
+    original = read_bvh(source)
+    assert np.abs(world_positions(again) - world_positions(original)).max() <= 1e-12 * original.size
+    code, out, _ = run(capsys, "convert", back, tmp_path / "same.gmr", "--up", "y")
+    assert code == 0 and "converted from" not in out  # already Y up: nothing turned
+
+
 def test_from_up_overrides_and_nothing_changes_when_axes_agree(capsys, tmp_path):
     source = shared_path("bvh/cmu_cgspeed_npybvh_example_75f.bvh")
     output = tmp_path / "same.gmr"
