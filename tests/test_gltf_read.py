@@ -207,6 +207,27 @@ def test_without_a_skin_every_node_is_a_joint(tmp_path):
     assert motion.comments[0] == "glTF plain.glb: no skin: every node is a joint"
 
 
+def test_a_repeated_node_name_takes_the_nodes_index(tmp_path):
+    """The nodes are listed out of depth-first order, so a repeat's node index differs from
+    its place among the joints and from a count of repeats: ``Bone_5`` is node 5."""
+    builder = GltfBuilder()
+    layout = [
+        ("Root", [6]),
+        ("Head", [4]),
+        ("Tail", []),
+        ("Neck", [5]),
+        ("Bone", []),
+        ("Bone", [1]),
+        ("Bone", [3]),
+    ]
+    for k, (name, children) in enumerate(layout):
+        builder.node(name=name, translation=[0.1 * k, 0.2, 0.05 * k], children=children)
+    motion = read_gltf(builder.save(tmp_path / "repeats.glb"))
+    nodes = [0, 6, 3, 5, 1, 4, 2]  # depth first from the scene's roots 0 and 2
+    assert motion.names == ("Root", "Bone", "Neck", "Bone_5", "Head", "Bone_4", "Tail")
+    assert check_positions(motion, builder.doc["nodes"], [{}], nodes) < TOLERANCE
+
+
 # ------------------------------------------------------------------------ bad files
 def _valid() -> GltfBuilder:
     builder = GltfBuilder()
