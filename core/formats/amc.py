@@ -238,6 +238,7 @@ class _Block:
         bytes per joint name. MotionFileError at the first token that is not a finite number.
         """
         text = self.buffer.copy()
+        text[text < 32] = 32  # white space as the tokens have it (numpy parses only its own)
         for j in np.unique(joint[joint >= 0]):
             starts = self.starts[self.line_first_token[joint == j]]
             text[np.add.outer(starts, np.arange(name_lengths[j])).ravel()] = 32
