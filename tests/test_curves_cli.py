@@ -116,7 +116,9 @@ def test_edit_trims_resamples_and_mirrors_in_the_order_given(capsys, tmp_path):
     assert code == 0 and err == ""
     edited = read_motion(out)
     expected = mirror(resample(trim(load_gmr(source), 100, 341), 30.0))[0]
-    assert edited.n_frames == expected.n_frames == 60 and edited.frame_rate == pytest.approx(30.0)
+    # frames 100 to 340 span 2 s at 120 Hz ('Frame Time: .0083333', 120 Hz to seven digits):
+    # 61 frames at 30 Hz, the last at 2 s
+    assert edited.n_frames == expected.n_frames == 61 and edited.frame_rate == pytest.approx(30.0)
     np.testing.assert_allclose(
         reference_forward_kinematics(edited)[0], reference_forward_kinematics(expected)[0], atol=1e-6 * edited.size
     )
