@@ -10,8 +10,10 @@ import pytest
 from gmr_studio.core.cli import main
 from gmr_studio.core.clip import resample, trim
 from gmr_studio.core.formats import load_gmr, read_motion
+from gmr_studio.core.formats.bvh import write_bvh
 from gmr_studio.core.kinematics import reference_forward_kinematics
 from gmr_studio.core.mirror import mirror
+from gmr_studio.core.rigs import make_rig
 from tests.conftest import shared_path
 from tests.test_curves import bvh_channels
 
@@ -107,6 +109,17 @@ def test_curves_refusals_are_one_line_and_exit_2(capsys, tmp_path):
     code, _, err = run(capsys, "curves", path, "--joints", "nose", "--quantity", "world", "-o", tmp_path / "a.csv")
     assert code == 2 and "unknown joint 'nose'" in err
     assert not (tmp_path / "a.csv").exists()
+
+
+def test_edit_mirror_says_how_many_pairs_it_swapped_and_names_them_on_request(capsys, tmp_path):
+    source = tmp_path / "second_life.bvh"
+    write_bvh(make_rig("second_life"), source)
+    code, out, err = run(capsys, "edit", source, "-o", tmp_path / "m.bvh", "--mirror")
+    assert code == 0 and err == ""
+    assert out == "gmr edit --mirror: swapped 10 left/right pairs (--list-pairs names them)\n"
+    code, out, _ = run(capsys, "edit", source, "-o", tmp_path / "m.bvh", "--mirror", "--list-pairs")
+    assert code == 0 and out.startswith("gmr edit --mirror: swapped 10 left/right pairs: lCollar/rCollar, ")
+    assert out.endswith(", mToeLeft/mToeRight, mToeLeft_End/mToeRight_End\n")
 
 
 def test_edit_trims_resamples_and_mirrors_in_the_order_given(capsys, tmp_path):
