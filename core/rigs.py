@@ -28,6 +28,7 @@ name                   what it covers
 
 from __future__ import annotations
 
+import argparse
 import sys
 from collections.abc import Callable
 from pathlib import Path
@@ -288,11 +289,9 @@ def make_rig(name: str) -> Motion:
 def main(argv: list[str] | None = None) -> int:
     from gmr_studio.core.formats.bvh import write_bvh
 
-    args = sys.argv[1:] if argv is None else argv
-    if len(args) != 1:
-        print("usage: python -m gmr_studio.core.rigs OUT_DIR", file=sys.stderr)
-        return 2
-    folder = Path(args[0])
+    parser = argparse.ArgumentParser(prog="python -m gmr_studio.core.rigs", description="Write every rig as BVH.")
+    parser.add_argument("folder", metavar="OUT_DIR", help="where to write <rig>.bvh (made if missing)")
+    folder = Path(parser.parse_args(argv).folder)
     folder.mkdir(parents=True, exist_ok=True)
     for name in RIGS:
         write_bvh(make_rig(name), folder / f"{name}.bvh")
