@@ -28,7 +28,8 @@ import numpy as np
 from gmr_studio.core.motion import Motion
 
 #: frame rates closer than this (relative) are one rate: BVH prints its frame time to ~7
-#: digits (0.0083333 s is 120.0005 Hz), which would otherwise drift B by a frame in 2,000 s
+#: digits (0.0083333 s is 120.0005 Hz), which would otherwise drift one clock against the
+#: other by a frame in 2,000 s
 SAME_RATE_TOLERANCE = 1e-5
 #: the most a frame time read from a file is off (seconds): half a unit of the sixth decimal,
 #: as BVH writers print it at the least (0.033333, 0.008333)
@@ -79,7 +80,7 @@ def frame_time_rounding(frame_time: float) -> float:
 def frames_within(n_frames: int, frame_time: float, rate: float) -> int:
     """How many frames of a clock at ``rate`` Hz (frame ``k`` at ``k / rate`` s) fall within
     ``n_frames`` frames of ``frame_time``: from 0 s to the last frame, at
-    ``(n_frames - 1) * frame_time`` give or take :func:`frame_time_rounding` on every frame (30
+    ``(n_frames - 1) * frame_time`` give or take :func:`frame_time_rounding` on every frame (31
     frames of 0.033333 s end at 0.99999 s, 1 s as meant: at 15 Hz, 16 frames). ``rate`` > 0."""
     if n_frames <= 0:
         return 0
