@@ -7,6 +7,9 @@ editors and terminals can jump to it.
 
 :class:`OperationError` is raised by the motion operations (shift root, split, join, ...)
 when asked for something that makes no sense; the motion they were given is never changed.
+
+:func:`quoted` is how every reader's message shows a piece of the file ("expected
+'HIERARCHY', found '\\x00\\x00'"): characters that do not print escaped, long text cut.
 """
 
 from __future__ import annotations
@@ -49,6 +52,19 @@ class MotionFileError(Exception):
 
     def __reduce__(self):  # keep the fields when the error crosses a process boundary
         return (type(self), (self.path, self.message, self.line, self.column))
+
+
+#: characters of a file's text a message quotes at the most (the rest elided as ``...``)
+QUOTE_LIMIT = 40
+
+
+def quoted(text: str, limit: int = QUOTE_LIMIT) -> str:
+    """``text`` read from a file as a message shows it: in single quotes, every character
+    that does not print (NUL, control characters, a lone surrogate...) escaped as Python
+    writes it (``'\\x00\\x00HIERARCHY'``, ``'\\t'``), cut after ``limit`` characters with
+    ``...`` before the closing quote."""
+    shown = "".join(ch if ch.isprintable() else repr(ch)[1:-1] for ch in text[:limit])
+    return f"'{shown}...'" if len(text) > limit else f"'{shown}'"
 
 
 class OperationError(ValueError):

@@ -12,6 +12,9 @@ name                   what it covers
 ``game_root``          as ``origin_root`` with a game rig's names: ``UpperArm_L``, ``Hand_R``,
                        End Sites named ``<parent>_End`` (``Hand_L_End``, ``Toes_R_End``),
                        as a BVH holds them (no channels)
+``second_life``        the walk named as a Second Life / Poser BVH: ``hip``, ``abdomen``,
+                       ``lCollar``, ``rShldr``, ``lThigh``, ``lShin``, Bento's
+                       ``mHandIndex1Left``, ``mToeRight``, End Sites ``mToeLeft_End``
 ``z_up_millimetres``   the walk in Z-up millimetres
 ``t_pose``             one frame: the rest pose, arms out
 ``six_channels``       translation and rotation channels on every joint
@@ -25,6 +28,7 @@ name                   what it covers
 
 from __future__ import annotations
 
+import argparse
 import sys
 from collections.abc import Callable
 from pathlib import Path
@@ -196,6 +200,45 @@ def game_root() -> Motion:
     return motion.replace(names=names, rotation_orders=orders)
 
 
+#: the humanoid's names as a Second Life (Poser) BVH spells them: a side letter before the
+#: Poser bones, Bento's ``m<Bone><Side>`` for the fingers and toes
+SECOND_LIFE_NAMES = {
+    "Hips": "hip",
+    "Spine": "abdomen",
+    "Spine1": "mSpine2",
+    "Chest": "chest",
+    "Neck": "neck",
+    "Head": "head",
+    "HeadEnd": "figureHair",
+    "Shoulder": "{s}Collar",
+    "Arm": "{s}Shldr",
+    "ForeArm": "{s}ForeArm",
+    "Hand": "{s}Hand",
+    "HandEnd": "mHandIndex1{Side}",
+    "UpLeg": "{s}Thigh",
+    "Leg": "{s}Shin",
+    "Foot": "{s}Foot",
+    "Toe": "mToe{Side}",
+    "ToeEnd": "mToe{Side}_End",
+}
+
+
+def second_life_name(name: str) -> str:
+    """``LeftShoulder`` -> ``lCollar``, ``RightHandEnd`` -> ``mHandIndex1Right``, ``Spine`` -> ``abdomen``."""
+    for side in ("Left", "Right"):
+        if name.startswith(side):
+            return SECOND_LIFE_NAMES[name[len(side) :]].format(s=side[0].lower(), Side=side)
+    return SECOND_LIFE_NAMES[name]
+
+
+def second_life() -> Motion:
+    """:func:`walk` named as a Second Life / Poser BVH, the toe ends End Sites (no channels)."""
+    motion = walk()
+    names = tuple(second_life_name(n) for n in motion.names)
+    orders = tuple("" if n.endswith("_End") else o for n, o in zip(names, motion.rotation_orders))
+    return motion.replace(names=names, rotation_orders=orders)
+
+
 def z_up_millimetres() -> Motion:
     """The walk turned Z-up (world ``(x, y, z) -> (x, -z, y)``) and scaled to millimetres."""
     motion = walk()
@@ -231,6 +274,7 @@ RIGS: dict[str, Callable[[], Motion]] = {
     "metres": walk,
     "origin_root": origin_root,
     "game_root": game_root,
+    "second_life": second_life,
     "z_up_millimetres": z_up_millimetres,
     "t_pose": t_pose,
     "six_channels": six_channels,
@@ -248,11 +292,9 @@ def make_rig(name: str) -> Motion:
 def main(argv: list[str] | None = None) -> int:
     from gmr_studio.core.formats.bvh import write_bvh
 
-    args = sys.argv[1:] if argv is None else argv
-    if len(args) != 1:
-        print("usage: python -m gmr_studio.core.rigs OUT_DIR", file=sys.stderr)
-        return 2
-    folder = Path(args[0])
+    parser = argparse.ArgumentParser(prog="python -m gmr_studio.core.rigs", description="Write every rig as BVH.")
+    parser.add_argument("folder", metavar="OUT_DIR", help="where to write <rig>.bvh (made if missing)")
+    folder = Path(parser.parse_args(argv).folder)
     folder.mkdir(parents=True, exist_ok=True)
     for name in RIGS:
         write_bvh(make_rig(name), folder / f"{name}.bvh")

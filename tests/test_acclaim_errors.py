@@ -199,6 +199,34 @@ def test_bad_amc(case):
         assert (again.value.line, again.value.column) == (int(line) + 1, int(column))
 
 
+def test_unprintable_bytes_in_a_message_are_shown_escaped(tmp_path):
+    """What an ASF or AMC reader found is quoted with its control characters escaped; in an
+    AMC's frames every byte up to the space separates values, whichever it is."""
+    (tmp_path / "nul.asf").write_bytes(b"\x00\x00" + SKELETON.encode())
+    (tmp_path / "skeleton.asf").write_text(SKELETON)
+    (tmp_path / "delete.amc").write_bytes(GOOD_AMC.replace("hip 1 2 3\nknee", "hip 1 2 3\x7f\nknee", 1).encode())
+    (tmp_path / "zero_width.amc").write_bytes(GOOD_AMC.replace("head 5", "\u200bhead 5", 1).encode())
+    (tmp_path / "bell.amc").write_bytes(GOOD_AMC.replace("hip 1 2 3\nknee", "hip 1 2\x073\nknee", 1).encode())
+    (tmp_path / "short.amc").write_bytes(GOOD_AMC.replace("hip 1 2 3\nknee", "hip 1 2 \x07\nknee", 1).encode())
+    for path, asf, message in [
+        (
+            "nul.asf",
+            None,
+            "1:1: expected a section keyword (:version, :name, :units, :documentation, :root, "
+            ":bonedata, :hierarchy, :skin), found '\\x00\\x00'",
+        ),
+        ("delete.amc", "skeleton.asf", "5:9: expected a number, found '3\\x7f'"),
+        ("zero_width.amc", "skeleton.asf", "8:1: unknown bone '\\u200bhead': expected a frame number or a bone"),
+        ("short.amc", "skeleton.asf", "5:8: bone 'hip' has 3 dof (rx ry rz): expected 3 values, found 2"),
+    ]:
+        with pytest.raises(MotionFileError) as error:
+            read_motion(tmp_path / path, asf=asf and tmp_path / asf)
+        assert str(error.value).startswith(f"{tmp_path / path}:{message}"), str(error.value)
+        assert str(error.value).isprintable(), str(error.value)
+    bell = read_motion(tmp_path / "bell.amc", asf=tmp_path / "skeleton.asf")
+    assert bell.n_frames == 2  # 'hip 1 2<BEL>3' holds three values, as 'hip 1 2 3' does
+
+
 def test_good_amc_reads_and_a_bone_without_dofs_may_be_listed():
     skeleton = read_asf("skeleton.asf", SKELETON.encode())
     assert read_amc("good.amc", skeleton, data=GOOD_AMC.encode()).n_frames == 2

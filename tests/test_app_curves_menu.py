@@ -15,7 +15,9 @@ from PyQt6.QtWidgets import QApplication, QInputDialog
 from gmr_studio.app.model.state import Snapshot
 from gmr_studio.core.edits.clip import resample
 from gmr_studio.core.edits.mirror import mirror
+from gmr_studio.core.formats.bvh import write_bvh
 from gmr_studio.core.kinematics.fk import world_positions
+from gmr_studio.core.rigs import make_rig
 from tests import app_fixtures
 from tests.app_fixtures import open_file
 from tests.conftest import shared_path
@@ -111,6 +113,21 @@ def test_mirror_from_the_menu_swaps_sides_twice_to_the_identity_and_undoes(studi
     state.undo_stack.undo()
     state.undo_stack.undo()
     assert state.snapshot is before
+
+
+def test_mirror_says_the_pairs_it_swapped_in_the_status_bar(studio, tmp_path):
+    write_bvh(make_rig("second_life"), tmp_path / "second_life.bvh")
+    open_file(studio, tmp_path / "second_life.bvh")
+    edit_menu_action(studio, "Mirror left/right").trigger()
+    assert studio.status.text() == (
+        "Mirror left/right: swapped 10 left/right pairs: lCollar/rCollar, lShldr/rShldr, lForeArm/rForeArm, "
+        "lHand/rHand, and 6 more"
+    )
+    names = ["mEyeLeft" if name == "figureHair" else name for name in studio.state.motion.names]
+    studio.state.open_document(Snapshot.of(studio.state.motion.replace(names=names)), None)
+    studio.curves.mirror_button.click()  # the dock's button: the same command
+    assert studio.status.text().startswith("Mirror left/right: swapped 10 left/right pairs: lCollar/rCollar, ")
+    assert studio.status.text().endswith(", and 6 more; no partner for mEyeLeft (left as they are)")
 
 
 def test_mirror_is_disabled_when_no_joint_names_a_side(studio):

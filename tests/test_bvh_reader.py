@@ -5,7 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from gmr_studio.core.cli import main as cli_main
 from gmr_studio.core.errors import MotionFileError
+from gmr_studio.core.formats import read_motion
 from gmr_studio.core.formats.bvh import read_bvh
 from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.rotations.euler import matrix_from_euler
@@ -243,6 +245,38 @@ def test_bad_frames_and_frame_time_lines():
     assert_error(error_of(SMALL.replace("Frames: 2", "Frames: -2")), 17, 9, "whole number of frames")
     assert_error(error_of(SMALL.replace("Frame Time: 0.5", "Frame Time: 0")), 18, 13, "positive number of seconds")
     assert_error(error_of(SMALL.replace("Frames: 2", "Framez: 2")), 17, 1, "expected 'Frames: <count>'")
+
+
+def test_unprintable_bytes_in_a_message_are_shown_escaped(tmp_path, capsys):
+    """A file starting with NUL bytes says what it found, escaped, on one line; a long run is
+    cut after 40 characters."""
+    cases = [
+        (
+            "nul.bvh",
+            b"\x00\x00\x00\x00" + SMALL.encode(),
+            "1:1: expected 'HIERARCHY', found '\\x00\\x00\\x00\\x00HIERARCHY'",
+        ),
+        (
+            "bell.bvh",
+            SMALL.replace("Frames: 2", "Frames: \x07").encode(),
+            "17:9: expected a whole number of frames after 'Frames:', found '\\x07'",
+        ),
+        ("tab.gmr", b"GMR 1\n\x01\x02\x1b[31m\n", "2:1: expected 'HIERARCHY', found '\\x01\\x02\\x1b[31m'"),
+        ("zeros.bvh", b"\x00" * 5000, "1:1: expected 'HIERARCHY', found '" + "\\x00" * 40 + "...'"),
+        (
+            "value.bvh",
+            SMALL.replace("4 5 6", "4 5\x006").encode(),
+            "20:3: frame 2, value 2: expected a number, found '5\\x006'",
+        ),
+    ]
+    for name, data, message in cases:
+        (tmp_path / name).write_bytes(data)
+        with pytest.raises(MotionFileError) as info:
+            read_motion(tmp_path / name)
+        assert str(info.value).startswith(f"{tmp_path / name}:{message}"), str(info.value)
+        assert str(info.value).isprintable(), str(info.value)
+    assert cli_main(["info", str(tmp_path / "nul.bvh")]) == 2
+    assert capsys.readouterr().err == f"{tmp_path / 'nul.bvh'}:{cases[0][2]}\n"
 
 
 def test_channel_count_larger_than_the_names_given():

@@ -1,5 +1,6 @@
 """Resampling at the edges: rates below 1 Hz, one frame, no frames (mutation survivors of
-core/edits/clip.py, docs/reliability.md)."""
+core/edits/clip.py, docs/reliability.md), and the last frame of a take whose frame time is printed
+rounded (issue 40)."""
 
 from __future__ import annotations
 
@@ -8,7 +9,10 @@ import pytest
 
 from gmr_studio.core.edits.clip import resample, resample_positions, trim
 from gmr_studio.core.errors import OperationError
-from tests.conftest import random_motion
+from gmr_studio.core.formats import read_motion
+from gmr_studio.core.kinematics.fk import world_positions
+from gmr_studio.core.timebase.clock import motion_frame_seconds
+from tests.conftest import random_motion, shared_path
 
 
 def test_a_rate_below_one_hertz_is_a_rate(rng):
@@ -53,3 +57,29 @@ def test_the_last_new_frame_never_passes_the_last_source_frame(rng):
     result = resample(motion, rate)
     np.testing.assert_array_equal(result.rotations, motion.rotations[[0, 3]])
     np.testing.assert_array_equal(result.translations, motion.translations[[0, 3]])
+
+
+def test_a_take_whose_frame_time_is_printed_rounded_keeps_its_last_frame():
+    # the MocapBank take says 'Frame Time: 0.033333' (30 Hz to six decimals): 31 frames end
+    # at 0.99999 s, 1 s as meant, so at 15 Hz the take has 16 frames, the last at 1 s
+    take = trim(read_motion(shared_path("bvh/bvh-python_test_mocapbank.bvh")), 0, 31)
+    assert take.frame_time == 0.033333
+    half = resample(take, 15.0)
+    assert half.n_frames == 16 and motion_frame_seconds(half)[-1] == 1.0
+    np.testing.assert_array_equal(world_positions(half)[-1], world_positions(take)[-1])
+    np.testing.assert_array_equal(half.rotations[[0, -1]], take.rotations[[0, -1]])
+
+
+def test_the_end_reaches_only_as_far_as_the_rounding_of_the_frame_time(rng):
+    motion = random_motion(rng, [-1, 0, 1], n_frames=31, convention="post")
+    for frame_time, count, last in [
+        (0.033333, 16, 30.0),  # 30 Hz printed to six decimals: the frame at 1 s is the last frame
+        (1 / 30, 16, 30.0),
+        (0.0333334, 16, 15 / (15 * 0.0333334)),  # the take ends after 1 s
+        (0.03333, 15, 14 / (15 * 0.03333)),  # 30.003 Hz: 0.9999 s, 1e-4 s short of 1 s, beyond rounding
+    ]:
+        where = resample_positions(31, frame_time, 15.0)
+        assert where.size == count and where[-1] == pytest.approx(last, abs=1e-12), frame_time
+        assert resample(motion.replace(frame_time=frame_time), 15.0).n_frames == count
+    half = resample(motion.replace(frame_time=0.033333), 15.0)
+    np.testing.assert_array_equal(half.rotations[-1], motion.rotations[30])  # copied, not interpolated

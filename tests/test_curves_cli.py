@@ -11,7 +11,9 @@ from gmr_studio.core.cli import main
 from gmr_studio.core.edits.clip import resample, trim
 from gmr_studio.core.edits.mirror import mirror
 from gmr_studio.core.formats import load_gmr, read_motion
+from gmr_studio.core.formats.bvh import write_bvh
 from gmr_studio.core.kinematics.fk import reference_forward_kinematics
+from gmr_studio.core.rigs import make_rig
 from tests.conftest import shared_path
 from tests.test_curves import bvh_channels
 
@@ -109,6 +111,17 @@ def test_curves_refusals_are_one_line_and_exit_2(capsys, tmp_path):
     assert not (tmp_path / "a.csv").exists()
 
 
+def test_edit_mirror_says_how_many_pairs_it_swapped_and_names_them_on_request(capsys, tmp_path):
+    source = tmp_path / "second_life.bvh"
+    write_bvh(make_rig("second_life"), source)
+    code, out, err = run(capsys, "edit", source, "-o", tmp_path / "m.bvh", "--mirror")
+    assert code == 0 and err == ""
+    assert out == "gmr edit --mirror: swapped 10 left/right pairs (--list-pairs names them)\n"
+    code, out, _ = run(capsys, "edit", source, "-o", tmp_path / "m.bvh", "--mirror", "--list-pairs")
+    assert code == 0 and out.startswith("gmr edit --mirror: swapped 10 left/right pairs: lCollar/rCollar, ")
+    assert out.endswith(", mToeLeft/mToeRight, mToeLeft_End/mToeRight_End\n")
+
+
 def test_edit_trims_resamples_and_mirrors_in_the_order_given(capsys, tmp_path):
     source = shared_path("cmu/subject01/01_01.bvh")
     out = tmp_path / "edited.gmr"
@@ -116,7 +129,9 @@ def test_edit_trims_resamples_and_mirrors_in_the_order_given(capsys, tmp_path):
     assert code == 0 and err == ""
     edited = read_motion(out)
     expected = mirror(resample(trim(load_gmr(source), 100, 341), 30.0))[0]
-    assert edited.n_frames == expected.n_frames == 60 and edited.frame_rate == pytest.approx(30.0)
+    # frames 100 to 340 span 2 s at 120 Hz ('Frame Time: .0083333', 120 Hz to seven digits):
+    # 61 frames at 30 Hz, the last at 2 s
+    assert edited.n_frames == expected.n_frames == 61 and edited.frame_rate == pytest.approx(30.0)
     np.testing.assert_allclose(
         reference_forward_kinematics(edited)[0], reference_forward_kinematics(expected)[0], atol=1e-6 * edited.size
     )

@@ -12,7 +12,9 @@ from scipy.spatial.transform import Rotation, Slerp
 
 from gmr_studio.core.cli import main
 from gmr_studio.core.cli.dataset import build_dataset
+from gmr_studio.core.edits.clip import trim
 from gmr_studio.core.formats import read_motion
+from gmr_studio.core.formats.bvh import write_bvh
 from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.kinematics.fk import reference_forward_kinematics
 from tests.conftest import shared_path
@@ -106,6 +108,21 @@ def test_positions_resampled_like_np_interp(folder, tmp_path):
         [[np.interp(times, frame_times, source[:, j, a]) for a in range(3)] for j in range(motion.n_joints)]
     ).transpose(2, 0, 1)
     np.testing.assert_allclose(values, expected, atol=1e-5 * motion.size)
+
+
+def test_a_take_whose_frame_time_is_printed_rounded_keeps_its_last_frame(tmp_path):
+    # 'Frame Time: 0.033333' is 30 Hz to six decimals: 31 frames at 15 Hz are 16 rows, the
+    # last at 1 s on the last frame (the clip's clock, core.edits.clip.resample_positions)
+    take = trim(read_motion(shared_path("bvh/bvh-python_test_mocapbank.bvh")), 0, 31)
+    (tmp_path / "in").mkdir()
+    write_bvh(take, tmp_path / "in" / "take.bvh")
+    out = tmp_path / "take.npz"
+    assert build_dataset(tmp_path / "in", out, rate=15.0, jobs=1, stream=io.StringIO()) == 0
+    with np.load(out) as data:
+        values = data["values_0"]
+    source = reference_forward_kinematics(take, with_rotations=False)[0]
+    assert values.shape[0] == 16
+    np.testing.assert_array_equal(values[[0, -1]], source[[0, -1]].astype(np.float32))
 
 
 @pytest.mark.slow

@@ -56,6 +56,21 @@ def test_up_axis_round_trip_reads_the_header(capsys, tmp_path):
     assert np.abs(world_positions(again) - world_positions(original)).max() <= 5e-15 * original.size
 
 
+def test_the_last_up_axis_a_file_states_is_its_up_axis(capsys, tmp_path):
+    """A GMR header that states the up axis twice (edited by hand after a conversion to Z
+    up): the later statement holds, for reading and for the next conversion."""
+    source = shared_path("bvh/cmu_cgspeed_npybvh_example_75f.bvh")
+    z_up, edited = tmp_path / "z.gmr", tmp_path / "edited.gmr"
+    assert run(capsys, "convert", source, z_up, "--up", "z")[0] == 0
+    lines = z_up.read_text().splitlines()
+    assert "# up axis: z" in lines
+    lines.insert(lines.index("HIERARCHY"), "# up axis: y")
+    edited.write_text("\n".join(lines) + "\n")
+    assert up_axis_of(read_motion(edited)) == "y"
+    code, out, _ = run(capsys, "convert", edited, tmp_path / "same.gmr", "--up", "y")
+    assert code == 0 and "world turned" not in out  # already Y up, as it says last: nothing turned
+
+
 def test_from_up_overrides_and_nothing_changes_when_axes_agree(capsys, tmp_path):
     source = shared_path("bvh/cmu_cgspeed_npybvh_example_75f.bvh")
     output = tmp_path / "same.gmr"

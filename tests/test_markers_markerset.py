@@ -270,6 +270,14 @@ def test_resampled_duration_is_floored_with_rounding_forgiven():
     assert markers.resampled(7).n_frames == 17  # 2.3 s * 7 Hz = 16.1: floored
 
 
+def test_resampled_counts_its_frames_as_a_motion_does():
+    """Samples 0.033333 s apart (30 Hz printed to six decimals), 31 of them: at 15 Hz, 16
+    frames, the last on the last sample, as core.edits.clip.resample gives a motion."""
+    markers = one_marker(*range(31), rate=1 / 0.033333)
+    slow = markers.resampled(15)
+    assert slow.n_frames == 16 and slow.positions[-1, 0, 0] == 30.0
+
+
 def test_resampled_edges():
     markers = one_marker(0, 1, rate=10)
     assert markers.resampled(10) is markers

@@ -76,6 +76,20 @@ def test_bad_trc_files(change, line, column, message):
     assert message in info.value.message
 
 
+def test_unprintable_bytes_in_a_message_are_shown_escaped(tmp_path):
+    for change, message in [
+        (("100\t100\t3\t2\tmm", "\x00\t100\t3\t2\tmm"), "3:1: expected a positive DataRate, found '\\x00'"),
+        (("100\t100\t3\t2\tmm", "100\t100\t3\t2\tm\x1bm"), "3:13: unknown Units 'm\\x1bm'"),
+        (("\t2.5\t3.5", "\t2\x075\t3.5"), "8:12: expected a number, found '2\\x075'"),
+    ]:
+        path = tmp_path / "bad.trc"
+        path.write_bytes(TRC.replace(*change).encode())
+        with pytest.raises(MotionFileError) as info:
+            read_markers(path)
+        assert str(info.value).startswith(f"{path}:{message}"), str(info.value)
+        assert str(info.value).isprintable(), str(info.value)
+
+
 def test_units_axes_and_resampling():
     markers = MarkerSet(
         labels=["A"], positions=[[[1000.0, 2000.0, 3000.0]], [[2000.0, 2000.0, 3000.0]]], rate=10, units="mm"

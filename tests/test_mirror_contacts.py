@@ -1,4 +1,5 @@
-"""Mirror (name rules, reflection, twice = identity) and foot contacts on real walks."""
+"""Mirror (name rules, Second Life's among them, reflection, twice = identity) and foot
+contacts on real walks."""
 
 from __future__ import annotations
 
@@ -6,11 +7,13 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.analysis.contacts import contact_runs, foot_contacts, foot_joints
-from gmr_studio.core.edits.mirror import mirror, side_partners
+from gmr_studio.core.edits.mirror import mirror, pairs_text, side_partners
 from gmr_studio.core.edits.operations import shift_root, split
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import load_gmr, read_motion
-from gmr_studio.core.kinematics.fk import reference_forward_kinematics
+from gmr_studio.core.formats.bvh import write_bvh
+from gmr_studio.core.kinematics.fk import reference_forward_kinematics, world_positions
+from gmr_studio.core.rigs import make_rig, second_life_name
 from tests.conftest import random_motion, shared_path
 
 
@@ -29,6 +32,67 @@ def test_side_rules_cover_the_usual_conventions():
         assert partner[central] == central
     assert sides.unmatched == ("LeftEye", "thigh.L", "shin_r")
     assert sides.pairs.shape == (6, 2)
+
+
+def test_second_life_and_poser_names_pair_up():
+    names = [
+        "hip", "abdomen", "lCollar", "rCollar", "lShldr", "rShldr", "lThigh", "rThigh", "lShin", "rShin",
+        "mHandIndex1Left", "mHandIndex1Right", "mEyeLeft", "mEyeRight", "mHipLeft", "mHipRight",
+        "mFaceNoseCenter", "mFaceEar1Left", "lEye", "lowerback",
+    ]  # fmt: skip
+    sides = side_partners(names)
+    assert pairs_text(names, sides.pairs) == (
+        "7 left/right pairs: lCollar/rCollar, lShldr/rShldr, lThigh/rThigh, lShin/rShin, "
+        "mHandIndex1Left/mHandIndex1Right, mEyeLeft/mEyeRight, mHipLeft/mHipRight"
+    )
+    partner = {names[j]: names[k] for j, k in enumerate(sides.partner)}
+    for central in ("hip", "abdomen", "mFaceNoseCenter", "lEye", "lowerback"):  # lEye: a loose rule, no rEye
+        assert partner[central] == central
+    assert sides.unmatched == ("mFaceEar1Left",)  # a ...Left name says its side: reported
+    assert pairs_text(names, sides.pairs, 2) == "7 left/right pairs: lCollar/rCollar, lShldr/rShldr, and 5 more"
+    assert pairs_text(names, sides.pairs, 0) == "7 left/right pairs"
+
+
+def test_a_second_life_bvh_mirrors_every_joint_onto_its_partner(tmp_path):
+    """The walk named as a Second Life BVH (core.rigs), written and read back: ten pairs, and
+    every world position reflected onto the partner's, as the walk with its own names."""
+    write_bvh(make_rig("second_life"), tmp_path / "crouch.bvh")
+    motion = read_motion(tmp_path / "crouch.bvh")
+    sides = side_partners(motion.names, motion.parents)
+    assert pairs_text(motion.names, sides.pairs) == (
+        "10 left/right pairs: lCollar/rCollar, lShldr/rShldr, lForeArm/rForeArm, lHand/rHand, "
+        "mHandIndex1Left/mHandIndex1Right, lThigh/rThigh, lShin/rShin, lFoot/rFoot, mToeLeft/mToeRight, "
+        "mToeLeft_End/mToeRight_End"
+    )
+    mirrored, unmatched = mirror(motion)
+    assert unmatched == () and mirrored.names == motion.names
+    before, after = world_positions(motion), world_positions(mirrored)
+    centre = before[0, :, 0].mean()  # arms out along x: the lateral axis
+    expected = before[:, sides.partner] * np.array([-1.0, 1.0, 1.0]) + np.array([2 * centre, 0.0, 0.0])
+    np.testing.assert_allclose(after, expected, rtol=0, atol=1e-12 * motion.size)
+    walk = make_rig("metres")  # the same walk with its Left/Right names mirrors to the same positions
+    order = [motion.names.index(second_life_name(name)) for name in walk.names]
+    np.testing.assert_allclose(after[:, order], world_positions(mirror(walk)[0]), rtol=0, atol=1e-12 * motion.size)
+
+
+@pytest.mark.parametrize(
+    ("relative", "count", "unmatched"),
+    [
+        ("bvh/assimp_Boxing_Toes.bvh", 10, ()),
+        ("bvh/bvh-python_test_freebvh.bvh", 31, ()),
+        ("bvh/bvh-python_test_mocapbank.bvh", 9, ()),
+        ("bvh/cmu_cgspeed_npybvh_example_75f.bvh", 15, ()),
+        ("cmu/subject01/01_01.bvh", 15, ()),
+        ("cmu/subject01/01_01.amc", 12, ()),
+        ("gltf/bevy_Fox.glb", 0, ()),
+        ("gltf/lab0_CesiumMan.glb", 6, ("Skeleton_arm_joint_L__4_", "Skeleton_arm_joint_R")),
+        ("gltf/mediaplusarchi_RobotExpressive.glb", 18, ()),
+    ],
+)
+def test_real_files_pair_as_they_did_before_the_second_life_rules(relative, count, unmatched):
+    motion = read_motion(shared_path(relative))
+    sides = side_partners(motion.names, motion.parents)
+    assert (sides.pairs.shape[0], sides.unmatched) == (count, unmatched)
 
 
 @pytest.mark.parametrize("relative", ["cmu/subject01/01_01.bvh", "cmu/subject02/02_01.amc"])

@@ -18,10 +18,13 @@ from PyQt6.QtGui import QUndoCommand
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.app.reliability.crash import report_unexpected
 from gmr_studio.core.edits.clip import resample, trim
-from gmr_studio.core.edits.mirror import mirror
+from gmr_studio.core.edits.mirror import mirror, mirror_pairs, pairs_text
 from gmr_studio.core.edits.operations import join, join_all, shift_root, split, split_all
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.model.motion import Motion
+
+#: left/right pairs the status bar names after a mirror (the rest counted: one line at 1280 px)
+MIRROR_PAIRS_SHOWN = 4
 
 
 class MotionEdit(QUndoCommand):
@@ -111,15 +114,18 @@ def resample_to(state: StudioState, rate: float) -> bool:
 
 
 def mirror_left_right(state: StudioState) -> bool:
-    """Swap left and right (:func:`core.edits.mirror.mirror`); names without a partner are reported."""
-    unmatched: list[str] = []
+    """Swap left and right (:func:`core.edits.mirror.mirror`); the status bar says the pairs
+    swapped (the first :data:`MIRROR_PAIRS_SHOWN` by name) and the names without a partner."""
+    said: list[str] = []
 
     def operation(motion: Motion) -> Motion:
-        result, names = mirror(motion)
-        unmatched.extend(names)
+        result, unmatched = mirror(motion)
+        said.append(f"swapped {pairs_text(motion.names, mirror_pairs(motion).pairs, MIRROR_PAIRS_SHOWN)}")
+        if unmatched:
+            said.append(f"no partner for {', '.join(unmatched)} (left as they are)")
         return result
 
     done = run_edit(state, "Mirror left/right", operation)
-    if done and unmatched:
-        state.show_message(f"Mirror left/right: no partner for {', '.join(unmatched)} (left as they are)")
+    if done:
+        state.show_message("Mirror left/right: " + "; ".join(said))
     return done

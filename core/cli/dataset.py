@@ -9,7 +9,8 @@ positions (or rotations) for machine learning, built file by file.
   axes. ``--quantity rotations``: world rotations of the GMR form (the frame of the bone that
   ends at each joint) as unit quaternions ``x, y, z, w`` (F, J, 4), sign-continuous.
 - ``--rate HZ``: resample every file to this rate (times ``0, 1/HZ, ...`` up to its last
-  frame): positions linearly, quaternions by normalised linear interpolation.
+  frame, as :func:`core.edits.clip.resample` counts them): positions linearly, quaternions by
+  normalised linear interpolation.
 - Work runs file by file in ``--jobs`` processes or on a Dask cluster (``--scheduler``,
   :mod:`core.cli.workers`); results come back in file order, a few at a time, and are
   written as they arrive, so memory holds a handful of files, never the dataset.
@@ -38,6 +39,7 @@ from gmr_studio.core.cli.batch import find_motion_files, input_suffixes
 from gmr_studio.core.cli.convert import ConvertOptions, positive_number, read_for_conversion
 from gmr_studio.core.cli.progress import Progress
 from gmr_studio.core.cli.reading import add_gltf_options
+from gmr_studio.core.edits.clip import resample_positions
 from gmr_studio.core.errors import MotionFileError, OperationError
 from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.kinematics.fk import forward_kinematics
@@ -68,12 +70,12 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def resample(values: np.ndarray, frame_time: float, rate: float, *, quaternions: bool) -> np.ndarray:
     """Values (F, ...) at frames ``f * frame_time`` sampled at ``k / rate`` up to the last
-    frame: linear interpolation (normalised for quaternions, along the last axis)."""
+    frame, on the clip's clock (:func:`core.edits.clip.resample_positions`): linear interpolation
+    (normalised for quaternions, along the last axis)."""
     n_frames = values.shape[0]
     if n_frames < 2:
         return values
-    times = np.arange(0.0, (n_frames - 1) * frame_time * (1 + 1e-12), 1.0 / rate)
-    position = np.minimum(times / frame_time, n_frames - 1)
+    position = resample_positions(n_frames, frame_time, rate)
     before = np.minimum(np.floor(position).astype(np.int64), n_frames - 2)
     weight = (position - before).reshape(-1, *([1] * (values.ndim - 1)))
     mixed = (1 - weight) * values[before] + weight * values[before + 1]

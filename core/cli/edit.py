@@ -2,8 +2,8 @@
 [--remove-dummies] [--frames A:B] [--rate HZ] [--mirror] ...``: apply the operations in the
 order given, then write ``.gmr`` or ``.bvh`` (a forest under one World root). ``--frames``
 trims to ``A:B`` (0-based, B excluded), ``--rate`` resamples (:mod:`core.edits.clip`), ``--mirror``
-swaps left and right (:mod:`core.edits.mirror`; names that look sided but have no partner are listed
-on stderr)."""
+swaps left and right (:mod:`core.edits.mirror`): it says how many left/right pairs it swapped (and
+which, with ``--list-pairs``); names that look sided but have no partner are listed on stderr."""
 
 from __future__ import annotations
 
@@ -15,13 +15,18 @@ from gmr_studio.core.cli.curves import parse_frames
 from gmr_studio.core.cli.reading import add_reading_options, load_gmr_with_args, positive_number
 from gmr_studio.core.edits.clip import resample, trim
 from gmr_studio.core.edits.dummies import remove_dummies
-from gmr_studio.core.edits.mirror import mirror
+from gmr_studio.core.edits.mirror import mirror, mirror_pairs, pairs_text
 from gmr_studio.core.edits.operations import join, join_all, shift_root, split, split_all
 from gmr_studio.core.model.motion import Motion
 
 
-def _mirrored(motion: Motion) -> Motion:
+def _mirrored(motion: Motion, list_pairs: bool) -> Motion:
     result, unmatched = mirror(motion)
+    pairs = mirror_pairs(motion).pairs
+    if list_pairs:
+        print(f"gmr edit --mirror: swapped {pairs_text(motion.names, pairs)}")
+    else:
+        print(f"gmr edit --mirror: swapped {pairs_text(motion.names, pairs, 0)} (--list-pairs names them)")
     if unmatched:
         print(f"gmr edit --mirror: no partner for {', '.join(unmatched)} (left as they are)", file=sys.stderr)
     return result
@@ -36,7 +41,7 @@ OPERATIONS = {
     "remove_dummies": lambda m, _: remove_dummies(m)[0],
     "frames": lambda m, frames: trim(m, *frames),
     "rate": lambda m, rate: resample(m, rate),
-    "mirror": lambda m, _: _mirrored(m),
+    "mirror": lambda m, list_pairs: _mirrored(m, list_pairs),
 }
 
 
@@ -61,6 +66,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--rate", metavar="HZ", type=positive_number, action=_Append, const="rate", help="resample to HZ"
     )
     parser.add_argument("--mirror", nargs=0, action=_Append, const="mirror", help="swap left and right")
+    parser.add_argument("--list-pairs", action="store_true", help="with --mirror: name the left/right pairs swapped")
     add_reading_options(parser)
     parser.set_defaults(run=run)
 
@@ -82,7 +88,7 @@ def add_edit_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     motion = load_gmr_with_args(args.input, args)
-    for operation, joint in args.steps:
-        motion = OPERATIONS[operation](motion, joint)
+    for operation, joint in args.steps:  # a mirror step takes --list-pairs instead of a joint
+        motion = OPERATIONS[operation](motion, args.list_pairs if operation == "mirror" else joint)
     write_converted(motion, args.output)
     return 0

@@ -7,21 +7,21 @@ as they are; otherwise positions are interpolated linearly and rotations along t
 between B's two neighbouring frames. Outside B's time range, and next to B's gaps, the
 samples are NaN.
 
-:func:`common_rate` says when two rates are one, :func:`check_overlap` refuses clocks that
-share no time, :func:`ghost_positions` puts all of B's points on A's clock and in A's space
-(what the app draws); :mod:`core.compare.offset` finds the offset from the whole body.
+:func:`core.timebase.clock.common_rate` says when two rates are one (the motion's clock's rule),
+:func:`check_overlap` refuses clocks that share no time, :func:`ghost_positions` puts all of
+B's points on A's clock and in A's space (what the app draws); :mod:`core.compare.offset`
+finds the offset from the whole body.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from gmr_studio.core.timebase.clock import common_rate
+
 #: the offset of every comparison unless one is given: found from the whole body (the
 #: CLI's ``--offset`` default and the app's, printed with every comparison)
 DEFAULT_OFFSET = "auto"
-#: frame rates closer than this (relative) are one rate: BVH prints its frame time to ~7
-#: digits (0.0083333 s is 120.0005 Hz), which would otherwise drift B by a frame in 2,000 s
-SAME_RATE_TOLERANCE = 1e-5
 #: a fractional frame this close to a whole number is that frame (rounding of i / rate)
 WHOLE_FRAME_TOLERANCE = 1e-6
 #: frames per block of :func:`resample_rotations` (component-major temporaries in the cache)
@@ -30,14 +30,6 @@ ROTATION_BLOCK = 512
 RESAMPLE_CHUNK = 65536
 #: the two other axes of each axis, in cyclic order (cross products by components)
 _NEXT = ((1, 2), (2, 0), (0, 1))
-
-
-def common_rate(rate_a: float, rate_b: float) -> float:
-    """B's rate as the comparison uses it: A's when the two differ by less than
-    :data:`SAME_RATE_TOLERANCE` (the rounding of a printed frame time), else B's own."""
-    if rate_b != rate_a and abs(rate_b / rate_a - 1.0) < SAME_RATE_TOLERANCE:
-        return rate_a
-    return rate_b
 
 
 def sample_frames(n_frames_a: int, rate_a: float, rate_b: float, offset_seconds: float, frames_a=None) -> np.ndarray:

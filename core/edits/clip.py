@@ -4,7 +4,9 @@ Both work on a motion in either convention and return a new one (the input is ne
 changed); the skeleton (names, parents, offsets, orders) is untouched.
 
 Resampling is by time. Frame ``k`` of the result is at ``k / rate`` seconds; the last one
-is the last that does not pass the source's last frame time. At each new time ``s`` with
+is the last that does not pass the source's last frame time by more than the rounding of a
+printed frame time (:func:`core.timebase.clock.frames_within`: a 31-frame take at 0.033333 s resampled
+to 15 Hz has 16 frames, the last at 1 s on the source's last frame). At each new time ``s`` with
 ``s = (i + u) * frame_time`` (``i`` a source frame, ``0 <= u < 1``), every joint's local
 rotation is the slerp of frames ``i`` and ``i + 1`` at ``u`` and every local translation
 their linear interpolation. Where ``s`` is a source frame time (``u = 0`` to rounding,
@@ -19,6 +21,7 @@ import numpy as np
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.rotations.quaternions import matrix_from_quaternion, quaternion_from_matrix, slerp
+from gmr_studio.core.timebase.clock import frames_within
 
 #: a new frame time within this fraction of a source frame interval counts as that source frame
 EXACT_TIME_TOLERANCE = 1e-9
@@ -49,15 +52,16 @@ def trim(motion: Motion, start: int | None, stop: int | None) -> Motion:
 def resample_positions(n_frames: int, frame_time: float, rate: float) -> np.ndarray:
     """Where the frames of the resampled motion fall, in source frames: (K,) float64.
 
-    ``K`` frames at ``k / rate`` seconds, up to the source's last frame time; values within
-    :data:`EXACT_TIME_TOLERANCE` of an integer are snapped to it.
+    ``K`` frames at ``k / rate`` seconds, up to the source's last frame time (to the rounding
+    of a printed frame time, :func:`core.timebase.clock.frames_within`; a frame that falls past it is
+    at it); values within :data:`EXACT_TIME_TOLERANCE` of an integer are snapped to it.
     """
     if not np.isfinite(rate) or rate <= 0:
         raise OperationError(f"the frame rate must be a positive number, not {rate}")
     if n_frames == 0:
         return np.zeros(0)
     ratio = 1.0 / (rate * frame_time)  # source frames per new frame
-    count = int(np.floor((n_frames - 1) / ratio + EXACT_TIME_TOLERANCE)) + 1
+    count = frames_within(n_frames, frame_time, rate)
     positions = np.arange(count) * ratio
     nearest = np.rint(positions)
     return np.minimum(np.where(np.abs(positions - nearest) <= EXACT_TIME_TOLERANCE, nearest, positions), n_frames - 1)

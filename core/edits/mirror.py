@@ -4,12 +4,14 @@ Left/right partners are found by name (:func:`side_partners`), with these rules,
 order on each name:
 
 - strict (a name that fits one without a partner is *reported*): ``Left*``/``Right*``
-  (after an optional ``namespace:``, e.g. ``mixamorig:LeftArm``), ``*_L``/``*_R``,
-  ``*.L``/``*.R``, and the same letters between separators, ``*_L_*``/``*.L.*`` (an end
-  site ``Hand_L_End``) (either case of the letter);
+  (after an optional ``namespace:``, e.g. ``mixamorig:LeftArm``), ``*Left``/``*Right``
+  (Second Life's ``mHandIndex1Left``, ``mEyeLeft``), ``*_L``/``*_R``, ``*.L``/``*.R``, and
+  the same letters between separators, ``*_L_*``/``*.L.*`` (an end site ``Hand_L_End``)
+  (either case of the letter);
 - loose (a name that fits one without a partner is taken as central, since ``lowerback``
-  and ``LowerBack`` are no side): ``l*``/``r*`` followed by a lower-case letter, as in CMU
-  ASF (``lfemur``), and ``L*``/``R*`` followed by an upper-case letter (``LHipJoint``).
+  and ``LowerBack`` are no side): ``l*``/``r*`` followed by a letter, as in CMU ASF
+  (``lfemur``) and Poser or Second Life BVH (``lCollar``, ``rShldr``, ``lThigh``), and
+  ``L*``/``R*`` followed by an upper-case letter (``LHipJoint``).
 
 With the parents given, a joint left central whose name is its parent's followed by more
 (an End Site named ``<parent>_End`` or ``<parent>End`` under a sided parent) takes the
@@ -45,6 +47,7 @@ from gmr_studio.core.model.motion import Motion
 SIDE_RULES: tuple[tuple[re.Pattern[str], str, str, bool], ...] = (
     (re.compile(r"^((?:.*:)?)(Left|Right)(.*)$"), "Left", "Right", True),
     (re.compile(r"^((?:.*:)?)(left|right)(.*)$"), "left", "right", True),
+    (re.compile(r"^(.+)(Left|Right)()$"), "Left", "Right", True),
     (re.compile(r"^(.+_)(L|R)()$"), "L", "R", True),
     (re.compile(r"^(.+_)(l|r)()$"), "l", "r", True),
     (re.compile(r"^(.+\.)(L|R)()$"), "L", "R", True),
@@ -53,7 +56,7 @@ SIDE_RULES: tuple[tuple[re.Pattern[str], str, str, bool], ...] = (
     (re.compile(r"^(.+_)(l|r)(_.+)$"), "l", "r", True),
     (re.compile(r"^(.+\.)(L|R)(\..+)$"), "L", "R", True),
     (re.compile(r"^(.+\.)(l|r)(\..+)$"), "l", "r", True),
-    (re.compile(r"^()(l|r)([a-z].*)$"), "l", "r", False),
+    (re.compile(r"^()(l|r)([A-Za-z].*)$"), "l", "r", False),
     (re.compile(r"^()(L|R)([A-Z].*)$"), "L", "R", False),
 )
 
@@ -112,6 +115,25 @@ def side_partners(names: tuple[str, ...] | list[str], parents: np.ndarray | None
     return SidePairs(partner, np.array(pairs, dtype=np.int64).reshape(-1, 2), tuple(unmatched))
 
 
+def mirror_pairs(motion: Motion) -> SidePairs:
+    """The partners :func:`mirror` swaps: :func:`side_partners` of the motion's names and parents."""
+    return side_partners(motion.names, motion.parents)
+
+
+def pairs_text(names: tuple[str, ...] | list[str], pairs: np.ndarray, limit: int | None = None) -> str:
+    """The pairs (P, 2) of ``names`` for a message: ``"2 left/right pairs: lCollar/rCollar,
+    lShldr/rShldr"``; with ``limit``, the first ``limit`` pairs and ``"and N more"`` (0: the
+    count alone)."""
+    count = pairs.shape[0]
+    head = f"{count} left/right pair{'' if count == 1 else 's'}"
+    if limit == 0:
+        return head
+    shown = [f"{names[a]}/{names[b]}" for a, b in pairs[:limit]]
+    if count > len(shown):
+        shown.append(f"and {count - len(shown)} more")
+    return f"{head}: {', '.join(shown)}" if shown else head
+
+
 def _parents_first(parents: np.ndarray) -> list[int]:
     """Joint indices, every joint after its parent."""
     depth = np.zeros(len(parents), np.int64)
@@ -136,11 +158,12 @@ def lateral_axis(motion: Motion, pairs: np.ndarray) -> int:
 
 
 def mirror(motion: Motion) -> tuple[Motion, tuple[str, ...]]:
-    """The motion mirrored left/right (module docstring) and the names left unmatched.
+    """The motion mirrored left/right (module docstring) and the names left unmatched; the
+    pairs swapped are :func:`mirror_pairs` (:func:`pairs_text` says them).
 
     Raises OperationError when no joints pair up.
     """
-    sides = side_partners(motion.names, motion.parents)
+    sides = mirror_pairs(motion)
     axis = lateral_axis(motion, sides.pairs)
     sigma = sides.partner
     links = [(j, int(p)) for j, p in enumerate(motion.parents) if p >= 0]

@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gmr_studio.core.errors import MotionFileError, read_input
+from gmr_studio.core.errors import MotionFileError, quoted, read_input
 from gmr_studio.core.formats.acclaim_skeleton import ROOT_NAME, ROTATION_DOFS, AcclaimSkeleton
 from gmr_studio.core.formats.asf import read_asf
 from gmr_studio.core.formats.frames import out_of_range, within_range
@@ -136,7 +136,7 @@ def _split_header(data: bytes, path: str) -> tuple[dict, int, int]:
                 raise MotionFileError(
                     path,
                     f"expected {', '.join(_HEADER_KEYWORDS)} or a frame number, found "
-                    f"'{text.decode('utf-8', 'replace')}'",
+                    f"{quoted(text.decode('utf-8', 'replace'))}",
                     line,
                     column,
                 )
@@ -241,6 +241,7 @@ class _Block:
         bytes per joint name. MotionFileError at the first token that is not a finite number.
         """
         text = self.buffer.copy()
+        text[text < 32] = 32  # white space as the tokens have it (numpy parses only its own)
         for j in np.unique(joint[joint >= 0]):
             starts = self.starts[self.line_first_token[joint == j]]
             text[np.add.outer(starts, np.arange(name_lengths[j])).ravel()] = 32
@@ -264,9 +265,9 @@ class _Block:
             except ValueError:
                 number = None
             if number is None or text_token.encode().translate(None, _NUMBER_CHARACTERS):
-                raise self.error(token, f"expected a number, found '{text_token}'")
+                raise self.error(token, f"expected a number, found {quoted(text_token)}")
             if not np.isfinite(number):
-                raise self.error(token, f"expected a finite number, found '{text_token}'")
+                raise self.error(token, f"expected a finite number, found {quoted(text_token)}")
             if not within_range(number):
                 raise self.error(token, out_of_range(text_token))
         raise MotionFileError(self.path, "the frame data could not be read", self.first_line, 1)  # pragma: no cover
@@ -309,16 +310,16 @@ def parse_amc_frames(data: bytes, path: str, skeleton: AcclaimSkeleton) -> tuple
         token = int(block.line_first_token[unknown[0]])
         word = block.text(token)
         raise block.error(
-            token, f"unknown bone '{word}': expected a frame number or a bone of {Path(skeleton.path).name}"
+            token, f"unknown bone {quoted(word)}: expected a frame number or a bone of {Path(skeleton.path).name}"
         )
     frame_lines = np.flatnonzero(is_number & (joint < 0))
     if frame_lines.size == 0 or frame_lines[0] != 0:
         token = int(block.line_first_token[0])
-        raise block.error(token, f"expected a frame number before the data of bone '{block.text(token)}'")
+        raise block.error(token, f"expected a frame number before the data of bone {quoted(block.text(token))}")
     extra = np.flatnonzero(block.line_tokens[frame_lines] > 1)
     if extra.size:
         token = int(block.line_first_token[frame_lines[extra[0]]]) + 1
-        raise block.error(token, f"expected only the frame number on its line, found '{block.text(token)}'")
+        raise block.error(token, f"expected only the frame number on its line, found {quoted(block.text(token))}")
     bone_lines = np.flatnonzero(joint >= 0)
     numbers = block.numbers(joint, np.array([len(n.encode("utf-8")) for n in names]))
     # numbers per line, in file order: frame lines hold one, bone lines their values

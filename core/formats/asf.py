@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gmr_studio.core.errors import MotionFileError, read_input
+from gmr_studio.core.errors import MotionFileError, quoted, read_input
 from gmr_studio.core.formats.acclaim_skeleton import (
     BONE_DOFS,
     ROOT_NAME,
@@ -89,7 +89,7 @@ class _Lines:
 
 def _number(lines: _Lines, token: _Token, what: str) -> float:
     if not _NUMBER.match(token.text):
-        raise lines.error(f"expected {what}, found '{token.text}'", token)
+        raise lines.error(f"expected {what}, found {quoted(token.text)}", token)
     return float(token.text)
 
 
@@ -99,12 +99,12 @@ def _numbers(lines: _Lines, key: _Token, values: list[_Token], count: int, what:
         raise lines.error(f"'{key.text}' needs {count} numbers ({what}), found {len(values)}", where)
     if len(values) > count:
         raise lines.error(
-            f"'{key.text}' takes {count} numbers ({what}); unexpected '{values[count].text}'", values[count]
+            f"'{key.text}' takes {count} numbers ({what}); unexpected {quoted(values[count].text)}", values[count]
         )
     out = np.array([_number(lines, v, f"a number for '{key.text}'") for v in values])
     if not np.isfinite(out).all():
         bad = values[int(np.flatnonzero(~np.isfinite(out))[0])]
-        raise lines.error(f"'{key.text}' needs finite numbers, found '{bad.text}'", bad)
+        raise lines.error(f"'{key.text}' needs finite numbers, found {quoted(bad.text)}", bad)
     if not within_range(out):
         bad = values[int(np.flatnonzero(np.abs(out) > MAX_ABS_VALUE)[0])]
         raise lines.error(out_of_range(bad.text), bad)
@@ -115,7 +115,7 @@ def _axis_order(lines: _Lines, token: _Token) -> str:
     order = token.text.upper()
     if sorted(order) != ["X", "Y", "Z"]:
         raise lines.error(
-            f"expected a rotation order such as XYZ (the three axes, once each), found '{token.text}'", token
+            f"expected a rotation order such as XYZ (the three axes, once each), found {quoted(token.text)}", token
         )
     return order
 
@@ -140,7 +140,9 @@ def read_asf(path: str | Path, data: bytes | None = None) -> AcclaimSkeleton:
         keyword = tokens[0]
         section = keyword.text.lower()
         if section not in _SECTIONS:
-            raise lines.error(f"expected a section keyword ({', '.join(_SECTIONS)}), found '{keyword.text}'", keyword)
+            raise lines.error(
+                f"expected a section keyword ({', '.join(_SECTIONS)}), found {quoted(keyword.text)}", keyword
+            )
         if section in found:
             raise lines.error(f"second {section} section (the first is at line {found[section].line})", keyword)
         found[section] = keyword
@@ -196,19 +198,19 @@ def _units(lines: _Lines) -> AcclaimUnits:
         key = tokens[0]
         name = key.text.lower()
         if name not in ("mass", "length", "angle"):
-            raise lines.error(f"expected 'mass', 'length' or 'angle' in :units, found '{key.text}'", key)
+            raise lines.error(f"expected 'mass', 'length' or 'angle' in :units, found {quoted(key.text)}", key)
         if len(tokens) != 2:
             where = tokens[2] if len(tokens) > 2 else key
             raise lines.error(f"expected one value after '{key.text}'", where)
         if name == "angle":
             unit = tokens[1].text.lower()
             if unit not in ("deg", "rad"):
-                raise lines.error(f"expected 'deg' or 'rad' after 'angle', found '{tokens[1].text}'", tokens[1])
+                raise lines.error(f"expected 'deg' or 'rad' after 'angle', found {quoted(tokens[1].text)}", tokens[1])
             values["angle"] = unit
         else:
             value = _number(lines, tokens[1], f"a number after '{key.text}'")
             if not np.isfinite(value) or value <= 0:
-                raise lines.error(f"'{key.text}' must be a positive number, found '{tokens[1].text}'", tokens[1])
+                raise lines.error(f"'{key.text}' must be a positive number, found {quoted(tokens[1].text)}", tokens[1])
             values[name] = value
     return AcclaimUnits(**values)
 
@@ -234,7 +236,7 @@ def _root(lines: _Lines, units: AcclaimUnits) -> dict:
                 dof = token.text.lower()
                 if dof not in (*TRANSLATION_DOFS, *ROTATION_DOFS):
                     raise lines.error(
-                        f"expected one of TX TY TZ RX RY RZ in the root order, found '{token.text}'", token
+                        f"expected one of TX TY TZ RX RY RZ in the root order, found {quoted(token.text)}", token
                     )
                 if dof in order:
                     raise lines.error(f"'{token.text}' appears twice in the root order", token)
@@ -251,7 +253,7 @@ def _root(lines: _Lines, units: AcclaimUnits) -> dict:
             out["root_orientation"] = _numbers(lines, key, tokens[1:], 3, "angles about x y z") * _angle_factor(units)
         else:
             raise lines.error(
-                f"expected 'order', 'axis', 'position' or 'orientation' in :root, found '{key.text}'", key
+                f"expected 'order', 'axis', 'position' or 'orientation' in :root, found {quoted(key.text)}", key
             )
     if order is None:
         raise lines.error(
@@ -268,7 +270,7 @@ def _bonedata(lines: _Lines, units: AcclaimUnits) -> list[AcclaimBone]:
         tokens = lines.next()
         if tokens[0].text.lower() != "begin" or len(tokens) > 1:
             where = tokens[0] if tokens[0].text.lower() != "begin" else tokens[1]
-            raise lines.error(f"expected 'begin' opening a bone in :bonedata, found '{where.text}'", where)
+            raise lines.error(f"expected 'begin' opening a bone in :bonedata, found {quoted(where.text)}", where)
         bones.append(_bone(lines, tokens[0], units, seen))
     return bones
 
@@ -291,7 +293,7 @@ def _bone(lines: _Lines, begin: _Token, units: AcclaimUnits, seen: dict[str, int
         name = key.text.lower()
         if name == "end":
             if values:
-                raise lines.error(f"unexpected '{values[0].text}' after 'end'", values[0])
+                raise lines.error(f"unexpected {quoted(values[0].text)} after 'end'", values[0])
             break
         if name in keys:
             raise lines.error(f"second '{key.text}' in the bone opened at line {begin.line}", key)
@@ -332,7 +334,7 @@ def _bone(lines: _Lines, begin: _Token, units: AcclaimUnits, seen: dict[str, int
             for token in values:
                 d = token.text.lower()
                 if d not in BONE_DOFS:
-                    raise lines.error(f"expected a dof from {' '.join(BONE_DOFS)}, found '{token.text}'", token)
+                    raise lines.error(f"expected a dof from {' '.join(BONE_DOFS)}, found {quoted(token.text)}", token)
                 if d in dof:
                     raise lines.error(f"dof '{token.text}' appears twice", token)
                 dof.append(d)
@@ -348,7 +350,7 @@ def _bone(lines: _Lines, begin: _Token, units: AcclaimUnits, seen: dict[str, int
         else:
             raise lines.error(
                 "expected id, name, direction, length, axis, dof, limits, bodymass, cofmass or end "
-                f"in a bone, found '{key.text}'",
+                f"in a bone, found {quoted(key.text)}",
                 key,
             )
     for required in ("name", "direction", "length"):
@@ -386,7 +388,7 @@ def _hierarchy_lines(lines: _Lines, keyword: _Token) -> list[list[_Token]]:
         if tokens[0].text.lower() == "end" and len(tokens) == 1:
             return out
         if len(tokens) < 2:
-            raise lines.error(f"expected a parent and its children, found only '{tokens[0].text}'", tokens[0])
+            raise lines.error(f"expected a parent and its children, found only {quoted(tokens[0].text)}", tokens[0])
         out.append(tokens)
 
 
@@ -402,13 +404,17 @@ def _parents(lines: _Lines, bones: list[AcclaimBone], hierarchy: list[list[_Toke
         elif parent_token.text in index:
             parent = index[parent_token.text]
         else:
-            raise lines.error(f"unknown bone '{parent_token.text}' in :hierarchy (not in :bonedata)", parent_token)
+            raise lines.error(
+                f"unknown bone {quoted(parent_token.text)} in :hierarchy (not in :bonedata)", parent_token
+            )
         for child_token in children:
             if child_token.text == ROOT_NAME:
                 raise lines.error(f"'{ROOT_NAME}' cannot be a child (it is the top of the hierarchy)", child_token)
             child = index.get(child_token.text)
             if child is None:
-                raise lines.error(f"unknown bone '{child_token.text}' in :hierarchy (not in :bonedata)", child_token)
+                raise lines.error(
+                    f"unknown bone {quoted(child_token.text)} in :hierarchy (not in :bonedata)", child_token
+                )
             if child in parent_of:
                 first = parent_of[child][1]
                 raise lines.error(

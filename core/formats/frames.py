@@ -13,7 +13,7 @@ import warnings
 
 import numpy as np
 
-from gmr_studio.core.errors import MotionFileError
+from gmr_studio.core.errors import MotionFileError, quoted
 
 _VALUE = re.compile(rb"\S+")
 #: largest magnitude a reader accepts: far beyond any real length or angle, and small enough
@@ -31,7 +31,7 @@ def within_range(values, *, allow_nan: bool = False) -> bool:
 
 def out_of_range(text: str) -> str:
     """The error message for a number beyond MAX_ABS_VALUE, as written in the file."""
-    return f"'{text}' is out of range (at most {MAX_ABS_VALUE:g})"
+    return f"{quoted(text)} is out of range (at most {MAX_ABS_VALUE:g})"
 
 
 _NUMBER = re.compile(rb"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?\Z")
@@ -121,7 +121,7 @@ def _raise_first_problem(
                 what = "a finite number" if found.lower().lstrip("+-") in ("nan", "inf", "infinity") else "a number"
                 raise MotionFileError(
                     path,
-                    f"frame {frame}, value {index + 1}: expected {what}, found '{found}'",
+                    f"frame {frame}, value {index + 1}: expected {what}, found {quoted(found)}",
                     line_number,
                     _column(line, match.start()),
                 )

@@ -13,7 +13,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
-from gmr_studio.core.errors import MotionFileError
+from gmr_studio.core.errors import MotionFileError, quoted
 from gmr_studio.core.formats.frames import MAX_ABS_VALUE, out_of_range, within_range
 from gmr_studio.core.model.motion import check_joint_name
 
@@ -124,13 +124,13 @@ class _Tokens:
     def expect(self, word: str, context: str = "") -> Token:
         token = self.take(f"'{word}'{context}")
         if token.text != word:
-            raise self.error(f"expected '{word}'{context}, found '{token.text}'", token)
+            raise self.error(f"expected '{word}'{context}, found {quoted(token.text)}", token)
         return token
 
     def number(self, what: str) -> float:
         token = self.take(what)
         if not _NUMBER.match(token.text):
-            raise self.error(f"expected {what}, found '{token.text}'", token)
+            raise self.error(f"expected {what}, found {quoted(token.text)}", token)
         value = float(token.text)
         if not within_range(value):
             raise self.error(out_of_range(token.text), token)
@@ -158,7 +158,7 @@ def parse_header(data: bytes, path: str, dialect: str) -> ParsedHeader:
         if token.text == "MOTION":
             break
         if token.text != "ROOT":
-            raise tokens.error(f"expected 'ROOT' or 'MOTION', found '{token.text}'", token)
+            raise tokens.error(f"expected 'ROOT' or 'MOTION', found {quoted(token.text)}", token)
         _parse_joint(tokens, token, "ROOT", -1, joints, names, gmr)
     if not joints:
         raise tokens.error("the HIERARCHY has no ROOT joint")
@@ -231,7 +231,7 @@ def _parse_joint(
         elif word == "End" and kind != "End Site" and not gmr:
             site = tokens.take("'Site' after 'End'")
             if site.text != "Site":
-                raise tokens.error(f"expected 'Site' after 'End', found '{site.text}'", site)
+                raise tokens.error(f"expected 'Site' after 'End', found {quoted(site.text)}", site)
             _parse_joint(tokens, token, "End Site", index, joints, names, gmr)
         elif word == "SOFTLINK" and gmr:
             if joint.softlink is not None:
@@ -254,7 +254,7 @@ def _parse_joint(
                 raise tokens.error(
                     f"expected '}}' closing {kind} '{name}' (opened at line {keyword.line}) before MOTION", token
                 )
-            raise tokens.error(f"expected {allowed} in {kind} '{name}', found '{word}'", token)
+            raise tokens.error(f"expected {allowed} in {kind} '{name}', found {quoted(word)}", token)
     if joint.offset is None:
         raise tokens.error(f"{kind} '{name}' (line {keyword.line}) has no OFFSET", token)
     if gmr and kind != "End Site" and not any(c.endswith("rotation") for c in joint.channels):
@@ -266,7 +266,7 @@ def _parse_channels(tokens: _Tokens, keyword: Token, joint: ParsedJoint) -> None
         raise tokens.error(f"second CHANNELS in '{joint.name}'", keyword)
     count_token = tokens.take("the number of channels")
     if not count_token.text.isdigit():
-        raise tokens.error(f"expected the number of channels, found '{count_token.text}'", count_token)
+        raise tokens.error(f"expected the number of channels, found {quoted(count_token.text)}", count_token)
     count = int(count_token.text)
     if count > 6:
         raise tokens.error(f"a joint has at most 6 channels, not {count}", count_token)
@@ -274,7 +274,9 @@ def _parse_channels(tokens: _Tokens, keyword: Token, joint: ParsedJoint) -> None
         token = tokens.take(f"{count} channel names")
         name = _CHANNEL_BY_LOWER.get(token.text.lower())
         if name is None:
-            raise tokens.error(f"unknown channel '{token.text}': expected one of {', '.join(CHANNEL_NAMES)}", token)
+            raise tokens.error(
+                f"unknown channel {quoted(token.text)}: expected one of {', '.join(CHANNEL_NAMES)}", token
+            )
         if name in joint.channels:
             raise tokens.error(f"channel '{name}' appears twice in '{joint.name}'", token)
         joint.channels.append(name)
@@ -285,7 +287,7 @@ def _header_line(tokens: _Tokens, label: str, pattern: str) -> tuple[str, Token]
     """The value after ``label`` on the next non-blank line (``label`` may be glued to it)."""
     rest = tokens.rest_of_line()
     if rest:  # MOTION followed by more text on its line
-        raise tokens.error(f"expected a line break after MOTION, found '{rest[0].text}'", rest[0])
+        raise tokens.error(f"expected a line break after MOTION, found {quoted(rest[0].text)}", rest[0])
     while True:
         text = tokens.next_line_text()
         if text is None:
@@ -296,19 +298,19 @@ def _header_line(tokens: _Tokens, label: str, pattern: str) -> tuple[str, Token]
     if not match:
         column = len(text) - len(text.lstrip()) + 1
         found = text.strip().split()[0]
-        raise MotionFileError(tokens.path, f"expected '{label}', found '{found}'", tokens.line, column)
+        raise MotionFileError(tokens.path, f"expected '{label}', found {quoted(found)}", tokens.line, column)
     return match.group(1), Token(match.group(1), tokens.line, match.start(1) + 1)
 
 
 def _parse_frames_line(tokens: _Tokens) -> tuple[int, Token]:
     value, token = _header_line(tokens, "Frames: <count>", r"\s*Frames:\s*(\S*)\s*$")
     if not value.isdigit():
-        raise tokens.error(f"expected a whole number of frames after 'Frames:', found '{value}'", token)
+        raise tokens.error(f"expected a whole number of frames after 'Frames:', found {quoted(value)}", token)
     return int(value), token
 
 
 def _parse_frame_time_line(tokens: _Tokens) -> float:
     value, token = _header_line(tokens, "Frame Time: <seconds>", r"\s*Frame\s+Time:\s*(\S*)\s*$")
     if not _NUMBER.match(value) or not 0 < float(value) <= MAX_ABS_VALUE:
-        raise tokens.error(f"expected a positive number of seconds after 'Frame Time:', found '{value}'", token)
+        raise tokens.error(f"expected a positive number of seconds after 'Frame Time:', found {quoted(value)}", token)
     return float(value)

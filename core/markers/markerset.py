@@ -37,6 +37,7 @@ import numpy as np
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.space.units import unit_factor, unit_named
 from gmr_studio.core.space.up_axis import Y_TO_Z
+from gmr_studio.core.timebase.clock import frames_within
 
 #: metres per unit
 
@@ -267,9 +268,8 @@ class MarkerSet:
             raise ValueError("the frame rate must be positive")
         if self.n_frames < 2 or rate == self.rate:
             return self.replace(rate=rate, outputs=None) if self.n_frames < 2 else self
-        duration = (self.n_frames - 1) / self.rate
-        times = np.arange(int(np.floor(duration * rate + 1e-9)) + 1) / rate
-        position = times * self.rate
+        times = np.arange(frames_within(self.n_frames, 1.0 / self.rate, rate)) / rate
+        position = np.minimum(times * self.rate, self.n_frames - 1)
         lower = np.minimum(np.floor(position).astype(np.int64), self.n_frames - 2)
         weight = (position - lower)[:, None, None]
         before, after = self.positions[lower], self.positions[lower + 1]

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from gmr_studio.core.atomic import atomic_write_text
-from gmr_studio.core.errors import MotionFileError, read_input
+from gmr_studio.core.errors import MotionFileError, quoted, read_input
 from gmr_studio.core.formats.frames import out_of_range, within_range
 from gmr_studio.core.formats.hierarchy import normalise_newlines
 from gmr_studio.core.markers.markerset import MarkerSet, split_subject
@@ -55,15 +55,15 @@ def read_trc(path: str | Path, data: bytes | None = None) -> MarkerSet:
     except ValueError:
         rate = -1.0
     if not np.isfinite(rate) or rate <= 0:
-        raise fail(f"expected a positive DataRate, found '{rate_text}'", 3, rate_column)
+        raise fail(f"expected a positive DataRate, found {quoted(rate_text)}", 3, rate_column)
     units_text, units_column = header["Units"]
     unit = parse_unit(units_text)
     if unit is None:
-        raise fail(f"unknown Units '{units_text}': expected one of {', '.join(UNITS)}", 3, units_column)
+        raise fail(f"unknown Units {quoted(units_text)}: expected one of {', '.join(UNITS)}", 3, units_column)
     units = unit.name
     markers_text, markers_column = header["NumMarkers"]
     if not markers_text.isdigit():
-        raise fail(f"expected a whole NumMarkers, found '{markers_text}'", 3, markers_column)
+        raise fail(f"expected a whole NumMarkers, found {quoted(markers_text)}", 3, markers_column)
     n_markers = int(markers_text)
     names = [name for name, _ in _fields(_text(lines[3], where, 4), delimiter)]
     if names[:2] != ["Frame#", "Time"]:
@@ -172,7 +172,7 @@ def _raise_bad_value(rows: list[bytes], numbers: list[int], sep: bytes, path: st
         for field in row.split(sep):
             if field != b"nan" and not _NUMBER.match(field):
                 found = field.decode("utf-8", "replace").strip()
-                raise MotionFileError(path, f"expected a number, found '{found}'", number, column)
+                raise MotionFileError(path, f"expected a number, found {quoted(found)}", number, column)
             if field != b"nan" and not within_range(float(field)):
                 raise MotionFileError(path, out_of_range(field.decode().strip()), number, column)
             column += len(field.decode("utf-8", "replace")) + len(sep)

@@ -8,13 +8,34 @@ before the end. A motion with one frame lasts one frame time; one with none last
 
 Every surface that speaks of seconds calls these: ``gmr info`` (duration), ``gmr curves``
 (its ``time`` column), ``gmr compare`` (A's compared frames' times), the app's timeline.
+
+A frame time read from a file is printed with a few digits (BVH's ``0.033333`` is 30.0003 Hz,
+``0.0083333`` 120.0005 Hz), so the times counted in it carry that rounding, one frame after
+another. Two rates closer than :data:`SAME_RATE_TOLERANCE` (relative) are one rate
+(:func:`common_rate`, what ``gmr compare`` uses), and a new clock's frames reach a motion's
+last frame when they pass it by no more than the rounding of its frame time on every frame
+(:func:`frames_within`: a 31-frame take at 0.033333 s resampled to 15 Hz has 16 frames, the
+last at 1 s). Resampling a motion (``core.edits.clip``), ``gmr dataset --rate`` and markers put on
+a motion's clock count their frames with it.
 """
 
 from __future__ import annotations
 
+from decimal import Decimal
+
 import numpy as np
 
 from gmr_studio.core.model.motion import Motion
+
+#: frame rates closer than this (relative) are one rate: BVH prints its frame time to ~7
+#: digits (0.0083333 s is 120.0005 Hz), which would otherwise drift one clock against the
+#: other by a frame in 2,000 s
+SAME_RATE_TOLERANCE = 1e-5
+#: the most a frame time read from a file is off (seconds): half a unit of the sixth decimal,
+#: as BVH writers print it at the least (0.033333, 0.008333)
+FRAME_TIME_ROUNDING = 5e-7
+#: new frames past a motion's last frame within this are at it (float rounding of products)
+_FLOAT_SLACK = 1e-9
 
 
 def frame_seconds(frames, frame_time: float):
@@ -37,3 +58,31 @@ def motion_duration(motion: Motion) -> float:
 def motion_frame_seconds(motion: Motion, frames=None):
     """:func:`frame_seconds` of a motion's frames (default: all, (F,))."""
     return frame_seconds(np.arange(motion.n_frames) if frames is None else frames, motion.frame_time)
+
+
+def common_rate(rate_a: float, rate_b: float) -> float:
+    """B's rate as a comparison of A and B uses it: A's when the two differ by less than
+    :data:`SAME_RATE_TOLERANCE` (the rounding of a printed frame time), else B's own."""
+    if rate_b != rate_a and abs(rate_b / rate_a - 1.0) < SAME_RATE_TOLERANCE:
+        return rate_a
+    return rate_b
+
+
+def frame_time_rounding(frame_time: float) -> float:
+    """How far a frame time read from a file may be from the one its authors meant (seconds):
+    half a unit of the last decimal of its shortest printed form, at most
+    :data:`FRAME_TIME_ROUNDING`: 5e-7 for 0.033333 (or 0.01), 5e-8 for 0.0083333, 5e-18 for
+    a frame time computed as 1 / 30."""
+    exponent = Decimal(repr(float(frame_time))).as_tuple().exponent
+    return min(FRAME_TIME_ROUNDING, 0.5 * 10.0 ** int(exponent))
+
+
+def frames_within(n_frames: int, frame_time: float, rate: float) -> int:
+    """How many frames of a clock at ``rate`` Hz (frame ``k`` at ``k / rate`` s) fall within
+    ``n_frames`` frames of ``frame_time``: from 0 s to the last frame, at
+    ``(n_frames - 1) * frame_time`` give or take :func:`frame_time_rounding` on every frame (31
+    frames of 0.033333 s end at 0.99999 s, 1 s as meant: at 15 Hz, 16 frames). ``rate`` > 0."""
+    if n_frames <= 0:
+        return 0
+    last = (n_frames - 1) * (float(frame_time) + frame_time_rounding(frame_time))
+    return int(np.floor(last * float(rate) + _FLOAT_SLACK)) + 1
