@@ -37,7 +37,7 @@ from gmr_studio.core.formats.bvh import write_bvh
 from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.rigs import RIGS, make_rig
-from gmr_studio.core.timebase.clock import frame_seconds, motion_duration
+from gmr_studio.core.timebase.clock import duration_of, frame_seconds
 from tests.conftest import shared_files
 
 FILES = shared_files("**/*.bvh") + shared_files("**/*.amc")
@@ -107,7 +107,7 @@ def test_info_duration_is_the_clocks_and_the_timelines(case, rig_files, capsys):
     path = _path(case, rig_files)
     motion, _ = read_motion_with_channels(path)
     info = json.loads(run(capsys, "info", path, "--json"))
-    assert info["duration"] == motion_duration(motion) == motion.n_frames * motion.frame_time
+    assert info["duration"] == duration_of(motion) == motion.n_frames * motion.frame_time
     assert info["frames"] == motion.n_frames
     last = max(motion.n_frames - 1, 0)
     shown_time, shown_total = time_text(motion, last).split(" / ")
@@ -225,7 +225,7 @@ def test_the_long_take_in_memory():
     from gmr_studio.core.edits.clip import trim
 
     motion = make_rig("long_take")
-    assert describe(motion, "long_take.bvh")["duration"] == motion_duration(motion) == motion.n_frames / 60.0
+    assert describe(motion, "long_take.bvh")["duration"] == duration_of(motion) == motion.n_frames / 60.0
     trimmed = trim(motion, 7, 60_007)
     result = compare_motions(motion, trimmed)
     assert result.alignment.offset_found and result.alignment.offset_frames == -7

@@ -6,10 +6,11 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation, Slerp
 
-from gmr_studio.core.edits.clip import resample, resample_positions, trim
+from gmr_studio.core.edits.clip import resample, trim
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import load_gmr, read_motion
 from gmr_studio.core.kinematics.fk import reference_forward_kinematics
+from gmr_studio.core.timebase.sampling import resample_grid as resample_positions
 from tests.conftest import random_motion, shared_path
 
 
@@ -79,7 +80,7 @@ def test_resample_positions_snap_to_source_frames_and_stop_at_the_last():
     assert where.size == 31 and where[-1] == 10.0
     np.testing.assert_array_equal(where[::3], np.arange(11.0))
     assert resample_positions(7, 0.1, 10 / 3).tolist() == [0.0, 3.0, 6.0]
-    with pytest.raises(OperationError, match="frame rate"):
+    with pytest.raises(ValueError, match="frame rate"):
         resample_positions(5, 0.1, 0.0)
 
 

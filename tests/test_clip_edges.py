@@ -7,11 +7,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.core.edits.clip import resample, resample_positions, trim
+from gmr_studio.core.edits.clip import resample, trim
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import read_motion
 from gmr_studio.core.kinematics.fk import world_positions
-from gmr_studio.core.timebase.clock import motion_frame_seconds
+from gmr_studio.core.timebase.clock import times_of
+from gmr_studio.core.timebase.sampling import resample_grid as resample_positions
 from tests.conftest import random_motion, shared_path
 
 
@@ -65,7 +66,7 @@ def test_a_take_whose_frame_time_is_printed_rounded_keeps_its_last_frame():
     take = trim(read_motion(shared_path("bvh/bvh-python_test_mocapbank.bvh")), 0, 31)
     assert take.frame_time == 0.033333
     half = resample(take, 15.0)
-    assert half.n_frames == 16 and motion_frame_seconds(half)[-1] == 1.0
+    assert half.n_frames == 16 and times_of(half)[-1] == 1.0
     np.testing.assert_array_equal(world_positions(half)[-1], world_positions(take)[-1])
     np.testing.assert_array_equal(half.rotations[[0, -1]], take.rotations[[0, -1]])
 

@@ -9,15 +9,14 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation, Slerp
 
-from gmr_studio.core.compare.clock import (
+from gmr_studio.core.compare.clock import check_overlap, sample_frames
+from gmr_studio.core.timebase.clock import common_rate
+from gmr_studio.core.timebase.sampling import (
     RESAMPLE_CHUNK,
     ROTATION_BLOCK,
-    check_overlap,
-    common_rate,
-    resample,
-    resample_rotations,
+    interpolate,
+    interpolate_rotations,
     rotations_component_major,
-    sample_frames,
     take,
     whole_frames,
 )
@@ -27,16 +26,16 @@ def resample_by_loops(values: np.ndarray, at: np.ndarray) -> np.ndarray:
     """B at fractional frames, one sample at a time (NaN outside [0, N - 1] by more than 1e-6)."""
     n = len(values)
     out = np.full((len(at), *values.shape[1:]), np.nan)
-    whole = np.all(np.abs(at - np.rint(at)) <= 1e-6)
+    whole = np.abs(at - np.rint(at)) <= 1e-6
     for row, u in enumerate(at):
         if u < -1e-6 or u > n - 1 + 1e-6:
             continue
-        if whole:
+        if whole[row]:
             out[row] = values[min(max(int(np.rint(u)), 0), n - 1)]
             continue
         low = min(max(int(np.floor(u)), 0), max(n - 2, 0))
         weight = min(max(u - low, 0.0), 1.0)
-        out[row] = (1.0 - weight) * values[low] + weight * values[min(low + 1, n - 1)]
+        out[row] = values[low] + (values[min(low + 1, n - 1)] - values[low]) * weight
     return out
 
 
@@ -102,24 +101,24 @@ def test_resample_is_linear_between_bs_frames_and_nan_outside(at):
     rng = np.random.default_rng(8)
     values = rng.normal(size=(8, 4, 3))
     values[4, 1] = np.nan  # a gap: its neighbours' samples are NaN
-    got = resample(values, at)
+    got = interpolate(values, at)
     expected = resample_by_loops(values, at)
     assert got.shape == expected.shape
     np.testing.assert_allclose(got, expected, rtol=1e-12, atol=1e-15)
     assert np.array_equal(np.isnan(got), np.isnan(expected))
     columns = np.array([3, 1])
-    np.testing.assert_allclose(resample(values, at, columns), expected[:, columns], rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(interpolate(values, at, columns), expected[:, columns], rtol=1e-12, atol=1e-15)
 
 
 def test_resample_of_one_frame_and_of_many_rows_in_chunks():
     single = np.arange(6.0).reshape(1, 2, 3)
-    np.testing.assert_array_equal(resample(single, np.array([0.0, 1e-7])), single[[0, 0]])
-    assert np.isnan(resample(single, np.array([0.5, -0.5]))).all()
+    np.testing.assert_array_equal(interpolate(single, np.array([0.0, 1e-7])), single[[0, 0]])
+    assert np.isnan(interpolate(single, np.array([0.5, -0.5]))).all()
     rng = np.random.default_rng(9)
     values = rng.normal(size=(40, 30, 3))  # 90 values a row: several chunks of rows
     at = np.linspace(-1.0, 40.0, 2000)
     assert len(at) * 90 > 2 * RESAMPLE_CHUNK
-    np.testing.assert_allclose(resample(values, at), resample_by_loops(values, at), rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(interpolate(values, at), resample_by_loops(values, at), rtol=1e-12, atol=1e-15)
 
 
 @pytest.mark.parametrize(
@@ -138,7 +137,7 @@ def test_steps_take_the_path_accurate_for_them(angle, atol):
     for f in range(1, 20):
         rotations[f, 0] = steps[f] @ rotations[f - 1, 0]
     at = np.linspace(0.1, 18.9, 57)
-    np.testing.assert_allclose(resample_rotations(rotations, at), slerp_by_scipy(rotations, at), rtol=0, atol=atol)
+    np.testing.assert_allclose(interpolate_rotations(rotations, at), slerp_by_scipy(rotations, at), rtol=0, atol=atol)
 
 
 def test_whole_frames_to_the_tolerance():
@@ -146,9 +145,9 @@ def test_whole_frames_to_the_tolerance():
     assert not whole_frames(np.array([1.0, 2.0 + 1.1e-6]))
     assert whole_frames(np.array([1e-6, -1e-6]))  # exactly the tolerance from frame 0
     values = np.arange(12.0).reshape(3, 4)
-    np.testing.assert_array_equal(resample(values, np.array([1e-6, 2.0])), values[[0, 2]])
+    np.testing.assert_array_equal(interpolate(values, np.array([1e-6, 2.0])), values[[0, 2]])
     points_none = np.zeros((5, 0, 3))  # no point at all
-    assert resample(points_none, np.array([0.5, 1.5])).shape == (2, 0, 3)
+    assert interpolate(points_none, np.array([0.5, 1.5])).shape == (2, 0, 3)
 
 
 def slerp_by_scipy(rotations: np.ndarray, at: np.ndarray) -> np.ndarray:
@@ -172,11 +171,11 @@ def test_rotations_in_blocks_and_for_some_columns_equal_scipy():
         rotations[f] = steps[f] @ rotations[f - 1]
     at = np.concatenate([np.linspace(-2.0, 31.0, 2 * ROTATION_BLOCK + 77), [12.5, 3.25, 3.0]])
     expected = slerp_by_scipy(rotations, at)
-    got = resample_rotations(rotations, at)
+    got = interpolate_rotations(rotations, at)
     assert np.array_equal(np.isnan(got), np.isnan(expected))
     np.testing.assert_allclose(got, expected, atol=1e-12)
     columns = np.array([2, 0])
-    np.testing.assert_allclose(resample_rotations(rotations, at, columns), expected[:, columns], atol=1e-12)
+    np.testing.assert_allclose(interpolate_rotations(rotations, at, columns), expected[:, columns], atol=1e-12)
     # one sample; samples one frame apart (B's frames in order, a view); at 0 by the tolerance
     for at in (
         np.array([2.5]),
@@ -188,12 +187,12 @@ def test_rotations_in_blocks_and_for_some_columns_equal_scipy():
         np.array([0.5, 2.5, 2.7]),  # frames 0, 2, 2: as many as 0 .. 2, not those
     ):
         expected = slerp_by_scipy(rotations, at)
-        np.testing.assert_allclose(resample_rotations(rotations, at, columns), expected[:, columns], atol=1e-12)
+        np.testing.assert_allclose(interpolate_rotations(rotations, at, columns), expected[:, columns], atol=1e-12)
     in_order = rotations_component_major(rotations, np.arange(3.0, 8.0))
     np.testing.assert_array_equal(np.moveaxis(in_order, -1, 0).reshape(5, 3, 3, 3), rotations[3:8])
     # whole frames, backwards: B's frames as they are
     whole = np.array([5.0, 4.0, 2.0, 29.0, 29.0 + 1e-7, -1.0, 0.0, 35.0])
-    got = resample_rotations(rotations, whole, columns)
+    got = interpolate_rotations(rotations, whole, columns)
     np.testing.assert_array_equal(got[[0, 1, 2, 3, 4, 6]], rotations[[5, 4, 2, 29, 29, 0]][:, columns])
     assert np.isnan(got[[5, 7]]).all()
     assert rotations_component_major(rotations, np.array([]), columns).shape == (3, 3, 0)
@@ -204,21 +203,23 @@ def test_rotations_in_blocks_and_for_some_columns_equal_scipy():
 
 def test_one_frame_of_rotations_is_that_frame_at_0_and_nan_elsewhere():
     frame = Rotation.random(2, random_state=np.random.default_rng(13)).as_matrix()[None]  # (1, 2, 3, 3)
-    got = resample_rotations(frame, np.array([0.0, 5.5, -0.5]))
+    got = interpolate_rotations(frame, np.array([0.0, 5.5, -0.5]))
     np.testing.assert_array_equal(got[0], frame[0])
     assert np.isnan(got[1:]).all()
 
 
-def test_a_gap_next_to_the_last_frame_makes_it_nan_between_frames():
-    """Between frames, B's last frame is reached from the one before (a NaN there makes it NaN)."""
+def test_a_sample_on_a_frame_beside_a_gap_is_that_frame_and_between_them_a_gap():
+    """A sample on one of B's frames is that frame, whatever its neighbours; one between a
+    frame and a gap is a gap."""
     values = np.array([[np.nan, 1.0], [2.0, 3.0]])
-    got = resample(values, np.array([0.5, 1.0]))
-    assert np.isnan(got[:, 0]).all() and got[0, 1] == 2.0 and got[1, 1] == 3.0
+    got = interpolate(values, np.array([0.5, 1.0]))
+    assert np.isnan(got[0, 0]) and got[0, 1] == 2.0 and got[1].tolist() == [2.0, 3.0]
     rotations = Rotation.random(3, random_state=np.random.default_rng(15)).as_matrix()[:, None]
     rotations[1] = np.nan
-    got = resample_rotations(rotations, np.array([2.0, 0.5, 2.5]))
-    assert np.isnan(got).all()
-    got = resample_rotations(rotations, np.array([2.0, 2.0]))  # whole frames: B's frame as it is
+    got = interpolate_rotations(rotations, np.array([2.0, 0.5, 2.5]))
+    np.testing.assert_array_equal(got[0, 0], rotations[2, 0])
+    assert np.isnan(got[1:]).all()
+    got = interpolate_rotations(rotations, np.array([2.0, 2.0]))  # whole frames: B's frame as it is
     np.testing.assert_array_equal(got[:, 0], rotations[[2, 2], 0])
 
 
@@ -226,4 +227,4 @@ def test_rows_wider_than_a_chunk_are_resampled_one_at_a_time():
     wide = np.random.default_rng(16).normal(size=(3, 22_000, 3))  # 66,000 values a frame
     assert wide[0].size > RESAMPLE_CHUNK
     at = np.array([0.5, 1.25])
-    np.testing.assert_allclose(resample(wide, at), resample_by_loops(wide, at), rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(interpolate(wide, at), resample_by_loops(wide, at), rtol=1e-12, atol=1e-15)

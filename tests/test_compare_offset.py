@@ -13,12 +13,13 @@ import pytest
 from gmr_studio.core.benchmark.compare_speed import perturbed
 from gmr_studio.core.cli import main
 from gmr_studio.core.compare import compare_motions, compare_tracks, track_of_motion
-from gmr_studio.core.compare.clock import DEFAULT_OFFSET, ghost_positions, resample
+from gmr_studio.core.compare.clock import DEFAULT_OFFSET, ghost_positions
 from gmr_studio.core.compare.offset import search_offset
 from gmr_studio.core.formats import read_motion
 from gmr_studio.core.formats.bvh import write_bvh
 from gmr_studio.core.jointmap import match_joints
 from gmr_studio.core.rigs import make_rig
+from gmr_studio.core.timebase.sampling import interpolate as resample
 from tests.conftest import shared_path
 
 

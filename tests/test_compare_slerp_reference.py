@@ -16,9 +16,9 @@ import pytest
 from scipy.spatial.transform import Rotation, Slerp
 
 from gmr_studio.core.compare import compare_tracks
-from gmr_studio.core.compare.clock import resample_rotations
 from gmr_studio.core.compare.tracks import Track
 from gmr_studio.core.jointmap import match_joints
+from gmr_studio.core.timebase.sampling import interpolate_rotations as resample_rotations
 
 N_B, N_A, RATE_A, RATE_B, OFFSET = 60, 100, 40.0, 30.0, -0.3  # A's frame i is B's 0.75 i - 9
 NEAR_PI_STEPS = [*np.radians([180.0 - 1e-4, 179.0, 150.0, 120.0, 90.0]), np.pi - 1e-6, np.pi - 1e-3]
@@ -54,10 +54,13 @@ def _b_rotations(rng: np.random.Generator) -> np.ndarray:
 
 def _scipy_b(b: np.ndarray, at: np.ndarray) -> np.ndarray:
     """(F, J, 3, 3): B at fractional frames, scipy's Slerp sample by sample (NaN outside or
-    next to a gap)."""
+    next to a gap); a whole frame (within 1e-6) is that frame."""
     out = np.full((len(at), b.shape[1], 3, 3), np.nan)
     for row, u in enumerate(at):
         if not 0.0 <= u <= N_B - 1:
+            continue
+        if abs(u - np.rint(u)) <= 1e-6:
+            out[row] = b[int(np.rint(u))]
             continue
         low = min(int(np.floor(u)), N_B - 2)
         for j in range(b.shape[1]):

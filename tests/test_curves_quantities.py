@@ -16,7 +16,7 @@ from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.rigs import make_rig
 from gmr_studio.core.rotations.euler import matrix_from_euler
 from gmr_studio.core.table import csv_text
-from gmr_studio.core.timebase.clock import duration_seconds, frame_seconds, motion_duration
+from gmr_studio.core.timebase.clock import duration_of, duration_seconds, frame_seconds
 from tests.conftest import shared_path
 
 
@@ -91,16 +91,16 @@ def test_one_clock_for_info_curves_and_the_timeline(capsys, tmp_path):
     """Item 7: an AMC of 597 frames at 120 Hz lasts 597 / 120 = 4.975 s everywhere."""
     amc = shared_path("cmu/subject01/01_01.amc")
     motion, _ = read_motion_with_channels(amc)
-    assert motion_duration(motion) == duration_seconds(motion.n_frames, motion.frame_time)
+    assert duration_of(motion) == duration_seconds(motion.n_frames, motion.frame_time)
     assert main(["info", str(amc), "--json"]) == 0
     import json
 
     info = json.loads(capsys.readouterr().out)
-    assert info["duration"] == motion_duration(motion) == motion.n_frames / 120.0
+    assert info["duration"] == duration_of(motion) == motion.n_frames / 120.0
     from gmr_studio.app.docks.timeline import time_text
 
     last = motion.n_frames - 1
-    assert time_text(motion, last).split(" / ")[1].startswith(f"{motion_duration(motion):.3f} s")
+    assert time_text(motion, last).split(" / ")[1].startswith(f"{duration_of(motion):.3f} s")
     assert time_text(motion, last).lstrip().startswith(f"{frame_seconds(last, motion.frame_time):.3f} s")
     out = tmp_path / "t.csv"
     assert main(["curves", str(amc), "--joints", "root", "--quantity", "world", "-o", str(out)]) == 0

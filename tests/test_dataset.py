@@ -112,7 +112,7 @@ def test_positions_resampled_like_np_interp(folder, tmp_path):
 
 def test_a_take_whose_frame_time_is_printed_rounded_keeps_its_last_frame(tmp_path):
     # 'Frame Time: 0.033333' is 30 Hz to six decimals: 31 frames at 15 Hz are 16 rows, the
-    # last at 1 s on the last frame (the clip's clock, core.edits.clip.resample_positions)
+    # last at 1 s on the last frame (the clip's clock, core.timebase.sampling.resample_grid)
     take = trim(read_motion(shared_path("bvh/bvh-python_test_mocapbank.bvh")), 0, 31)
     (tmp_path / "in").mkdir()
     write_bvh(take, tmp_path / "in" / "take.bvh")

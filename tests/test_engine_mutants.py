@@ -15,6 +15,7 @@ from gmr_studio.core.compare.tracks import Track
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from gmr_studio.core.formats import load_gmr
 from gmr_studio.core.jointmap import JointMatch, match_joints
+from gmr_studio.core.space.units import unit_named
 
 NAMES_A = ("hips", "spine", "head", "arm", "hand", "leg")
 #: B's joints in another order, one of A's missing and one of its own
@@ -41,15 +42,14 @@ def make_tracks(n_a: int, n_b: int, *, rate_b: float = 30.0, seed: int = 0, **b_
 
 def b_at(values: np.ndarray, at: np.ndarray, *, rotations: bool) -> np.ndarray:
     """B's values (N, J, ...) at its fractional frames ``at`` (F,), one sample at a time: its
-    frame when every ``at`` is whole, else linear (positions) or scipy's Slerp (rotations);
-    NaN outside [0, N - 1]."""
+    frame where ``u`` is whole (within 1e-6), else linear (positions) or scipy's Slerp
+    (rotations); NaN outside [0, N - 1]."""
     n = len(values)
-    whole = np.all(np.abs(at - np.rint(at)) <= 1e-6)
     out = np.full((len(at), *values.shape[1:]), np.nan)
     for row, u in enumerate(at):
         if not -1e-6 <= u <= n - 1 + 1e-6:
             continue
-        if whole:
+        if abs(u - np.rint(u)) <= 1e-6:
             out[row] = values[int(np.rint(u))]
             continue
         low = min(max(int(np.floor(u)), 0), n - 2)
@@ -117,7 +117,7 @@ CASES = {
     # whole frames of B, nothing turned (B's rotations taken as they are)
     "whole": dict(offset=3.0),
     # whole frames, B in metres and z up, A in centimetres and y up: B turned and scaled
-    "whole-turned": dict(offset=-2.0, b_fields=dict(units="m", up="z"), a_units="cm"),
+    "whole-turned": dict(offset=-2.0, b_fields=dict(unit=unit_named("m"), up="z"), a_units="cm"),
     "whole-rigid": dict(offset=4.0, align="rigid"),
     # a scale given, the up axes alike: B scaled only (by 2, a scale of 1 leaves B as it is)
     "whole-scaled": dict(offset=0.0, scale=2.0),
@@ -139,7 +139,8 @@ def test_errors_equal_a_sample_by_sample_reference(case, blocks, monkeypatch):
         monkeypatch.setattr(engine, "PRODUCT_CHUNK", 11)
     a, b = make_tracks(40, 30, rate_b=spec.get("rate_b", 30.0), seed=len(case), **spec.get("b_fields", {}))
     if "a_units" in spec:
-        a = Track(a.names, a.positions, a.rotations, a.has_rotation, a.frame_rate, units=spec["a_units"])
+        unit = None if spec["a_units"] is None else unit_named(spec["a_units"])
+        a = Track(a.names, a.positions, a.rotations, a.has_rotation, a.frame_rate, unit=unit)
     frames = np.array([39, 3, 0, 17, 3, 25, 38, 9, 1, 30, 31, 32, 33, 34, 35, 36, 37, 12])  # unsorted, repeated
     result = compare_tracks(
         a,

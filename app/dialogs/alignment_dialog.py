@@ -25,7 +25,7 @@ from PyQt6.QtWidgets import (
 from gmr_studio.app.model.alignment import MarkerAlignment, auto_alignment, figure_centre_joint, turned_about
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.app.scene.highlight import PIVOT_COLOR, PivotMarker
-from gmr_studio.app.scene.scene import up_axis_of
+from gmr_studio.core.space.up_axis import up_axis_of
 
 __all__ = ["PIVOT_COLOR", "AlignmentDialog"]
 
@@ -41,7 +41,7 @@ class AlignmentDialog(QDialog):
         self.state = state
         self.original = state.marker_overlay.alignment
         self.base = self.original
-        self.up_axis = up_axis_of(state.snapshot)
+        self.up_axis = up_axis_of(state.snapshot.motion)
         size = state.motion.size
         layout = QFormLayout(self)
         self.method = QLabel(self.original.method)
@@ -63,7 +63,7 @@ class AlignmentDialog(QDialog):
         self.pivot_joint = figure_centre_joint(state.motion.names, state.motion.tree_roots)
         pivot_name = state.motion.names[self.pivot_joint]
         self.turn.setToolTip(
-            f"An extra turn about the up axis ({'XYZ'[self.up_axis]}) through {pivot_name} at the current frame"
+            f"An extra turn about the up axis ({self.up_axis.upper()}) through {pivot_name} at the current frame"
         )
         layout.addRow("Turn about up", self.turn)
         self.pivot_label = QLabel()

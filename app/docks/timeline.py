@@ -18,7 +18,7 @@ from gmr_studio.app.model.playback import SPEEDS, Player
 from gmr_studio.app.model.problems import Problems
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.core.model.motion import Motion
-from gmr_studio.core.timebase.clock import frame_seconds, motion_duration
+from gmr_studio.core.timebase.clock import duration_of, frame_seconds
 
 
 class FrameBox(QSpinBox):
@@ -159,4 +159,4 @@ def time_text(motion: Motion, frame: int) -> str:
     """The timeline's label: the frame's time and the motion's duration (:mod:`core.timebase.clock`:
     frame ``i`` at ``i * frame_time``, ``F`` frames last ``F * frame_time``), the frame count."""
     count = f"{frame + 1}/{motion.n_frames} @ {motion.frame_rate:g} Hz"
-    return f"{frame_seconds(frame, motion.frame_time):7.3f} s / {motion_duration(motion):.3f} s  ({count})"
+    return f"{frame_seconds(frame, motion.frame_time):7.3f} s / {duration_of(motion):.3f} s  ({count})"

@@ -39,12 +39,12 @@ from gmr_studio.core.cli.batch import find_motion_files, input_suffixes
 from gmr_studio.core.cli.convert import ConvertOptions, positive_number, read_for_conversion
 from gmr_studio.core.cli.progress import Progress
 from gmr_studio.core.cli.reading import add_gltf_options
-from gmr_studio.core.edits.clip import resample_positions
 from gmr_studio.core.errors import MotionFileError, OperationError
 from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.kinematics.fk import forward_kinematics
 from gmr_studio.core.rotations.continuity import continuous_quaternions
 from gmr_studio.core.rotations.quaternions import quaternion_from_matrix
+from gmr_studio.core.timebase.sampling import interpolate, interpolate_rotations, resample_grid
 
 QUANTITIES = ("positions", "rotations")
 COLUMNS = {"positions": ("x", "y", "z"), "rotations": ("qx", "qy", "qz", "qw")}
@@ -68,37 +68,22 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.set_defaults(run=run)
 
 
-def resample(values: np.ndarray, frame_time: float, rate: float, *, quaternions: bool) -> np.ndarray:
-    """Values (F, ...) at frames ``f * frame_time`` sampled at ``k / rate`` up to the last
-    frame, on the clip's clock (:func:`core.edits.clip.resample_positions`): linear interpolation
-    (normalised for quaternions, along the last axis)."""
-    n_frames = values.shape[0]
-    if n_frames < 2:
-        return values
-    position = resample_positions(n_frames, frame_time, rate)
-    before = np.minimum(np.floor(position).astype(np.int64), n_frames - 2)
-    weight = (position - before).reshape(-1, *([1] * (values.ndim - 1)))
-    mixed = (1 - weight) * values[before] + weight * values[before + 1]
-    if quaternions:
-        mixed /= np.linalg.norm(mixed, axis=-1, keepdims=True)
-    return mixed
-
-
 def file_values(
     source: str, quantity: str, rate: float | None, options: ConvertOptions
 ) -> tuple[tuple[str, ...], np.ndarray, float]:
     """(joint names, values (F, J, 3|4) float32, frame rate) of one file."""
     motion = read_for_conversion(source, options)
+    at = None if rate is None else resample_grid(motion.n_frames, motion.frame_time, rate)
     if quantity == "positions":
         values = forward_kinematics(motion, with_rotations=False)[0]
+        if at is not None:
+            values = interpolate(values, at)
     else:
-        gmr = pre_from_post(motion)
-        values = continuous_quaternions(quaternion_from_matrix(forward_kinematics(gmr)[1], scalar_last=True))
-    frame_rate = motion.frame_rate
-    if rate is not None:
-        values = resample(values, motion.frame_time, rate, quaternions=quantity == "rotations")
-        frame_rate = rate
-    return motion.names, values.astype(np.float32), frame_rate
+        world = forward_kinematics(pre_from_post(motion))[1]
+        if at is not None:
+            world = interpolate_rotations(world, at)
+        values = continuous_quaternions(quaternion_from_matrix(world, scalar_last=True))
+    return motion.names, values.astype(np.float32), motion.frame_rate if rate is None else rate
 
 
 def _dataset_task(source: str, quantity: str, rate: float | None, options: ConvertOptions):

@@ -11,7 +11,7 @@ from pathlib import Path
 from gmr_studio.core.cli.reading import add_reading_options, read_with_args
 from gmr_studio.core.edits.dummies import find_dummies
 from gmr_studio.core.model.motion import Motion
-from gmr_studio.core.timebase.clock import motion_duration
+from gmr_studio.core.timebase.clock import duration_of
 
 #: what ``info`` calls each format, by suffix
 FORMAT_NAMES = {
@@ -52,7 +52,7 @@ def describe(motion: Motion, path: str) -> dict:
         "frames": motion.n_frames,
         "frame_time": motion.frame_time,
         "frame_rate": motion.frame_rate,
-        "duration": motion_duration(motion),
+        "duration": duration_of(motion),
         "size": motion.size,
         "roots": [motion.names[r] for r in motion.roots],
         "soft_links": {motion.names[j]: motion.names[s] for j, s in enumerate(motion.soft_parents) if s >= 0},

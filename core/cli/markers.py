@@ -314,7 +314,7 @@ def truth_on_markers_clock(
     assumed). Raises OperationError when too little of the truth overlaps.
     """
     from gmr_studio.core.compare import compare_motions
-    from gmr_studio.core.compare.clock import common_rate
+    from gmr_studio.core.timebase.clock import common_rate
 
     start = (frames or slice(None)).indices(n_marker_frames)[0]
     if offset is None:

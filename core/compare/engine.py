@@ -8,21 +8,20 @@ from pathlib import Path
 import numpy as np
 
 from gmr_studio.core.compare.align import ALIGN_KINDS, Alignment, fit_alignment, rms_of_squares
-from gmr_studio.core.compare.clock import (
-    DEFAULT_OFFSET,
-    WHOLE_FRAME_TOLERANCE,
-    check_overlap,
-    common_rate,
-    resample,
-    rotations_component_major,
-    take,
-    whole_frames,
-)
+from gmr_studio.core.compare.clock import DEFAULT_OFFSET, check_overlap
 from gmr_studio.core.compare.offset import find_offset_of_tracks
 from gmr_studio.core.compare.result import Comparison
 from gmr_studio.core.compare.tracks import Track, space_change, track_of_motion
 from gmr_studio.core.jointmap import JointMap, JointMatch, match_joints
 from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.timebase.clock import common_rate
+from gmr_studio.core.timebase.sampling import (
+    WHOLE_FRAME_TOLERANCE,
+    interpolate,
+    rotations_component_major,
+    take,
+    whole_frames,
+)
 
 #: frames per block of the rotation error (temporaries of ~3 MB for 38 joints)
 ROTATION_BLOCK = 1024
@@ -120,7 +119,7 @@ def compare_tracks(
     check_overlap(at, b.n_frames, rows, offset_frames, offset_seconds)
 
     positions_a = take(a.positions, rows, index_a)
-    positions_b = resample(b.positions, at, index_b)
+    positions_b = interpolate(b.positions, at, index_b)
     q = space.up_rotation
     pre_fit = positions_b
     if space.scale != 1.0 or not np.array_equal(q, np.eye(3)):
@@ -214,7 +213,7 @@ def _rotation_error(
         block = slice(start, start + block_frames)
         ra = take(a.rotations, rows[block], index_a).reshape(-1, 9)
         if whole:
-            rb = resample(b.rotations, at[block], index_b).reshape(-1, 9)
+            rb = interpolate(b.rotations, at[block], index_b).reshape(-1, 9)
             if turn is not None:
                 rb = _times_transposed(rb, turn)  # a new (n, 9) array, turned B
             difference = np.subtract(ra, rb, out=rb if turn is not None else None)

@@ -30,7 +30,7 @@ import dataclasses
 
 import numpy as np
 
-from gmr_studio.core.compare.clock import WHOLE_FRAME_TOLERANCE, resample
+from gmr_studio.core.timebase.sampling import interpolate, resample_grid
 
 #: seconds over which the centroid's travel is measured
 SPEED_WINDOW = 0.1
@@ -137,11 +137,11 @@ def travel(centroid: np.ndarray, rate: float, size: float) -> np.ndarray:
 
 
 def at_rate(values: np.ndarray, rate: float, rate_a: float) -> np.ndarray:
-    """Rows of B (N, ...) at B's rate, resampled linearly at A's rate over B's duration."""
+    """Rows of B (N, ...) at B's rate, resampled at A's rate over B's frames (the one grid
+    and interpolator, :mod:`core.timebase.sampling`)."""
     if rate == rate_a or values.shape[0] < 2:
         return values
-    last = int(np.floor((values.shape[0] - 1) / rate * rate_a + WHOLE_FRAME_TOLERANCE))
-    return resample(values, np.arange(last + 1) * rate / rate_a)
+    return interpolate(values, resample_grid(values.shape[0], 1.0 / rate, rate_a))
 
 
 def lag_scores(

@@ -3,15 +3,15 @@
 Both work on a motion in either convention and return a new one (the input is never
 changed); the skeleton (names, parents, offsets, orders) is untouched.
 
-Resampling is by time. Frame ``k`` of the result is at ``k / rate`` seconds; the last one
-is the last that does not pass the source's last frame time by more than the rounding of a
-printed frame time (:func:`core.timebase.clock.frames_within`: a 31-frame take at 0.033333 s resampled
-to 15 Hz has 16 frames, the last at 1 s on the source's last frame). At each new time ``s`` with
-``s = (i + u) * frame_time`` (``i`` a source frame, ``0 <= u < 1``), every joint's local
-rotation is the slerp of frames ``i`` and ``i + 1`` at ``u`` and every local translation
-their linear interpolation. Where ``s`` is a source frame time (``u = 0`` to rounding,
-:data:`EXACT_TIME_TOLERANCE`), the source frame is copied bit for bit: the times of the
-kept frames are exact, and so are the poses (and hence every world position) there.
+Resampling is by time, on the project's one grid and interpolator
+(:mod:`core.timebase.sampling`). Frame ``k`` of the result is at ``k / rate`` seconds; the
+last one is the last that does not pass the source's last frame time by more than the
+rounding of a printed frame time (a 31-frame take at 0.033333 s resampled to 15 Hz has 16
+frames, the last at 1 s on the source's last frame). At each new time ``s = (i + u) *
+frame_time`` (``i`` a source frame, ``0 <= u < 1``), every joint's local rotation is the
+slerp of frames ``i`` and ``i + 1`` at ``u`` and every local translation their linear
+interpolation. Where ``s`` is a source frame time (to rounding), the source frame is copied
+bit for bit: the times of the kept frames are exact, and so are the poses there.
 """
 
 from __future__ import annotations
@@ -20,11 +20,7 @@ import numpy as np
 
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.model.motion import Motion
-from gmr_studio.core.rotations.quaternions import matrix_from_quaternion, quaternion_from_matrix, slerp
-from gmr_studio.core.timebase.clock import frames_within
-
-#: a new frame time within this fraction of a source frame interval counts as that source frame
-EXACT_TIME_TOLERANCE = 1e-9
+from gmr_studio.core.timebase.sampling import interpolate, interpolate_rotations, resample_grid
 
 
 def frame_range(n_frames: int, start: int | None, stop: int | None) -> tuple[int, int]:
@@ -49,47 +45,18 @@ def trim(motion: Motion, start: int | None, stop: int | None) -> Motion:
     )
 
 
-def resample_positions(n_frames: int, frame_time: float, rate: float) -> np.ndarray:
-    """Where the frames of the resampled motion fall, in source frames: (K,) float64.
-
-    ``K`` frames at ``k / rate`` seconds, up to the source's last frame time (to the rounding
-    of a printed frame time, :func:`core.timebase.clock.frames_within`; a frame that falls past it is
-    at it); values within :data:`EXACT_TIME_TOLERANCE` of an integer are snapped to it.
-    """
-    if not np.isfinite(rate) or rate <= 0:
-        raise OperationError(f"the frame rate must be a positive number, not {rate}")
-    if n_frames == 0:
-        return np.zeros(0)
-    ratio = 1.0 / (rate * frame_time)  # source frames per new frame
-    count = frames_within(n_frames, frame_time, rate)
-    positions = np.arange(count) * ratio
-    nearest = np.rint(positions)
-    return np.minimum(np.where(np.abs(positions - nearest) <= EXACT_TIME_TOLERANCE, nearest, positions), n_frames - 1)
-
-
 def resample(motion: Motion, rate: float) -> Motion:
     """The motion at ``rate`` frames per second (see the module docstring): rotations by
-    slerp, translations linearly, source frames copied exactly where a new frame falls on one."""
-    if np.isclose(rate * motion.frame_time, 1.0, rtol=0, atol=EXACT_TIME_TOLERANCE):
-        return motion
-    where = resample_positions(motion.n_frames, motion.frame_time, rate)
-    lower = np.minimum(np.floor(where).astype(np.int64), max(motion.n_frames - 2, 0))
-    fraction = where - lower
-    exact = fraction == 0.0
-    upper = np.minimum(lower + 1, motion.n_frames - 1)
-    between = ~exact & (fraction != 1.0)
-    rotations = motion.rotations[np.where(fraction == 1.0, upper, lower)].copy()
-    translations = motion.translations[np.where(fraction == 1.0, upper, lower)].copy()
-    if between.any():
-        lo, hi, u = lower[between], upper[between], fraction[between]
-        q0 = quaternion_from_matrix(motion.rotations[lo])
-        q1 = quaternion_from_matrix(motion.rotations[hi])
-        rotations[between] = matrix_from_quaternion(slerp(q0, q1, np.broadcast_to(u[:, None], q0.shape[:-1])))
-        t0, t1 = motion.translations[lo], motion.translations[hi]
-        translations[between] = t0 + (t1 - t0) * u[:, None, None]
+    slerp, translations linearly, source frames copied exactly where a new frame falls on one;
+    the motion itself when every new frame falls on the source frame of its number."""
+    if not np.isfinite(rate) or rate <= 0:
+        raise OperationError(f"the frame rate must be a positive number, not {rate}")
+    at = resample_grid(motion.n_frames, motion.frame_time, rate)
+    if motion.n_frames >= 2 and np.array_equal(at, np.arange(motion.n_frames)):
+        return motion  # every new frame is a source frame: the rate is the motion's own
     return motion.replace(
-        rotations=rotations,
-        translations=translations,
+        rotations=interpolate_rotations(motion.rotations, at),
+        translations=interpolate(motion.translations, at),
         frame_time=1.0 / rate,
         comments=(*motion.comments, f"resampled from {motion.frame_rate:.12g} Hz to {rate:.12g} Hz"),
     )

@@ -37,7 +37,8 @@ import numpy as np
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.space.units import unit_factor, unit_named
 from gmr_studio.core.space.up_axis import Y_TO_Z
-from gmr_studio.core.timebase.clock import frames_within
+from gmr_studio.core.timebase.clock import duration_of, times_of
+from gmr_studio.core.timebase.sampling import interpolate, resample_grid
 
 #: metres per unit
 
@@ -172,8 +173,13 @@ class MarkerSet:
 
     @property
     def times(self) -> np.ndarray:
-        """(F,) seconds from the first frame."""
-        return np.arange(self.n_frames) / self.rate
+        """(F,) seconds from the first frame (:mod:`core.timebase.clock`)."""
+        return times_of(self)
+
+    @property
+    def duration(self) -> float:
+        """Seconds the frames last: frames x frame time (:mod:`core.timebase.clock`)."""
+        return duration_of(self)
 
     @cached_property
     def present(self) -> np.ndarray:
@@ -262,18 +268,11 @@ class MarkerSet:
         ]
 
     def resampled(self, rate: float) -> MarkerSet:
-        """Linear interpolation in time to another rate; a sample between a gap and a good
-        sample is a gap. Analysis outputs are left behind (``outputs`` None)."""
+        """Linear interpolation in time to another rate (:mod:`core.timebase.sampling`); a
+        sample between a gap and a good sample is a gap. Analysis outputs are left behind (``outputs`` None)."""
         if rate <= 0:
             raise ValueError("the frame rate must be positive")
         if self.n_frames < 2 or rate == self.rate:
             return self.replace(rate=rate, outputs=None) if self.n_frames < 2 else self
-        times = np.arange(frames_within(self.n_frames, 1.0 / self.rate, rate)) / rate
-        position = np.minimum(times * self.rate, self.n_frames - 1)
-        lower = np.minimum(np.floor(position).astype(np.int64), self.n_frames - 2)
-        weight = (position - lower)[:, None, None]
-        before, after = self.positions[lower], self.positions[lower + 1]
-        exact = weight[:, 0, 0] == 0
-        out = (1 - weight) * before + weight * after  # NaN spreads: a gap on either side is a gap
-        out[exact] = before[exact]
-        return self.replace(positions=out, rate=rate, outputs=None)
+        at = resample_grid(self.n_frames, self.frame_time, rate)  # the one grid and interpolator
+        return self.replace(positions=interpolate(self.positions, at), rate=rate, outputs=None)

@@ -18,7 +18,7 @@ def describe_markers(markers: MarkerSet, path: str) -> dict:
         "format": "C3D" if path.lower().endswith(".c3d") else "TRC",
         "frames": markers.n_frames,
         "frame_rate": markers.rate,
-        "duration": markers.n_frames / markers.rate,
+        "duration": markers.duration,
         "first_frame": markers.first_frame,
         "units": markers.units,
         "subjects": sorted({s for s in markers.subjects if s}),

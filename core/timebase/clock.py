@@ -1,10 +1,12 @@
-"""A motion's clock: when each frame is, and how long a motion lasts (one definition).
+"""The clock of a motion or a marker set: when each frame is, and how long it lasts (one definition).
 
-Frame ``i`` (0-based) is at ``i * frame_time`` seconds: the first frame is at 0 s. Each frame
-is shown for one frame time, so a motion of ``F`` frames lasts ``F * frame_time`` seconds (its
-*duration*: what ``gmr info`` prints, the timeline's total, the length of a video of every
-frame at the motion's rate); its last frame is at ``(F - 1) * frame_time``, one frame time
-before the end. A motion with one frame lasts one frame time; one with none lasts 0 s.
+Anything with ``n_frames`` and ``frame_time`` has a clock (:class:`Timed`: a
+:class:`~core.model.motion.Motion`, a :class:`~core.markers.markerset.MarkerSet`). Frame ``i``
+(0-based) is at ``i * frame_time`` seconds: the first frame is at 0 s. Each frame is shown for
+one frame time, so ``F`` frames last ``F * frame_time`` seconds (the *duration*: what ``gmr
+info`` prints for motions and markers, the timeline's total, the length of a video of every
+frame at its rate); the last frame is at ``(F - 1) * frame_time``, one frame time before the
+end. One frame lasts one frame time; none lasts 0 s.
 
 Every surface that speaks of seconds calls these: ``gmr info`` (duration), ``gmr curves``
 (its ``time`` column), ``gmr compare`` (A's compared frames' times), the app's timeline.
@@ -22,10 +24,9 @@ a motion's clock count their frames with it.
 from __future__ import annotations
 
 from decimal import Decimal
+from typing import Protocol
 
 import numpy as np
-
-from gmr_studio.core.model.motion import Motion
 
 #: frame rates closer than this (relative) are one rate: BVH prints its frame time to ~7
 #: digits (0.0083333 s is 120.0005 Hz), which would otherwise drift one clock against the
@@ -50,14 +51,24 @@ def duration_seconds(n_frames: int, frame_time: float) -> float:
     return float(n_frames) * float(frame_time)
 
 
-def motion_duration(motion: Motion) -> float:
-    """:func:`duration_seconds` of a motion."""
-    return duration_seconds(motion.n_frames, motion.frame_time)
+class Timed(Protocol):
+    """Frames on a clock: a motion, a marker set."""
+
+    @property
+    def n_frames(self) -> int: ...
+
+    @property
+    def frame_time(self) -> float: ...
 
 
-def motion_frame_seconds(motion: Motion, frames=None):
-    """:func:`frame_seconds` of a motion's frames (default: all, (F,))."""
-    return frame_seconds(np.arange(motion.n_frames) if frames is None else frames, motion.frame_time)
+def duration_of(timed: Timed) -> float:
+    """:func:`duration_seconds` of a motion's or a marker set's frames."""
+    return duration_seconds(timed.n_frames, timed.frame_time)
+
+
+def times_of(timed: Timed, frames=None):
+    """:func:`frame_seconds` of a motion's or a marker set's frames (default: all, (F,))."""
+    return frame_seconds(np.arange(timed.n_frames) if frames is None else frames, timed.frame_time)
 
 
 def common_rate(rate_a: float, rate_b: float) -> float:
