@@ -9,8 +9,8 @@ import threading
 import pytest
 from PyQt6.QtCore import QObject, QTimer, pyqtSignal
 
+from gmr_studio.app import crash
 from gmr_studio.app.model import commands
-from gmr_studio.app.reliability import crash
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from tests import app_fixtures
 from tests.app_fixtures import open_file

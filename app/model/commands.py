@@ -15,8 +15,8 @@ from collections.abc import Callable
 
 from PyQt6.QtGui import QUndoCommand
 
+from gmr_studio.app.crash import report_unexpected
 from gmr_studio.app.model.state import Snapshot, StudioState
-from gmr_studio.app.reliability.crash import report_unexpected
 from gmr_studio.core.edits.clip import resample, trim
 from gmr_studio.core.edits.mirror import mirror
 from gmr_studio.core.edits.operations import join, join_all, shift_root, split, split_all

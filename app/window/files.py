@@ -16,9 +16,9 @@ from pathlib import Path
 from PyQt6.QtCore import QObject, QSettings, Qt, pyqtSignal
 from PyQt6.QtWidgets import QApplication, QFileDialog, QMessageBox, QProgressDialog, QWidget
 
+from gmr_studio.app.crash import describe_unexpected, log_exception
 from gmr_studio.app.model import extensions, loading, marker_document
 from gmr_studio.app.model.state import Snapshot, StudioState
-from gmr_studio.app.reliability.crash import describe_unexpected, log_exception
 from gmr_studio.core.compare.clock import DEFAULT_OFFSET
 from gmr_studio.core.errors import MotionFileError, OperationError
 from gmr_studio.core.formats import write_motion
