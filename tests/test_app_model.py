@@ -44,7 +44,7 @@ from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, precondition, rule
 from PyQt6.QtCore import Qt
 
-from gmr_studio.app.model import commands, extensions
+from gmr_studio.app.model import commands
 from gmr_studio.app.model.state import OVERLAYS
 from gmr_studio.core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
 from gmr_studio.core.shared_data import shared_data_dir
@@ -263,7 +263,7 @@ class StudioModel(RuleBasedStateMachine):
         handler = {
             "split_all": commands.split_everything,
             "join_all": commands.join_everything,
-            "remove_dummies": extensions.remove_dummy_joints,
+            "remove_dummies": commands.remove_dummy_joints,
         }[action]
         handler(self.state)
 

@@ -222,7 +222,7 @@ def test_pelvis_frames_follow_the_marker_alignment():
 def test_recovered_pelvis_turns_with_the_root(case):
     """The pelvis frames recovered from markers (demo: markers named like joints; CMU: the
     shipped CMU map on the C3D) turn with the skeleton's root, to a degree or two."""
-    from gmr_studio.app.model import extensions
+    from gmr_studio.app.model import pelvis_recovery
     from gmr_studio.core.formats import load_gmr
     from gmr_studio.core.markers import read_markers
     from gmr_studio.core.rotations.euler import rotation_angle
@@ -237,7 +237,7 @@ def test_recovered_pelvis_turns_with_the_root(case):
     state = StudioState()
     state.open_document(Snapshot.of(motion), None)
     state.set_markers(markers)
-    assert extensions.recover_pelvis_frames(state)
+    assert pelvis_recovery.recover_pelvis_frames(state)
     pelvis = state.pelvis
     assert pelvis.source.valid.mean() > 0.99
     angle = np.degrees(rotation_angle(np.swapaxes(pelvis.rotations, 1, 2) @ state.rotations[:, 0]))

@@ -3,7 +3,7 @@ through its undoable commands, as the command line asks (:mod:`app.main`)."""
 
 from __future__ import annotations
 
-from gmr_studio.app.model import commands, extensions
+from gmr_studio.app.model import commands
 from gmr_studio.core.edits.steps import EDIT_FLAG_OF
 from gmr_studio.core.errors import OperationError
 
@@ -16,7 +16,7 @@ def edit_command(operation: str):
         "join": commands.join_to_parent,
         "split_all": lambda state, _: commands.split_everything(state),
         "join_all": lambda state, _: commands.join_everything(state),
-        "remove_dummies": lambda state, _: extensions.remove_dummy_joints(state),
+        "remove_dummies": lambda state, _: commands.remove_dummy_joints(state),
     }[operation]
 
 

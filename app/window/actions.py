@@ -14,7 +14,7 @@ from PyQt6.QtWidgets import QInputDialog, QMainWindow, QMenu, QStyle, QToolBar
 
 from gmr_studio.app.docks.range_slider import range_ending_at, range_starting_at
 from gmr_studio.app.model import commands
-from gmr_studio.app.model.commands import can_join
+from gmr_studio.app.model.commands import can_join, can_remove_dummies
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.core.edits.mirror import side_partners
 
@@ -264,7 +264,7 @@ def show_overlay_switch(action: QAction, shown: bool, available: bool) -> None:
     action.blockSignals(False)
 
 
-def update_enabled(actions: dict[str, QAction], state: StudioState, remove_dummies_available: bool) -> None:
+def update_enabled(actions: dict[str, QAction], state: StudioState) -> None:
     """Enable what applies: edits on the selection, document actions when a motion is open."""
     motion, joint = state.motion, state.selected
     has_motion = motion is not None
@@ -274,7 +274,7 @@ def update_enabled(actions: dict[str, QAction], state: StudioState, remove_dummi
     actions["join"].setEnabled(bool(can_join(motion, joint)))
     actions["split_all"].setEnabled(bool(has_motion and len(motion.roots) < motion.n_joints))
     actions["join_all"].setEnabled(bool(has_motion and (motion.soft_parents >= 0).any()))
-    actions["remove_dummies"].setEnabled(bool(has_motion and remove_dummies_available))
+    actions["remove_dummies"].setEnabled(can_remove_dummies(motion))
     for name in (
         "save",
         "save_as",

@@ -17,7 +17,7 @@ from gmr_studio.app.docks.curves_dock import CurvesDock
 from gmr_studio.app.docks.forest import ForestTree
 from gmr_studio.app.docks.inspector import Inspector
 from gmr_studio.app.docks.timeline import Timeline
-from gmr_studio.app.model import commands, extensions, marker_document
+from gmr_studio.app.model import commands, loading, marker_document, pelvis_recovery
 from gmr_studio.app.model.playback import SPEEDS, Player
 from gmr_studio.app.model.problems import Problems
 from gmr_studio.app.model.state import StudioState
@@ -209,7 +209,7 @@ class MainWindow(QMainWindow):
             "join": lambda: commands.join_to_parent(state, state.selected),
             "split_all": lambda: commands.split_everything(state),
             "join_all": lambda: commands.join_everything(state),
-            "remove_dummies": lambda: extensions.remove_dummy_joints(state),
+            "remove_dummies": lambda: commands.remove_dummy_joints(state),
             "play": player.toggle,
             "step_back": lambda: (player.pause(), state.step(-1)),
             "step_forward": lambda: (player.pause(), state.step(1)),
@@ -268,14 +268,7 @@ class MainWindow(QMainWindow):
         action_table.show_overlay_switch(action, shown, action.isEnabled())
 
     def _on_enabled_changed(self, *_args) -> None:
-        action_table.update_enabled(
-            self.actions,
-            self.state,
-            self.state.motion is not None and extensions.remove_dummies_available(self.state.motion),
-        )
-        self.actions["recover_pelvis"].setEnabled(
-            self.state.marker_overlay is not None and extensions.pelvis_recovery_available()
-        )
+        action_table.update_enabled(self.actions, self.state)
 
     def _on_playing_changed(self, playing: bool) -> None:
         icon = "SP_MediaPause" if playing else "SP_MediaPlay"
@@ -296,7 +289,7 @@ class MainWindow(QMainWindow):
         AlignmentDialog(self.state, self, self.view.scene).exec()
 
     def _recover_pelvis(self) -> None:
-        extensions.recover_pelvis_frames(self.state)
+        pelvis_recovery.recover_pelvis_frames(self.state)
 
     def _about(self) -> None:
         QMessageBox.about(
@@ -313,8 +306,8 @@ class MainWindow(QMainWindow):
 
     def dropEvent(self, event: QDropEvent) -> None:  # noqa: N802
         paths = [url.toLocalFile() for url in event.mimeData().urls() if url.isLocalFile()]
-        motions = [p for p in paths if Path(p).suffix.lower() in extensions.motion_suffixes()]
-        markers = [p for p in paths if Path(p).suffix.lower() in extensions.marker_suffixes()]
+        motions = [p for p in paths if Path(p).suffix.lower() in loading.motion_suffixes()]
+        markers = [p for p in paths if Path(p).suffix.lower() in loading.marker_suffixes()]
         shift = bool(event.modifiers() & Qt.KeyboardModifier.ShiftModifier)
         if (motions or markers) and shift and self.state.motion is not None:
             self.files.compare_path((motions or markers)[0])  # Shift: add as a comparison layer
@@ -329,7 +322,7 @@ class MainWindow(QMainWindow):
     def _built_from_markers(self) -> bool:
         """The document was opened from a marker file (its skeleton built from the markers)."""
         path = self.state.path
-        return path is not None and path.suffix.lower() in extensions.marker_suffixes()
+        return path is not None and path.suffix.lower() in loading.marker_suffixes()
 
     def _restore_settings(self) -> None:
         geometry = self.settings.value("window/geometry")
