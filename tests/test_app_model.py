@@ -2,7 +2,7 @@
 
 A hypothesis :class:`RuleBasedStateMachine` drives one main window through everything a
 user does to a document: open a real file (the CMU BVH files of ``../shared/data``, or the
-demo walk), select joints and markers, Make root, Split here, Join to parent, Split all,
+demo walk), select joints and markers, Shift root, Split here, Join to parent, Split all,
 Join all, Remove dummy joints, undo, redo, jump in the history, change frame, toggle
 overlays, add markers, save as GMR and reload, export BVH and reopen. After every step:
 
@@ -113,7 +113,7 @@ class LightStudio:
 
 #: what the Edit menu's actions do, for the light harness
 EDITS = {
-    "make_root": lambda state: commands.make_root(state, state.selected),
+    "shift_root": lambda state: commands.shift_root_to(state, state.selected),
     "split": lambda state: commands.split_here(state, state.selected),
     "join": lambda state: commands.join_to_parent(state, state.selected),
 }
@@ -245,7 +245,7 @@ class StudioModel(RuleBasedStateMachine):
         layers.remove(data.draw(st.integers(0, count - 1)))
         assert len(layers) == count - 1
 
-    @rule(action=st.sampled_from(["make_root", "split", "join"]))
+    @rule(action=st.sampled_from(["shift_root", "split", "join"]))
     def joint_edit(self, action: str) -> None:
         if self.state.selected is None:
             self.state.select(0)

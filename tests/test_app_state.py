@@ -63,7 +63,7 @@ def test_snapshot_caches_forward_kinematics_for_all_frames(rng):
 
 
 EDITS = [
-    ("make_root", lambda s: commands.make_root(s, 3)),
+    ("shift_root", lambda s: commands.shift_root_to(s, 3)),
     ("split", lambda s: commands.split_here(s, 4)),
     ("split_all", commands.split_everything),
 ]
@@ -115,7 +115,7 @@ def test_a_refused_edit_changes_nothing_and_says_why(state):
     assert "last root" in recorder.events[0][1]
     assert not commands.split_here(state, 0)  # already a root
     assert "already a root" in recorder.events[-1][1]
-    assert not commands.make_root(state, 0)  # nothing to change
+    assert not commands.shift_root_to(state, 0)  # nothing to change
     assert state.undo_stack.count() == 0
 
 
@@ -128,7 +128,7 @@ def test_can_join_only_split_roots_with_a_soft_link(state):
 
 def test_selection_survives_edits_because_indices_do(state):
     state.select(5)
-    commands.make_root(state, 5)
+    commands.shift_root_to(state, 5)
     assert state.selected == 5
     state.undo_stack.undo()
     assert state.selected == 5

@@ -73,9 +73,13 @@ def _name(state: StudioState, joint: int) -> str:
     return state.motion.names[joint] if state.motion is not None else str(joint)
 
 
-def make_root(state: StudioState, joint: int) -> bool:
-    """Shift the root of the joint's tree to the joint."""
-    return run_edit(state, f"Make '{_name(state, joint)}' root", lambda m: shift_root(m, joint))
+#: how a shift root's edit is named in the history: ``Shift root to 'LeftHand'``
+SHIFT_ROOT_TEXT = "Shift root to"
+
+
+def shift_root_to(state: StudioState, joint: int) -> bool:
+    """Shift the root of the joint's tree to the joint (:func:`core.edits.operations.shift_root`)."""
+    return run_edit(state, f"{SHIFT_ROOT_TEXT} '{_name(state, joint)}'", lambda m: shift_root(m, joint))
 
 
 def split_here(state: StudioState, joint: int) -> bool:

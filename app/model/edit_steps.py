@@ -11,7 +11,7 @@ from gmr_studio.core.errors import OperationError
 def edit_command(operation: str):
     """The app's command for one of ``gmr edit``'s operations: (state, joint index) -> pushed."""
     return {
-        "shift_root": commands.make_root,
+        "shift_root": commands.shift_root_to,
         "split": commands.split_here,
         "join": commands.join_to_parent,
         "split_all": lambda state, _: commands.split_everything(state),

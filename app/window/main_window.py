@@ -41,7 +41,7 @@ KEYS_HELP = """<table>
 <tr><td><b>I / O</b></td><td>frame range start / end here (Shift+drag on the slider: a range)</td></tr>
 <tr><td><b>Click</b></td><td>select a joint (or a marker); right click: joint menu</td></tr>
 <tr><td><b>Drag</b></td><td>turn the camera (Shift: pan, wheel or right drag: zoom)</td></tr>
-<tr><td><b>Ctrl+R / Ctrl+T / Ctrl+J</b></td><td>make root / split here / join to parent</td></tr>
+<tr><td><b>Ctrl+R / Ctrl+T / Ctrl+J</b></td><td>shift root / split here / join to parent</td></tr>
 <tr><td><b>Ctrl+Z / Ctrl+Shift+Z</b></td><td>undo / redo</td></tr>
 <tr><td><b>G K A T L M B P</b></td><td>ground, soft links, axes, trail, labels, markers, marker labels, pelvis</td></tr>
 </table>"""
@@ -204,7 +204,7 @@ class MainWindow(QMainWindow):
             "screenshot": self.exports.save_screenshot_dialog,
             "export_video": lambda: self.exports.export_video_dialog(player.speed),
             "quit": self.close,
-            "make_root": lambda: commands.make_root(state, state.selected),
+            "shift_root": lambda: commands.shift_root_to(state, state.selected),
             "split": lambda: commands.split_here(state, state.selected),
             "join": lambda: commands.join_to_parent(state, state.selected),
             "split_all": lambda: commands.split_everything(state),
