@@ -44,14 +44,12 @@ def parse_frames(text: str) -> tuple[int | None, int | None]:
         raise argparse.ArgumentTypeError(f"expected whole frame numbers in A:B, not {text!r}") from None
 
 
-def register(sub: argparse._SubParsersAction) -> None:
-    parser = sub.add_parser(
-        "curves",
-        help="quantities of joints over time to CSV or PNG",
-        description="The file's own rotation channels (channels: BVH channels, AMC dofs; alias euler), the GMR "
+def register(parser: argparse.ArgumentParser) -> None:
+    parser.description = (
+        "The file's own rotation channels (channels: BVH channels, AMC dofs; alias euler), the GMR "
         "rotation as Euler angles (gmr-euler), its angle and quaternion, local translation GMR-style (local-pre, "
         "R t) or BVH-style (local-post, t), world position, speed, acceleration, or foot contacts (1 planted, "
-        "0 not), one row per frame (docs/curves.md says what each means).",
+        "0 not), one row per frame (docs/curves.md says what each means)."
     )
     parser.add_argument("file", help="any motion file the project reads")
     parser.add_argument("--joints", help="comma-separated joint names (default for contacts: the foot joints)")

@@ -41,8 +41,7 @@ OPERATIONS = {
 }
 
 
-def register(sub: argparse._SubParsersAction) -> None:
-    parser = sub.add_parser("edit", help="shift root, split, join, trim, resample, mirror, in the order given")
+def register(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("input", help="a .bvh, .gmr or .amc file (an AMC's skeleton: --asf, else the .asf beside it)")
     parser.add_argument("-o", "--output", required=True, help="a .gmr or .bvh file (forests: a World root)")
     add_edit_arguments(parser)
