@@ -7,10 +7,10 @@ import argparse
 import os
 import sys
 
-from gmr_studio.core.cli.edit import add_edit_arguments
 from gmr_studio.core.compare import ALIGN_KINDS
 from gmr_studio.core.compare.clock import DEFAULT_OFFSET
 from gmr_studio.core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
+from gmr_studio.core.edits.steps import add_edit_arguments
 
 
 def build_arguments() -> argparse.ArgumentParser:

@@ -70,7 +70,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     from PyQt6.QtWidgets import QApplication
 
-    from gmr_studio.app.reliability.crash import install_hooks
+    from gmr_studio.app.crash import install_hooks
     from gmr_studio.app.window.main_window import MainWindow
     from gmr_studio.app.window.theme import apply_theme
 

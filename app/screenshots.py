@@ -31,7 +31,7 @@ def _load_or_report(motion_path: str, markers_path: str | None):
 def _open_loaded(state, loaded: tuple, path: str, layers=None) -> None:
     """Make what :func:`_load_or_report` read the state's document, with its markers and the
     pelvis frames recovered from them."""
-    from gmr_studio.app.model import extensions
+    from gmr_studio.app.model import pelvis_recovery
     from gmr_studio.app.model.marker_document import MarkerDocument, show_marker_document
 
     document, markers = loaded
@@ -41,7 +41,7 @@ def _open_loaded(state, loaded: tuple, path: str, layers=None) -> None:
         state.open_document(document, path)
     if markers is not None:
         state.set_markers(markers)
-        extensions.recover_pelvis_frames(state, quiet=True)
+        pelvis_recovery.recover_pelvis_frames(state, quiet=True)
 
 
 def add_comparison(window, args: argparse.Namespace) -> str | None:

@@ -9,11 +9,11 @@ import json
 import pytest
 from PyQt6 import sip
 
+from gmr_studio.app.crash import crash_log_path
 from gmr_studio.app.model import commands
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.app.reliability import recovery
 from gmr_studio.app.reliability.autosave import Autosaver
-from gmr_studio.app.reliability.crash import crash_log_path
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from gmr_studio.core.formats import load_gmr
 

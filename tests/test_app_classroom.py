@@ -81,9 +81,9 @@ def test_hiding_the_dock_removes_the_drawing(classroom, qtbot):
     assert len(color_pixels(screen_image(classroom), PRE_COLOR, tolerance=20)) == 0
 
 
-def test_make_root_is_explained(classroom):
+def test_shift_root_is_explained(classroom):
     state, panel = classroom.state, classroom.classroom.panel
-    assert commands.make_root(state, state.motion.names.index("LeftHand"))
+    assert commands.shift_root_to(state, state.motion.names.index("LeftHand"))
     text = panel.shift_text.text()
     assert "LeftHand became the root" in text and "Hips" in text and "did not move" in text
 

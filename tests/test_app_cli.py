@@ -11,6 +11,7 @@ import pytest
 
 from gmr_studio.app.arguments import build_arguments, parse_size
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
+from tests.test_cli import modules_loaded_by
 
 STUDIO = [sys.executable, "-m", "gmr_studio.app.main"]
 
@@ -27,6 +28,12 @@ def read_png(path) -> np.ndarray:
     from gmr_studio.app.media.video import image_pixels
 
     return image_pixels(QImage(str(path)))
+
+
+def test_help_is_printed_without_loading_qt_or_vtk():
+    out, _, loaded = modules_loaded_by("gmr_studio.app.main", "--help")
+    assert "--screenshot OUT.png" in out and "--shift-root J" in out
+    assert not {"PyQt6", "pyvista", "pyvistaqt", "vtk", "vtkmodules", "pyqtgraph"} & loaded
 
 
 def test_without_a_display_it_says_how_to_run_and_exits_2():

@@ -16,6 +16,7 @@ from gmr_studio.app.docks.timeplot import CURSOR_COLOUR, TimePlot
 from gmr_studio.app.media.video import image_pixels
 from gmr_studio.core.analysis.contacts import foot_contacts
 from gmr_studio.core.analysis.curves import joint_curves
+from gmr_studio.core.cli import main as gmr
 from tests import app_fixtures
 from tests.app_fixtures import open_file
 from tests.conftest import shared_path
@@ -176,6 +177,21 @@ def test_export_csv_of_the_visible_range_and_png(walk, tmp_path):
     plot.export_png(tmp_path / "c.png")
     image = QImage(str(tmp_path / "c.png"))
     assert image.width() == plot.plot_widget.width() and image.height() == plot.plot_widget.height()
+
+
+def test_the_dock_exports_what_gmr_curves_writes(walk, tmp_path):
+    """Export CSV of the whole take gives the same file as ``gmr curves`` for the same joints and quantity."""
+    dock = walk.curves
+    dock.pin_selected()
+    walk.state.select(walk.state.motion.joint_index("rfemur"))
+    dock.plot.autoscale()
+    dock.export_csv(str(tmp_path / "dock.csv"))
+    argv = ["curves", str(shared_path(WALK)), "--joints", "lfemur,rfemur", "--quantity", "channels"]
+    assert gmr([*argv, "-o", str(tmp_path / "cli.csv")]) == 0
+    written = (tmp_path / "dock.csv").read_text()
+    assert written.startswith("frame,time,lfemur.channels.rx,")
+    assert written.count("\n") == walk.state.motion.n_frames + 1
+    assert written == (tmp_path / "cli.csv").read_text()
 
 
 def test_contact_bars_show_the_core_contacts_and_seek(walk):

@@ -186,11 +186,11 @@ def test_a_frame_change_rewrites_the_numbers_in_place_and_a_selection_stays(qtbo
     from PyQt6.QtGui import QTextCursor, QTextDocument
 
     from gmr_studio.app.docks.rich_text import SLOT_CLOSE, SLOT_OPEN
-    from gmr_studio.app.model import extensions
+    from gmr_studio.app.model import pelvis_recovery
 
     open_file(studio, shared_path(CMU), markers=shared_path("cmu/subject01/01_01.c3d"))
     state = studio.state
-    assert extensions.recover_pelvis_frames(state, quiet=True)
+    assert pelvis_recovery.recover_pelvis_frames(state, quiet=True)
     state.set_overlay("pelvis", True)
     state.select(state.motion.joint_index("LeftHand"))
     state.select_marker(0)

@@ -161,10 +161,10 @@ def test_edits_keep_the_comparison_live(studio):
     assert layers[0].comparison.position.max <= 1e-9 * size
     assert np.nanmax(layers[0].comparison.rotation_error) <= 1e-6  # degrees
     for edit, joint in (
-        (commands.make_root, "LeftHand"),
+        (commands.shift_root_to, "LeftHand"),
         (commands.split_here, "Spine1"),
         (commands.join_to_parent, "Spine1"),
-        (commands.make_root, "RightFoot"),
+        (commands.shift_root_to, "RightFoot"),
     ):
         before = layers[0].comparison
         assert edit(state, state.motion.joint_index(joint))

@@ -114,7 +114,7 @@ def test_kind_and_offset_from_the_dock_recompute_the_layer(studio):
     # never the document: same snapshot, same history, not modified
     assert state.snapshot is document and state.undo_stack.count() == history and not state.modified
     # an edit keeps the layer's alignment
-    assert commands.make_root(state, state.motion.joint_index("LeftHand"))
+    assert commands.shift_root_to(state, state.motion.joint_index("LeftHand"))
     assert layer.comparison.alignment.kind == "similarity" and layer.offset == -1.0
     assert box.kind.currentText() == "similarity"
 

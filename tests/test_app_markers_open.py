@@ -140,7 +140,7 @@ def test_the_built_skeleton_is_edited_like_any_motion(studio):
     before = state.positions
     size = state.motion.size
     knee = state.motion.joint_index("LKJC")
-    assert commands.make_root(state, knee)
+    assert commands.shift_root_to(state, knee)
     assert int(state.motion.roots[0]) == knee
     np.testing.assert_allclose(state.positions, before, rtol=0, atol=1e-9 * size)
     assert commands.split_here(state, state.motion.joint_index("RAJC"))

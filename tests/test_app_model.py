@@ -2,7 +2,7 @@
 
 A hypothesis :class:`RuleBasedStateMachine` drives one main window through everything a
 user does to a document: open a real file (the CMU BVH files of ``../shared/data``, or the
-demo walk), select joints and markers, Make root, Split here, Join to parent, Split all,
+demo walk), select joints and markers, Shift root, Split here, Join to parent, Split all,
 Join all, Remove dummy joints, undo, redo, jump in the history, change frame, toggle
 overlays, add markers, save as GMR and reload, export BVH and reopen. After every step:
 
@@ -44,7 +44,7 @@ from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, precondition, rule
 from PyQt6.QtCore import Qt
 
-from gmr_studio.app.model import commands, extensions
+from gmr_studio.app.model import commands
 from gmr_studio.app.model.state import OVERLAYS
 from gmr_studio.core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
 from gmr_studio.core.shared_data import shared_data_dir
@@ -113,7 +113,7 @@ class LightStudio:
 
 #: what the Edit menu's actions do, for the light harness
 EDITS = {
-    "make_root": lambda state: commands.make_root(state, state.selected),
+    "shift_root": lambda state: commands.shift_root_to(state, state.selected),
     "split": lambda state: commands.split_here(state, state.selected),
     "join": lambda state: commands.join_to_parent(state, state.selected),
 }
@@ -245,7 +245,7 @@ class StudioModel(RuleBasedStateMachine):
         layers.remove(data.draw(st.integers(0, count - 1)))
         assert len(layers) == count - 1
 
-    @rule(action=st.sampled_from(["make_root", "split", "join"]))
+    @rule(action=st.sampled_from(["shift_root", "split", "join"]))
     def joint_edit(self, action: str) -> None:
         if self.state.selected is None:
             self.state.select(0)
@@ -263,7 +263,7 @@ class StudioModel(RuleBasedStateMachine):
         handler = {
             "split_all": commands.split_everything,
             "join_all": commands.join_everything,
-            "remove_dummies": extensions.remove_dummy_joints,
+            "remove_dummies": commands.remove_dummy_joints,
         }[action]
         handler(self.state)
 

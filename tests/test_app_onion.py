@@ -176,7 +176,7 @@ def test_layer_onion_poses_are_the_layer_ghost_at_the_onion_frames(studio):
         assert part.actor.GetProperty().GetOpacity() == pytest.approx(0.5 * doc_opacity[frame])  # 0.25 of 0.5
     # an edit recomputes the layer: the onion poses are its new ghost
     before = layer.ghost
-    assert commands.make_root(state, state.motion.joint_index("LeftHand"))
+    assert commands.shift_root_to(state, state.motion.joint_index("LeftHand"))
     assert layers[0].ghost is not before
     for frame, part in _drawn(layer_onions, 0).items():
         np.testing.assert_array_equal(np.asarray(part.mesh.points), layers[0].ghost[frame])

@@ -28,7 +28,7 @@ def test_keyboard_undo_and_redo_by_key_events(qtbot, studio):
     open_file(studio, demo_folder() / MOTION_FILE)
     state = studio.state
     joint = state.motion.joint_index("lfemur")
-    assert commands.make_root(state, joint)
+    assert commands.shift_root_to(state, joint)
     root_after = state.motion.roots.tolist()
     studio.activateWindow()
     qtbot.waitUntil(studio.isActiveWindow, timeout=3000)  # shortcuts reach the active window

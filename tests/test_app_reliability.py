@@ -9,8 +9,8 @@ import threading
 import pytest
 from PyQt6.QtCore import QObject, QTimer, pyqtSignal
 
+from gmr_studio.app import crash
 from gmr_studio.app.model import commands
-from gmr_studio.app.reliability import crash
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from tests import app_fixtures
 from tests.app_fixtures import open_file
@@ -34,7 +34,7 @@ def test_an_edit_that_fails_unexpectedly_changes_nothing(qtbot, studio, crash_fo
         raise RuntimeError("simulated bug in shift root")
 
     monkeypatch.setattr(commands, "shift_root", broken)
-    assert commands.make_root(studio.state, 3) is False
+    assert commands.shift_root_to(studio.state, 3) is False
     assert studio.state.snapshot is before and studio.state.undo_stack.count() == count
     assert "failed unexpectedly: RuntimeError: simulated bug in shift root" in studio.status.text()
     assert "Your document is unchanged" in studio.status.text()

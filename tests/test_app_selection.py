@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.app.model import commands, extensions
+from gmr_studio.app.model import commands
 from tests import app_fixtures
 from tests.app_fixtures import open_file
 from tests.conftest import shared_path
@@ -31,7 +31,7 @@ def test_selection_follows_the_joint_through_remove_dummies_undo_redo_and_jumps(
     assert state.selected == 22
     seen: list[int] = []
     state.selection_changed.connect(seen.append)
-    assert extensions.remove_dummy_joints(state)
+    assert commands.remove_dummy_joints(state)
     assert state.motion.names[22] == "RightArm"  # the index now names another joint
     scene = studio.view.scene
     for step in ("edit", "undo", "redo", "jump to start", "jump to end"):
@@ -59,7 +59,7 @@ def test_a_removed_joint_clears_the_selection_and_its_trail(qtbot, studio):
     state = studio.state
     state.set_overlay("trails", True)
     state.select(state.motion.joint_index("LThumb"))  # a dummy joint
-    assert extensions.remove_dummy_joints(state)
+    assert commands.remove_dummy_joints(state)
     assert state.selected is None and studio.view.scene.selected is None
     assert not studio.view.scene.parts["trails"].visible
     assert "Click a joint" in studio.inspector.text()

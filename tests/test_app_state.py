@@ -63,7 +63,7 @@ def test_snapshot_caches_forward_kinematics_for_all_frames(rng):
 
 
 EDITS = [
-    ("make_root", lambda s: commands.make_root(s, 3)),
+    ("shift_root", lambda s: commands.shift_root_to(s, 3)),
     ("split", lambda s: commands.split_here(s, 4)),
     ("split_all", commands.split_everything),
 ]
@@ -115,7 +115,7 @@ def test_a_refused_edit_changes_nothing_and_says_why(state):
     assert "last root" in recorder.events[0][1]
     assert not commands.split_here(state, 0)  # already a root
     assert "already a root" in recorder.events[-1][1]
-    assert not commands.make_root(state, 0)  # nothing to change
+    assert not commands.shift_root_to(state, 0)  # nothing to change
     assert state.undo_stack.count() == 0
 
 
@@ -128,7 +128,7 @@ def test_can_join_only_split_roots_with_a_soft_link(state):
 
 def test_selection_survives_edits_because_indices_do(state):
     state.select(5)
-    commands.make_root(state, 5)
+    commands.shift_root_to(state, 5)
     assert state.selected == 5
     state.undo_stack.undo()
     assert state.selected == 5
@@ -222,7 +222,7 @@ def test_pelvis_frames_follow_the_marker_alignment():
 def test_recovered_pelvis_turns_with_the_root(case):
     """The pelvis frames recovered from markers (demo: markers named like joints; CMU: the
     shipped CMU map on the C3D) turn with the skeleton's root, to a degree or two."""
-    from gmr_studio.app.model import extensions
+    from gmr_studio.app.model import pelvis_recovery
     from gmr_studio.core.formats import load_gmr
     from gmr_studio.core.markers import read_markers
     from gmr_studio.core.rotations.euler import rotation_angle
@@ -237,7 +237,7 @@ def test_recovered_pelvis_turns_with_the_root(case):
     state = StudioState()
     state.open_document(Snapshot.of(motion), None)
     state.set_markers(markers)
-    assert extensions.recover_pelvis_frames(state)
+    assert pelvis_recovery.recover_pelvis_frames(state)
     pelvis = state.pelvis
     assert pelvis.source.valid.mean() > 0.99
     angle = np.degrees(rotation_angle(np.swapaxes(pelvis.rotations, 1, 2) @ state.rotations[:, 0]))

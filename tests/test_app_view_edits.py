@@ -27,7 +27,7 @@ def _edits(window):
     hips = names.index("LeftUpLeg") if "LeftUpLeg" in names else int(motion.children[0][0])
     arm = names.index("LeftArm") if "LeftArm" in names else int(motion.children[hips][0])
     return {
-        "make root": lambda: commands.make_root(window.state, arm),
+        "shift root": lambda: commands.shift_root_to(window.state, arm),
         "split here": lambda: commands.split_here(window.state, hips),
         "split all": lambda: commands.split_everything(window.state),
         "join to parent": lambda: commands.split_here(window.state, arm) and commands.join_to_parent(window.state, arm),
@@ -49,7 +49,7 @@ def _check_same_figure(before: np.ndarray, after: np.ndarray, screen: np.ndarray
     assert np.array_equal(grid_before, grid_after), f"{what}: the ground grid changed"
 
 
-@pytest.mark.parametrize("edit", ["make root", "split here", "split all", "join to parent"])
+@pytest.mark.parametrize("edit", ["shift root", "split here", "split all", "join to parent"])
 def test_an_edit_moves_nothing_keeps_the_ground_and_undo_restores_the_picture(qtbot, studio, edit):
     open_file(studio, shared_path("cmu/subject01/01_01.bvh"))
     studio.state.set_frame(40)

@@ -112,8 +112,8 @@ def test_edit_a_real_file_by_the_actions_and_undo_all(qtbot, studio):
         assert state.selected == joint, name
 
     select_by_click("LeftFoot")
-    assert actions["make_root"].isEnabled() and not actions["join"].isEnabled()
-    actions["make_root"].trigger()
+    assert actions["shift_root"].isEnabled() and not actions["join"].isEnabled()
+    actions["shift_root"].trigger()
     assert state.motion.roots.tolist() == [names.index("LeftFoot")]
     select_by_click("RightForeArm")
     actions["split"].trigger()
@@ -289,7 +289,7 @@ def test_the_joint_menu_opens_on_a_right_click(qtbot, studio):
     qtbot.waitUntil(menu.isVisible, timeout=2000)
     assert studio.state.selected == knee
     enabled = {a.text().replace("&", "") for a in menu.actions() if a.isEnabled() and a.text()}
-    assert {"Make root", "Split here", "Split all"} <= enabled and "Join to parent" not in enabled
+    assert {"Shift root", "Split here", "Split all"} <= enabled and "Join to parent" not in enabled
     menu.close()
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import importlib.metadata
 import json
 import shutil
+import sys
 
 import numpy as np
 import pytest
@@ -13,6 +14,7 @@ from gmr_studio.core.benchmark import peers as peers_module
 from gmr_studio.core.benchmark.configs import random_root_sets, with_roots
 from gmr_studio.core.benchmark.data import build_benchmark_data, find_bvh_files
 from gmr_studio.core.benchmark.peers import PEERS, _compare, _pybvh_name, run_peers
+from gmr_studio.core.benchmark.startup import report_lines, startup_seconds
 from gmr_studio.core.benchmark.timing import Timing, peak_memory, time_call
 from gmr_studio.core.cli import main
 from gmr_studio.core.edits.operations import shift_root, split
@@ -106,6 +108,18 @@ PEER_ROWS = {"pybvh": 1, "upc-pymotion": 2, "bvhio": 1}
 #: each peer's position error over the skeleton's size, near what it measures: pybvh 6.3e-16
 #: (float64), upc-pymotion 1.6e-8 (float32 quaternions), bvhio 2.8e-7 (float32 GLM)
 PEER_TOLERANCE = {"pybvh": 1e-14, "upc-pymotion": 1e-7, "bvhio": 1e-6}
+
+
+def test_startup_figures_are_whole_processes_side_by_side():
+    sleep = "import time; time.sleep(0.05)"
+    commands = {"bare": [sys.executable, "-c", "pass"], "sleeps": [sys.executable, "-c", sleep]}
+    seconds = startup_seconds(2, commands)
+    assert [len(runs) for runs in seconds.values()] == [2, 2]
+    assert min(seconds["sleeps"]) >= 0.05
+    bare, sleeps = report_lines({"bare": [0.2, 0.1, 0.4], "sleeps": [0.3, 0.15, 0.9]})
+    assert bare.startswith("bare") and "min   100.0 ms" in bare and "median   200.0 ms" in bare
+    assert "ratio  1.00" in bare
+    assert "min   150.0 ms" in sleeps and "ratio  1.50" in sleeps
 
 
 def test_a_peer_that_fails_is_reported_and_each_row_is_checked_on_its_own_output(monkeypatch, tmp_path):

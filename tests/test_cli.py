@@ -9,7 +9,7 @@ import sys
 import numpy as np
 import pytest
 
-from gmr_studio.core.cli import main
+from gmr_studio.core.cli import COMMANDS, main
 from gmr_studio.core.edits.operations import join, shift_root, split
 from gmr_studio.core.formats import read_motion
 from gmr_studio.core.formats.bvh import read_bvh
@@ -137,6 +137,41 @@ def test_installed_command_prints_no_traceback(small_bvh):
     expected = f"{small_bvh}:21:1: the file ends after 2 frames, but 'Frames:' on line 17 promised 9"
     assert result.stderr.strip() == expected
     assert "Traceback" not in result.stderr
+
+
+def modules_loaded_by(entry: str, *argv: str) -> tuple[str, str, set[str]]:
+    """What ``entry``'s ``main`` prints for ``argv`` in a new interpreter (stdout, stderr), and
+    every module it had imported by then."""
+    code = (
+        "import sys\n"
+        f"from {entry} import main\n"
+        "try:\n    main()\nexcept SystemExit:\n    pass\n"
+        "print('MODULES', *sys.modules)\n"
+    )
+    result = subprocess.run([sys.executable, "-c", code, *argv], capture_output=True, text=True, check=True)
+    out, _, modules = result.stdout.rpartition("MODULES ")
+    return out, result.stderr, set(modules.split())
+
+
+def test_help_lists_every_command_without_loading_the_numerical_code():
+    out, _, loaded = modules_loaded_by("gmr_studio.core.cli", "--help")
+    for name, summary in COMMANDS.items():
+        assert f"    {name}" in out and summary[:30] in out
+    assert not {"numba", "scipy", "gmr_studio.core.formats", "gmr_studio.core.kinematics"} & loaded
+    assert not {f"gmr_studio.core.cli.{name}" for name in COMMANDS} & loaded
+
+
+def test_a_command_loads_its_own_module_and_no_other_commands():
+    out, _, loaded = modules_loaded_by("gmr_studio.core.cli", "edit", "--help")
+    assert "--shift-root J" in out and "--mirror" in out
+    assert "gmr_studio.core.cli.edit" in loaded
+    assert not {"gmr_studio.core.cli.bench", "gmr_studio.core.cli.fuzz", "gmr_studio.core.cli.dataset"} & loaded
+
+
+def test_a_mistyped_command_is_named_with_the_choices():
+    _, err, loaded = modules_loaded_by("gmr_studio.core.cli", "conver", "a.bvh")
+    assert "invalid choice: 'conver'" in err and "'convert'" in err
+    assert "gmr_studio.core.formats" not in loaded
 
 
 def test_bench_prints_side_by_side_figures(capsys):

@@ -40,7 +40,7 @@ def test_the_window_draws_and_aligns_only_markers(qtbot, studio, tmp_path):
 
 
 def test_pelvis_frames_on_the_cmu_bvh_and_a_message_when_the_map_cannot_apply(qtbot, tmp_path):
-    from gmr_studio.app.model import extensions
+    from gmr_studio.app.model import pelvis_recovery
     from gmr_studio.app.model.state import Snapshot, StudioState
     from gmr_studio.core.formats import load_gmr
     from gmr_studio.core.markers import read_markers
@@ -52,7 +52,7 @@ def test_pelvis_frames_on_the_cmu_bvh_and_a_message_when_the_map_cannot_apply(qt
     state.message.connect(messages.append)
     state.open_document(Snapshot.of(load_gmr(shared_path("cmu/subject01/01_01.bvh"))), None)
     state.set_markers(markers)
-    assert extensions.recover_pelvis_frames(state, quiet=True)
+    assert pelvis_recovery.recover_pelvis_frames(state, quiet=True)
     assert state.pelvis is not None and int(state.pelvis.source.valid.sum()) == 2750
     assert "marker map 'cmu' (Hips, LeftUpLeg, RightUpLeg) (fitted on LFWT, RFWT, LBWT)" in messages[-1]
     # a skeleton no joint map pairs with CMU's: said, even though the recovery is quiet
@@ -60,7 +60,7 @@ def test_pelvis_frames_on_the_cmu_bvh_and_a_message_when_the_map_cannot_apply(qt
     state.open_document(Snapshot.of(rig), None)
     state.set_markers(markers)
     messages.clear()
-    assert not extensions.recover_pelvis_frames(state, quiet=True)
+    assert not pelvis_recovery.recover_pelvis_frames(state, quiet=True)
     assert state.pelvis is None
     assert messages and "marker map 'cmu' fits these markers but cannot apply to this skeleton" in messages[-1]
     assert "does not pair them with this skeleton's joints" in messages[-1]

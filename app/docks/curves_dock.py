@@ -30,8 +30,8 @@ from gmr_studio.app.model import commands
 from gmr_studio.app.model.playback import Player
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.core.analysis.curves import UNITS, Curves, gap_spans, joint_curves, marker_curves, quantity_name
+from gmr_studio.core.analysis.curves_table import curves_csv_text
 from gmr_studio.core.atomic import atomic_write_text
-from gmr_studio.core.cli.curves import csv_text
 from gmr_studio.core.edits.mirror import side_partners
 
 #: (label, core quantity) in the order the combo box lists them; the rotation's two
@@ -240,11 +240,11 @@ class CurvesDock(QWidget):
 
     def export_csv(self, path: str) -> None:
         """The plotted curves within the visible range, written as ``gmr curves`` writes them
-        (:func:`core.cli.curves.csv_text`: frame, time, then every column)."""
+        (:func:`core.analysis.curves_table.curves_csv_text`: frame, time, then every column)."""
         plot, rows = self.plot, self.plot.visible_frames()
         frame_time = self.state.motion.frame_time if self.state.motion is not None else 1.0
         curves = Curves(tuple(plot.columns), np.asarray(plot.values)[rows], "")
-        atomic_write_text(path, csv_text(curves, np.asarray(plot.frames)[rows], frame_time))
+        atomic_write_text(path, curves_csv_text(curves, np.asarray(plot.frames)[rows], frame_time))
 
     def _export_png_dialog(self) -> None:
         path, _ = QFileDialog.getSaveFileName(self, "Export the plot as PNG", "curves.png", "PNG (*.png)")

@@ -4,7 +4,7 @@ For the selected joint at the current frame: its chain from the root, each link'
 transform as GMR ``[R_j, R_j t_j]`` and as BVH ``[R_j, t_j]``, both products and the world
 transform FK gives (they agree to rounding, and the dock says by how much); a slider that
 scales the joint's rotation from the identity to its value at this frame while the view
-draws the bone it turns both ways (:mod:`app.teach_overlay`); after a Make root, which links
+draws the bone it turns both ways (:mod:`app.teach_overlay`); after a Shift root, which links
 were reversed and how far any joint moved (rounding); and the paper's trade-off live: a
 roots slider that splits that many joints, deepest first, and measures FK per frame in a
 worker thread.
@@ -20,7 +20,7 @@ from PyQt6.QtGui import QFontDatabase
 from PyQt6.QtWidgets import QGroupBox, QLabel, QSlider, QTextBrowser, QVBoxLayout, QWidget
 
 from gmr_studio.app.docks.frame_follow import follow_frame
-from gmr_studio.app.model.commands import MotionEdit
+from gmr_studio.app.model.commands import SHIFT_ROOT_TEXT, MotionEdit
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.core.analysis.classroom import (
     JointChain,
@@ -124,7 +124,7 @@ class TeachDock(QWidget):
         self.amount.setValue(100)
         self.amount_label = QLabel()
         self.amount_label.setWordWrap(True)
-        self.shift_text = QLabel("Make a joint root to see which links reverse.")
+        self.shift_text = QLabel("Shift the root to a joint to see which links reverse.")
         self.shift_text.setWordWrap(True)
         self.roots = QSlider(Qt.Orientation.Horizontal)
         self.roots.setRange(1, 1)
@@ -209,7 +209,7 @@ class TeachDock(QWidget):
 
     def _on_history(self, index: int) -> None:
         command = self.state.undo_stack.command(index - 1) if index > 0 else None
-        if not isinstance(command, MotionEdit) or not command.text().startswith("Make "):
+        if not isinstance(command, MotionEdit) or not command.text().startswith(SHIFT_ROOT_TEXT):
             return
         before, after = command.before, command.after
         became = np.flatnonzero((after.motion.parents < 0) & (before.motion.parents >= 0))

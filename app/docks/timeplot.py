@@ -29,9 +29,9 @@ from PyQt6.QtCore import QBuffer, QIODevice, Qt, pyqtSignal
 from PyQt6.QtGui import QColor
 from PyQt6.QtWidgets import QGraphicsItem, QVBoxLayout, QWidget
 
+from gmr_studio.core.analysis.curves import Curves
+from gmr_studio.core.analysis.curves_table import curves_csv_text
 from gmr_studio.core.atomic import atomic_write_bytes, atomic_write_text
-from gmr_studio.core.table import csv_text
-from gmr_studio.core.timebase.clock import frame_seconds
 
 LEGEND_TEXT = "#e6e6e6"
 LEGEND_BOX = (20, 21, 24, 210)
@@ -280,11 +280,10 @@ class TimePlot(QWidget):
 
     def csv_text(self) -> str:
         """What is plotted within the visible x range: ``frame,time,COLUMNS...`` rows, written
-        by the project's one CSV writer (:func:`core.table.csv_text`: names quoted, gaps empty)."""
+        as ``gmr curves`` writes them (:func:`core.analysis.curves_table.curves_csv_text`: names
+        quoted, gaps empty)."""
         rows = self.visible_frames()
-        frames = self.frames[rows]
-        table = np.column_stack([frames, frame_seconds(frames, self.frame_time), self.values[rows]])
-        return csv_text(("frame", "time", *self.columns), table, ("%d", "%.10g"))
+        return curves_csv_text(Curves(self.columns, self.values[rows], self.unit), self.frames[rows], self.frame_time)
 
     def export_csv(self, path: str | Path) -> None:
         atomic_write_text(path, self.csv_text())

@@ -2,6 +2,6 @@
 comparison layers, playback, loading and the document's caches.
 
 May import: Qt core and gui (signals, timers, QUndoCommand), numpy, core, and the crash
-report of app.reliability. Must not import: Qt widgets, PyVista, VTK, pyqtgraph, or the
+report (app.crash). Must not import: Qt widgets, PyVista, VTK, pyqtgraph, or the
 app's scene, docks, dialogs, window, media and tools (ruff banned-api: app/model/ruff.toml).
 """

@@ -15,9 +15,10 @@ from collections.abc import Callable
 
 from PyQt6.QtGui import QUndoCommand
 
+from gmr_studio.app.crash import report_unexpected
 from gmr_studio.app.model.state import Snapshot, StudioState
-from gmr_studio.app.reliability.crash import report_unexpected
 from gmr_studio.core.edits.clip import resample, trim
+from gmr_studio.core.edits.dummies import find_dummies, remove_dummies
 from gmr_studio.core.edits.mirror import mirror, mirror_pairs, pairs_text
 from gmr_studio.core.edits.operations import join, join_all, shift_root, split, split_all
 from gmr_studio.core.errors import OperationError
@@ -75,9 +76,13 @@ def _name(state: StudioState, joint: int) -> str:
     return state.motion.names[joint] if state.motion is not None else str(joint)
 
 
-def make_root(state: StudioState, joint: int) -> bool:
-    """Shift the root of the joint's tree to the joint."""
-    return run_edit(state, f"Make '{_name(state, joint)}' root", lambda m: shift_root(m, joint))
+#: how a shift root's edit is named in the history: ``Shift root to 'LeftHand'``
+SHIFT_ROOT_TEXT = "Shift root to"
+
+
+def shift_root_to(state: StudioState, joint: int) -> bool:
+    """Shift the root of the joint's tree to the joint (:func:`core.edits.operations.shift_root`)."""
+    return run_edit(state, f"{SHIFT_ROOT_TEXT} '{_name(state, joint)}'", lambda m: shift_root(m, joint))
 
 
 def split_here(state: StudioState, joint: int) -> bool:
@@ -101,6 +106,28 @@ def join_everything(state: StudioState) -> bool:
 def can_join(motion: Motion | None, joint: int | None) -> bool:
     """Join to parent applies: the joint is a split root (a root holding a soft link)."""
     return motion is not None and joint is not None and motion.parents[joint] < 0 and motion.soft_parents[joint] >= 0
+
+
+def can_remove_dummies(motion: Motion | None) -> bool:
+    """Remove dummy joints applies: the motion has zero-offset dummy joints
+    (:func:`core.edits.dummies.find_dummies`)."""
+    return motion is not None and bool(find_dummies(motion))
+
+
+def remove_dummy_joints(state: StudioState) -> bool:
+    """Fold zero-offset dummy joints into their children (:func:`core.edits.dummies.remove_dummies`);
+    the status bar names the joints removed."""
+    removed: list[str] = []
+
+    def operation(motion: Motion) -> Motion:
+        result, names = remove_dummies(motion)
+        removed.extend(names)
+        return result
+
+    if not run_edit(state, "Remove dummy joints", operation):
+        return False
+    state.show_message(f"Removed {len(removed)} dummy joints: {', '.join(removed)}")
+    return True
 
 
 def trim_to_range(state: StudioState, start: int, stop: int) -> bool:

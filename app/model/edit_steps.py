@@ -3,31 +3,32 @@ through its undoable commands, as the command line asks (:mod:`app.main`)."""
 
 from __future__ import annotations
 
-from gmr_studio.app.model import commands, extensions
+from gmr_studio.app.model import commands
+from gmr_studio.core.edits.steps import EDIT_FLAG_OF
 from gmr_studio.core.errors import OperationError
 
 
 def edit_command(operation: str):
     """The app's command for one of ``gmr edit``'s operations: (state, joint index) -> pushed."""
     return {
-        "shift_root": commands.make_root,
+        "shift_root": commands.shift_root_to,
         "split": commands.split_here,
         "join": commands.join_to_parent,
         "split_all": lambda state, _: commands.split_everything(state),
         "join_all": lambda state, _: commands.join_everything(state),
-        "remove_dummies": lambda state, _: extensions.remove_dummy_joints(state),
+        "remove_dummies": lambda state, _: commands.remove_dummy_joints(state),
     }[operation]
 
 
 def apply_steps(state, steps: list) -> str | None:
-    """Apply ``gmr edit``'s steps ((operation, joint name) pairs, :func:`add_edit_arguments`)
+    """Apply ``gmr edit``'s steps ((operation, joint name) pairs, :mod:`core.edits.steps`)
     to the state's document through the app's undoable commands, in order; stops at the
     first one refused and returns its message, else None. A step with nothing to change
     (``--join-all`` on a tree) is no error, as in ``gmr edit``."""
     for operation, joint in steps:
-        flag = "--" + operation.replace("_", "-")
-        index = None
-        if operation in ("shift_root", "split", "join"):
+        edit = EDIT_FLAG_OF[operation]
+        flag, index = edit.flag, None
+        if edit.names_joint:
             try:
                 index = state.motion.joint_index(joint)
             except OperationError as exc:

@@ -23,9 +23,9 @@ from pathlib import Path
 from PyQt6 import sip
 from PyQt6.QtCore import QObject, QTimer, pyqtSignal
 
+from gmr_studio.app.crash import log_exception
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.app.reliability import recovery
-from gmr_studio.app.reliability.crash import log_exception
 from gmr_studio.core.model.motion import Motion
 
 #: longest time unsaved edits go without a recovery copy, milliseconds

@@ -166,7 +166,7 @@ def _apply_edit(state: StudioState, edit: str, joint: int | None) -> bool:
     if joint is None:
         return False
     if edit == "shift root":
-        return commands.make_root(state, joint)
+        return commands.shift_root_to(state, joint)
     if edit == "split":
         return commands.split_here(state, joint)
     return commands.split_everything(state) and commands.join_to_parent(state, joint)

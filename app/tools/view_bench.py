@@ -191,7 +191,7 @@ def measure(width: int, height: int, frames: int, bare: list[float] | None, roun
     [wall ms, CPU ms] medians over ``rounds`` rounds of ``frames / rounds`` frames each, and
     the rounds' own ratios (``ratios``: name -> [wall, CPU]). ``bare`` given: the parent's
     reference, not measured again."""
-    from gmr_studio.app.model import extensions
+    from gmr_studio.app.model import pelvis_recovery
     from gmr_studio.app.model.loading import load_snapshot
     from gmr_studio.app.scene import render_widget
     from gmr_studio.app.tools.bench import bench_window, close_bench_window
@@ -200,7 +200,7 @@ def measure(width: int, height: int, frames: int, bare: list[float] | None, roun
     app, window, scratch = bench_window(width, height)
     window.files.open_path(str(data / BVH), markers=str(data / C3D), ask=False, wait=True)
     state = window.state
-    extensions.recover_pelvis_frames(state, quiet=True)
+    pelvis_recovery.recover_pelvis_frames(state, quiet=True)
     state.select(state.motion.joint_index("LeftHand"))
     window.curves_dock.show()
     app.processEvents()

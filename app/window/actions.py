@@ -14,7 +14,7 @@ from PyQt6.QtWidgets import QInputDialog, QMainWindow, QMenu, QStyle, QToolBar
 
 from gmr_studio.app.docks.range_slider import range_ending_at, range_starting_at
 from gmr_studio.app.model import commands
-from gmr_studio.app.model.commands import can_join
+from gmr_studio.app.model.commands import can_join, can_remove_dummies
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.core.edits.mirror import side_partners
 
@@ -61,7 +61,7 @@ ACTIONS: dict[str, tuple[str, object, str, bool, str | None]] = {
     "screenshot": ("Save screens&hot...", "Ctrl+Shift+P", "Save the 3D view as a PNG", False, None),
     "export_video": ("Export &video...", "", "Write an mp4 of the playback", False, None),
     "quit": ("&Quit", Key.Quit, "Close GMR Studio", False, None),
-    "make_root": ("Make &root", "Ctrl+R", "Shift the root of the tree to the selected joint", False, None),
+    "shift_root": ("Shift &root", "Ctrl+R", "Shift the root of the tree to the selected joint", False, None),
     "split": ("&Split here", "Ctrl+T", "Make the selected joint a root (with a soft link to its parent)", False, None),
     "join": ("&Join to parent", "Ctrl+J", "Put the selected split root back under its soft-link parent", False, None),
     "split_all": ("Split a&ll", "Ctrl+Shift+T", "Every joint its own root", False, None),
@@ -109,7 +109,7 @@ ACTIONS: dict[str, tuple[str, object, str, bool, str | None]] = {
     "keys": ("&Keyboard shortcuts", "F1", "", False, None),
 }
 
-SELECTION_EDITS = ("make_root", "split", "join")
+SELECTION_EDITS = ("shift_root", "split", "join")
 CLIP_EDITS = ("trim_range", "resample", "mirror")
 RANGE_ACTIONS = ("range_start", "range_end", "clear_range")
 #: longest undo/redo label shown in the menu and the toolbar (the full one is the tooltip),
@@ -202,7 +202,7 @@ def fill_menus(window: QMainWindow, actions: dict[str, QAction], recent_menu: QM
         edit_menu.addAction(actions[name])
     edit_menu.addAction(history_toggle)
     edit_menu.addSeparator()
-    for name in ("make_root", "split", "join", "split_all", "join_all", "remove_dummies"):
+    for name in ("shift_root", "split", "join", "split_all", "join_all", "remove_dummies"):
         edit_menu.addAction(actions[name])
     edit_menu.addSeparator()
     for name in CLIP_EDITS:
@@ -240,14 +240,14 @@ def fill_menus(window: QMainWindow, actions: dict[str, QAction], recent_menu: QM
     for name in ("undo", "redo"):
         toolbar.addAction(actions[name])
     toolbar.addSeparator()
-    for name in ("make_root", "split", "join", "split_all", "join_all", "remove_dummies"):
+    for name in ("shift_root", "split", "join", "split_all", "join_all", "remove_dummies"):
         toolbar.addAction(actions[name])
     toolbar.addSeparator()
     for name in ("overlay_axes", "overlay_trails", "overlay_labels", "overlay_markers", "overlay_pelvis"):
         toolbar.addAction(actions[name])
     window.addToolBar(toolbar)
     joint_menu = QMenu("Joint", window)
-    for name in ("make_root", "split", "join"):
+    for name in ("shift_root", "split", "join"):
         joint_menu.addAction(actions[name])
     joint_menu.addSeparator()
     for name in ("split_all", "join_all", "remove_dummies"):
@@ -264,17 +264,17 @@ def show_overlay_switch(action: QAction, shown: bool, available: bool) -> None:
     action.blockSignals(False)
 
 
-def update_enabled(actions: dict[str, QAction], state: StudioState, remove_dummies_available: bool) -> None:
+def update_enabled(actions: dict[str, QAction], state: StudioState) -> None:
     """Enable what applies: edits on the selection, document actions when a motion is open."""
     motion, joint = state.motion, state.selected
     has_motion = motion is not None
     not_root = bool(has_motion and joint is not None and motion.parents[joint] >= 0)
-    actions["make_root"].setEnabled(not_root)
+    actions["shift_root"].setEnabled(not_root)
     actions["split"].setEnabled(not_root)
     actions["join"].setEnabled(bool(can_join(motion, joint)))
     actions["split_all"].setEnabled(bool(has_motion and len(motion.roots) < motion.n_joints))
     actions["join_all"].setEnabled(bool(has_motion and (motion.soft_parents >= 0).any()))
-    actions["remove_dummies"].setEnabled(bool(has_motion and remove_dummies_available))
+    actions["remove_dummies"].setEnabled(can_remove_dummies(motion))
     for name in (
         "save",
         "save_as",

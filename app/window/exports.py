@@ -12,9 +12,9 @@ from pathlib import Path
 from PyQt6.QtCore import Qt
 from PyQt6.QtWidgets import QApplication, QFileDialog, QMessageBox, QProgressDialog
 
+from gmr_studio.app.crash import describe_unexpected
 from gmr_studio.app.media import video
 from gmr_studio.app.media.video import export_video, save_screenshot
-from gmr_studio.app.reliability.crash import describe_unexpected
 from gmr_studio.app.window.files import FileController
 from gmr_studio.core.errors import OperationError
 

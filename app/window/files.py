@@ -16,9 +16,9 @@ from pathlib import Path
 from PyQt6.QtCore import QObject, QSettings, Qt, pyqtSignal
 from PyQt6.QtWidgets import QApplication, QFileDialog, QMessageBox, QProgressDialog, QWidget
 
-from gmr_studio.app.model import extensions, loading, marker_document
+from gmr_studio.app.crash import describe_unexpected, log_exception
+from gmr_studio.app.model import loading, marker_document, pelvis_recovery
 from gmr_studio.app.model.state import Snapshot, StudioState
-from gmr_studio.app.reliability.crash import describe_unexpected, log_exception
 from gmr_studio.core.compare.clock import DEFAULT_OFFSET
 from gmr_studio.core.errors import MotionFileError, OperationError
 from gmr_studio.core.formats import write_motion
@@ -320,7 +320,7 @@ class FileController(QObject):
                 f"aligned: {overlay.alignment.method}"
             )
             try:
-                if extensions.recover_pelvis_frames(self.state, quiet=True):
+                if pelvis_recovery.recover_pelvis_frames(self.state, quiet=True):
                     text += "; pelvis frames recovered"
             except ValueError as exc:  # e.g. an automatic alignment the pelvis fit cannot use
                 text += f"; pelvis frames not recovered: {exc}"

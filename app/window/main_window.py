@@ -17,7 +17,7 @@ from gmr_studio.app.docks.curves_dock import CurvesDock
 from gmr_studio.app.docks.forest import ForestTree
 from gmr_studio.app.docks.inspector import Inspector
 from gmr_studio.app.docks.timeline import Timeline
-from gmr_studio.app.model import commands, extensions, marker_document
+from gmr_studio.app.model import commands, loading, marker_document, pelvis_recovery
 from gmr_studio.app.model.playback import SPEEDS, Player
 from gmr_studio.app.model.problems import Problems
 from gmr_studio.app.model.state import StudioState
@@ -41,7 +41,7 @@ KEYS_HELP = """<table>
 <tr><td><b>I / O</b></td><td>frame range start / end here (Shift+drag on the slider: a range)</td></tr>
 <tr><td><b>Click</b></td><td>select a joint (or a marker); right click: joint menu</td></tr>
 <tr><td><b>Drag</b></td><td>turn the camera (Shift: pan, wheel or right drag: zoom)</td></tr>
-<tr><td><b>Ctrl+R / Ctrl+T / Ctrl+J</b></td><td>make root / split here / join to parent</td></tr>
+<tr><td><b>Ctrl+R / Ctrl+T / Ctrl+J</b></td><td>shift root / split here / join to parent</td></tr>
 <tr><td><b>Ctrl+Z / Ctrl+Shift+Z</b></td><td>undo / redo</td></tr>
 <tr><td><b>G K A T L M B P</b></td><td>ground, soft links, axes, trail, labels, markers, marker labels, pelvis</td></tr>
 </table>"""
@@ -204,12 +204,12 @@ class MainWindow(QMainWindow):
             "screenshot": self.exports.save_screenshot_dialog,
             "export_video": lambda: self.exports.export_video_dialog(player.speed),
             "quit": self.close,
-            "make_root": lambda: commands.make_root(state, state.selected),
+            "shift_root": lambda: commands.shift_root_to(state, state.selected),
             "split": lambda: commands.split_here(state, state.selected),
             "join": lambda: commands.join_to_parent(state, state.selected),
             "split_all": lambda: commands.split_everything(state),
             "join_all": lambda: commands.join_everything(state),
-            "remove_dummies": lambda: extensions.remove_dummy_joints(state),
+            "remove_dummies": lambda: commands.remove_dummy_joints(state),
             "play": player.toggle,
             "step_back": lambda: (player.pause(), state.step(-1)),
             "step_forward": lambda: (player.pause(), state.step(1)),
@@ -268,14 +268,7 @@ class MainWindow(QMainWindow):
         action_table.show_overlay_switch(action, shown, action.isEnabled())
 
     def _on_enabled_changed(self, *_args) -> None:
-        action_table.update_enabled(
-            self.actions,
-            self.state,
-            self.state.motion is not None and extensions.remove_dummies_available(self.state.motion),
-        )
-        self.actions["recover_pelvis"].setEnabled(
-            self.state.marker_overlay is not None and extensions.pelvis_recovery_available()
-        )
+        action_table.update_enabled(self.actions, self.state)
 
     def _on_playing_changed(self, playing: bool) -> None:
         icon = "SP_MediaPause" if playing else "SP_MediaPlay"
@@ -296,7 +289,7 @@ class MainWindow(QMainWindow):
         AlignmentDialog(self.state, self, self.view.scene).exec()
 
     def _recover_pelvis(self) -> None:
-        extensions.recover_pelvis_frames(self.state)
+        pelvis_recovery.recover_pelvis_frames(self.state)
 
     def _about(self) -> None:
         QMessageBox.about(
@@ -313,8 +306,8 @@ class MainWindow(QMainWindow):
 
     def dropEvent(self, event: QDropEvent) -> None:  # noqa: N802
         paths = [url.toLocalFile() for url in event.mimeData().urls() if url.isLocalFile()]
-        motions = [p for p in paths if Path(p).suffix.lower() in extensions.motion_suffixes()]
-        markers = [p for p in paths if Path(p).suffix.lower() in extensions.marker_suffixes()]
+        motions = [p for p in paths if Path(p).suffix.lower() in loading.motion_suffixes()]
+        markers = [p for p in paths if Path(p).suffix.lower() in loading.marker_suffixes()]
         shift = bool(event.modifiers() & Qt.KeyboardModifier.ShiftModifier)
         if (motions or markers) and shift and self.state.motion is not None:
             self.files.compare_path((motions or markers)[0])  # Shift: add as a comparison layer
@@ -329,7 +322,7 @@ class MainWindow(QMainWindow):
     def _built_from_markers(self) -> bool:
         """The document was opened from a marker file (its skeleton built from the markers)."""
         path = self.state.path
-        return path is not None and path.suffix.lower() in extensions.marker_suffixes()
+        return path is not None and path.suffix.lower() in loading.marker_suffixes()
 
     def _restore_settings(self) -> None:
         geometry = self.settings.value("window/geometry")

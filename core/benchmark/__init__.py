@@ -7,6 +7,9 @@
 - :mod:`core.benchmark.runner`: one run, returning the results as a dict (the JSON).
 - :mod:`core.benchmark.report`: tables, JSON, the plot.
 
+:mod:`core.benchmark.startup` times the command lines' start-up (``gmr --help`` beside
+``python -c "import numpy"``).
+
 The JSON holds at least ``frames``, ``joints``, ``bvh_us_per_frame``,
 ``yardstick_us_per_frame``, ``configs`` (``{"k", "us_per_frame", "ratio_to_bvh", ...}``),
 ``parse_mb_per_s``, ``numpy_parse_mb_per_s`` and ``peers`` (``{"name", "version",

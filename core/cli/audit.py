@@ -16,14 +16,12 @@ from gmr_studio.core.compare.audit import audit_motion
 from gmr_studio.core.formats import read_motion
 
 
-def register(sub: argparse._SubParsersAction) -> None:
-    parser = sub.add_parser(
-        "audit",
-        help="run a file through every round trip and check positions stay within tolerance",
-        description="GMR in memory, GMR file, BVH file, forest export after split all, glTF file (also of "
+def register(parser: argparse.ArgumentParser) -> None:
+    parser.description = (
+        "GMR in memory, GMR file, BVH file, forest export after split all, glTF file (also of "
         "the forest), dummy removal and "
         "back, shift root to every k-th joint, split all / join all, and the ASF rest pose for an AMC: the "
-        "worst position error of each, relative to the skeleton's size, against its documented tolerance.",
+        "worst position error of each, relative to the skeleton's size, against its documented tolerance."
     )
     parser.add_argument("file", help="any motion file the project reads")
     parser.add_argument("--asf", help="the .asf skeleton of an .amc (default: the one beside it)")

@@ -11,13 +11,11 @@ from pathlib import Path
 from gmr_studio.core.shared_data import shared_data_dir
 
 
-def register(sub: argparse._SubParsersAction) -> None:
-    parser = sub.add_parser(
-        "bench",
-        help="time GMR forward kinematics for C_1..C_J roots against BVH, a copy, and other libraries",
-        description="Real BVH files (../shared/data and --data folders), tiled to --frames frames at 120 fps; "
+def register(parser: argparse.ArgumentParser) -> None:
+    parser.description = (
+        "Real BVH files (../shared/data and --data folders), tiled to --frames frames at 120 fps; "
         "configurations C_k with k random roots, --instances each; BVH baseline, memory-bound yardstick, "
-        "parse throughput, operations, peers. Prints figures, asserts nothing.",
+        "parse throughput, operations, peers. Prints figures, asserts nothing."
     )
     parser.add_argument("--frames", type=int, default=100_000, help="frames to tile the motion to (100000)")
     parser.add_argument("--seed", type=int, default=6, help="seed for the random root sets (6)")

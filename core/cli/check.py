@@ -44,13 +44,11 @@ from gmr_studio.core.table import records_csv_text
 MARKER_SUFFIXES = tuple(MARKER_READERS)
 
 
-def register(sub: argparse._SubParsersAction) -> None:
-    parser = sub.add_parser(
-        "check",
-        help="find foot skate, pops, jitter, flips, frozen frames... at their frames and joints",
-        description=__doc__.split("\n\n")[0] if __doc__ else None,
-        usage="gmr check FILE [--json OUT] [--only KINDS] [--strict [--fail-on S]]\n"
-        "       gmr check --batch DIR [--table OUT.csv|OUT.parquet] [--json OUT] [--jobs N | --scheduler S]",
+def register(parser: argparse.ArgumentParser) -> None:
+    parser.description = __doc__.split("\n\n")[0] if __doc__ else None
+    parser.usage = (
+        "gmr check FILE [--json OUT] [--only KINDS] [--strict [--fail-on S]]\n"
+        "       gmr check --batch DIR [--table OUT.csv|OUT.parquet] [--json OUT] [--jobs N | --scheduler S]"
     )
     parser.add_argument("input", help="a motion or marker file (with --batch: a folder, searched recursively)")
     parser.add_argument("--json", metavar="OUT", help="write the findings as JSON (- for stdout)")

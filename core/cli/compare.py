@@ -22,13 +22,11 @@ from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import read_motion
 
 
-def register(sub: argparse._SubParsersAction) -> None:
-    parser = sub.add_parser(
-        "compare",
-        help="per-joint position and rotation errors of motion B against motion A",
-        description="Compares B with A on A's frames and in A's units: joints matched by name or --map, "
+def register(parser: argparse.ArgumentParser) -> None:
+    parser.description = (
+        "Compares B with A on A's frames and in A's units: joints matched by name or --map, "
         "B resampled by time, optionally shifted (--offset) and aligned (--align). Prints a table per "
-        "joint, the MPJPE, median, 95th percentile and maximum, the alignment used and the unmatched joints.",
+        "joint, the MPJPE, median, 95th percentile and maximum, the alignment used and the unmatched joints."
     )
     parser.add_argument("a", help="the reference motion (any motion file the project reads)")
     parser.add_argument("b", help="the motion compared with it")

@@ -83,13 +83,11 @@ def add_conversion_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def register(sub: argparse._SubParsersAction) -> None:
-    parser = sub.add_parser(
-        "convert",
-        help="convert .bvh/.amc/.gmr/.npz/.glb/.gltf to .gmr/.bvh/.glb, one file or a folder tree (--batch)",
-        description=__doc__.split("\n\n")[0] if __doc__ else None,
-        usage="gmr convert IN OUT [options]\n"
-        "       gmr convert --batch IN_DIR OUT_DIR [--to gmr|bvh|glb] [--jobs N | --scheduler S] [options]",
+def register(parser: argparse.ArgumentParser) -> None:
+    parser.description = __doc__.split("\n\n")[0] if __doc__ else None
+    parser.usage = (
+        "gmr convert IN OUT [options]\n"
+        "       gmr convert --batch IN_DIR OUT_DIR [--to gmr|bvh|glb] [--jobs N | --scheduler S] [options]"
     )
     parser.add_argument("input", help="a .bvh, .amc, .gmr, AMASS .npz or glTF file (with --batch: a folder)")
     parser.add_argument("output", help="the .gmr or .bvh file to write (with --batch: a folder)")

@@ -2,8 +2,8 @@
 
 The quantities of :mod:`core.analysis.curves` (and foot ``contacts``, :mod:`core.analysis.contacts`) for some
 joints, over all frames or ``A:B`` (0-based, ``B`` excluded, either end may be left out).
-CSV (:mod:`core.table`): a header row, then one row per frame: ``frame`` (0-based, in the
-file), ``time`` (s, :mod:`core.timebase.clock`), then one column per ``JOINT.QUANTITY.AXIS``
+CSV (:mod:`core.analysis.curves_table`): a header row, then one row per frame: ``frame`` (0-based,
+in the file), ``time`` (s, :mod:`core.timebase.clock`), then one column per ``JOINT.QUANTITY.AXIS``
 (``JOINT.channels.Zrotation``, ``lradius.channels.rx``; ``JOINT.speed``, ``JOINT.contact``
 for scalars).
 PNG: the same columns plotted against time (matplotlib, from the ``bench`` extra).
@@ -19,6 +19,7 @@ import numpy as np
 
 from gmr_studio.core.analysis.contacts import DEFAULT_HEIGHT, DEFAULT_SPEED, foot_contacts, foot_joints
 from gmr_studio.core.analysis.curves import ALIASES, QUANTITIES, UNITS, Curves, joint_curves, quantity_name
+from gmr_studio.core.analysis.curves_table import curves_csv_text
 from gmr_studio.core.atomic import atomic_write_bytes, atomic_write_text
 from gmr_studio.core.cli.reading import add_gltf_options, reader_options
 from gmr_studio.core.edits.clip import frame_range
@@ -27,7 +28,6 @@ from gmr_studio.core.formats import read_motion_with_channels
 from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.model.channels import FileChannels
 from gmr_studio.core.model.motion import Motion
-from gmr_studio.core.table import csv_text as table_csv
 from gmr_studio.core.timebase.clock import frame_seconds
 
 CLI_QUANTITIES = (*QUANTITIES, *ALIASES, "contacts")
@@ -44,14 +44,12 @@ def parse_frames(text: str) -> tuple[int | None, int | None]:
         raise argparse.ArgumentTypeError(f"expected whole frame numbers in A:B, not {text!r}") from None
 
 
-def register(sub: argparse._SubParsersAction) -> None:
-    parser = sub.add_parser(
-        "curves",
-        help="quantities of joints over time to CSV or PNG",
-        description="The file's own rotation channels (channels: BVH channels, AMC dofs; alias euler), the GMR "
+def register(parser: argparse.ArgumentParser) -> None:
+    parser.description = (
+        "The file's own rotation channels (channels: BVH channels, AMC dofs; alias euler), the GMR "
         "rotation as Euler angles (gmr-euler), its angle and quaternion, local translation GMR-style (local-pre, "
         "R t) or BVH-style (local-post, t), world position, speed, acceleration, or foot contacts (1 planted, "
-        "0 not), one row per frame (docs/curves.md says what each means).",
+        "0 not), one row per frame (docs/curves.md says what each means)."
     )
     parser.add_argument("file", help="any motion file the project reads")
     parser.add_argument("--joints", help="comma-separated joint names (default for contacts: the foot joints)")
@@ -87,13 +85,6 @@ def curves_for(
         raise OperationError(f"--joints is required for {quantity}")
     quantity_name(quantity)
     return Curves.concatenate([joint_curves(motion, j, quantity, positions, file_channels) for j in joints])
-
-
-def csv_text(curves: Curves, frames: np.ndarray, frame_time: float) -> str:
-    """Header ``frame,time,COLUMNS...`` and one row per frame (values to 10 significant
-    digits, NaN empty): :func:`core.table.csv_text`, as the curves dock writes it."""
-    table = np.column_stack([frames, frame_seconds(frames, frame_time), curves.values])
-    return table_csv(("frame", "time", *curves.columns), table, ["%d", "%.10g"])
 
 
 def png_bytes(curves: Curves, times: np.ndarray, title: str) -> bytes:
@@ -135,7 +126,7 @@ def run(args: argparse.Namespace) -> int:
     frames = np.arange(start, stop)
     kept = Curves(curves.columns, curves.values[start:stop], curves.unit)
     if output.suffix.lower() == ".csv":
-        atomic_write_text(output, csv_text(kept, frames, motion.frame_time))
+        atomic_write_text(output, curves_csv_text(kept, frames, motion.frame_time))
     else:
         unit = UNITS.get(ALIASES.get(args.quantity, args.quantity), "")
         title = f"{Path(args.file).name}: {args.quantity}" + (f" ({unit})" if unit else "")

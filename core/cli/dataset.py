@@ -50,12 +50,8 @@ QUANTITIES = ("positions", "rotations")
 COLUMNS = {"positions": ("x", "y", "z"), "rotations": ("qx", "qy", "qz", "qw")}
 
 
-def register(sub: argparse._SubParsersAction) -> None:
-    parser = sub.add_parser(
-        "dataset",
-        help="one .npz/.parquet table of every file's world positions or rotations",
-        description=__doc__.split("\n\n")[0] if __doc__ else None,
-    )
+def register(parser: argparse.ArgumentParser) -> None:
+    parser.description = __doc__.split("\n\n")[0] if __doc__ else None
     parser.add_argument("input", help="a folder of motion files (searched recursively)")
     parser.add_argument("-o", "--output", required=True, help="OUT.npz or OUT.parquet")
     parser.add_argument("--quantity", choices=QUANTITIES, default="positions", help="what to export (positions)")

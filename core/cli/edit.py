@@ -17,6 +17,7 @@ from gmr_studio.core.edits.clip import resample, trim
 from gmr_studio.core.edits.dummies import remove_dummies
 from gmr_studio.core.edits.mirror import mirror, mirror_pairs, pairs_text
 from gmr_studio.core.edits.operations import join, join_all, shift_root, split, split_all
+from gmr_studio.core.edits.steps import AppendStep, add_edit_arguments
 from gmr_studio.core.model.motion import Motion
 
 
@@ -45,45 +46,20 @@ OPERATIONS = {
 }
 
 
-class _Append(argparse.Action):
-    """Collects (operation, joint) pairs in command-line order."""
-
-    def __call__(self, parser, namespace, values, option_string=None):
-        steps = list(getattr(namespace, "steps", None) or [])
-        steps.append((self.const, values))
-        namespace.steps = steps
-
-
-def register(sub: argparse._SubParsersAction) -> None:
-    parser = sub.add_parser("edit", help="shift root, split, join, trim, resample, mirror, in the order given")
+def register(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("input", help="a .bvh, .gmr or .amc file (an AMC's skeleton: --asf, else the .asf beside it)")
     parser.add_argument("-o", "--output", required=True, help="a .gmr or .bvh file (forests: a World root)")
     add_edit_arguments(parser)
     parser.add_argument(
-        "--frames", metavar="A:B", type=parse_frames, action=_Append, const="frames", help="keep frames A to B-1"
+        "--frames", metavar="A:B", type=parse_frames, action=AppendStep, const="frames", help="keep frames A to B-1"
     )
     parser.add_argument(
-        "--rate", metavar="HZ", type=positive_number, action=_Append, const="rate", help="resample to HZ"
+        "--rate", metavar="HZ", type=positive_number, action=AppendStep, const="rate", help="resample to HZ"
     )
-    parser.add_argument("--mirror", nargs=0, action=_Append, const="mirror", help="swap left and right")
+    parser.add_argument("--mirror", nargs=0, action=AppendStep, const="mirror", help="swap left and right")
     parser.add_argument("--list-pairs", action="store_true", help="with --mirror: name the left/right pairs swapped")
     add_reading_options(parser)
     parser.set_defaults(run=run)
-
-
-def add_edit_arguments(parser: argparse.ArgumentParser) -> None:
-    """The structural edit flags, collected in command-line order as ``args.steps``: a list of
-    (operation, joint name or None) pairs, operation a key of :data:`OPERATIONS` (also used by
-    ``gmr-studio FILE --split J ...``)."""
-    parser.add_argument("--shift-root", metavar="J", action=_Append, const="shift_root", help="make J its tree's root")
-    parser.add_argument("--split", metavar="J", action=_Append, const="split", help="make J a root (soft link kept)")
-    parser.add_argument("--join", metavar="J", action=_Append, const="join", help="join split root J to its parent")
-    parser.add_argument("--split-all", nargs=0, action=_Append, const="split_all", help="make every joint a root")
-    parser.add_argument("--join-all", nargs=0, action=_Append, const="join_all", help="join every soft link")
-    parser.add_argument(
-        "--remove-dummies", nargs=0, action=_Append, const="remove_dummies", help="fold zero-offset dummy joints"
-    )
-    parser.set_defaults(steps=[])
 
 
 def run(args: argparse.Namespace) -> int:

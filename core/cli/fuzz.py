@@ -15,8 +15,7 @@ from gmr_studio.core.fuzz.runner import OUTCOMES, replay, run_fuzz
 from gmr_studio.core.fuzz.targets import all_targets
 
 
-def register(sub: argparse._SubParsersAction) -> None:
-    parser = sub.add_parser("fuzz", help="mutate real files and check every reader fails cleanly")
+def register(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--formats", default=None, help="comma-separated formats (default: all available)")
     parser.add_argument("--cases", type=int, default=10_000, help="cases per format (10000)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the run (0)")

@@ -25,8 +25,7 @@ FORMAT_NAMES = {
 }
 
 
-def register(sub: argparse._SubParsersAction) -> None:
-    parser = sub.add_parser("info", help="joints, roots, soft links, frames, frame rate and channels of a file")
+def register(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("file", help="a .bvh, .gmr, .amc, .asf, AMASS .npz or glTF file, or a .c3d or .trc marker file")
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
     add_reading_options(parser)

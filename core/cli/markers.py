@@ -36,13 +36,9 @@ from gmr_studio.core.markers.markerset import MarkerSet
 from gmr_studio.core.model.motion import Motion
 
 
-def register(sub: argparse._SubParsersAction) -> None:
-    parser = sub.add_parser(
-        "markers",
-        help="marker data (.c3d, .trc) to a GMR motion of a skeleton",
-        description=__doc__.split("\n\n", 1)[1],
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-    )
+def register(parser: argparse.ArgumentParser) -> None:
+    parser.description = __doc__.split("\n\n", 1)[1]
+    parser.formatter_class = argparse.RawDescriptionHelpFormatter
     parser.add_argument("input", help="a .c3d or .trc marker file")
     parser.add_argument(
         "--skeleton", help="the skeleton: .asf, .bvh or .gmr (default: built from the markers of a known set)"

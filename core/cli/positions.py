@@ -12,12 +12,10 @@ from gmr_studio.core.cli.reading import add_reading_options, read_with_args
 from gmr_studio.core.kinematics.fk import world_positions
 
 
-def register(sub: argparse._SubParsersAction) -> None:
-    parser = sub.add_parser(
-        "positions",
-        help="world positions of all joints to a .npz file",
-        description="Writes positions (F, J, 3) in the file's units and axes, names (J,) in the file's "
-        "joint order, and frame_time (seconds).",
+def register(parser: argparse.ArgumentParser) -> None:
+    parser.description = (
+        "Writes positions (F, J, 3) in the file's units and axes, names (J,) in the file's "
+        "joint order, and frame_time (seconds)."
     )
     parser.add_argument("file", help="any motion file the project reads")
     parser.add_argument("-o", "--output", required=True, help="the .npz file to write")

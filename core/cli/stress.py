@@ -25,8 +25,7 @@ from gmr_studio.core.shared_data import shared_file
 DEFAULT_BVH = "cmu/subject01/01_01.bvh"
 
 
-def register(sub: argparse._SubParsersAction) -> None:
-    parser = sub.add_parser("stress", help="load, convert and run FK on a very large motion; print peak memory")
+def register(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--frames", type=int, default=1_000_000, help="frames (1000000)")
     parser.add_argument("--bvh", default=None, help=f"BVH to tile (default ../shared/data/{DEFAULT_BVH})")
     parser.add_argument("--keep", metavar="DIR", help="write the big files here instead of a temporary folder")

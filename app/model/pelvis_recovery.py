@@ -1,78 +1,24 @@
-"""Features whose core parts come from other branches, found when they are installed.
+"""Pelvis frames recovered from the shown markers (:func:`core.markers.pelvis.recover_pelvis`),
+trying the marker maps that could describe them, best first.
 
-- Remove dummy joints: ``core.edits.dummies.remove_dummies(motion) -> Motion`` (formats branch).
-- Pelvis frames: ``core.markers.pelvis.recover_pelvis(markers, marker_map) -> PelvisFrames``
-  (markers branch); a shipped map made for the markers shown that cannot apply to the
-  skeleton (no joint-name map pairs them) is said, even when the recovery is quiet.
-- ASF/AMC and C3D: whatever suffixes ``core.formats.READERS`` and
-  ``core.markers.MARKER_READERS`` list are offered by the dialogs and accepted by drops.
+A shipped map made for the markers shown that cannot apply to the skeleton (no joint-name map
+pairs them) is said, even when the recovery is quiet.
 """
 
 from __future__ import annotations
 
-import importlib
-from collections.abc import Callable
-
 import numpy as np
 
-from gmr_studio.app.model.commands import run_edit
 from gmr_studio.app.model.state import StudioState
-from gmr_studio.core.formats import READERS
-from gmr_studio.core.markers import MARKER_READERS
-
-
-def _find(module: str, name: str) -> Callable | None:
-    try:
-        return getattr(importlib.import_module(module), name)
-    except (ImportError, AttributeError):
-        return None
-
-
-def motion_suffixes() -> set[str]:
-    return set(READERS)
-
-
-def marker_suffixes() -> set[str]:
-    return set(MARKER_READERS)
-
-
-def remove_dummies_available(motion=None) -> bool:
-    """The core can remove dummy joints (and, given a motion, it has some)."""
-    find = _find("gmr_studio.core.edits.dummies", "find_dummies")
-    if find is None or _find("gmr_studio.core.edits.dummies", "remove_dummies") is None:
-        return False
-    return motion is None or bool(find(motion))
-
-
-def remove_dummy_joints(state: StudioState) -> bool:
-    """Fold zero-offset dummy joints into their children, as an undoable edit."""
-    remove = _find("gmr_studio.core.edits.dummies", "remove_dummies")
-    if remove is None:
-        state.show_message("Remove dummy joints needs core.edits.dummies (not installed in this build)")
-        return False
-    removed: list[str] = []
-
-    def operation(motion):
-        result, names = remove(motion)
-        removed.extend(names)
-        return result
-
-    if not run_edit(state, "Remove dummy joints", operation):
-        return False
-    state.show_message(f"Removed {len(removed)} dummy joints: {', '.join(removed)}")
-    return True
-
-
-def pelvis_recovery_available() -> bool:
-    return _find("gmr_studio.core.markers.pelvis", "recover_pelvis") is not None
+from gmr_studio.core.errors import MotionFileError, OperationError
+from gmr_studio.core.markers.markermap import MAPS_DIR, Alignment, joints_map, load_marker_map
+from gmr_studio.core.markers.pelvis import recover_pelvis
 
 
 def candidate_marker_maps(state: StudioState) -> list:
     """Marker maps to try for the pelvis, best first: the markers named like joints (with
     the app's alignment, so the skeleton's rest pose gives the home pelvis), then every map
     shipped in ``resources/markermaps``."""
-    from gmr_studio.core.markers.markermap import MAPS_DIR, Alignment, joints_map
-
     alignment = state.marker_overlay.alignment
     joints = joints_map(()).replace(
         alignment=Alignment(rotation=alignment.rotation, scale=alignment.scale, offset=alignment.offset)
@@ -83,19 +29,16 @@ def candidate_marker_maps(state: StudioState) -> list:
 def recover_pelvis_frames(state: StudioState, *, quiet: bool = False) -> bool:
     """Recover the pelvis frames from the shown markers (the first marker map that fits)
     and show them; ``quiet``: say nothing when no map fits."""
-    recover = _find("gmr_studio.core.markers.pelvis", "recover_pelvis")
     overlay = state.marker_overlay
-    if recover is None or overlay is None:
+    if overlay is None:
         if not quiet:
-            state.show_message("Pelvis recovery needs markers and core.markers.pelvis.recover_pelvis")
+            state.show_message("Pelvis recovery needs markers: add a marker file first")
         return False
-    from gmr_studio.core.errors import MotionFileError, OperationError
-
     problems, relevant = [], []
     for marker_map in candidate_marker_maps(state):
         name = getattr(marker_map, "name", marker_map)
         try:
-            pelvis = recover(overlay.markers, marker_map, skeleton=state.motion)
+            pelvis = recover_pelvis(overlay.markers, marker_map, skeleton=state.motion)
         except (OperationError, MotionFileError, ValueError, KeyError) as exc:
             problems.append(f"{name}: {exc}")
             if map_fits_markers(marker_map, overlay.markers):
@@ -124,9 +67,6 @@ def recover_pelvis_frames(state: StudioState, *, quiet: bool = False) -> bool:
 def map_fits_markers(marker_map, markers, share: float = 0.8) -> bool:
     """The map reads real markers, and the marker set has at least ``share`` of them: it was
     made for markers like these (the built-in ``joints`` map never counts)."""
-    from gmr_studio.core.errors import MotionFileError
-    from gmr_studio.core.markers.markermap import load_marker_map
-
     try:
         loaded = load_marker_map(marker_map)
     except MotionFileError:
