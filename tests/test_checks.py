@@ -8,12 +8,12 @@ import json
 import numpy as np
 import pytest
 
-from gmr_studio.core.checks import KINDS, CheckSettings, joint_flags, run_checks
+from gmr_studio.core.checks import KINDS, CheckSettings, Skipped, joint_flags, run_checks, skipped_frames
 from gmr_studio.core.kinematics import world_rotations
 from gmr_studio.core.motion import Motion
 from gmr_studio.core.rigs import RIGS, make_rig
 from gmr_studio.core.rotations import rotation_about_axis
-from tests.checks_walk import clean_walk
+from tests.checks_walk import clean_walk, reference_frame_crouch
 
 CM = 0.01
 INCH = 0.0254
@@ -167,6 +167,35 @@ def test_rest_pose_at_start(rate, unit):
     rotations[:n] = np.eye(3)
     (finding,) = run_checks(motion.replace(rotations=rotations))
     assert (finding.kind, finding.start, finding.end, finding.value) == ("rest-pose", 0, n - 1, n)
+
+
+def test_a_reference_frame_before_a_crouch_is_the_rest_pose_alone():
+    """A Second Life take of 150 joints: frame 0 the reference pose (the body in the T-pose,
+    the 125 face and finger joints turned a few degrees to mark them driven), frames 1-60 a
+    crouch in which they sit at zero while the hips sink 44 cm and the knees bend to 125
+    degrees. Most joints change only between frames 0 and 1, yet the crouch is no rest pose:
+    the rest pose is frame 0 alone, and the right foot's slide over frames 1-11 is found,
+    with every check and with foot-skate alone, frame 0 said to be left out."""
+    motion = reference_frame_crouch("t-pose")
+    found = [(f.kind, f.start, f.end, f.names) for f in run_checks(motion)]
+    assert found == [
+        ("rest-pose", 0, 0, ()),
+        ("foot-skate", 1, 11, ("RightFoot", "RightToe", "RightToeEnd")),
+    ]
+    skate = CheckSettings(kinds=("foot-skate",))
+    (finding,) = run_checks(motion, skate)
+    assert (finding.kind, finding.start, finding.end) == ("foot-skate", 1, 11)
+    assert finding.value == pytest.approx(8.0, rel=0.1)  # 8 cm
+    assert skipped_frames(motion, skate) == [Skipped(0, 0, ("foot-skate",), "the rest pose at the start")]
+    assert skipped_frames(motion, CheckSettings(kinds=("rest-pose",))) == []  # nothing the rest pose skips
+
+
+def test_a_reference_frame_of_turned_joints_is_no_rest_pose():
+    """The same take with every joint of frame 0 turned a few degrees (no T-pose): no frame
+    is in the rest pose, none is left out."""
+    motion = reference_frame_crouch("marked")
+    assert [f for f in run_checks(motion) if f.kind == "rest-pose"] == []
+    assert skipped_frames(motion, CheckSettings()) == []
 
 
 @pytest.mark.parametrize(("rate", "unit"), SETUPS)

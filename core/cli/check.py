@@ -1,8 +1,10 @@
 """``gmr check FILE``: what is wrong with a motion, at which frames and joints.
 
 - ``gmr check FILE [--json OUT] [--only KINDS] [--settings S.json] [--strict [--fail-on S]]``:
-  runs :func:`core.checks.run_checks` and prints a table of findings; ``--json OUT`` writes
-  the document of :mod:`core.checks.report` (``-`` for stdout). A marker file (``.c3d``,
+  runs :func:`core.checks.run_checks` and prints a table of findings, after a line per
+  stretch of frames some checks left out and why (:func:`core.checks.skipped_frames`: the
+  rest pose at the ends); ``--json OUT`` writes the document of :mod:`core.checks.report`
+  (``-`` for stdout). A marker file (``.c3d``,
   ``.trc``) gets the checks of points (:mod:`core.checks.markers`), its markers as joints.
 - ``gmr check --batch DIR [--table OUT.csv|OUT.parquet] [--json OUT] [--jobs N | --scheduler S]``:
   every motion file of a folder tree (``.bvh``, ``.amc`` with its ``.asf``, ``.gmr``, AMASS
@@ -26,7 +28,7 @@ import sys
 from pathlib import Path
 
 from gmr_studio.core.atomic import atomic_write_bytes, atomic_write_text
-from gmr_studio.core.checks import KINDS, SEVERITIES, CheckSettings, run_checks
+from gmr_studio.core.checks import KINDS, SEVERITIES, CheckSettings, run_checks, skipped_frames
 from gmr_studio.core.checks.markers import run_marker_checks
 from gmr_studio.core.checks.report import SUMMARY_COLUMNS, check_document, failing, findings_text, summary_row
 from gmr_studio.core.cli import workers
@@ -97,7 +99,7 @@ def check_file(
         motion, findings = run_marker_checks(read_markers(path), settings)
         return check_document(str(path), motion, findings)
     motion = transformed_by_args(read_motion(path, **(reading or {})), argparse.Namespace(**(transforms or {})))
-    return check_document(str(path), motion, run_checks(motion, settings))
+    return check_document(str(path), motion, run_checks(motion, settings), skipped_frames(motion, settings))
 
 
 def _transforms(args: argparse.Namespace) -> dict:
