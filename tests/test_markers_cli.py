@@ -75,7 +75,8 @@ def test_json_table_roots_frames_and_bvh_output(capsys, tmp_path, joints_trc):
 
 
 def test_calibration_reproduces_the_shipped_cmu_map(capsys, tmp_path):
-    """The command in docs/markers.md makes resources/markermaps/cmu.toml."""
+    """The command in docs/markers.md makes resources/markermaps/cmu.toml (calibrated on the
+    samples the cameras measured: --drop-computed)."""
     template = tmp_path / "template.toml"
     shipped = load_marker_map("cmu")
     bare = shipped.replace(  # the same map before calibration
@@ -88,7 +89,7 @@ def test_calibration_reproduces_the_shipped_cmu_map(capsys, tmp_path):
     d = shared_path(CMU01 + "01_01.c3d").parent
     code, out, _ = run(
         capsys, "markers", d / "01_01.c3d", "--skeleton", d / "01.asf", "--map", template, "--reference",
-        d / "01_01.amc", "--calibrate", "0:1100", "--save-map", saved, "-o", tmp_path / "cal.gmr",
+        d / "01_01.amc", "--calibrate", "0:1100", "--save-map", saved, "--drop-computed", "-o", tmp_path / "cal.gmr",
     )  # fmt: skip
     assert code == 0 and "calibrated on frames 0:1100" in out
     again = load_marker_map(saved)
@@ -212,12 +213,32 @@ def test_info_lists_markers_rate_units_and_gaps(capsys):
     c3d = shared_path(CMU01 + "01_01.c3d")
     code, out, _ = run(capsys, "info", c3d)
     assert code == 0 and "C3D markers" in out and "2751 at 120 Hz" in out and "units:      mm" in out
-    assert "markers:    42" in out and "LANK" in out and "gaps:       3.14% of all samples" in out
+    assert "markers:    42" in out and "LANK" in out and "gaps:       2.40% of all samples" in out
     code, out, _ = run(capsys, "info", c3d, "--json")
     info = json.loads(out)
     rows = {m["label"]: m for m in info["markers"]}
-    assert info["frame_rate"] == 120 and rows["STRN"]["missing"] == 103 and rows["LTHI"]["missing"] == 0
+    assert info["frame_rate"] == 120 and rows["RBAC-1"]["missing"] == 2743 and rows["LTHI"]["missing"] == 0
     code, out, _ = run(capsys, "info", shared_path("c3d/ezc3d_Vicon.c3d"))
     assert "subjects:   " in out and "Daphnee" in out and "Daphnee:ASISr" in out
     code, out, _ = run(capsys, "info", shared_path("trc/opensim_gait2392_subject01_walk1.trc"))
     assert code == 0 and "TRC markers" in out and "at 60 Hz" in out
+
+
+def test_info_counts_the_computed_samples_and_drop_computed_makes_them_gaps(capsys):
+    """CMU 01_01.c3d: the 859 samples of residual 0 (0.74%, the lab's gap filling) are kept
+    and counted (STRN's 103, its longest filled run 93 frames); --drop-computed makes them
+    gaps again (3.14% of the samples)."""
+    c3d = shared_path(CMU01 + "01_01.c3d")
+    code, out, _ = run(capsys, "info", c3d)
+    assert code == 0 and "gaps:       2.40% of all samples" in out
+    assert "computed:   0.74% of all samples (859, kept)" in out and "--drop-computed" in out
+    code, out, _ = run(capsys, "info", c3d, "--json")
+    info = json.loads(out)
+    assert info["computed_fraction"] == pytest.approx(859 / (2751 * 42))
+    assert {m["label"]: (m["missing"], m["computed"]) for m in info["markers"]}["STRN"] == (0, 103)
+    code, out, _ = run(capsys, "info", c3d, "--json", "--drop-computed")
+    info = json.loads(out)
+    strn = {m["label"]: m for m in info["markers"]}["STRN"]
+    assert info["missing_fraction"] == pytest.approx(0.0314, abs=1e-4) and info["computed_fraction"] == 0
+    assert (strn["missing"], strn["longest"], strn["computed"]) == (103, 93, 0)
+

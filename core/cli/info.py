@@ -8,6 +8,7 @@ import json
 import sys
 from pathlib import Path
 
+from gmr_studio.core.cli.markers import add_marker_options, marker_options
 from gmr_studio.core.cli.reading import add_reading_options, read_with_args
 from gmr_studio.core.clock import motion_duration
 from gmr_studio.core.dummies import find_dummies
@@ -29,6 +30,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("info", help="joints, roots, soft links, frames, frame rate and channels of a file")
     parser.add_argument("file", help="a .bvh, .gmr, .amc, .asf, AMASS .npz or glTF file, or a .c3d or .trc marker file")
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
+    add_marker_options(parser)
     add_reading_options(parser)
     parser.set_defaults(run=run)
 
@@ -101,7 +103,7 @@ def run(args: argparse.Namespace) -> int:
         from gmr_studio.core.markers import read_markers
         from gmr_studio.core.markers.report import describe_markers, markers_text
 
-        info = describe_markers(read_markers(args.file), args.file)
+        info = describe_markers(read_markers(args.file, **marker_options(args)), args.file)
         print(json.dumps(info, indent=2) if args.json else markers_text(info))
         return 0
     info = describe(read_with_args(args.file, args), args.file)
