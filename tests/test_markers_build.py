@@ -356,3 +356,22 @@ def test_walking5s_knee_spreads_are_the_rms_about_the_median_lengths():
         lengths = lengths[np.isfinite(lengths)]
         assert built.lengths[j] == pytest.approx(np.median(lengths), rel=1e-12)
         assert built.spread[j] == pytest.approx(np.sqrt(np.mean((lengths - np.median(lengths)) ** 2)), rel=1e-9)
+
+
+def test_a_pelvis_never_seen_whole_is_an_error_naming_its_markers_not_a_crash():
+    """The Vicon gait trial with its pelvis markers mostly hidden (LASI missing in frames
+    0-49, RASI in 50-99, SACR from 100 on: never all three in one frame): an OperationError
+    saying how much of each is missing and what to do, not numpy's All-NaN ValueError."""
+    from gmr_studio.core.markers import read_markers
+    from tests.conftest import shared_path
+
+    markers = read_markers(shared_path("c3d/c3dorg_s03_gait-pig.c3d"))
+    positions = markers.positions.copy()
+    for label, frames in (("LASI", slice(0, 50)), ("RASI", slice(50, 100)), ("SACR", slice(100, None))):
+        positions[frames, markers.index(label)] = np.nan
+    with pytest.raises(OperationError) as error:
+        markers_to_built_motion(markers.replace(positions=positions))
+    assert str(error.value).startswith(
+        "the pelvis is in no frame: its markers are never seen together (missing: LASI 55%, RASI 55%, SACR 30% of "
+        "the 142 frames)"
+    )

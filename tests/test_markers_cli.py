@@ -11,7 +11,7 @@ from gmr_studio.core.cli import main
 from gmr_studio.core.export import bvh_export
 from gmr_studio.core.formats import load_gmr, read_motion, write_motion
 from gmr_studio.core.kinematics import world_positions
-from gmr_studio.core.markers import MarkerSet, load_marker_map
+from gmr_studio.core.markers import MarkerSet, load_marker_map, read_markers
 from gmr_studio.core.markers.markermap import VirtualMarker, marker_map_text
 from gmr_studio.core.markers.trc import trc_text
 from gmr_studio.core.rotations import rotation_angle
@@ -224,6 +224,26 @@ def test_info_lists_markers_rate_units_and_gaps(capsys):
     assert code == 0 and "TRC markers" in out and "at 60 Hz" in out
 
 
+def gait_trial_with_its_pelvis_never_whole(tmp_path):
+    """The Vicon gait trial (Plug-in Gait lower body) with its pelvis markers mostly hidden,
+    as gap-filled samples dropped leave them: LASI missing in frames 0-49, RASI in 50-99,
+    SACR from 100 on, so no frame sees all three. Written as a TRC."""
+    markers = read_markers(shared_path("c3d/c3dorg_s03_gait-pig.c3d"))
+    positions = markers.positions.copy()
+    for label, frames in (("LASI", slice(0, 50)), ("RASI", slice(50, 100)), ("SACR", slice(100, None))):
+        positions[frames, markers.index(label)] = np.nan
+    path = tmp_path / "gait.trc"
+    path.write_text(trc_text(markers.replace(positions=positions)))
+    return path
+
+
+def test_a_pelvis_never_seen_whole_is_one_line_naming_its_markers(capsys, tmp_path):
+    code, out, err = run(capsys, "markers", gait_trial_with_its_pelvis_never_whole(tmp_path), "-o", tmp_path / "o.gmr")
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert "the pelvis is in no frame: its markers are never seen together (missing: LASI 55%, RASI 55%" in err
+    assert "--fill-gaps N" in err and "--frames A:B" in err
+
+
 def test_info_counts_the_computed_samples_and_drop_computed_makes_them_gaps(capsys):
     """CMU 01_01.c3d: the 859 samples of residual 0 (0.74%, the lab's gap filling) are kept
     and counted (STRN's 103, its longest filled run 93 frames); --drop-computed makes them
@@ -241,4 +261,3 @@ def test_info_counts_the_computed_samples_and_drop_computed_makes_them_gaps(caps
     strn = {m["label"]: m for m in info["markers"]}["STRN"]
     assert info["missing_fraction"] == pytest.approx(0.0314, abs=1e-4) and info["computed_fraction"] == 0
     assert (strn["missing"], strn["longest"], strn["computed"]) == (103, 93, 0)
-

@@ -161,6 +161,9 @@ def joint_centre_trajectories(
     if lasi is None or rasi is None or sacrum is None:
         raise OperationError(f"set {match.definition.name}: the pelvis needs both ASIS and the PSIS or a sacral marker")
     origin, frame = jc.pelvis_frame(lasi, rasi, sacrum)
+    placed = np.isfinite(frame).all(axis=(1, 2))
+    if not placed.any():
+        raise OperationError(pelvis_never_seen(markers, match))
     width = np.linalg.norm(lasi - rasi, axis=-1)
     if hip == "davis":
         leg = params.get("LegLength")
@@ -385,6 +388,26 @@ def build_skeleton(
         pelvis=("pelvis", "LHJC", "pelvis_front"),
         set_match=match,
         notes=tuple(notes),
+    )
+
+
+def _pelvis_labels(match: SetMatch) -> list[str]:
+    """The labels of the set's pelvis markers (ASIS, PSIS, sacrum) in the file."""
+    found = [match.found[role] for role in ("LASI", "RASI", "LPSI", "RPSI", "SACR") if role in match.found]
+    return list(dict.fromkeys(part for label in found for part in label.split("+")))
+
+
+def pelvis_never_seen(markers: MarkerSet, match: SetMatch) -> str:
+    """The message for markers whose pelvis is in no frame: which pelvis markers are missing
+    how often, and what the user can do."""
+    labels = _pelvis_labels(match)
+    missing = ", ".join(
+        f"{label} {100 * (1 - markers.present[:, markers.index(label)].mean()):.0f}%" for label in labels
+    )
+    return (
+        f"the pelvis is in no frame: its markers are never seen together (missing: {missing} of the "
+        f"{markers.n_frames} frames), and every joint centre hangs from it. Fill the gaps in the capture "
+        "software, interpolate short ones with --fill-gaps N, or keep the frames where they are seen with --frames A:B"
     )
 
 
