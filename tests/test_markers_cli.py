@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import struct
 
 import numpy as np
 import pytest
@@ -261,3 +262,68 @@ def test_info_counts_the_computed_samples_and_drop_computed_makes_them_gaps(caps
     strn = {m["label"]: m for m in info["markers"]}["STRN"]
     assert info["missing_fraction"] == pytest.approx(0.0314, abs=1e-4) and info["computed_fraction"] == 0
     assert (strn["missing"], strn["longest"], strn["computed"]) == (103, 93, 0)
+
+
+def test_plug_in_gait_joint_centres_are_named_as_computed_not_as_pelvis_markers(capsys, tmp_path):
+    """The Vicon gait trial loses LASI and RASI at frames 114-141: the notes name the pelvis
+    markers missing there and the joint centres computed from them (pelvis, LHJC...), never
+    a 'pelvis marker LHJC'."""
+    code, out, _ = run(capsys, "markers", shared_path("c3d/c3dorg_s03_gait-pig.c3d"), "-o", tmp_path / "o.gmr")
+    assert code == 0 and "pelvis marker LHJC" not in out and "pelvis marker pelvis" not in out
+    assert (
+        "note: the pelvis markers are missing in frames 114-141 (LASI in 114-141; RASI in 114-141): the joint "
+        "centres computed from them (pelvis, pelvis_front, LHJC, RHJC) are not placed there"
+    ) in out
+    assert "note: joint centre LHJC missing in frames 114-141" in out
+
+
+def c3d_without_a_rate(path):
+    """A C3D of 5 frames whose POINT:RATE (and the header's rate) is 0."""
+    from tests.test_markers_c3d import write_c3d
+
+    points = np.random.default_rng(0).normal(size=(5, 2, 3)) * 100
+    write_c3d(path, ["A", "B"], points, np.ones((5, 2)), rate=123.25)
+    data = path.read_bytes()
+    path.write_bytes(data.replace(struct.pack("<f", 123.25), struct.pack("<f", 0.0)))
+    return path
+
+
+def test_a_c3d_without_a_rate_is_refused_with_rate_offered_and_read_with_it(capsys, tmp_path):
+    path = c3d_without_a_rate(tmp_path / "phasespace.c3d")
+    for command in (["info"], ["check"], ["markers", "-o", str(tmp_path / "o.gmr")]):
+        code, _, err = run(capsys, *command, path)
+        assert code == 2 and len(err.strip().splitlines()) == 1
+        assert "the point rate is 0: the file does not say how many frames per second it holds; give the rate" in err
+        assert "--rate HZ" in err
+    code, out, _ = run(capsys, "info", path, "--rate", "480")
+    assert code == 0 and "frames:     5 at 480 Hz" in out
+    code, out, _ = run(capsys, "check", path, "--rate", "480")
+    assert code == 0 and "5 frames at 480 Hz" in out
+    with pytest.raises(SystemExit) as exit_:
+        main(["info", str(path), "--rate", "0"])
+    assert exit_.value.code == 2
+    assert "--rate: expected a positive number of frames per second, not '0'" in capsys.readouterr().err
+
+
+def test_labels_of_no_known_set_list_the_nearest_sets_and_the_map_option(capsys, tmp_path):
+    """c3d.org's sample 02 (its own labels) and Xsens' virtual landmarks: the nearest sets
+    with the labels matched and missing, and the way to map them (--skeleton with --map)."""
+    for relative in ("c3d/c3dio_c3dorg-sample02_dec_real.c3d", "c3d/ezc3d_Vicon.c3d"):
+        code, _, err = run(capsys, "markers", shared_path(relative), "-o", tmp_path / "o.gmr")
+        assert code == 2 and len(err.strip().splitlines()) == 1
+        assert "no known marker set fits these labels (nearest: " in err and "% (matched " in err
+        assert "; missing LASI, RASI" in err or "; missing LFWT, RFWT" in err
+        assert "--skeleton S.asf|S.bvh --map MAP.toml" in err
+    assert "plug-in-gait-full 3% (matched T10; missing LASI, RASI, LPSI" in err  # ezc3d_Vicon: only T10 is named so
+
+
+def test_a_known_set_whose_markers_are_never_seen_says_so(capsys, tmp_path):
+    """walking5's first 400 frames: LASI, RASI and the condyle and malleolus markers are not
+    seen once; the set is still named (not 'no known marker set')."""
+    walk = shared_path("c3d/opensim-core_walking5.c3d")
+    code, _, err = run(capsys, "markers", walk, "--frames", "0:400", "-o", tmp_path / "o.gmr")
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert err.startswith(
+        "gmr: error: this file's markers are set opensim-rajagopal, but LASI, RASI, LLFC, RLFC, LMFC, RMFC, LLMAL, "
+        "RLMAL, LMMAL, RMMAL are missing in every frame of the 400 read"
+    )

@@ -40,7 +40,9 @@ def marker_set_info(markers: MarkerSet) -> dict:
 
     match = identify_marker_set(markers)
     if match is None:
-        return {"name": None, "note": no_match_text(markers.labels)}
+        seen = markers.present.any(axis=0) if markers.n_frames else np.zeros(markers.n_markers, bool)
+        labels = [label for label, s in zip(markers.labels, seen) if s]
+        return {"name": None, "note": no_match_text(labels, [label for label, s in zip(markers.labels, seen) if not s])}
     return {
         "name": match.definition.name,
         "title": match.definition.title,
