@@ -233,3 +233,15 @@ def test_cmu_frame_0_is_reported_as_the_rest_pose_and_left_out(capsys):
         ("rest-pose", 0, 0)
     ]
     assert document["skipped"] == [{"start": 0, "end": 0, "kinds": ["pop"], "reason": "the rest pose at the start"}]
+
+
+def test_marker_files_are_checked_with_their_computed_samples_unless_dropped(capsys):
+    """CMU 01_01.c3d: the lab's filled samples are checked with the rest (STRN's noise beside
+    its filled stretch, 1296-1322, is found); --drop-computed checks the measured ones only."""
+    c3d = str(shared_path("cmu/subject01/01_01.c3d"))
+    assert main(["check", c3d, "--only", "jitter,pop", "--json", "-"]) == 0
+    kept = json.loads(capsys.readouterr().out)["findings"]
+    assert ("jitter", 1296, 1322, ["STRN"]) in [(f["kind"], f["start"], f["end"], f["joints"]) for f in kept]
+    assert main(["check", c3d, "--only", "jitter,pop", "--json", "-", "--drop-computed"]) == 0
+    dropped = json.loads(capsys.readouterr().out)["findings"]
+    assert len(dropped) == 10 and len(kept) == 14 and not any(f["joints"] == ["STRN"] for f in dropped)

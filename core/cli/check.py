@@ -5,7 +5,8 @@
   stretch of frames some checks left out and why (:func:`core.checks.skipped_frames`: the
   rest pose at the ends); ``--json OUT`` writes the document of :mod:`core.checks.report`
   (``-`` for stdout). A marker file (``.c3d``,
-  ``.trc``) gets the checks of points (:mod:`core.checks.markers`), its markers as joints.
+  ``.trc``) gets the checks of points (:mod:`core.checks.markers`), its markers as joints,
+  read as ``--drop-computed`` and ``--rate HZ`` ask (:func:`core.cli.markers.add_marker_options`).
 - ``gmr check --batch DIR [--table OUT.csv|OUT.parquet] [--json OUT] [--jobs N | --scheduler S]``:
   every motion file of a folder tree (``.bvh``, ``.amc`` with its ``.asf``, ``.gmr``, AMASS
   ``.npz`` with ``--body-model``; :func:`core.cli.batch.find_motion_files`) and marker file
