@@ -89,3 +89,67 @@ def clean_walk(rate: float = 120.0, seconds: float = 5.0, unit: float = 1.0) -> 
         frame_time=1.0 / rate,
         convention="post",
     )
+
+
+#: the crouch's frames after the reference frame, and its rate (a Second Life animation)
+CROUCH_FRAMES = 60
+CROUCH_RATE = 24.0
+CROUCH_HIPS = (0.89, 0.45)  # the hips' height standing and crouched (metres)
+
+
+def reference_frame_crouch(reference: str = "t-pose", slide: float = 0.08) -> Motion:
+    """A Second Life (OpenCollar-style) take: 150 joints (the humanoid with fingers and 85
+    face points), frame 0 the reference pose, frames 1-60 a crouch at 24 Hz, in centimetres.
+
+    Frame 0 is the *reference* frame SL's uploader reads to learn which joints the animation
+    drives (a joint is driven when it differs there from frame 1). ``reference="t-pose"``:
+    the body in the T-pose (the identity) and the 125 face and finger joints turned a few
+    degrees, to mark them driven; ``"marked"``: every joint turned a few degrees. In frames
+    1-60 the face and fingers sit at the identity, so they change only between frames 0 and
+    1; the hips sink 44 cm and move 10 cm forward, the knees bend from 12 to 125 degrees with
+    the feet kept planted by two-bone inverse kinematics, the spine leans and the arms reach
+    forward. The right foot slides ``slide`` metres forward over frames 1-11 (a foot skate),
+    the left one stays put.
+    """
+    names, parents, offsets = _humanoid(fingers=True, face=85)
+    n = CROUCH_FRAMES + 1
+    t = np.clip((np.arange(n) - 1) / (CROUCH_FRAMES - 1), 0.0, 1.0)  # 0 at frame 1, 1 at the last
+    sink = _min_jerk(t)
+    root = np.column_stack([np.zeros(n), CROUCH_HIPS[0] + (CROUCH_HIPS[1] - CROUCH_HIPS[0]) * sink, 0.10 * sink])
+    angles = np.zeros((n, len(names), 3))
+    for side in ("Left", "Right"):
+        hip_offset = offsets[names.index(f"{side}UpLeg")]
+        hip = np.column_stack([root[:, 1] + hip_offset[1], root[:, 2] + hip_offset[2]])
+        forward = np.zeros(n) + 0.08
+        if side == "Right":
+            forward += slide * np.clip((np.arange(n) - 1) / 10.0, 0.0, 1.0)
+        thigh, knee = _leg_angles(hip, np.column_stack([np.full(n, ANKLE_HEIGHT), forward]))
+        angles[:, names.index(f"{side}UpLeg"), 1] = thigh
+        angles[:, names.index(f"{side}Leg"), 1] = knee
+        angles[:, names.index(f"{side}Foot"), 1] = -(thigh + knee)
+        s = 1.0 if side == "Left" else -1.0
+        angles[:, names.index(f"{side}Arm"), 0] = -s * (1.3 - 0.4 * sink)
+        angles[:, names.index(f"{side}Arm"), 1] = -1.2 * sink
+    angles[:, names.index("Spine"), 1] = 0.5 * sink
+    angles[:, names.index("Spine1"), 1] = 0.2 * sink
+    if reference not in ("t-pose", "marked"):
+        raise ValueError(f"reference must be 't-pose' or 'marked', not {reference!r}")
+    marked = np.array([reference == "marked" or n.startswith("Face") or "Hand" in n[4:] for n in names])
+    marks = np.radians(3.0 + 4.0 * (np.arange(len(names)) % 5)) * marked
+    angles[0] = 0.0
+    angles[0, :, 0] = marks
+    angles[0, :, 2] = -0.5 * marks
+    root[0] = root[1]
+    translations = np.broadcast_to(offsets, (n, len(names), 3)).copy()
+    translations[:, 0] = root
+    return Motion(
+        names=names,
+        parents=parents,
+        offsets=offsets * 100.0,
+        rotation_orders=[ORDER] * len(names),
+        has_translation=np.array(parents) < 0,
+        rotations=matrix_from_euler(angles, ORDER),
+        translations=translations * 100.0,
+        frame_time=1.0 / CROUCH_RATE,
+        convention="post",
+    )

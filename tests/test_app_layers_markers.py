@@ -49,7 +49,7 @@ def test_a_c3d_over_its_bvh_as_a_marker_layer(studio):
     layer = layers[0]
     # listed like a motion layer, its alignment shown (controls for kind and offset hidden)
     table = studio.layers_panel.table
-    assert table.rowCount() == 2 and table.item(1, 2).text() == "01_01.c3d (markers)"
+    assert table.rowCount() == 2 and table.item(1, 2).text() == "01_01.c3d (markers, 0.74% computed)"
     assert table.item(1, 4).text().startswith("42 markers, x0.01772")
     assert table.cellWidget(1, 3).value() == 90 and table.cellWidget(1, 5).text() == "Remove"
     box = studio.layers_panel.alignment

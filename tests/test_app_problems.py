@@ -95,6 +95,9 @@ def test_the_planted_defects_are_listed(studio):
     ]
     assert rows[1][4].endswith("file units") and float(rows[1][4].split()[0]) == pytest.approx(5.0, rel=0.1)
     assert "3 findings: 1 error, 2 warnings" in studio.problems_panel.summary.text()
+    skipped = studio.problems_panel.skipped_label  # no check leaves frames out silently
+    assert skipped.text() == "Frames 0-9 (the rest pose at the start) are left out of every check but rest-pose"
+    assert skipped.isVisibleTo(studio.problems_panel)
     assert ">Problems: 1 error, 2 warnings<" in studio.problems_count.text()
     studio.problems_panel.filter_box.setCurrentIndex(2)  # errors only
     assert [r[0] for r in table_rows(studio)] == ["bone-length"]
@@ -200,9 +203,11 @@ def test_edits_that_fix_a_problem_update_the_list(studio):
         ("bone-length", POP_FRAME - REST_FRAMES, POP_FRAME - REST_FRAMES, ("LeftHand",)),
     ]
     assert [r[0] for r in table_rows(studio)] == ["pop", "bone-length"]
+    assert not studio.problems_panel.skipped_label.isVisibleTo(studio.problems_panel)  # no frame left out now
     assert studio.problems.flags.shape == (state.n_frames, state.motion.n_joints)
     state.undo_stack.undo()  # the earlier findings, at once (kept with their snapshot)
     assert not studio.problems.running and listed(studio.problems) == PLANTED
+    assert studio.problems_panel.skipped_label.text().startswith("Frames 0-9 (the rest pose at the start)")
     assert commands.resample_to(state, 60.0)
     studio.problems.wait()
     assert [(k, s) for k, s, _e, _n in listed(studio.problems)] == [

@@ -12,7 +12,7 @@ from gmr_studio.core.checks import KINDS
 from gmr_studio.core.cli import main
 from gmr_studio.core.formats import write_motion
 from gmr_studio.core.kinematics.convention import pre_from_post
-from tests.checks_walk import clean_walk
+from tests.checks_walk import clean_walk, reference_frame_crouch
 from tests.conftest import shared_path
 
 
@@ -41,7 +41,8 @@ def test_table_and_json(files, tmp_path, capsys):
     assert "3 findings (2 warning, 1 info)" in text
     assert "duplicate    warning      251-252  (whole pose)" in text
     document = json.loads(out.read_text())
-    assert list(document) == ["file", "frames", "frame_rate", "units", "findings"]
+    assert list(document) == ["file", "frames", "frame_rate", "units", "findings", "skipped"]
+    assert document["skipped"] == []  # no rest pose: every check saw every frame
     assert (document["frames"], document["frame_rate"], document["units"]) == (602, 120.0, "file units")
     kinds = [(f["kind"], f["start"], f["end"], f["severity"]) for f in document["findings"]]
     assert kinds == [
@@ -199,3 +200,53 @@ def test_a_z_up_bvh_is_checked_along_the_axis_its_figure_stands_on(tmp_path, cap
     told_wrong = ["--up", "y", "--from-up", "y"]  # the user says it is Y up: measured along Y
     assert main(["check", str(path), "--only", "foot-skate", "--json", "-", *told_wrong]) == 0
     assert [(f["start"], f["end"]) for f in json.loads(capsys.readouterr().out)["findings"]] != [(100, 120)]
+
+
+def test_the_frames_left_out_are_reported_and_the_foot_skate_found_with_only(tmp_path, capsys):
+    """A Second Life take (frame 0 the reference T-pose, frames 1-60 a crouch whose face and
+    fingers sit at zero, the right foot sliding over frames 1-11): the rest pose is frame 0
+    alone, the text and the JSON say the other checks left it out, and ``--only
+    foot-skate`` still finds the slide (and says frame 0 was left out of it)."""
+    take = tmp_path / "crouch.bvh"
+    write_motion(reference_frame_crouch("t-pose"), take)
+    out = tmp_path / "crouch.json"
+    assert main(["check", str(take), "--json", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "skipped: frame 0 (the rest pose at the start) is left out of every check but rest-pose" in text
+    document = json.loads(out.read_text())
+    assert [(f["kind"], f["start"], f["end"]) for f in document["findings"]] == [
+        ("rest-pose", 0, 0),
+        ("foot-skate", 1, 11),
+    ]
+    assert document["skipped"] == [
+        {"start": 0, "end": 0, "kinds": [k for k in KINDS if k != "rest-pose"], "reason": "the rest pose at the start"}
+    ]
+    assert main(["check", str(take), "--only", "foot-skate,pop", "--json", "-"]) == 0
+    document = json.loads(capsys.readouterr().out)
+    assert [(f["kind"], f["start"], f["end"]) for f in document["findings"]] == [("foot-skate", 1, 11)]
+    assert document["skipped"][0]["kinds"] == ["foot-skate", "pop"]
+    assert main(["check", str(take), "--only", "foot-skate"]) == 0
+    assert "skipped: frame 0 (the rest pose at the start) is left out of foot-skate\n" in capsys.readouterr().out
+
+
+def test_cmu_frame_0_is_reported_as_the_rest_pose_and_left_out(capsys):
+    """cgspeed's CMU 01_01.bvh: frame 0 is the T-pose the converter adds (its fingers, too,
+    change only between frames 0 and 1): still the rest pose, and said to be left out."""
+    assert main(["check", str(shared_path("cmu/subject01/01_01.bvh")), "--only", "rest-pose,pop", "--json", "-"]) == 0
+    document = json.loads(capsys.readouterr().out)
+    assert [(f["kind"], f["start"], f["end"]) for f in document["findings"] if f["kind"] == "rest-pose"] == [
+        ("rest-pose", 0, 0)
+    ]
+    assert document["skipped"] == [{"start": 0, "end": 0, "kinds": ["pop"], "reason": "the rest pose at the start"}]
+
+
+def test_marker_files_are_checked_with_their_computed_samples_unless_dropped(capsys):
+    """CMU 01_01.c3d: the lab's filled samples are checked with the rest (STRN's noise beside
+    its filled stretch, 1296-1322, is found); --drop-computed checks the measured ones only."""
+    c3d = str(shared_path("cmu/subject01/01_01.c3d"))
+    assert main(["check", c3d, "--only", "jitter,pop", "--json", "-"]) == 0
+    kept = json.loads(capsys.readouterr().out)["findings"]
+    assert ("jitter", 1296, 1322, ["STRN"]) in [(f["kind"], f["start"], f["end"], f["joints"]) for f in kept]
+    assert main(["check", c3d, "--only", "jitter,pop", "--json", "-", "--drop-computed"]) == 0
+    dropped = json.loads(capsys.readouterr().out)["findings"]
+    assert len(dropped) == 10 and len(kept) == 14 and not any(f["joints"] == ["STRN"] for f in dropped)

@@ -30,6 +30,7 @@ def test_the_document_of_a_file():
         "frame_rate": 30.0,
         "units": "file units",
         "findings": [FINDINGS[0].to_dict()],
+        "skipped": [],
     }
     rates = [
         check_document("x", motion.replace(frame_time=1 / r), [])["frame_rate"] for r in (29.9700000004, 29.970000004)

@@ -8,12 +8,12 @@ import json
 import numpy as np
 import pytest
 
-from gmr_studio.core.checks import KINDS, CheckSettings, joint_flags, run_checks
+from gmr_studio.core.checks import KINDS, CheckSettings, Skipped, joint_flags, run_checks, skipped_frames
 from gmr_studio.core.kinematics.fk import world_rotations
 from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.rigs import RIGS, make_rig
 from gmr_studio.core.rotations.euler import rotation_about_axis
-from tests.checks_walk import clean_walk
+from tests.checks_walk import clean_walk, reference_frame_crouch
 
 CM = 0.01
 INCH = 0.0254
@@ -159,6 +159,55 @@ def test_teleport(rate, unit):
     assert finding.value == pytest.approx(cm(50.0, unit), rel=0.1)
 
 
+#: world (x, y, z) of a Y-up motion -> (x, -z, y): the same motion Z up
+Y_UP_TO_Z_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
+
+
+def turned_z_up(motion: Motion) -> Motion:
+    """A post-convention motion of one root turned Z up (its root's frame and path turned,
+    every other joint unchanged), its comments saying so."""
+    rotations = motion.rotations.copy()
+    rotations[:, 0] = Y_UP_TO_Z_UP @ rotations[:, 0]
+    translations = motion.translations.copy()
+    translations[:, 0] = motion.translations[:, 0] @ Y_UP_TO_Z_UP.T
+    offsets = motion.offsets.copy()
+    offsets[0] = Y_UP_TO_Z_UP @ motion.offsets[0]
+    return motion.replace(rotations=rotations, translations=translations, offsets=offsets, comments=("up axis: z",))
+
+
+@pytest.mark.parametrize("up", ["y", "z"])
+def test_a_foot_sliding_forward_is_found_whichever_axis_is_up(up):
+    """The right foot slid 2 cm forward (along the walk) over frames 100-120: found, with
+    its size, in the Y-up walk and in the same walk turned Z up (its forward the -Y axis,
+    the slide measured across the up axis the file states)."""
+
+    def slide(f):
+        shift = np.zeros((f.size, 3))
+        shift[:, 2] = 2.0 * np.clip((f - 100) / 20, 0.0, 1.0)
+        return shift
+
+    motion = with_translation(clean_walk(120.0, unit=CM), "RightFoot", slide)
+    if up == "z":
+        motion = turned_z_up(motion)
+    (finding,) = run_checks(motion, CheckSettings(kinds=("foot-skate",)))
+    assert (finding.start, finding.end, finding.names[0]) == (100, 120, "RightFoot")
+    assert finding.value == pytest.approx(2.0, rel=0.1)
+
+
+def test_a_teleport_of_the_hips_under_a_pinned_root():
+    """core.rigs' origin_root: a Root pinned at the world origin, the hips below it carrying
+    the walk. The hips moved 50 cm sideways from frame 150 on: a teleport of the hips (the
+    root that carries the figure), not of the Root, which never moves."""
+    motion = make_rig("origin_root")
+    hips = motion.names.index("Hips")
+    assert motion.parents[hips] == motion.names.index("Root") and motion.anchors[motion.parents[hips]]
+    translations = motion.translations.copy()
+    translations[150:, hips, 0] += 0.5
+    (finding,) = run_checks(motion.replace(translations=translations), CheckSettings(kinds=("teleport",)))
+    assert (finding.kind, finding.start, finding.end, finding.names) == ("teleport", 149, 150, ("Hips",))
+    assert finding.value == pytest.approx(0.5, rel=0.1)
+
+
 @pytest.mark.parametrize(("rate", "unit"), SETUPS)
 def test_rest_pose_at_start(rate, unit):
     motion = clean_walk(rate, unit=unit)
@@ -167,6 +216,35 @@ def test_rest_pose_at_start(rate, unit):
     rotations[:n] = np.eye(3)
     (finding,) = run_checks(motion.replace(rotations=rotations))
     assert (finding.kind, finding.start, finding.end, finding.value) == ("rest-pose", 0, n - 1, n)
+
+
+def test_a_reference_frame_before_a_crouch_is_the_rest_pose_alone():
+    """A Second Life take of 150 joints: frame 0 the reference pose (the body in the T-pose,
+    the 125 face and finger joints turned a few degrees to mark them driven), frames 1-60 a
+    crouch in which they sit at zero while the hips sink 44 cm and the knees bend to 125
+    degrees. Most joints change only between frames 0 and 1, yet the crouch is no rest pose:
+    the rest pose is frame 0 alone, and the right foot's slide over frames 1-11 is found,
+    with every check and with foot-skate alone, frame 0 said to be left out."""
+    motion = reference_frame_crouch("t-pose")
+    found = [(f.kind, f.start, f.end, f.names) for f in run_checks(motion)]
+    assert found == [
+        ("rest-pose", 0, 0, ()),
+        ("foot-skate", 1, 11, ("RightFoot", "RightToe", "RightToeEnd")),
+    ]
+    skate = CheckSettings(kinds=("foot-skate",))
+    (finding,) = run_checks(motion, skate)
+    assert (finding.kind, finding.start, finding.end) == ("foot-skate", 1, 11)
+    assert finding.value == pytest.approx(8.0, rel=0.1)  # 8 cm
+    assert skipped_frames(motion, skate) == [Skipped(0, 0, ("foot-skate",), "the rest pose at the start")]
+    assert skipped_frames(motion, CheckSettings(kinds=("rest-pose",))) == []  # nothing the rest pose skips
+
+
+def test_a_reference_frame_of_turned_joints_is_no_rest_pose():
+    """The same take with every joint of frame 0 turned a few degrees (no T-pose): no frame
+    is in the rest pose, none is left out."""
+    motion = reference_frame_crouch("marked")
+    assert [f for f in run_checks(motion) if f.kind == "rest-pose"] == []
+    assert skipped_frames(motion, CheckSettings()) == []
 
 
 @pytest.mark.parametrize(("rate", "unit"), SETUPS)

@@ -53,7 +53,7 @@ def test_pelvis_frames_on_the_cmu_bvh_and_a_message_when_the_map_cannot_apply(qt
     state.open_document(Snapshot.of(load_gmr(shared_path("cmu/subject01/01_01.bvh"))), None)
     state.set_markers(markers)
     assert pelvis_recovery.recover_pelvis_frames(state, quiet=True)
-    assert state.pelvis is not None and int(state.pelvis.source.valid.sum()) == 2750
+    assert state.pelvis is not None and int(state.pelvis.source.valid.sum()) == 2751  # computed samples kept
     assert "marker map 'cmu' (Hips, LeftUpLeg, RightUpLeg) (fitted on LFWT, RFWT, LBWT)" in messages[-1]
     # a skeleton no joint map pairs with CMU's: said, even though the recovery is quiet
     rig = write_rig(tmp_path / "rig.bvh", root="pelvis", left="l_hip", right="r_hip", back="belly")
@@ -64,3 +64,30 @@ def test_pelvis_frames_on_the_cmu_bvh_and_a_message_when_the_map_cannot_apply(qt
     assert state.pelvis is None
     assert messages and "marker map 'cmu' fits these markers but cannot apply to this skeleton" in messages[-1]
     assert "does not pair them with this skeleton's joints" in messages[-1]
+
+
+def test_computed_samples_are_counted_in_the_inspector_and_the_layers_dock(qtbot, studio):
+    """CMU 01_01.c3d over its BVH: the inspector gives the share of samples the capture
+    software computed (0.74%) and says so beside the selected marker at a frame where it is
+    computed (STRN, 103 such frames), not where it is measured; the same file as a marker
+    layer shows the share in the Layers dock."""
+    c3d = shared_path("cmu/subject01/01_01.c3d")
+    open_file(studio, shared_path("cmu/subject01/01_01.bvh"), c3d)
+    state = studio.state
+    overlay = state.marker_overlay
+    assert overlay.computed.shape == overlay.positions.shape[:2]
+    # on the BVH's clock (120.005 Hz): a sample between a computed one and another is computed
+    assert int(overlay.markers.computed.sum()) == 859 <= int(overlay.computed.sum()) <= 2 * 859
+    assert "42 from 01_01.c3d, 120 Hz, mm; 0.74% computed by the capture software" in studio.inspector.text()
+    strn = overlay.markers.index("STRN")
+    state.select_marker(strn)
+    computed, measured = np.flatnonzero(overlay.computed[:, strn])[0], 10
+    assert not overlay.computed[measured, strn]
+    state.set_frame(int(computed))
+    assert "(computed by the capture software)" in studio.inspector.text()
+    state.set_frame(measured)
+    assert "Marker STRN" in studio.inspector.text() and "(computed by" not in studio.inspector.text()
+    studio.layers.add_markers(overlay.markers, c3d)
+    table = studio.layers_panel.table
+    names = [table.item(r, 2).text() for r in range(table.rowCount()) if table.item(r, 2) is not None]
+    assert "01_01.c3d (markers, 0.74% computed)" in names

@@ -321,3 +321,57 @@ def test_hidden_pelvis_and_medial_markers_are_carried_by_their_segment():
     size = max(np.ptp(result[0], axis=0))
     for j, name in enumerate(motion.names):
         assert np.abs(result[:, j] - joints[name]).max() <= 1e-9 * size, name
+
+
+# ------------------------------------------------------------------ bone lengths
+def test_a_bones_spread_is_the_rms_about_its_fitted_median_length():
+    """The toe marker slid 4 mm out along the foot at three of eight frames (a one-sided
+    slide, where the mean and the median differ): the toe bone keeps its rigid length (the
+    median) and its spread is the RMS about that length, 4 * sqrt(3/8) mm, not the standard
+    deviation about the mean (4 * sqrt(15)/8 mm)."""
+    markers, joints = generated_markers("helen-hayes", n_frames=8, seed=4)
+    built = build_skeleton(markers)
+    j = built.skeleton.joint_index("LTOE")
+    foot = joints["LTOE"] - joints["LAJC"]
+    foot /= np.linalg.norm(foot, axis=1, keepdims=True)
+    out = np.array([0.0, 4.0, 0.0, 0.0, 4.0, 0.0, 4.0, 0.0])
+    positions = markers.positions.copy()
+    positions[:, markers.index("LTOE")] += out[:, None] * foot
+    moved = build_skeleton(markers.replace(positions=positions))
+    assert moved.lengths[j] == pytest.approx(built.lengths[j], rel=1e-12)
+    assert moved.spread[j] == pytest.approx(4.0 * np.sqrt(3 / 8), rel=1e-9)
+
+
+def test_walking5s_knee_spreads_are_the_rms_about_the_median_lengths():
+    """On a real gait trial, whose thigh lengths lean to one side (their mean 1.4-1.6 mm
+    above their median), each spread is the RMS of the measured lengths about the fitted
+    one, recomputed here from the joint centres."""
+    from gmr_studio.core.markers import read_markers
+    from tests.conftest import shared_path
+
+    built = build_skeleton(read_markers(shared_path("c3d/opensim-core_walking5.c3d")))
+    for name in ("LKJC", "RKJC"):
+        j = built.skeleton.joint_index(name)
+        lengths = np.linalg.norm(built.centres[:, j] - built.centres[:, built.skeleton.parents[j]], axis=1)
+        lengths = lengths[np.isfinite(lengths)]
+        assert built.lengths[j] == pytest.approx(np.median(lengths), rel=1e-12)
+        assert built.spread[j] == pytest.approx(np.sqrt(np.mean((lengths - np.median(lengths)) ** 2)), rel=1e-9)
+
+
+def test_a_pelvis_never_seen_whole_is_an_error_naming_its_markers_not_a_crash():
+    """The Vicon gait trial with its pelvis markers mostly hidden (LASI missing in frames
+    0-49, RASI in 50-99, SACR from 100 on: never all three in one frame): an OperationError
+    saying how much of each is missing and what to do, not numpy's All-NaN ValueError."""
+    from gmr_studio.core.markers import read_markers
+    from tests.conftest import shared_path
+
+    markers = read_markers(shared_path("c3d/c3dorg_s03_gait-pig.c3d"))
+    positions = markers.positions.copy()
+    for label, frames in (("LASI", slice(0, 50)), ("RASI", slice(50, 100)), ("SACR", slice(100, None))):
+        positions[frames, markers.index(label)] = np.nan
+    with pytest.raises(OperationError) as error:
+        markers_to_built_motion(markers.replace(positions=positions))
+    assert str(error.value).startswith(
+        "the pelvis is in no frame: its markers are never seen together (missing: LASI 55%, RASI 55%, SACR 30% of "
+        "the 142 frames)"
+    )

@@ -53,26 +53,62 @@ def test_real_files(relative, n_frames, n_markers, rate, units):
     assert np.isnan(markers.positions[~markers.present]).all()
 
 
-def test_cmu_labels_gaps_and_the_zero_residual_rule():
+def test_cmu_labels_gaps_and_the_computed_samples():
+    """CMU 01_01: negative residuals are the 2.4% of gaps PROVENANCE quotes; the 859 samples
+    of residual 0 (0.74%, the lab's gap filling) are kept and marked computed, and
+    ``computed="drop"`` makes them gaps and changes nothing else."""
     path = shared_path("cmu/subject01/01_01.c3d")
     markers = read_c3d(path)
     assert {"LFHD", "RFHD", "C7", "T10", "LANK", "RTOE", "LFWT", "RBWT"} <= set(markers.labels)
     assert "RBAC-1" in markers.labels and markers.first_frame == 39
-    kept = read_c3d(path, zero_residual="keep")
-    # negative residuals (ezc3d's NaN) are the 2.4% of gaps PROVENANCE quotes
-    assert abs((~kept.present).mean() - 0.024) < 0.001
-    # zero residuals are the capture software's interpolation: gaps by default, not with "keep"
-    extra = ~markers.present & kept.present
-    assert extra.sum() == 859 and "859 samples with residual 0" in markers.notes[0]
-    np.testing.assert_array_equal(markers.positions[markers.present], kept.positions[markers.present])
+    assert abs((~markers.present).mean() - 0.024) < 0.001
+    assert markers.computed.shape == (2751, 42) and markers.computed.sum() == 859
+    assert not (markers.computed & ~markers.present).any()
+    assert "859 samples with residual 0" in markers.notes[0] and "kept and marked computed" in markers.notes[0]
+    dropped = read_c3d(path, computed="drop")
+    np.testing.assert_array_equal(~dropped.present, ~markers.present | markers.computed)
+    assert not dropped.computed.any() and "859 samples with residual 0" in dropped.notes[0]
+    np.testing.assert_array_equal(dropped.positions[dropped.present], markers.positions[dropped.present])
+
+
+def test_cmus_computed_samples_are_continuous_with_their_neighbours():
+    """The computed samples of CMU 01_01 are where the marker is: stepping into one from a
+    present neighbour is no longer than stepping between measured samples (medians 2.6 and
+    4.5 mm), and none is farther from the measured samples around it than a marker moving
+    at 5 m/s could go."""
+    markers = read_c3d(shared_path("cmu/subject01/01_01.c3d"))
+    steps = np.linalg.norm(np.diff(markers.positions, axis=0), axis=2)  # (F-1, M), NaN at gaps
+    into = steps[markers.computed[1:] & markers.present[:-1]]
+    between = steps[markers.measured[1:] & markers.measured[:-1]]
+    assert into.size > 400 and np.median(into) <= np.median(between)
+    frames, columns = np.nonzero(markers.computed)
+    for f, m in zip(frames, columns):
+        seen = np.flatnonzero(markers.measured[:, m])
+        for g in (seen[seen < f][-1:], seen[seen > f][:1]):
+            if g.size:
+                speed = np.linalg.norm(markers.positions[f, m] - markers.positions[g[0], m]) / abs(f - g[0])
+                assert speed * markers.rate < 5000.0  # mm/s
+
+
+@pytest.mark.parametrize(
+    ("relative", "gaps"),
+    [("c3d/opensim-core_walking5.c3d", 0.455), ("c3d/ezc3d_Vicon.c3d", 0.010), ("c3d/c3dorg_s03_gait-pig.c3d", 0.159)],
+)
+def test_vicon_files_without_residuals_keep_every_valid_sample(relative, gaps):
+    """Vicon Nexus writes residual 0 on every valid sample (no residual recorded): none is
+    computed, nothing is dropped, and the gaps are the invalid samples alone."""
+    path = shared_path(relative)
+    markers = read_c3d(path)
+    assert not markers.computed.any()
+    assert (~markers.present).mean() == pytest.approx(gaps, abs=0.001)
+    np.testing.assert_array_equal(read_c3d(path, computed="drop").present, markers.present)
 
 
 def test_files_without_residuals_keep_every_sample():
     # Qualisys and the Plug-in Gait sample write residual 0 everywhere: no residual recorded
     for relative in ("c3d/ezc3d_Qualisys.c3d", "c3d/c3dorg_s00_NexGen_test1_PiG_fullbody.c3d"):
         markers = read_c3d(shared_path(relative))
-        assert markers.present.all() and markers.notes == ()
-        assert (~read_c3d(shared_path(relative), zero_residual="gap").present).all()
+        assert markers.present.all() and markers.notes == () and not markers.computed.any()
 
 
 def test_subject_prefix_is_split():
@@ -100,16 +136,37 @@ def test_written_file_with_residual_codes(tmp_path):
     rng = np.random.default_rng(4)
     points = rng.normal(size=(5, 3, 3)) * 100
     residuals = np.ones((5, 3))
-    residuals[1, 0] = -1  # invalid
-    residuals[2, 1] = 0  # interpolated: a gap, since the file records residuals
+    residuals[1, 0] = -1  # invalid: a gap
+    residuals[2, 1] = 0  # computed by the capture software: kept, marked
     path = write_c3d(tmp_path / "w.c3d", ["Sam:LASI", "RASI", "RASI"], points, residuals, rate=250, first_frame=7)
     markers = read_c3d(path)
     assert markers.labels == ("LASI", "RASI", "RASI~2") and markers.subjects == ("Sam", "", "")
     assert markers.rate == 250 and markers.first_frame == 7 and markers.units == "mm"
     expected = points.copy()
-    expected[1, 0] = expected[2, 1] = np.nan
+    expected[1, 0] = np.nan
     np.testing.assert_allclose(markers.positions, expected, rtol=1e-6, atol=1e-4)  # stored as float32
+    assert np.argwhere(markers.computed).tolist() == [[2, 1]]
     assert any("repeats the label" in note for note in markers.notes)
+    expected[2, 1] = np.nan
+    np.testing.assert_allclose(read_c3d(path, computed="drop").positions, expected, rtol=1e-6, atol=1e-4)
+
+
+def test_only_computed_samples_no_marker_could_reach_are_gaps(tmp_path):
+    """A marker walking at 1 m/s (10 mm a frame at 100 Hz), measured but at frames 3-5,
+    whose residual is 0 (computed): frames 3 and 4 lie on its path (kept, computed), frame 5
+    is 2 m off it (no marker gets there in 10 ms: a gap), and frame 7, at exactly
+    (0, 0, 0) with residual 0, is a gap too (older writers' missing marker)."""
+    frames = np.arange(10.0)
+    path = np.column_stack([500.0 + 10.0 * frames, np.full(10, 200.0), np.full(10, 900.0)])
+    path[5] += [0.0, 2000.0, 0.0]
+    path[7] = 0.0
+    residuals = np.ones(10)
+    residuals[[3, 4, 5, 7]] = 0.0
+    markers = read_c3d(write_c3d(tmp_path / "j.c3d", ["LASI"], path[:, None], residuals[:, None]))
+    assert np.flatnonzero(~markers.present[:, 0]).tolist() == [5, 7]
+    assert np.flatnonzero(markers.computed[:, 0]).tolist() == [3, 4]
+    assert any("farther from the measured ones" in note for note in markers.notes)
+    assert any("(0, 0, 0)" in note for note in markers.notes)
 
 
 def test_one_frame_file_and_metres(tmp_path):
@@ -251,7 +308,7 @@ def write_long_c3d(path, n_frames: int, count_in: str, announced: int | None = N
     points = np.stack([np.stack([frame, 2 * frame, 3 * frame], -1), np.stack([frame + 0.5] * 3, -1)], axis=1)
     residuals = np.ones((n_frames, 2))
     residuals[65_600::1000, 1] = -1  # invalid, all past 65,535
-    residuals[66_001, 1] = 0  # interpolated: a gap, since the file records residuals
+    residuals[66_001, 1] = 0  # computed: kept and marked, since the file records residuals
     data = np.ones((4, 2, n_frames))
     data[:3] = points.transpose(2, 1, 0)
     c3d["data"]["points"] = data
@@ -267,7 +324,7 @@ def write_long_c3d(path, n_frames: int, count_in: str, announced: int | None = N
         }
     c3d.write(str(path))
     expected = points.copy()
-    expected[residuals[:, :, None].repeat(3, 2) <= 0] = np.nan
+    expected[residuals[:, :, None].repeat(3, 2) < 0] = np.nan
     return path, expected
 
 
@@ -283,7 +340,8 @@ def test_captures_longer_than_65535_frames_read_completely(tmp_path, count_in, a
     assert n_read == 70_000 if announced is None else 70_000 <= n_read <= 70_000 + 512 // 32
     np.testing.assert_array_equal(markers.positions[:70_000], expected)  # integers, halves: exact in float32
     assert np.isnan(markers.positions[70_000:]).all()
-    assert int((~markers.present[:70_000]).sum()) == 6
+    assert int((~markers.present[:70_000]).sum()) == 5
+    assert np.argwhere(markers.computed).tolist() == [[66_001, 1]]
     note = next(n for n in markers.notes if "more than the header's 16-bit" in n)
     assert f"gives {announced or 70_000} frames" in note and f"{n_read} frames read" in note
     assert ("truncated" in note) == (announced is not None)

@@ -81,9 +81,9 @@ def test_the_headers_own_errors(tmp_path):
     assert "(block 0) lies outside" in header_error(tmp_path, header_bytes(block=0))
 
 
-def test_zero_residual_must_be_one_of_three(tmp_path):
-    with pytest.raises(ValueError, match="zero_residual must be 'auto', 'gap' or 'keep', not 'yes'"):
-        read_c3d(tmp_path / "absent.c3d", zero_residual="yes")
+def test_computed_must_be_keep_or_drop(tmp_path):
+    with pytest.raises(ValueError, match="computed must be 'keep' or 'drop', not 'yes'"):
+        read_c3d(tmp_path / "absent.c3d", computed="yes")
 
 
 class FakeRun:
@@ -212,8 +212,8 @@ def test_the_in_process_read_gets_the_announced_frames(tmp_path, monkeypatch):
     assert markers.notes == ("the header announces 5 frames, the file holds 4: it may be truncated",)
 
 
-def marker_set(points, residuals, zero_residual="auto", **meta):
-    return _marker_set(decoded(points, residuals, **meta), "f.c3d", zero_residual)
+def marker_set(points, residuals, computed="keep", **meta):
+    return _marker_set(decoded(points, residuals, **meta), "f.c3d", computed, None)
 
 
 def two_markers():
@@ -227,24 +227,27 @@ def two_markers():
 
 def test_the_zero_residual_rules_on_exact_samples():
     points, residuals = two_markers()
-    auto = marker_set(points, residuals)
-    # the file records residuals (A's): every zero-residual sample is a gap
-    np.testing.assert_array_equal(auto.present, [[True, False], [False, False], [True, False]])
-    assert auto.notes == (
-        "4 samples with residual 0 (interpolated by the capture software, not measured) read as gaps",
+    kept = marker_set(points, residuals)
+    # the file records residuals (A's): every zero-residual sample is computed, kept but
+    # the one at exactly the origin
+    np.testing.assert_array_equal(kept.present, [[True, True], [True, True], [True, False]])
+    np.testing.assert_array_equal(kept.computed, [[False, True], [True, True], [False, False]])
+    assert kept.notes == (
+        "1 samples at exactly (0, 0, 0) with no residual read as gaps",
+        "3 samples with residual 0 (50% of the markers' samples: computed by the capture software, not measured) "
+        "kept and marked computed",
     )
-    np.testing.assert_array_equal(auto.positions[0, 0], [1, 2, 3])
-    kept = marker_set(points, residuals, "keep")
-    assert kept.present.all() and kept.notes == ()
-    np.testing.assert_array_equal(kept.positions, points)
+    np.testing.assert_array_equal(kept.positions[:2], points[:2])
+    dropped = marker_set(points, residuals, "drop")
+    np.testing.assert_array_equal(dropped.present, [[True, False], [False, False], [True, False]])
+    assert not dropped.computed.any() and dropped.notes[1].endswith("read as gaps")
     # no positive residual anywhere: kept, except the sample at exactly the origin
     none = marker_set(points, np.zeros((3, 2)))
     np.testing.assert_array_equal(none.present, [[True, True], [True, True], [True, False]])
     assert none.notes == ("1 samples at exactly (0, 0, 0) with no residual read as gaps",)
-    forced = marker_set(points, np.zeros((3, 2)), "gap")
-    assert not forced.present.any() and forced.notes[0].startswith("6 samples with residual 0")
-    # "keep" keeps the origin too; a measured sample at the origin is kept
-    assert marker_set(points, np.zeros((3, 2)), "keep").present.all()
+    assert not none.computed.any()
+    np.testing.assert_array_equal(marker_set(points, np.zeros((3, 2)), "drop").present, none.present)
+    # a measured sample at the origin is kept
     measured = marker_set(points, np.full((3, 2), 0.5))
     assert measured.present.all() and measured.notes == ()
 
@@ -254,12 +257,12 @@ def test_invalid_samples_are_gaps_in_every_reading():
     residuals = np.ones((3, 2))
     residuals[1, 0] = -0.5
     points[2, 1] = [np.inf, 1.0, 2.0]
-    for rule in ("auto", "gap", "keep"):
+    for rule in ("keep", "drop"):
         markers = marker_set(points, residuals, rule)
         np.testing.assert_array_equal(markers.present, [[True, True], [False, True], [True, False]])
         assert markers.notes == ()
         assert np.isnan(markers.positions[1, 0]).all() and np.isnan(markers.positions[2, 1]).all()
-    assert marker_set(points, np.ones((3, 2)), "gap").present.sum() == 5  # a NaN-free sample counts
+    assert marker_set(points, np.ones((3, 2)), "drop").present.sum() == 5  # a NaN-free sample counts
 
 
 def test_a_sample_at_the_origin_with_an_invalid_residual_is_counted_once():
@@ -276,7 +279,10 @@ def test_a_sample_at_the_origin_with_an_invalid_residual_is_counted_once():
 def test_a_rate_that_is_not_positive(rate):
     with pytest.raises(MotionFileError) as info:
         marker_set(np.ones((1, 2, 3)), np.ones((1, 2)), rate=rate)
-    assert info.value.message == f"the point rate is {rate}: expected a positive number of frames per second"
+    assert info.value.message == (
+        f"the point rate is {rate:g}: the file does not say how many frames per second it holds; "
+        "give the rate it was captured at with --rate HZ"
+    )
 
 
 def test_units_known_and_not():
@@ -287,9 +293,9 @@ def test_units_known_and_not():
 
 def test_the_notes_on_frame_counts():
     one = np.ones((3, 2, 3)), np.ones((3, 2))
-    fewer = _marker_set({**decoded(*one), "meta": base_meta(announced_frames=5)}, "f.c3d", "auto")
+    fewer = _marker_set({**decoded(*one), "meta": base_meta(announced_frames=5)}, "f.c3d")
     assert fewer.notes == ("the header announces 5 frames, the file holds 3: it may be truncated",)
-    unknown = _marker_set({**decoded(*one), "meta": base_meta(announced_frames=0)}, "f.c3d", "auto")
+    unknown = _marker_set({**decoded(*one), "meta": base_meta(announced_frames=0)}, "f.c3d")
     assert unknown.notes == ()
     long = {"where": "POINT:LONG_FRAMES", "announced": 70000, "read": 3}
     noted = _marker_set(
@@ -301,10 +307,10 @@ def test_the_notes_on_frame_counts():
         "(the file ends there: it may be truncated)",
     )
     whole = dict(long, read=70000)
-    complete = _marker_set({**decoded(*one), "meta": base_meta(announced_frames=5, long_frames=whole)}, "f", "auto")
+    complete = _marker_set({**decoded(*one), "meta": base_meta(announced_frames=5, long_frames=whole)}, "f")
     assert complete.notes[0].endswith(": 70000 frames read")
     meta = base_meta(announced_frames=3, first_frame=12, parameters={"KneeWidth": 100.0})
-    fields = _marker_set({**decoded(*one), "meta": meta}, "src.c3d", "auto")
+    fields = _marker_set({**decoded(*one), "meta": meta}, "src.c3d")
     assert (fields.first_frame, fields.source, fields.parameters, fields.rate) == (
         12,
         "src.c3d",
@@ -346,8 +352,9 @@ def test_outputs_are_kept_out_of_the_markers():
     )
     assert markers.labels == ("LASI", "RASI") and markers.subjects == ("S", "")
     np.testing.assert_array_equal(markers.positions[0], points[0, [0, 2]])
-    # the markers record residuals: RASI's zero is a gap; the outputs' zeros are never gaps
-    np.testing.assert_array_equal(markers.present, [[True, True], [True, False]])
+    # the markers record residuals: RASI's zero is computed; the outputs' zeros never are
+    np.testing.assert_array_equal(markers.present, [[True, True], [True, True]])
+    np.testing.assert_array_equal(markers.computed, [[False, False], [False, True]])
     outputs = markers.outputs
     assert outputs.labels == ("LHipAngles", "LHipForce") and outputs.subjects == ("S", "")
     assert outputs.kinds == ("angles", "forces") and outputs.units == {"angles": "deg", "forces": "N"}
@@ -355,7 +362,8 @@ def test_outputs_are_kept_out_of_the_markers():
     np.testing.assert_array_equal(outputs.values[0, 1], points[0, 3])
     assert np.isnan(outputs.values[1, 1]).all()  # invalid (negative residual)
     assert markers.notes == (
-        "1 samples with residual 0 (interpolated by the capture software, not measured) read as gaps",
+        "1 samples with residual 0 (25% of the markers' samples: computed by the capture software, not measured) "
+        "kept and marked computed",
         "2 analysis outputs (1 angles, 1 forces) kept out of the markers",
     )
 
@@ -418,7 +426,5 @@ def test_options_are_keywords_only(tmp_path):
 
 
 def test_a_header_announcing_one_frame():
-    one = _marker_set(
-        decoded(np.ones((3, 2, 3)), np.ones((3, 2))) | {"meta": base_meta(announced_frames=1)}, "f", "auto"
-    )
+    one = _marker_set(decoded(np.ones((3, 2, 3)), np.ones((3, 2))) | {"meta": base_meta(announced_frames=1)}, "f")
     assert one.notes == ("the header announces 1 frames, the file holds 3: it may be truncated",)

@@ -28,7 +28,7 @@ def write_with_outputs(path) -> tuple:
     """CMU 01_01's first frames and markers (positive residuals), with analysis outputs
     interleaved among them (residual 0, as Vicon writes computed points; wild values)."""
     ezc3d = pytest.importorskip("ezc3d")
-    cmu = read_c3d(shared_path("cmu/subject01/01_01.c3d"), zero_residual="keep").frame_slice(slice(0, N_FRAMES))
+    cmu = read_c3d(shared_path("cmu/subject01/01_01.c3d")).frame_slice(slice(0, N_FRAMES))
     rng = np.random.default_rng(14)
     output_labels = [label for labels, _ in OUTPUTS.values() for label in labels]
     outputs = rng.uniform(-5000, 5000, (N_FRAMES, len(output_labels), 3)).round(1)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import struct
 
 import numpy as np
 import pytest
@@ -11,7 +12,7 @@ from gmr_studio.core.cli import main
 from gmr_studio.core.formats import load_gmr, read_motion, write_motion
 from gmr_studio.core.formats.bvh_export import bvh_export
 from gmr_studio.core.kinematics.fk import world_positions
-from gmr_studio.core.markers import MarkerSet, load_marker_map
+from gmr_studio.core.markers import MarkerSet, load_marker_map, read_markers
 from gmr_studio.core.markers.markermap import VirtualMarker, marker_map_text
 from gmr_studio.core.markers.trc import trc_text
 from gmr_studio.core.rotations.euler import rotation_angle
@@ -75,7 +76,8 @@ def test_json_table_roots_frames_and_bvh_output(capsys, tmp_path, joints_trc):
 
 
 def test_calibration_reproduces_the_shipped_cmu_map(capsys, tmp_path):
-    """The command in docs/markers.md makes resources/markermaps/cmu.toml."""
+    """The command in docs/markers.md makes resources/markermaps/cmu.toml (calibrated on the
+    samples the cameras measured: --drop-computed)."""
     template = tmp_path / "template.toml"
     shipped = load_marker_map("cmu")
     bare = shipped.replace(  # the same map before calibration
@@ -88,7 +90,7 @@ def test_calibration_reproduces_the_shipped_cmu_map(capsys, tmp_path):
     d = shared_path(CMU01 + "01_01.c3d").parent
     code, out, _ = run(
         capsys, "markers", d / "01_01.c3d", "--skeleton", d / "01.asf", "--map", template, "--reference",
-        d / "01_01.amc", "--calibrate", "0:1100", "--save-map", saved, "-o", tmp_path / "cal.gmr",
+        d / "01_01.amc", "--calibrate", "0:1100", "--save-map", saved, "--drop-computed", "-o", tmp_path / "cal.gmr",
     )  # fmt: skip
     assert code == 0 and "calibrated on frames 0:1100" in out
     again = load_marker_map(saved)
@@ -212,12 +214,116 @@ def test_info_lists_markers_rate_units_and_gaps(capsys):
     c3d = shared_path(CMU01 + "01_01.c3d")
     code, out, _ = run(capsys, "info", c3d)
     assert code == 0 and "C3D markers" in out and "2751 at 120 Hz" in out and "units:      mm" in out
-    assert "markers:    42" in out and "LANK" in out and "gaps:       3.14% of all samples" in out
+    assert "markers:    42" in out and "LANK" in out and "gaps:       2.40% of all samples" in out
     code, out, _ = run(capsys, "info", c3d, "--json")
     info = json.loads(out)
     rows = {m["label"]: m for m in info["markers"]}
-    assert info["frame_rate"] == 120 and rows["STRN"]["missing"] == 103 and rows["LTHI"]["missing"] == 0
+    assert info["frame_rate"] == 120 and rows["RBAC-1"]["missing"] == 2743 and rows["LTHI"]["missing"] == 0
     code, out, _ = run(capsys, "info", shared_path("c3d/ezc3d_Vicon.c3d"))
     assert "subjects:   " in out and "Daphnee" in out and "Daphnee:ASISr" in out
     code, out, _ = run(capsys, "info", shared_path("trc/opensim_gait2392_subject01_walk1.trc"))
     assert code == 0 and "TRC markers" in out and "at 60 Hz" in out
+
+
+def gait_trial_with_its_pelvis_never_whole(tmp_path):
+    """The Vicon gait trial (Plug-in Gait lower body) with its pelvis markers mostly hidden,
+    as gap-filled samples dropped leave them: LASI missing in frames 0-49, RASI in 50-99,
+    SACR from 100 on, so no frame sees all three. Written as a TRC."""
+    markers = read_markers(shared_path("c3d/c3dorg_s03_gait-pig.c3d"))
+    positions = markers.positions.copy()
+    for label, frames in (("LASI", slice(0, 50)), ("RASI", slice(50, 100)), ("SACR", slice(100, None))):
+        positions[frames, markers.index(label)] = np.nan
+    path = tmp_path / "gait.trc"
+    path.write_text(trc_text(markers.replace(positions=positions)))
+    return path
+
+
+def test_a_pelvis_never_seen_whole_is_one_line_naming_its_markers(capsys, tmp_path):
+    code, out, err = run(capsys, "markers", gait_trial_with_its_pelvis_never_whole(tmp_path), "-o", tmp_path / "o.gmr")
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert "the pelvis is in no frame: its markers are never seen together (missing: LASI 55%, RASI 55%" in err
+    assert "--fill-gaps N" in err and "--frames A:B" in err
+
+
+def test_info_counts_the_computed_samples_and_drop_computed_makes_them_gaps(capsys):
+    """CMU 01_01.c3d: the 859 samples of residual 0 (0.74%, the lab's gap filling) are kept
+    and counted (STRN's 103, its longest filled run 93 frames); --drop-computed makes them
+    gaps again (3.14% of the samples)."""
+    c3d = shared_path(CMU01 + "01_01.c3d")
+    code, out, _ = run(capsys, "info", c3d)
+    assert code == 0 and "gaps:       2.40% of all samples" in out
+    assert "computed:   0.74% of all samples (859, kept)" in out and "--drop-computed" in out
+    code, out, _ = run(capsys, "info", c3d, "--json")
+    info = json.loads(out)
+    assert info["computed_fraction"] == pytest.approx(859 / (2751 * 42))
+    assert {m["label"]: (m["missing"], m["computed"]) for m in info["markers"]}["STRN"] == (0, 103)
+    code, out, _ = run(capsys, "info", c3d, "--json", "--drop-computed")
+    info = json.loads(out)
+    strn = {m["label"]: m for m in info["markers"]}["STRN"]
+    assert info["missing_fraction"] == pytest.approx(0.0314, abs=1e-4) and info["computed_fraction"] == 0
+    assert (strn["missing"], strn["longest"], strn["computed"]) == (103, 93, 0)
+
+
+def test_plug_in_gait_joint_centres_are_named_as_computed_not_as_pelvis_markers(capsys, tmp_path):
+    """The Vicon gait trial loses LASI and RASI at frames 114-141: the notes name the pelvis
+    markers missing there and the joint centres computed from them (pelvis, LHJC...), never
+    a 'pelvis marker LHJC'."""
+    code, out, _ = run(capsys, "markers", shared_path("c3d/c3dorg_s03_gait-pig.c3d"), "-o", tmp_path / "o.gmr")
+    assert code == 0 and "pelvis marker LHJC" not in out and "pelvis marker pelvis" not in out
+    assert (
+        "note: the pelvis markers are missing in frames 114-141 (LASI in 114-141; RASI in 114-141): the joint "
+        "centres computed from them (pelvis, pelvis_front, LHJC, RHJC) are not placed there"
+    ) in out
+    assert "note: joint centre LHJC missing in frames 114-141" in out
+
+
+def c3d_without_a_rate(path):
+    """A C3D of 5 frames whose POINT:RATE (and the header's rate) is 0."""
+    from tests.test_markers_c3d import write_c3d
+
+    points = np.random.default_rng(0).normal(size=(5, 2, 3)) * 100
+    write_c3d(path, ["A", "B"], points, np.ones((5, 2)), rate=123.25)
+    data = path.read_bytes()
+    path.write_bytes(data.replace(struct.pack("<f", 123.25), struct.pack("<f", 0.0)))
+    return path
+
+
+def test_a_c3d_without_a_rate_is_refused_with_rate_offered_and_read_with_it(capsys, tmp_path):
+    path = c3d_without_a_rate(tmp_path / "phasespace.c3d")
+    for command in (["info"], ["check"], ["markers", "-o", str(tmp_path / "o.gmr")]):
+        code, _, err = run(capsys, *command, path)
+        assert code == 2 and len(err.strip().splitlines()) == 1
+        assert "the point rate is 0: the file does not say how many frames per second it holds; give the rate" in err
+        assert "--rate HZ" in err
+    code, out, _ = run(capsys, "info", path, "--rate", "480")
+    assert code == 0 and "frames:     5 at 480 Hz" in out
+    code, out, _ = run(capsys, "check", path, "--rate", "480")
+    assert code == 0 and "5 frames at 480 Hz" in out
+    with pytest.raises(SystemExit) as exit_:
+        main(["info", str(path), "--rate", "0"])
+    assert exit_.value.code == 2
+    assert "--rate: expected a positive number of frames per second, not '0'" in capsys.readouterr().err
+
+
+def test_labels_of_no_known_set_list_the_nearest_sets_and_the_map_option(capsys, tmp_path):
+    """c3d.org's sample 02 (its own labels) and Xsens' virtual landmarks: the nearest sets
+    with the labels matched and missing, and the way to map them (--skeleton with --map)."""
+    for relative in ("c3d/c3dio_c3dorg-sample02_dec_real.c3d", "c3d/ezc3d_Vicon.c3d"):
+        code, _, err = run(capsys, "markers", shared_path(relative), "-o", tmp_path / "o.gmr")
+        assert code == 2 and len(err.strip().splitlines()) == 1
+        assert "no known marker set fits these labels (nearest: " in err and "% (matched " in err
+        assert "; missing LASI, RASI" in err or "; missing LFWT, RFWT" in err
+        assert "--skeleton S.asf|S.bvh --map MAP.toml" in err
+    assert "plug-in-gait-full 3% (matched T10; missing LASI, RASI, LPSI" in err  # ezc3d_Vicon: only T10 is named so
+
+
+def test_a_known_set_whose_markers_are_never_seen_says_so(capsys, tmp_path):
+    """walking5's first 400 frames: LASI, RASI and the condyle and malleolus markers are not
+    seen once; the set is still named (not 'no known marker set')."""
+    walk = shared_path("c3d/opensim-core_walking5.c3d")
+    code, _, err = run(capsys, "markers", walk, "--frames", "0:400", "-o", tmp_path / "o.gmr")
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert err.startswith(
+        "gmr: error: this file's markers are set opensim-rajagopal, but LASI, RASI, LLFC, RLFC, LMFC, RMFC, LLMAL, "
+        "RLMAL, LMMAL, RMMAL are missing in every frame of the 400 read"
+    )

@@ -67,7 +67,7 @@ def test_gmr_markers_on_the_bvh(tmp_path, capsys):
 def test_recover_pelvis_on_the_bvh_and_a_skeleton_no_map_pairs(tmp_path):
     markers, bvh, _ = cmu_take()
     pelvis = recover_pelvis(markers, "cmu", skeleton=bvh)
-    assert pelvis.labels == ("Hips", "LeftUpLeg", "RightUpLeg") and pelvis.valid.sum() == 2750
+    assert pelvis.labels == ("Hips", "LeftUpLeg", "RightUpLeg") and pelvis.valid.sum() == 2751
     rig = write_rig(tmp_path / "rig.bvh", root="pelvis", left="l_hip", right="r_hip", back="belly")
     with pytest.raises(OperationError, match="marker map 'cmu' places the joints of another skeleton"):
         recover_pelvis(markers, "cmu", skeleton=rig)

@@ -237,11 +237,11 @@ def test_gap_table_counts_missing_samples_runs_and_the_longest():
     positions = np.concatenate([track(None, None, 2, None, 4, None), track(0, 1, 2, 3, 4, 5)], axis=1)
     markers = MarkerSet(labels=["A", "B"], subjects=["Ann", ""], positions=positions, rate=10, units="mm")
     assert markers.gap_table() == [
-        {"label": "Ann:A", "missing": 4, "gaps": 3, "longest": 2},
-        {"label": "B", "missing": 0, "gaps": 0, "longest": 0},
+        {"label": "Ann:A", "missing": 4, "gaps": 3, "longest": 2, "computed": 0},
+        {"label": "B", "missing": 0, "gaps": 0, "longest": 0, "computed": 0},
     ]
     empty = MarkerSet(labels=["A"], positions=np.zeros((0, 1, 3)), rate=10, units="mm")
-    assert empty.gap_table() == [{"label": "A", "missing": 0, "gaps": 0, "longest": 0}]
+    assert empty.gap_table() == [{"label": "A", "missing": 0, "gaps": 0, "longest": 0, "computed": 0}]
 
 
 # ------------------------------------------------------------------ resampling
@@ -293,3 +293,44 @@ def test_resampled_edges():
         markers.resampled(0)
     with pytest.raises(ValueError, match="the frame rate must be positive"):
         markers.resampled(-10)
+
+
+# ------------------------------------------------------------------ computed samples
+def test_computed_samples_are_a_mask_of_present_samples_carried_by_every_conversion():
+    """``computed`` (F, M): present samples the capture software computed. A gap is never
+    computed; selections, slices, units and axes keep the mask; a mask of another shape is
+    refused."""
+    positions = np.concatenate([track(0, 1, 2, None, 4), track(5, 6, 7, 8, 9)], axis=1)
+    mask = np.array([[0, 0], [1, 0], [0, 1], [1, 1], [0, 0]], bool)
+    markers = MarkerSet(labels=["A", "B"], positions=positions, rate=10.0, units="mm", computed=mask)
+    expected = mask.copy()
+    expected[3, 0] = False  # A is a gap at frame 3: not computed
+    np.testing.assert_array_equal(markers.computed, expected)
+    np.testing.assert_array_equal(markers.measured, markers.present & ~expected)
+    assert not markers.computed.flags.writeable
+    np.testing.assert_array_equal(markers.select(["B"]).computed, expected[:, [1]])
+    np.testing.assert_array_equal(markers.frame_slice(slice(1, 4)).computed, expected[1:4])
+    np.testing.assert_array_equal(markers.in_units("m").transformed(Z_UP_TO_Y_UP).computed, expected)
+    assert not one_marker(1, 2).computed.any() and one_marker(1, 2).computed.shape == (2, 1)
+    with pytest.raises(ValueError, match=r"computed must have shape \(5, 2\)"):
+        markers.replace(computed=np.zeros((5, 1), bool))
+    with pytest.raises(ValueError, match="need their computed mask"):
+        markers.replace(positions=positions[:3])
+    assert markers.replace(positions=positions[:3], computed=mask[:3]).computed.shape == (3, 2)
+    assert one_marker(1, 2).replace(positions=track(1, 2, 3)).computed.shape == (3, 1)  # none computed
+
+
+def test_computed_samples_dropped_filled_and_resampled():
+    markers = one_marker(0, 1, 2, None, 4, 5, rate=10.0, computed=np.array([[0], [1], [0], [0], [0], [1]], bool))
+    dropped = markers.without_computed()
+    np.testing.assert_array_equal(dropped.present[:, 0], [True, False, True, False, True, False])
+    assert not dropped.computed.any()
+    assert dropped.notes[-1] == "2 computed samples (not measured: the capture software's gap filling) read as gaps"
+    assert one_marker(0, 1).without_computed().notes == ()  # nothing computed: the same set
+    filled = markers.filled(1)  # frame 3 interpolated here: computed too
+    np.testing.assert_array_equal(filled.computed[:, 0], [False, True, False, True, False, True])
+    double = markers.resampled(20.0)  # a sample between a computed one and another is computed
+    np.testing.assert_array_equal(
+        double.computed[:, 0], [False, True, True, True, False, False, False, False, False, True, True]
+    )
+    assert markers.gap_table()[0]["computed"] == 2

@@ -46,7 +46,8 @@ def test_a_marker_files_description():
     }  # fmt: skip
     assert info["subjects"] == ["Ann"] and info["notes"] == ["read twice"]
     assert info["missing_fraction"] == 2 / 8
-    assert info["markers"][0] == {"label": "Ann:A", "missing": 2, "gaps": 1, "longest": 2}
+    assert info["markers"][0] == {"label": "Ann:A", "missing": 2, "gaps": 1, "longest": 2, "computed": 0}
+    assert info["computed_fraction"] == 0.0
     assert info["outputs"] == {
         "angles": {"units": "deg", "labels": ["Ann:LHipAngles"]}, "forces": {"units": "", "labels": ["LKneeForce"]},
     }  # fmt: skip
@@ -92,9 +93,9 @@ def test_the_text_of_a_marker_file():
     ]
     assert lines[11:] == [
         "",
-        "marker      missing   gaps  longest",
-        "Ann:A             2      1        2",
-        "LongLabel         0      0        0",
+        "marker      missing   gaps  longest  computed",
+        "Ann:A             2      1        2         0",
+        "LongLabel         0      0        0         0",
     ]
 
 
@@ -105,10 +106,18 @@ def test_the_text_without_subjects_set_or_long_labels():
     assert lines[5] == "subjects:   none (no prefix on the labels)"
     assert not any(line.startswith("set:") for line in lines)
     assert lines[-3:] == [
-        "marker   missing   gaps  longest",
-        "A              2      1        2",
-        "B              0      0        0",
+        "marker   missing   gaps  longest  computed",
+        "A              2      1        2         0",
+        "B              0      0        0         0",
     ]
+    computed = np.zeros((4, 2), bool)
+    computed[1:3, 1] = True  # B's frames 1-2 filled in by the capture software
+    lines = markers_text(describe_markers(small_markers().replace(computed=computed), "take.c3d")).splitlines()
+    assert lines[7] == (
+        "computed:   25.00% of all samples (2, kept): filled in by the capture software, not measured "
+        "(--drop-computed reads them as gaps)"
+    )
+    assert lines[-1].endswith("0      0        0         2")
     known, _ = generated_markers("helen-hayes", n_frames=2)
     assert "set:        helen-hayes (Helen Hayes" in markers_text(describe_markers(known, "g.c3d"))
 

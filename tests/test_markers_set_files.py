@@ -259,16 +259,19 @@ def test_known_sets_by_name_or_file(tmp_path):
         set_by_name("lab")
 
 
-def test_no_match_text_names_the_three_nearest_sets_and_eight_missing_labels():
+def test_no_match_text_names_the_three_nearest_sets_their_labels_matched_and_missing():
+    """The three nearest sets, each with the share of its required markers present, the
+    file's labels it matched and (eight at most, then a count) the labels it misses; then
+    how to convert the markers anyway: a skeleton and a marker map of one's own (--map)."""
     text = no_match_text(["LASI", "RASI", "SACR", "LKNE", "RKNE"])
     assert text.startswith(
-        "no known marker set fits these labels (nearest: plug-in-gait-lower 38% (missing LTHI, RTHI, LTIB, RTIB, "
-        "LANK, RANK, LTOE, RTOE); helen-hayes 33% (missing LTHI, RTHI, LTIB, RTIB, LANK, RANK, LHEE, RHEE); cgm2 "
-        "26% (missing LTHI, RTHI, LKNM, RKNM, LTIB, RTIB, LANK, RANK)). A marker map for them needs"
+        "no known marker set fits these labels (nearest: plug-in-gait-lower 38% (matched LASI, RASI, LKNE, RKNE, "
+        "SACR; missing LTHI, RTHI, LTIB, RTIB, LANK, RANK, LTOE, RTOE); helen-hayes 33% (matched LASI, RASI, LKNE, "
+        "RKNE, SACR; missing LTHI, RTHI, LTIB, RTIB, LANK, RANK, LHEE, RHEE (+2 more)); cgm2 26% (matched LASI, "
+        "RASI, LKNE, RKNE, SACR; missing LTHI, RTHI, LKNM, RKNM, LTIB, RTIB, LANK, RANK (+6 more))). To convert "
+        "them, give a skeleton and a marker map of your own: gmr markers FILE --skeleton S.asf|S.bvh --map MAP.toml"
     )
-    assert text.endswith("see docs/markers.md")
+    assert text.endswith("see docs/markers.md, 'Marker maps'")
     rounded = no_match_text(["LASI", "RASI", "LPSI", "RPSI", "LTHI", "RTHI", "LKNE", "RKNE"])  # 7 of 13: 53.8%
-    assert rounded.startswith(
-        "no known marker set fits these labels (nearest: plug-in-gait-lower 54% (missing LTIB, RTIB, LANK, RANK, "
-        "LTOE, RTOE); helen-hayes 40% (missing SACR, "
-    )
+    assert rounded.startswith("no known marker set fits these labels (nearest: plug-in-gait-lower 54% (matched ")
+    assert "; in the file but never seen: LHEE, RHEE)" in no_match_text(["LASI"], ["LHEE", "RHEE"])

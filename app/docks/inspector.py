@@ -230,15 +230,19 @@ class Inspector(QScrollArea):
         overlay = self.state.marker_overlay
         if overlay is not None:
             markers = overlay.markers
+            computed = markers.computed.mean() if markers.computed.size else 0.0
+            share = f"; {100 * computed:.2g}% computed by the capture software" if computed else ""
             out.append(
                 f"<p><b>Markers</b>: {markers.n_markers} from {html.escape(Path(markers.source).name or 'a file')}, "
-                f"{markers.rate:g} Hz, {markers.units}<br/>aligned: {html.escape(overlay.alignment.method)}</p>"
+                f"{markers.rate:g} Hz, {markers.units}{share}<br/>aligned: {html.escape(overlay.alignment.method)}</p>"
             )
             m = self.state.selected_marker
             if m is not None:
                 point = overlay.positions[f, m]
                 gap = not np.isfinite(point).all()
                 where = "missing (a gap)" if gap else format_lengths(point, self.state.motion.size)
+                if overlay.computed is not None and overlay.computed[f, m]:
+                    where += " (computed by the capture software)"
                 out.append(f"<p><b>Marker {html.escape(markers.labels[m])}</b>: {slot(where)}</p>")
         pelvis = self.state.pelvis
         if pelvis is not None and self.state.overlays["pelvis"]:

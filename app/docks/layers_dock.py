@@ -112,8 +112,16 @@ class LayersDock(QWidget):
             shown.setChecked(layer.visible)
             shown.toggled.connect(lambda on, k=index: self.layers.set_visible(k, on))
             self.table.setCellWidget(i, 1, shown)
-            kind = " (markers)" if isinstance(layer, MarkerLayer) else ""
-            self.table.setItem(i, 2, QTableWidgetItem(layer.name + kind))
+            kind, tip = "", ""
+            if isinstance(layer, MarkerLayer):
+                computed = layer.markers.computed
+                share = f", {100 * computed.mean():.2g}% computed" if computed.any() else ""
+                kind = f" (markers{share})"
+                if computed.any():
+                    tip = f"{int(computed.sum())} samples computed by the capture software (filled in), not measured"
+            name_item = QTableWidgetItem(layer.name + kind)
+            name_item.setToolTip(tip)
+            self.table.setItem(i, 2, name_item)
             opacity = QSpinBox()
             opacity.setRange(5, 100)
             opacity.setSingleStep(5)

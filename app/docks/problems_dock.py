@@ -1,12 +1,14 @@
 """The Problems dock: the quality checks' findings of the document, and their settings.
 
 A table of findings (kind, severity, frames, joints, value with units), sortable, filtered
-by severity; choosing one (click or Enter) seeks to its first frame, selects its first
-joint and asks the window to frame the camera on it (:attr:`ProblemsDock.joint_framed`: the
-dock knows nothing of the view). Beside it (*Settings*), a row per kind with its switch and
-its three limits (info, warning, error) in the panel's units (:data:`app.model.problems.LIMITS`),
-edited in place and remembered by :class:`~app.model.problems.Problems`. The list follows
-the document: an edit (trim, resample, undo) checks it again.
+by severity; above it, a line per stretch of frames some checks left out and why (the rest
+pose at the ends: :func:`core.checks.skipped_frames`). Choosing a finding (click or Enter)
+seeks to its first frame, selects its first joint and asks the window to frame the camera
+on it (:attr:`ProblemsDock.joint_framed`: the dock knows nothing of the view). Beside it
+(*Settings*), a row per kind with its switch and its three limits (info, warning, error) in
+the panel's units (:data:`app.model.problems.LIMITS`), edited in place and remembered by
+:class:`~app.model.problems.Problems`. The list follows the document: an edit (trim,
+resample, undo) checks it again.
 """
 
 from __future__ import annotations
@@ -30,7 +32,15 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
-from gmr_studio.app.model.problems import LEVEL_COLOURS, LIMITS, Problems, count_text, shown_limits, with_limits
+from gmr_studio.app.model.problems import (
+    LEVEL_COLOURS,
+    LIMITS,
+    Problems,
+    count_text,
+    shown_limits,
+    skipped_lines,
+    with_limits,
+)
 from gmr_studio.core.checks import KINDS, Finding
 
 COLUMNS = ("Kind", "Severity", "Frames", "Joints", "Value")
@@ -79,6 +89,9 @@ class ProblemsDock(QWidget):
         self.state = problems.state
         self.shown: list[Finding] = []  # the findings in the table, by their row when filled
         self.summary = QLabel()
+        self.skipped_label = QLabel()  # the frames some checks left out, and why
+        self.skipped_label.setWordWrap(True)
+        self.skipped_label.setVisible(False)
         self.filter_box = QComboBox()
         for text, level in FILTERS:
             self.filter_box.addItem(text, level)
@@ -129,6 +142,7 @@ class ProblemsDock(QWidget):
         layout = QVBoxLayout(self)
         layout.setContentsMargins(2, 2, 2, 2)
         layout.addLayout(top)
+        layout.addWidget(self.skipped_label)
         layout.addWidget(splitter, 1)
         problems.changed.connect(self.refresh)
         problems.settings_changed.connect(self.fill_settings)
@@ -155,6 +169,9 @@ class ProblemsDock(QWidget):
             hidden = len(problems.findings) - len(self.shown)
             more = f" ({hidden} not listed)" if hidden else ""
             self.summary.setText(f"{len(problems.findings)} findings: {count_text(problems.findings)}{more}")
+        lines = skipped_lines(problems.skipped) if self.state.motion is not None and not problems.running else []
+        self.skipped_label.setText("\n".join(line[0].upper() + line[1:] for line in lines))
+        self.skipped_label.setVisible(bool(lines))
         table = self.table
         table.setSortingEnabled(False)
         table.setRowCount(len(self.shown))

@@ -8,10 +8,11 @@ freeze the window. Results are kept per snapshot, so an undo shows the earlier f
 once. The settings (which kinds, the thresholds: a :class:`core.checks.CheckSettings`) are
 remembered in the window's QSettings as JSON (``checks/settings``).
 
-``findings`` is the list for the current document and ``flags`` their (F, J) int8 severity
-levels (:func:`core.checks.joint_flags`: 0 none, 1 info, 2 warning, 3 error) for the
-timeline's flags and the joints drawn in a warning colour; ``changed`` is emitted when both
-are replaced (emptied as soon as the motion changes, filled when the checks are done).
+``findings`` is the list for the current document, ``skipped`` the frames some checks left
+out and why (:func:`core.checks.skipped_frames`: the rest pose at the ends), and ``flags``
+the findings' (F, J) int8 severity levels (:func:`core.checks.joint_flags`: 0 none, 1
+info, 2 warning, 3 error) for the timeline's flags and the joints drawn in a warning colour;
+``changed`` is emitted when they are replaced (emptied as soon as the motion changes, filled when the checks are done).
 ``min_level`` is what the dock lists, the timeline flags and the view colours: every
 finding (1), warnings and errors (2) or errors (3); remembered too (``checks/shown``).
 """
@@ -26,7 +27,8 @@ import numpy as np
 from PyQt6.QtCore import QObject, QSettings, QThread, pyqtSignal
 
 from gmr_studio.app.model.state import Snapshot, StudioState
-from gmr_studio.core.checks import KINDS, CheckSettings, Finding, joint_flags, run_checks
+from gmr_studio.core.checks import KINDS, CheckSettings, Finding, Skipped, joint_flags, run_checks, skipped_frames
+from gmr_studio.core.checks.report import skipped_text
 
 SETTINGS_KEY = "checks/settings"
 SHOWN_KEY = "checks/shown"  # the lowest severity level shown (1 info, 2 warning, 3 error)
@@ -101,9 +103,15 @@ def finding_line(finding: Finding) -> str:
     return f"{finding.kind} ({finding.severity}) {frames}: {joints}, {finding.value:.4g} {finding.units}"
 
 
+def skipped_lines(skipped: list[Skipped]) -> list[str]:
+    """``"frame 0 (the rest pose at the start) is left out of every check but rest-pose"``:
+    one line per stretch of frames some checks left out (:func:`core.checks.report.skipped_text`)."""
+    return [skipped_text(s.to_dict()) for s in skipped]
+
+
 class CheckJob(QThread):
     """Runs the checks of one snapshot in a worker thread; ``done(job, findings, flags)``
-    or ``failed(job, message)``."""
+    (and ``job.skipped``: the frames some checks left out) or ``failed(job, message)``."""
 
     done = pyqtSignal(object, object, object)
     failed = pyqtSignal(object, str)
@@ -112,11 +120,13 @@ class CheckJob(QThread):
         super().__init__(parent)
         self.snapshot = snapshot
         self.settings = settings
+        self.skipped: list[Skipped] = []
 
     def run(self) -> None:
         motion = self.snapshot.motion
         try:
             findings = run_checks(motion, self.settings, positions=self.snapshot.positions)
+            self.skipped = skipped_frames(motion, self.settings)
             flags = joint_flags(findings, motion.n_frames, motion.n_joints)
         except Exception as exc:  # a check's bug must not take the window down: say it
             self.failed.emit(self, f"checks failed: {type(exc).__name__}: {exc}")
@@ -138,12 +148,14 @@ class Problems(QObject):
         shown = settings.value(SHOWN_KEY) if settings is not None else None
         self.min_level = int(shown) if str(shown) in ("1", "2", "3") else 1
         self.findings: list[Finding] = []
+        self.skipped: list[Skipped] = []
         self.flags: np.ndarray | None = None  # (F, J) int8 of the document as it is, or None
         self.running = False
         self.error = ""
         self._job: CheckJob | None = None
         self._wanted = False  # another run is needed when the job in flight is done
-        self._cache: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # snapshot -> (settings, findings, flags)
+        #: snapshot -> (settings, findings, flags, skipped)
+        self._cache: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         state.document_changed.connect(self.refresh)
         state.motion_changed.connect(self.refresh)
 
@@ -212,17 +224,20 @@ class Problems(QObject):
         return True
 
     def _on_job_done(self, job: CheckJob, findings: list[Finding], flags: np.ndarray) -> None:
-        self._cache[job.snapshot] = (job.settings, findings, flags)
+        self._cache[job.snapshot] = (job.settings, findings, flags, job.skipped)
         if self._finish(job):
-            self._publish(findings, flags)
+            self._publish(findings, flags, job.skipped)
 
     def _on_job_failed(self, job: CheckJob, message: str) -> None:
         if self._finish(job):
             self._publish([], None, error=message)
             self.state.show_message(message)
 
-    def _publish(self, findings: list[Finding], flags: np.ndarray | None, *, running=False, error="") -> None:
+    def _publish(
+        self, findings: list[Finding], flags: np.ndarray | None, skipped=(), *, running=False, error=""
+    ) -> None:
         self.findings, self.flags, self.running, self.error = list(findings), flags, running, error
+        self.skipped = list(skipped)
         self.changed.emit()
 
     def wait(self) -> None:

@@ -88,11 +88,14 @@ class MarkerOverlay:
     markers : the marker set as read (file units and axes, its own rate).
     alignment : how they map onto the motion.
     positions : (F, M, 3) float64 on the motion's frames and axes, NaN for gaps.
+    computed : (F, M) bool on the motion's frames: samples the capture software computed
+        (``MarkerSet.computed``), or None when not given (none).
     """
 
     markers: MarkerSet
     alignment: MarkerAlignment
     positions: np.ndarray
+    computed: np.ndarray | None = None
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -319,7 +322,9 @@ def marker_overlay_on(
         )
     alignment = alignment.replace(units=markers.units)
     on_frames = markers_on_motion_frames(resampled.positions, snapshot.motion.n_frames, alignment.frame_offset)
-    return MarkerOverlay(markers, alignment, _readonly(alignment.apply(on_frames)))
+    flags = np.repeat(resampled.computed[..., None].astype(np.float64), 3, axis=2)  # as points: the same frames
+    computed = markers_on_motion_frames(flags, snapshot.motion.n_frames, alignment.frame_offset)[..., 0] == 1.0
+    return MarkerOverlay(markers, alignment, _readonly(alignment.apply(on_frames)), _readonly(computed))
 
 
 def pelvis_on_motion(pelvis: PelvisFrames, rate: float, alignment: MarkerAlignment, motion: Motion) -> PelvisOverlay:

@@ -20,12 +20,24 @@ teleport        a root jumping beyond its own velocity                  :mod:`.s
 rest-pose       T-pose (rest) frames left at the start or end           :mod:`.frames`
 ==============  ======================================================  =====================
 
-:func:`joint_flags` turns findings into an (F, J) array of severity levels (for colours);
-:mod:`.report` gives the JSON of ``gmr check`` and its table. Formulas, thresholds and what
+:func:`skipped_frames` lists the frames some checks leave out and why (the rest-pose frames
+at the ends, which only ``rest-pose`` looks at: :class:`Skipped`). :func:`joint_flags`
+turns findings into an (F, J) array of severity levels (for colours); :mod:`.report` gives
+the JSON of ``gmr check`` and its table. Formulas, thresholds and what
 the checks say about the real files: docs/checks.md.
 """
 
-from gmr_studio.core.checks.model import KINDS, SEVERITIES, CheckSettings, Finding, joint_flags
-from gmr_studio.core.checks.run import CHECKS, run_checks
+from gmr_studio.core.checks.model import KINDS, SEVERITIES, CheckSettings, Finding, Skipped, joint_flags
+from gmr_studio.core.checks.run import CHECKS, run_checks, skipped_frames
 
-__all__ = ["CHECKS", "KINDS", "SEVERITIES", "CheckSettings", "Finding", "joint_flags", "run_checks"]
+__all__ = [
+    "CHECKS",
+    "KINDS",
+    "SEVERITIES",
+    "CheckSettings",
+    "Finding",
+    "Skipped",
+    "joint_flags",
+    "run_checks",
+    "skipped_frames",
+]

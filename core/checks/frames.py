@@ -8,16 +8,23 @@ is *frozen* when it lasts ``n * frame_time >= frozen_limits[0]`` seconds (frames
 ``a .. a+n-1``, valued in seconds), otherwise its ``n-1`` copies are *duplicates* (frames
 ``a+1 .. a+n-1``, valued in frames). Both have no joints: the whole pose.
 
-Rest pose. A frame is in the rest pose when at least ``rest_fraction`` of the non-root
-joints that move in the take (their rotation is not the same at every frame) are within
-``rest_angle`` degrees of the identity (trace at least ``1 + 2 cos(rest_angle)``): the
-T-pose frame exporters put at the start of a take. A fraction, not all: cgspeed's CMU BVH
-frame 0 sets the thighs to 17 degrees and the arms to 5 (the 75-frame clip also the neck
-and head) and every other joint to zero, while no frame of a take holds most of its
-moving joints within half a degree of zero. Runs of such frames starting at the first frame
-or ending at the last are reported, valued in frames; a motion in the rest pose throughout
-is a pose, not a take with rest frames left in, and is not reported. The other checks skip
-these frames (:func:`rest_frames`).
+Rest pose. A rest pose is a pose held by the whole body: the joints that move in the
+take. A non-root joint with rotation channels *moves in the take* in proportion to the
+share of the take's steps at which its rotation changes (:func:`moving_weights`: among
+:data:`MOVING_SAMPLES` frames spread over the take), and a frame is in the rest pose when
+the joints within ``rest_angle`` degrees of the identity (trace at least ``1 + 2
+cos(rest_angle)``) weigh at least ``rest_fraction`` of them all: the T-pose frame
+exporters put at the start of a take. A fraction, not all: cgspeed's CMU BVH frame 0 sets
+the thighs to 17 degrees and the arms to 5 (the 75-frame clip also the neck and head) and
+every other joint to zero, while no frame of a take holds most of its moving joints within
+half a degree of zero. Weighted, not counted: a joint that changes once, between a
+reference frame and the take (cgspeed's fingers, most of a Second Life animation's 150
+face, finger and hand joints, which sit at zero after the reference frame 0), hardly moves
+in the take, and a crouch whose face and fingers are at zero is no rest pose. Runs of such
+frames starting at the first frame or ending at the last are reported, valued in frames; a
+motion in the rest pose throughout is a pose, not a take with rest frames left in, and is
+not reported. The other checks skip these frames (:func:`rest_frames`), and the report says
+so (:func:`core.checks.run.skipped_frames`).
 """
 
 from __future__ import annotations
@@ -72,24 +79,37 @@ def duplicate(data: CheckData, settings: CheckSettings) -> list[Finding]:
 MOVING_SAMPLES = 64
 
 
-def _moving_joints(motion: Motion) -> np.ndarray:
-    """(K,) int64: the non-root joints with rotation channels whose rotation differs among
-    :data:`MOVING_SAMPLES` frames spread over the take."""
-    inner = np.array([p >= 0 and bool(o) for p, o in zip(motion.parents, motion.rotation_orders)])
+def moving_weights(motion: Motion) -> tuple[np.ndarray, np.ndarray]:
+    """How much each joint moves in the take: (K,) int64 the non-root joints with rotation
+    channels whose rotation changes among :data:`MOVING_SAMPLES` frames spread over the take,
+    and (K,) float64 their weights, the share of the steps between those frames at which
+    each one's rotation changes (1 for a joint moving throughout; 1/63 for one that changes
+    between the first two sampled frames only)."""
+    inner = np.array([p >= 0 and bool(o) for p, o in zip(motion.parents, motion.rotation_orders)], dtype=bool)
     sample = np.unique(np.linspace(0, motion.n_frames - 1, MOVING_SAMPLES).round().astype(np.int64))
     rotations = motion.rotations[sample]  # (S, J, 3, 3)
-    return np.flatnonzero(inner & (rotations != rotations[:1]).any(axis=(0, 2, 3)))
+    if sample.size < 2:
+        return np.zeros(0, np.int64), np.zeros(0)
+    changes = (rotations[1:] != rotations[:-1]).any(axis=(2, 3)).mean(axis=0)  # (J,)
+    moving = np.flatnonzero(inner & (changes > 0))
+    return moving, changes[moving]
+
+
+def _moving_joints(motion: Motion) -> np.ndarray:
+    """(K,) int64: the joints of :func:`moving_weights`."""
+    return moving_weights(motion)[0]
 
 
 def rest_fractions(motion: Motion, settings: CheckSettings, frames: slice | np.ndarray = slice(None)) -> np.ndarray:
-    """(N,) the fraction of the moving joints within ``rest_angle`` of the identity at each
-    of ``frames`` (0 when no joint moves)."""
-    moving = _moving_joints(motion)
+    """(N,) the share of the moving joints' weight (:func:`moving_weights`) within
+    ``rest_angle`` of the identity at each of ``frames`` (0 when no joint moves)."""
+    moving, weights = moving_weights(motion)
     rotations = motion.rotations[frames]
     if not moving.size:
         return np.zeros(rotations.shape[0])
     diagonal = np.stack([np.trace(rotations[:, j], axis1=-2, axis2=-1) for j in moving], axis=1)  # (N, K)
-    return (diagonal >= 1.0 + 2.0 * np.cos(np.radians(settings.rest_angle))).mean(axis=1)
+    at_rest = diagonal >= 1.0 + 2.0 * np.cos(np.radians(settings.rest_angle))
+    return at_rest @ weights / weights.sum()
 
 
 def rest_mask(motion: Motion, settings: CheckSettings, frames: slice | np.ndarray = slice(None)) -> np.ndarray:

@@ -70,6 +70,21 @@ class Finding:
         }
 
 
+@dataclasses.dataclass(frozen=True)
+class Skipped:
+    """Frames ``start..end`` (inclusive, 0-based) that the checks ``kinds`` left out, and
+    why (``reason``, one line a user reads: ``"the rest pose at the start"``)."""
+
+    start: int
+    end: int
+    kinds: tuple[str, ...]
+    reason: str
+
+    def to_dict(self) -> dict:
+        """The JSON of ``gmr check``'s ``skipped`` list (docs/checks.md)."""
+        return {"start": self.start, "end": self.end, "kinds": list(self.kinds), "reason": self.reason}
+
+
 Limits = tuple[float, float, float]
 
 

@@ -5,24 +5,26 @@ JSON (stable; docs/checks.md)::
 
     {"file": str, "frames": int, "frame_rate": float, "units": str,
      "findings": [{"kind": str, "joints": [str], "start": int, "end": int,
-                   "severity": "info" | "warning" | "error", "value": float, "units": str}]}
+                   "severity": "info" | "warning" | "error", "value": float, "units": str}],
+     "skipped": [{"start": int, "end": int, "kinds": [str], "reason": str}]}
 
 ``units`` is the length unit the file states (``units: cm`` in a GMR header), else
 ``"file units"``; ``start`` and ``end`` are 0-based frames, both included; ``joints`` empty
-means the whole pose.
+means the whole pose. ``skipped``: the frames the checks of ``kinds`` did not look at and
+why (:func:`core.checks.run.skipped_frames`; empty when every check saw every frame).
 """
 
 from __future__ import annotations
 
 from gmr_studio.core.checks.context import units_name
-from gmr_studio.core.checks.model import KINDS, SEVERITIES, Finding
+from gmr_studio.core.checks.model import KINDS, SEVERITIES, Finding, Skipped
 from gmr_studio.core.model.motion import Motion
 
 #: columns of the ``--batch`` table, in order (then one count column per kind)
 SUMMARY_COLUMNS = ("file", "status", "frames", "frame_rate", "units", "findings", *SEVERITIES, "worst")
 
 
-def check_document(file: str, motion: Motion, findings: list[Finding]) -> dict:
+def check_document(file: str, motion: Motion, findings: list[Finding], skipped: list[Skipped] = ()) -> dict:
     """The JSON document of one file (module docstring)."""
     return {
         "file": str(file),
@@ -30,7 +32,22 @@ def check_document(file: str, motion: Motion, findings: list[Finding]) -> dict:
         "frame_rate": round(motion.frame_rate, 9),
         "units": units_name(motion),
         "findings": [f.to_dict() for f in findings],
+        "skipped": [s.to_dict() for s in skipped],
     }
+
+
+def frames_text(start: int, end: int) -> str:
+    """``"frame 0"`` or ``"frames 1-60"``."""
+    return f"frame {start}" if start == end else f"frames {start}-{end}"
+
+
+def skipped_text(skipped: dict) -> str:
+    """One ``skipped`` entry as a line: ``"frame 0 (the rest pose at the start) is left out
+    of every check but rest-pose"``, or ``"... left out of foot-skate, pop"``."""
+    kinds = skipped["kinds"]
+    which = "every check but rest-pose" if set(kinds) == set(KINDS) - {"rest-pose"} else ", ".join(kinds)
+    verb = "is" if skipped["start"] == skipped["end"] else "are"
+    return f"{frames_text(skipped['start'], skipped['end'])} ({skipped['reason']}) {verb} left out of {which}"
 
 
 def failing(findings: list[Finding] | list[dict], severity: str) -> list:
@@ -61,6 +78,7 @@ def findings_text(document: dict) -> str:
     if findings:
         heading += " (" + ", ".join(f"{counts[s]} {s}" for s in reversed(SEVERITIES) if counts[s]) + ")"
     lines = [heading]
+    lines += [f"skipped: {skipped_text(s)}" for s in document.get("skipped", ())]
     if findings:
         lines.append(f"{'kind':<12} {'severity':<8} {'frames':>11}  {'joints':<40} value")
         for f in findings:

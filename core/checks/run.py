@@ -8,7 +8,7 @@ import numpy as np
 
 from gmr_studio.core.checks import feet, frames, joints, spikes
 from gmr_studio.core.checks.context import CheckData
-from gmr_studio.core.checks.model import KINDS, CheckSettings, Finding
+from gmr_studio.core.checks.model import KINDS, CheckSettings, Finding, Skipped
 from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.model.motion import Motion
 
@@ -41,6 +41,20 @@ def check_data(
     return whole, inner
 
 
+def skipped_frames(motion: Motion, settings: CheckSettings) -> list[Skipped]:
+    """The frames :func:`run_checks` leaves out of some of ``settings.kinds``, and why: the
+    rest-pose frames at either end (:func:`core.checks.frames.rest_frames`), which every
+    kind but ``rest-pose`` skips (a T-pose next to the take reads as pops, flips and a
+    jump). Empty when there are none or only ``rest-pose`` runs."""
+    kinds = tuple(k for k in settings.kinds if k != "rest-pose")
+    lead, trail = frames.rest_frames(motion, settings) if kinds else (0, 0)
+    skipped = []
+    for start, count, where in ((0, lead, "start"), (motion.n_frames - trail, trail, "end")):
+        if count:
+            skipped.append(Skipped(start, start + count - 1, kinds, f"the rest pose at the {where}"))
+    return skipped
+
+
 def run_checks(
     motion: Motion, settings: CheckSettings | None = None, positions: np.ndarray | None = None
 ) -> list[Finding]:
@@ -53,7 +67,9 @@ def run_checks(
     positions : optional (F, J, 3) world positions of the motion already computed.
 
     Rest-pose frames at the ends (:func:`core.checks.frames.rest_frames`) are reported as
-    ``rest-pose`` only; every other check looks at the frames between them. A pop of joints
+    ``rest-pose`` only; every other check looks at the frames between them, and
+    :func:`skipped_frames` says which frames those checks left out (whether ``rest-pose``
+    runs or not: reports list them beside the findings). A pop of joints
     that hang from a joint flipping at that frame is the flip's doing and is not reported.
     """
     settings = settings or CheckSettings()

@@ -1,9 +1,12 @@
 """``gmr check FILE``: what is wrong with a motion, at which frames and joints.
 
 - ``gmr check FILE [--json OUT] [--only KINDS] [--settings S.json] [--strict [--fail-on S]]``:
-  runs :func:`core.checks.run_checks` and prints a table of findings; ``--json OUT`` writes
-  the document of :mod:`core.checks.report` (``-`` for stdout). A marker file (``.c3d``,
-  ``.trc``) gets the checks of points (:mod:`core.checks.markers`), its markers as joints.
+  runs :func:`core.checks.run_checks` and prints a table of findings, after a line per
+  stretch of frames some checks left out and why (:func:`core.checks.skipped_frames`: the
+  rest pose at the ends); ``--json OUT`` writes the document of :mod:`core.checks.report`
+  (``-`` for stdout). A marker file (``.c3d``,
+  ``.trc``) gets the checks of points (:mod:`core.checks.markers`), its markers as joints,
+  read as ``--drop-computed`` and ``--rate HZ`` ask (:func:`core.cli.markers.add_marker_options`).
 - ``gmr check --batch DIR [--table OUT.csv|OUT.parquet] [--json OUT] [--jobs N | --scheduler S]``:
   every motion file of a folder tree (``.bvh``, ``.amc`` with its ``.asf``, ``.gmr``, AMASS
   ``.npz`` with ``--body-model``; :func:`core.cli.batch.find_motion_files`) and marker file
@@ -26,12 +29,13 @@ import sys
 from pathlib import Path
 
 from gmr_studio.core.atomic import atomic_write_bytes, atomic_write_text
-from gmr_studio.core.checks import KINDS, SEVERITIES, CheckSettings, run_checks
+from gmr_studio.core.checks import KINDS, SEVERITIES, CheckSettings, run_checks, skipped_frames
 from gmr_studio.core.checks.markers import run_marker_checks
 from gmr_studio.core.checks.report import SUMMARY_COLUMNS, check_document, failing, findings_text, summary_row
 from gmr_studio.core.cli import workers
 from gmr_studio.core.cli.batch import find_motion_files
 from gmr_studio.core.cli.convert import INPUT_SUFFIXES
+from gmr_studio.core.cli.markers import add_marker_options, marker_options
 from gmr_studio.core.cli.output import write_json
 from gmr_studio.core.cli.progress import Progress
 from gmr_studio.core.cli.reading import add_reading_options, reader_options, transformed_by_args
@@ -60,6 +64,7 @@ def register(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--table", metavar="OUT", help="with --batch: one row per file, .csv or .parquet")
     parser.add_argument("--jobs", type=int, default=None, help="with --batch: parallel processes (all cores)")
     parser.add_argument("--scheduler", metavar="tcp://HOST:8786|local:N", help="with --batch: a Dask cluster")
+    add_marker_options(parser)
     add_reading_options(parser)
     parser.set_defaults(run=run)
 
@@ -84,27 +89,36 @@ def settings_from_args(args: argparse.Namespace) -> CheckSettings:
 
 
 def check_file(
-    path: str | Path, settings: CheckSettings, reading: dict | None = None, transforms: dict | None = None
+    path: str | Path,
+    settings: CheckSettings,
+    reading: dict | None = None,
+    transforms: dict | None = None,
+    marker_reading: dict | None = None,
 ) -> dict:
     """Read one motion or marker file and return its JSON document (MotionFileError if
     unreadable). ``reading``: :func:`core.cli.reading.reader_options`; ``transforms``:
     ``scale``, ``up``, ``from_up`` as the reading options give them (``--up y --from-up z``
-    checks a Z-up file whose header does not say so). Markers get the checks of points only
-    (:mod:`core.checks.markers`)."""
+    checks a Z-up file whose header does not say so); ``marker_reading``: the keywords of
+    :func:`core.markers.read_markers` (:func:`core.cli.markers.marker_options`). Markers get
+    the checks of points only (:mod:`core.checks.markers`)."""
     if Path(path).suffix.lower() in MARKER_SUFFIXES:
-        motion, findings = run_marker_checks(read_markers(path), settings)
+        motion, findings = run_marker_checks(read_markers(path, **(marker_reading or {})), settings)
         return check_document(str(path), motion, findings)
     motion = transformed_by_args(read_motion(path, **(reading or {})), argparse.Namespace(**(transforms or {})))
-    return check_document(str(path), motion, run_checks(motion, settings))
+    return check_document(str(path), motion, run_checks(motion, settings), skipped_frames(motion, settings))
 
 
 def _transforms(args: argparse.Namespace) -> dict:
     return {key: getattr(args, key, None) for key in ("scale", "up", "from_up")}
 
 
-def _check_task(source: str, settings: dict, reading: dict, transforms: dict) -> tuple[str, str, dict | None]:
+def _check_task(
+    source: str, settings: dict, reading: dict, transforms: dict, marker_reading: dict | None = None
+) -> tuple[str, str, dict | None]:
     """One file, in a worker: (file, error or "", document or None). Never raises."""
-    error, document = workers.file_task(check_file, source, CheckSettings.from_dict(settings), reading, transforms)
+    error, document = workers.file_task(
+        check_file, source, CheckSettings.from_dict(settings), reading, transforms, marker_reading
+    )
     return source, error, document
 
 
@@ -115,7 +129,7 @@ def run(args: argparse.Namespace) -> int:
     if args.table:
         raise OperationError("--table goes with --batch")
     reading = reader_options(args.input, args.asf, args.frame_rate, args.body_model)
-    document = check_file(args.input, settings, reading, _transforms(args))
+    document = check_file(args.input, settings, reading, _transforms(args), marker_options(args))
     if args.json:
         write_json(document, args.json)
     if args.json != "-":
@@ -146,7 +160,13 @@ def run_batch(args: argparse.Namespace, settings: CheckSettings) -> int:
     if args.table and Path(args.table).suffix.lower() not in (".csv", ".parquet"):
         raise OperationError(f"the --table is written as .csv or .parquet, not {Path(args.table).name!r}")
     tasks = [
-        (str(f), settings.to_dict(), reader_options(f, args.asf, args.frame_rate, args.body_model), _transforms(args))
+        (
+            str(f),
+            settings.to_dict(),
+            reader_options(f, args.asf, args.frame_rate, args.body_model),
+            _transforms(args),
+            marker_options(args),
+        )
         for f in files
     ]
     jobs = workers.default_jobs(args.jobs, len(tasks))

@@ -8,6 +8,7 @@ import json
 import sys
 from pathlib import Path
 
+from gmr_studio.core.cli.markers import add_marker_options, marker_options
 from gmr_studio.core.cli.reading import add_reading_options, read_with_args
 from gmr_studio.core.edits.dummies import find_dummies
 from gmr_studio.core.model.motion import Motion
@@ -28,6 +29,7 @@ FORMAT_NAMES = {
 def register(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("file", help="a .bvh, .gmr, .amc, .asf, AMASS .npz or glTF file, or a .c3d or .trc marker file")
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
+    add_marker_options(parser)
     add_reading_options(parser)
     parser.set_defaults(run=run)
 
@@ -100,7 +102,7 @@ def run(args: argparse.Namespace) -> int:
         from gmr_studio.core.markers import read_markers
         from gmr_studio.core.markers.report import describe_markers, markers_text
 
-        info = describe_markers(read_markers(args.file), args.file)
+        info = describe_markers(read_markers(args.file, **marker_options(args)), args.file)
         print(json.dumps(info, indent=2) if args.json else markers_text(info))
         return 0
     info = describe(read_with_args(args.file, args), args.file)

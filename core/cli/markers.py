@@ -110,8 +110,44 @@ def register(parser: argparse.ArgumentParser) -> None:
         help="the report as JSON: printed, or written to OUT (with --against-file-model: the comparison)",
     )
     parser.add_argument("-o", "--output", required=True, help="the .gmr (or .bvh) file to write")
+    add_marker_options(parser)
     add_reading_options(parser, transforms=False)  # its --scale is the marker-to-skeleton one
     parser.set_defaults(run=run)
+
+
+def positive_rate(text: str) -> float:
+    """``--rate HZ``: a positive number of frames per second."""
+    try:
+        rate = float(text)
+    except ValueError:
+        rate = -1.0
+    if not (np.isfinite(rate) and rate > 0):
+        raise argparse.ArgumentTypeError(f"expected a positive number of frames per second, not {text!r}")
+    return rate
+
+
+def add_marker_options(parser: argparse.ArgumentParser) -> None:
+    """``--drop-computed`` and ``--rate``: how marker files (.c3d, .trc) are read, for every
+    command that reads them (:func:`marker_options` gives the reader's keywords)."""
+    group = parser.add_argument_group("reading marker files (.c3d, .trc)")
+    group.add_argument(
+        "--drop-computed",
+        action="store_true",
+        help="read the samples the capture software computed (C3D residual 0: its gap filling) as gaps; "
+        "by default they are kept and counted as computed",
+    )
+    group.add_argument(
+        "--rate",
+        type=positive_rate,
+        metavar="HZ",
+        help="the marker file's frame rate, for a file that states none (a C3D whose POINT:RATE is 0)",
+    )
+
+
+def marker_options(args: argparse.Namespace) -> dict:
+    """The keywords of :func:`core.markers.read_markers` the options of :func:`add_marker_options` ask for."""
+    computed = "drop" if getattr(args, "drop_computed", False) else "keep"
+    return {"computed": computed, "rate": getattr(args, "rate", None)}
 
 
 def frame_slice(text: str) -> slice:
@@ -187,7 +223,7 @@ def run(args: argparse.Namespace) -> int:
     from gmr_studio.core.markers.solve import markers_to_motion
     from gmr_studio.core.markers.virtual import resolve_map
 
-    markers = read_markers(args.input)
+    markers = read_markers(args.input, **marker_options(args))
     if not args.skeleton:
         from gmr_studio.core.cli.markers_built import run_built
 

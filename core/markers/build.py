@@ -34,8 +34,8 @@ from gmr_studio.core.errors import OperationError
 from gmr_studio.core.markers import joint_centres as jc
 from gmr_studio.core.markers.functional_joints import fill_from_cluster, functional_centre, knee_on_axis, most_seen
 from gmr_studio.core.markers.limbs import swing
-from gmr_studio.core.markers.markerset import MarkerSet
-from gmr_studio.core.markers.sets import SetMatch, identify_marker_set, no_match_text, role_positions
+from gmr_studio.core.markers.markerset import MarkerSet, frame_ranges
+from gmr_studio.core.markers.sets import SetMatch, identify_marker_set, match_set, no_match_text, role_positions
 from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.space.units import unit_named
@@ -163,6 +163,11 @@ def joint_centre_trajectories(
     if lasi is None or rasi is None or sacrum is None:
         raise OperationError(f"set {match.definition.name}: the pelvis needs both ASIS and the PSIS or a sacral marker")
     origin, frame = jc.pelvis_frame(lasi, rasi, sacrum)
+    placed = np.isfinite(frame).all(axis=(1, 2))
+    if not placed.any():
+        raise OperationError(pelvis_never_seen(markers, match))
+    if not placed.all():
+        notes.append(pelvis_gaps_note(markers, match, ~placed))
     width = np.linalg.norm(lasi - rasi, axis=-1)
     if hip == "davis":
         leg = params.get("LegLength")
@@ -325,7 +330,18 @@ def build_skeleton(
     markers = markers.in_units("mm")
     match = match or identify_marker_set(markers)
     if match is None:
-        raise OperationError(no_match_text(markers.labels))
+        seen = markers.present.any(axis=0) if markers.n_frames else np.zeros(markers.n_markers, bool)
+        labels = [label for label, s in zip(markers.labels, seen) if s]
+        unseen = [label for label, s in zip(markers.labels, seen) if not s]
+        named = identify_marker_set(list(markers.labels))
+        if named is not None and named.complete:  # the set's labels are all there, not all seen
+            lacking = match_set(labels, named.definition).missing
+            raise OperationError(
+                f"this file's markers are set {named.definition.name}, but {', '.join(lacking)} "
+                f"{'is' if len(lacking) == 1 else 'are'} missing in every frame of the {markers.n_frames} read: "
+                "no skeleton is built without them (convert frames where they are seen, --frames A:B)"
+            )
+        raise OperationError(no_match_text(labels, unseen))
     if match.missing:
         raise OperationError(
             f"this file's markers are set {match.definition.name} but miss {', '.join(match.missing)}: "
@@ -388,6 +404,40 @@ def build_skeleton(
         pelvis=("pelvis", "LHJC", "pelvis_front"),
         set_match=match,
         notes=tuple(notes),
+    )
+
+
+def _pelvis_labels(match: SetMatch) -> list[str]:
+    """The labels of the set's pelvis markers (ASIS, PSIS, sacrum) in the file."""
+    found = [match.found[role] for role in ("LASI", "RASI", "LPSI", "RPSI", "SACR") if role in match.found]
+    return list(dict.fromkeys(part for label in found for part in label.split("+")))
+
+
+def pelvis_gaps_note(markers: MarkerSet, match: SetMatch, missing: np.ndarray) -> str:
+    """A note for the frames (``missing``: (F,) bool) where the pelvis markers are too few to
+    place the pelvis: each marker missing there, and the joint centres computed from them."""
+    gone = [
+        f"{label} in {frame_ranges(missing & ~markers.present[:, markers.index(label)])}"
+        for label in _pelvis_labels(match)
+        if (missing & ~markers.present[:, markers.index(label)]).any()
+    ]
+    return (
+        f"the pelvis markers are missing in frames {frame_ranges(missing)} ({'; '.join(gone)}): the joint centres "
+        "computed from them (pelvis, pelvis_front, LHJC, RHJC) are not placed there"
+    )
+
+
+def pelvis_never_seen(markers: MarkerSet, match: SetMatch) -> str:
+    """The message for markers whose pelvis is in no frame: which pelvis markers are missing
+    how often, and what the user can do."""
+    labels = _pelvis_labels(match)
+    missing = ", ".join(
+        f"{label} {100 * (1 - markers.present[:, markers.index(label)].mean()):.0f}%" for label in labels
+    )
+    return (
+        f"the pelvis is in no frame: its markers are never seen together (missing: {missing} of the "
+        f"{markers.n_frames} frames), and every joint centre hangs from it. Fill the gaps in the capture "
+        "software, interpolate short ones with --fill-gaps N, or keep the frames where they are seen with --frames A:B"
     )
 
 

@@ -126,6 +126,7 @@ def markers_to_built_motion(
         frame_time=1.0 / markers.rate,
         twist_markers=built.twist_markers,
         root_at=root_at,
+        pelvis_points="joint centre",
     )
     note = f"from markers {markers.source or '(memory)'}: skeleton built from set {built.set_match.definition.name}"
     result = dataclasses.replace(

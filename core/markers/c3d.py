@@ -9,14 +9,18 @@ the decoding runs in a child Python process (``python -m gmr_studio.core.markers
 time and memory limit; it costs about 0.15 s per file. A C3D that ezc3d rejects, or that
 makes it crash or hang, becomes a :class:`~core.errors.MotionFileError` naming the file.
 
-Gaps. A sample whose residual is negative is invalid in every C3D (ezc3d gives NaN). A
-residual of zero marks a point that the cameras did not measure but the capture software
-interpolated or computed; the default ``zero_residual="auto"`` makes those gaps too,
-*when the file records residuals at all* (some sample has a positive one, as CMU's files
-do). Many writers (Qualisys, Vicon Nexus exports, the Plug-in Gait sample) write a zero
-residual for every sample: there it means "no residual recorded", and the samples are kept.
-``"gap"`` and ``"keep"`` force one reading. A sample at exactly (0, 0, 0) with no positive
-residual is a gap (older writers mark missing markers that way).
+Gaps and computed samples. A sample whose residual is negative is invalid in every C3D
+(ezc3d gives NaN): a gap. A residual of zero marks a point the cameras did not measure but
+the capture software computed (its gap filling, an interpolation or a filter), *when the
+file records residuals at all* (some sample has a positive one, as CMU's files do): such
+samples are kept, marked in :attr:`MarkerSet.computed <core.markers.markerset.MarkerSet>`
+(CMU 01_01's 859, 0.7%, are continuous with the measured samples around them), and
+``computed="drop"`` makes them gaps. Many writers (Qualisys, Vicon Nexus exports, the
+Plug-in Gait sample) write a zero residual for every sample: there it means "no residual
+recorded", and the samples are kept as measured. Only the evidence makes a gap of a sample
+with residual 0: at exactly (0, 0, 0) (older writers mark missing markers that way), or a
+computed sample farther from the measured samples before and after it than a marker can
+move in the time between (:data:`MAX_MARKER_SPEED`).
 
 Analysis outputs: joint angles, forces, moments, powers and scalars that a model (Vicon Plug-in
 Gait, pyCGM2) stores among the POINT entries are named in ``POINT:ANGLES``, ``FORCES``,
@@ -43,13 +47,18 @@ from typing import Literal
 import numpy as np
 
 from gmr_studio.core.errors import MotionFileError
-from gmr_studio.core.markers.markerset import MarkerSet, PointOutputs, split_subject
-from gmr_studio.core.space.units import parse_unit
+from gmr_studio.core.markers.markerset import MarkerSet, PointOutputs, gap_runs, split_subject
+from gmr_studio.core.space.units import parse_unit, unit_named
 
 #: exit status of the worker when ezc3d raised (its message is on stderr); see c3d_worker
 REJECTED = 3
 
-ZeroResidual = Literal["auto", "gap", "keep"]
+Computed = Literal["keep", "drop"]
+
+#: metres per second no marker on a body reaches (a hand in a pitch or a punch peaks near
+#: 20, a golf club's head near 50): a computed sample that far from the measured ones is no
+#: position of its marker
+MAX_MARKER_SPEED = 60.0
 
 _PROCESSORS = {84: "Intel", 85: "DEC", 86: "SGI/MIPS"}
 #: the module run in the child process
@@ -61,7 +70,8 @@ _MEMORY_FLOOR = 4 << 30
 def read_c3d(
     path: str | Path,
     *,
-    zero_residual: ZeroResidual = "auto",
+    computed: Computed = "keep",
+    rate: float | None = None,
     isolate: bool = True,
     timeout: float | None = None,
 ) -> MarkerSet:
@@ -70,24 +80,30 @@ def read_c3d(
     Parameters
     ----------
     path : the file.
-    zero_residual : how samples with residual 0 are read (see the module docstring).
+    computed : ``"keep"`` the samples the capture software computed (residual 0 in a file
+        that records residuals), marked in ``MarkerSet.computed``, or ``"drop"`` them (gaps);
+        see the module docstring.
+    rate : frames per second, for a file whose POINT:RATE is 0 or wrong (None: the file's).
     isolate : decode in a child process (default); ``False`` calls ezc3d in this process,
         which is faster but trusts the file.
     timeout : seconds the child may take (default: 10 s plus 1 s per MB of file).
 
     Returns
     -------
-    MarkerSet with positions (F, M, 3) in the file's POINT:UNITS and axes, gaps NaN, the
-    subject prefix split off each label, ``first_frame`` from the header, and ``notes``
-    saying what was tolerated (gaps made from zero residuals, renamed labels, a file
-    shorter than its header).
+    MarkerSet with positions (F, M, 3) in the file's POINT:UNITS and axes, gaps NaN,
+    ``computed`` (F, M), the subject prefix split off each label, ``first_frame`` from the
+    header, and ``notes`` saying what was tolerated (computed samples kept or dropped,
+    renamed labels, a file shorter than its header).
 
     Raises
     ------
-    MotionFileError : the file is missing, is not a C3D, or ezc3d rejects it.
+    MotionFileError : the file is missing, is not a C3D, ezc3d rejects it, or it gives no
+        frame rate and ``rate`` is None.
     """
-    if zero_residual not in ("auto", "gap", "keep"):
-        raise ValueError(f"zero_residual must be 'auto', 'gap' or 'keep', not {zero_residual!r}")
+    if computed not in ("keep", "drop"):
+        raise ValueError(f"computed must be 'keep' or 'drop', not {computed!r}")
+    if rate is not None and not (np.isfinite(rate) and rate > 0):
+        raise ValueError(f"the frame rate must be a positive number, not {rate}")
     where = str(path)
     size, announced = _check_header(Path(path), where)
     if isolate:
@@ -103,7 +119,7 @@ def read_c3d(
             text = OWN_PREFIX + str(exc) if isinstance(exc, OwnError) else str(exc)
             raise MotionFileError(where, rejection(_clean(text))) from None
     decoded["meta"]["announced_frames"] = announced
-    return _marker_set(decoded, where, zero_residual)
+    return _marker_set(decoded, where, computed, rate)
 
 
 def _check_header(path: Path, where: str) -> tuple[int, int]:
@@ -196,15 +212,13 @@ def _clean(message: str) -> str:
     return text.removesuffix(": iostream error")
 
 
-def _marker_set(decoded: dict, where: str, zero_residual: ZeroResidual) -> MarkerSet:
+def _marker_set(decoded: dict, where: str, computed: Computed = "keep", given_rate: float | None = None) -> MarkerSet:
     meta = decoded["meta"]
     points = np.array(decoded["points"], dtype=np.float64)
     residuals = np.asarray(decoded["residuals"], dtype=np.float64)
     n_frames, n_points = points.shape[:2]
     notes: list[str] = list(meta.get("notes", []))
-    rate = meta["rate"]
-    if not np.isfinite(rate) or rate <= 0:
-        raise MotionFileError(where, f"the point rate is {rate}: expected a positive number of frames per second")
+    rate = _rate(meta["rate"], given_rate, where, notes)
     unit = parse_unit(meta["units"])
     units = None if unit is None else unit.name
     if units is None:
@@ -214,19 +228,29 @@ def _marker_set(decoded: dict, where: str, zero_residual: ZeroResidual) -> Marke
     is_marker = np.array([not kind for kind in kinds], dtype=bool)
     gaps = (residuals < 0) | ~np.isfinite(points).all(axis=2)
     # the residual rules are the markers': analysis outputs are computed, never measured
-    recorded = bool((residuals[:, is_marker] > 0).any())
     zero = (residuals == 0) & ~gaps & is_marker
-    if zero_residual == "gap" or (zero_residual == "auto" and recorded):
-        if zero.any():
-            notes.append(
-                f"{int(zero.sum())} samples with residual 0 (interpolated by the capture software, "
-                "not measured) read as gaps"
-            )
-        gaps |= zero
-    origin = zero & (points == 0).all(axis=2) & ~gaps
-    if zero_residual == "auto" and origin.any():
+    origin = zero & (points == 0).all(axis=2)
+    if origin.any():
         notes.append(f"{int(origin.sum())} samples at exactly (0, 0, 0) with no residual read as gaps")
         gaps |= origin
+    recorded = bool((residuals[:, is_marker] > 0).any())
+    made = zero & ~gaps if recorded else np.zeros_like(zero)
+    jumps = _jumps(points, (residuals > 0) & ~gaps, made, rate, unit_named(units).metres)
+    if jumps.any():
+        notes.append(
+            f"{int(jumps.sum())} computed samples (residual 0) farther from the measured ones around them than a "
+            f"marker moves at {MAX_MARKER_SPEED:g} m/s read as gaps"
+        )
+        gaps |= jumps
+        made &= ~jumps
+    if made.any():
+        share = 100.0 * made.sum() / max(int(is_marker.sum()) * n_frames, 1)
+        what = f"{int(made.sum())} samples with residual 0 ({share:.2g}% of the markers' samples"
+        what += ": computed by the capture software, not measured)"
+        notes.append(what + (" read as gaps" if computed == "drop" else " kept and marked computed"))
+        if computed == "drop":
+            gaps |= made
+            made = np.zeros_like(made)
     points[gaps] = np.nan
     long_frames = meta.get("long_frames")
     if long_frames:
@@ -254,10 +278,12 @@ def _marker_set(decoded: dict, where: str, zero_residual: ZeroResidual) -> Marke
         notes.append(f"{outputs.n_outputs} analysis outputs ({counts}) kept out of the markers")
         keep = np.flatnonzero(is_marker)
         points, subjects, labels = points[:, keep], [subjects[m] for m in keep], [labels[m] for m in keep]
+        made = made[:, keep]
     return MarkerSet(
         labels=labels,
         subjects=subjects,
         positions=points,
+        computed=made,
         rate=rate,
         units=units,
         first_frame=meta["first_frame"],
@@ -266,6 +292,44 @@ def _marker_set(decoded: dict, where: str, zero_residual: ZeroResidual) -> Marke
         outputs=outputs,
         parameters=dict(meta.get("parameters", {})),
     )
+
+
+def _rate(stated: float, given: float | None, where: str, notes: list[str]) -> float:
+    """The frame rate: ``given`` (``--rate``) when there is one, noted where the file states
+    another; else the file's, which must be positive."""
+    if given is not None:
+        if np.isfinite(stated) and stated > 0 and stated != given:
+            notes.append(f"POINT:RATE is {stated:g} Hz: read at {given:g} Hz as asked")
+        return float(given)
+    if not np.isfinite(stated) or stated <= 0:
+        raise MotionFileError(
+            where,
+            f"the point rate is {stated:g}: the file does not say how many frames per second it holds; "
+            "give the rate it was captured at with --rate HZ",
+        )
+    return float(stated)
+
+
+def _jumps(points: np.ndarray, measured: np.ndarray, computed: np.ndarray, rate: float, metres: float) -> np.ndarray:
+    """(F, M) bool: the computed samples farther from the measured sample before them and
+    from the one after them (each that exists) than a marker moves at
+    :data:`MAX_MARKER_SPEED` in the time between. ``points`` (F, M, 3) in units of
+    ``metres``; ``measured``, ``computed`` (F, M) bool."""
+    out = np.zeros_like(computed)
+    frames, markers = np.nonzero(computed)
+    if not frames.size:
+        return out
+    per_frame = MAX_MARKER_SPEED / metres / rate  # file units a marker can move in a frame
+    too_far = np.ones(frames.size, bool)
+    anchored = np.zeros(frames.size, bool)
+    for anchor in gap_runs(measured):
+        at = anchor[frames, markers]
+        inside = (at >= 0) & (at < points.shape[0])
+        distance = np.linalg.norm(points[frames, markers] - points[np.where(inside, at, 0), markers], axis=1)
+        too_far &= ~inside | (distance > per_frame * np.abs(frames - at))
+        anchored |= inside
+    out[frames, markers] = too_far & anchored
+    return out
 
 
 def _output_kinds(raw: list[str], n_points: int, groups: dict[str, list[str]]) -> list[str]:

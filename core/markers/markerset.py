@@ -6,6 +6,10 @@ field             shape / type       meaning
 labels            tuple of M str     marker names, subject prefix removed
 positions         (F, M, 3) float64  positions in ``units``; NaN where the marker is
                                      missing (a gap), all three coordinates together
+computed          (F, M) bool        samples present but not measured: computed by the
+                                     capture software (a C3D residual of 0: its gap
+                                     filling, interpolation or filter) or by
+                                     :meth:`MarkerSet.filled`; False at gaps
 rate              float              frames per second
 units             str                length unit of ``positions``: "mm", "cm", "m", "in"
 subjects          tuple of M str     the subject prefix split off each label
@@ -24,7 +28,8 @@ Axes are the file's. Conversions return new marker sets: :meth:`MarkerSet.in_uni
 :meth:`MarkerSet.transformed` (any rotation/permutation, scale and offset, e.g. Z-up to
 Y-up), :meth:`MarkerSet.resampled` (another frame rate). Gaps stay gaps unless the user asks
 for :meth:`MarkerSet.filled` (linear interpolation of short gaps); :meth:`MarkerSet.gap_table`
-describes them.
+describes them. Computed samples are data (the lab's own gap filling, continuous with the
+measured samples around it) and kept; :meth:`MarkerSet.without_computed` makes them gaps.
 """
 
 from __future__ import annotations
@@ -38,7 +43,7 @@ from gmr_studio.core.errors import OperationError
 from gmr_studio.core.space.units import unit_factor, unit_named
 from gmr_studio.core.space.up_axis import Y_TO_Z
 from gmr_studio.core.timebase.clock import duration_of, times_of
-from gmr_studio.core.timebase.sampling import interpolate, resample_grid
+from gmr_studio.core.timebase.sampling import interpolate, neighbours, resample_grid
 
 #: metres per unit
 
@@ -129,6 +134,7 @@ class MarkerSet:
     notes: tuple[str, ...] = ()
     outputs: PointOutputs | None = None
     parameters: dict[str, float] = dataclasses.field(default_factory=dict)
+    computed: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         labels = tuple(str(label) for label in self.labels)
@@ -151,9 +157,18 @@ class MarkerSet:
             positions[gaps] = np.nan
         view = positions.view()
         view.flags.writeable = False
+        if self.computed is None:
+            computed = np.zeros(positions.shape[:2], bool)
+        else:
+            computed = np.asarray(self.computed, dtype=bool)
+            if computed.shape != positions.shape[:2]:
+                raise ValueError(f"computed must have shape {positions.shape[:2]}, not {computed.shape}")
+            computed = computed & ~gaps
+        computed.flags.writeable = False
         set_field = object.__setattr__
         set_field(self, "labels", labels)
         set_field(self, "positions", view)
+        set_field(self, "computed", computed)
         set_field(self, "subjects", subjects)
         set_field(self, "rate", rate)
         set_field(self, "units", units)
@@ -194,7 +209,19 @@ class MarkerSet:
                 return m
         raise OperationError(f"no marker {label!r} in {self.source or 'the marker set'}")
 
+    @property
+    def measured(self) -> np.ndarray:
+        """(F, M) bool: present and not computed (seen by the cameras)."""
+        return self.present & ~self.computed
+
     def replace(self, **changes) -> MarkerSet:
+        """A copy with ``changes``. New ``positions`` of another shape need their own
+        ``computed`` mask unless no sample was computed (the mask then starts empty)."""
+        positions = changes.get("positions")
+        if "computed" not in changes and positions is not None and np.shape(positions)[:2] != self.computed.shape:
+            if self.computed.any():
+                raise ValueError("positions of another shape need their computed mask (F, M)")
+            changes["computed"] = None
         return dataclasses.replace(self, **changes)
 
     def select(self, labels: list[str]) -> MarkerSet:
@@ -204,12 +231,28 @@ class MarkerSet:
             labels=[self.labels[m] for m in index],
             subjects=[self.subjects[m] for m in index],
             positions=self.positions[:, index],
+            computed=self.computed[:, index],
         )
 
     def frame_slice(self, frames: slice) -> MarkerSet:
         start = range(self.n_frames)[frames].start if self.n_frames else 0
         outputs = self.outputs.frame_slice(frames) if self.outputs is not None else None
-        return self.replace(positions=self.positions[frames], first_frame=self.first_frame + start, outputs=outputs)
+        return self.replace(
+            positions=self.positions[frames],
+            computed=self.computed[frames],
+            first_frame=self.first_frame + start,
+            outputs=outputs,
+        )
+
+    def without_computed(self) -> MarkerSet:
+        """The computed samples made gaps (only what the cameras measured is left), with a
+        note counting them."""
+        count = int(self.computed.sum())
+        if not count:
+            return self
+        positions = np.where(self.computed[..., None], np.nan, self.positions)
+        note = f"{count} computed samples (not measured: the capture software's gap filling) read as gaps"
+        return self.replace(positions=positions, computed=None, notes=(*self.notes, note))
 
     def in_units(self, units: str) -> MarkerSet:
         """The same markers measured in other units (a name of :mod:`core.space.units`)."""
@@ -231,8 +274,8 @@ class MarkerSet:
 
     def filled(self, max_gap: int) -> MarkerSet:
         """Gaps of at most ``max_gap`` frames with a seen sample on both sides, filled by linear
-        interpolation between those samples; longer gaps and gaps at either end stay gaps.
-        A note says how many samples were filled."""
+        interpolation between those samples and marked computed; longer gaps and gaps at
+        either end stay gaps. A note says how many samples were filled."""
         if max_gap < 1:
             return self
         present = self.present
@@ -249,10 +292,11 @@ class MarkerSet:
         values = (1 - weight) * self.positions[lo, marker] + weight * self.positions[hi, marker]
         positions = np.where(fill[..., None], values, self.positions)
         note = f"{int(fill.sum())} samples in gaps of at most {max_gap} frames filled by linear interpolation"
-        return self.replace(positions=positions, notes=(*self.notes, note))
+        return self.replace(positions=positions, computed=self.computed | fill, notes=(*self.notes, note))
 
     def gap_table(self) -> list[dict]:
-        """Per marker: ``label``, ``missing`` (frames), ``gaps`` (runs) and ``longest`` (frames)."""
+        """Per marker: ``label``, ``missing`` (frames), ``gaps`` (runs), ``longest`` (frames)
+        and ``computed`` (frames present but computed, not measured)."""
         missing = ~self.present
         starts = missing & np.vstack([np.ones((1, self.n_markers), bool), ~missing[:-1]])
         before, after = gap_runs(self.present)
@@ -263,16 +307,20 @@ class MarkerSet:
                 "missing": int(missing[:, m].sum()),
                 "gaps": int(starts[:, m].sum()),
                 "longest": int(length[:, m].max(initial=0)),
+                "computed": int(self.computed[:, m].sum()),
             }
             for m, (s, label) in enumerate(zip(self.subjects, self.labels))
         ]
 
     def resampled(self, rate: float) -> MarkerSet:
         """Linear interpolation in time to another rate (:mod:`core.timebase.sampling`); a
-        sample between a gap and a good sample is a gap. Analysis outputs are left behind (``outputs`` None)."""
+        sample between a gap and a good sample is a gap, one between a computed sample and
+        another is computed. Analysis outputs are left behind (``outputs`` None)."""
         if rate <= 0:
             raise ValueError("the frame rate must be positive")
         if self.n_frames < 2 or rate == self.rate:
             return self.replace(rate=rate, outputs=None) if self.n_frames < 2 else self
         at = resample_grid(self.n_frames, self.frame_time, rate)  # the one grid and interpolator
-        return self.replace(positions=interpolate(self.positions, at), rate=rate, outputs=None)
+        low, high, weight = neighbours(at, self.n_frames)
+        computed = self.computed[low] | (self.computed[high] & (weight > 0)[:, None])
+        return self.replace(positions=interpolate(self.positions, at), computed=computed, rate=rate, outputs=None)

@@ -97,6 +97,7 @@ def pelvis_rotations(
     method: PelvisMethod = "note",
     min_sine: float = 1e-6,
     labels: tuple[str, str, str] = ("X1", "X2", "X3"),
+    what: str = "pelvis marker",
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]:
     """The pelvis rotation of every frame from the three points (the array core of
     :func:`recover_pelvis`).
@@ -108,6 +109,8 @@ def pelvis_rotations(
     method : "note" (frames, least squares, nearest rotation) or "points" (Kabsch).
     min_sine : degeneracy threshold of :func:`~core.markers.procrustes.frame_from_triple`.
     labels : names of the three points, for the messages.
+    what : what the three points are, for the messages ("pelvis marker"; "joint centre"
+        for the joint centres a skeleton built from the markers computes).
 
     Returns
     -------
@@ -121,12 +124,12 @@ def pelvis_rotations(
     reasons = []
     for k, label in enumerate(labels):
         if missing[:, k].any():
-            reasons.append(f"pelvis marker {label} missing in frames {frame_ranges(missing[:, k])}")
+            reasons.append(f"{what} {label} missing in frames {frame_ranges(missing[:, k])}")
     names = ", ".join(labels)
     if coincident.any():
-        reasons.append(f"pelvis markers {names} coincide in frames {frame_ranges(coincident)}")
+        reasons.append(f"{what}s {names} coincide in frames {frame_ranges(coincident)}")
     if collinear.any():
-        reasons.append(f"pelvis markers {names} are collinear in frames {frame_ranges(collinear)}")
+        reasons.append(f"{what}s {names} are collinear in frames {frame_ranges(collinear)}")
     if home is not None:
         home = np.asarray(home, dtype=np.float64)
         home_frame, home_ok, _, _ = frame_from_triple(home[0], home[1], home[2], min_sine)

@@ -11,7 +11,9 @@ from gmr_studio.core.rotations.euler import rotation_angle
 
 
 def describe_markers(markers: MarkerSet, path: str) -> dict:
-    """A JSON-ready description: format, frames, rate, units, subjects, per-marker gaps."""
+    """A JSON-ready description: format, frames, rate, units, subjects, per-marker gaps and
+    computed samples (present but computed by the capture software: ``computed_fraction``
+    of all samples, ``computed`` per marker)."""
     table = markers.gap_table()
     return {
         "path": path,
@@ -24,6 +26,7 @@ def describe_markers(markers: MarkerSet, path: str) -> dict:
         "subjects": sorted({s for s in markers.subjects if s}),
         "markers": table,
         "missing_fraction": float((~markers.present).mean()) if markers.present.size else 0.0,
+        "computed_fraction": float(markers.computed.mean()) if markers.computed.size else 0.0,
         "notes": list(markers.notes),
         "outputs": _outputs(markers),
         "marker_set": marker_set_info(markers),
@@ -37,7 +40,9 @@ def marker_set_info(markers: MarkerSet) -> dict:
 
     match = identify_marker_set(markers)
     if match is None:
-        return {"name": None, "note": no_match_text(markers.labels)}
+        seen = markers.present.any(axis=0) if markers.n_frames else np.zeros(markers.n_markers, bool)
+        labels = [label for label, s in zip(markers.labels, seen) if s]
+        return {"name": None, "note": no_match_text(labels, [label for label, s in zip(markers.labels, seen) if not s])}
     return {
         "name": match.definition.name,
         "title": match.definition.title,
@@ -68,6 +73,12 @@ def markers_text(info: dict) -> str:
         f"subjects:   {', '.join(info['subjects']) or 'none (no prefix on the labels)'}",
         f"gaps:       {100 * info['missing_fraction']:.2f}% of all samples",
     ]
+    if info.get("computed_fraction"):
+        count = sum(m["computed"] for m in info["markers"])
+        lines.append(
+            f"computed:   {100 * info['computed_fraction']:.2f}% of all samples ({count}, kept): filled in by the "
+            "capture software, not measured (--drop-computed reads them as gaps)"
+        )
     marker_set = info.get("marker_set") or {}
     if marker_set.get("name"):
         lines.append(f"set:        {marker_set['summary']}")
@@ -78,9 +89,11 @@ def markers_text(info: dict) -> str:
         unit = f" ({group['units']})" if group["units"] else ""
         lines.append(f"output:     {len(group['labels'])} {kind}{unit}: {', '.join(group['labels'])}")
     width = max([len(m["label"]) for m in info["markers"]] + [6])
-    lines += ["", f"{'marker':<{width}}  {'missing':>8}  {'gaps':>5}  {'longest':>7}"]
+    lines += ["", f"{'marker':<{width}}  {'missing':>8}  {'gaps':>5}  {'longest':>7}  {'computed':>8}"]
     for m in info["markers"]:
-        lines.append(f"{m['label']:<{width}}  {m['missing']:>8}  {m['gaps']:>5}  {m['longest']:>7}")
+        lines.append(
+            f"{m['label']:<{width}}  {m['missing']:>8}  {m['gaps']:>5}  {m['longest']:>7}  {m.get('computed', 0):>8}"
+        )
     return "\n".join(lines)
 
 

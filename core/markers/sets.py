@@ -210,15 +210,32 @@ def identify_marker_set(
     )
 
 
-def no_match_text(labels: Sequence[str]) -> str:
-    """What to say when no known set fits: the nearest sets and what a map would need."""
+def _some(labels: Sequence[str], most: int = 8) -> str:
+    """``"A, B, C"``, at most ``most`` of them, then ``" (+N more)"``; ``"none"`` if empty."""
+    shown = ", ".join(labels[:most]) or "none"
+    return shown + (f" (+{len(labels) - most} more)" if len(labels) > most else "")
+
+
+def no_match_text(labels: Sequence[str], never_seen: Sequence[str] = ()) -> str:
+    """What to say when no known set fits ``labels`` (the markers seen at least once): the
+    three nearest sets with the share of their required markers present, the file's labels
+    each matched and the labels it misses; the labels in the file but never seen; and how
+    to map the markers oneself (``--skeleton`` with a marker map, ``--map FILE.toml``)."""
     scored = sorted((match_set(labels, d) for d in known_sets()), key=lambda m: -m.score)[:3]
-    near = "; ".join(f"{m.definition.name} {100 * m.score:.0f}% (missing {', '.join(m.missing[:8])})" for m in scored)
+    near = []
+    for m in scored:
+        matched = list(dict.fromkeys(part for label in m.found.values() for part in label.split("+")))
+        near.append(
+            f"{m.definition.name} {100 * m.score:.0f}% (matched {_some(matched)}; missing {_some(list(m.missing))})"
+        )
+    unseen = f"; in the file but never seen: {_some(list(never_seen))}" if never_seen else ""
     return (
-        "no known marker set fits these labels (nearest: " + near + "). A marker map for them needs, for each "
-        "joint to place, the markers that locate it: the pelvis (left and right ASIS and PSIS or a sacral "
-        "marker), lateral (and medial) knee and ankle markers with a thigh and a shank marker, heel and toe; "
-        "for the upper body C7, CLAV, shoulder, elbow, wrist and hand markers; see docs/markers.md"
+        "no known marker set fits these labels (nearest: " + "; ".join(near) + unseen + "). To convert them, "
+        "give a skeleton and a marker map of your own: gmr markers FILE --skeleton S.asf|S.bvh --map MAP.toml, "
+        "the map placing each joint from the markers that locate it (the pelvis from left and right ASIS and "
+        "PSIS or a sacral marker; knees and ankles from lateral (and medial) markers with a thigh and a shank "
+        "marker; heel and toe; C7, CLAV, shoulder, elbow, wrist and hand markers); see docs/markers.md, "
+        "'Marker maps'"
     )
 
 

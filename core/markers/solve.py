@@ -226,6 +226,7 @@ def solve_positions(
     bone_starts: np.ndarray | None = None,
     root_at: RootAt = "fit",
     weights: np.ndarray | None = None,
+    pelvis_points: str = "pelvis marker",
 ) -> MarkerMotion:
     """The solver on joint positions already in skeleton space.
 
@@ -245,6 +246,8 @@ def solve_positions(
         bone the skeleton lacks (:func:`~core.markers.targets.below_missing_bones`) are left
         out of the root's fit: the skeleton cannot reach their markers.
     weights : (J,) each joint's weight in the root's fit (None: 1 each).
+    pelvis_points : what the pelvis points are, for the reasons ("pelvis marker", or "joint
+        centre" for a skeleton built from the markers, whose pelvis triple it computes).
     Other parameters as in :func:`markers_to_motion`.
     """
     if skeleton.convention != "pre":
@@ -269,8 +272,9 @@ def solve_positions(
     root_set = {skeleton.joint_index(r) for r in roots} | {int(r) for r in skeleton.roots}
     home = rest_positions(skeleton, pelvis)
     rotations_p, residuals, valid, reasons = pelvis_rotations(
-        measured[:, triple_index], home, method=pelvis_method, labels=tuple(pelvis)
+        measured[:, triple_index], home, method=pelvis_method, labels=tuple(pelvis), what=pelvis_points
     )
+    pelvis_reasons = tuple(reasons)  # the pelvis's own, for its frames
     if not valid.any():
         raise OperationError("no frame has a usable pelvis: " + "; ".join(reasons))
     reference_data = reference_poses(reference, skeleton, triple_index, home, pelvis_method)
@@ -354,7 +358,7 @@ def solve_positions(
         chain = np.where(follows[..., None], chain + shift[:, None], chain)
     return _assemble(
         skeleton, valid, good, local, world, chain, sources, root_set, frame_time,
-        measured, rotations_p, residuals, match, distance, reasons, pelvis,
+        measured, rotations_p, residuals, match, distance, reasons, pelvis, pelvis_reasons,
     )  # fmt: skip
 
 
@@ -370,7 +374,7 @@ def _hold(values: np.ndarray, ok: np.ndarray) -> np.ndarray:
 
 def _assemble(
     skeleton, valid, good, local, world, chain, sources, root_set, frame_time,
-    measured, rotations_p, residuals, match, distance, reasons, pelvis,
+    measured, rotations_p, residuals, match, distance, reasons, pelvis, pelvis_reasons,
 ) -> MarkerMotion:  # fmt: skip
     """Scatter the good frames over all frames (bad ones copy the nearest good frame) and
     build the GMR motion, splitting the requested roots off their parents."""
@@ -414,7 +418,7 @@ def _assemble(
         residuals=residuals,
         valid=valid,
         units="skeleton",
-        reasons=tuple(r for r in reasons if r.startswith("pelvis")),
+        reasons=pelvis_reasons,
         labels=tuple(pelvis),
     )
     return MarkerMotion(

@@ -28,8 +28,9 @@ from gmr_studio.core.space.units import UNITS, parse_unit
 _NUMBER = re.compile(rb"\s*[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?\s*\Z")
 
 
-def read_trc(path: str | Path, data: bytes | None = None) -> MarkerSet:
-    """Read a TRC file into a :class:`MarkerSet` (``data``: the bytes, if in hand)."""
+def read_trc(path: str | Path, data: bytes | None = None, *, rate: float | None = None) -> MarkerSet:
+    """Read a TRC file into a :class:`MarkerSet` (``data``: the bytes, if in hand; ``rate``:
+    frames per second for a file whose DataRate is missing, not positive or wrong)."""
     where = str(path)
     lines = normalise_newlines(read_input(path, data)).split(b"\n")
 
@@ -46,16 +47,21 @@ def read_trc(path: str | Path, data: bytes | None = None) -> MarkerSet:
     for key in ("NumMarkers", "Units"):
         if key not in header:
             raise fail(f"the header has no {key}", 2)
+    notes = []
     rate_key = "DataRate" if "DataRate" in header else "CameraRate"
-    if rate_key not in header:
-        raise fail("the header has no DataRate", 2)
-    rate_text, rate_column = header[rate_key]
+    rate_text, rate_column = header.get(rate_key, ("", 1))
     try:
-        rate = float(rate_text)
+        stated = float(rate_text)
     except ValueError:
-        rate = -1.0
-    if not np.isfinite(rate) or rate <= 0:
-        raise fail(f"expected a positive DataRate, found {quoted(rate_text)}", 3, rate_column)
+        stated = -1.0
+    if rate is not None:
+        if np.isfinite(stated) and stated > 0 and stated != rate:
+            notes.append(f"{rate_key} is {stated:g} Hz: read at {rate:g} Hz as asked")
+    elif rate_key not in header:
+        raise fail("the header has no DataRate: use --rate HZ", 2)
+    elif not np.isfinite(stated) or stated <= 0:
+        raise fail(f"expected a positive DataRate, found {quoted(rate_text)}: use --rate HZ", 3, rate_column)
+    rate = float(rate if rate is not None else stated)
     units_text, units_column = header["Units"]
     unit = parse_unit(units_text)
     if unit is None:
@@ -73,7 +79,6 @@ def read_trc(path: str | Path, data: bytes | None = None) -> MarkerSet:
         raise fail(f"NumMarkers says {n_markers}, but the fourth line names {len(full_labels)} markers", 4)
     split = [split_subject(label) for label in full_labels]
     positions, first_frame, rows = _read_rows(lines, 5, 2 + 3 * n_markers, delimiter, where)
-    notes = []
     claimed = header.get("NumFrames", ("", 0))[0]
     if claimed.isdigit() and int(claimed) != rows:
         notes.append(f"the header says NumFrames {claimed}; the file holds {rows} frames")
