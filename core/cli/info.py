@@ -22,12 +22,15 @@ FORMAT_NAMES = {
     ".npz": "AMASS/SMPL (with its body model)",
     ".glb": "glTF 2.0 binary",
     ".gltf": "glTF 2.0",
+    ".fbx": "FBX (read only)",
 }
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("info", help="joints, roots, soft links, frames, frame rate and channels of a file")
-    parser.add_argument("file", help="a .bvh, .gmr, .amc, .asf, AMASS .npz or glTF file, or a .c3d or .trc marker file")
+    parser.add_argument(
+        "file", help="a .bvh, .gmr, .amc, .asf, AMASS .npz, glTF or FBX file, or a .c3d or .trc marker file"
+    )
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
     add_reading_options(parser)
     parser.set_defaults(run=run)
@@ -111,6 +114,12 @@ def run(args: argparse.Namespace) -> int:
 
         info["gltf"] = gltf_contents(args.file)
         gltf_lines = contents_text(info["gltf"])
+    if Path(args.file).suffix.lower() == ".fbx":  # its takes and what it holds besides the skeleton
+        from gmr_studio.core.formats.fbx_in.reader import contents_text as fbx_text
+        from gmr_studio.core.formats.fbx_in.reader import fbx_contents
+
+        info["fbx"] = fbx_contents(args.file)
+        gltf_lines = fbx_text(info["fbx"])
     if args.json:
         json.dump(info, sys.stdout, indent=2)
         print()
