@@ -37,8 +37,11 @@ def take_start(motion) -> float:
     return float(note.split(": ", 1)[1].split(" to ")[0])
 
 
-def ufbx_positions(path: Path, n_frames: int, tmp_path: Path, take: int = 0) -> dict[str, np.ndarray]:
-    """ufbx's world position of every node (name -> (F, 3)) at the first frames of a take."""
+def ufbx_positions(
+    path: Path, n_frames: int, tmp_path: Path, take: int = 0
+) -> tuple[dict[str, np.ndarray], np.ndarray]:
+    """ufbx's world position of every node (name -> (F, 3)) at the first frames of a take,
+    and the frames holding a key of every curve that changes (K,)."""
     out = tmp_path / "ufbx.npz"
     done = subprocess.run(
         [sys.executable, str(ORACLE), str(path), str(out), str(take), str(n_frames)],
@@ -48,14 +51,15 @@ def ufbx_positions(path: Path, n_frames: int, tmp_path: Path, take: int = 0) -> 
     )
     assert done.returncode == 0, done.stderr[-2000:]
     with np.load(out) as archive:
-        return {str(name): archive["positions"][:, k] for k, name in enumerate(archive["names"])}
+        positions = {str(name): archive["positions"][:, k] for k, name in enumerate(archive["names"])}
+        return positions, archive["keyed"]
 
 
 @pytest.mark.parametrize("path", FBX_FILES)
 def test_every_joint_is_where_ufbx_puts_it(path, tmp_path):
     motion = read_motion(path)
     n = min(motion.n_frames, ORACLE_FRAMES)
-    expected = ufbx_positions(path, n, tmp_path)
+    expected, _ = ufbx_positions(path, n, tmp_path)
     got = world_positions(pre_from_post(motion.frame_slice(slice(0, n))))
     reference = np.stack([expected[name] for name in motion.names], axis=1)
     error = float(np.abs(got - reference).max()) / motion.size
@@ -193,11 +197,15 @@ def test_cli_says_one_line_for_a_bad_file(tmp_path):
 def test_file_facts_name_the_unit_or_convert_to_metres():
     from gmr_studio.core.formats.fbx_in.skeleton import file_facts
 
-    axes = "axes: right +x, up +z, front -y (the file's)"
-    assert file_facts(0.01, [0, 4, 3]) == (1.0, ["units: cm", "up axis: z", axes])
-    factor, lines = file_facts(0.05, [0, 2, 4])
+    factor, turn, lines = file_facts(0.01, [0, 4, 3])  # 3ds Max: right +x, up +z, front -y
+    assert factor == 1.0 and np.array_equal(turn, np.eye(3))
+    assert lines == ["units: cm", "up axis: z", "axes: right +x, up +z, front -y (the file's)"]
+    factor, turn, lines = file_facts(0.05, [0, 2, 4])
     assert factor == 0.05 and lines[0] == "units: m" and "up axis: y" in lines
-    assert any(line.startswith("WARNING") for line in file_facts(1.0, [2, 0, 4])[1])  # X up
+    _, turn, lines = file_facts(0.01, [1, 4, 2])  # Blender's Z up export: right -x, front +y
+    assert np.array_equal(turn, np.diag([-1.0, -1.0, 1.0])) and "up axis: z" in lines
+    _, turn, lines = file_facts(1.0, [2, 0, 4])  # X up: turned to Y up
+    assert np.array_equal(turn @ [1, 0, 0], [0, 1, 0]) and "up axis: y" in lines
 
 
 def test_json_info_is_plain_data(tmp_path):

@@ -18,7 +18,9 @@ import numpy as np
 from gmr_studio.core.formats.fbx_in.worker import EULER_ORDERS
 from gmr_studio.core.formats.gltf_in.pose import NodePose, skeleton_pose
 from gmr_studio.core.formats.gltf_in.reader import scale_notes, valid_joint_names
+from gmr_studio.core.formats.gltf_in.rest import turn_to_bind
 from gmr_studio.core.motion import Motion
+from gmr_studio.core.rotations import nearest_rotation, rotation_angle
 
 #: the length units ``units:`` comments name, in metres (core/compare/tracks.py reads them)
 NAMED_UNITS = {"mm": 0.001, "cm": 0.01, "m": 1.0, "in": 0.0254, "ft": 0.3048}
@@ -26,22 +28,24 @@ NAMED_UNITS = {"mm": 0.001, "cm": 0.01, "m": 1.0, "in": 0.0254, "ft": 0.3048}
 UNIT_TOLERANCE = 1e-6
 #: ufbx coordinate axis codes (``ufbx.CoordinateAxis``) -> names
 AXES = {0: "+x", 1: "-x", 2: "+y", 3: "-y", 4: "+z", 5: "-z", 6: "unknown"}
+AXIS_VECTORS = {"+x": (1, 0, 0), "-x": (-1, 0, 0), "+y": (0, 1, 0), "-y": (0, -1, 0), "+z": (0, 0, 1), "-z": (0, 0, -1)}
+#: the project's axes (right, up, front) for each up axis: what files are turned to
+CANONICAL = {"y": ("+x", "+y", "+z"), "z": ("+x", "+z", "-y")}
 
 
-def file_facts(unit_meters: float, axes: list[int]) -> tuple[float, list[str]]:
-    """(factor the lengths are multiplied by, comment lines) for a file whose unit is
-    ``unit_meters`` metres and whose axes are ``axes`` (right, up, front as ufbx codes).
+def file_facts(unit_meters: float, axes: list[int]) -> tuple[float, np.ndarray, list[str]]:
+    """(factor the lengths are multiplied by, (3, 3) turn of the world, comment lines) for a
+    file whose unit is ``unit_meters`` metres and whose axes are ``axes`` (right, up, front
+    as ufbx codes).
 
-    A named unit is kept (``units: cm``); any other is converted to metres. The up axis is
-    the file's when it is +Y or +Z (``up axis: y|z``); another is named in a note and the
-    motion is left as the file has it (read as Y up).
+    A named unit is kept (``units: cm``); any other is converted to metres. The world is
+    turned from the file's axes to the project's (:data:`CANONICAL`: Y up with right +X and
+    front +Z, FBX's default; Z up with right +X and front -Y, as 3ds Max and Blender), so
+    that an FBX compares with a BVH or GMR without flags; files already so are unchanged.
     """
     lines = []
     factor = 1.0
-    name = next(
-        (n for n, m in NAMED_UNITS.items() if abs(unit_meters - m) <= UNIT_TOLERANCE * m),
-        None,
-    )
+    name = next((n for n, m in NAMED_UNITS.items() if abs(unit_meters - m) <= UNIT_TOLERANCE * m), None)
     if name is None:
         if np.isfinite(unit_meters) and unit_meters > 0:
             factor, name = float(unit_meters), "m"
@@ -50,13 +54,34 @@ def file_facts(unit_meters: float, axes: list[int]) -> tuple[float, list[str]]:
             name = "cm"
             lines.append(f"the file's unit ({unit_meters}) is not a length: read as cm, FBX's default")
     lines.insert(0, f"units: {name}")
-    right, up, front = (AXES.get(int(a), "unknown") for a in axes)
-    if up in ("+y", "+z"):
-        lines.append(f"up axis: {up[1]}")
+    names = [AXES.get(int(a), "unknown") for a in axes]
+    if "unknown" in names or len({n[1] for n in names}) != 3:
+        lines += ["up axis: y", f"WARNING the file's axes ({', '.join(names)}) are not three axes: read as Y up"]
+        return factor, np.eye(3), lines
+    up = "z" if names[1][1] == "z" else "y"
+    file_frame = np.array([AXIS_VECTORS[n] for n in names], dtype=np.float64).T
+    turn = np.array([AXIS_VECTORS[n] for n in CANONICAL[up]], dtype=np.float64).T @ file_frame.T
+    lines.append(f"up axis: {up}")
+    stated = f"right {names[0]}, up {names[1]}, front {names[2]}"
+    if np.array_equal(turn, np.eye(3)):
+        lines.append(f"axes: {stated} (the file's)")
     else:
-        lines.append(f"WARNING the file's up axis is {up}: read as it is, as if Y were up")
-    lines.append(f"axes: right {right}, up {up}, front {front} (the file's)")
-    return factor, lines
+        right, up_axis, front = CANONICAL[up]
+        lines.append(f"axes: turned from the file's ({stated}) to right {right}, up {up_axis}, front {front}")
+    return factor, turn, lines
+
+
+def turned(motion: Motion, turn: np.ndarray, factor: float) -> Motion:
+    """The motion with its world turned by ``turn`` (3, 3) (every joint's frame conjugated,
+    so every position is ``turn`` times the file's) and its lengths times ``factor``."""
+    if np.array_equal(turn, np.eye(3)) and factor == 1.0:
+        return motion
+    linear = turn * factor
+    return motion.replace(
+        rotations=turn @ motion.rotations @ turn.T,
+        translations=motion.translations @ linear.T,
+        offsets=motion.offsets @ linear.T,
+    )
 
 
 def motion_from_nodes(meta: dict, trs: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]]) -> Motion:
@@ -75,17 +100,20 @@ def motion_from_nodes(meta: dict, trs: dict[int, tuple[np.ndarray, np.ndarray, n
     offsets = translations[0].copy()
     index = {node: j for j, node in enumerate(joints)}
     motion_parents = np.array([index.get(int(parents[node]), -1) for node in joints], dtype=np.int64)
+    bind, from_pose = bind_rotations(meta, joints)
+    source = meta.get("bind", {}).get("source", "")
+    rotations, translations, offsets = turn_to_bind(bind, motion_parents, rotations, translations, offsets, moving)
     names, renamed = valid_joint_names([meta["names"][node] for node in joints], joints)
-    factor, facts = file_facts(meta["unit_meters"], meta["axes"])
+    factor, turn, facts = file_facts(meta["unit_meters"], meta["axes"])
     labels = {node: repr(meta["names"][node]) for node in joints + above}
     motion = Motion(
         names=names,
         parents=motion_parents,
-        offsets=offsets * factor,
+        offsets=offsets,
         rotation_orders=tuple(EULER_ORDERS.get(meta["orders"][node], "ZYX") for node in joints),
         has_translation=moving,
         rotations=rotations,
-        translations=translations * factor if factor != 1.0 else translations,
+        translations=translations,
         frame_time=1.0 / meta["frame_rate"],
         convention="post",
         comments=tuple(
@@ -96,6 +124,7 @@ def motion_from_nodes(meta: dict, trs: dict[int, tuple[np.ndarray, np.ndarray, n
                 take_line(meta),
                 f"skeleton: {meta['selection']}",
                 *armature_lines(meta, above, joints, parents, index),
+                bind_line(bind, from_pose, source),
                 *left_out_lines(meta),
                 *inherit_lines(meta, joints, poses),
                 *scale_notes(labels, poses),
@@ -104,7 +133,36 @@ def motion_from_nodes(meta: dict, trs: dict[int, tuple[np.ndarray, np.ndarray, n
             if line
         ),
     )
-    return motion
+    return turned(motion, turn, factor)
+
+
+def bind_rotations(meta: dict, joints: list[int]) -> tuple[np.ndarray, int]:
+    """Each joint's rest orientation (J, 3, 3): its world rotation in the file's bind pose
+    (or static pose, :func:`.worker.bind_pose`), else the identity; and how many were
+    given. Tools that build bones along the limbs (Blender's armatures, 3ds Max) give each
+    joint such an orientation: taking it out (:func:`core.formats.gltf_in.rest.turn_to_bind`,
+    as for glTF's skins) makes the joints' rotations the motion's own, as a BVH of the same
+    capture has them."""
+    bind = np.broadcast_to(np.eye(3), (len(joints), 3, 3)).copy()
+    given = meta.get("bind", {}).get("linear", {})
+    rows = [(j, np.asarray(given[str(node)], dtype=np.float64)) for j, node in enumerate(joints) if str(node) in given]
+    if not rows:
+        return bind, 0
+    ours = np.array([j for j, _ in rows])
+    linear = np.stack([matrix for _, matrix in rows])
+    usable = np.abs(np.linalg.det(linear)) > 1e-12
+    bind[ours[usable]] = nearest_rotation(linear[usable])
+    return bind, int(usable.sum())
+
+
+def bind_line(bind: np.ndarray, from_pose: int, source: str) -> str:
+    angles = np.degrees(rotation_angle(bind))
+    if not from_pose or angles.max() < 1e-6:
+        return ""
+    return (
+        f"rest pose: {source}; the rest orientation of its joints (up to {angles.max():.4g} deg, "
+        f"{int((angles > 1e-6).sum())} joints) taken out of their frames"
+    )
 
 
 def content_line(meta: dict) -> str:

@@ -452,6 +452,7 @@ def extract(scene, animation=None) -> tuple[dict, dict]:
     if times.size * len(wanted) > MAX_SAMPLES:
         raise RefusedError(f"{times.size} frames of {len(wanted)} nodes is more than this reader holds")
     trs, by_frame = evaluate(scene, stack, nodes, wanted, times, facts["frame_rate"])
+    bind = bind_pose(scene, nodes, joints)
     meta = {
         **facts,
         **table,
@@ -461,8 +462,42 @@ def extract(scene, animation=None) -> tuple[dict, dict]:
         "selection": how,
         "frames": int(times.size),
         "evaluated_by_frame": by_frame,
+        "bind": bind,
     }
     return meta, trs
+
+
+def bind_pose(scene, nodes: list, joints: list[int]) -> dict:
+    """``{"source": ..., "linear": {node index (text): (3, 3) nested lists}}``: the world
+    linear part of each joint in the file's first bind pose; without one, in the nodes'
+    static pose (their transforms without animation: a Blender armature's rest)."""
+    index = {node.element_id: k for k, node in enumerate(nodes)}
+    wanted = set(joints)
+    listed = _listed_bind_pose(scene, index, wanted)
+    if listed:
+        return {"source": "the file's bind pose", "linear": listed}
+    static = {}
+    for k in joints:
+        columns = nodes[k].node_to_world
+        static[str(k)] = [[float(columns[c][r]) for c in range(3)] for r in range(3)]
+    return {"source": "the nodes' static pose (the file has no bind pose)", "linear": static}
+
+
+def _listed_bind_pose(scene, index: dict, wanted: set[int]) -> dict:
+    for pose in elements(scene.poses):
+        if not pose.is_bind_pose:
+            continue
+        out = {}
+        poses = pose.bone_poses
+        for i in range(len(poses)):
+            bone = poses[i]
+            node = owned(bone.bone_node)
+            k = index.get(node.element_id) if node is not None else None
+            if k in wanted:
+                columns = bone.bone_to_world
+                out[str(k)] = [[float(columns[c][r]) for c in range(3)] for r in range(3)]
+        return out
+    return {}
 
 
 def contents(scene) -> dict:
