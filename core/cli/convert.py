@@ -1,5 +1,5 @@
-"""``gmr convert IN OUT``: .bvh, .amc (+ASF), .gmr, AMASS .npz (+``--body-model``) in; .gmr,
-.bvh, .glb/.gltf out; or ``--batch``.
+"""``gmr convert IN OUT``: .bvh, .amc (+ASF), .gmr, AMASS .npz (+``--body-model``), glTF and
+FBX in; .gmr, .bvh, .glb/.gltf out (FBX is read only); or ``--batch``.
 
 Options, applied in this order: ``--remove-dummies`` (fold zero-offset joints into their
 children), ``--scale S`` (lengths times S), ``--up y|z`` (turn the world so that axis is
@@ -29,7 +29,7 @@ from gmr_studio.core.formats import motion_suffix, read_motion, write_motion
 from gmr_studio.core.motion import Motion
 
 #: formats ``convert`` reads and writes
-INPUT_SUFFIXES = (".bvh", ".amc", ".gmr", ".npz", ".glb", ".gltf")
+INPUT_SUFFIXES = (".bvh", ".amc", ".gmr", ".npz", ".glb", ".gltf", ".fbx")
 OUTPUT_SUFFIXES = (".bvh", ".gmr", ".glb", ".gltf")
 
 
@@ -86,7 +86,7 @@ def add_conversion_options(parser: argparse.ArgumentParser) -> None:
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser(
         "convert",
-        help="convert .bvh/.amc/.gmr/.npz/.glb/.gltf to .gmr/.bvh/.glb, one file or a folder tree (--batch)",
+        help="convert .bvh/.amc/.gmr/.npz/.glb/.gltf/.fbx to .gmr/.bvh/.glb, one file or a folder tree (--batch)",
         description=__doc__.split("\n\n")[0] if __doc__ else None,
         usage="gmr convert IN OUT [options]\n"
         "       gmr convert --batch IN_DIR OUT_DIR [--to gmr|bvh|glb] [--jobs N | --scheduler S] [options]",
