@@ -29,7 +29,7 @@ from gmr_studio.core.formats import motion_suffix, read_motion, write_motion
 from gmr_studio.core.motion import Motion
 
 #: formats ``convert`` reads and writes
-INPUT_SUFFIXES = (".bvh", ".amc", ".gmr", ".npz", ".glb", ".gltf", ".fbx")
+INPUT_SUFFIXES = (".bvh", ".amc", ".gmr", ".npz", ".glb", ".gltf", ".vrma", ".fbx")
 OUTPUT_SUFFIXES = (".bvh", ".gmr", ".glb", ".gltf")
 
 

@@ -22,6 +22,7 @@ FORMAT_NAMES = {
     ".npz": "AMASS/SMPL (with its body model)",
     ".glb": "glTF 2.0 binary",
     ".gltf": "glTF 2.0",
+    ".vrma": "VRM animation (glTF 2.0 binary)",
     ".fbx": "FBX (read only)",
 }
 
@@ -109,7 +110,7 @@ def run(args: argparse.Namespace) -> int:
         return 0
     info = describe(read_with_args(args.file, args), args.file)
     gltf_lines = []
-    if Path(args.file).suffix.lower() in (".glb", ".gltf"):  # its skins and animations
+    if Path(args.file).suffix.lower() in (".glb", ".gltf", ".vrma"):  # its skins and animations
         from gmr_studio.core.formats.gltf_in.contents import contents_text, gltf_contents
 
         info["gltf"] = gltf_contents(args.file)

@@ -78,7 +78,7 @@ def reader_options(
     suffix = motion_suffix(path)
     if suffix == ".npz":
         return {"body_model": body_model}
-    if suffix in (".glb", ".gltf"):
+    if suffix in (".glb", ".gltf", ".vrma"):
         given = (("animation", animation), ("skin", skin), ("frame_rate", frame_rate))
         return {key: value for key, value in given if value is not None}
     if suffix == ".fbx":

@@ -34,6 +34,7 @@ READERS: dict[str, Callable[..., Motion]] = {
     ".npz": read_amass,  # AMASS/SMPL motions; needs body_model=PATH
     ".glb": read_gltf,  # glTF 2.0: a skin and its animation (animation=, skin=, frame_rate=)
     ".gltf": read_gltf,
+    ".vrma": read_gltf,  # VRM animation: a .glb whose humanoid bones are the skeleton
     ".fbx": read_fbx,  # FBX (binary and ASCII), read only: the skeleton and a take (animation=)
 }
 WRITERS: dict[str, Callable[[Motion, Path], None]] = {".bvh": write_bvh, ".gmr": write_gmr}

@@ -29,7 +29,13 @@ from gmr_studio.core.formats.gltf_in.container import GltfDocument, open_gltf
 from gmr_studio.core.formats.gltf_in.pose import NodePose, node_poses, skeleton_pose
 from gmr_studio.core.formats.gltf_in.rest import bind_rotations, pre_from_export, turn_to_bind
 from gmr_studio.core.formats.gltf_in.sampling import INTERPOLATIONS, Sampler, frame_times, sample, segments
-from gmr_studio.core.formats.gltf_in.scene import choose, node_parents, skeleton_nodes, static_trs
+from gmr_studio.core.formats.gltf_in.scene import (
+    choose,
+    node_parents,
+    skeleton_nodes,
+    static_trs,
+    vrm_humanoid_nodes,
+)
 from gmr_studio.core.motion import Motion
 from gmr_studio.core.rotations import rotation_angle
 
@@ -99,7 +105,7 @@ def _read(doc: GltfDocument, animation, skin, frame_rate) -> Motion:
         convention, pre_note = "pre", "written by GMR Studio from a pre-rotation (GMR) motion: read as one"
     names, renamed = _joint_names(doc, joints)
     comments = [
-        f"glTF {doc.path.name}: " + ", ".join(filter(None, [skin_note or "no skin: every node is a joint", anim_note])),
+        f"glTF {doc.path.name}: " + ", ".join(filter(None, [skin_note or _no_skin_note(doc), anim_note])),
         "units: m",
         "up axis: y",
         clock.note,
@@ -213,6 +219,12 @@ def valid_joint_names(raw: list[object], keys: list[int]) -> tuple[list[str], li
         taken.add(text)
         names.append(text)
     return names, ([f"{changed} node names made valid joint names (unnamed: node<index>)"] if changed else [])
+
+
+def _no_skin_note(doc: GltfDocument) -> str:
+    if vrm_humanoid_nodes(doc):
+        return "VRM animation: its humanoid bones are the joints (expression and lookAt nodes left out)"
+    return "no skin: every node is a joint"
 
 
 def _extras(doc: GltfDocument) -> dict:
