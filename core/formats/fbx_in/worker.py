@@ -324,22 +324,22 @@ def euler_matrices(degrees: np.ndarray, order: int) -> np.ndarray:
 def composed_trs(node, channels: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Local translation (F|1, 3), rotation matrix (F|1, 3, 3) and scale (F|1, 3) of a node
     from its Lcl values (``channels``: name -> (F|1, 3)) and its static pivots, offsets and
-    pre/post rotations (module docstring)."""
-
-    def static(name: str) -> np.ndarray:
-        return prop_vector(node, name)
-
+    pre/post rotations (module docstring); the products with identities and zeros (most
+    nodes have no pivots, many no pre-rotation) are left out."""
     translation = channels["Lcl Translation"]
-    rotation = euler_matrices(channels["Lcl Rotation"], int(node.rotation_order))
+    turn = euler_matrices(channels["Lcl Rotation"], int(node.rotation_order))
     scale = channels["Lcl Scaling"]
-    pre = euler_matrices(static("PreRotation"), 0)
-    post = euler_matrices(static("PostRotation"), 0)
-    turn = pre @ rotation @ post.T
-    pivot, offset = static("RotationPivot"), static("RotationOffset")
-    scale_pivot, scale_offset = static("ScalingPivot"), static("ScalingOffset")
-    inner = scale_pivot + scale_offset - pivot - scale * scale_pivot
-    placed = translation + offset + pivot + (turn @ inner[..., None])[..., 0]
-    return placed, turn, scale
+    pre, post = prop_vector(node, "PreRotation"), prop_vector(node, "PostRotation")
+    if pre.any():
+        turn = euler_matrices(pre, 0) @ turn
+    if post.any():
+        turn = turn @ euler_matrices(post, 0).T
+    pivot, offset = prop_vector(node, "RotationPivot"), prop_vector(node, "RotationOffset")
+    scale_pivot, scale_offset = prop_vector(node, "ScalingPivot"), prop_vector(node, "ScalingOffset")
+    if pivot.any() or offset.any() or scale_pivot.any() or scale_offset.any():
+        inner = scale_pivot + scale_offset - pivot - scale * scale_pivot
+        translation = translation + offset + pivot + (turn @ inner[..., None])[..., 0]
+    return translation, turn, scale
 
 
 def fast_trs(node, props: dict, times: np.ndarray, rate: float):
@@ -407,7 +407,7 @@ def evaluate(scene, stack, nodes: list, wanted: list[int], times: np.ndarray, ra
     else:
         anim = stack.anim
         values, other = animated_nodes(scene, stack)
-    probe = np.unique(np.array([0, times.size // 2, times.size - 1]))
+    probe = np.array(sorted({0, times.size // 2, times.size - 1}))
     for k in wanted:
         node = nodes[k]
         props = values.get(node.element_id)
