@@ -40,3 +40,20 @@ def test_twenty_fbx_files_open_in_a_row(qtbot, studio, tmp_path):
             assert str(bad) in studio.status.text() and "truncated" in studio.status.text()
     assert studio.isVisible()
     assert str(FBX_FILES[(20 - 1) % len(FBX_FILES)]) == studio.files.recent_files()[0]
+
+
+def test_an_fbx_compares_as_a_layer(qtbot, studio):
+    from PyQt6.QtWidgets import QApplication
+
+    if not FBX_FILES:
+        pytest.skip("no shared data")
+    path = next(p for p in FBX_FILES if "character_7500" in p.name)
+    open_file(studio, path)
+    document = studio.state.snapshot
+    studio.files.compare_path(str(path), wait=True)
+    QApplication.processEvents()
+    assert len(studio.layers) == 1 and studio.state.snapshot is document
+    comparison = studio.layers[0].comparison
+    assert comparison.n_pairs == studio.state.motion.n_joints
+    assert comparison.position.max <= 1e-9 * studio.state.motion.size  # the same take: no error
+    assert studio.layers_panel.table.item(1, 2).text() == path.name

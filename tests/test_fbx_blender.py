@@ -116,3 +116,13 @@ def test_an_fbx_in_cm_z_up_compares_with_metres_y_up_without_flags(tmp_path):
     worst = float(np.nanmax(comparison.position_error))
     print(f"gmr compare walk.gmr out_Z.fbx: worst {worst / bvh.size:.2e} of the size")
     assert worst <= 1e-5 * bvh.size
+
+
+@pytest.mark.slow
+def test_the_benchmark_prints_its_figures(capsys):
+    from gmr_studio.core.benchmark.fbx_speed import reading_speed
+
+    shared_path("cmu/subject01/01_01.bvh")
+    reading_speed(300, 1, bpy_python())  # the figures themselves: gmr bench --fbx
+    out = capsys.readouterr().out
+    assert "reading 300 frames x 38 joints" in out and "FBX / glTF time:" in out
