@@ -15,7 +15,7 @@ from gmr_studio.core.edits.steps import add_edit_arguments
 
 def build_arguments() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="gmr-studio", description="Look at and edit skeletal motion (GMR).")
-    parser.add_argument("file", nargs="?", help="a .bvh, .gmr (or .amc) motion; default: the demo walk")
+    parser.add_argument("file", nargs="?", help="a motion file (.bvh, .gmr, .amc, glTF, .fbx); default: the demo walk")
     parser.add_argument("--markers", metavar="M", help="a .trc (or .c3d) marker file to show over the motion")
     add_edit_arguments(parser)
     parser.add_argument(

@@ -80,7 +80,8 @@ def test_every_file_and_rig_gives_a_filled_labelled_filmstrip(case, tmp_path, qa
     ground = np.round(np.array(GROUND_COLOR) * 255)
     figure = (np.abs(image - background).max(-1) > 40) & (np.abs(image - ground).max(-1) > 40)
     columns, rows = np.flatnonzero(figure.any(axis=0)), np.flatnonzero(figure.any(axis=1))
-    assert max(np.ptp(columns) / width, np.ptp(rows) / height) > 0.5, "the figures do not fill the picture"
+    if snapshot.motion.n_joints > 1:  # a lone node (an FBX cube's node animation) has no bone to draw
+        assert max(np.ptp(columns) / width, np.ptp(rows) / height) > 0.5, "the figures do not fill the picture"
     left, bottom, w, h = drawn["labels"].T
     assert len(left) == len(frames)
     assert (left >= 0).all() and (left + w <= width + 1).all() and (bottom >= 0).all() and (bottom + h <= height).all()

@@ -114,7 +114,8 @@ class Picture:
 
 
 def file_cases(folder: Path | None = None) -> list[Case]:
-    """Every motion file (.bvh, .amc, .asf, .gmr) under the shared data folder, sorted."""
+    """Every motion file the core reads (.bvh, .amc, .asf, .gmr, glTF, .fbx...) under the
+    shared data folder, sorted."""
     folder = shared_data_dir() if folder is None else folder
     if not folder.is_dir():
         return []

@@ -25,7 +25,7 @@ COMMANDS = {
     "positions": "world positions of all joints to a .npz file",
     "curves": "quantities of joints over time to CSV or PNG",
     "edit": "shift root, split, join, trim, resample, mirror, in the order given",
-    "convert": "convert .bvh/.amc/.gmr/.npz/.glb/.gltf to .gmr/.bvh/.glb, one file or a folder tree (--batch)",
+    "convert": "convert .bvh/.amc/.gmr/.npz/.glb/.gltf/.fbx to .gmr/.bvh/.glb, one file or a folder tree (--batch)",
     "dataset": "one .npz/.parquet table of every file's world positions or rotations",
     "markers": "marker data (.c3d, .trc) to a GMR motion of a skeleton",
     "compare": "per-joint position and rotation errors of motion B against motion A",

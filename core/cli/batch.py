@@ -1,7 +1,7 @@
 """``gmr convert --batch IN_DIR OUT_DIR``: every motion file of a folder tree, in parallel.
 
-- Inputs: every ``.bvh``, ``.amc``, ``.gmr``, ``.glb`` and ``.gltf`` under IN_DIR (``.asf`` files are the AMCs'
-  skeletons, found beside each AMC), and AMASS ``.npz`` when ``--body-model`` is given,
+- Inputs: every ``.bvh``, ``.amc``, ``.gmr``, ``.glb``, ``.gltf`` and ``.fbx`` under IN_DIR
+  (``.asf`` files are the AMCs' skeletons, found beside each AMC), and AMASS ``.npz`` when ``--body-model`` is given,
   except inside OUT_DIR. Outputs mirror the folders: ``IN_DIR/a/walk.bvh`` ->
   ``OUT_DIR/a/walk.gmr``. Where two inputs of a folder would give the same output
   (``01_01.bvh`` and ``01_01.amc``), each output keeps its source format in its name:

@@ -29,6 +29,11 @@ def register(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--repeat", type=int, default=5, help="timings keep the best of this many runs (5)")
     parser.add_argument("--peer-frames", type=int, default=1000, help="frames for per-frame peers (bvhio) (1000)")
     parser.add_argument("--no-peers", action="store_true", help="skip the other libraries")
+    parser.add_argument(
+        "--fbx",
+        action="store_true",
+        help="instead: FBX reading against glTF (Blender's FBX export of 01_01 tiled to --frames; needs bpy)",
+    )
     parser.set_defaults(run=run)
 
 
@@ -39,6 +44,11 @@ def run(args: argparse.Namespace) -> int:
 
     if args.frames < 1 or args.instances < 1 or args.repeat < 1:
         raise SystemExit("gmr bench: --frames, --instances and --repeat must be positive")
+    if args.fbx:  # core/benchmark/fbx_speed.py
+        from gmr_studio.core.benchmark.fbx_speed import default_bpy, reading_speed
+
+        reading_speed(args.frames, args.repeat, default_bpy())
+        return 0
     options = BenchOptions(
         folders=(shared_data_dir(), *args.data),
         frames=args.frames,

@@ -1,5 +1,5 @@
-"""``gmr convert IN OUT``: .bvh, .amc (+ASF), .gmr, AMASS .npz (+``--body-model``) in; .gmr,
-.bvh, .glb/.gltf out; or ``--batch``.
+"""``gmr convert IN OUT``: .bvh, .amc (+ASF), .gmr, AMASS .npz (+``--body-model``), glTF and
+FBX in; .gmr, .bvh, .glb/.gltf out (FBX is read only); or ``--batch``.
 
 Options, applied in this order: ``--remove-dummies`` (fold zero-offset joints into their
 children), ``--scale S`` (lengths times S), ``--up y|z`` (turn the world so that axis is
@@ -29,7 +29,7 @@ from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.model.motion import Motion
 
 #: formats ``convert`` reads and writes
-INPUT_SUFFIXES = (".bvh", ".amc", ".gmr", ".npz", ".glb", ".gltf")
+INPUT_SUFFIXES = (".bvh", ".amc", ".gmr", ".npz", ".glb", ".gltf", ".vrma", ".fbx")
 OUTPUT_SUFFIXES = (".bvh", ".gmr", ".glb", ".gltf")
 
 

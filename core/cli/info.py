@@ -12,6 +12,7 @@ from gmr_studio.core.cli.markers import add_marker_options, marker_options
 from gmr_studio.core.cli.reading import add_reading_options, read_with_args
 from gmr_studio.core.edits.dummies import find_dummies
 from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.space.up_axis import up_axis_of
 from gmr_studio.core.timebase.clock import duration_of
 
 #: what ``info`` calls each format, by suffix
@@ -23,11 +24,15 @@ FORMAT_NAMES = {
     ".npz": "AMASS/SMPL (with its body model)",
     ".glb": "glTF 2.0 binary",
     ".gltf": "glTF 2.0",
+    ".vrma": "VRM animation (glTF 2.0 binary)",
+    ".fbx": "FBX (read only)",
 }
 
 
 def register(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("file", help="a .bvh, .gmr, .amc, .asf, AMASS .npz or glTF file, or a .c3d or .trc marker file")
+    parser.add_argument(
+        "file", help="a .bvh, .gmr, .amc, .asf, AMASS .npz, glTF or FBX file, or a .c3d or .trc marker file"
+    )
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
     add_marker_options(parser)
     add_reading_options(parser)
@@ -54,6 +59,11 @@ def describe(motion: Motion, path: str) -> dict:
         "frame_time": motion.frame_time,
         "frame_rate": motion.frame_rate,
         "duration": duration_of(motion),
+        "units": None if motion.facts.unit is None else motion.facts.unit.name,
+        "metres_per_unit": None if motion.facts.unit is None else motion.facts.unit.metres,
+        "up_axis": up_axis_of(motion),
+        "up_axis_stated": motion.facts.up_axis is not None,
+        "source_units": None if motion.facts.source_unit is None else motion.facts.source_unit.name,
         "size": motion.size,
         "roots": [motion.names[r] for r in motion.roots],
         "soft_links": {motion.names[j]: motion.names[s] for j, s in enumerate(motion.soft_parents) if s >= 0},
@@ -87,6 +97,10 @@ def format_text(info: dict) -> str:
         f"dummies:    {len(info['dummies'])}"
         + (f" ({', '.join(info['dummies'])}; gmr convert --remove-dummies folds them)" if info["dummies"] else ""),
         f"size:       {info['size']:.6g} (largest extent of the first frame)",
+        f"units:      {info['units'] or 'not stated'}"
+        + (f" (data from {info['source_units']})" if info["source_units"] else ""),
+        f"up axis:    {info['up_axis']} "
+        + ("(stated)" if info["up_axis_stated"] else "(not stated: the axis the figure stands on)"),
     ]
     lines += [f"comment:    {c}" for c in info["comments"]]
     width = max(len(j["name"]) for j in joints)
@@ -107,11 +121,17 @@ def run(args: argparse.Namespace) -> int:
         return 0
     info = describe(read_with_args(args.file, args), args.file)
     gltf_lines = []
-    if Path(args.file).suffix.lower() in (".glb", ".gltf"):  # its skins and animations
+    if Path(args.file).suffix.lower() in (".glb", ".gltf", ".vrma"):  # its skins and animations
         from gmr_studio.core.formats.gltf_in.contents import contents_text, gltf_contents
 
         info["gltf"] = gltf_contents(args.file)
         gltf_lines = contents_text(info["gltf"])
+    if Path(args.file).suffix.lower() == ".fbx":  # its takes and what it holds besides the skeleton
+        from gmr_studio.core.formats.fbx_in.reader import contents_text as fbx_text
+        from gmr_studio.core.formats.fbx_in.reader import fbx_contents
+
+        info["fbx"] = fbx_contents(args.file)
+        gltf_lines = fbx_text(info["fbx"])
     if args.json:
         json.dump(info, sys.stdout, indent=2)
         print()

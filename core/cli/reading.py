@@ -4,7 +4,8 @@
 ``--frame-rate HZ`` (frames per second of an ``.amc``, default 120; the rate a glTF
 animation is sampled at, default its keys' spacing), ``--body-model M`` (the SMPL-family
 model of an AMASS ``.npz``), ``--animation NAME|INDEX`` and ``--skin NAME|INDEX`` (which of
-a glTF file's animations and skins; default the first). Options that do not
+a glTF file's animations and skins; ``--animation`` also picks an FBX file's take; default the
+first). Options that do not
 apply to a file's format are ignored for it, so ``gmr info``, ``positions``, ``edit``,
 ``convert`` and ``markers`` read ``walk.amc --asf subject.asf`` alike. ``info``,
 ``positions``, ``edit`` and ``convert`` also take ``--scale S`` (lengths times S) and
@@ -56,7 +57,9 @@ def add_reading_options(parser: argparse.ArgumentParser, *, transforms: bool = T
 
 def add_gltf_options(group) -> None:
     """``--animation`` and ``--skin``: which of a glTF file's animations and skins to read."""
-    group.add_argument("--animation", help="glTF inputs: the animation to read, by name or index (default: the first)")
+    group.add_argument(
+        "--animation", help="glTF and FBX inputs: the animation (take) to read, by name or index (default: the first)"
+    )
     group.add_argument("--skin", help="glTF inputs: the skin whose joints make the skeleton (default: the first)")
 
 
@@ -71,13 +74,16 @@ def reader_options(
 ) -> dict:
     """The keyword arguments of :func:`core.formats.read_motion` for ``path``: the AMC
     options for an ``.amc``, the body model for an AMASS ``.npz`` (None: the reader says
-    what to pass), the animation, skin and frame rate for glTF, none for other formats."""
+    what to pass), the animation, skin and frame rate for glTF, the take for FBX, none for
+    other formats."""
     suffix = motion_suffix(path)
     if suffix == ".npz":
         return {"body_model": body_model}
-    if suffix in (".glb", ".gltf"):
+    if suffix in (".glb", ".gltf", ".vrma"):
         given = (("animation", animation), ("skin", skin), ("frame_rate", frame_rate))
         return {key: value for key, value in given if value is not None}
+    if suffix == ".fbx":
+        return {"animation": animation} if animation is not None else {}
     if suffix != ".amc":
         return {}
     return {key: value for key, value in (("asf", asf), ("frame_rate", frame_rate)) if value is not None}

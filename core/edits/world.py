@@ -58,16 +58,26 @@ def change_up_axis(motion: Motion, target: str, source: str | None = None) -> Mo
     target = check_up_axis(target)
     if source == target:
         return motion if motion.facts.up_axis == target else motion.replace(facts=motion.facts.replace(up_axis=target))
-    q = up_turn(source, target)
     swap = str.maketrans("YZ", "ZY")
     mapping = "(x, y, z) -> (x, -z, y)" if target == "z" else "(x, y, z) -> (x, z, -y)"
-    return motion.replace(
-        rotations=q @ motion.rotations @ q.T,
-        offsets=motion.offsets @ q.T,
-        translations=motion.translations @ q.T,
+    return turned_world(motion, up_turn(source, target)).replace(
         rotation_orders=tuple(order.translate(swap) for order in motion.rotation_orders),
         comments=(*motion.comments, f"world turned from {source} up to {target} up: {mapping}"),
         facts=motion.facts.replace(up_axis=target),
+    )
+
+
+def turned_world(motion: Motion, turn: np.ndarray) -> Motion:
+    """The motion with its world turned by ``turn`` (3, 3), a rotation or axis permutation:
+    every joint's frame conjugated (``R' = Q R Q^T``), every offset and translation turned, so
+    every world position is ``Q P``. The stated up axis is left to the caller."""
+    turn = np.asarray(turn, dtype=np.float64)
+    if np.array_equal(turn, np.eye(3)):
+        return motion
+    return motion.replace(
+        rotations=turn @ motion.rotations @ turn.T,
+        offsets=motion.offsets @ turn.T,
+        translations=motion.translations @ turn.T,
     )
 
 

@@ -6,7 +6,8 @@ rest pose); ``load_gmr`` converts to GMR. The suffix picks the format, case-inse
 Options go to the reader: ``read_motion("walk.amc", asf="subject.asf", frame_rate=120)``
 (by default the AMC's skeleton is the single ``.asf`` beside it); AMASS/SMPL ``.npz``
 motions need their body model: ``read_motion("walk.npz", body_model="smplh.npz")``; glTF
-(``.glb``/``.gltf``) takes ``animation=``, ``skin=`` and ``frame_rate=`` (:mod:`.gltf_in`).
+(``.glb``/``.gltf``) takes ``animation=``, ``skin=`` and ``frame_rate=`` (:mod:`.gltf_in`); FBX
+(``.fbx``, read only) takes ``animation=`` (:mod:`.fbx_in`).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats.acclaim import read_amc_file, read_amc_file_with_channels, read_asf_file
 from gmr_studio.core.formats.amass import read_amass
 from gmr_studio.core.formats.bvh import read_bvh, read_bvh_with_channels, write_bvh
+from gmr_studio.core.formats.fbx_in import read_fbx
 from gmr_studio.core.formats.gltf_in import read_gltf
 from gmr_studio.core.formats.gmr import read_gmr, write_gmr
 from gmr_studio.core.kinematics.convention import pre_from_post
@@ -32,6 +34,8 @@ READERS: dict[str, Callable[..., Motion]] = {
     ".npz": read_amass,  # AMASS/SMPL motions; needs body_model=PATH
     ".glb": read_gltf,  # glTF 2.0: a skin and its animation (animation=, skin=, frame_rate=)
     ".gltf": read_gltf,
+    ".vrma": read_gltf,  # VRM animation: a .glb whose humanoid bones are the skeleton
+    ".fbx": read_fbx,  # FBX (binary and ASCII), read only: the skeleton and a take (animation=)
 }
 WRITERS: dict[str, Callable[[Motion, Path], None]] = {".bvh": write_bvh, ".gmr": write_gmr}
 

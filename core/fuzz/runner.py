@@ -41,7 +41,7 @@ from gmr_studio.core.fuzz.targets import Target, all_targets
 
 ACCEPTABLE = ("read", "clean")
 OUTCOMES = ("read", "clean", "other", "hang", "memory", "crash")
-BINARY_FORMATS = {"c3d", "gltf"}  # errors name a byte or a JSON object, not a line
+BINARY_FORMATS = {"c3d", "gltf", "fbx"}  # errors name a byte or a JSON object (ufbx: neither), not a line
 
 
 @dataclasses.dataclass(frozen=True)

@@ -192,4 +192,10 @@ def _optional_targets() -> dict[str, Target]:
         gltf_targets = None
     if gltf_targets is not None:
         out.update(gltf_targets.targets(_check_motion))
+    try:
+        from gmr_studio.core.fuzz import fbx_targets
+    except ImportError:
+        fbx_targets = None
+    if fbx_targets is not None:
+        out.update(fbx_targets.targets(_check_motion))
     return out

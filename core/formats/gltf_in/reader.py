@@ -29,7 +29,13 @@ from gmr_studio.core.formats.gltf_in.container import GltfDocument, open_gltf
 from gmr_studio.core.formats.gltf_in.pose import NodePose, node_poses, skeleton_pose
 from gmr_studio.core.formats.gltf_in.rest import bind_rotations, pre_from_export, turn_to_bind
 from gmr_studio.core.formats.gltf_in.sampling import INTERPOLATIONS, Sampler, frame_times, sample, segments
-from gmr_studio.core.formats.gltf_in.scene import choose, node_parents, skeleton_nodes, static_trs
+from gmr_studio.core.formats.gltf_in.scene import (
+    choose,
+    node_parents,
+    skeleton_nodes,
+    static_trs,
+    vrm_humanoid_nodes,
+)
 from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.rotations.euler import rotation_angle
@@ -101,7 +107,7 @@ def _read(doc: GltfDocument, animation, skin, frame_rate) -> Motion:
         convention, pre_note = "pre", "written by GMR Studio from a pre-rotation (GMR) motion: read as one"
     names, renamed = _joint_names(doc, joints)
     comments = [
-        f"glTF {doc.path.name}: " + ", ".join(filter(None, [skin_note or "no skin: every node is a joint", anim_note])),
+        f"glTF {doc.path.name}: " + ", ".join(filter(None, [skin_note or _no_skin_note(doc), anim_note])),
         clock.note,
         *_armature_notes(doc, above, joints, parents, index),
         _bind_note(bind, from_skin),
@@ -195,20 +201,30 @@ def _sampler(doc: GltfDocument, spec: object, width: int, at: str) -> Sampler:
 
 
 def _joint_names(doc: GltfDocument, joints: list[int]) -> tuple[list[str], list[str]]:
-    """Node names made valid joint names (spaces collapsed, braces and control characters
-    replaced, ``node<i>`` for none, ``_<i>`` added to repeats), and a note on the changes."""
     nodes = doc.items("nodes")
+    return valid_joint_names([nodes[node].get("name") for node in joints], joints)
+
+
+def valid_joint_names(raw: list[object], keys: list[int]) -> tuple[list[str], list[str]]:
+    """Node names (``raw``, one per joint) made valid joint names (spaces collapsed, braces
+    and control characters replaced, ``node<key>`` for none, ``_<key>`` added to repeats),
+    and a note on the changes; ``keys`` are the nodes' indices in their file."""
     names, taken, changed = [], set(), 0
-    for node in joints:
-        raw = nodes[node].get("name")
-        text = " ".join(str(raw).split()) if isinstance(raw, str) else ""
+    for name, node in zip(raw, keys):
+        text = " ".join(str(name).split()) if isinstance(name, str) else ""
         text = "".join(ch if ch.isprintable() and ch not in "{}" else "_" for ch in text) or f"node{node}"
         if text in taken:
             text = f"{text}_{node}"
-        changed += text != raw
+        changed += text != name
         taken.add(text)
         names.append(text)
     return names, ([f"{changed} node names made valid joint names (unnamed: node<index>)"] if changed else [])
+
+
+def _no_skin_note(doc: GltfDocument) -> str:
+    if vrm_humanoid_nodes(doc):
+        return "VRM animation: its humanoid bones are the joints (expression and lookAt nodes left out)"
+    return "no skin: every node is a joint"
 
 
 def _extras(doc: GltfDocument) -> dict:
@@ -254,12 +270,16 @@ def _armature_notes(doc: GltfDocument, above: list[int], joints, parents, index)
 
 
 def _scale_notes(doc: GltfDocument, poses: dict[int, NodePose], needed: set[int]) -> list[str]:
-    """Notes naming every node whose scale is not one: folded (uniform), animated, or not
-    uniform (which neither BVH nor GMR carries)."""
+    return scale_notes({node: _node_label(doc, node) for node in needed}, poses)
+
+
+def scale_notes(labels: dict[int, str], poses: dict[int, NodePose]) -> list[str]:
+    """Notes naming every node (``labels``: node -> how to name it) whose scale is not one:
+    folded (uniform), animated, or not uniform (which neither BVH nor GMR carries)."""
     folded, animated, skewed = [], [], []
-    for node in sorted(needed):
+    for node in sorted(labels):
         scale = poses[node].scale
-        label = _node_label(doc, node)
+        label = labels[node]
         ratio = float((np.abs(scale).max(axis=-1) / np.maximum(np.abs(scale).min(axis=-1), 1e-300)).max())
         if ratio > 1 + SCALE_NOTE_TOLERANCE or (scale <= 0).any():
             skewed.append(f"{label} (axes up to {ratio:.6g}:1{', mirrored' if (scale < 0).any() else ''})")

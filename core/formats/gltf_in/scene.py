@@ -8,7 +8,8 @@
   requires node matrices to be decomposable.
 - :func:`skeleton_nodes`: the joints (a skin's joints and the nodes between them) in
   depth-first order, and the nodes above them (the armature) whose transform the roots
-  take on. Without a skin, every node of the scene is a joint.
+  take on. Without a skin, a VRM animation's humanoid bones (``.vrma``), else every node
+  of the scene, are the joints.
 - :func:`choose`: a skin or an animation by name or index.
 """
 
@@ -137,8 +138,12 @@ def _depth_first(doc: GltfDocument, tops: list[int]) -> list[int]:
 
 def skeleton_nodes(doc: GltfDocument, parents: np.ndarray, skin: int | None) -> tuple[list[int], list[int]]:
     """The joints' node indices (depth-first, parents first) and the nodes above the
-    topmost joints (the armature), for a skin, or for the whole scene when ``skin`` is None."""
+    topmost joints (the armature), for a skin; without one, a VRM animation's humanoid
+    bones (:func:`vrm_humanoid_nodes`), else the whole scene."""
     if skin is None:
+        humanoid = vrm_humanoid_nodes(doc)
+        if humanoid:
+            return _joints_of(doc, parents, humanoid)
         joints = _depth_first(doc, scene_roots(doc, parents))
         if not joints:
             raise doc.error("the file has no skin and its scene has no nodes")
@@ -147,8 +152,31 @@ def skeleton_nodes(doc: GltfDocument, parents: np.ndarray, skin: int | None) -> 
     listed = spec.get("joints")
     if not isinstance(listed, list) or not listed:
         raise doc.error(f"skin {skin}: 'joints' must be a non-empty array of node indices")
+    return _joints_of(doc, parents, listed, f"skin {skin} joints")
+
+
+def vrm_humanoid_nodes(doc: GltfDocument) -> list[int]:
+    """The nodes of a VRM animation's humanoid bones (``.vrma``: the extension
+    ``VRMC_vrm_animation``, ``humanoid.humanBones.<bone>.node``), in the file's order; empty
+    for other files. Its expression and lookAt nodes are not bones."""
+    extension = doc.json.get("extensions", {})
+    vrma = extension.get("VRMC_vrm_animation") if isinstance(extension, dict) else None
+    humanoid = vrma.get("humanoid") if isinstance(vrma, dict) else None
+    bones = humanoid.get("humanBones") if isinstance(humanoid, dict) else None
+    if not isinstance(bones, dict):
+        return []
+    nodes = [bone.get("node") for bone in bones.values() if isinstance(bone, dict)]
+    for node in nodes:
+        doc.item("nodes", node, "VRMC_vrm_animation humanBones")
+    return list(dict.fromkeys(nodes))
+
+
+def _joints_of(
+    doc: GltfDocument, parents: np.ndarray, listed: list, where: str = "VRMC_vrm_animation humanBones"
+) -> tuple[list[int], list[int]]:
+    """The listed nodes and the nodes between them (depth first), and the nodes above."""
     for node in listed:
-        doc.item("nodes", node, f"skin {skin} joints")
+        doc.item("nodes", node, where)
     members = set(listed)
     for node in listed:  # the nodes between two joints are joints too
         path, up = [], int(parents[node])
