@@ -42,6 +42,7 @@ from gmr_studio.app.scene.overlays import (
     nice_step,
 )
 from gmr_studio.core.conversions import figure_up_axis
+from gmr_studio.core.library.drawing import BACKGROUND
 
 __all__ = [
     "BACKGROUND",
@@ -58,7 +59,6 @@ __all__ = [
 ]
 
 TREE_COLORS = PALETTE  # the trees' colours, in the order new trees get them
-BACKGROUND = (0.16, 0.17, 0.20)
 # everything is opaque: translucency costs a separate pass, several ms a frame in software GL
 
 
