@@ -25,6 +25,7 @@ COMMANDS = (
     "compare",
     "audit",
     "check",
+    "library",
     "bench",
     "fuzz",
     "stress",
