@@ -170,7 +170,10 @@ def open_library(path: str | Path, *, create: bool = True) -> sqlite3.Connection
     try:
         connection.row_factory = sqlite3.Row
         connection.execute(f"PRAGMA busy_timeout = {int(BUSY_SECONDS * 1000)}")
-        application, version = _header(connection, path)
+        try:
+            application, version = _header(connection, path)
+        except sqlite3.DatabaseError as exc:
+            raise OperationError(f"{path} is not a library (not an SQLite database: {exc})") from None
         if application == APPLICATION_ID and version > SCHEMA_VERSION:
             raise OperationError(
                 f"{path} is a library of a newer GMR Studio (schema version {version}; this one reads version "
@@ -178,11 +181,11 @@ def open_library(path: str | Path, *, create: bool = True) -> sqlite3.Connection
             )
         connection.execute("PRAGMA journal_mode = WAL")
         connection.execute("PRAGMA synchronous = NORMAL")
-        connection.execute("PRAGMA foreign_keys = ON")
         _ensure_schema(connection, path)
-    except sqlite3.DatabaseError as exc:
+        connection.execute("PRAGMA foreign_keys = ON")  # after a rebuild, which drops tables in any order
+    except sqlite3.Error as exc:
         connection.close()
-        raise OperationError(f"{path} is not a library (not an SQLite database: {exc})") from None
+        raise OperationError(f"cannot open the library {path}: {exc}") from None
     except BaseException:
         connection.close()
         raise
