@@ -12,8 +12,8 @@ T-pose at frame 0 is not one of them), set side by side along the direction of t
 above with a parallel projection fitted to them (:func:`core.library.drawing.side_view`),
 standing up the axis the view stands a figure up (:func:`core.conversions.figure_up_axis`).
 Bones are anti-aliased lines in their tree's colour as the view first draws the motion,
-soft links thinner in grey, over a ground line at the lowest joint and the view's
-background. An anchor (a root pinned at the origin, :attr:`core.motion.Motion.anchors`) is
+soft links thinner in grey, over the view's background and a ground line under the lowest
+point of the poses. An anchor (a root pinned at the origin, :attr:`core.motion.Motion.anchors`) is
 left out, as the view leaves it out of the figure's framing.
 """
 
@@ -106,8 +106,8 @@ def _draw(points: np.ndarray, up: int, segments: list, size: tuple[int, int]) ->
     view = side_view(points.reshape(-1, 3), up, travel_axis(points, up), width, height)
     image = np.empty((height, width, 3))
     image[:] = BACKGROUND
-    lowest = points.reshape(-1, 3)[np.argmin(points.reshape(-1, 3)[:, up])]
-    ground_row = view.pixels(lowest, width, height)[1]
+    lowest = view.pixels(points, width, height)[..., 1].max()  # the lowest point on the picture
+    ground_row = min(np.floor(lowest) + 0.5, height - 0.5)  # on a row of pixels: a crisp line
     draw_lines(
         image, np.array([[0.0, ground_row]]), np.array([[width, ground_row]]), np.array([GROUND_COLOR]), GROUND_WIDTH
     )
