@@ -65,7 +65,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         listing = actions.add_parser(name, help=text)
         _add_db(listing)
         _add_filters(listing)
-        listing.add_argument("--sort", default="path", help=f"-FIELD descending; one of {', '.join(SORT_FIELDS)}")
+        listing.add_argument("--sort", default="path", help=f"--sort=-FIELD: descending; FIELD one of {', '.join(SORT_FIELDS)}")
         listing.add_argument("--limit", type=int, help="at most this many rows")
         out = listing.add_mutually_exclusive_group()
         out.add_argument("--json", action="store_true", help="a JSON list of rows (docs/library.md)")
