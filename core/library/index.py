@@ -238,6 +238,7 @@ class Library:
         jobs: int | None = None,
         scheduler: str | None = None,
         force: bool = False,
+        chunk: int = CHUNK_FILES,
         on_planned: Callable[[Plan], None] | None = None,
         on_file: Callable[[FileRecord], None] | None = None,
         on_batch: Callable[[int], None] | None = None,
@@ -248,6 +249,8 @@ class Library:
         jobs : local worker processes (default: every core; 1 reads in this process).
         scheduler : a Dask scheduler's address (or ``local:N``) instead of local processes.
         force : read every file again, changed or not.
+        chunk : at most this many files a task (fewer when there are few files a worker);
+            ``stop`` is asked after each task.
         on_planned : called with the plan before any file is read.
         on_file : called with each record as it comes back (any order).
         on_batch : called with the number of rows written after each batch is committed.
@@ -267,7 +270,7 @@ class Library:
         folder_of = {path: folder for path, _known, folder in plan.tasks}
         n_jobs = workers.default_jobs(jobs, len(plan.tasks))
         summary.workers = workers.describe(n_jobs, scheduler)
-        size = max(1, min(CHUNK_FILES, len(plan.tasks) // (n_jobs * 8)))
+        size = max(1, min(chunk, len(plan.tasks) // (n_jobs * 8)))
         chunks = [
             ([(path, known) for path, known, _ in plan.tasks[i : i + size]], options)
             for i in range(0, len(plan.tasks), size)

@@ -24,8 +24,9 @@ import numpy as np
 from gmr_studio.core.checks import KINDS, SEVERITIES
 from gmr_studio.core.library.skeletons import GROUP_MATCH, Skeleton, match_score
 
-#: ``--sort`` fields and the SQL they sort by (then by path)
-SORT_FIELDS = {
+_WORST = "CASE files.worst WHEN 'error' THEN 3 WHEN 'warning' THEN 2 WHEN 'info' THEN 1 ELSE 0 END"
+#: ``--sort`` fields and the SQL they sort by, one expression or several (then by path)
+SORT_FIELDS: dict[str, str | tuple[str, ...]] = {
     "path": "files.path",
     "name": "files.name COLLATE NOCASE",
     "format": "files.format",
@@ -43,7 +44,8 @@ SORT_FIELDS = {
     "errors": "files.errors",
     "warnings": "files.warnings",
     "infos": "files.infos",
-    "worst": "CASE files.worst WHEN 'error' THEN 3 WHEN 'warning' THEN 2 WHEN 'info' THEN 1 ELSE 0 END",
+    "worst": _WORST,
+    "problems": (_WORST, "files.errors", "files.warnings", "files.infos"),
     "indexed": "files.indexed_at",
 }
 
@@ -210,11 +212,12 @@ def _where(connection: sqlite3.Connection, query: Query) -> tuple[str, list]:
 
 def _order(query: Query) -> str:
     direction = " DESC" if query.descending else ""
-    expression = SORT_FIELDS[query.sort]
+    keys = SORT_FIELDS[query.sort]
+    keys = (keys,) if isinstance(keys, str) else keys
     # rows without the value (a failed file's frames) last either way
-    nulls = "" if query.sort in ("path", "name", "format", "status", "worst") else f"({expression}) IS NULL, "
-    tie = "" if query.sort == "path" else f", files.path{direction}"
-    return f" ORDER BY {nulls}{expression}{direction}{tie}"
+    nulls = [] if query.sort in ("path", "name", "format", "status", "worst") else [f"({keys[-1]}) IS NULL"]
+    tie = [] if query.sort == "path" else [f"files.path{direction}"]
+    return " ORDER BY " + ", ".join([*nulls, *(f"{key}{direction}" for key in keys), *tie])
 
 
 def select_ids(connection: sqlite3.Connection, query: Query) -> np.ndarray:
