@@ -8,7 +8,8 @@
   has:pop:warning group:3 failed``).
 - Enter or a double click opens the selected take (:attr:`LibraryPanel.open_requested`: the
   window opens it the way File > Open does, asking about unsaved edits); with two takes
-  selected, the first opens and the second is compared with it. A take dragged onto the view
+  selected, the one the cursor is on opens and the other is compared with it, through the
+  shipped joint map that pairs their joints best (CMU's BVH and ASF/AMC: the CMU map). A take dragged onto the view
   is added as a comparison layer.
 - *Add folder...* (or a folder dropped on the panel or the window) indexes it in the
   background (:class:`~app.library.indexing.IndexJob`): a progress bar and *Cancel*, new rows
@@ -43,8 +44,9 @@ from gmr_studio.app.library.indexing import IndexJob
 from gmr_studio.app.library.table_model import COLUMNS, JOINTS, NAME, THUMBNAIL, LibraryModel, thumbnail_size
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.library.index import Library
-from gmr_studio.core.library.query import Query, count, parse_filter
+from gmr_studio.core.library.query import Query, count, parse_filter, row_of_path
 from gmr_studio.core.library.schema import default_library_path
+from gmr_studio.core.library.skeletons import Skeleton, best_joint_map
 
 MAX_LIBRARIES = 8
 #: the thumbnails' height in the table (pixels): three quarters of the stored picture's
@@ -73,7 +75,9 @@ class LibraryTable(QTableView):
 class LibraryPanel(QWidget):
     """The panel (module docstring); ``settings`` remembers the libraries opened."""
 
-    open_requested = pyqtSignal(list)  # paths: one to open, or two: open the first, compare the second
+    #: (paths, joint map name or None): one path to open, or two: open the first and compare
+    #: the second with it through the joint map that pairs their joints best
+    open_requested = pyqtSignal(list, object)
     message = pyqtSignal(str)  # for the status bar
     indexing_changed = pyqtSignal(bool)
 
@@ -372,7 +376,21 @@ class LibraryPanel(QWidget):
         current = self.model.path_of(self.table.currentIndex().row())
         if len(paths) == 2 and current in paths:  # the one the user is on opens; the other is compared
             paths = [current, *(p for p in paths if p != current)]
-        self.open_requested.emit(paths)
+        joint_map = self.joint_map_with(self.skeleton_of(paths[0]), paths[1]) if len(paths) == 2 else None
+        self.open_requested.emit(paths, joint_map)
+
+    def skeleton_of(self, path: str) -> Skeleton | None:
+        """The skeleton the library holds for a file (None: none, or not in the library)."""
+        row = row_of_path(self.library.connection, path) if self.library is not None else None
+        if row is None or row["skeleton"] is None:
+            return None
+        return Skeleton(tuple(row["skeleton"]["names"]), tuple(row["skeleton"]["parents"]))
+
+    def joint_map_with(self, skeleton: Skeleton | None, path: str) -> str | None:
+        """The shipped joint map to compare the take at ``path`` with a motion of
+        ``skeleton`` through (:func:`core.library.skeletons.best_joint_map`), None: by name."""
+        other = self.skeleton_of(path)
+        return best_joint_map(skeleton, other) if skeleton is not None and other is not None else None
 
     # --------------------------------------------------------------------- drops
     def dragEnterEvent(self, event: QDragEnterEvent) -> None:  # noqa: N802 (Qt's name)

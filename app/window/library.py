@@ -8,7 +8,8 @@ panel's requests: a take opens through :meth:`~app.window.files.FileController.o
 (unsaved edits asked about first), a second one is compared with it
 (:meth:`~app.window.files.FileController.compare_path`, a comparison layer). :class:`LibraryDrops`
 takes what is dropped on the window: takes dragged from the table become comparison layers
-(or open, with no document), folders are indexed into the library.
+(through the joint map that pairs their joints with the document's best; with no document
+they open), folders are indexed into the library.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from PyQt6.QtWidgets import QDockWidget
 
 from gmr_studio.app.library.panel import LibraryPanel, folders_of
 from gmr_studio.app.library.table_model import TAKE_MIME
+from gmr_studio.core.library.skeletons import Skeleton
 
 #: the dock's height when it is first shown (pixels): a few rows of thumbnails
 DOCK_HEIGHT = 330
@@ -50,7 +52,7 @@ def install_library(window) -> QDockWidget:
     file_menu = window.menuBar().actions()[0].menu()
     file_menu.insertAction(file_menu.actions()[3], add)  # after Open, Open recent and Compare with
     window.add_to_library_action = add
-    panel.open_requested.connect(lambda paths: open_takes(window, paths))
+    panel.open_requested.connect(lambda paths, joint_map: open_takes(window, paths, joint_map))
     panel.message.connect(window.state.show_message)
     window.library_drops = LibraryDrops(window, dock, panel)
     return dock
@@ -61,9 +63,10 @@ def show(dock: QDockWidget) -> None:
     dock.raise_()
 
 
-def open_takes(window, paths: list[str]) -> None:
+def open_takes(window, paths: list[str], joint_map: str | None = None) -> None:
     """Open ``paths[0]`` as the document the way File > Open does (unsaved edits asked
-    about; a refusal leaves everything as it was) and compare ``paths[1]``, if given, with it."""
+    about; a refusal leaves everything as it was) and compare ``paths[1]``, if given, with it
+    through ``joint_map``."""
     files = window.files
     if not paths or not files.maybe_save():
         return
@@ -72,7 +75,7 @@ def open_takes(window, paths: list[str]) -> None:
         def then(ok: bool) -> None:
             files.load_finished.disconnect(then)
             if ok:
-                files.compare_path(paths[1])
+                files.compare_path(paths[1], joint_map=joint_map)
 
         files.load_finished.connect(then)
     files.open_path(paths[0], ask=False)
@@ -89,11 +92,14 @@ class LibraryDrops:
         mime = event.mimeData()
         if mime.hasFormat(TAKE_MIME):
             paths = [p for p in bytes(mime.data(TAKE_MIME)).decode("utf-8").splitlines() if p]
-            if self.window.state.motion is None:
-                open_takes(self.window, paths[:2])
+            motion = self.window.state.motion
+            if motion is None:
+                first = self.panel.skeleton_of(paths[0])
+                open_takes(self.window, paths[:2], self.panel.joint_map_with(first, paths[1]) if paths[1:] else None)
             else:
+                document = Skeleton.of(motion)
                 for path in paths:
-                    self.window.files.compare_path(path)
+                    self.window.files.compare_path(path, joint_map=self.panel.joint_map_with(document, path))
             event.acceptProposedAction()
             return True
         folders = folders_of(mime)

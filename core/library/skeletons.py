@@ -132,6 +132,19 @@ def match_score(a: Skeleton, b: Skeleton, maps: Iterable[JointMap] | None = None
     return 2.0 * best / total
 
 
+def best_joint_map(a: Skeleton, b: Skeleton) -> str | None:
+    """The name of the shipped joint map that pairs ``a``'s joints with ``b``'s best (by the
+    count of :func:`match_score`), or None when equal names pair as many: what a
+    comparison of the two takes is given (``gmr compare --map``, the app's layers)."""
+    by_name = _consistent(a, b, dict(match_joints(a.names, b.names).pairs))
+    best, best_count = None, by_name
+    for joint_map in shipped_maps():
+        counted = _consistent(a, b, dict(match_joints(a.names, b.names, joint_map).pairs))
+        if counted > best_count:
+            best, best_count = joint_map.name, counted
+    return best
+
+
 def _plain_pairs(a: Skeleton, b: Skeleton) -> list[tuple[int, int]]:
     """Joints paired by :func:`plain_name` (names that become the same plain name on one
     side pair with none)."""
