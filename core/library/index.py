@@ -308,6 +308,7 @@ class Library:
             results.close()  # a pool stopped early cancels the tasks not started
             flush()
         self.regroup()
+        self.connection.execute("PRAGMA optimize")  # the query planner's statistics, when they are due
         if not summary.stopped:
             now = time.time()
             with self._transaction() as connection:

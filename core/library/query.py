@@ -24,8 +24,8 @@ import numpy as np
 from gmr_studio.core.checks import KINDS, SEVERITIES
 from gmr_studio.core.library.skeletons import GROUP_MATCH, Skeleton, match_score
 
-_WORST = "CASE files.worst WHEN 'error' THEN 3 WHEN 'warning' THEN 2 WHEN 'info' THEN 1 ELSE 0 END"
-#: ``--sort`` fields and the SQL they sort by, one expression or several (then by path)
+#: ``--sort`` fields and the columns they sort by, one or several (then by id), each with an
+#: index; a file without the value (a failed file's frames) comes first going up, last going down
 SORT_FIELDS: dict[str, str | tuple[str, ...]] = {
     "path": "files.path",
     "name": "files.name COLLATE NOCASE",
@@ -44,8 +44,8 @@ SORT_FIELDS: dict[str, str | tuple[str, ...]] = {
     "errors": "files.errors",
     "warnings": "files.warnings",
     "infos": "files.infos",
-    "worst": _WORST,
-    "problems": (_WORST, "files.errors", "files.warnings", "files.infos"),
+    "worst": "files.worst_level",
+    "problems": ("files.worst_level", "files.errors", "files.warnings", "files.infos"),
     "indexed": "files.indexed_at",
 }
 
@@ -173,11 +173,15 @@ def _where(connection: sqlite3.Connection, query: Query) -> tuple[str, list]:
     clauses, values = [], []
     if query.name:
         column = "files.path" if "/" in query.name else "files.name"
-        clauses.append(f"lower({column}) GLOB ?")
-        values.append(query.name.lower())
+        if "[" in query.name:  # a character class: only GLOB has them
+            clauses.append(f"lower({column}) GLOB ?")
+            values.append(query.name.lower())
+        else:  # LIKE ignores case by itself, and is quicker
+            clauses.append(f"{column} LIKE ? ESCAPE '\\'")
+            values.append(_escaped(query.name).replace("*", "%").replace("?", "_"))
     for word in query.words:
         clauses.append("files.name LIKE ? ESCAPE '\\'")
-        values.append("%" + word.replace("\\", "\\\\").replace("%", "\\%").replace("_", "\\_") + "%")
+        values.append("%" + _escaped(word) + "%")
     if query.formats:
         clauses.append(f"files.format IN ({', '.join('?' * len(query.formats))})")
         values += [f.lower().lstrip(".") for f in query.formats]
@@ -196,35 +200,41 @@ def _where(connection: sqlite3.Connection, query: Query) -> tuple[str, list]:
     if query.skeleton is not None:
         ids = matching_skeletons(connection, query.skeleton, query.min_match)
         clauses.append(f"files.skeleton_id IN ({', '.join(str(int(i)) for i in ids) or 'NULL'})")
-    for kind, level in query.has:
+    for kind, level in query.has:  # the files found through the problems' index
         if kind == "any":
-            clauses.append("EXISTS (SELECT 1 FROM problems p WHERE p.file_id = files.id AND p.level >= ?)")
+            clauses.append("files.worst_level >= ?")
             values.append(level)
         else:
-            clauses.append(
-                "EXISTS (SELECT 1 FROM problems p WHERE p.kind = ? AND p.level >= ? AND p.file_id = files.id)"
-            )
+            clauses.append("files.id IN (SELECT file_id FROM problems WHERE kind = ? AND level >= ?)")
             values += [kind, level]
     if query.failed:
         clauses.append("files.status = 'failed'")
     return (" WHERE " + " AND ".join(clauses)) if clauses else "", values
 
 
-def _order(query: Query) -> str:
+def _escaped(text: str) -> str:
+    """``text`` with LIKE's wildcards and its escape character escaped."""
+    return text.replace("\\", "\\\\").replace("%", "\\%").replace("_", "\\_")
+
+
+def _order(query: Query, filtered: bool) -> str:
+    """The ORDER BY clause. ``filtered``: the sort's columns are written ``+column`` so that
+    the filters' indexes find the rows (the sort then orders what they found), not the sort's
+    index (which would visit every row to test the filters)."""
     direction = " DESC" if query.descending else ""
     keys = SORT_FIELDS[query.sort]
     keys = (keys,) if isinstance(keys, str) else keys
-    # rows without the value (a failed file's frames) last either way
-    nulls = [] if query.sort in ("path", "name", "format", "status", "worst") else [f"({keys[-1]}) IS NULL"]
-    tie = [] if query.sort == "path" else [f"files.path{direction}"]
-    return " ORDER BY " + ", ".join([*nulls, *(f"{key}{direction}" for key in keys), *tie])
+    plus = "+" if filtered else ""
+    tie = [] if query.sort == "path" else [f"{plus}files.id{direction}"]
+    return " ORDER BY " + ", ".join([*(f"{plus}{key}{direction}" for key in keys), *tie])
 
 
 def select_ids(connection: sqlite3.Connection, query: Query) -> np.ndarray:
     """(N,) int64 ids of the rows ``query`` lets through, in its order."""
     where, values = _where(connection, query)
-    rows = connection.execute(f"SELECT id FROM files{where}{_order(query)}", values).fetchall()
-    return np.fromiter((r[0] for r in rows), np.int64, len(rows))
+    cursor = connection.execute(f"SELECT id FROM files{where}{_order(query, bool(where))}", values)
+    cursor.row_factory = None
+    return np.fromiter((r[0] for r in cursor), np.int64)
 
 
 def count(connection: sqlite3.Connection, query: Query | None = None) -> int:
@@ -243,12 +253,16 @@ _ROW_SQL = (
 def select_rows(
     connection: sqlite3.Connection, query: Query | None = None, *, limit: int | None = None, offset: int = 0
 ) -> list[dict]:
-    """The rows ``query`` lets through, in its order, as :func:`row_json` dicts."""
+    """The rows ``query`` lets through, in its order, as :func:`row_json` dicts (the ids
+    found first, then their rows)."""
     query = query or Query()
     where, values = _where(connection, query)
     page = f" LIMIT {int(limit)} OFFSET {int(offset)}" if limit is not None else ""
-    rows = connection.execute(f"{_ROW_SQL}{where}{_order(query)}{page}", values).fetchall()
-    return _with_problems(connection, rows)
+    # a page: the sort's index may find it first; all rows: the filters' indexes
+    cursor = connection.execute(f"SELECT id FROM files{where}{_order(query, bool(where) and not page)}{page}", values)
+    ids = [row[0] for row in cursor]
+    found = rows_by_id(connection, ids)
+    return [found[i] for i in ids]
 
 
 def rows_by_id(connection: sqlite3.Connection, ids: Sequence[int]) -> dict[int, dict]:

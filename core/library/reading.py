@@ -110,6 +110,7 @@ class FileRecord:
     warnings: int | None = None
     errors: int | None = None
     worst: str | None = None
+    worst_level: int | None = None
     worst_frame: int | None = None
     thumbnail: bytes | None = None
     seconds: dict = dataclasses.field(default_factory=dict)
@@ -250,7 +251,8 @@ def _fill(path: str, record: FileRecord, options: IndexOptions) -> None:
 
 
 def _summarise(record: FileRecord, findings: list[Finding], n_frames: int) -> None:
-    """Counts per kind and severity, per severity, the worst severity and its frame."""
+    """Counts per kind and severity, per severity, the worst severity (and its level: 0
+    for none, 1 info to 3 error) and its frame."""
     counts: dict[tuple[str, int], int] = {}
     for finding in findings:
         key = (finding.kind, finding.level)
@@ -259,10 +261,10 @@ def _summarise(record: FileRecord, findings: list[Finding], n_frames: int) -> No
     per_level = [sum(1 for f in findings if f.level == level) for level in (1, 2, 3)]
     record.findings = len(findings)
     record.infos, record.warnings, record.errors = per_level
-    record.worst, record.worst_frame = None, None
+    record.worst, record.worst_level, record.worst_frame = None, 0, None
     if findings:
         top = max(f.level for f in findings)
-        record.worst = SEVERITIES[top - 1]
+        record.worst, record.worst_level = SEVERITIES[top - 1], top
         record.worst_frame = worst_frame([f for f in findings if f.level == top], n_frames)
 
 

@@ -42,6 +42,9 @@ SCHEMA_VERSION = 1
 APPLICATION_ID = 0x474D524C
 #: how long a writer waits for another process's transaction to end
 BUSY_SECONDS = 120.0
+#: at most this much of the file is read through a memory map (the operating system's
+#: page cache, not the process's memory)
+MMAP_BYTES = 1 << 30
 
 #: the ``files`` table's columns after ``id``, in order, with their SQL types
 FILE_COLUMNS: dict[str, str] = {
@@ -72,13 +75,14 @@ FILE_COLUMNS: dict[str, str] = {
     "warnings": "INTEGER",
     "errors": "INTEGER",
     "worst": "TEXT",
+    "worst_level": "INTEGER",
     "worst_frame": "INTEGER",
     "indexed_at": "REAL NOT NULL",
 }
 
-#: the fields queries filter and sort on, each with its own index
+#: the fields queries filter and sort on, each with its own index (the name's ignores case)
 INDEXED_FIELDS = (
-    "name",
+    "name COLLATE NOCASE",
     "folder",
     "format",
     "status",
@@ -116,7 +120,8 @@ CREATE TABLE files (
     id INTEGER PRIMARY KEY,
     {", ".join(f"{name} {kind}" for name, kind in FILE_COLUMNS.items())}
 );
-{"".join(f"CREATE INDEX files_{field} ON files({field});" for field in INDEXED_FIELDS)}
+{"".join(f"CREATE INDEX files_{field.split()[0]} ON files({field});" for field in INDEXED_FIELDS)}
+CREATE INDEX files_problems ON files(worst_level, errors, warnings, infos);
 CREATE TABLE problems (
     file_id INTEGER NOT NULL REFERENCES files(id) ON DELETE CASCADE,
     kind TEXT NOT NULL,
@@ -181,6 +186,7 @@ def open_library(path: str | Path, *, create: bool = True) -> sqlite3.Connection
             )
         connection.execute("PRAGMA journal_mode = WAL")
         connection.execute("PRAGMA synchronous = NORMAL")
+        connection.execute(f"PRAGMA mmap_size = {MMAP_BYTES}")  # pages read in place, not copied
         _ensure_schema(connection, path)
         connection.execute("PRAGMA foreign_keys = ON")  # after a rebuild, which drops tables in any order
     except sqlite3.Error as exc:
