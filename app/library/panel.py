@@ -21,6 +21,7 @@
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 
 from PyQt6.QtCore import QSettings, QSize, Qt, QTimer, pyqtSignal
@@ -51,7 +52,8 @@ from gmr_studio.core.library.skeletons import Skeleton, best_joint_map
 MAX_LIBRARIES = 8
 #: the thumbnails' height in the table (pixels): three quarters of the stored picture's
 THUMBNAIL_HEIGHT = 48
-#: the table is read again at most this often while rows are being written (ms)
+#: the table is read again at most this often while rows are being written (ms), and never
+#: more than a tenth of the time (a large library's ids take longer to read)
 REFRESH_MS = 500
 FILTER_HELP = (
     "Words of the name, and filters: format:bvh  min:2  max:10 (seconds)  joints:31  "
@@ -329,7 +331,9 @@ class LibraryPanel(QWidget):
     def refresh(self) -> None:
         """Read the table again (rows written), the selection and the current row kept."""
         self._refresh_timer.stop()
+        start = time.perf_counter()
         self.keep_selection(self.model.refresh)
+        self._refresh_timer.setInterval(max(REFRESH_MS, int(10_000 * (time.perf_counter() - start))))
 
     def keep_selection(self, change) -> None:
         """Run ``change`` (which resets the model) and select the same files again."""
