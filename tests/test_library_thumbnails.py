@@ -117,3 +117,21 @@ def test_png_files_hold_the_picture_exactly():
     rng = np.random.default_rng(7)
     picture = rng.integers(0, 256, (9, 13, 3), dtype=np.uint8)
     assert np.array_equal(read_png(png_bytes(picture)), picture)
+
+
+def test_thumbnails_and_the_view_share_one_home_for_colours_and_framing():
+    """The view, its filmstrips and the thumbnails draw with the same colours and the same
+    travel fit: one definition in core, which the app imports."""
+    from gmr_studio.app.media import filmstrip
+    from gmr_studio.app.model import tree_colors
+    from gmr_studio.app.scene import overlays, scene
+    from gmr_studio.core.library import drawing
+
+    assert tree_colors.PALETTE is drawing.PALETTE and tree_colors.tree_identities is drawing.tree_identities
+    assert scene.BACKGROUND is drawing.BACKGROUND and overlays.GROUND_COLOR is drawing.GROUND_COLOR
+    assert filmstrip.travel_axis is drawing.travel_axis and filmstrip.side_by_side is drawing.side_by_side
+    motion = read_motion(shared_path(MOCAP))
+    split_motion = split(pre_from_post(motion), "Chest")
+    np.testing.assert_array_equal(
+        drawing.first_tree_colors(split_motion), tree_colors.TreeColors().colors(split_motion)
+    )
