@@ -114,16 +114,6 @@ class Library:
         with self._transaction() as connection:
             connection.executemany("INSERT OR IGNORE INTO folders(path) VALUES (?)", [(f,) for f in folders])
 
-    def forget_folder(self, folder: str) -> int:
-        """Drop a folder and the rows of every file under it; how many rows went."""
-        from gmr_studio.core.library.scan import rows_under
-
-        with self._transaction() as connection:
-            ids = [row[0] for row in rows_under(connection, folder).values()]
-            connection.executemany("DELETE FROM files WHERE id = ?", [(i,) for i in ids])
-            connection.execute("DELETE FROM folders WHERE path = ?", (folder,))
-        return len(ids)
-
     def remove(self, ids: list[int]) -> None:
         """Drop rows (their problems and thumbnails go with them)."""
         if ids:
