@@ -297,7 +297,8 @@ class Library:
         finally:
             results.close()  # a pool stopped early cancels the tasks not started
             flush()
-        self.regroup()
+        if summary.read or summary.removed:  # skeletons may have come or gone
+            self.regroup()
         self.connection.execute("PRAGMA optimize")  # the query planner's statistics, when they are due
         if not summary.stopped:
             now = time.time()

@@ -78,6 +78,7 @@ def plan_index(
     """The plan of indexing ``folders`` (module docstring); ``force``: read every file again."""
     plan = Plan(resolve_folders(folders))
     planned: set[str] = set()
+    tags: dict[str, str] = {}  # suffix -> analysis tag
     for folder in plan.folders:
         held = rows_under(connection, folder)
         seen: set[str] = set()
@@ -92,7 +93,8 @@ def plan_index(
             except OSError:
                 stamp = ""  # gone since it was listed: the worker says so
             row = held.get(path)
-            analysis = options.analysis(motion_suffix(path))
+            suffix = motion_suffix(path)
+            analysis = tags.get(suffix) or tags.setdefault(suffix, options.analysis(suffix))
             if row is None:
                 plan.new += 1
                 plan.tasks.append((path, None, folder))

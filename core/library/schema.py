@@ -80,7 +80,8 @@ FILE_COLUMNS: dict[str, str] = {
     "indexed_at": "REAL NOT NULL",
 }
 
-#: the fields queries filter and sort on, each with its own index (the name's ignores case)
+#: the fields queries filter and sort on, each with its own index (the name's ignores case;
+#: the skeleton's holds the path, a skeleton's first file found in the index)
 INDEXED_FIELDS = (
     "name COLLATE NOCASE",
     "folder",
@@ -91,7 +92,7 @@ INDEXED_FIELDS = (
     "duration",
     "joints",
     "markers",
-    "skeleton_id",
+    "skeleton_id, path",
     "skeleton_group",
     "findings",
     "errors",
@@ -120,7 +121,7 @@ CREATE TABLE files (
     id INTEGER PRIMARY KEY,
     {", ".join(f"{name} {kind}" for name, kind in FILE_COLUMNS.items())}
 );
-{"".join(f"CREATE INDEX files_{field.split()[0]} ON files({field});" for field in INDEXED_FIELDS)}
+{"".join(f"CREATE INDEX files_{field.split()[0].strip(',')} ON files({field});" for field in INDEXED_FIELDS)}
 CREATE INDEX files_problems ON files(worst_level, errors, warnings, infos);
 CREATE TABLE problems (
     file_id INTEGER NOT NULL REFERENCES files(id) ON DELETE CASCADE,
