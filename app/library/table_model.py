@@ -37,6 +37,7 @@ COLUMNS = (
     ("Problems", "problems"),
 )
 THUMBNAIL, NAME, FORMAT, DURATION, FRAMES, RATE, JOINTS, GROUP, PROBLEMS = range(len(COLUMNS))
+_NUMBER_COLUMNS = (DURATION, FRAMES, RATE, JOINTS, GROUP)
 PAGE_ROWS = 64
 PAGES_KEPT = 16
 THUMBNAILS_KEPT = 400
@@ -44,6 +45,15 @@ THUMBNAILS_KEPT = 400
 TAKE_MIME = "application/x-gmr-library-takes"
 PATH_ROLE = Qt.ItemDataRole.UserRole + 1
 ROW_ROLE = Qt.ItemDataRole.UserRole + 2
+_DISPLAY, _DECORATION = Qt.ItemDataRole.DisplayRole, Qt.ItemDataRole.DecorationRole
+_FOREGROUND, _ALIGNMENT, _TOOLTIP = (
+    Qt.ItemDataRole.ForegroundRole,
+    Qt.ItemDataRole.TextAlignmentRole,
+    Qt.ItemDataRole.ToolTipRole,
+)
+_ROLES = {int(r) for r in (_DISPLAY, _DECORATION, _FOREGROUND, _ALIGNMENT, _TOOLTIP, PATH_ROLE, ROW_ROLE)}
+_FLAGS = Qt.ItemFlag.ItemIsEnabled | Qt.ItemFlag.ItemIsSelectable | Qt.ItemFlag.ItemIsDragEnabled
+_RIGHT = int(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
 
 
 def problems_text(quality: dict | None) -> str:
@@ -140,37 +150,31 @@ class LibraryModel(QAbstractTableModel):
         return None
 
     def flags(self, index: QModelIndex) -> Qt.ItemFlag:
-        if not index.isValid():
-            return Qt.ItemFlag.NoItemFlags
-        return Qt.ItemFlag.ItemIsEnabled | Qt.ItemFlag.ItemIsSelectable | Qt.ItemFlag.ItemIsDragEnabled
+        return _FLAGS if index.isValid() else Qt.ItemFlag.NoItemFlags
 
     def data(self, index: QModelIndex, role: int = Qt.ItemDataRole.DisplayRole):
-        if not index.isValid():
+        if role not in _ROLES or not index.isValid():  # the view asks for many roles a cell: most are none
             return None
         row = self.row_of(index.row())
         if row is None:
             return None
         column = index.column()
-        if role == Qt.ItemDataRole.DisplayRole:
+        if role == _DISPLAY:
             return _cell_text(row, column)
-        if role == Qt.ItemDataRole.DecorationRole and column == THUMBNAIL:
-            return self._thumbnail(row, index.row())
-        if role == Qt.ItemDataRole.ToolTipRole:
+        if role == _DECORATION:
+            return self._thumbnail(row, index.row()) if column == THUMBNAIL else None
+        if role == _FOREGROUND:
+            if row["status"] != "ok":
+                return _FAILED_BRUSH if column in (NAME, PROBLEMS) else None
+            worst = row["quality"]["worst"] if column == PROBLEMS and row["quality"] else None
+            return _LEVEL_BRUSHES[worst] if worst else None
+        if role == _ALIGNMENT:
+            return _RIGHT if column in _NUMBER_COLUMNS else None
+        if role == _TOOLTIP:
             return _tooltip(row, column)
-        if role == Qt.ItemDataRole.ForegroundRole and column == PROBLEMS and row["quality"]:
-            worst = row["quality"]["worst"]
-            if worst:
-                level = ("info", "warning", "error").index(worst) + 1
-                return QBrush(QColor.fromRgbF(*LEVEL_COLOURS[level]))
-        if role == Qt.ItemDataRole.ForegroundRole and row["status"] != "ok" and column in (NAME, PROBLEMS):
-            return QBrush(QColor.fromRgbF(*LEVEL_COLOURS[3]))
-        if role == Qt.ItemDataRole.TextAlignmentRole and column in (DURATION, FRAMES, RATE, JOINTS, GROUP):
-            return int(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
         if role == PATH_ROLE:
             return row["path"]
-        if role == ROW_ROLE:
-            return row
-        return None
+        return row  # ROW_ROLE
 
     def sort(self, column: int, order: Qt.SortOrder = Qt.SortOrder.AscendingOrder) -> None:
         from dataclasses import replace
@@ -226,6 +230,10 @@ class LibraryModel(QAbstractTableModel):
             self.dataChanged.emit(
                 self.index(min(rows), THUMBNAIL), self.index(max(rows), THUMBNAIL), [Qt.ItemDataRole.DecorationRole]
             )
+
+
+_LEVEL_BRUSHES = {s: QBrush(QColor.fromRgbF(*LEVEL_COLOURS[k + 1])) for k, s in enumerate(("info", "warning", "error"))}
+_FAILED_BRUSH = _LEVEL_BRUSHES["error"]
 
 
 def thumbnail_size() -> tuple[int, int]:
