@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import resource
 import shutil
 import sqlite3
 import subprocess
@@ -89,9 +90,18 @@ def _renamed(hierarchy: str) -> str:
     return "\n".join(out)
 
 
-def index_run(folder: Path, db: Path, jobs: int) -> IndexSummary:
+def cpu_seconds() -> float:
+    """CPU seconds (user and system) of this process and of its children that have ended."""
+    own, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
+def index_run(folder: Path, db: Path, jobs: int) -> tuple[IndexSummary, float]:
+    """The run's summary and the CPU seconds it took (this process and its workers)."""
+    start = cpu_seconds()
     with Library(db) as library:
-        return library.index([folder], jobs=jobs)
+        summary = library.index([folder], jobs=jobs)
+    return summary, cpu_seconds() - start
 
 
 def copy_rows(source: Path, target: Path, copies: int, *, thumbnails: bool) -> int:
@@ -177,13 +187,17 @@ def main() -> None:
     start = time.perf_counter()
     corrupted = make_folder(folder, args.files)
     print(f"{args.files} BVH files ({corrupted} corrupted) made in {time.perf_counter() - start:.1f} s under {folder}")
-    print(f"machine: {os.cpu_count()} cores; sqlite {sqlite3.sqlite_version}")
+    print(f"machine: {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}; sqlite {sqlite3.sqlite_version}")
 
-    one = index_run(folder, root / "one.sqlite", 1)
-    two = index_run(folder, root / "two.sqlite", 2)
+    (one, one_cpu), (two, two_cpu) = (
+        index_run(folder, root / "one.sqlite", 1),
+        index_run(folder, root / "two.sqlite", 2),
+    )
     print()
     print(f"{'indexing':<28}{'1 worker':>12}{'2 workers':>12}")
     print(f"{'wall seconds':<28}{one.seconds:>12.1f}{two.seconds:>12.1f}")
+    print(f"{'CPU seconds (all processes)':<28}{one_cpu:>12.1f}{two_cpu:>12.1f}")
+    print(f"{'cores used (CPU / wall)':<28}{one_cpu / one.seconds:>12.2f}{two_cpu / two.seconds:>12.2f}")
     print(f"{'files per second':<28}{one.read / one.seconds:>12.1f}{two.read / two.seconds:>12.1f}")
     print(f"{'failed files':<28}{one.failed:>12}{two.failed:>12}")
     print(f"speed-up with 2 workers: {one.seconds / two.seconds:.2f}x (goal: at least 1.7x)")
@@ -197,7 +211,7 @@ def main() -> None:
     changed = next(folder.rglob("take00003.bvh"))
     text = changed.read_text(encoding="utf-8")
     changed.write_text(text.replace("Frame Time:", "Frame Time: ", 1), encoding="utf-8")
-    again = index_run(folder, root / "two.sqlite", 2)
+    again, _cpu = index_run(folder, root / "two.sqlite", 2)
     share = again.seconds / two.seconds
     print()
     print(
@@ -220,6 +234,7 @@ def main() -> None:
     print()
     print(f"panel over {panel_rows} rows (goal: at least 30 frames per second)")
     print(panel_figure(root / "panel.sqlite"))
+    print(f"load average at the end: {os.getloadavg()[0]:.1f}")
     if scratch is not None:
         scratch.cleanup()
 
