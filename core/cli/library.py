@@ -65,7 +65,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         listing = actions.add_parser(name, help=text)
         _add_db(listing)
         _add_filters(listing)
-        listing.add_argument("--sort", default="path", help=f"--sort=-FIELD: descending; FIELD one of {', '.join(SORT_FIELDS)}")
+        listing.add_argument(
+            "--sort", default="path", help=f"--sort=-FIELD: descending; FIELD one of {', '.join(SORT_FIELDS)}"
+        )
         listing.add_argument("--limit", type=int, help="at most this many rows")
         out = listing.add_mutually_exclusive_group()
         out.add_argument("--json", action="store_true", help="a JSON list of rows (docs/library.md)")
@@ -193,16 +195,16 @@ def table_lines(rows: list[dict]) -> list[str]:
     """The rows as a terminal table: name, format, frames, rate, duration, joints (or
     markers), skeleton group, problems; a failed file's message instead of its numbers."""
     width = max([len(r["name"]) for r in rows] + [4])
-    lines = [f"{'name':<{width}}  format  frames     rate  duration  joints  group  problems"]
+    lines = [f"{'name':<{width}}  format  frames     rate  duration      joints  group  problems"]
     for row in rows:
         head = f"{row['name']:<{width}}  {row['format']:<6}"
         if row["status"] != "ok":
             lines.append(f"{head}  failed: {row['message']}")
             continue
-        joints = f"{row['joints']}" if row["joints"] is not None else f"{row['markers']}m"
+        joints = f"{row['joints']}" if row["joints"] is not None else f"{row['markers']} markers"
         group = row["skeleton"]["group"] if row["skeleton"] else "-"
         lines.append(
-            f"{head}  {row['frames']:>6}  {row['frame_rate']:>7.4g}  {row['duration']:>7.3f}s  {joints:>6}  "
+            f"{head}  {row['frames']:>6}  {row['frame_rate']:>7.4g}  {row['duration']:>7.3f}s  {joints:>10}  "
             f"{group:>5}  {problems_text(row['quality'])}"
         )
     return lines
