@@ -217,14 +217,20 @@ def _escaped(text: str) -> str:
     return text.replace("\\", "\\\\").replace("%", "\\%").replace("_", "\\_")
 
 
+#: the sort fields whose column a filter of the query may hold: (field, the query's attributes)
+_SORTED_BY_FILTER = {"duration": ("min_duration", "max_duration"), "joints": ("joints",), "group": ("groups",)}
+
+
 def _order(query: Query, filtered: bool) -> str:
     """The ORDER BY clause. ``filtered``: the sort's columns are written ``+column`` so that
     the filters' indexes find the rows (the sort then orders what they found), not the sort's
-    index (which would visit every row to test the filters)."""
+    index (which would visit every row to test the filters); unless a filter is on the sort's
+    own column, whose index then finds the rows in order."""
     direction = " DESC" if query.descending else ""
     keys = SORT_FIELDS[query.sort]
     keys = (keys,) if isinstance(keys, str) else keys
-    plus = "+" if filtered else ""
+    own = any(getattr(query, a) not in (None, ()) for a in _SORTED_BY_FILTER.get(query.sort, ()))
+    plus = "+" if filtered and not own else ""
     tie = [] if query.sort == "path" else [f"{plus}files.id{direction}"]
     return " ORDER BY " + ", ".join([*(f"{plus}{key}{direction}" for key in keys), *tie])
 
