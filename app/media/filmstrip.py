@@ -16,6 +16,10 @@ import numpy as np
 
 from gmr_studio.app.model.state import Snapshot
 from gmr_studio.app.scene.onion import pose_lines, pose_points
+from gmr_studio.core.library.drawing import side_by_side, side_view
+from gmr_studio.core.space.heading import travel_axis
+
+__all__ = ["filmstrip_command", "parse_frame_steps", "pose_colors", "render_filmstrip", "side_by_side", "travel_axis"]
 
 FIRST_HUE, LAST_HUE = 0.58, 1.08  # blue through violet and red to orange: saturated all the way
 
@@ -39,42 +43,6 @@ def parse_frame_steps(text: str, n_frames: int) -> np.ndarray:
     if len(frames) == 0:
         raise ValueError(f"--frames {text!r} selects no frame of the {n_frames}")
     return frames
-
-
-def travel_axis(positions: np.ndarray, up: int, figure: np.ndarray | None = None) -> np.ndarray:
-    """(3,) unit horizontal direction of the figure's main travel over ``positions`` (K, J, 3)
-    (the first horizontal axis when it stands still); ``figure`` (J,) bool: the joints that
-    make the figure (default all; an anchor pinned at the origin is no part of it)."""
-    across = [a for a in (0, 1, 2) if a != up]
-    if figure is not None:
-        positions = positions[:, figure]
-    path = positions[:, :, across].mean(axis=1)
-    spread = path - path.mean(axis=0)
-    axis = np.zeros(3)
-    if len(path) > 1 and np.abs(spread).max() > 0:
-        _, _, vt = np.linalg.svd(spread, full_matrices=False)
-        axis[across] = vt[0]
-        if axis @ (positions[-1].mean(axis=0) - positions[0].mean(axis=0)) < 0:
-            axis = -axis
-    else:
-        axis[across[0]] = 1.0
-    return axis
-
-
-def side_by_side(positions: np.ndarray, up: int, gap: float = 0.25, figure: np.ndarray | None = None) -> np.ndarray:
-    """(K, J, 3) poses moved along the travel axis so that each figure sits beside the previous
-    one (``gap`` of the widest figure between them), keeping their own heights; ``figure``
-    (J,) bool as for :func:`travel_axis` (every joint moves, only the figure's are spaced)."""
-    figure = np.ones(positions.shape[1], dtype=bool) if figure is None else figure
-    axis = travel_axis(positions, up, figure)
-    along = positions[:, figure] @ axis  # (K, A)
-    width = float((along.max(axis=1) - along.min(axis=1)).max())
-    # a figure thin along the travel (a vertical chain of two bones) still gets room for its label
-    width = max(width, 0.3 * float(np.ptp(positions[:, figure], axis=1).max()))  # the largest pose's extent
-    spacing = width * (1.0 + gap) if width > 0 else 1.0
-    centre = (along.max(axis=1) + along.min(axis=1)) / 2
-    shift = (np.arange(len(positions)) * spacing - centre)[:, None, None] * axis
-    return positions + shift
 
 
 def pose_colors(count: int) -> np.ndarray:
@@ -149,26 +117,15 @@ def render_filmstrip(
 def _side_camera(plotter, positions: np.ndarray, up: int, labels: np.ndarray) -> None:
     """A parallel projection from the side of the travel, a little from above, with the
     travel running left to right and every pose and ``labels`` (K, 3) in the picture, the
-    poses filling it (a tenth of it for margins and labels)."""
-    travel = travel_axis(positions, up)
-    up_vector = np.eye(3)[up]
-    side = np.cross(travel, up_vector)
+    poses filling it (a tenth of it for margins and labels): :func:`core.library.drawing.side_view`."""
     flat = np.concatenate([positions.reshape(-1, 3), labels])  # the frame labels must show too
-    low, high = flat.min(axis=0), flat.max(axis=0)
-    centre = (low + high) / 2
-    plotter.enable_parallel_projection()
-    direction = side + 0.3 * up_vector
-    plotter.camera_position = [tuple(centre + direction), tuple(centre), tuple(up_vector)]
-    plotter.reset_camera(bounds=np.column_stack([low, high]).ravel())
-    # fit the poses (not their bounding sphere): half the visible height, with a margin
-    view = -direction / np.linalg.norm(direction)
-    screen_up = up_vector - (up_vector @ view) * view
-    screen_up /= np.linalg.norm(screen_up)
-    screen_right = np.cross(view, screen_up)
-    extent_right = np.ptp(flat @ screen_right)
-    extent_up = np.ptp(flat @ screen_up)
     width, height = plotter.window_size
-    plotter.camera.parallel_scale = 0.55 * max(extent_up, extent_right * height / max(width, 1), 1e-9)
+    view = side_view(flat, up, travel_axis(positions, up), width, height)
+    low, high = flat.min(axis=0), flat.max(axis=0)
+    plotter.enable_parallel_projection()
+    plotter.camera_position = [tuple(view.centre + view.direction), tuple(view.centre), tuple(np.eye(3)[up])]
+    plotter.reset_camera(bounds=np.column_stack([low, high]).ravel())
+    plotter.camera.parallel_scale = view.half_height
 
 
 def filmstrip_command(motion_path: str, out: str, frames_text: str | None, layout: str, size: tuple[int, int]) -> int:

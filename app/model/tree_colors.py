@@ -11,29 +11,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from gmr_studio.core.library.drawing import PALETTE, tree_identities
 from gmr_studio.core.model.motion import Motion
 
-PALETTE = np.array(
-    [
-        (0.122, 0.467, 0.706),  # blue
-        (1.000, 0.498, 0.055),  # orange
-        (0.173, 0.627, 0.173),  # green
-        (0.839, 0.153, 0.157),  # red
-        (0.580, 0.404, 0.741),  # purple
-        (0.090, 0.745, 0.812),  # cyan
-        (0.890, 0.467, 0.761),  # pink
-        (0.737, 0.741, 0.133),  # olive
-        (0.549, 0.337, 0.294),  # brown
-        (0.498, 0.498, 0.498),  # grey
-    ]
-)
-
-
-def tree_identities(motion: Motion) -> np.ndarray:
-    """(J,) int64: the identity of each joint's tree, its smallest joint index."""
-    smallest = np.full(motion.n_joints, motion.n_joints, np.int64)
-    np.minimum.at(smallest, motion.tree_roots, np.arange(motion.n_joints))
-    return smallest[motion.tree_roots]
+__all__ = ["PALETTE", "TreeColors", "tree_identities"]  # the colours live in core (thumbnails draw them)
 
 
 class TreeColors:

@@ -22,9 +22,8 @@ from gmr_studio.app.scene import vtk_parts as parts
 from gmr_studio.app.scene.drawable import EMPTY_BOX, Drawing, box_of
 from gmr_studio.app.scene.figure import SELECTION_COLOR
 from gmr_studio.app.scene.labels import label_part
+from gmr_studio.core.library.drawing import GROUND_COLOR, MARKER_COLOR
 
-GROUND_COLOR = (0.36, 0.38, 0.42)
-MARKER_COLOR = (0.92, 0.92, 0.95)
 MARKER_LABEL_COLOR = (1.0, 0.95, 0.6)
 AXIS_COLORS = np.eye(3) * 0.9 + 0.05
 MARKER_RADIUS = 0.009

@@ -41,6 +41,7 @@ from gmr_studio.app.scene.overlays import (
     Trail,
     nice_step,
 )
+from gmr_studio.core.library.drawing import BACKGROUND
 from gmr_studio.core.space import up_axis as space_up_axis
 
 __all__ = [
@@ -58,7 +59,6 @@ __all__ = [
 ]
 
 TREE_COLORS = PALETTE  # the trees' colours, in the order new trees get them
-BACKGROUND = (0.16, 0.17, 0.20)
 # everything is opaque: translucency costs a separate pass, several ms a frame in software GL
 
 

@@ -30,6 +30,7 @@ from gmr_studio.app.window.classroom import Classroom
 from gmr_studio.app.window.comparison import install_comparison
 from gmr_studio.app.window.exports import Exports
 from gmr_studio.app.window.files import FileController
+from gmr_studio.app.window.library import install_library
 from gmr_studio.app.window.onion_menu import OnionMenu
 
 KEYS_HELP = """<table>
@@ -122,7 +123,14 @@ class MainWindow(QMainWindow):
             lambda frame, joint: marker_document.joint_section(self.files.marker_document, self.state, frame, joint)
         )
         self.problems_dock = install_problems(self, self.problems, self.view.scene)
-        self.analysis_docks = [self.curves_dock, self.contacts_dock, self.error_dock, self.problems_dock]
+        self.library_dock = install_library(self)  # the takes of the library's folders
+        self.analysis_docks = [
+            self.curves_dock,
+            self.contacts_dock,
+            self.error_dock,
+            self.problems_dock,
+            self.library_dock,
+        ]
         layout.tab_when_shown(self, self.analysis_docks)
         self.status = QLabel()
         self.statusBar().addWidget(self.status, 1)
@@ -305,6 +313,8 @@ class MainWindow(QMainWindow):
             event.acceptProposedAction()
 
     def dropEvent(self, event: QDropEvent) -> None:  # noqa: N802
+        if self.library_drops.drop(event):  # takes from the Library panel, folders for it
+            return
         paths = [url.toLocalFile() for url in event.mimeData().urls() if url.isLocalFile()]
         motions = [p for p in paths if Path(p).suffix.lower() in loading.motion_suffixes()]
         markers = [p for p in paths if Path(p).suffix.lower() in loading.marker_suffixes()]
@@ -379,6 +389,7 @@ class MainWindow(QMainWindow):
         self.autosave.discard()  # saved, or the user chose to drop the edits
         self.autosave.shutdown()
         self.problems.shutdown()
+        self.library_panel.close_library()
         self.state.undo_stack.blockSignals(True)  # its actions go away with the window
         self._save_settings()
         self.view.close_view()

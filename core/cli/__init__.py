@@ -31,6 +31,7 @@ COMMANDS = {
     "compare": "per-joint position and rotation errors of motion B against motion A",
     "audit": "run a file through every round trip and check positions stay within tolerance",
     "check": "find foot skate, pops, jitter, flips, frozen frames... at their frames and joints",
+    "library": "index folders of takes into one file; find, list and look at them",
     "bench": "time GMR forward kinematics for C_1..C_J roots against BVH, a copy, and other libraries",
     "fuzz": "mutate real files and check every reader fails cleanly",
     "stress": "load, convert and run FK on a very large motion; print peak memory",

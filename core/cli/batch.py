@@ -7,7 +7,7 @@
   (``01_01.bvh`` and ``01_01.amc``), each output keeps its source format in its name:
   ``01_01_bvh.gmr``, ``01_01_amc.gmr``.
 - Work runs in ``--jobs`` processes (default: every core) or on a Dask cluster
-  (``--scheduler tcp://HOST:8786`` or ``local:N``; :mod:`core.cli.workers`), each file
+  (``--scheduler tcp://HOST:8786`` or ``local:N``; :mod:`core.batch.workers`), each file
   independently; every output is written to a temporary name and renamed (``core.atomic``),
   so an interrupted or failed conversion leaves no partial file. A file whose Dask worker
   died is converted again elsewhere; temporary files such a death leaves are removed at the
@@ -23,7 +23,8 @@ from collections import Counter
 from pathlib import Path
 from typing import TextIO
 
-from gmr_studio.core.cli import workers
+from gmr_studio.core.batch import workers
+from gmr_studio.core.batch.files import find_motion_files
 from gmr_studio.core.cli.convert import INPUT_SUFFIXES, ConversionReport, ConvertOptions, convert_file
 from gmr_studio.core.cli.progress import Progress
 from gmr_studio.core.errors import MotionFileError, OperationError
@@ -35,21 +36,6 @@ def input_suffixes(options: ConvertOptions) -> tuple[str, ...]:
     """The suffixes a batch reads: AMASS ``.npz`` only with a body model (else any ``.npz``,
     such as saved positions, would count as a failed motion)."""
     return INPUT_SUFFIXES if options.body_model else tuple(s for s in INPUT_SUFFIXES if s != ".npz")
-
-
-def find_motion_files(in_dir: Path, out_dir: Path | None, suffixes: tuple[str, ...] = INPUT_SUFFIXES) -> list[Path]:
-    """Every input file under ``in_dir`` (sorted) with one of ``suffixes``, none from inside
-    ``out_dir`` (if given)."""
-    out = out_dir.resolve() if out_dir is not None else None
-    files = []
-    for path in sorted(in_dir.rglob("*")):
-        if path.suffix.lower() not in suffixes or not path.is_file():
-            continue
-        resolved = path.resolve()
-        if out is not None and (resolved == out or out in resolved.parents):
-            continue
-        files.append(path)
-    return files
 
 
 def plan_outputs(files: list[Path], in_dir: Path, out_dir: Path, to: str) -> list[tuple[Path, Path]]:

@@ -11,7 +11,7 @@
   every motion file of a folder tree (``.bvh``, ``.amc`` with its ``.asf``, ``.gmr``, AMASS
   ``.npz`` with ``--body-model``; :func:`core.cli.batch.find_motion_files`) and marker file
   (``.c3d``, ``.trc``), checked in
-  ``--jobs`` processes or on a Dask cluster (:mod:`core.cli.workers`), one summary line per
+  ``--jobs`` processes or on a Dask cluster (:mod:`core.batch.workers`), one summary line per
   file on stdout (in path order) and, with ``--table``, one row per file
   (:data:`core.checks.report.SUMMARY_COLUMNS` then one count per kind); ``--json`` then
   writes ``{"files": [document, ...]}``. A file that cannot be read is a row with its error
@@ -29,11 +29,11 @@ import sys
 from pathlib import Path
 
 from gmr_studio.core.atomic import atomic_write_bytes, atomic_write_text
+from gmr_studio.core.batch import workers
+from gmr_studio.core.batch.files import find_motion_files
 from gmr_studio.core.checks import KINDS, SEVERITIES, CheckSettings, run_checks, skipped_frames
 from gmr_studio.core.checks.markers import run_marker_checks
 from gmr_studio.core.checks.report import SUMMARY_COLUMNS, check_document, failing, findings_text, summary_row
-from gmr_studio.core.cli import workers
-from gmr_studio.core.cli.batch import find_motion_files
 from gmr_studio.core.cli.convert import INPUT_SUFFIXES
 from gmr_studio.core.cli.markers import add_marker_options, marker_options
 from gmr_studio.core.cli.output import write_json

@@ -19,6 +19,7 @@ import argparse
 import dataclasses
 from pathlib import Path
 
+from gmr_studio.core.batch.files import MOTION_SUFFIXES
 from gmr_studio.core.cli.reading import add_reading_options, positive_number, reader_options
 from gmr_studio.core.edits.dummies import remove_dummies
 from gmr_studio.core.edits.world import change_up_axis, scale_lengths
@@ -29,7 +30,7 @@ from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.model.motion import Motion
 
 #: formats ``convert`` reads and writes
-INPUT_SUFFIXES = (".bvh", ".amc", ".gmr", ".npz", ".glb", ".gltf", ".vrma", ".fbx")
+INPUT_SUFFIXES = MOTION_SUFFIXES
 OUTPUT_SUFFIXES = (".bvh", ".gmr", ".glb", ".gltf")
 
 

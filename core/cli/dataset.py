@@ -12,7 +12,7 @@ positions (or rotations) for machine learning, built file by file.
   frame, as :func:`core.edits.clip.resample` counts them): positions linearly, quaternions by
   normalised linear interpolation.
 - Work runs file by file in ``--jobs`` processes or on a Dask cluster (``--scheduler``,
-  :mod:`core.cli.workers`); results come back in file order, a few at a time, and are
+  :mod:`core.batch.workers`); results come back in file order, a few at a time, and are
   written as they arrive, so memory holds a handful of files, never the dataset.
 - ``.npz``: per file ``i`` (in ``files`` order) ``values_i`` float32 (F, J, 3|4) and
   ``joints_i`` (J,) str; then ``files`` (N,) relative paths, ``frame_rate`` (N,) and
@@ -34,8 +34,9 @@ from pathlib import Path
 
 import numpy as np
 
-from gmr_studio.core.cli import workers
-from gmr_studio.core.cli.batch import find_motion_files, input_suffixes
+from gmr_studio.core.batch import workers
+from gmr_studio.core.batch.files import find_motion_files
+from gmr_studio.core.cli.batch import input_suffixes
 from gmr_studio.core.cli.convert import ConvertOptions, positive_number, read_for_conversion
 from gmr_studio.core.cli.progress import Progress
 from gmr_studio.core.cli.reading import add_gltf_options

@@ -1,0 +1,29 @@
+"""The figure's heading: the one fit of its main direction of travel.
+
+The view's camera (a walk crosses the screen), the filmstrip and the library's thumbnails
+(poses side by side along the travel) all look at a figure from the side of this direction.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def travel_axis(positions: np.ndarray, up: int, figure: np.ndarray | None = None) -> np.ndarray:
+    """(3,) unit horizontal direction of the figure's main travel over ``positions`` (K, J, 3)
+    (the first horizontal axis when it stands still); ``figure`` (J,) bool: the joints that
+    make the figure (default all; an anchor pinned at the origin is no part of it)."""
+    across = [a for a in (0, 1, 2) if a != up]
+    if figure is not None:
+        positions = positions[:, figure]
+    path = positions[:, :, across].mean(axis=1)
+    spread = path - path.mean(axis=0)
+    axis = np.zeros(3)
+    if len(path) > 1 and np.abs(spread).max() > 0:
+        _, _, vt = np.linalg.svd(spread, full_matrices=False)
+        axis[across] = vt[0]
+        if axis @ (positions[-1].mean(axis=0) - positions[0].mean(axis=0)) < 0:
+            axis = -axis
+    else:
+        axis[across[0]] = 1.0
+    return axis
