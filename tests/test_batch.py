@@ -137,7 +137,7 @@ def test_refusals(tmp_path, capsys):
     empty = tmp_path / "empty"
     empty.mkdir()
     assert main(["convert", "--batch", str(empty), str(tmp_path / "out")]) == 2
-    assert "no motion files (.bvh, .amc, .gmr, .glb, .gltf, .vrma, .fbx) under" in capsys.readouterr().err
+    assert "no motion files (.bvh, .gmr, .amc, .glb, .gltf, .vrma, .fbx) under" in capsys.readouterr().err
     assert main(["convert", "--batch", str(empty), str(empty)]) == 2
     assert "OUT_DIR must differ from IN_DIR" in capsys.readouterr().err
     assert main(["convert", "--batch", str(tmp_path / "missing"), str(tmp_path / "out")]) == 2

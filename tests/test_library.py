@@ -17,7 +17,7 @@ from gmr_studio.core.formats import read_motion, write_motion
 from gmr_studio.core.library.index import Library
 from gmr_studio.core.library.query import Query, count, row_of_path, select_rows
 from gmr_studio.core.markers import read_markers
-from gmr_studio.core.timebase.clock import motion_duration
+from gmr_studio.core.timebase.clock import duration_of
 from tests import library_fixtures
 from tests.library_fixtures import BAD, REAL, make_takes, read_png
 
@@ -60,7 +60,7 @@ def test_every_file_is_a_row_with_what_its_reader_and_the_checks_say(indexed):
             motion = read_motion(path)
             findings = run_checks(motion)
             assert (row["joints"], row["roots"]) == (motion.n_joints, len(motion.roots))
-            assert row["duration"] == pytest.approx(motion_duration(motion), rel=1e-12)
+            assert row["duration"] == pytest.approx(duration_of(motion), rel=1e-12)
         else:
             continue
         assert (row["frames"], row["frame_rate"]) == (motion.n_frames, pytest.approx(motion.frame_rate))

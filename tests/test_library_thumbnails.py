@@ -8,13 +8,13 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.edits.operations import split
+from gmr_studio.core.edits.world import change_up_axis
 from gmr_studio.core.formats import read_motion
 from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.library.drawing import BACKGROUND, GROUND_COLOR, PALETTE
 from gmr_studio.core.library.thumbnails import draw_lines, motion_thumbnail, png_bytes, pose_frames
 from gmr_studio.core.model.motion import Motion
-from gmr_studio.core.space.conversions import change_up_axis
 from tests.conftest import shared_path
 from tests.library_fixtures import read_png
 
