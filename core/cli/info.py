@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 
 from gmr_studio.core.cli.reading import add_reading_options, read_with_args
-from gmr_studio.core.clock import motion_duration
+from gmr_studio.core.clock import motion_duration, nominal_rate, rate_text
 from gmr_studio.core.dummies import find_dummies
 from gmr_studio.core.motion import Motion
 
@@ -52,6 +52,7 @@ def describe(motion: Motion, path: str) -> dict:
         "frames": motion.n_frames,
         "frame_time": motion.frame_time,
         "frame_rate": motion.frame_rate,
+        "nominal_rate": nominal_rate(motion.frame_time),
         "duration": motion_duration(motion),
         "size": motion.size,
         "roots": [motion.names[r] for r in motion.roots],
@@ -78,8 +79,9 @@ def format_text(info: dict) -> str:
     lines = [
         f"file:       {info['path']}",
         f"format:     {info['format']} ({info['convention']})",
-        f"frames:     {info['frames']} at {info['frame_rate']:.6g} Hz "
-        f"(frame time {info['frame_time']:.6g} s; duration {info['duration']:.3f} s: frames x frame time)",
+        f"frames:     {info['frames']} at {rate_text(info['frame_time'])} Hz "
+        f"(frame time {info['frame_time']:.6g} s, {info['frame_rate']:.6g} Hz exactly; "
+        f"duration {info['duration']:.3f} s: frames x frame time)",
         f"joints:     {len(joints)}",
         f"roots:      {len(roots)} ({', '.join(roots)})",
         "soft links: " + (", ".join(f"{a} -> {b}" for a, b in links.items()) if links else "none"),
