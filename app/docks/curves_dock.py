@@ -31,6 +31,7 @@ from gmr_studio.app.model.playback import Player
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.core.atomic import atomic_write_text
 from gmr_studio.core.cli.curves import csv_text
+from gmr_studio.core.clock import nominal_rate
 from gmr_studio.core.curves import UNITS, Curves, gap_spans, joint_curves, marker_curves, quantity_name
 from gmr_studio.core.mirror import side_partners
 
@@ -205,7 +206,7 @@ class CurvesDock(QWidget):
         self.setEnabled(motion is not None)
         if motion is not None:
             self.plot.frame_time = motion.frame_time
-            self.rate_box.setValue(round(motion.frame_rate / 2, 3))
+            self.rate_box.setValue(round(nominal_rate(motion.frame_time) / 2, 3))
         self._on_x_unit_changed()
         self.refresh(autoscale=True)
         self._on_range_changed(-1, -1)

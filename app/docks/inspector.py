@@ -23,7 +23,7 @@ from PyQt6.QtGui import QFontDatabase
 from PyQt6.QtWidgets import QScrollArea, QWidget
 
 from gmr_studio.app.docks.rich_text import SLOT_OPEN, RichText, slot, slot_lines
-from gmr_studio.app.model.formatting import format_angles, format_lengths, format_matrix
+from gmr_studio.app.model.formatting import format_angles, format_lengths, format_matrix, frame_of
 from gmr_studio.app.model.joint_transforms import (
     LocalTransform,
     bvh_local,
@@ -139,7 +139,8 @@ class Inspector(QScrollArea):
         if motion is None:
             return [lambda: ["<i>No motion</i>"]]
         seconds = f"{frame_seconds(f, motion.frame_time):.3f}"
-        builders = [lambda: [f"<b>Frame {slot(str(f))}</b> of {motion.n_frames} &nbsp; ({slot(seconds)} s)"]]
+        place = frame_of(f"{slot(str(f))}</b>", motion.n_frames)
+        builders = [lambda: [f"<b>Frame {place} &nbsp; ({slot(seconds)} s)"]]
         j = state.selected
         if j is None:
             builders.append(lambda: ["<p><i>Click a joint in the view or the forest to inspect it.</i></p>"])

@@ -5,6 +5,9 @@ A length is shown to :data:`LENGTH_DIGITS` significant digits of the motion's si
 extent of the skeleton): in a 35-inch skeleton a step of 1e-5 inch, in a 1.7 m one 1e-6 m.
 Anything smaller than that step is below what a file holds anyway (BVH files write about 6
 significant digits) and far above rounding noise (~1e-14 of the size).
+
+Frame numbers are 0-based everywhere, as the command line's ranges (docs/conventions.md):
+:func:`frame_of` is how the inspector and the timeline say where a frame is in the take.
 """
 
 from __future__ import annotations
@@ -36,6 +39,13 @@ def format_number(value: float, decimals: int) -> str:
     if "." in text:
         text = text.rstrip("0").rstrip(".")
     return "0" if text in ("-0", "") else text
+
+
+def frame_of(frame: int | str, n_frames: int) -> str:
+    """A frame's place in a take of ``n_frames`` frames, 0-based: ``"60 of 0-194"`` (the
+    first frame is 0 and the last ``n_frames - 1``, as in ``gmr check``, ``gmr curves``,
+    ``gmr edit --frames``); ``frame`` may be given as text already marked up."""
+    return f"{frame} of 0-{max(n_frames - 1, 0)}"
 
 
 def format_length(value: float, size: float) -> str:

@@ -26,6 +26,7 @@ from PyQt6.QtGui import QUndoCommand
 
 from gmr_studio.app.model.alignment import UNIT_LENGTHS, MarkerAlignment
 from gmr_studio.app.model.state import Snapshot, StudioState
+from gmr_studio.core.clock import rate_text
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.markers import MarkerSet, read_markers
 from gmr_studio.core.markers.built_motion import BuiltMotion, markers_to_built_motion
@@ -57,7 +58,7 @@ class MarkerDocument:
         spread = built.built.spread[np.isfinite(built.built.spread)]
         text = (
             f"skeleton built from marker set {built.built.set_match.definition.name}: {motion.n_joints} joints, "
-            f"{motion.n_frames} frames at {motion.frame_rate:.4g} Hz (mm); bone length spread median "
+            f"{motion.n_frames} frames at {rate_text(motion.frame_time)} Hz (mm); bone length spread median "
             f"{np.median(spread) if spread.size else float('nan'):.2g} mm"
         )
         if built.refinement is not None:

@@ -19,6 +19,7 @@ from PyQt6.QtWidgets import QApplication, QFileDialog, QMessageBox, QProgressDia
 from gmr_studio.app.model import extensions, loading, marker_document
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.app.reliability.crash import describe_unexpected, log_exception
+from gmr_studio.core.clock import rate_text
 from gmr_studio.core.compare.clock import DEFAULT_OFFSET
 from gmr_studio.core.errors import MotionFileError, OperationError
 from gmr_studio.core.formats import write_motion
@@ -206,7 +207,7 @@ class FileController(QObject):
         motion = snapshot.motion
         self.state.show_message(
             f"Opened {Path(path).name}: {motion.n_joints} joints, {len(motion.roots)} root(s), "
-            f"{motion.n_frames} frames at {motion.frame_rate:.4g} Hz"
+            f"{motion.n_frames} frames at {rate_text(motion.frame_time)} Hz"
         )
         self.load_finished.emit(True)
         if self.pending_markers:
