@@ -196,12 +196,13 @@ def test_a_frame_change_rewrites_the_numbers_in_place_and_a_selection_stays(qtbo
     state.select_marker(0)
     state.set_frame(100)  # the pelvis recovered (not at frame 0), marker 0 seen
     label = studio.inspector.label
-    # every number: the frame and its time, two angle lines, two local matrices (3 rows) and
-    # their angles, the world position, two world rotations (3 rows and angles), the
+    # every number: the frame and its time, two angle lines, two local transforms (a note,
+    # 3 rows, a translation, where the angles come from and the angles), the world position,
+    # two world rotations (3 rows and angles), the
     # marker, the pelvis residual and rotation (3 rows); the text read (the sections off
     # screen were left as at frame 0, where the pelvis was not recovered)
     assert "Pelvis rotation" in label.plain_text()
-    assert label.slots_held == 2 + 2 + 2 * 4 + 1 + 2 * 4 + 1 + 1 + 3 == 26
+    assert label.slots_held == 2 + 2 + 2 * 7 + 1 + 2 * 4 + 1 + 1 + 3 == 32
     start = label.plain_text().index("World position")
     label.cursor.setPosition(start)
     label.cursor.setPosition(start + len("World position"), QTextCursor.MoveMode.KeepAnchor)
@@ -211,7 +212,7 @@ def test_a_frame_change_rewrites_the_numbers_in_place_and_a_selection_stays(qtbo
         whole.setHtml(label.text().replace(SLOT_OPEN, "").replace(SLOT_CLOSE, ""))
         assert label.plain_text() == whole.toPlainText()  # as if parsed whole
         assert f"Frame {frame} of 0-2751" in studio.inspector.text()
-        assert label.selected_text() == "World position" and label.slots_held == 26
+        assert label.selected_text() == "World position" and label.slots_held == 32
 
 
 @pytest.mark.gui
@@ -254,3 +255,28 @@ def test_a_new_frame_builds_only_the_sections_on_screen_and_the_rest_when_seen(q
     bar.setValue(bar.maximum())  # the bottom sections into sight: built as the frame is now
     inspector.viewport().grab()
     assert computed == [2000] and first_row(2000) in label.document.toPlainText()
+
+
+@pytest.mark.gui
+@pytest.mark.parametrize("width", [1280, 1600])
+def test_after_a_split_every_line_of_the_inspector_fits_its_column(qtbot, studio, width):
+    """Issue 40.8a: split at LeftArm in a window 1600 (and 1280) pixels wide, no line of the
+    selected joint's text, its local [R, t] matrices included, runs past the dock's edge."""
+    from PyQt6.QtWidgets import QApplication
+
+    studio.resize(width, 1000)
+    studio.default_layout()  # the side column as a window this wide opens with it
+    open_file(studio, shared_path(CMU))
+    state = studio.state
+    assert commands.split_here(state, state.motion.joint_index("LeftArm"))
+    state.select(state.motion.joint_index("LeftArm"))
+    state.set_frame(100)
+    qtbot.wait(50)  # the docks laid out at the window's size
+    QApplication.processEvents()
+    label = studio.inspector.label
+    text = flat(studio.inspector.text())
+    bvh_part, gmr_part = text.split("Local, post-rotation")[1].split("Local, pre-rotation")
+    assert "translation t: 12.84608 23.19387 -16.89282" in bvh_part
+    assert "translation R t: 12.84608 23.19387 -16.89282" in gmr_part
+    assert label.document.idealWidth() <= label.document.textWidth() + 0.5
+    assert label.width() <= studio.inspector.viewport().width()

@@ -183,8 +183,8 @@ class Inspector(QScrollArea):
         return [
             table,
             lambda: [self._angles_html(j, f)],
-            lambda: self._transform_html("Local, post-rotation [R, t] (BVH)", bvh(), size),
-            lambda: self._transform_html(f"Local, pre-rotation [R, R t] (GMR){note}", gmr(), size),
+            lambda: self._transform_html("Local, post-rotation [R, t] (BVH)", bvh(), size, "t"),
+            lambda: self._transform_html(f"Local, pre-rotation [R, R t] (GMR){note}", gmr(), size, "R t"),
             world_position,
             lambda: [
                 self._world_html(
@@ -208,13 +208,20 @@ class Inspector(QScrollArea):
             lines.append(f"<p style='margin:6px 0 0 0'>{name}</p>{shown}")
         return "".join(lines)
 
-    def _transform_html(self, title: str, shown: LocalTransform, size: float) -> list[str]:
-        out = [f"<p style='margin:6px 0 2px 0'><b>{html.escape(title)}</b><br/><i>{html.escape(shown.note)}</i></p>"]
-        if shown.matrix is not None:
-            out.append(self._pre(format_matrix(shown.matrix, size)))
+    def _transform_html(self, title: str, shown: LocalTransform, size: float, translation: str) -> list[str]:
+        """A local transform's section. What may change from frame to frame is a slot, the
+        note and where the angles come from included (an edit may leave the file's values
+        making the rotation at some frames only): a section whose numbers are off screen is
+        not rebuilt at a new frame, and a slot brings it up to date when it comes into sight."""
+        out = [f"<p style='margin:6px 0 2px 0'><b>{html.escape(title)}</b><br/><i>{slot(shown.note)}</i></p>"]
+        if shown.matrix is not None:  # R's rows, then the translation on a line of its own:
+            # side by side, a rotation and a translation to seven digits are wider than the dock
+            out.append(self._pre(format_matrix(shown.matrix[:, :3])))
+            out.append(f"<p style='margin:0'>translation {translation}:</p>")
+            out.append(_value_line(slot(format_lengths(shown.matrix[:, 3], size)), bottom=4))
         if shown.angles is not None:
             where = "the file's channel values" if shown.from_file else "from the matrix"
-            out.append(f"<p style='margin:0'>Euler {shown.order} ({where}):</p>")
+            out.append(f"<p style='margin:0'>{slot(f'Euler {shown.order} ({where}):')}</p>")
             out.append(_value_line(f"{slot(format_angles(shown.angles))} deg"))
         return out
 
