@@ -258,6 +258,45 @@ def test_a_new_frame_builds_only_the_sections_on_screen_and_the_rest_when_seen(q
 
 
 @pytest.mark.gui
+def test_channels_are_called_the_files_own_only_while_they_are(qtbot, studio):
+    """Issue 40.4: as read, a BVH joint's channels are the file's own values; split there, they
+    are computed from the edited motion (and said so, in the inspector and the curves dock);
+    a joint the edit left alone keeps the file's values; undone, the file's own again. A
+    glTF's channels, whose file stores quaternions, are never called the file's own."""
+    open_file(studio, shared_path(CMU))
+    state = studio.state
+    _, channels = read_bvh_with_channels(shared_path(CMU))
+    studio.curves_dock.show()
+    studio.curves.set_quantity("channels")
+
+    def caption() -> str:  # what the inspector says the channels are, and the numbers
+        return flat(studio.inspector.text()).split("channels (", 1)[1].split(" gmr-euler")[0]
+
+    arm = state.motion.joint_index("LeftArm")
+    state.select(arm)
+    state.set_frame(100)
+    values = format_angles(channels.angles["LeftArm"][100])
+    own = f"the file's own values, as written: Zrotation Yrotation Xrotation): {values} deg"
+    assert caption() == own
+    assert studio.curves.channels_note.text() == "the file's own values, as written"
+    assert commands.split_here(state, arm)
+    edited = caption()
+    assert edited.startswith("computed from the edited motion, in the file's channel columns: Zrotation Yrotation")
+    assert "file's own" not in edited and values not in edited
+    assert studio.curves.channels_note.text() == "computed from the edited motion, in the file's channel columns"
+    state.select(state.motion.joint_index("Head"))
+    assert caption().startswith("the file's own values, as written, this joint unchanged by the edits: ")
+    state.undo_stack.undo()
+    state.select(arm)
+    assert caption() == own
+    open_file(studio, shared_path("gltf/mjolnir-zig_RiggedSimple.glb"))
+    for joint in range(state.motion.n_joints):
+        state.select(joint)
+        said = caption()
+        assert "file's own" not in said and "computed; the file stores quaternions" in said
+
+
+@pytest.mark.gui
 @pytest.mark.parametrize("width", [1280, 1600])
 def test_after_a_split_every_line_of_the_inspector_fits_its_column(qtbot, studio, width):
     """Issue 40.8a: split at LeftArm in a window 1600 (and 1280) pixels wide, no line of the

@@ -90,7 +90,8 @@ def test_a_joints_table_angles_transforms_and_world_values_at_the_frame(shown):
     assert f"Channels (GMR) {' '.join(a + 'rotation' for a in full)}" in text
     # the two rotation quantities as the curves compute them (unwrapped over the take), the
     # GMR one composing (by scipy) the joint's local GMR rotation
-    for quantity, what in (("channels", "the file's own: "), ("gmr-euler", "the GMR rotation: ")):
+    computed = "the motion's rotation as Euler angles in the joint's order, computed: "  # no file channels
+    for quantity, what in (("channels", computed), ("gmr-euler", "the GMR rotation: ")):
         columns, values = values_at(motion, j, quantity, f, snapshot.positions, None)
         labels = " ".join(c.rsplit(".", 1)[1] for c in columns)
         assert f"{quantity} ({what}{labels}): {flat(format_angles(values))} deg" in text

@@ -1,8 +1,9 @@
 """The inspector dock: everything about the selected joint at the current frame.
 
 Name, parent, soft-link parent, offset, channels both ways; the joint's two rotation
-quantities, ``channels`` (the file's own) and ``gmr-euler``, named and computed as the curves
-dock and ``gmr curves`` give them (:func:`core.curves.values_at`); the local transform both ways
+quantities, ``channels`` (labelled with what they are: the file's own values only while they
+are, :mod:`app.model.channel_labels`) and ``gmr-euler``, named and computed as the curves
+dock and ``gmr curves`` give them (:func:`core.curves.cached_curves`); the local transform both ways
 (:mod:`app.joint_transforms`): under BVH the post-rotation ``[R, t]`` from the joint's own
 BVH channels (for a motion read from a BVH, the file's channel values next to the matrix;
 an End Site has none), under GMR the pre-rotation ``[R, R t]`` from its GMR channels (a
@@ -23,6 +24,7 @@ from PyQt6.QtGui import QFontDatabase
 from PyQt6.QtWidgets import QScrollArea, QWidget
 
 from gmr_studio.app.docks.rich_text import SLOT_OPEN, RichText, slot, slot_lines
+from gmr_studio.app.model.channel_labels import channels_caption
 from gmr_studio.app.model.formatting import format_angles, format_lengths, format_matrix, frame_of
 from gmr_studio.app.model.joint_transforms import (
     LocalTransform,
@@ -33,7 +35,7 @@ from gmr_studio.app.model.joint_transforms import (
 )
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.core.clock import frame_seconds
-from gmr_studio.core.curves import values_at
+from gmr_studio.core.curves import cached_curves
 from gmr_studio.core.rotations import complete_order, euler_from_matrix
 
 
@@ -54,6 +56,7 @@ class Inspector(QScrollArea):
         state.selection_changed.connect(self._on_changed)
         state.marker_selection_changed.connect(self._on_changed)
         state.overlay_changed.connect(self._on_changed)
+        state.modified_changed.connect(self._on_changed)  # "unchanged by the edits" (channels_caption)
         # every change is shown at once, during playback too: building and setting the text
         # takes a median 0.5 ms on CMU 01_01 (the throttled one took 0.15 ms, at most every
         # 100 ms, which is what made it lag ~10 frames), and it is painted in the same pass as
@@ -196,15 +199,25 @@ class Inspector(QScrollArea):
 
     def _angles_html(self, j: int, f: int) -> str:
         """The joint's two rotation quantities at this frame, named and computed as the curves
-        dock and ``gmr curves`` name and compute them (:func:`core.curves.values_at`). Each
-        number is on a line of its own under its name (see :func:`_value_line`)."""
+        dock and ``gmr curves`` name and compute them (:func:`core.curves.cached_curves`), the
+        channels labelled with what their numbers are (:func:`app.model.channel_labels.channels_caption`:
+        the file's own only while they are). Each number is on a line of its own under its
+        name (see :func:`_value_line`)."""
         state = self.state
         lines = []
-        for quantity, what in (("channels", "the file's own"), ("gmr-euler", "the GMR rotation")):
-            columns, values = values_at(state.motion, j, quantity, f, state.positions, state.file_channels)
-            labels = " ".join(c.rsplit(".", 1)[1] for c in columns)
-            name = f"<b>{quantity}</b> ({what}{': ' + labels if labels else ''}):"
-            shown = _value_line(f"{slot(format_angles(values))} deg") if columns else _value_line("none")
+        for quantity in ("channels", "gmr-euler"):
+            curves = cached_curves(state.motion, j, quantity, state.positions, state.file_channels)
+            if quantity == "channels":
+                what = channels_caption(curves, state.path, state.modified)
+            else:
+                what = "the GMR rotation"
+            labels = " ".join(c.rsplit(".", 1)[1] for c in curves.columns)
+            name = f"<b>{quantity}</b> ({html.escape(what)}{': ' + labels if labels else ''}):"
+            values = curves.values[f]
+            if curves.columns and not np.isnan(values).all():
+                shown = _value_line(f"{slot(format_angles(values))} deg")
+            else:
+                shown = _value_line("none")
             lines.append(f"<p style='margin:6px 0 0 0'>{name}</p>{shown}")
         return "".join(lines)
 
