@@ -252,3 +252,25 @@ def test_command_line_compare_to_a_window_screenshot(tmp_path):
     bad.write_text("HIERARCHY\nROOT Hips\n")
     result = subprocess.run([*studio_cmd, "--compare", str(bad), *options], capture_output=True, text=True, timeout=180)
     assert result.returncode == 2 and "--compare" in result.stderr and "broken.bvh" in result.stderr
+
+
+def test_an_edit_that_drops_joints_under_an_error_view_colours_the_new_documents_joints(studio):
+    """Removing dummy joints (38 joints become 31) while a comparison's error view is shown:
+    the view is drawn for the new document before the layer is compared with it, and must
+    not colour joints by the old document's indices (an IndexError in the event loop, which
+    pytest-qt reports); once compared, the error view colours the new document's joints."""
+    from gmr_studio.app.model import extensions
+
+    open_file(studio, shared_path(BVH))
+    _compare(studio, shared_path(AMC), "cmu")
+    state = studio.state
+    state.set_frame(1518)
+    before = state.motion.n_joints
+    extensions.remove_dummy_joints(state)
+    QApplication.processEvents()
+    layer = studio.layers[0]
+    assert state.motion.n_joints < before and layer.compared_with is state.snapshot
+    np.testing.assert_array_equal(studio.ghosts.error_joints, layer.comparison.index_a)
+    assert studio.ghosts.error_joints.max() < state.motion.n_joints
+    image = screen_image(studio)
+    assert ((image[..., 0] > 200) & (image[..., 1] < 80) & (image[..., 2] < 80)).sum() > 0  # the worst in red
