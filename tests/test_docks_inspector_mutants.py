@@ -102,11 +102,11 @@ def test_a_joints_table_angles_transforms_and_world_values_at_the_frame(shown):
     bvh, gmr = bvh_local(motion, f, j), gmr_local(motion, f, j)
     bvh_part = text.split("Local, post-rotation [R, t] (BVH)")[1].split("Local, pre-rotation")[0]
     assert bvh_part.strip().startswith(flat(bvh.note)) and flat(format_matrix(bvh.matrix[:, :3])) in bvh_part
-    assert f"translation t: {flat(format_lengths(bvh.matrix[:, 3], size))}" in bvh_part
+    assert f"translation t: {flat(format_matrix(bvh.matrix[:, 3], size, lengths=True))}" in bvh_part
     gmr_part = text.split("Local, pre-rotation [R, R t] (GMR)")[1].split("World position")[0]
     assert "a root" not in gmr_part and gmr_part.strip().startswith(flat(gmr.note))
     assert flat(format_matrix(gmr.matrix[:, :3])) in gmr_part
-    assert f"translation R t: {flat(format_lengths(gmr.matrix[:, 3], size))}" in gmr_part
+    assert f"translation R t: {flat(format_matrix(gmr.matrix[:, 3], size, lengths=True))}" in gmr_part
     assert f"Euler {gmr.order} (from the matrix): {flat(format_angles(gmr.angles))} deg" in gmr_part
     # the world position and both world rotations, Euler in the joint's order
     world = text.split("World position")[1]
@@ -155,10 +155,8 @@ def test_a_root_is_marked_in_the_table_and_the_gmr_transform(shown):
     assert "Channels (BVH) Xposition Yposition Zposition" in text  # a root translates
     motion = snapshot.motion
     matrix = gmr_local(motion, 0, 0).matrix
-    assert (
-        f"{flat(format_matrix(matrix[:, :3]))} translation R t: {flat(format_lengths(matrix[:, 3], motion.size))}"
-        in text
-    )
+    translation = flat(format_matrix(matrix[:, 3], motion.size, lengths=True))
+    assert f"{flat(format_matrix(matrix[:, :3]))} translation R t: {translation}" in text
 
 
 def test_a_joint_whose_children_turn_independently_shows_why_it_has_no_bvh_matrix(shown):

@@ -231,7 +231,8 @@ class Inspector(QScrollArea):
             # side by side, a rotation and a translation to seven digits are wider than the dock
             out.append(self._pre(format_matrix(shown.matrix[:, :3])))
             out.append(f"<p style='margin:0'>translation {translation}:</p>")
-            out.append(_value_line(slot(format_lengths(shown.matrix[:, 3], size)), bottom=4))
+            translation_text = " ".join(format_matrix(shown.matrix[:, 3], size, lengths=True).split())
+            out.append(_value_line(slot(translation_text), bottom=4))  # to the motion's precision, as the position
         if shown.angles is not None:
             where = "the file's channel values" if shown.from_file else "from the matrix"
             out.append(f"<p style='margin:0'>{slot(f'Euler {shown.order} ({where}):')}</p>")

@@ -4,7 +4,7 @@ was compared with (offset, units, fit, RMS), its opacity, remove, and its alignm
 adjustable (:class:`~app.layer_alignment.LayerAlignmentBox`).
 
 It lives in the side column beside the view (a tab of the Forest), so everything is laid
-out to be read at the column's width: three narrow columns in the table, the name taking
+out to be read at the column's width: two narrow columns in the table, the name taking
 the rest (the full name on hover), the chosen layer's text wrapped under it.
 
 Rows are rebuilt from :class:`~app.layers.Layers` whenever it changes; the widgets only call
