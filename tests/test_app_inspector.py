@@ -101,8 +101,8 @@ def test_text_is_selectable_by_mouse_and_copied(qtbot, studio):
     qtbot.mousePress(label, Qt.MouseButton.LeftButton, pos=start)
     qtbot.mouseMove(label, start + QPoint(60, 0))  # no button down in the move event: send it
     label.mouseMoveEvent(_move(start + QPoint(60, 0)))
-    selected = label.selected_text()  # the first ~60 px of "Frame 0 of 2752"
-    assert len(selected) >= 4 and "Frame 0 of 2752".startswith(selected)
+    selected = label.selected_text()  # the first ~60 px of "Frame 0 of 0-2751"
+    assert len(selected) >= 4 and "Frame 0 of 0-2751".startswith(selected)
     label.select_all()
     label.copy()
     assert flat(QApplication.clipboard().text()) == flat(studio.inspector.text())
@@ -196,12 +196,13 @@ def test_a_frame_change_rewrites_the_numbers_in_place_and_a_selection_stays(qtbo
     state.select_marker(0)
     state.set_frame(100)  # the pelvis recovered (not at frame 0), marker 0 seen
     label = studio.inspector.label
-    # every number: the frame and its time, two angle lines, two local matrices (3 rows) and
-    # their angles, the world position, two world rotations (3 rows and angles), the
+    # every number: the frame and its time, two angle lines, two local transforms (a note,
+    # 3 rows, a translation, where the angles come from and the angles), the world position,
+    # two world rotations (3 rows and angles), the
     # marker, the pelvis residual and rotation (3 rows); the text read (the sections off
     # screen were left as at frame 0, where the pelvis was not recovered)
     assert "Pelvis rotation" in label.plain_text()
-    assert label.slots_held == 2 + 2 + 2 * 4 + 1 + 2 * 4 + 1 + 1 + 3 == 26
+    assert label.slots_held == 2 + 2 + 2 * 7 + 1 + 2 * 4 + 1 + 1 + 3 == 32
     start = label.plain_text().index("World position")
     label.cursor.setPosition(start)
     label.cursor.setPosition(start + len("World position"), QTextCursor.MoveMode.KeepAnchor)
@@ -210,8 +211,8 @@ def test_a_frame_change_rewrites_the_numbers_in_place_and_a_selection_stays(qtbo
         whole = QTextDocument()
         whole.setHtml(label.text().replace(SLOT_OPEN, "").replace(SLOT_CLOSE, ""))
         assert label.plain_text() == whole.toPlainText()  # as if parsed whole
-        assert f"Frame {frame} of 2752" in studio.inspector.text()
-        assert label.selected_text() == "World position" and label.slots_held == 26
+        assert f"Frame {frame} of 0-2751" in studio.inspector.text()
+        assert label.selected_text() == "World position" and label.slots_held == 32
 
 
 @pytest.mark.gui
@@ -254,3 +255,67 @@ def test_a_new_frame_builds_only_the_sections_on_screen_and_the_rest_when_seen(q
     bar.setValue(bar.maximum())  # the bottom sections into sight: built as the frame is now
     inspector.viewport().grab()
     assert computed == [2000] and first_row(2000) in label.document.toPlainText()
+
+
+@pytest.mark.gui
+def test_channels_are_called_the_files_own_only_while_they_are(qtbot, studio):
+    """Issue 40.4: as read, a BVH joint's channels are the file's own values; split there, they
+    are computed from the edited motion (and said so, in the inspector and the curves dock);
+    a joint the edit left alone keeps the file's values; undone, the file's own again. A
+    glTF's channels, whose file stores quaternions, are never called the file's own."""
+    open_file(studio, shared_path(CMU))
+    state = studio.state
+    _, channels = read_bvh_with_channels(shared_path(CMU))
+    studio.curves_dock.show()
+    studio.curves.set_quantity("channels")
+
+    def caption() -> str:  # what the inspector says the channels are, and the numbers
+        return flat(studio.inspector.text()).split("channels (", 1)[1].split(" gmr-euler")[0]
+
+    arm = state.motion.joint_index("LeftArm")
+    state.select(arm)
+    state.set_frame(100)
+    values = format_angles(channels.angles["LeftArm"][100])
+    own = f"the file's own values, as written: Zrotation Yrotation Xrotation): {values} deg"
+    assert caption() == own
+    assert studio.curves.channels_note.text() == "the file's own values, as written"
+    assert commands.split_here(state, arm)
+    edited = caption()
+    assert edited.startswith("computed from the edited motion, in the file's channel columns: Zrotation Yrotation")
+    assert "file's own" not in edited and values not in edited
+    assert studio.curves.channels_note.text() == "computed from the edited motion, in the file's channel columns"
+    state.select(state.motion.joint_index("Head"))
+    assert caption().startswith("the file's own values, as written, this joint unchanged by the edits: ")
+    state.undo_stack.undo()
+    state.select(arm)
+    assert caption() == own
+    open_file(studio, shared_path("gltf/mjolnir-zig_RiggedSimple.glb"))
+    for joint in range(state.motion.n_joints):
+        state.select(joint)
+        said = caption()
+        assert "file's own" not in said and "computed; the file stores quaternions" in said
+
+
+@pytest.mark.gui
+@pytest.mark.parametrize("width", [1280, 1600])
+def test_after_a_split_every_line_of_the_inspector_fits_its_column(qtbot, studio, width):
+    """Issue 40.8a: split at LeftArm in a window 1600 (and 1280) pixels wide, no line of the
+    selected joint's text, its local [R, t] matrices included, runs past the dock's edge."""
+    from PyQt6.QtWidgets import QApplication
+
+    studio.resize(width, 1000)
+    studio.default_layout()  # the side column as a window this wide opens with it
+    open_file(studio, shared_path(CMU))
+    state = studio.state
+    assert commands.split_here(state, state.motion.joint_index("LeftArm"))
+    state.select(state.motion.joint_index("LeftArm"))
+    state.set_frame(100)
+    qtbot.wait(50)  # the docks laid out at the window's size
+    QApplication.processEvents()
+    label = studio.inspector.label
+    text = flat(studio.inspector.text())
+    bvh_part, gmr_part = text.split("Local, post-rotation")[1].split("Local, pre-rotation")
+    assert "translation t: 12.84608 23.19387 -16.89282" in bvh_part
+    assert "translation R t: 12.84608 23.19387 -16.89282" in gmr_part
+    assert label.document.idealWidth() <= label.document.textWidth() + 0.5
+    assert label.width() <= studio.inspector.viewport().width()

@@ -77,7 +77,7 @@ def test_bvh_against_its_amc_as_a_ghost(studio):
     # the dock: the document and the layer, with the alignment
     table = studio.layers_panel.table
     assert table.rowCount() == 2 and table.item(1, 2).text() == "01_01.amc"
-    assert "offset -1 frames (found)" in table.item(1, 4).text()
+    assert "offset -1 frames (found)" in studio.layers_panel.chosen_text.text()
     # pixels: the ghost and the error view change the picture; hiding the layer takes it away
     shown = screen_image(studio)
     magenta = (shown[..., 0] > 170) & (shown[..., 1] < 140) & (shown[..., 2] > 150)
@@ -252,3 +252,61 @@ def test_command_line_compare_to_a_window_screenshot(tmp_path):
     bad.write_text("HIERARCHY\nROOT Hips\n")
     result = subprocess.run([*studio_cmd, "--compare", str(bad), *options], capture_output=True, text=True, timeout=180)
     assert result.returncode == 2 and "--compare" in result.stderr and "broken.bvh" in result.stderr
+
+
+@pytest.mark.parametrize("width", [1280, 1600])
+def test_the_layers_dock_shows_its_names_and_text_whole_in_the_side_column(studio, qtbot, width):
+    """Issue 40.8b: in the side column of a window 1280 (and 1600) pixels wide, nothing in
+    the Layers dock runs past its right edge: every name is whole in its cell (wrapped if
+    need be), the chosen layer's name and alignment wrap in the column, and the dock never
+    needs scrolling sideways."""
+    from PyQt6.QtCore import QRect, Qt
+    from PyQt6.QtWidgets import QScrollArea
+
+    studio.resize(width, 820)
+    studio.default_layout()
+    open_file(studio, shared_path(BVH))
+    _compare(studio, shared_path(AMC), "cmu")
+    panel = studio.layers_panel
+    area = panel.parentWidget()
+    while not isinstance(area, QScrollArea):
+        area = area.parentWidget()
+    qtbot.wait(50)  # the column laid out, the rows fitted to their names
+    assert area.horizontalScrollBar().maximum() == 0
+    assert panel.width() <= area.viewport().width()
+    table = panel.table
+    names = [table.item(row, 2) for row in range(table.rowCount())]
+    assert [n.text() for n in names] == ["01_01.bvh (the document)", "01_01.amc"]
+    for name in names:
+        cell = table.visualItemRect(name)
+        needed = table.fontMetrics().boundingRect(
+            QRect(0, 0, cell.width() - 8, 10_000), Qt.TextFlag.TextWordWrap, name.text()
+        )
+        assert needed.width() <= cell.width() - 8 and needed.height() <= cell.height()
+        assert cell.right() <= table.viewport().width()
+    for label in (panel.chosen_name, panel.chosen_text, panel.summary, panel.alignment.details):
+        assert label.wordWrap() and label.geometry().right() <= panel.width()
+        assert label.heightForWidth(label.width()) <= label.height()
+    assert "01_01.amc" in panel.chosen_name.text() and "offset -1 frames" in panel.chosen_text.text()
+
+
+def test_an_edit_that_drops_joints_under_an_error_view_colours_the_new_documents_joints(studio):
+    """Removing dummy joints (38 joints become 31) while a comparison's error view is shown:
+    the view is drawn for the new document before the layer is compared with it, and must
+    not colour joints by the old document's indices (an IndexError in the event loop, which
+    pytest-qt reports); once compared, the error view colours the new document's joints."""
+    from gmr_studio.app.model import commands
+
+    open_file(studio, shared_path(BVH))
+    _compare(studio, shared_path(AMC), "cmu")
+    state = studio.state
+    state.set_frame(1518)
+    before = state.motion.n_joints
+    commands.remove_dummy_joints(state)
+    QApplication.processEvents()
+    layer = studio.layers[0]
+    assert state.motion.n_joints < before and layer.compared_with is state.snapshot
+    np.testing.assert_array_equal(studio.ghosts.error_joints, layer.comparison.index_a)
+    assert studio.ghosts.error_joints.max() < state.motion.n_joints
+    image = screen_image(studio)
+    assert ((image[..., 0] > 200) & (image[..., 1] < 80) & (image[..., 2] < 80)).sum() > 0  # the worst in red

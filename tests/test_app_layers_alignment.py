@@ -60,7 +60,7 @@ def test_kind_and_offset_from_the_dock_recompute_the_layer(studio):
     QApplication.processEvents()
     document, history = state.snapshot, state.undo_stack.count()
     layer, box = studio.layers[0], studio.layers_panel.alignment
-    assert box.index == 0 and box.title() == "Alignment of 01_01.amc"
+    assert box.index == 0 and studio.layers_panel.chosen_name.text() == "<b>01_01.amc</b>"
     assert box.kind.currentText() == "none" and box.auto.isChecked() and box.offset.value() == -1.0
     assert not box.offset.isEnabled()  # found: the number is shown, not editable
     _assert_same(layer, _expected(studio, "none", "auto"))
@@ -78,7 +78,7 @@ def test_kind_and_offset_from_the_dock_recompute_the_layer(studio):
     assert details.startswith(f"rigid: RMS {a.rms_before:.4g} -> {a.rms_after:.4g} file units")
     assert "offset -1 frames" in details and "translation (" in details
     assert "rotation:" in box.details.toolTip()
-    assert "align rigid" in studio.layers_panel.table.item(1, 4).text()
+    assert "align rigid" in studio.layers_panel.chosen_text.text()
     # what is drawn follows: the ghost's bones, the error colours' scale, the error plot
     ghost_rigid = _ghost_bones(studio)
     pairs = studio.ghosts.ghosts[0][0].pairs
@@ -93,7 +93,7 @@ def test_kind_and_offset_from_the_dock_recompute_the_layer(studio):
     in_step = layer.comparison.position.mean
     box.auto.setChecked(False)
     assert box.offset.isEnabled() and layer.offset == -1.0 and not layer.auto_offset
-    assert "(found)" not in studio.layers_panel.table.item(1, 4).text()
+    assert "(found)" not in studio.layers_panel.chosen_text.text()
     box.offset.setValue(5.0)
     QApplication.processEvents()
     expected = _expected(studio, "rigid", 5.0)
@@ -109,7 +109,7 @@ def test_kind_and_offset_from_the_dock_recompute_the_layer(studio):
     expected = _expected(studio, "similarity", "auto")
     _assert_same(layer, expected)
     assert layer.offset == -1.0 and layer.auto_offset and expected.alignment.scale != 1.0
-    assert box.offset.value() == -1.0 and "(found)" in studio.layers_panel.table.item(1, 4).text()
+    assert box.offset.value() == -1.0 and "(found)" in studio.layers_panel.chosen_text.text()
 
     # never the document: same snapshot, same history, not modified
     assert state.snapshot is document and state.undo_stack.count() == history and not state.modified

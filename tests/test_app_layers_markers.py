@@ -48,12 +48,14 @@ def test_a_c3d_over_its_bvh_as_a_marker_layer(studio):
     assert len(layers) == 1 and isinstance(layers[0], MarkerLayer)
     layer = layers[0]
     # listed like a motion layer, its alignment shown (controls for kind and offset hidden)
-    table = studio.layers_panel.table
+    panel = studio.layers_panel
+    table = panel.table
     assert table.rowCount() == 2 and table.item(1, 2).text() == "01_01.c3d (markers, 0.74% computed)"
-    assert table.item(1, 4).text().startswith("42 markers, x0.01772")
-    assert table.cellWidget(1, 3).value() == 90 and table.cellWidget(1, 5).text() == "Remove"
-    box = studio.layers_panel.alignment
-    assert box.title() == "Alignment of 01_01.c3d" and box.controls.isHidden()
+    assert panel.chosen_name.text() == "<b>01_01.c3d</b> (markers, 0.74% computed)"
+    assert panel.chosen_text.text().startswith("42 markers, x0.01772")
+    assert panel.opacity.value() == 90 and panel.remove_button.isVisible()
+    box = panel.alignment
+    assert box.controls.isHidden()
     assert "frame offset -1" in box.details.text()  # the BVH's added T-pose frame
     # read-only: the document, its history and the single marker overlay untouched
     assert state.snapshot is document and state.undo_stack.count() == history and not state.modified
@@ -87,7 +89,7 @@ def test_a_c3d_over_its_bvh_as_a_marker_layer(studio):
     assert _magenta(screen_image(studio)).sum() == 0
     table.cellWidget(1, 1).setChecked(True)  # the dock's "shown" box
     assert layer.visible and _near_figure(studio, _magenta(screen_image(studio))) > 200
-    table.cellWidget(1, 5).click()
+    panel.remove_button.click()
     QApplication.processEvents()
     assert len(layers) == 0 and table.rowCount() == 1
     assert _magenta(screen_image(studio)).sum() == 0

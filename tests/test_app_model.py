@@ -354,7 +354,7 @@ class StudioModel(RuleBasedStateMachine):
             drawn = np.array([swatch.redF(), swatch.greenF(), swatch.blueF()])
             assert np.abs(drawn - colors[root]).max() < 1 / 255 + 1e-9
         text = self.window.inspector.text()
-        assert f"Frame {state.frame} of {motion.n_frames}" in text
+        assert f"Frame {state.frame} of 0-{motion.n_frames - 1}" in text
         if state.selected is not None:
             assert motion.names[state.selected] in text
         if not self.full:

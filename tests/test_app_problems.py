@@ -125,8 +125,8 @@ def test_a_click_seeks_selects_and_frames_the_joint(studio, qtbot):
     rest = next(r for r in range(table.rowCount()) if table.item(r, 0).text() == "rest-pose")
     click_row(table, rest)
     assert (state.frame, state.selected) == (0, hand)  # the whole pose: no joint to select
-    centre = state.positions[0].mean(axis=0)  # ... and the camera on the figure's centre
-    np.testing.assert_allclose(scene.plotter.camera.GetFocalPoint(), centre, atol=1e-9)
+    pose = state.positions[0]  # ... and the camera on the middle of the figure's box
+    np.testing.assert_allclose(scene.plotter.camera.GetFocalPoint(), (pose.min(0) + pose.max(0)) / 2, atol=1e-9)
     panel = studio.problems_panel
     panel.step_buttons[1].click()  # next: the pop at 300 (the first finding after frame 0)
     assert (state.frame, state.selected, panel.table.item(panel.table.currentRow(), 0).text()) == (300, hand, "pop")
@@ -265,3 +265,35 @@ def test_a_window_screenshot_with_a_finding_chosen(tmp_path):
     assert (np.abs(image.astype(int) - orange).max(axis=2) <= 8).sum() > 100  # the foot's disc, the table's cells
     bad = subprocess.run([*studio_command, "--dock", "nope"], capture_output=True, text=True, timeout=120)
     assert bad.returncode == 2 and bad.stderr.strip().count("\n") == 0 and "no dock 'nope'" in bad.stderr
+
+
+def figure_pixels(image: np.ndarray) -> np.ndarray:
+    """(H, W) bool: the pixels of the figure's blue (its bones and joints, tree colour), not
+    the dark ground nor the grey grid."""
+    r, g, b = (image[..., k].astype(int) for k in range(3))
+    return (b > 120) & (b > r + 60) & (b > g + 20)
+
+
+def test_a_whole_pose_finding_fits_the_figure_to_the_view_the_docks_leave(studio, qtbot):
+    """Issue 40.8f: with the Problems dock open (the view about half as tall), choosing a
+    finding of the whole pose frames the figure in the view it has: on a rig whose joints
+    crowd the head (185 face points), its silhouette, feet included, lies inside the view,
+    clear of every edge."""
+    from gmr_studio.core.rigs import make_rig
+
+    studio.state.open_document(Snapshot.of(pre_from_post(make_rig("fingers_and_face"))), "fingers_and_face.bvh")
+    studio.problems_dock.show()
+    studio.problems_dock.raise_()
+    qtbot.waitExposed(studio.problems_panel.table)
+    QApplication.processEvents()
+    assert studio.view.scene.viewport()[1] < 0.6 * studio.height()  # the dock took its share
+    for frame in (0, 60):
+        studio.state.set_frame(frame)
+        studio.problems_panel.joint_framed.emit(-1)  # what choosing a whole-pose finding asks
+        figure = figure_pixels(screen_image(studio))
+        rows, columns = np.nonzero(figure)
+        assert figure.sum() > 500
+        margin = 3
+        assert rows.min() >= margin and rows.max() < figure.shape[0] - margin  # head and feet inside
+        assert columns.min() >= margin and columns.max() < figure.shape[1] - margin
+        assert rows.max() - rows.min() > 0.5 * figure.shape[0]  # and large: fitted, not lost in the view

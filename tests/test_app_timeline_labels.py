@@ -115,3 +115,36 @@ def test_the_time_label_keeps_150_pixels_without_a_document_and_fits_a_long_take
     expected = max(150, metrics.horizontalAdvance(widest) + metrics.averageCharWidth())
     assert expected > 150
     assert (label.minimumWidth(), label.maximumWidth()) == (expected, expected)
+
+
+def test_frames_are_numbered_from_0_everywhere_as_on_the_command_line(qtbot, studio, tmp_path):
+    """Issue 40.5: at the first and the last frame, the frame box, the timeline's label and
+    the inspector give the same number, the one ``gmr curves`` writes in its frame column."""
+    import csv
+
+    from gmr_studio.core.cli import main
+
+    path = shared_path("bvh/bvh-python_test_mocapbank.bvh")
+    table = tmp_path / "hips.csv"
+    assert main(["curves", str(path), "--joints", "Hips", "--quantity", "world", "-o", str(table)]) == 0
+    with open(table, newline="") as handle:
+        cli_frames = [int(row["frame"]) for row in csv.DictReader(handle)]
+    open_file(studio, path)
+    state = studio.state
+    state.select(0)
+    last = state.n_frames - 1
+    assert (cli_frames[0], cli_frames[-1]) == (0, last)
+    for frame in (0, last):
+        state.set_frame(frame)
+        assert studio.timeline.frame_box.value() == frame
+        assert f"({frame} of 0-{last} @ " in studio.timeline.time_label.text()
+        assert " ".join(studio.inspector.text().split()).startswith(f"Frame {frame} of 0-{last} ")
+
+
+def test_the_rate_is_shown_as_meant_and_exactly_on_hover(qtbot, studio):
+    """Issue 40.8e: a frame time printed as 0.033333 s is 30 Hz on the timeline, and its
+    tooltip gives the exact 30.0003 Hz."""
+    open_file(studio, shared_path("bvh/bvh-python_test_mocapbank.bvh"))
+    label = studio.timeline.time_label
+    assert label.text().endswith("@ 30 Hz)")
+    assert "0.033333 s" in label.toolTip() and "30.0003 Hz exactly" in label.toolTip()

@@ -124,3 +124,32 @@ def test_rotation_quantities_agree_between_the_bvh_and_its_gmr_form(quantity):
         b = joint_curves(pre, joint, quantity, file_channels=channels)
         assert a.columns == b.columns
         np.testing.assert_allclose(a.values, b.values, atol=1e-9)
+
+
+def test_channels_say_whether_they_are_the_files_values_or_computed():
+    """Issue 40.4: a joint's channels carry their origin. As read, a BVH's are the file's own
+    values; after a split the split joint's are computed from the edited motion (they rebuild
+    its rotation), the other joints' are still the file's; a glTF's, whose file stores
+    quaternions, are always the motion's rotation as Euler angles."""
+    from gmr_studio.core.analysis.curves import CHANNEL_ORIGINS, bvh_rotations
+    from gmr_studio.core.edits.operations import split
+    from gmr_studio.core.model.channels import FileChannels
+
+    post, channels = read_motion_with_channels(shared_path("bvh/cmu_cgspeed_npybvh_example_75f.bvh"))
+    assert isinstance(channels, FileChannels)
+    for name in ("Hips", "LeftArm", "Head", "Head_End"):
+        curves = joint_curves(post, name, "channels", file_channels=channels)
+        assert curves.origin == "file"
+        if name != "Head_End":
+            assert np.array_equal(curves.values, channels.angles[name])
+    edited = split(pre_from_post(post), "LeftArm")
+    arm = joint_curves(edited, "LeftArm", "channels", file_channels=channels)
+    assert arm.origin == "edited" and not np.allclose(arm.values, channels.angles["LeftArm"])
+    rebuilt = matrix_from_euler(np.radians(arm.values), channels.intrinsic_order("LeftArm"))
+    assert np.abs(rebuilt - bvh_rotations(edited, edited.joint_index("LeftArm"))).max() < 1e-9
+    head = joint_curves(edited, "Head", "channels", file_channels=channels)
+    assert head.origin == "file" and np.array_equal(head.values, channels.angles["Head"])
+    gltf, none = read_motion_with_channels(shared_path("gltf/bevy_Fox.glb"))
+    assert none is None
+    assert {joint_curves(gltf, j, "channels").origin for j in range(gltf.n_joints)} == {"motion"}
+    assert set(CHANNEL_ORIGINS) == {"file", "edited", "motion", "none"}

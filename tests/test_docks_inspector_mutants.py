@@ -67,9 +67,9 @@ def test_without_a_motion_it_says_so_and_describes_no_frame(shown):
 def test_the_frame_and_its_time_and_a_prompt_without_a_selection(shown):
     state, inspector = shown
     opened(state)
-    assert flat(inspector.text()) == ("Frame 0 of 6 (0.000 s) Click a joint in the view or the forest to inspect it.")
+    assert flat(inspector.text()) == ("Frame 0 of 0-5 (0.000 s) Click a joint in the view or the forest to inspect it.")
     state.set_frame(4)
-    assert flat(inspector.text()).startswith("Frame 4 of 6 (0.133 s) Click a joint")  # 1/30 s a frame
+    assert flat(inspector.text()).startswith("Frame 4 of 0-5 (0.133 s) Click a joint")  # 1/30 s a frame
     assert inspector.shown_frame() == 4
 
 
@@ -83,14 +83,15 @@ def test_a_joints_table_angles_transforms_and_world_values_at_the_frame(shown):
     state.select(j)
     text = flat(inspector.text())
     full = motion.rotation_orders[j]  # three letters already
-    head = f"Frame {f} of 6 (0.133 s) Joint j3 (index 3) Parent j2 Soft link none"
+    head = f"Frame {f} of 0-5 (0.133 s) Joint j3 (index 3) Parent j2 Soft link none"
     assert text.startswith(head)
     assert f"Offset {flat(format_lengths(motion.offsets[j], size))}" in text
     assert "Channels (BVH) none" in text  # a leaf: no rotation channels, no translation
     assert f"Channels (GMR) {' '.join(a + 'rotation' for a in full)}" in text
     # the two rotation quantities as the curves compute them (unwrapped over the take), the
     # GMR one composing (by scipy) the joint's local GMR rotation
-    for quantity, what in (("channels", "the file's own: "), ("gmr-euler", "the GMR rotation: ")):
+    computed = "the motion's rotation as Euler angles in the joint's order, computed: "  # no file channels
+    for quantity, what in (("channels", computed), ("gmr-euler", "the GMR rotation: ")):
         columns, values = values_at(motion, j, quantity, f, snapshot.positions, None)
         labels = " ".join(c.rsplit(".", 1)[1] for c in columns)
         assert f"{quantity} ({what}{labels}): {flat(format_angles(values))} deg" in text
@@ -100,10 +101,12 @@ def test_a_joints_table_angles_transforms_and_world_values_at_the_frame(shown):
     # both local transforms as joint_transforms gives them at this frame and joint
     bvh, gmr = bvh_local(motion, f, j), gmr_local(motion, f, j)
     bvh_part = text.split("Local, post-rotation [R, t] (BVH)")[1].split("Local, pre-rotation")[0]
-    assert bvh_part.strip().startswith(flat(bvh.note)) and flat(format_matrix(bvh.matrix, size)) in bvh_part
+    assert bvh_part.strip().startswith(flat(bvh.note)) and flat(format_matrix(bvh.matrix[:, :3])) in bvh_part
+    assert f"translation t: {flat(format_matrix(bvh.matrix[:, 3], size, lengths=True))}" in bvh_part
     gmr_part = text.split("Local, pre-rotation [R, R t] (GMR)")[1].split("World position")[0]
     assert "a root" not in gmr_part and gmr_part.strip().startswith(flat(gmr.note))
-    assert flat(format_matrix(gmr.matrix, size)) in gmr_part
+    assert flat(format_matrix(gmr.matrix[:, :3])) in gmr_part
+    assert f"translation R t: {flat(format_matrix(gmr.matrix[:, 3], size, lengths=True))}" in gmr_part
     assert f"Euler {gmr.order} (from the matrix): {flat(format_angles(gmr.angles))} deg" in gmr_part
     # the world position and both world rotations, Euler in the joint's order
     world = text.split("World position")[1]
@@ -151,7 +154,9 @@ def test_a_root_is_marked_in_the_table_and_the_gmr_transform(shown):
     assert "Local, pre-rotation [R, R t] (GMR) (a root: its translation is its world position)" in text
     assert "Channels (BVH) Xposition Yposition Zposition" in text  # a root translates
     motion = snapshot.motion
-    assert flat(format_matrix(gmr_local(motion, 0, 0).matrix, motion.size)) in text
+    matrix = gmr_local(motion, 0, 0).matrix
+    translation = flat(format_matrix(matrix[:, 3], motion.size, lengths=True))
+    assert f"{flat(format_matrix(matrix[:, :3]))} translation R t: {translation}" in text
 
 
 def test_a_joint_whose_children_turn_independently_shows_why_it_has_no_bvh_matrix(shown):
@@ -258,13 +263,13 @@ def test_a_hidden_inspector_writes_nothing_and_is_current_when_shown_or_read(sho
     state.select(2)
     assert written == [] and inspector._stale
     del inspector.label.setText
-    assert flat(inspector.text()).startswith("Frame 3 of 6 (0.100 s) Joint j2 (index 2)")
+    assert flat(inspector.text()).startswith("Frame 3 of 0-5 (0.100 s) Joint j2 (index 2)")
     assert not inspector._stale and inspector.shown_frame() == 3
     state.set_frame(5)  # hidden again: stale, made current when shown
     assert inspector._stale
     inspector.show()
     assert not inspector._stale and inspector.shown_frame() == 5
-    assert flat(inspector.label.plain_text()).startswith("Frame 5 of 6")
+    assert flat(inspector.label.plain_text()).startswith("Frame 5 of 0-5")
 
 
 def test_a_new_frame_builds_only_the_sections_on_screen(qtbot):
@@ -289,7 +294,7 @@ def test_a_new_frame_builds_only_the_sections_on_screen(qtbot):
     tall = inspector_of(qtbot, state, 4000, width=500)
     assert flat(inspector.text()) == flat(tall.text())
     assert flat(inspector.text()).split("World rotation")[2].startswith(" (GMR")
-    assert flat(inspector.text()).startswith("Frame 1 of 6")
+    assert flat(inspector.text()).startswith("Frame 1 of 0-5")
     # made tall, every section on screen: all built at the next frame
     inspector.resize(500, 4000)
     qtbot.wait(10)

@@ -170,9 +170,13 @@ def test_framing_a_joint_keeps_the_view_direction_at_the_distance_that_fits_the_
         assert calls == [1]
         scene.frame_joint(5, reach=2.0)
         assert camera.GetDistance() == pytest.approx(2.0 * FIGURE_SIZE / 2 / half)
-        scene.frame_joint(None, reach=0.1)  # the figure's centre, the whole figure
-        np.testing.assert_allclose(camera.GetFocalPoint(), snapshot.positions[2, 1:].mean(axis=0), atol=1e-12)
-        assert camera.GetDistance() == pytest.approx(1.3 * FIGURE_SIZE / 2 / half)
+        scene.frame_joint(None, reach=0.1)  # the whole figure: the middle of its box, fitted to the view
+        pose = snapshot.positions[2, 1:]
+        np.testing.assert_allclose(camera.GetFocalPoint(), (pose.min(axis=0) + pose.max(axis=0)) / 2, atol=1e-12)
+        np.testing.assert_allclose(view_direction(scene), direction, atol=1e-9)
+        x, y = scene.joint_screen_positions()[1:, :2].T
+        assert (x > 0).all() and (x < WIDTH).all() and (y > 0).all() and (y < HEIGHT).all()
+        assert max(np.ptp(x) / WIDTH, np.ptp(y) / HEIGHT) > 0.5  # fitted, not a speck
         centroid = snapshot.positions[2, 1:].mean(axis=0)
         np.testing.assert_allclose(scene._followed, [centroid[0], -0.2, centroid[2]])
         scene.set_overlay("follow", False)

@@ -241,6 +241,7 @@ def test_a_frame_not_compared_shows_the_documents_joints_in_grey(qtbot):
         b = snapshot_of(b_motion(FIGURE_NAMES[1:]))  # no Root: A's joints 1 to 5 matched
         layer = ComparisonLayer(b, "b.gmr", (0.3, 0.6, 0.9), offset=0.0)
         layer.comparison = compare_motions(state.motion, b.motion, offset=0.0, frames=(0, 3), label_b="b.gmr")
+        layer.compared_with = state.snapshot
         a = state.motion
         layer.ghost = ghost_positions(
             b.positions, a.n_frames, a.frame_rate, b.motion.frame_rate, layer.comparison.alignment

@@ -144,3 +144,59 @@ def test_a_drawable_without_a_front_layer_is_in_the_main_renderer_its_labels_las
         assert props_of(scene.plotter.renderer)[-1] is bare.parts["tag"].actor
         box = scene.world_box()
         assert box is not None and box[1, 1] == 7.0  # its parts counted among the renderer's props, its box in
+
+
+def _overlapping(boxes: np.ndarray) -> list[tuple[int, int]]:
+    """Pairs of boxes (x0, y0, x1, y1) that share any pixel."""
+    x0, y0, x1, y1 = boxes.T
+    meet = (x0[:, None] < x1[None]) & (x0[None] < x1[:, None]) & (y0[:, None] < y1[None]) & (y0[None] < y1[:, None])
+    return [(a, b) for a, b in zip(*np.nonzero(np.triu(meet, 1)), strict=True)]
+
+
+def test_labels_crowding_one_point_take_its_free_sides_then_are_left_out():
+    """Five labels of one point: the first wanted right and above it, then below, left and
+    above, left and below; the fifth has no free side and is left out. A label far away
+    keeps its first side."""
+    from gmr_studio.app.scene.labels import spread_labels
+
+    anchors = np.array([[100.0, 100.0]] * 5 + [[400.0, 100.0]])
+    sizes = np.array([[40.0, 12.0]] * 6)
+    corners = spread_labels(anchors, sizes, np.array([3, 0, 1, 2, 4, 5]))
+    assert np.array_equal(corners[3], [106, 104]) and np.array_equal(corners[0], [106, 84])
+    assert np.array_equal(corners[1], [54, 104]) and np.array_equal(corners[2], [54, 84])
+    assert np.isnan(corners[4]).all() and np.array_equal(corners[5], [406, 104])
+    shown = np.isfinite(corners).all(axis=1)
+    assert _overlapping(np.column_stack([corners, corners + sizes])[shown]) == []
+    # a point off screen (NaN) gets no label and takes no room
+    corners = spread_labels(np.array([[np.nan, np.nan], [100.0, 100.0]]), sizes[:2], np.array([0, 1]))
+    assert np.isnan(corners[0]).all() and np.array_equal(corners[1], [106, 104])
+
+
+@pytest.mark.parametrize("source", ["demo", "cmu/subject01/01_01.bvh"])
+def test_shown_joint_labels_never_overlap_and_the_selected_joints_is_shown(source):
+    """Issue 40.8c: with labels on, around shoulders, hands and feet, no two shown labels'
+    rectangles share a pixel (crowded names are left out, not overprinted); the selected
+    joint's label is always among those shown, with its letters on screen."""
+    from gmr_studio.app.model.loading import load_snapshot
+    from gmr_studio.core.demo import MOTION_FILE, demo_folder
+    from tests.conftest import shared_path
+
+    path = demo_folder() / MOTION_FILE if source == "demo" else shared_path(source)
+    snapshot = load_snapshot(path)
+    motion = snapshot.motion
+    hand = motion.names.index("LeftHand" if "LeftHand" in motion.names else "lhand")
+    with scene_of(snapshot, size=(640, 400)) as scene:
+        scene.set_overlay("labels", True)
+        scene.set_selection(hand)
+        for frame in (0, motion.n_frames // 3, motion.n_frames - 1):
+            scene.show_frame(frame)
+            image = picture(scene)
+            labels = _labels(scene)
+            boxes = np.column_stack([labels.corners[:, 0], labels.corners[:, 2]])
+            shown = boxes[:, 0] > -1000  # the others are parked off screen
+            assert _overlapping(boxes[shown]) == []
+            assert shown.sum() >= motion.n_joints // 3  # thinned where crowded, not emptied
+            assert shown[hand]
+            x0, y0, x1, y1 = boxes[hand].astype(int)
+            patch = image[400 - y1 : 400 - y0, x0:x1]
+            assert (patch.min(axis=-1) > 200).sum() > 20  # its letters, white on the dark ground

@@ -27,17 +27,19 @@ from PyQt6.QtWidgets import (
 from gmr_studio.app.docks.frame_follow import follow_frame
 from gmr_studio.app.docks.timeplot import PALETTE, TimePlot
 from gmr_studio.app.model import commands
+from gmr_studio.app.model.channel_labels import channels_caption
 from gmr_studio.app.model.playback import Player
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.core.analysis.curves import UNITS, Curves, gap_spans, joint_curves, marker_curves, quantity_name
 from gmr_studio.core.analysis.curves_table import curves_csv_text
 from gmr_studio.core.atomic import atomic_write_text
 from gmr_studio.core.edits.mirror import side_partners
+from gmr_studio.core.timebase.clock import nominal_rate
 
 #: (label, core quantity) in the order the combo box lists them; the rotation's two
 #: conventions are named as in ``gmr curves`` and the inspector (docs/curves.md)
 QUANTITY_LABELS = (
-    ("channels: the file's own (BVH channels, AMC dofs)", "channels"),
+    ("channels: the joint's rotation channels (BVH channels, AMC dofs)", "channels"),
     ("gmr-euler: GMR rotation as Euler angles", "gmr-euler"),
     ("angle: GMR rotation angle", "angle"),
     ("quaternion: GMR rotation", "quaternion"),
@@ -68,6 +70,7 @@ class CurvesDock(QWidget):
         self.state = state
         self.player = player
         self.pinned: list[int] = []
+        self._channel_blocks: list[Curves] = []  # the plotted joints' channels, for their note
         self.quantity_box = QComboBox(self)
         for label, quantity in QUANTITY_LABELS:
             self.quantity_box.addItem(label, quantity)
@@ -77,6 +80,9 @@ class CurvesDock(QWidget):
         self.pin_button = QPushButton("Pin", self)
         self.pin_button.setToolTip("Keep the selected joint plotted when another is selected")
         self.clear_pins_button = QPushButton("Unpin all", self)
+        # what the channels plotted are (the file's own values, or computed: channels_caption)
+        self.channels_note = QLabel(self)
+        self.channels_note.setWordWrap(True)
         self.csv_button = QPushButton("CSV...", self)
         self.csv_button.setToolTip("Export the curves in the visible range as CSV")
         self.png_button = QPushButton("PNG...", self)
@@ -84,7 +90,7 @@ class CurvesDock(QWidget):
         top = QHBoxLayout()
         for widget in (self.quantity_box, self.x_unit_box, self.pin_button, self.clear_pins_button):
             top.addWidget(widget)
-        top.addStretch(1)
+        top.addWidget(self.channels_note, 1)
         top.addWidget(self.csv_button)
         top.addWidget(self.png_button)
         self.plot = TimePlot(self)
@@ -136,6 +142,7 @@ class CurvesDock(QWidget):
         state.document_changed.connect(self._on_document_changed)
         state.motion_changed.connect(lambda: self.refresh(autoscale=False))
         state.motion_changed.connect(self._update_edit_buttons)
+        state.modified_changed.connect(lambda _: self._show_channels_note())
         state.selection_changed.connect(lambda _: self.refresh(autoscale=True))
         state.marker_selection_changed.connect(lambda _: self.refresh(autoscale=True))
         state.markers_changed.connect(lambda: self.refresh(autoscale=False))
@@ -170,6 +177,8 @@ class CurvesDock(QWidget):
         snapshot = self.state.snapshot
         if snapshot is None:
             self.plot.set_curves(np.zeros(0), (), np.zeros((0, 0)))
+            self._channel_blocks = []
+            self._show_channels_note()
             return
         motion = snapshot.motion
         blocks: list[Curves] = []
@@ -189,6 +198,8 @@ class CurvesDock(QWidget):
             colours += [MARKER_COLOUR] * 3
             styles += list(AXIS_STYLES[:3])
             spans = gap_spans(positions)
+        self._channel_blocks = blocks if self.quantity == "channels" else []
+        self._show_channels_note()
         curves = Curves.concatenate(blocks)
         unit = UNITS[self.quantity] if self.plotted_joints() else "units"
         values = curves.values if curves.columns else np.zeros((motion.n_frames, 0))
@@ -198,6 +209,19 @@ class CurvesDock(QWidget):
         if autoscale:
             self.plot.autoscale()
 
+    def _show_channels_note(self) -> None:
+        """Say what the plotted channels are (:func:`app.model.channel_labels.channels_caption`),
+        once when every joint's are alike, else joint by joint."""
+        captions, motion = {}, self.state.motion
+        for joint, block in zip(self.plotted_joints(), self._channel_blocks, strict=False):
+            captions[motion.names[joint]] = channels_caption(block, self.state.path, self.state.modified)
+        if len(set(captions.values())) == 1:
+            text = next(iter(captions.values()))
+        else:
+            text = "; ".join(f"{name}: {caption}" for name, caption in captions.items())
+        self.channels_note.setText(text)
+        self.channels_note.setToolTip(text)
+
     # ---------------------------------------------------------------- handlers
     def _on_document_changed(self) -> None:
         self.pinned.clear()
@@ -205,7 +229,7 @@ class CurvesDock(QWidget):
         self.setEnabled(motion is not None)
         if motion is not None:
             self.plot.frame_time = motion.frame_time
-            self.rate_box.setValue(round(motion.frame_rate / 2, 3))
+            self.rate_box.setValue(round(nominal_rate(motion.frame_time) / 2, 3))
         self._on_x_unit_changed()
         self.refresh(autoscale=True)
         self._on_range_changed(-1, -1)

@@ -1,8 +1,9 @@
 """The inspector dock: everything about the selected joint at the current frame.
 
 Name, parent, soft-link parent, offset, channels both ways; the joint's two rotation
-quantities, ``channels`` (the file's own) and ``gmr-euler``, named and computed as the curves
-dock and ``gmr curves`` give them (:func:`core.analysis.curves.values_at`); the local transform both ways
+quantities, ``channels`` (labelled with what they are: the file's own values only while they
+are, :mod:`app.model.channel_labels`) and ``gmr-euler``, named and computed as the curves
+dock and ``gmr curves`` give them (:func:`core.analysis.curves.cached_curves`); the local transform both ways
 (:mod:`app.joint_transforms`): under BVH the post-rotation ``[R, t]`` from the joint's own
 BVH channels (for a motion read from a BVH, the file's channel values next to the matrix;
 an End Site has none), under GMR the pre-rotation ``[R, R t]`` from its GMR channels (a
@@ -23,7 +24,8 @@ from PyQt6.QtGui import QFontDatabase
 from PyQt6.QtWidgets import QScrollArea, QWidget
 
 from gmr_studio.app.docks.rich_text import SLOT_OPEN, RichText, slot, slot_lines
-from gmr_studio.app.model.formatting import format_angles, format_lengths, format_matrix
+from gmr_studio.app.model.channel_labels import channels_caption
+from gmr_studio.app.model.formatting import format_angles, format_lengths, format_matrix, frame_of
 from gmr_studio.app.model.joint_transforms import (
     LocalTransform,
     bvh_local,
@@ -32,7 +34,7 @@ from gmr_studio.app.model.joint_transforms import (
     gmr_local,
 )
 from gmr_studio.app.model.state import StudioState
-from gmr_studio.core.analysis.curves import values_at
+from gmr_studio.core.analysis.curves import cached_curves
 from gmr_studio.core.rotations.euler import complete_order, euler_from_matrix
 from gmr_studio.core.timebase.clock import frame_seconds
 
@@ -54,6 +56,7 @@ class Inspector(QScrollArea):
         state.selection_changed.connect(self._on_changed)
         state.marker_selection_changed.connect(self._on_changed)
         state.overlay_changed.connect(self._on_changed)
+        state.modified_changed.connect(self._on_changed)  # "unchanged by the edits" (channels_caption)
         # every change is shown at once, during playback too: building and setting the text
         # takes a median 0.5 ms on CMU 01_01 (the throttled one took 0.15 ms, at most every
         # 100 ms, which is what made it lag ~10 frames), and it is painted in the same pass as
@@ -139,7 +142,8 @@ class Inspector(QScrollArea):
         if motion is None:
             return [lambda: ["<i>No motion</i>"]]
         seconds = f"{frame_seconds(f, motion.frame_time):.3f}"
-        builders = [lambda: [f"<b>Frame {slot(str(f))}</b> of {motion.n_frames} &nbsp; ({slot(seconds)} s)"]]
+        place = frame_of(f"{slot(str(f))}</b>", motion.n_frames)
+        builders = [lambda: [f"<b>Frame {place} &nbsp; ({slot(seconds)} s)"]]
         j = state.selected
         if j is None:
             builders.append(lambda: ["<p><i>Click a joint in the view or the forest to inspect it.</i></p>"])
@@ -182,8 +186,8 @@ class Inspector(QScrollArea):
         return [
             table,
             lambda: [self._angles_html(j, f)],
-            lambda: self._transform_html("Local, post-rotation [R, t] (BVH)", bvh(), size),
-            lambda: self._transform_html(f"Local, pre-rotation [R, R t] (GMR){note}", gmr(), size),
+            lambda: self._transform_html("Local, post-rotation [R, t] (BVH)", bvh(), size, "t"),
+            lambda: self._transform_html(f"Local, pre-rotation [R, R t] (GMR){note}", gmr(), size, "R t"),
             world_position,
             lambda: [
                 self._world_html(
@@ -195,25 +199,43 @@ class Inspector(QScrollArea):
 
     def _angles_html(self, j: int, f: int) -> str:
         """The joint's two rotation quantities at this frame, named and computed as the curves
-        dock and ``gmr curves`` name and compute them (:func:`core.analysis.curves.values_at`). Each
-        number is on a line of its own under its name (see :func:`_value_line`)."""
+        dock and ``gmr curves`` name and compute them (:func:`core.analysis.curves.cached_curves`), the
+        channels labelled with what their numbers are (:func:`app.model.channel_labels.channels_caption`:
+        the file's own only while they are). Each number is on a line of its own under its
+        name (see :func:`_value_line`)."""
         state = self.state
         lines = []
-        for quantity, what in (("channels", "the file's own"), ("gmr-euler", "the GMR rotation")):
-            columns, values = values_at(state.motion, j, quantity, f, state.positions, state.file_channels)
-            labels = " ".join(c.rsplit(".", 1)[1] for c in columns)
-            name = f"<b>{quantity}</b> ({what}{': ' + labels if labels else ''}):"
-            shown = _value_line(f"{slot(format_angles(values))} deg") if columns else _value_line("none")
+        for quantity in ("channels", "gmr-euler"):
+            curves = cached_curves(state.motion, j, quantity, state.positions, state.file_channels)
+            if quantity == "channels":
+                what = channels_caption(curves, state.path, state.modified)
+            else:
+                what = "the GMR rotation"
+            labels = " ".join(c.rsplit(".", 1)[1] for c in curves.columns)
+            name = f"<b>{quantity}</b> ({html.escape(what)}{': ' + labels if labels else ''}):"
+            values = curves.values[f]
+            if curves.columns and not np.isnan(values).all():
+                shown = _value_line(f"{slot(format_angles(values))} deg")
+            else:
+                shown = _value_line("none")
             lines.append(f"<p style='margin:6px 0 0 0'>{name}</p>{shown}")
         return "".join(lines)
 
-    def _transform_html(self, title: str, shown: LocalTransform, size: float) -> list[str]:
-        out = [f"<p style='margin:6px 0 2px 0'><b>{html.escape(title)}</b><br/><i>{html.escape(shown.note)}</i></p>"]
-        if shown.matrix is not None:
-            out.append(self._pre(format_matrix(shown.matrix, size)))
+    def _transform_html(self, title: str, shown: LocalTransform, size: float, translation: str) -> list[str]:
+        """A local transform's section. What may change from frame to frame is a slot, the
+        note and where the angles come from included (an edit may leave the file's values
+        making the rotation at some frames only): a section whose numbers are off screen is
+        not rebuilt at a new frame, and a slot brings it up to date when it comes into sight."""
+        out = [f"<p style='margin:6px 0 2px 0'><b>{html.escape(title)}</b><br/><i>{slot(shown.note)}</i></p>"]
+        if shown.matrix is not None:  # R's rows, then the translation on a line of its own:
+            # side by side, a rotation and a translation to seven digits are wider than the dock
+            out.append(self._pre(format_matrix(shown.matrix[:, :3])))
+            out.append(f"<p style='margin:0'>translation {translation}:</p>")
+            translation_text = " ".join(format_matrix(shown.matrix[:, 3], size, lengths=True).split())
+            out.append(_value_line(slot(translation_text), bottom=4))  # to the motion's precision, as the position
         if shown.angles is not None:
             where = "the file's channel values" if shown.from_file else "from the matrix"
-            out.append(f"<p style='margin:0'>Euler {shown.order} ({where}):</p>")
+            out.append(f"<p style='margin:0'>{slot(f'Euler {shown.order} ({where}):')}</p>")
             out.append(_value_line(f"{slot(format_angles(shown.angles))} deg"))
         return out
 

@@ -15,8 +15,8 @@ from PyQt6.QtWidgets import (
     QCheckBox,
     QComboBox,
     QDoubleSpinBox,
+    QGridLayout,
     QGroupBox,
-    QHBoxLayout,
     QLabel,
     QVBoxLayout,
     QWidget,
@@ -27,10 +27,12 @@ from gmr_studio.core.compare import ALIGN_KINDS
 
 OFFSET_LIMIT = 1e6  # frames either way
 DETAIL_LINES = 5  # room kept for the parameters under the controls
+MINIMUM_BOX_WIDTH = 70  # pixels the kind and offset boxes may be squeezed to
 
 
 class LayerAlignmentBox(QGroupBox):
-    """Kind, offset (auto or frames) and the resulting parameters of layer ``index``."""
+    """Kind, offset (auto or frames) and the resulting parameters of layer ``index`` (its
+    name is shown above the box, where it may wrap: a group box's title is cut)."""
 
     def __init__(self, layers: Layers) -> None:
         super().__init__("Alignment")
@@ -44,19 +46,21 @@ class LayerAlignmentBox(QGroupBox):
         self.offset = QDoubleSpinBox(decimals=2, minimum=-OFFSET_LIMIT, maximum=OFFSET_LIMIT, suffix=" frames")
         self.offset.setKeyboardTracking(False)  # typed numbers apply on Enter, arrows at once
         self.offset.setToolTip("B's time minus the document's, in the document's frames")
+        for box in (self.kind, self.offset):  # they may give way to a narrow column (their text fits)
+            box.setMinimumWidth(MINIMUM_BOX_WIDTH)
         self.details = QLabel()
         self.details.setWordWrap(True)
         self.details.setMinimumHeight(DETAIL_LINES * self.details.fontMetrics().lineSpacing() + 4)
         self.controls = QWidget()  # hidden for a marker-set layer
-        row = QHBoxLayout(self.controls)
-        row.setContentsMargins(0, 0, 0, 0)
-        row.addWidget(QLabel("kind"))
-        row.addWidget(self.kind)
-        row.addSpacing(8)
-        row.addWidget(QLabel("offset"))
-        row.addWidget(self.offset)
-        row.addWidget(self.auto)
-        row.addStretch(1)
+        # two rows, narrow enough for the side column the Layers dock lives in
+        rows = QGridLayout(self.controls)
+        rows.setContentsMargins(0, 0, 0, 0)
+        rows.addWidget(QLabel("kind"), 0, 0)
+        rows.addWidget(self.kind, 0, 1)
+        rows.addWidget(QLabel("offset"), 1, 0)
+        rows.addWidget(self.offset, 1, 1)
+        rows.addWidget(self.auto, 1, 2)
+        rows.setColumnStretch(3, 1)
         layout = QVBoxLayout(self)
         layout.setContentsMargins(4, 4, 4, 4)
         layout.addWidget(self.controls)
@@ -83,11 +87,9 @@ class LayerAlignmentBox(QGroupBox):
         self.offset.setEnabled(editable and not layer.auto_offset)
         self.controls.setVisible(layer is None or editable)
         if layer is None:
-            self.setTitle("Alignment")
             self.details.setText("Choose a layer in the table.")
             self.details.setToolTip("")
             return
-        self.setTitle(f"Alignment of {layer.name}")
         line, tooltip = layer.alignment_details
         self.details.setText(line)
         self.details.setToolTip(tooltip)

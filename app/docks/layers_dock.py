@@ -1,7 +1,11 @@
 """The Layers dock: the document and its comparison layers (motions and marker sets), each
-with colour, visibility, opacity, remove, and the alignment it was compared with (offset,
-units, fit, RMS); under the table, the alignment of the chosen layer, adjustable
-(:class:`~app.layer_alignment.LayerAlignmentBox`).
+with its colour and visibility; under the table, the chosen layer: its name, the alignment it
+was compared with (offset, units, fit, RMS), its opacity, remove, and its alignment,
+adjustable (:class:`~app.layer_alignment.LayerAlignmentBox`).
+
+It lives in the side column beside the view (a tab of the Forest), so everything is laid
+out to be read at the column's width: two narrow columns in the table, the name taking
+the rest (the full name on hover), the chosen layer's text wrapped under it.
 
 Rows are rebuilt from :class:`~app.layers.Layers` whenever it changes; the widgets only call
 its methods. "Error colours" asks for the error view (:attr:`LayersDock.errors_toggled`; the window
@@ -10,7 +14,9 @@ wires it to :class:`~app.scene.ghost_layer.GhostLayers`).
 
 from __future__ import annotations
 
-from PyQt6.QtCore import pyqtSignal
+import html
+
+from PyQt6.QtCore import QEvent, Qt, QTimer, pyqtSignal
 from PyQt6.QtGui import QColor
 from PyQt6.QtWidgets import (
     QCheckBox,
@@ -29,7 +35,9 @@ from gmr_studio.app.docks.layer_alignment import LayerAlignmentBox
 from gmr_studio.app.model.layers import Layers
 from gmr_studio.app.model.marker_layers import MarkerLayer
 
-COLUMNS = ("", "shown", "layer", "opacity %", "alignment", "")
+COLUMNS = ("", "shown", "layer")
+SWATCH = 18  # pixels: the colour button's side
+SHOWN_ROWS = 6  # rows the table grows to before it scrolls
 DOCK_MINIMUM = 100  # pixels: as app.main_window.DOCK_MINIMUM
 
 
@@ -46,7 +54,15 @@ class LayersDock(QWidget):
         self.table.setHorizontalHeaderLabels(COLUMNS)
         self.table.verticalHeader().hide()
         self.table.setEditTriggers(QTableWidget.EditTrigger.NoEditTriggers)
-        self.table.horizontalHeader().setStretchLastSection(False)
+        header = self.table.horizontalHeader()
+        header.setStretchLastSection(True)  # the name takes the column's width
+        header.setMinimumSectionSize(SWATCH + 6)
+        self.table.setTextElideMode(Qt.TextElideMode.ElideMiddle)
+        self.table.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        # a name longer than its cell wraps, its row as tall as its lines, whatever the width
+        self._refit = QTimer(self, singleShot=True, interval=0)
+        self._refit.timeout.connect(self._fit_rows)
+        self.table.viewport().installEventFilter(self)
         self.table.setMinimumHeight(60)  # gives way to the alignment box below
         self.table.setSelectionBehavior(QTableWidget.SelectionBehavior.SelectRows)
         self.table.setSelectionMode(QTableWidget.SelectionMode.SingleSelection)
@@ -59,6 +75,20 @@ class LayersDock(QWidget):
         self.errors.toggled.connect(self.errors_toggled)
         self.summary = QLabel()
         self.summary.setWordWrap(True)
+        # the chosen layer: name, alignment in one line, opacity and remove
+        self.chosen_name = QLabel()
+        self.chosen_name.setWordWrap(True)
+        self.chosen_text = QLabel()
+        self.chosen_text.setWordWrap(True)
+        self.opacity = QSpinBox()
+        self.opacity.setRange(5, 100)
+        self.opacity.setSingleStep(5)
+        self.opacity.setSuffix(" %")
+        self.opacity.setToolTip("the chosen layer's opacity")
+        self.opacity.valueChanged.connect(self._on_opacity_chosen)
+        self.remove_button = QPushButton("Remove")
+        self.remove_button.setToolTip("remove the chosen layer (the document stays)")
+        self.remove_button.clicked.connect(self._on_remove_clicked)
         row = QHBoxLayout()
         row.addWidget(self.add_button)
         row.addWidget(self.errors)
@@ -66,26 +96,40 @@ class LayersDock(QWidget):
         layout = QVBoxLayout(self)
         layout.setContentsMargins(4, 4, 4, 4)
         layout.addLayout(row)
-        layout.addWidget(self.table, 1)
+        layout.addWidget(self.table)
+        layout.addWidget(self.chosen_name)
+        layout.addWidget(self.chosen_text)
+        controls = QHBoxLayout()
+        self.opacity_label = QLabel("opacity")
+        controls.addWidget(self.opacity_label)
+        controls.addWidget(self.opacity)
+        controls.addStretch(1)
+        controls.addWidget(self.remove_button)
+        layout.addLayout(controls)
         layout.addWidget(self.alignment)
         layout.addWidget(self.summary)
+        layout.addStretch(1)
         self.table.itemSelectionChanged.connect(self._on_selection_changed)
         layers.changed.connect(self.refresh)
         layers.appearance_changed.connect(lambda _index: self.refresh())
         layers.state.document_changed.connect(self.refresh)
         self.refresh()
 
-    def _fit_rows(self, rows: int) -> None:
-        """The table at least as tall as ``rows`` rows (the document and a layer are seen
-        together), the alignment box below taking the rest."""
+    def eventFilter(self, watched, event) -> bool:  # noqa: N802 (Qt's name)
+        if event.type() == QEvent.Type.Resize and watched is self.table.viewport():
+            self._refit.start()  # once the layout has settled at the new width
+        return super().eventFilter(watched, event)
+
+    def _fit_rows(self) -> None:
+        """Rows as tall as their names' lines; the table as tall as its rows (at least its
+        first three: the document and a layer are seen together; at most
+        :data:`SHOWN_ROWS`, then it scrolls), the chosen layer's part right under it."""
         table = self.table
-        height = (
-            table.horizontalHeader().sizeHint().height()
-            + rows * table.verticalHeader().defaultSectionSize()
-            + table.horizontalScrollBar().sizeHint().height()
-            + 2 * table.frameWidth()
-        )
-        table.setMinimumHeight(max(60, height))
+        table.resizeRowsToContents()
+        frame = table.horizontalHeader().sizeHint().height() + 2 * table.frameWidth()
+        heights = [table.rowHeight(r) for r in range(table.rowCount())]
+        table.setMinimumHeight(max(60, frame + sum(heights[:3])))
+        table.setMaximumHeight(max(60, frame + sum(heights[:SHOWN_ROWS])))
 
     def refresh(self) -> None:
         document = self.layers.state.snapshot
@@ -99,43 +143,33 @@ class LayersDock(QWidget):
         name = self.layers.state.path.name if self.layers.state.path else "document"
         self.table.setRowCount(1 + len(self.layers))
         document_item = QTableWidgetItem(f"{name} (the document)")
-        document_item.setToolTip("the motion you edit; the layers below are read-only")
+        document_item.setToolTip(f"{name}: the motion you edit; the layers below are read-only")
         self.table.setItem(0, 2, document_item)
         for i, layer in enumerate(self.layers.layers, start=1):
             index = i - 1
             swatch = QPushButton()
+            swatch.setFixedSize(SWATCH, SWATCH)
             swatch.setToolTip("the layer's colour (click to change)")
             swatch.setStyleSheet(f"background-color: {QColor.fromRgbF(*layer.colour).name()}")
             swatch.clicked.connect(lambda _=False, k=index: self._choose_colour(k))
             self.table.setCellWidget(i, 0, swatch)
             shown = QCheckBox()
+            shown.setToolTip("show the layer")
             shown.setChecked(layer.visible)
             shown.toggled.connect(lambda on, k=index: self.layers.set_visible(k, on))
             self.table.setCellWidget(i, 1, shown)
             kind, tip = "", ""
             if isinstance(layer, MarkerLayer):
                 computed = layer.markers.computed
-                share = f", {100 * computed.mean():.2g}% computed" if computed.any() else ""
-                kind = f" (markers{share})"
+                kind = f" (markers, {100 * computed.mean():.2g}% computed)" if computed.any() else " (markers)"
                 if computed.any():
-                    tip = f"{int(computed.sum())} samples computed by the capture software (filled in), not measured"
-            name_item = QTableWidgetItem(layer.name + kind)
-            name_item.setToolTip(tip)
-            self.table.setItem(i, 2, name_item)
-            opacity = QSpinBox()
-            opacity.setRange(5, 100)
-            opacity.setSingleStep(5)
-            opacity.setValue(round(layer.opacity * 100))
-            opacity.valueChanged.connect(lambda v, k=index: self.layers.set_opacity(k, v / 100))
-            self.table.setCellWidget(i, 3, opacity)
-            alignment = QTableWidgetItem(layer.alignment_text)
-            alignment.setToolTip(layer.alignment_details[1])
-            self.table.setItem(i, 4, alignment)
-            remove = QPushButton("Remove")
-            remove.clicked.connect(lambda _=False, k=index: self.layers.remove(k))
-            self.table.setCellWidget(i, 5, remove)
-        self.table.resizeColumnsToContents()
-        self._fit_rows(min(self.table.rowCount(), 3))
+                    tip = f"; {int(computed.sum())} samples computed by the capture software (filled in), not measured"
+            item = QTableWidgetItem(layer.name + kind)
+            item.setToolTip(f"{layer.name}{kind}: {layer.alignment_text}{tip}")
+            self.table.setItem(i, 2, item)
+        for column in (0, 1):
+            self.table.resizeColumnToContents(column)
+        self._fit_rows()
         self.choose(self.chosen if self.chosen in self.layers.layers else (self.layers.layers or [None])[-1])
         active = self.layers.active
         if active is None:
@@ -164,6 +198,28 @@ class LayersDock(QWidget):
             self.table.selectRow(index + 1)
         self.table.blockSignals(False)
         self.alignment.show_layer(index)
+        self._show_chosen(layer)
+
+    def _show_chosen(self, layer) -> None:
+        """The chosen layer's name, alignment line and opacity under the table (hidden for none)."""
+        for widget in (self.chosen_name, self.chosen_text, self.opacity_label, self.opacity, self.remove_button):
+            widget.setVisible(layer is not None)
+        if layer is None:
+            return
+        kind = " (markers)" if isinstance(layer, MarkerLayer) else ""
+        self.chosen_name.setText(f"<b>{html.escape(layer.name)}</b>{kind}")
+        self.chosen_text.setText(html.escape(layer.alignment_text))
+        self.opacity.blockSignals(True)
+        self.opacity.setValue(round(layer.opacity * 100))
+        self.opacity.blockSignals(False)
+
+    def _on_opacity_chosen(self, percent: int) -> None:
+        if self.chosen in self.layers.layers:
+            self.layers.set_opacity(self.layers.layers.index(self.chosen), percent / 100)
+
+    def _on_remove_clicked(self) -> None:
+        if self.chosen in self.layers.layers:
+            self.layers.remove(self.layers.layers.index(self.chosen))
 
     def _on_selection_changed(self) -> None:
         rows = {item.row() for item in self.table.selectedItems()} | {

@@ -14,11 +14,12 @@ from PyQt6.QtGui import QAction, QValidator
 from PyQt6.QtWidgets import QComboBox, QHBoxLayout, QLabel, QSpinBox, QToolButton, QWidget
 
 from gmr_studio.app.docks.range_slider import RangeSlider
+from gmr_studio.app.model.formatting import frame_of
 from gmr_studio.app.model.playback import SPEEDS, Player
 from gmr_studio.app.model.problems import Problems
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.core.model.motion import Motion
-from gmr_studio.core.timebase.clock import duration_of, frame_seconds
+from gmr_studio.core.timebase.clock import duration_of, frame_seconds, rate_text
 
 
 class FrameBox(QSpinBox):
@@ -82,7 +83,7 @@ class Timeline(QWidget):
             self.range_buttons[name] = button
         self.frame_box = FrameBox(self)
         self.frame_box.setKeyboardTracking(False)
-        self.frame_box.setToolTip("Frame number (0-based)")
+        self.frame_box.setToolTip("Frame number (0-based: the first frame is 0)")
         self.frame_box.valueChanged.connect(state.set_frame)
         layout.addWidget(self.frame_box)
         self.time_label = QLabel(self)
@@ -122,6 +123,7 @@ class Timeline(QWidget):
         self.slider.setPageStep(max(1, round(self.state.motion.frame_rate)) if self.state.motion else 10)
         self.setEnabled(self.state.motion is not None)
         self._fit_time_label()
+        self.time_label.setToolTip(rate_tooltip(self.state.motion) if self.state.motion is not None else "")
         self._on_frame_changed(self.state.frame)
 
     def _fit_time_label(self) -> None:
@@ -157,6 +159,16 @@ class Timeline(QWidget):
 
 def time_text(motion: Motion, frame: int) -> str:
     """The timeline's label: the frame's time and the motion's duration (:mod:`core.timebase.clock`:
-    frame ``i`` at ``i * frame_time``, ``F`` frames last ``F * frame_time``), the frame count."""
-    count = f"{frame + 1}/{motion.n_frames} @ {motion.frame_rate:g} Hz"
+    frame ``i`` at ``i * frame_time``, ``F`` frames last ``F * frame_time``), the frame,
+    0-based like the frame box and the inspector (:func:`app.model.formatting.frame_of`),
+    and the rate as the file's authors meant it (:func:`core.timebase.clock.rate_text`)."""
+    count = f"{frame_of(frame, motion.n_frames)} @ {rate_text(motion.frame_time)} Hz"
     return f"{frame_seconds(frame, motion.frame_time):7.3f} s / {duration_of(motion):.3f} s  ({count})"
+
+
+def rate_tooltip(motion: Motion) -> str:
+    """The time label's tooltip: the frame time as read and the exact rate it gives."""
+    return (
+        f"frame time {motion.frame_time:.9g} s: {motion.frame_rate:.9g} Hz exactly "
+        f"(shown as {rate_text(motion.frame_time)} Hz, the rate within the frame time's rounding)"
+    )

@@ -5,6 +5,9 @@ A length is shown to :data:`LENGTH_DIGITS` significant digits of the motion's si
 extent of the skeleton): in a 35-inch skeleton a step of 1e-5 inch, in a 1.7 m one 1e-6 m.
 Anything smaller than that step is below what a file holds anyway (BVH files write about 6
 significant digits) and far above rounding noise (~1e-14 of the size).
+
+Frame numbers are 0-based everywhere, as the command line's ranges (docs/conventions.md):
+:func:`frame_of` is how the inspector and the timeline say where a frame is in the take.
 """
 
 from __future__ import annotations
@@ -38,6 +41,13 @@ def format_number(value: float, decimals: int) -> str:
     return "0" if text in ("-0", "") else text
 
 
+def frame_of(frame: int | str, n_frames: int) -> str:
+    """A frame's place in a take of ``n_frames`` frames, 0-based: ``"60 of 0-194"`` (the
+    first frame is 0 and the last ``n_frames - 1``, as in ``gmr check``, ``gmr curves``,
+    ``gmr edit --frames``); ``frame`` may be given as text already marked up."""
+    return f"{frame} of 0-{max(n_frames - 1, 0)}"
+
+
 def format_length(value: float, size: float) -> str:
     """A length of a motion of this size, to the motion's precision."""
     return format_number(value, length_decimals(size))
@@ -55,21 +65,19 @@ def format_angles(degrees: np.ndarray) -> str:
 
 
 def format_matrix(matrix: np.ndarray, size: float | None = None, *, lengths: bool = False) -> str:
-    """Rows of a matrix as aligned text, with a bar before the last column of a 3x4.
+    """Rows of a matrix as aligned text, each column as wide as its widest entry, two spaces
+    apart (narrow enough for a side dock).
 
-    Rotation entries get :data:`MATRIX_DECIMALS`; lengths (the last column of a 3x4, or
-    every entry with ``lengths``) the precision of a motion of this ``size``.
+    Rotation entries get :data:`MATRIX_DECIMALS`; lengths (every entry with ``lengths``) the
+    precision of a motion of this ``size``.
     """
     matrix = np.atleast_2d(np.asarray(matrix, dtype=np.float64))
-    length_places = length_decimals(size) if size is not None else MATRIX_DECIMALS
-    rows = []
-    for row in matrix:
-        cells = []
-        for k, value in enumerate(row):
-            is_length = lengths or (matrix.shape[1] == 4 and k == 3)
-            places = length_places if is_length else MATRIX_DECIMALS
-            cells.append(f"{round(float(value), places) + 0.0:{places + 6}.{places}f}")
-        if len(cells) == 4:
-            cells.insert(3, " |")
-        rows.append(" ".join(cells))
-    return "\n".join(rows)
+    places = length_decimals(size) if lengths and size is not None else MATRIX_DECIMALS
+    return _aligned(matrix, places)
+
+
+def _aligned(matrix: np.ndarray, places: int) -> str:
+    """Rows of ``matrix`` rounded to ``places``, columns right-aligned, two spaces apart."""
+    cells = [[f"{round(float(v), places) + 0.0:.{places}f}" for v in row] for row in matrix]
+    widths = [max(len(row[k]) for row in cells) for k in range(matrix.shape[1])]
+    return "\n".join("  ".join(c.rjust(w) for c, w in zip(row, widths, strict=True)) for row in cells)

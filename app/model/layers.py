@@ -45,6 +45,9 @@ class ComparisonLayer:
         not move B in time. auto_offset : the offset was found, not given.
     comparison : B against the current document. ghost : (F_A, J_B, 3) every joint of B
         on A's frames and in A's space (NaN where B has no sample), what the scene draws.
+    compared_with : the document's snapshot ``comparison`` and ``ghost`` were computed
+        against (while an edit is being shown, the views may see the new document before the
+        layers are compared with it: what is drawn of a comparison is drawn for this one).
     """
 
     snapshot: Snapshot
@@ -58,6 +61,7 @@ class ComparisonLayer:
     opacity: float = GHOST_OPACITY
     comparison: Comparison | None = None
     ghost: np.ndarray | None = None
+    compared_with: Snapshot | None = None
 
     @property
     def alignment_text(self) -> str:
@@ -180,6 +184,7 @@ class Layers(QObject):
         layer = ComparisonLayer(snapshot, Path(path).name, colour, joint_map or best_joint_map(document, snapshot))
         layer.align, layer.offset, layer.auto_offset = align, offset, offset == "auto"
         layer.comparison, layer.ghost = compare_layer(document, layer)
+        layer.compared_with = document
         layer.offset = layer.comparison.alignment.offset_frames
         self.layers.append(layer)
         self.changed.emit()
@@ -229,6 +234,7 @@ class Layers(QObject):
             layer.offset, layer.auto_offset = offset, offset == "auto"
         try:
             layer.comparison, layer.ghost = compare_layer(document, layer)
+            layer.compared_with = document
         except ValueError as exc:
             layer.align, layer.offset, layer.auto_offset = before
             self.state.show_message(f"Cannot align {layer.name} that way: {exc}")
@@ -283,6 +289,7 @@ class Layers(QObject):
                     realign_marker_layer(layer, document, keep=layer.overlay is not None)
                 else:
                     layer.comparison, layer.ghost = compare_layer(document, layer)
+                    layer.compared_with = document
                     layer.offset = layer.comparison.alignment.offset_frames
             except ValueError as exc:
                 self.state.show_message(f"Removed the comparison with {layer.name}: {exc}")

@@ -31,6 +31,7 @@ from gmr_studio.core.markers import MarkerSet, read_markers
 from gmr_studio.core.markers.built_motion import BuiltMotion, markers_to_built_motion
 from gmr_studio.core.markers.file_model import FILE_POINTS
 from gmr_studio.core.space.units import UNITS, unit_factor, unit_named
+from gmr_studio.core.timebase.clock import rate_text
 
 #: how the markers are placed over a skeleton built from them (shown in the alignment dialog)
 FILE_SPACE = "the file's own space (the skeleton was built from these markers)"
@@ -58,7 +59,7 @@ class MarkerDocument:
         spread = built.built.spread[np.isfinite(built.built.spread)]
         text = (
             f"skeleton built from marker set {built.built.set_match.definition.name}: {motion.n_joints} joints, "
-            f"{motion.n_frames} frames at {motion.frame_rate:.4g} Hz (mm); bone length spread median "
+            f"{motion.n_frames} frames at {rate_text(motion.frame_time)} Hz (mm); bone length spread median "
             f"{np.median(spread) if spread.size else float('nan'):.2g} mm"
         )
         if built.refinement is not None:

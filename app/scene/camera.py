@@ -25,6 +25,11 @@ def actor_positions(snapshot: Snapshot) -> np.ndarray:
     return snapshot.positions[:, ~anchors] if anchors.any() else snapshot.positions
 
 
+#: the share of the view's half width or height a fitted box reaches (:meth:`SceneCamera.fit_box`)
+FIT_FILL = 0.9
+FIT_STEPS = 4  # refinements of a fitted box's distance (perspective makes it a fixed point)
+
+
 class SceneCamera:
     """The camera and projection methods of :class:`~app.scene.scene.SkeletonScene` (see the module)."""
 
@@ -109,25 +114,57 @@ class SceneCamera:
             self.render()
 
     def frame_joint(self, joint: int | None, reach: float = 0.5) -> None:
-        """Look at ``joint`` at this frame (None: the figure's centre) from where the camera
-        looks now, near enough that ``reach`` times the motion's size around it fills the
-        view's height (the whole figure for None); a followed camera keeps following."""
+        """Look at ``joint`` at this frame from where the camera looks now, near enough that
+        ``reach`` times the motion's size around it fills the view's height; None: the whole
+        figure at this frame, its box fitted to the view as it now is (:meth:`fit_box`:
+        whatever room the docks leave it). A followed camera keeps following."""
         if self.snapshot is None:
             return
         size = self.snapshot.motion.size
         if joint is None:
-            point, reach = self.snapshot.positions[self.frame, ~self.snapshot.motion.anchors].mean(axis=0), 1.3
+            points = self.snapshot.positions[self.frame, ~self.snapshot.motion.anchors]
+            pad = JOINT_RADIUS * size
+            self.fit_box(points.min(axis=0) - pad, points.max(axis=0) + pad)
         else:
             point = self.snapshot.positions[self.frame, joint]
-        camera = self.plotter.camera
-        direction = np.asarray(camera.GetPosition()) - np.asarray(camera.GetFocalPoint())
-        direction /= max(np.linalg.norm(direction), 1e-12)
-        distance = reach * size / 2 / np.tan(np.radians(camera.GetViewAngle()) / 2)
-        camera.SetFocalPoint(*point)
-        camera.SetPosition(*(point + distance * direction))
+            camera = self.plotter.camera
+            distance = reach * size / 2 / np.tan(np.radians(camera.GetViewAngle()) / 2)
+            self._look_at(point, distance)
         if self.overlays.get("follow"):
             self._followed = self._follow_point(self.frame)
         self.render()
+
+    def fit_box(self, low: np.ndarray, high: np.ndarray, fill: float = FIT_FILL) -> None:
+        """Look at the box ``low``-``high`` (world points (3,)) from where the camera looks
+        now, from the distance at which its corners reach ``fill`` of the view's half width
+        or half height, whichever they reach first, in the view's present size.
+
+        The box is centred on its middle point, not on the joints' centroid: a rig whose
+        joints crowd the head (a face of 185 points) would otherwise have its feet fall
+        below the view. The distance is refined from the projected corners (they shrink as
+        one over the distance), a few times for the perspective."""
+        camera = self.plotter.camera
+        centre = (np.asarray(low, dtype=np.float64) + np.asarray(high, dtype=np.float64)) / 2
+        corners = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
+        radius = max(float(np.linalg.norm(np.asarray(high) - np.asarray(low))) / 2, 1e-9)
+        distance = radius / np.sin(np.radians(camera.GetViewAngle()) / 2)  # its sphere inside the view
+        width, height = self.viewport()
+        for _ in range(FIT_STEPS):
+            self._look_at(centre, distance)
+            screen = project_points(corners, self.view_projection(), (width, height))
+            if not np.isfinite(screen).all() or width <= 0 or height <= 0:
+                return
+            reach = max(np.abs(screen[:, 0] / width * 2 - 1).max(), np.abs(screen[:, 1] / height * 2 - 1).max())
+            distance = max(distance * reach / fill, radius * 1.01)  # never inside the box
+
+    def _look_at(self, point: np.ndarray, distance: float) -> None:
+        """Put the focal point at ``point`` and the camera ``distance`` from it, along the
+        direction it looks from now."""
+        camera = self.plotter.camera
+        direction = np.asarray(camera.GetPosition()) - np.asarray(camera.GetFocalPoint())
+        direction /= max(np.linalg.norm(direction), 1e-12)
+        camera.SetFocalPoint(*point)
+        camera.SetPosition(*(point + distance * direction))
 
     # ------------------------------------------------------------------- picking
     def view_projection(self) -> np.ndarray:

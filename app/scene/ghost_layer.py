@@ -133,7 +133,10 @@ class GhostLayers(Drawing):
         # blended in drawing order while ghosts are shown (see the module docstring)
         renderer.SetUseOIT(self._oit and not self.ghosts)
         active = self.layers.active
-        if active is not None and self.show_errors:
+        # a comparison of another document (an edit shown before the layers are compared
+        # with it; they redraw this when they are) has no error view here: its joints are
+        # that document's
+        if active is not None and self.show_errors and active.compared_with is document:
             self._build_error_view(active, size)
 
     def _build_error_view(self, layer: ComparisonLayer, size: float) -> None:
@@ -214,7 +217,7 @@ class GhostLayers(Drawing):
                 bones.set_joints(points)
                 joints.set_points(points[loose])
         active = self.layers.active
-        if self.error_joints is not None and active is not None:
+        if self.error_joints is not None and active is not None and active.compared_with is self.scene.snapshot:
             comparison = active.comparison
             row = comparison.row_of_frame(frame)
             if row is None:

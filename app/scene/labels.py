@@ -65,6 +65,51 @@ def box_corners(boxes: np.ndarray) -> np.ndarray:
     return np.stack([np.column_stack([x0, x1, x1, x0]), np.column_stack([y0, y0, y1, y1])], axis=-1)
 
 
+#: where a label may go around its point, tried in this order: (x, y) of its bottom left
+#: corner from the point, in gaps (``GAP`` pixels) and the label's own width and height
+#: (right and above, right and below, left and above, left and below)
+SIDES = ((1, 1), (1, -1), (-1, 1), (-1, -1))
+GAP = (6.0, 4.0)  # pixels between a point and its label, across and up
+
+
+def spread_labels(anchors: np.ndarray, sizes: np.ndarray, order: np.ndarray) -> np.ndarray:
+    """Bottom-left corners of labels placed so that no two overlap: (N, 2) display pixels,
+    NaN for a label left out.
+
+    anchors : (N, 2) the labelled points' display pixels (NaN: not shown).
+    sizes : (N, 2) each label's width and height in pixels.
+    order : (N,) label indices, the most wanted first.
+
+    Each label in ``order`` takes the first of the :data:`SIDES` of its point where it meets
+    no label placed before it; when every side is taken, it is left out: where joints crowd
+    (hands, feet, shoulders) the first wanted keep their names, readable, instead of a block
+    of overprinted text. A plain loop over the labels and those placed: at a few dozen
+    labels, numpy's overhead per label, or a grid of cells, cost more than it saves.
+    """
+    anchors = np.asarray(anchors, dtype=np.float64).reshape(-1, 2)
+    corners = np.full_like(anchors, np.nan)
+    visible = np.isfinite(anchors).all(axis=1).tolist()
+    points, extents = anchors.tolist(), np.asarray(sizes, dtype=np.float64).reshape(-1, 2).tolist()
+    placed: list[tuple[float, float, float, float]] = []
+    gap_x, gap_y = GAP
+    for k in np.asarray(order, dtype=np.int64).tolist():
+        if not visible[k]:
+            continue
+        (x, y), (w, h) = points[k], extents[k]
+        for right, up in SIDES:
+            x0 = round(x + gap_x if right > 0 else x - gap_x - w)
+            y0 = round(y + gap_y if up > 0 else y - gap_y - h)
+            x1, y1 = x0 + w, y0 + h
+            for a0, b0, a1, b1 in placed:
+                if x0 < a1 and a0 < x1 and y0 < b1 and b0 < y1:
+                    break  # taken: the next side
+            else:
+                corners[k] = x0, y0
+                placed.append((x0, y0, x1, y1))
+                break
+    return corners
+
+
 class ScreenQuads(Part):
     """``n`` quads of one texture, placed in display pixels with :meth:`place_corners`. A
     scene draws them after its other actors (:attr:`draw_last`), so that their edges blend
@@ -162,7 +207,7 @@ class LabelPart(ScreenQuads):
         self._build_texture()
         self.mesh.Modified()
 
-    def place(self, anchors: np.ndarray, view: tuple[int, int], offset: tuple[float, float] = (6.0, 4.0)) -> None:
+    def place(self, anchors: np.ndarray, view: tuple[int, int], offset: tuple[float, float] = GAP) -> None:
         """Put label k with its bottom left corner ``offset`` pixels from ``anchors[k]``
         ((N, 2) display pixels of a view of ``view`` (width, height) pixels: x right, y up
         from the bottom left; NaN hides the label), on whole pixels (each texel on one pixel)."""
@@ -174,6 +219,19 @@ class LabelPart(ScreenQuads):
         y0 = np.where(hidden, HIDDEN, np.round(np.nan_to_num(anchors[:, 1]) + offset[1]))
         w, h = self._boxes[:, 0], self._boxes[:, 1]
         self.place_corners(box_corners(np.column_stack([x0, y0, x0 + w, y0 + h])), view)
+
+    def place_apart(self, anchors: np.ndarray, view: tuple[int, int], order: np.ndarray) -> np.ndarray:
+        """Put the labels beside ``anchors`` ((N, 2) display pixels of a view of ``view``
+        pixels; NaN hides a label) where no two overlap, the first of ``order`` first
+        (:func:`spread_labels`); the others hidden. Returns (N, 4) each label's box
+        (x0, y0, x1, y1), NaN for a hidden one."""
+        if not self.n_points:
+            return np.zeros((0, 4))
+        corners = spread_labels(anchors, self._boxes, order)
+        boxes = np.column_stack([corners, corners + self._boxes])
+        shown = np.isfinite(corners).all(axis=1)
+        self.place_corners(box_corners(np.where(shown[:, None], boxes, HIDDEN)), view)
+        return boxes
 
 
 def label_part(texts: list[str], color=(1.0, 1.0, 1.0), size: int = 13) -> LabelPart:

@@ -157,12 +157,18 @@ class Trail(Drawing):
 
 class JointLabels(Drawing):
     """Joint names beside the joints: one texture of every name, quads placed in screen
-    space just before each render (so they follow the camera too)."""
+    space just before each render (so they follow the camera too), where no two overlap
+    (:meth:`app.scene.labels.LabelPart.place_apart`): the selected joint's first, then the
+    joints nearest their roots (the body's main joints before fingers, toes and end sites);
+    a name with no free side of its joint is left out."""
 
     def build(self, scene) -> None:
         super().build(scene)
+        self.order = np.zeros(0, np.int64)
         if scene.snapshot is not None:
-            self.add("labels", label_part(list(scene.snapshot.motion.names)))
+            motion = scene.snapshot.motion
+            self.add("labels", label_part(list(motion.names)))
+            self.order = np.argsort(motion.depths, kind="stable")
 
     def wanted(self, scene) -> bool:
         return scene.overlays["labels"]
@@ -176,7 +182,10 @@ class JointLabels(Drawing):
     def before_render(self) -> None:
         if self.parts and self._visible:
             anchors = self.scene.display_positions(self.scene.snapshot.positions[self.scene.frame])
-            self.parts["labels"].place(anchors, self.scene.display_size())
+            order, selected = self.order, self.scene.selected
+            if selected is not None and selected < len(order):
+                order = np.concatenate([[selected], order[order != selected]])
+            self.parts["labels"].place_apart(anchors, self.scene.display_size(), order)
 
 
 class Markers(Drawing):

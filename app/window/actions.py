@@ -17,6 +17,7 @@ from gmr_studio.app.model import commands
 from gmr_studio.app.model.commands import can_join, can_remove_dummies
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.core.edits.mirror import side_partners
+from gmr_studio.core.timebase.clock import nominal_rate, rate_text
 
 Key = QKeySequence.StandardKey
 
@@ -338,8 +339,8 @@ def ask_and_resample(window: QMainWindow, state: StudioState) -> bool:
     rate, accepted = QInputDialog.getDouble(
         window,
         "Resample",
-        f"New frame rate in Hz (now {motion.frame_rate:g} Hz):",
-        round(motion.frame_rate / 2, 3),
+        f"New frame rate in Hz (now {rate_text(motion.frame_time)} Hz):",
+        round(nominal_rate(motion.frame_time) / 2, 3),
         1.0,
         1000.0,
         3,

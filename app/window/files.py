@@ -23,6 +23,7 @@ from gmr_studio.core.compare.clock import DEFAULT_OFFSET
 from gmr_studio.core.errors import MotionFileError, OperationError
 from gmr_studio.core.formats import write_motion
 from gmr_studio.core.markers import MarkerSet
+from gmr_studio.core.timebase.clock import rate_text
 
 MAX_RECENT = 8
 
@@ -206,7 +207,7 @@ class FileController(QObject):
         motion = snapshot.motion
         self.state.show_message(
             f"Opened {Path(path).name}: {motion.n_joints} joints, {len(motion.roots)} root(s), "
-            f"{motion.n_frames} frames at {motion.frame_rate:.4g} Hz"
+            f"{motion.n_frames} frames at {rate_text(motion.frame_time)} Hz"
         )
         self.load_finished.emit(True)
         if self.pending_markers:

@@ -14,6 +14,8 @@ its own name (the dock, ``gmr curves``, their CSV and the inspector use these na
   channels (its GMR rotation). The file's values as written when they still make the
   motion's rotation (:class:`core.model.channels.FileChannels`); otherwise (an edit changed it, or
   no file said) the same columns computed from the motion, continuous over time.
+  :attr:`Curves.origin` says which (:data:`CHANNEL_ORIGINS`: the inspector and the curves
+  dock label the numbers with it, never calling computed angles the file's own).
   ``euler`` is an alias of ``channels`` (what ``gmr curves --quantity euler`` always gave).
 - ``gmr-euler``: the **GMR rotation** ``R_j`` (the rotation of the bone that ends at the
   joint; on a BVH the parent's channels) as Euler angles in the GMR joint's order (the
@@ -69,6 +71,13 @@ ALIASES = {"euler": "channels"}
 SHARED_TOLERANCE = 1e-12
 #: curves of live motions (:func:`values_at`)
 _CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+#: where the values of a joint's ``channels`` come from (:attr:`Curves.origin`), as said to users
+CHANNEL_ORIGINS = {
+    "file": "the file's own values, as written",
+    "edited": "computed from the edited motion, in the file's channel columns",
+    "motion": "the motion's rotation as Euler angles in the joint's order, computed",
+    "none": "none: the joint's children turn independently, so it has no single rotation",
+}
 UNITS = {
     "channels": "deg",
     "gmr-euler": "deg",
@@ -91,11 +100,14 @@ class Curves:
     columns : C names, ``JOINT.QUANTITY[.AXIS]``.
     values : (F, C) float64 (NaN where there is no value, e.g. a marker's gaps).
     unit : the unit of every column (``"deg"``, ``"units/s"``, ...).
+    origin : for ``channels``, where the values come from (a key of :data:`CHANNEL_ORIGINS`);
+        ``""`` for the other quantities.
     """
 
     columns: tuple[str, ...]
     values: np.ndarray
     unit: str
+    origin: str = ""
 
     @staticmethod
     def concatenate(blocks: list[Curves]) -> Curves:
@@ -191,17 +203,19 @@ def bvh_rotations(motion: Motion, joint: int) -> np.ndarray | None:
 
 
 def channel_curves(motion: Motion, joint: int, file_channels: FileChannels | None = None) -> Curves:
-    """The ``channels`` quantity of one joint (module docstring): ``(F, k)`` degrees."""
+    """The ``channels`` quantity of one joint (module docstring): ``(F, k)`` degrees, with
+    their :attr:`~Curves.origin`."""
     name = motion.names[joint]
-    if file_channels is None:  # the motion's own channels (a GMR file, a motion made in memory)
+    unit = UNITS["channels"]
+    if file_channels is None:  # the motion's own channels (a GMR file, a glTF, a motion made in memory)
         order = motion.rotation_orders[joint]
         labels = tuple(f"{axis}rotation" for axis in order)
         values = euler_degrees(motion.rotations[:, joint], order) if order else np.zeros((motion.n_frames, 0))
-        return Curves(tuple(f"{name}.channels.{label}" for label in labels), values, UNITS["channels"])
+        return Curves(tuple(f"{name}.channels.{label}" for label in labels), values, unit, "motion")
     labels = file_channels.label_of(name)
     columns = tuple(f"{name}.channels.{label}" for label in labels)
     if not labels:  # the file gives this joint no rotation channels (an End Site)
-        return Curves(columns, np.zeros((motion.n_frames, 0)), UNITS["channels"])
+        return Curves(columns, np.zeros((motion.n_frames, 0)), unit, "file")
     if file_channels.convention == "post":
         rotations = bvh_rotations(motion, joint)
     else:
@@ -210,12 +224,12 @@ def channel_curves(motion: Motion, joint: int, file_channels: FileChannels | Non
     if rotations is None:
         if not motion.children[joint] and written.shape[0] == motion.n_frames:
             # a leaf's channels turn nothing (GMR keeps no rotation for them): the file's stand
-            return Curves(columns, np.array(written), UNITS["channels"])
+            return Curves(columns, np.array(written), unit, "file")
         # children turning independently: no single rotation to give
-        return Curves(columns, np.full((motion.n_frames, len(labels)), np.nan), UNITS["channels"])
+        return Curves(columns, np.full((motion.n_frames, len(labels)), np.nan), unit, "none")
     if written.shape[0] == motion.n_frames and (not len(written) or file_channels.still_make(name, rotations)):
-        return Curves(columns, np.array(written), UNITS["channels"])
-    return Curves(columns, file_channels.angles_from(name, rotations, euler_degrees), UNITS["channels"])
+        return Curves(columns, np.array(written), unit, "file")
+    return Curves(columns, file_channels.angles_from(name, rotations, euler_degrees), unit, "edited")
 
 
 def joint_curves(
@@ -266,6 +280,23 @@ def joint_curves(
     return Curves((f"{name}.acceleration",), world_acceleration(world, motion.frame_time)[:, None], unit)
 
 
+def cached_curves(
+    motion: Motion,
+    joint: int | str,
+    quantity: str,
+    positions: np.ndarray | None = None,
+    file_channels: FileChannels | None = None,
+) -> Curves:
+    """:func:`joint_curves`, computed once (continuity needs every frame) and kept while the
+    motion lives (a weak cache keyed by the motion)."""
+    j = motion.joint_index(joint)
+    key = (j, quantity_name(quantity), id(file_channels))
+    cache = _CACHE.setdefault(motion, {})
+    if key not in cache:
+        cache[key] = (joint_curves(motion, j, quantity, positions, file_channels), file_channels)
+    return cache[key][0]
+
+
 def values_at(
     motion: Motion,
     joint: int | str,
@@ -274,17 +305,9 @@ def values_at(
     positions: np.ndarray | None = None,
     file_channels: FileChannels | None = None,
 ) -> tuple[tuple[str, ...], np.ndarray]:
-    """(columns, (C,) values) of :func:`joint_curves` at one frame: the inspector's numbers.
-
-    The curves of a motion are computed once (continuity needs every frame) and kept while
-    the motion lives (a weak cache keyed by the motion).
-    """
-    j = motion.joint_index(joint)
-    key = (j, quantity_name(quantity), id(file_channels))
-    cache = _CACHE.setdefault(motion, {})
-    if key not in cache:
-        cache[key] = (joint_curves(motion, j, quantity, positions, file_channels), file_channels)
-    curves = cache[key][0]
+    """(columns, (C,) values) of :func:`joint_curves` at one frame (:func:`cached_curves`):
+    the inspector's numbers."""
+    curves = cached_curves(motion, joint, quantity, positions, file_channels)
     return curves.columns, curves.values[frame]
 
 

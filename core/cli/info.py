@@ -13,7 +13,7 @@ from gmr_studio.core.cli.reading import add_reading_options, read_with_args
 from gmr_studio.core.edits.dummies import find_dummies
 from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.space.up_axis import up_axis_of
-from gmr_studio.core.timebase.clock import duration_of
+from gmr_studio.core.timebase.clock import duration_of, nominal_rate, rate_text
 
 #: what ``info`` calls each format, by suffix
 FORMAT_NAMES = {
@@ -58,6 +58,7 @@ def describe(motion: Motion, path: str) -> dict:
         "frames": motion.n_frames,
         "frame_time": motion.frame_time,
         "frame_rate": motion.frame_rate,
+        "nominal_rate": nominal_rate(motion.frame_time),
         "duration": duration_of(motion),
         "units": None if motion.facts.unit is None else motion.facts.unit.name,
         "metres_per_unit": None if motion.facts.unit is None else motion.facts.unit.metres,
@@ -89,8 +90,9 @@ def format_text(info: dict) -> str:
     lines = [
         f"file:       {info['path']}",
         f"format:     {info['format']} ({info['convention']})",
-        f"frames:     {info['frames']} at {info['frame_rate']:.6g} Hz "
-        f"(frame time {info['frame_time']:.6g} s; duration {info['duration']:.3f} s: frames x frame time)",
+        f"frames:     {info['frames']} at {rate_text(info['frame_time'])} Hz "
+        f"(frame time {info['frame_time']:.6g} s, {info['frame_rate']:.6g} Hz exactly; "
+        f"duration {info['duration']:.3f} s: frames x frame time)",
         f"joints:     {len(joints)}",
         f"roots:      {len(roots)} ({', '.join(roots)})",
         "soft links: " + (", ".join(f"{a} -> {b}" for a, b in links.items()) if links else "none"),

@@ -38,6 +38,9 @@ READERS: dict[str, Callable[..., Motion]] = {
     ".fbx": read_fbx,  # FBX (binary and ASCII), read only: the skeleton and a take (animation=)
 }
 WRITERS: dict[str, Callable[[Motion, Path], None]] = {".bvh": write_bvh, ".gmr": write_gmr}
+#: formats whose files store a joint's rotation as something other than Euler angles, and
+#: what: their ``channels`` are always angles computed from it, never the file's own values
+NON_EULER_ROTATIONS = {".npz": "axis-angle vectors", ".glb": "quaternions", ".gltf": "quaternions"}
 
 
 def motion_suffix(path: str | Path) -> str:

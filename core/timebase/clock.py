@@ -35,6 +35,12 @@ SAME_RATE_TOLERANCE = 1e-5
 #: the most a frame time read from a file is off (seconds): half a unit of the sixth decimal,
 #: as BVH writers print it at the least (0.033333, 0.008333)
 FRAME_TIME_ROUNDING = 5e-7
+#: relative rounding every frame time may carry: glTF stores key times as 32-bit floats, so a
+#: frame time taken from them is off by about 1e-7 of itself
+SINGLE_PRECISION = 1e-6
+#: frame rates a file's authors mean when its frame time is rounded: whole numbers of frames
+#: a second, and the NTSC video rates ``n * 1000 / 1001`` (23.976, 29.97, 59.94 ... Hz)
+NTSC_RATES = tuple(n * 1000.0 / 1001.0 for n in (24, 30, 48, 60, 120, 240))
 #: new frames past a motion's last frame within this are at it (float rounding of products)
 _FLOAT_SLACK = 1e-9
 
@@ -82,10 +88,37 @@ def common_rate(rate_a: float, rate_b: float) -> float:
 def frame_time_rounding(frame_time: float) -> float:
     """How far a frame time read from a file may be from the one its authors meant (seconds):
     half a unit of the last decimal of its shortest printed form, at most
-    :data:`FRAME_TIME_ROUNDING`: 5e-7 for 0.033333 (or 0.01), 5e-8 for 0.0083333, 5e-18 for
-    a frame time computed as 1 / 30."""
+    :data:`FRAME_TIME_ROUNDING` (5e-7 for 0.033333 or 0.01, 5e-8 for 0.0083333), and at least
+    :data:`SINGLE_PRECISION` of it (glTF's 32-bit key times: 0.041666668 is 1/24 s)."""
     exponent = Decimal(repr(float(frame_time))).as_tuple().exponent
-    return min(FRAME_TIME_ROUNDING, 0.5 * 10.0 ** int(exponent))
+    printed = min(FRAME_TIME_ROUNDING, 0.5 * 10.0 ** int(exponent))
+    return max(printed, SINGLE_PRECISION * float(frame_time))
+
+
+def nominal_rate(frame_time: float) -> float:
+    """The frame rate a file's authors meant (Hz): the *nice* rate whose frame time lies
+    within the rounding of ``frame_time`` (:func:`frame_time_rounding`): a whole number of
+    frames a second (``0.008333`` is 120 Hz, not 120.005), else an NTSC rate
+    (:data:`NTSC_RATES`: ``0.0333667`` is 29.97 Hz); the exact ``1 / frame_time`` when none is.
+
+    The app's timeline and ``gmr info`` show this rate (with the exact one on hover or
+    beside it); every computation keeps the frame time as read."""
+    frame_time = float(frame_time)
+    rounding = frame_time_rounding(frame_time)
+    low, high = 1.0 / (frame_time + rounding), 1.0 / max(frame_time - rounding, 1e-300)
+    whole = np.arange(max(np.ceil(low), 1.0), np.floor(high) + 1.0)
+    if len(whole) == 1:
+        return float(whole[0])
+    ntsc = [r for r in NTSC_RATES if low <= r <= high]
+    if len(whole) == 0 and len(ntsc) == 1:
+        return ntsc[0]
+    return 1.0 / frame_time
+
+
+def rate_text(frame_time: float) -> str:
+    """A motion's rate as people say it: :func:`nominal_rate` to 6 significant digits
+    (``"120"``, ``"29.97"``, ``"30.0003"`` for an unrounded 0.03333 s)."""
+    return f"{nominal_rate(frame_time):.6g}"
 
 
 def frames_within(n_frames: int, frame_time: float, rate: float) -> int:
