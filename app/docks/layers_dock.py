@@ -158,12 +158,7 @@ class LayersDock(QWidget):
             shown.setChecked(layer.visible)
             shown.toggled.connect(lambda on, k=index: self.layers.set_visible(k, on))
             self.table.setCellWidget(i, 1, shown)
-            kind, tip = "", ""
-            if isinstance(layer, MarkerLayer):
-                computed = layer.markers.computed
-                kind = f" (markers, {100 * computed.mean():.2g}% computed)" if computed.any() else " (markers)"
-                if computed.any():
-                    tip = f"; {int(computed.sum())} samples computed by the capture software (filled in), not measured"
+            kind, tip = layer_kind(layer)
             item = QTableWidgetItem(layer.name + kind)
             item.setToolTip(f"{layer.name}{kind}: {layer.alignment_text}{tip}")
             self.table.setItem(i, 2, item)
@@ -206,8 +201,9 @@ class LayersDock(QWidget):
             widget.setVisible(layer is not None)
         if layer is None:
             return
-        kind = " (markers)" if isinstance(layer, MarkerLayer) else ""
+        kind, tip = layer_kind(layer)
         self.chosen_name.setText(f"<b>{html.escape(layer.name)}</b>{kind}")
+        self.chosen_name.setToolTip(tip.removeprefix("; "))
         self.chosen_text.setText(html.escape(layer.alignment_text))
         self.opacity.blockSignals(True)
         self.opacity.setValue(round(layer.opacity * 100))
@@ -233,3 +229,15 @@ class LayersDock(QWidget):
         colour = QColorDialog.getColor(QColor.fromRgbF(*self.layers[index].colour), self, "Layer colour")
         if colour.isValid():
             self.layers.set_colour(index, (colour.redF(), colour.greenF(), colour.blueF()))
+
+
+def layer_kind(layer) -> tuple[str, str]:
+    """What a layer's name is followed by (``" (markers, 0.74% computed)"``) and a tooltip's
+    note on the computed samples (empty when none are)."""
+    if not isinstance(layer, MarkerLayer):
+        return "", ""
+    computed = layer.markers.computed
+    if not computed.any():
+        return " (markers)", ""
+    share = f" (markers, {100 * computed.mean():.2g}% computed)"
+    return share, f"; {int(computed.sum())} samples computed by the capture software (filled in), not measured"

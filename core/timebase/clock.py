@@ -32,8 +32,8 @@ import numpy as np
 #: digits (0.0083333 s is 120.0005 Hz), which would otherwise drift one clock against the
 #: other by a frame in 2,000 s
 SAME_RATE_TOLERANCE = 1e-5
-#: the most a frame time read from a file is off (seconds): half a unit of the sixth decimal,
-#: as BVH writers print it at the least (0.033333, 0.008333)
+#: the most a frame time is taken to be off when counting frames on another clock (seconds):
+#: half a unit of the sixth decimal, as BVH writers print it at the least (0.033333, 0.008333)
 FRAME_TIME_ROUNDING = 5e-7
 #: relative rounding every frame time may carry: glTF stores key times as 32-bit floats, so a
 #: frame time taken from them is off by about 1e-7 of itself
@@ -87,12 +87,11 @@ def common_rate(rate_a: float, rate_b: float) -> float:
 
 def frame_time_rounding(frame_time: float) -> float:
     """How far a frame time read from a file may be from the one its authors meant (seconds):
-    half a unit of the last decimal of its shortest printed form, at most
-    :data:`FRAME_TIME_ROUNDING` (5e-7 for 0.033333 or 0.01, 5e-8 for 0.0083333), and at least
-    :data:`SINGLE_PRECISION` of it (glTF's 32-bit key times: 0.041666668 is 1/24 s)."""
+    half a unit of the last decimal of its shortest printed form (5e-7 for 0.008333, 5e-8 for
+    0.0083333, 5e-5 for 0.0417), and at least :data:`SINGLE_PRECISION` of it (glTF's 32-bit
+    key times: 0.041666668 is 1/24 s)."""
     exponent = Decimal(repr(float(frame_time))).as_tuple().exponent
-    printed = min(FRAME_TIME_ROUNDING, 0.5 * 10.0 ** int(exponent))
-    return max(printed, SINGLE_PRECISION * float(frame_time))
+    return max(0.5 * 10.0 ** int(exponent), SINGLE_PRECISION * float(frame_time))
 
 
 def nominal_rate(frame_time: float) -> float:
@@ -128,5 +127,6 @@ def frames_within(n_frames: int, frame_time: float, rate: float) -> int:
     frames of 0.033333 s end at 0.99999 s, 1 s as meant: at 15 Hz, 16 frames). ``rate`` > 0."""
     if n_frames <= 0:
         return 0
-    last = (n_frames - 1) * (float(frame_time) + frame_time_rounding(frame_time))
+    slack = min(frame_time_rounding(frame_time), FRAME_TIME_ROUNDING)
+    last = (n_frames - 1) * (float(frame_time) + slack)
     return int(np.floor(last * float(rate) + _FLOAT_SLACK)) + 1
