@@ -16,6 +16,7 @@ import pyvista as pv
 from gmr_studio.app.model.state import Snapshot
 from gmr_studio.app.scene.figure import JOINT_RADIUS
 from gmr_studio.app.scene.picking import project_points
+from gmr_studio.core.space.heading import travel_axis
 
 
 def actor_positions(snapshot: Snapshot) -> np.ndarray:
@@ -72,15 +73,8 @@ class SceneCamera:
             low, high = low - 0.25 * size, high + 0.25 * size  # frame a size around them, not a point
         up_axis = self.up_axis
         up = np.eye(3)[up_axis]
-        across = [a for a in (0, 1, 2) if a != up_axis]
-        path = actor_positions(self.snapshot)[:, :, across].mean(axis=1)  # (F, 2) horizontal centroid path
-        travel = np.zeros(3)
-        spread = path - path.mean(axis=0)
-        if len(path) > 1 and np.abs(spread).max() > 0.5 * self.snapshot.motion.size:
-            _, _, vt = np.linalg.svd(spread, full_matrices=False)
-            travel[across] = vt[0]
-        else:  # standing still: look along the skeleton's default front
-            travel = np.array([1.0, 0.0, 0.0])
+        # the one travel fit (core.space.heading); moving less than half a size is standing still
+        travel = travel_axis(actor_positions(self.snapshot), up_axis, still_below=0.5 * self.snapshot.motion.size)
         side = np.cross(up, travel)
         if side @ np.array([1.0, 1.0, 1.0]) < 0:
             side = -side

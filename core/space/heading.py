@@ -9,17 +9,22 @@ from __future__ import annotations
 import numpy as np
 
 
-def travel_axis(positions: np.ndarray, up: int, figure: np.ndarray | None = None) -> np.ndarray:
-    """(3,) unit horizontal direction of the figure's main travel over ``positions`` (K, J, 3)
-    (the first horizontal axis when it stands still); ``figure`` (J,) bool: the joints that
-    make the figure (default all; an anchor pinned at the origin is no part of it)."""
+def travel_axis(
+    positions: np.ndarray, up: int, figure: np.ndarray | None = None, still_below: float = 0.0
+) -> np.ndarray:
+    """(3,) unit horizontal direction of the figure's main travel over ``positions`` (K, J, 3):
+    the first principal axis of its centroid's horizontal path, pointing from where it starts
+    to where it ends; the first horizontal axis when it stands still (its path spreads no
+    more than ``still_below`` from its mean). ``up``: the up axis' column (1 or 2);
+    ``figure`` (J,) bool: the joints that make the figure (default all; an anchor pinned at
+    the origin is no part of it)."""
     across = [a for a in (0, 1, 2) if a != up]
     if figure is not None:
         positions = positions[:, figure]
     path = positions[:, :, across].mean(axis=1)
     spread = path - path.mean(axis=0)
     axis = np.zeros(3)
-    if len(path) > 1 and np.abs(spread).max() > 0:
+    if len(path) > 1 and np.abs(spread).max() > still_below:
         _, _, vt = np.linalg.svd(spread, full_matrices=False)
         axis[across] = vt[0]
         if axis @ (positions[-1].mean(axis=0) - positions[0].mean(axis=0)) < 0:
