@@ -17,6 +17,7 @@ from gmr_studio.core.demo import demo_markers, demo_motion
 from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers.markerset import Y_UP_TO_Z_UP
 from gmr_studio.core.rotations.euler import axis_permutations, rotation_about_axis
+from gmr_studio.core.space.similarity import Similarity
 
 
 def turn(axis: int, degrees: float) -> np.ndarray:
@@ -32,8 +33,8 @@ def walk():
 
 def test_up_axis_of_y_up_and_z_up_figures(walk):
     _, positions, markers = walk
-    assert detect_up_axis(positions) == 1
-    assert detect_up_axis(markers.positions) == 2  # the demo markers are Z up, with gaps
+    assert detect_up_axis(positions) == "y"
+    assert detect_up_axis(markers.positions) == "z"  # the demo markers are Z up, with gaps
 
 
 def test_axis_rotations_are_the_24_proper_permutations():
@@ -59,8 +60,8 @@ def test_markers_named_like_joints_are_fitted_exactly(walk):
     motion, positions, markers = walk
     alignment = auto_alignment(markers.positions, markers.labels, positions, motion.names, markers.units)
     assert "31 markers named like joints" in alignment.method
-    assert alignment.scale == pytest.approx(0.1, rel=1e-4)  # mm -> cm
-    np.testing.assert_allclose(alignment.rotation, Y_UP_TO_Z_UP.T, atol=1e-4)
+    assert alignment.transform.scale == pytest.approx(0.1, rel=1e-4)  # mm -> cm
+    np.testing.assert_allclose(alignment.transform.rotation, Y_UP_TO_Z_UP.T, atol=1e-4)
     moved = alignment.apply(markers.positions[:, : motion.n_joints])
     assert np.nanmax(np.linalg.norm(moved - positions, axis=-1)) < 0.5  # noise is 0.5 mm
 
@@ -69,8 +70,8 @@ def test_without_names_units_up_axis_and_heading_are_found(walk):
     motion, positions, markers = walk
     anonymous = tuple(f"M{i}" for i in range(markers.n_markers))
     alignment = auto_alignment(markers.positions, anonymous, positions, motion.names, markers.units)
-    assert alignment.scale == pytest.approx(0.1)  # snapped to mm -> cm
-    np.testing.assert_allclose(alignment.rotation, Y_UP_TO_Z_UP.T)
+    assert alignment.transform.scale == pytest.approx(0.1)  # snapped to mm -> cm
+    np.testing.assert_allclose(alignment.transform.rotation, Y_UP_TO_Z_UP.T)
     moved = alignment.apply(markers.positions[:, : motion.n_joints])
     error = np.nanmean(np.linalg.norm(moved - positions, axis=-1))
     assert error < 0.05 * motion.size  # only the centroid offset of the surface markers remains
@@ -86,7 +87,7 @@ def test_a_turned_lab_is_turned_back(walk):
 
 
 def test_apply_keeps_gaps_and_frame_shift():
-    alignment = MarkerAlignment(rotation=turn(1, 90), scale=2.0, offset=np.array([1.0, 0, 0]))
+    alignment = MarkerAlignment(transform=Similarity(turn(1, 90), 2.0, np.array([1.0, 0, 0])))
     np.testing.assert_allclose(alignment.apply(np.array([1.0, 0, 0])), [1, 0, -2], atol=1e-12)
     assert np.isnan(alignment.apply(np.array([np.nan, np.nan, np.nan]))).all()
     positions = np.arange(4 * 1 * 3, dtype=float).reshape(4, 1, 3)
@@ -106,8 +107,8 @@ def test_cmu_c3d_markers_land_on_the_bvh_skeleton():
     markers = read_markers(shared_path("cmu/subject01/01_01.c3d"))
     positions = world_positions(motion)
     alignment = auto_alignment(markers.positions, markers.labels, positions, motion.names, markers.units)
-    np.testing.assert_array_equal(alignment.rotation, [[0, 1, 0], [0, 0, 1], [1, 0, 0]])
-    assert alignment.scale == pytest.approx(0.45 / 25.4)  # mm -> CMU length units
+    np.testing.assert_array_equal(alignment.transform.rotation, [[0, 1, 0], [0, 0, 1], [1, 0, 0]])
+    assert alignment.transform.scale == pytest.approx(0.45 / 25.4)  # mm -> CMU length units
     assert alignment.frame_offset == -1  # the BVH's frame 0 is an added T-pose
     on_frames = alignment.apply(markers_on_motion_frames(markers.positions, motion.n_frames, alignment.frame_offset))
     ankle = positions[:, motion.joint_index("LeftFoot")]

@@ -10,6 +10,7 @@ from gmr_studio.app.dialogs.alignment_dialog import PIVOT_COLOR, AlignmentDialog
 from gmr_studio.app.model.alignment import MarkerAlignment, figure_centre_joint, turned_about
 from gmr_studio.core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
 from gmr_studio.core.rotations.euler import rotation_about_axis
+from gmr_studio.core.space.similarity import Similarity
 from tests import app_fixtures
 from tests.app_fixtures import open_file, screen_image
 
@@ -22,11 +23,11 @@ def turn(axis: int, degrees: float) -> np.ndarray:
 
 
 def test_a_turn_keeps_the_pivot_and_the_distances_to_it(rng):
-    alignment = MarkerAlignment(rotation=turn(2, 90.0), scale=0.01, offset=np.array([3.0, -1.0, 2.0]))
+    alignment = MarkerAlignment(transform=Similarity(turn(2, 90.0), 0.01, np.array([3.0, -1.0, 2.0])))
     pivot = np.array([10.0, 4.0, -7.0])
     points = rng.normal(size=(50, 3)) * 100
     for axis in (1, 2):
-        turned = turned_about(alignment, axis, 90.0, pivot)
+        turned = turned_about(alignment, "xyz"[axis], 90.0, pivot)
         before, after = alignment.apply(points), turned.apply(points)
         np.testing.assert_allclose(
             np.linalg.norm(after - pivot, axis=1), np.linalg.norm(before - pivot, axis=1), rtol=1e-12
@@ -35,7 +36,9 @@ def test_a_turn_keeps_the_pivot_and_the_distances_to_it(rng):
         np.testing.assert_allclose(after[:, axis], before[:, axis], atol=1e-12)
         np.testing.assert_allclose(after - pivot, (before - pivot) @ turn(axis, 90.0).T, atol=1e-10)
         # the marker that sits on the pivot stays there
-        on_pivot = np.linalg.solve(alignment.scale * alignment.rotation, pivot - alignment.offset)
+        on_pivot = np.linalg.solve(
+            alignment.transform.scale * alignment.transform.rotation, pivot - alignment.transform.translation
+        )
         np.testing.assert_allclose(turned.apply(on_pivot), pivot, atol=1e-10)
 
 

@@ -38,9 +38,9 @@ def _assert_same(layer, expected) -> None:
     c = layer.comparison
     np.testing.assert_array_equal(c.position_error, expected.position_error)
     np.testing.assert_array_equal(c.positions_b, expected.positions_b)
-    np.testing.assert_array_equal(c.alignment.rotation, expected.alignment.rotation)
-    np.testing.assert_array_equal(c.alignment.translation, expected.alignment.translation)
-    assert c.alignment.scale == expected.alignment.scale
+    np.testing.assert_array_equal(c.alignment.fit.rotation, expected.alignment.fit.rotation)
+    np.testing.assert_array_equal(c.alignment.fit.translation, expected.alignment.fit.translation)
+    assert c.alignment.fit.scale == expected.alignment.fit.scale
     assert c.alignment.kind == expected.alignment.kind
     assert c.alignment.offset_frames == expected.alignment.offset_frames
     # the ghost drawn is B as the comparison placed it
@@ -108,7 +108,7 @@ def test_kind_and_offset_from_the_dock_recompute_the_layer(studio):
     box.auto.setChecked(True)
     expected = _expected(studio, "similarity", "auto")
     _assert_same(layer, expected)
-    assert layer.offset == -1.0 and layer.auto_offset and expected.alignment.scale != 1.0
+    assert layer.offset == -1.0 and layer.auto_offset and expected.alignment.fit.scale != 1.0
     assert box.offset.value() == -1.0 and "(found)" in studio.layers_panel.chosen_text.text()
 
     # never the document: same snapshot, same history, not modified

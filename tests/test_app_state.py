@@ -214,7 +214,7 @@ def test_pelvis_frames_follow_the_marker_alignment():
     shown = state.pelvis
     np.testing.assert_allclose(shown.origins[0], state.positions[0, 0], atol=0.3)  # m -> mm -> cm
     assert np.isnan(shown.origins[10]).all() and np.isnan(shown.residuals[10])
-    a = state.marker_overlay.alignment.rotation
+    a = state.marker_overlay.alignment.transform.rotation
     np.testing.assert_allclose(shown.rotations[0], a @ turn @ a.T, atol=1e-12)  # the same turn, motion axes
 
 

@@ -301,8 +301,8 @@ def test_the_alignment_dialog_adjusts_live_and_cancel_restores(qtbot, studio):
     original = state.marker_overlay
     dialog = AlignmentDialog(state, studio)
     qtbot.addWidget(dialog)
-    dialog.offset[0].setValue(float(original.alignment.offset[0]) + 10.0)
-    shift = dialog.offset[0].value() - original.alignment.offset[0]  # 10, to the box's decimals
+    dialog.translation[0].setValue(float(original.alignment.transform.translation[0]) + 10.0)
+    shift = dialog.translation[0].value() - original.alignment.transform.translation[0]  # 10, to the box's decimals
     assert shift == pytest.approx(10.0, abs=1e-3)
     np.testing.assert_allclose(state.marker_overlay.positions[:, :, 0], original.positions[:, :, 0] + shift, atol=1e-9)
     dialog.turn.setValue(90.0)  # a quarter turn about the up axis (Y) through the pelvis

@@ -90,7 +90,7 @@ def test_a_motion_against_itself_after_edits_is_zero(walk, edit):
     assert result.n_pairs == walk.n_joints and not result.unmatched_a
     assert result.position.max <= 1e-9 * walk.size
     rigid = compare_motions(walk, edited, align="similarity")
-    assert rigid.position.max <= 1e-9 * walk.size and abs(rigid.alignment.scale - 1) < 1e-12
+    assert rigid.position.max <= 1e-9 * walk.size and abs(rigid.alignment.fit.scale - 1) < 1e-12
 
 
 def test_ten_degrees_on_one_joint_stays_in_its_subtree_and_frames(walk):
@@ -133,9 +133,9 @@ def test_rigid_and_similarity_alignments_recover_a_known_transform(walk):
     assert similar.position.max < 1e-9 * walk.size
     assert np.nanmax(similar.rotation_error) < 1e-6
     alignment = similar.alignment
-    np.testing.assert_allclose(alignment.rotation, turn, atol=1e-12)
-    assert alignment.scale == pytest.approx(1 / factor, rel=1e-12)
-    np.testing.assert_allclose(alignment.translation, shift, atol=1e-9 * walk.size)
+    np.testing.assert_allclose(alignment.fit.rotation, turn, atol=1e-12)
+    assert alignment.fit.scale == pytest.approx(1 / factor, rel=1e-12)
+    np.testing.assert_allclose(alignment.fit.translation, shift, atol=1e-9 * walk.size)
     assert alignment.rms_after < 1e-9 * walk.size < alignment.rms_before
     assert similar.to_json()["alignment"]["scale"] == pytest.approx(1 / factor)
 
@@ -234,7 +234,7 @@ def test_units_and_up_axis_from_what_the_files_state(walk):
     a = walk.replace(facts=FileFacts(unit=UNITS["cm"]))
     result = compare_motions(a, z_up_mm)
     assert result.position.max < 1e-9 * walk.size and np.nanmax(result.rotation_error) < 1e-6
-    assert result.alignment.units_scale == pytest.approx(0.1) and result.units == "cm"
+    assert result.alignment.space.scale == pytest.approx(0.1) and result.units == "cm"
     assert any("B turned from z up" in note for note in result.alignment.notes)
     # nothing stated: the caller says it
     bare = z_up_mm.replace(facts=FileFacts())

@@ -78,8 +78,8 @@ def reference_positions(positions: np.ndarray, at: np.ndarray) -> np.ndarray:
 def test_vectorised_comparison_equals_the_straightforward_one(tracks, align, offset):
     a, b, match = tracks
     result = compare_tracks(a, b, match, align=align, offset=offset)
-    fit = result.alignment
-    at = (np.arange(a.n_frames) / a.frame_rate + fit.offset_seconds) * b.frame_rate
+    fit = result.alignment.fit
+    at = (np.arange(a.n_frames) / a.frame_rate + result.alignment.offset_seconds) * b.frame_rate
     positions_b = reference_positions(b.positions, at)
     moved = fit.scale * positions_b @ fit.rotation.T + fit.translation
     position_error = np.linalg.norm(a.positions - moved, axis=-1)
@@ -99,5 +99,5 @@ def test_vectorised_comparison_equals_the_straightforward_one(tracks, align, off
     assert np.nanmax(gap) <= 1e-10
     assert np.nanmax(rotation_error) > 1.0  # B really differs (about 2 degrees per joint)
     if offset == "auto":
-        assert fit.offset_frames == -20  # B is A from frame 20 on: A frame 20 is B frame 0
+        assert result.alignment.offset_frames == -20  # B is A from frame 20 on: A frame 20 is B frame 0
     assert result.position.mean == pytest.approx(np.nanmean(position_error), rel=1e-12)

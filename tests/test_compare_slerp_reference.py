@@ -119,7 +119,7 @@ def test_interpolated_rotation_errors_equal_scipy(case, align):
     a, b, _at, reference_b = case
     result = compare_tracks(a, b, match_joints(a.names, b.names), align=align, offset=OFFSET * RATE_A)
     assert result.alignment.offset_seconds == pytest.approx(OFFSET)
-    expected = _scipy_angles(a.rotations, result.alignment.rotation @ reference_b)
+    expected = _scipy_angles(a.rotations, result.alignment.fit.rotation @ reference_b)
     assert np.array_equal(np.isnan(result.rotation_error), np.isnan(expected))
     assert np.nanmax(np.abs(result.rotation_error - expected)) <= 1e-9
 

@@ -71,7 +71,7 @@ def reference(a: Track, b: Track, rows: np.ndarray, result) -> tuple[np.ndarray,
     ib = [NAMES_B.index(n) for n in result.names_b]
     at = (rows + alignment.offset_frames) / a.frame_rate * b.frame_rate
     positions_b = b_at(b.positions[:, ib], at, rotations=False)
-    pre_fit = alignment.units_scale * positions_b @ alignment.up_rotation.T
+    pre_fit = alignment.space.scale * positions_b @ alignment.space.rotation.T
     aligned = alignment.apply(positions_b)
     position_error = np.linalg.norm(a.positions[rows][:, ia] - aligned, axis=-1)
     turned_b = alignment.apply_rotations(b_at(b.rotations[:, ib], at, rotations=True))
@@ -154,7 +154,7 @@ def test_errors_equal_a_sample_by_sample_reference(case, blocks, monkeypatch):
     rows = np.unique(frames)
     assert result.alignment.offset_frames == spec["offset"] and not result.alignment.offset_found
     assert result.alignment.offset_seconds == spec["offset"] / 30.0
-    assert result.alignment.units_scale == (100.0 if "a_units" in spec else spec.get("scale", 1.0))
+    assert result.alignment.space.scale == (100.0 if "a_units" in spec else spec.get("scale", 1.0))
     check_against_reference(a, b, rows, result)
 
 
@@ -175,13 +175,13 @@ def test_the_fit_is_over_every_frame_where_b_is_and_only_those():
         present = slice(5, 35)
         index_b = [NAMES_B.index(n) for n in a.names]
         expected = fit_alignment(a.positions[present], b.positions[:, index_b], kind)
-        np.testing.assert_allclose(result.alignment.rotation, expected[0], atol=1e-12)
-        np.testing.assert_allclose(result.alignment.translation, expected[1], atol=1e-12)
-        assert result.alignment.scale == pytest.approx(expected[2], rel=1e-12)
+        np.testing.assert_allclose(result.alignment.fit.rotation, expected[0], atol=1e-12)
+        np.testing.assert_allclose(result.alignment.fit.translation, expected[1], atol=1e-12)
+        assert result.alignment.fit.scale == pytest.approx(expected[2], rel=1e-12)
         assert result.alignment.rms_after < result.alignment.rms_before
-        np.testing.assert_allclose(np.linalg.det(result.alignment.rotation), 1.0)
+        np.testing.assert_allclose(np.linalg.det(result.alignment.fit.rotation), 1.0)
         if kind == "similarity":
-            assert result.alignment.scale == pytest.approx(0.5, rel=0.02) and result.alignment.rms_after < 0.1
+            assert result.alignment.fit.scale == pytest.approx(0.5, rel=0.02) and result.alignment.rms_after < 0.1
 
 
 def test_the_frames_asked_for():
@@ -287,8 +287,8 @@ def test_a_frame_within_the_tolerance_of_bs_range_counts_for_the_fit(offset):
     at = np.arange(12) + offset
     assert at[0 if offset < 0 else -1] == (-1e-6 if offset < 0 else 11 + 1e-6)
     expected = fit_alignment(a.positions[:12], b_at(b.positions, at, rotations=False), "rigid")
-    np.testing.assert_allclose(result.alignment.rotation, expected[0], atol=1e-12)
-    np.testing.assert_allclose(result.alignment.translation, expected[1], atol=1e-12)
+    np.testing.assert_allclose(result.alignment.fit.rotation, expected[0], atol=1e-12)
+    np.testing.assert_allclose(result.alignment.fit.translation, expected[1], atol=1e-12)
 
 
 @pytest.mark.parametrize("align", ["none", "rigid"])

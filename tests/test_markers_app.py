@@ -34,9 +34,11 @@ def test_the_window_draws_and_aligns_only_markers(qtbot, studio, tmp_path):
     alone = auto_alignment(
         resampled.positions, resampled.labels, state.snapshot.positions, state.motion.names, cmu.units
     )
-    np.testing.assert_allclose(overlay.alignment.rotation, alone.rotation, atol=1e-9)
-    np.testing.assert_allclose(overlay.alignment.offset, alone.offset, rtol=1e-6, atol=1e-6)
-    assert overlay.alignment.scale == pytest.approx(alone.scale, rel=1e-9)
+    np.testing.assert_allclose(overlay.alignment.transform.rotation, alone.transform.rotation, atol=1e-9)
+    np.testing.assert_allclose(
+        overlay.alignment.transform.translation, alone.transform.translation, rtol=1e-6, atol=1e-6
+    )
+    assert overlay.alignment.transform.scale == pytest.approx(alone.transform.scale, rel=1e-9)
 
 
 def test_pelvis_frames_on_the_cmu_bvh_and_a_message_when_the_map_cannot_apply(qtbot, tmp_path):

@@ -8,9 +8,10 @@ from scipy.spatial.transform import Rotation
 
 from gmr_studio.core.errors import MotionFileError, OperationError
 from gmr_studio.core.markers import load_marker_map
-from gmr_studio.core.markers.markermap import MAPS_DIR, Alignment, MarkerMap, VirtualMarker, marker_map_text
+from gmr_studio.core.markers.markermap import MAPS_DIR, MarkerMap, VirtualMarker, marker_map_text
 from gmr_studio.core.markers.markerset import MarkerSet, frame_ranges
 from gmr_studio.core.markers.virtual import calibrate_marker_map, compute_virtual_markers, resolve_map
+from gmr_studio.core.space.similarity import Similarity
 from gmr_studio.core.space.units import unit_named
 
 SMALL_MAP = """
@@ -111,7 +112,7 @@ def test_calibration_finds_exact_offsets_on_rigid_clusters(rng, tmp_path):
     markers, hips, knee = rigid_markers(rng)
     marker_map = load_marker_map(path)
     alignment = marker_map.alignment
-    joints = alignment.to_skeleton(np.stack([hips, knee], axis=1))  # known poses, skeleton space
+    joints = alignment.apply(np.stack([hips, knee], axis=1))  # known poses, skeleton space
     calibrated = calibrate_marker_map(marker_map, markers, joints, ["hips", "knee"], slice(0, 20))
     assert all(v.calibrated for v in calibrated.virtual)
     assert calibrated.virtual[0].rms < 1e-9 and calibrated.virtual[3].rms < 1e-9
@@ -133,7 +134,7 @@ def test_gaps_spoil_the_frames_they_touch_and_say_so(rng, tmp_path):
     path.write_text(SMALL_MAP)
     markers, hips, knee = rigid_markers(rng)
     calibrated = calibrate_marker_map(
-        load_marker_map(path), markers, load_marker_map(path).alignment.to_skeleton(np.stack([hips, knee], 1)),
+        load_marker_map(path), markers, load_marker_map(path).alignment.apply(np.stack([hips, knee], 1)),
         ["hips", "knee"],
     )  # fmt: skip
     positions = markers.positions.copy()
@@ -181,13 +182,13 @@ def test_joints_map_resolves_against_the_skeleton_names(rng):
 
 
 def test_alignment_round_trip_and_the_cmu_relation():
-    alignment = Alignment(np.array([[0.0, 1, 0], [0, 0, 1], [1, 0, 0]]), 0.45 / 25.4)
+    alignment = Similarity(np.array([[0.0, 1, 0], [0, 0, 1], [1, 0, 0]]), 0.45 / 25.4)
     amc = np.array([1.0, 2.0, 3.0])
-    c3d = alignment.to_markers(amc)
+    c3d = alignment.inverse().apply(amc)
     np.testing.assert_allclose(c3d, 56.444444 * np.array([3.0, 1.0, 2.0]), rtol=1e-6)  # (z, x, y) * 56.444
-    np.testing.assert_allclose(alignment.to_skeleton(c3d), amc)
+    np.testing.assert_allclose(alignment.apply(c3d), amc)
     with pytest.raises(ValueError):
-        Alignment(np.diag([1.0, 1.0, 2.0]))
+        Similarity(np.diag([1.0, 1.0, 2.0]))
 
 
 def test_frame_ranges_text():

@@ -11,7 +11,6 @@ import pytest
 from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.markers.markermap import (
     MAPS_DIR,
-    Alignment,
     MarkerMap,
     VirtualMarker,
     guess_pelvis,
@@ -20,6 +19,7 @@ from gmr_studio.core.markers.markermap import (
     marker_map_text,
     save_marker_map,
 )
+from gmr_studio.core.space.similarity import Similarity
 from tests.test_markers_map import SMALL_MAP
 
 PERMUTATION = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
@@ -31,46 +31,6 @@ def written(tmp_path, text: str, name: str = "map.toml"):
     path = tmp_path / name
     path.write_text(text)
     return path
-
-
-# ------------------------------------------------------------------ alignment
-def test_alignment_maps_points_and_rotations_both_ways():
-    alignment = Alignment(PERMUTATION, 2.0, np.array([1.0, -1.0, 0.5]))
-    point = np.array([[1.0, 2.0, 3.0]])
-    np.testing.assert_allclose(alignment.to_skeleton(point), [[2 * 2.0 + 1.0, 2 * 3.0 - 1.0, 2 * 1.0 + 0.5]])
-    np.testing.assert_allclose(alignment.to_markers(alignment.to_skeleton(point)), point, rtol=1e-15)
-    turn = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # about marker z
-    np.testing.assert_allclose(alignment.rotation_to_skeleton(turn), PERMUTATION @ turn @ PERMUTATION.T)
-    assert alignment.scale == 2.0 and type(alignment.scale) is float
-    assert not alignment.is_identity and Alignment().is_identity
-    assert not Alignment(scale=0.5).is_identity
-    assert not Alignment(PERMUTATION).is_identity
-    assert not Alignment(offset=np.array([0.0, 0.0, 1e-9])).is_identity
-
-
-@pytest.mark.parametrize(
-    ("arguments", "message"),
-    [
-        ((np.eye(2),), "orthonormal 3x3"),
-        ((np.array([[1.0, 1e-8, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]),), "orthonormal 3x3"),
-        ((np.diag([1.0, 1.0, 1.0 + 1e-4]),), "orthonormal 3x3"),
-        ((np.eye(3), 0.0), "a positive scale and a finite offset"),
-        ((np.eye(3), -1.0), "a positive scale"),
-        ((np.eye(3), np.inf), "a positive scale"),
-        ((np.eye(3), np.nan), "a positive scale"),
-        ((np.eye(3), 1.0, np.zeros(2)), "a finite offset of 3 numbers"),
-        ((np.eye(3), 1.0, np.array([0.0, np.nan, 0.0])), "a finite offset of 3 numbers"),
-    ],
-)
-def test_alignment_refusals(arguments, message):
-    with pytest.raises(ValueError, match=message):
-        Alignment(*arguments)
-
-
-def test_alignment_takes_rotations_orthonormal_to_a_billionth():
-    nearly = np.array([[1.0, 4e-10, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
-    assert Alignment(nearly).rotation[0, 1] == 4e-10
-    assert Alignment(-PERMUTATION).rotation[0, 1] == -1.0  # a reflection is orthonormal too
 
 
 # ------------------------------------------------------------------ objects
@@ -110,7 +70,7 @@ def test_the_joints_map():
 
 
 def test_maps_and_their_parts_are_frozen_and_compared_by_identity():
-    alignment, virtual = Alignment(), VirtualMarker("x", "marker", ("A",))
+    alignment, virtual = Similarity(), VirtualMarker("x", "marker", ("A",))
     marker_map = MarkerMap("m", (virtual,))
     for thing, field in ((alignment, "scale"), (virtual, "name"), (marker_map, "name")):
         with pytest.raises(dataclasses.FrozenInstanceError):
@@ -125,7 +85,7 @@ def full_map() -> MarkerMap:
         name='lab "A"\\1',
         description="two\nlines,\ttabbed\r, a bell \x07, a unit separator \x1f and a delete \x7f",
         units="cm",
-        alignment=Alignment(PERMUTATION, 0.25, np.array([1.0, 2.0, 3.0])),
+        alignment=Similarity(PERMUTATION, 0.25, np.array([1.0, 2.0, 3.0])),
         pelvis=("hips", "left", "back"),
         pelvis_home=np.arange(9.0).reshape(3, 3),
         bone_starts={"knee": "left", "back": "hips"},
@@ -151,7 +111,7 @@ def test_a_full_map_written_reads_back_the_same(tmp_path):
     np.testing.assert_array_equal(again.pelvis_home, original.pelvis_home)
     np.testing.assert_array_equal(again.alignment.rotation, PERMUTATION)
     assert again.alignment.scale == 0.25
-    np.testing.assert_array_equal(again.alignment.offset, [1.0, 2.0, 3.0])
+    np.testing.assert_array_equal(again.alignment.translation, [1.0, 2.0, 3.0])
     assert again.bone_starts == original.bone_starts and again.calibration == original.calibration
     assert again.names == original.names and [v.kind for v in again.virtual] == [v.kind for v in original.virtual]
     assert [v.markers for v in again.virtual] == [v.markers for v in original.virtual]
@@ -260,7 +220,7 @@ def test_a_toml_error_gives_its_line_and_column(tmp_path):
     [
         (('format = "gmr-markermap 1"', 'format = "gmr-markermap 2"'), "format is 'gmr-markermap 2': expected"),
         (("scale = 0.5", 'scale = "half"'), "[alignment]"),
-        (("scale = 0.5", "offset = [1.0, 2.0]"), "[alignment]: the alignment needs a positive scale"),
+        (("scale = 0.5", "offset = [1.0, 2.0]"), "[alignment]: a similarity needs a positive scale"),
         (('markers = ["hips", "left", "back"]', 'markers = ["hips", "left"]'), "[pelvis] needs markers"),
         (('markers = ["hips", "left", "back"]', 'markers = "hips"'), "[pelvis] needs markers"),
         (('markers = ["hips", "left", "back"]', 'markers = ["hips", "left", 3]'), "[pelvis] needs markers"),

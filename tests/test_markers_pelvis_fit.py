@@ -46,7 +46,7 @@ def test_the_fit_is_the_real_markers_against_the_template_frame_by_frame():
     cmu = load_marker_map("cmu")
     root, lhip, rhip = (cmu.virtual[cmu.names.index(n)] for n in ("root", "lhipjoint", "rhipjoint"))
     assert root.markers == CLUSTER and pelvis.fit_labels == CLUSTER[:3]
-    home = cmu.alignment.to_markers(rest_positions(skeleton, ("root", "lhipjoint", "rhipjoint")))
+    home = cmu.alignment.inverse().apply(rest_positions(skeleton, ("root", "lhipjoint", "rhipjoint")))
     # the template in the home pose: the rigid motion taking the three offsets onto their home
     to_home, shift = kabsch(np.stack([root.offset, lhip.offset, rhip.offset]), home)
     raw_home = root.template[:3] @ to_home.T + shift

@@ -290,7 +290,7 @@ def test_real_cmu_markers_against_the_amc():
     # in the file's axes (Z up): the home pelvis is the skeleton's rest pose, so the
     # recovered rotation agrees with the AMC root rotation seen through the alignment
     alignment = load_marker_map("cmu").alignment
-    in_skeleton = alignment.rotation_to_skeleton(pelvis.rotations[pelvis.valid])
+    in_skeleton = alignment.change_frames(pelvis.rotations[pelvis.valid])
     angle = rotation_angle(np.swapaxes(in_skeleton, -1, -2) @ truth.rotations[pelvis.valid, 0])
     assert np.degrees(np.median(angle)) < 5.0
 

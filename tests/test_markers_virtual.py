@@ -11,9 +11,10 @@ import pytest
 
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.jointmap import JointMap
-from gmr_studio.core.markers.markermap import Alignment, MarkerMap, VirtualMarker, joints_map
+from gmr_studio.core.markers.markermap import MarkerMap, VirtualMarker, joints_map
 from gmr_studio.core.markers.markerset import MarkerSet
 from gmr_studio.core.markers.virtual import calibrate_marker_map, compute_virtual_markers, resolve_map
+from gmr_studio.core.space.similarity import Similarity
 from tests.conftest import random_motion
 
 PERMUTATION = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
@@ -53,7 +54,7 @@ def test_a_named_map_is_returned_as_is_or_renamed_for_another_skeleton(rng):
 
 def test_the_joints_map_keeps_the_names_labelled_in_the_skeletons_order(rng):
     markers = labelled(["c", "x", "a", "b"], rng.normal(size=(3, 4, 3)), source="take.trc")
-    aligned = joints_map(()).replace(alignment=Alignment(PERMUTATION, 2.0))
+    aligned = joints_map(()).replace(alignment=Similarity(PERMUTATION, 2.0))
     resolved = resolve_map(aligned, markers, ["a", "b", "z", "c"], skeleton=None)
     assert resolved.names == ("a", "b", "c") and resolved.joints
     assert resolved.alignment.scale == 2.0
@@ -132,7 +133,7 @@ def test_virtual_markers_of_each_kind_in_the_maps_units(rng):
             VirtualMarker("c", "marker", ("C",)),
             VirtualMarker("body", "cluster", ("A", "B", "C"), np.array([0.0, 0.0, 50.0]), template),
             VirtualMarker("tip", "mean", ("@mid", "@c")),
-        ), units="mm", alignment=Alignment(PERMUTATION, 0.5),
+        ), units="mm", alignment=Similarity(PERMUTATION, 0.5),
     )  # fmt: skip
     virtual = compute_virtual_markers(markers, marker_map)
     assert virtual.units == "mm" and virtual.rate == 50.0 and virtual.n_frames == 5 and virtual.reasons == ()

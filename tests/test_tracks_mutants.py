@@ -1,5 +1,5 @@
-"""What a comparison reads of each side (issue 24, the mutants of core/compare/tracks.py):
-the units and source units a file's comments state, a motion's and a marker set's track,
+"""What a comparison reads of each side: a motion's and a marker set's track with the units
+and up axis their file facts state,
 and B's units and up axis brought to A's, with the sentence that says how."""
 
 from __future__ import annotations
@@ -9,55 +9,22 @@ import dataclasses
 import numpy as np
 import pytest
 
-from gmr_studio.core.compare.tracks import (
-    UNIT_SCALE,
-    Track,
-    source_metres_of,
-    space_change,
-    track_of_motion,
-    track_of_points,
-    units_of,
-)
+from gmr_studio.core.compare.tracks import Track, space_change, track_of_motion, track_of_points
 from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from gmr_studio.core.formats import load_gmr
 from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.kinematics.fk import forward_kinematics
+from gmr_studio.core.model.facts import FileFacts
+from gmr_studio.core.space.units import UNITS, unit_of_length
 
 
-def walk(*comments: str):
+def walk(facts: FileFacts | None = None):
     motion = load_gmr(demo_folder() / MOTION_FILE).frame_slice(slice(0, 12))
-    return motion.replace(comments=comments)
-
-
-def with_comments(*comments: str):
-    """A motion stand-in: only its comments are read."""
-    return type("Stated", (), {"comments": comments})()
-
-
-def test_the_units_a_file_states():
-    assert units_of(with_comments()) is None
-    assert units_of(with_comments("units: mm")) == "mm"
-    assert units_of(with_comments("  Length Units : CM  ", "made by hand")) == "cm"
-    assert units_of(with_comments("unit:in")) == "in" and units_of(with_comments("units: ft (feet)")) == "ft"
-    assert units_of(with_comments("units: m", "units: mm")) == "mm"  # the last one
-    assert units_of(with_comments("units: mm", "units: metres")) == "mm"  # not a unit: the one before
-    assert units_of(with_comments("the units: m", "units m", "units: km")) is None
-
-
-def test_the_source_units_a_file_states():
-    assert source_metres_of(with_comments()) is None
-    assert source_metres_of(with_comments("source units: 0.0564444 m")) == 0.0564444
-    assert source_metres_of(with_comments(" Source units: 2.5e-2 m (written by GMR Studio) ")) is None  # case
-    assert source_metres_of(with_comments("  source units:  2.5e-2 m (written by GMR Studio) ")) == 0.025
-    assert source_metres_of(with_comments("source units: 0.5 m", "source units: 0.25 m", "units: m")) == 0.25
-    assert source_metres_of(with_comments("source units: 0.5 m", "source units: 0 m")) is None  # the last
-    for wrong in ("1e", "1..2", "-0.5", "1e999"):  # the last note decides, read or not
-        assert source_metres_of(with_comments("source units: 0.5 m", f"source units: {wrong} m")) is None
-    assert source_metres_of(with_comments("source units: 0.5 m", "source units: 0.5 mm")) == 0.5  # not one
+    return motion.replace(facts=facts or FileFacts(up_axis="y"))
 
 
 def test_a_motions_track():
-    motion = walk("units: cm", "up axis: z", "source units: 0.01 m")
+    motion = walk(FileFacts(unit=UNITS["cm"], up_axis="z", source_unit=UNITS["cm"]))
     expected, rotations = forward_kinematics(pre_from_post(motion), with_rotations=True, threads=None)
     track = track_of_motion(motion, label="walk.bvh")
     np.testing.assert_array_equal(track.positions, expected)
@@ -67,7 +34,7 @@ def test_a_motions_track():
         motion.roots
     )
     assert track.names == motion.names and track.frame_rate == motion.frame_rate and track.size == motion.size
-    assert (track.units, track.up, track.label, track.source_metres) == ("cm", "z", "walk.bvh", 0.01)
+    assert (track.units, track.up, track.label, track.source_unit) == ("cm", "z", "walk.bvh", UNITS["cm"])
     assert (track.n_frames, track.n_points) == (12, motion.n_joints)
     given = expected + 1.0  # the app's cache: taken as it is, rotations only when asked for
     cached = track_of_motion(motion, with_rotations=False, positions=given)
@@ -78,7 +45,7 @@ def test_a_motions_track():
     np.testing.assert_array_equal(computed.positions, expected)
     assert computed.rotations is None
     plain = track_of_motion(walk())
-    assert (plain.units, plain.up, plain.source_metres, plain.label) == (None, "y", None, "")
+    assert (plain.units, plain.up, plain.source_unit, plain.label) == (None, "y", None, "")
 
 
 def test_a_marker_sets_track():
@@ -103,14 +70,13 @@ def test_a_marker_sets_track():
 
 def points(units=None, up="y", source_metres=None) -> Track:
     track = track_of_points(["p"], np.zeros((2, 1, 3)), 30.0, units=units, up=up)
-    return dataclasses.replace(track, source_metres=source_metres)
+    return dataclasses.replace(track, source_unit=None if source_metres is None else unit_of_length(source_metres))
 
 
 def test_units_brought_to_as():
-    assert UNIT_SCALE == {"mm": 1e-3, "cm": 1e-2, "m": 1.0, "in": 0.0254, "ft": 0.3048}
-    for unit, metres in UNIT_SCALE.items():
-        assert space_change(points("m"), points(unit)).scale == metres
-        assert space_change(points(unit), points("m")).scale == 1.0 / metres
+    for unit in UNITS.values():
+        assert space_change(points("m"), points(unit.name)).scale == unit.metres
+        assert space_change(points(unit.name), points("m")).scale == 1.0 / unit.metres
     change = space_change(points("cm"), points("in"))
     assert change.scale == 2.54 and change.notes[0] == "B in in, A in cm: B scaled by 2.54"
     assert (change.units_a, change.units_b) == ("cm", "in")
@@ -125,14 +91,13 @@ def test_units_from_a_glTF_exports_note():
     # B is our glTF export in metres of a motion in units of 0.0254 m; A states none
     b = points("m", source_metres=0.0254)
     change = space_change(points(), b)
-    assert change.scale == 1.0 / 0.0254 and "exported from units of 0.0254 m" in change.notes[0]
-    assert "A states none" in change.notes[0]
+    assert change.scale == 1.0 / 0.0254 and "exported from in" in change.notes[0]
+    assert "A states no unit" in change.notes[0]
     reverse = space_change(points("m", source_metres=0.0254), points())
-    assert reverse.scale == 0.0254 and "B states none" in reverse.notes[0]
+    assert reverse.scale == 0.0254 and "B states no unit" in reverse.notes[0]
     # the note is read only on a side in metres, with the other side stating nothing
     assert space_change(points("cm"), b).scale == 100.0
-    assert space_change(points(), points("cm", source_metres=0.0254)).scale == 1.0
-    assert space_change(points("cm", source_metres=0.0254), points()).scale == 1.0
+    assert space_change(points(), points("cm", source_metres=0.0254)).scale == 1.0 / 0.0254 / 100
     assert space_change(points("m"), points(source_metres=0.0254)).scale == 1.0
     assert space_change(points(source_metres=0.0254), points("m")).scale == 1.0
     assert space_change(points("m", source_metres=0.0254), points("m", source_metres=0.5)).scale == 1.0
@@ -171,13 +136,13 @@ def test_the_up_axis_brought_to_as():
         "up axis: B turned from z up to A's y up",
     )
     assert space_change(points(up="y"), points(up="z"), up_b="y").notes[-1] == "up axis: y on both sides"
-    with pytest.raises(ValueError, match="the up axis must be one of y, z, not 'x'"):
+    with pytest.raises(ValueError, match="the up axis must be one of y, z, not 'X'"):
         space_change(points(), points(), up_b="X")
 
 
 def test_defaults_frozen_and_keywords():
     track = Track(("p",), np.zeros((2, 1, 3)), None, np.zeros(1, dtype=bool), 30.0)
-    assert (track.units, track.up, track.size, track.label, track.source_metres) == (None, "y", 1.0, "", None)
+    assert (track.units, track.up, track.size, track.label, track.source_unit) == (None, "y", 1.0, "", None)
     same = dataclasses.replace(track)  # compared by identity (its arrays have no single truth value)
     assert track == track and track != same and len({track, same}) == 2
     change = space_change(track, track)

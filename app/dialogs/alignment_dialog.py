@@ -1,6 +1,6 @@
 """Marker alignment dialog: adjust what the automatic alignment cannot know.
 
-Scale, offset, a turn about the up axis and a frame offset, previewed live in the view;
+Scale, translation, a turn about the up axis and a frame offset, previewed live in the view;
 Auto recomputes :func:`app.alignment.auto_alignment`, Cancel restores what was there.
 The turn is about the vertical line through the figure's centre (the pelvis at the current
 frame, :func:`app.alignment.figure_centre_joint`), drawn in the view while the dialog is
@@ -25,6 +25,7 @@ from PyQt6.QtWidgets import (
 from gmr_studio.app.model.alignment import MarkerAlignment, auto_alignment, figure_centre_joint, turned_about
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.app.scene.highlight import PIVOT_COLOR, PivotMarker
+from gmr_studio.core.space.similarity import Similarity
 from gmr_studio.core.space.up_axis import up_axis_of
 
 __all__ = ["PIVOT_COLOR", "AlignmentDialog"]
@@ -47,17 +48,18 @@ class AlignmentDialog(QDialog):
         self.method = QLabel(self.original.method)
         self.method.setWordWrap(True)
         layout.addRow("Found by", self.method)
-        self.scale = QDoubleSpinBox(decimals=6, minimum=1e-6, maximum=1e6, value=self.original.scale)
+        self.scale = QDoubleSpinBox(decimals=6, minimum=1e-6, maximum=1e6, value=self.original.transform.scale)
         self.scale.setToolTip("Motion units per marker unit")
         layout.addRow("Scale", self.scale)
-        self.offset = []
+        self.translation = []
         row = QHBoxLayout()
         for axis in range(3):
-            box = QDoubleSpinBox(decimals=3, minimum=-1e6, maximum=1e6, value=float(self.original.offset[axis]))
+            start = float(self.original.transform.translation[axis])
+            box = QDoubleSpinBox(decimals=3, minimum=-1e6, maximum=1e6, value=start)
             box.setSingleStep(size / 100)
-            self.offset.append(box)
+            self.translation.append(box)
             row.addWidget(box)
-        layout.addRow("Offset X Y Z", row)
+        layout.addRow("Translation X Y Z", row)
         self.turn = QDoubleSpinBox(decimals=1, minimum=-180, maximum=180, value=0.0, suffix=" deg")
         self.turn.setSingleStep(90)
         self.pivot_joint = figure_centre_joint(state.motion.names, state.motion.tree_roots)
@@ -82,16 +84,20 @@ class AlignmentDialog(QDialog):
         buttons.accepted.connect(self.accept)
         buttons.rejected.connect(self.reject)
         layout.addRow(buttons)
-        for box in [self.scale, self.turn, *self.offset]:
+        for box in [self.scale, self.turn, *self.translation]:
             box.valueChanged.connect(self._on_edited)
         self.frames.valueChanged.connect(self._on_edited)
 
     def alignment(self) -> MarkerAlignment:
         """The alignment the fields describe (a field left as shown keeps its exact value,
         not the value rounded to the box's decimals)."""
+        base = self.base.transform
         fields = self.base.replace(
-            scale=_exact(self.scale, self.base.scale),
-            offset=np.array([_exact(box, value) for box, value in zip(self.offset, self.base.offset)]),
+            transform=Similarity(
+                base.rotation,
+                _exact(self.scale, base.scale),
+                np.array([_exact(box, value) for box, value in zip(self.translation, base.translation)]),
+            ),
             frame_offset=self.frames.value(),
             method=self.base.method if self._untouched() else f"{self.base.method}; adjusted by hand",
         )
@@ -126,8 +132,8 @@ class AlignmentDialog(QDialog):
     def _untouched(self) -> bool:
         return (
             self.turn.value() == 0
-            and np.isclose(self.scale.value(), self.base.scale)
-            and np.allclose([b.value() for b in self.offset], self.base.offset, atol=1e-3)
+            and np.isclose(self.scale.value(), self.base.transform.scale)
+            and np.allclose([b.value() for b in self.translation], self.base.transform.translation, atol=1e-3)
             and self.frames.value() == self.base.frame_offset
         )
 
@@ -140,14 +146,14 @@ class AlignmentDialog(QDialog):
         self.base = auto_alignment(
             markers.positions, markers.labels, self.state.positions, self.state.motion.names, markers.units
         )
-        widgets = [self.scale, self.turn, self.frames, *self.offset]
+        widgets = [self.scale, self.turn, self.frames, *self.translation]
         for widget in widgets:
             widget.blockSignals(True)
-        self.scale.setValue(self.base.scale)
+        self.scale.setValue(self.base.transform.scale)
         self.turn.setValue(0.0)
         self.frames.setValue(0)
-        for axis, box in enumerate(self.offset):
-            box.setValue(float(self.base.offset[axis]))
+        for axis, box in enumerate(self.translation):
+            box.setValue(float(self.base.transform.translation[axis]))
         for widget in widgets:
             widget.blockSignals(False)
         self.method.setText(self.base.method)

@@ -70,7 +70,7 @@ class ComparisonLayer:
             return "not compared"
         a = self.comparison.alignment
         found = " (found)" if self.auto_offset else ""
-        scale = f", x{a.units_scale:g} units" if a.units_scale != 1.0 else ""
+        scale = f", x{a.space.scale:g} units" if a.space.scale != 1.0 else ""
         return f"offset {a.offset_frames:+g} frames{found}{scale}, align {a.kind}, RMS {a.rms_after:.3g}"
 
     @property
@@ -82,19 +82,19 @@ class ComparisonLayer:
             return "not compared", ""
         a = self.comparison.alignment
         units = self.comparison.units_text
-        turn, axis = angle_axis_degrees(a.rotation)
+        turn, axis = angle_axis_degrees(a.fit.rotation)
         line = (
             f"{a.kind}: RMS {a.rms_before:.4g} -> {a.rms_after:.4g} {units}\n"
             f"turn {turn:.3g} deg about ({_numbers(axis, '.3f')})\n"
-            f"translation ({_numbers(a.translation, '.4g')})\nscale {a.scale:.6g}, "
-            f"offset {a.offset_frames:+g} frames ({a.offset_seconds:+.4g} s), units x{a.units_scale:g}"
+            f"translation ({_numbers(a.fit.translation, '.4g')})\nscale {a.fit.scale:.6g}, "
+            f"offset {a.offset_frames:+g} frames ({a.offset_seconds:+.4g} s), units x{a.space.scale:g}"
         )
-        rows = "\n".join(f"  [{_numbers(row, '+.6f')}]" for row in a.rotation)
-        up = "\n".join(f"  [{_numbers(row, '+.0f')}]" for row in a.up_rotation)
+        rows = "\n".join(f"  [{_numbers(row, '+.6f')}]" for row in a.fit.rotation)
+        up = "\n".join(f"  [{_numbers(row, '+.0f')}]" for row in a.space.rotation)
         tooltip = (
             f"b' = scale * rotation @ (units x up) b + translation\nrotation:\n{rows}\n"
-            f"translation: ({_numbers(a.translation, '.6g')}) {units}\nscale: {a.scale:.9g}\n"
-            f"units scale: {a.units_scale:g}\nup rotation:\n{up}\n"
+            f"translation: ({_numbers(a.fit.translation, '.6g')}) {units}\nscale: {a.fit.scale:.9g}\n"
+            f"units scale: {a.space.scale:g}\nup rotation:\n{up}\n"
             f"offset: {a.offset_frames:+g} frames = {a.offset_seconds:+.6g} s"
             f"{' (found)' if self.auto_offset else ' (given)'}\n"
             f"RMS before {a.rms_before:.6g}, after {a.rms_after:.6g} {units}\n" + "\n".join(a.notes)

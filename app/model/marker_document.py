@@ -30,6 +30,7 @@ from gmr_studio.core.errors import OperationError
 from gmr_studio.core.markers import MarkerSet, read_markers
 from gmr_studio.core.markers.built_motion import BuiltMotion, markers_to_built_motion
 from gmr_studio.core.markers.file_model import FILE_POINTS
+from gmr_studio.core.space.similarity import Similarity
 from gmr_studio.core.space.units import UNITS, unit_factor, unit_named
 from gmr_studio.core.timebase.clock import rate_text
 
@@ -121,7 +122,7 @@ def load_marker_document(path: str | Path, *, refine: bool = False) -> MarkerDoc
 def file_alignment(markers: MarkerSet) -> MarkerAlignment:
     """Markers over a skeleton built from them: the file's axes, scaled to millimetres."""
     scale = unit_factor(unit_named(markers.units), UNITS["mm"])
-    return MarkerAlignment(scale=scale, method=FILE_SPACE, units=markers.units)
+    return MarkerAlignment(transform=Similarity(scale=scale), method=FILE_SPACE, units=markers.units)
 
 
 def show_overlays(state: StudioState, document: MarkerDocument) -> None:

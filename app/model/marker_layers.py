@@ -53,7 +53,7 @@ class MarkerLayer:
             return "not aligned"
         a = self.overlay.alignment
         shift = f", frame offset {a.frame_offset:+d}" if a.frame_offset else ""
-        return f"{self.markers.n_markers} markers, x{a.scale:.4g}{shift}: {a.method}"
+        return f"{self.markers.n_markers} markers, x{a.transform.scale:.4g}{shift}: {a.method}"
 
     @property
     def alignment_details(self) -> tuple[str, str]:
@@ -63,12 +63,12 @@ class MarkerLayer:
         a = self.overlay.alignment
         m = self.markers
         line = (
-            f"aligned as the marker overlay: scale {a.scale:.6g} ({m.units} -> document)\n"
-            f"offset ({' '.join(f'{v:.4g}' for v in a.offset)})\n"
+            f"aligned as the marker overlay: scale {a.transform.scale:.6g} ({m.units} -> document)\n"
+            f"translation ({' '.join(f'{v:.4g}' for v in a.transform.translation)})\n"
             f"frame offset {a.frame_offset:+d}, {m.rate:g} Hz resampled to the document's rate"
         )
-        rows = "\n".join("  [" + " ".join(f"{v:+.4f}" for v in row) + "]" for row in a.rotation)
-        return line, f"p_document = scale * rotation @ p_marker + offset\nrotation:\n{rows}\n{a.method}"
+        rows = "\n".join("  [" + " ".join(f"{v:+.4f}" for v in row) + "]" for row in a.transform.rotation)
+        return line, f"p_document = scale * rotation @ p_marker + translation\nrotation:\n{rows}\n{a.method}"
 
 
 def realign_marker_layer(layer: MarkerLayer, document: Snapshot, *, keep: bool) -> None:

@@ -11,7 +11,7 @@ import numpy as np
 
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.core.errors import MotionFileError, OperationError
-from gmr_studio.core.markers.markermap import MAPS_DIR, Alignment, joints_map, load_marker_map
+from gmr_studio.core.markers.markermap import MAPS_DIR, joints_map, load_marker_map
 from gmr_studio.core.markers.pelvis import recover_pelvis
 
 
@@ -20,9 +20,7 @@ def candidate_marker_maps(state: StudioState) -> list:
     the app's alignment, so the skeleton's rest pose gives the home pelvis), then every map
     shipped in ``resources/markermaps``."""
     alignment = state.marker_overlay.alignment
-    joints = joints_map(()).replace(
-        alignment=Alignment(rotation=alignment.rotation, scale=alignment.scale, offset=alignment.offset)
-    )
+    joints = joints_map(()).replace(alignment=alignment.transform)
     return [joints, *sorted(p.stem for p in MAPS_DIR.glob("*.toml"))]
 
 

@@ -333,7 +333,7 @@ def pelvis_on_motion(pelvis: PelvisFrames, rate: float, alignment: MarkerAlignme
 
     ``pelvis.rotations`` act in the marker file's axes, so in the motion's they are
     ``A R A^T`` (``A`` the alignment's rotation); origins in the pelvis' units are taken to
-    the marker file's (``alignment.scale`` is per marker-file unit) and then aligned.
+    the marker file's (the alignment's scale is per marker-file unit) and then aligned.
     """
     times = frame_seconds(np.arange(motion.n_frames) + alignment.frame_offset, motion.frame_time)
     source = np.rint(times * rate).astype(np.int64)
@@ -344,8 +344,7 @@ def pelvis_on_motion(pelvis: PelvisFrames, rate: float, alignment: MarkerAlignme
     origins = np.full((motion.n_frames, 3), np.nan)
     residuals = np.full(motion.n_frames, np.nan)
     if valid.any():
-        turn = alignment.rotation
-        rotations[valid] = turn @ pelvis.rotations[index[valid]] @ turn.T
+        rotations[valid] = alignment.transform.change_frames(pelvis.rotations[index[valid]])
         origins[valid] = alignment.apply(pelvis.origins[index[valid]] * alignment.unit_factor(pelvis.units))
         residuals[valid] = pelvis.residuals[index[valid]]
     return PelvisOverlay(_readonly(rotations), _readonly(origins), _readonly(residuals), pelvis)

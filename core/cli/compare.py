@@ -172,10 +172,10 @@ def alignment_lines(result: Comparison) -> list[str]:
     if al.kind == "none":
         lines.append(f"align:    none (RMS distance {al.rms_after:.6g} {result.units_text})")
     else:
-        angle = np.degrees(np.arccos(np.clip((np.trace(al.rotation) - 1) / 2, -1, 1)))
+        angle = np.degrees(np.arccos(np.clip((np.trace(al.fit.rotation) - 1) / 2, -1, 1)))
         lines.append(
             f"align:    {al.kind}: rotation {angle:.4g} deg, translation "
-            f"({', '.join(f'{v:.6g}' for v in al.translation)}), scale {al.scale:.6g}; "
+            f"({', '.join(f'{v:.6g}' for v in al.fit.translation)}), scale {al.fit.scale:.6g}; "
             f"RMS distance {al.rms_before:.6g} -> {al.rms_after:.6g} {result.units_text}"
         )
     return lines

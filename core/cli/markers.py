@@ -31,9 +31,10 @@ from gmr_studio.core.errors import OperationError
 from gmr_studio.core.formats import load_gmr, motion_suffix, write_motion
 from gmr_studio.core.markers import read_markers
 from gmr_studio.core.markers.build import HIP_METHODS, KNEE_METHODS
-from gmr_studio.core.markers.markermap import Alignment, load_marker_map, save_marker_map
+from gmr_studio.core.markers.markermap import load_marker_map, save_marker_map
 from gmr_studio.core.markers.markerset import MarkerSet
 from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.space.similarity import Similarity
 
 
 def register(parser: argparse.ArgumentParser) -> None:
@@ -235,8 +236,8 @@ def run(args: argparse.Namespace) -> int:
     if args.axes or args.scale:
         old = marker_map.alignment
         marker_map = marker_map.replace(
-            alignment=Alignment(
-                parse_axes(args.axes) if args.axes else old.rotation, args.scale or old.scale, old.offset
+            alignment=Similarity(
+                parse_axes(args.axes) if args.axes else old.rotation, args.scale or old.scale, old.translation
             )
         )
     reference = load_motion_of(args.reference, args.skeleton, args) if args.reference else None

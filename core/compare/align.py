@@ -1,4 +1,4 @@
-"""The alignment of B onto A: ``b' = scale * rotation @ b + translation``, fitted or not.
+"""The alignment of B onto A: a :class:`~core.space.similarity.Similarity`, fitted or not.
 
 ``none``: the identity (after units and up axis, :mod:`core.compare.tracks`). ``rigid``:
 the rotation and translation minimising the sum of squared distances between matched
@@ -14,7 +14,7 @@ from typing import Literal
 import numpy as np
 
 from gmr_studio.core.compare.offset import OffsetSearch
-from gmr_studio.core.space.similarity import finite_rows, fit_points
+from gmr_studio.core.space.similarity import Similarity, finite_rows, fit_points
 
 __all__ = ["ALIGN_KINDS", "Alignment", "finite_rows", "fit_alignment", "rms_distance", "rms_of_squares"]
 
@@ -24,24 +24,23 @@ ALIGN_KINDS: tuple[str, ...] = ("none", "rigid", "similarity")
 
 @dataclasses.dataclass(frozen=True, eq=False)
 class Alignment:
-    """``b' = scale * rotation @ b + translation`` in A's space, and the clock offset.
+    """How B was put into A's space and on A's clock: ``b_A = fit(space(b))``.
 
     kind : "none", "rigid" or "similarity" (what was fitted after units and up axis).
-    rotation : (3, 3), translation : (3,) in A's units, scale : float (fitted; 1 unless
-    similarity). units_scale, up_rotation : the space change applied before the fit
-    (``b_A = units_scale * up_rotation @ b``). offset_frames : B's time minus A's, in A's
-    frames; offset_seconds : the same in seconds; offset_found : True when searched (auto);
-    offset_search : the search's best and next best offsets with their mismatch (auto only).
+    space : :class:`~core.space.similarity.Similarity`, B's units and up axis turned into A's
+        (scale: A units per B unit; rotation: the up-axis change).
+    fit : :class:`~core.space.similarity.Similarity`, the fitted alignment after that (in
+        A's units; the identity for "none", scale 1 unless "similarity").
+    offset_frames : B's time minus A's, in A's frames; offset_seconds : the same in seconds;
+    offset_found : True when searched (auto); offset_search : the search's best and next best
+    offsets with their mismatch (auto only).
     rms_before, rms_after : RMS distance of matched points before and after the fit.
     notes : how units and up axis were decided.
     """
 
     kind: str = "none"
-    rotation: np.ndarray = dataclasses.field(default_factory=lambda: np.eye(3))
-    translation: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))
-    scale: float = 1.0
-    units_scale: float = 1.0
-    up_rotation: np.ndarray = dataclasses.field(default_factory=lambda: np.eye(3))
+    space: Similarity = dataclasses.field(default_factory=Similarity)
+    fit: Similarity = dataclasses.field(default_factory=Similarity)
     offset_frames: float = 0.0
     offset_seconds: float = 0.0
     offset_found: bool = False
@@ -51,17 +50,13 @@ class Alignment:
     notes: tuple[str, ...] = ()
 
     @property
-    def total_rotation(self) -> np.ndarray:
-        """(3, 3) from B's own axes to A's: fitted rotation after the up-axis change."""
-        return self.rotation @ self.up_rotation
-
-    @property
-    def total_scale(self) -> float:
-        return self.scale * self.units_scale
+    def total(self) -> Similarity:
+        """B's own space to A's: the space change, then the fit."""
+        return self.space.then(self.fit)
 
     def apply(self, points: np.ndarray) -> np.ndarray:
         """(..., 3) points in B's own space -> A's space."""
-        return self.total_scale * np.einsum("ab,...b->...a", self.total_rotation, points) + self.translation
+        return self.total.apply(points)
 
     def apply_rotations(self, rotations: np.ndarray) -> np.ndarray:
         """(..., 3, 3) world rotations of B -> A's space.
@@ -69,17 +64,16 @@ class Alignment:
         The up-axis change turns the world and the rest pose with it (``Q W Q^T``, as ``gmr
         convert --up``); the fitted rotation turns B's motion as a whole (``R W``).
         """
-        q = self.up_rotation
-        return self.rotation @ q @ rotations @ q.T
+        return self.fit.rotation @ self.space.change_frames(rotations)
 
     def to_json(self) -> dict:
         return {
             "kind": self.kind,
-            "rotation": self.rotation.tolist(),
-            "translation": self.translation.tolist(),
-            "scale": self.scale,
-            "units_scale": self.units_scale,
-            "up_rotation": self.up_rotation.tolist(),
+            "rotation": self.fit.rotation.tolist(),
+            "translation": self.fit.translation.tolist(),
+            "scale": self.fit.scale,
+            "units_scale": self.space.scale,
+            "up_rotation": self.space.rotation.tolist(),
             "offset_frames": self.offset_frames,
             "offset_seconds": self.offset_seconds,
             "offset_found": self.offset_found,

@@ -14,6 +14,7 @@ from gmr_studio.core.compare.result import Comparison
 from gmr_studio.core.compare.tracks import Track, space_change, track_of_motion
 from gmr_studio.core.jointmap import JointMap, JointMatch, match_joints
 from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.space.similarity import Similarity
 from gmr_studio.core.timebase.clock import common_rate
 from gmr_studio.core.timebase.sampling import (
     WHOLE_FRAME_TOLERANCE,
@@ -141,11 +142,8 @@ def compare_tracks(
 
     alignment = Alignment(
         kind=align,
-        rotation=rotation,
-        translation=translation,
-        scale=fitted_scale,
-        units_scale=space.scale,
-        up_rotation=q,
+        space=space.transform,
+        fit=Similarity(rotation, fitted_scale, translation),
         offset_frames=offset_frames,
         offset_seconds=offset_seconds,
         offset_found=found,
@@ -201,9 +199,9 @@ def _rotation_error(
     |M^T W_a N^T - W_b|`` for rotations M, N).
     """
     turn = None
-    if not (alignment.kind == "none" and np.array_equal(alignment.up_rotation, np.eye(3))):
+    if not (alignment.kind == "none" and np.array_equal(alignment.space.rotation, np.eye(3))):
         # W_b -> M W_b N on the 9 entries: vec(M W N)[a, d] = sum_bc M[a, b] N[c, d] W[b, c]
-        m, n = alignment.rotation @ alignment.up_rotation, alignment.up_rotation.T
+        m, n = alignment.fit.rotation @ alignment.space.rotation, alignment.space.rotation.T
         turn = np.einsum("ab,cd->adbc", m, n).reshape(9, 9)
     n_pairs = len(index_a)
     angle = np.empty((len(rows), n_pairs))

@@ -15,6 +15,7 @@ import numpy as np
 from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.kinematics.fk import forward_kinematics
 from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.space.similarity import Similarity
 from gmr_studio.core.space.units import Unit, unit_factor, unit_named
 from gmr_studio.core.space.up_axis import check_up_axis, up_axis_of, up_turn
 
@@ -137,6 +138,11 @@ class SpaceChange:
     up_a: str
     up_b: str
     notes: tuple[str, ...]
+
+    @property
+    def transform(self) -> Similarity:
+        """B's space to A's as one similarity: turned up, then scaled."""
+        return Similarity(self.up_rotation, self.scale)
 
 
 def space_change(a: Track, b: Track, *, scale: float | None = None, up_b: str | None = None) -> SpaceChange:

@@ -30,8 +30,8 @@ import dataclasses
 
 import numpy as np
 
-from gmr_studio.core.rotations.euler import axis_permutations, rotation_about_axis
-from gmr_studio.core.space.similarity import fit_points
+from gmr_studio.core.rotations.euler import axis_permutations
+from gmr_studio.core.space.similarity import Similarity, fit_points
 from gmr_studio.core.space.units import LIKELY_UNITS, parse_unit, unit_factor, unit_named
 from gmr_studio.core.space.up_axis import axis_index, detect_up_axis, median_extents
 
@@ -43,27 +43,27 @@ MAX_FRAME_OFFSET = 5
 
 @dataclasses.dataclass(frozen=True)
 class MarkerAlignment:
-    """``p_motion = scale * rotation @ p_marker + offset``; marker frame = motion frame + frame_offset.
+    """Markers put on a motion: ``p_motion = transform.apply(p_marker)`` (a
+    :class:`~core.space.similarity.Similarity`, often an axis permutation with a unit
+    scale); marker frame = motion frame + ``frame_offset``.
 
     Attributes
     ----------
-    rotation : (3, 3) float64, a proper rotation (often an axis permutation).
-    scale : float, motion units per marker unit.
-    offset : (3,) float64, in motion units.
+    transform : Similarity, marker coordinates to motion coordinates (scale: motion units
+        per marker unit).
     frame_offset : int, frames of the (resampled) markers ahead of the motion.
     method : str, how it was found, for the user.
+    units : str, the marker file's length unit, when known.
     """
 
-    rotation: np.ndarray = dataclasses.field(default_factory=lambda: np.eye(3))
-    scale: float = 1.0
-    offset: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))
+    transform: Similarity = dataclasses.field(default_factory=Similarity)
     frame_offset: int = 0
     method: str = "identity"
-    units: str = ""  # the marker file's length unit, when known
+    units: str = ""
 
     def apply(self, points: np.ndarray) -> np.ndarray:
         """(..., 3) marker coordinates -> (..., 3) motion coordinates (NaN stays NaN)."""
-        return self.scale * np.einsum("ab,...b->...a", self.rotation, points) + self.offset
+        return self.transform.apply(points)
 
     def replace(self, **changes) -> MarkerAlignment:
         return dataclasses.replace(self, **changes)
@@ -83,9 +83,7 @@ PELVIS_NAMES = ("hips", "pelvis", "root")
 def turned_about(alignment: MarkerAlignment, up_axis: str, degrees: float, pivot: np.ndarray) -> MarkerAlignment:
     """The alignment followed by a turn of ``degrees`` about the up axis through ``pivot``
     (motion coordinates): ``p' = T (p - c) + c``, so the pivot stays where it is."""
-    turn = rotation_about_axis(up_axis.upper(), np.radians(degrees))
-    pivot = np.asarray(pivot, dtype=np.float64)
-    return alignment.replace(rotation=turn @ alignment.rotation, offset=turn @ (alignment.offset - pivot) + pivot)
+    return alignment.replace(transform=alignment.transform.turned_about(up_axis, np.radians(degrees), pivot))
 
 
 def figure_centre_joint(names: tuple[str, ...], tree_roots: np.ndarray) -> int:
@@ -148,9 +146,7 @@ def auto_alignment(
         if len(source) >= 3 and np.linalg.matrix_rank(source - source.mean(axis=0), tol=1e-9 * np.ptp(source)) == 3:
             rotation, scale, offset, rms = similarity_fit(source, target)
             return MarkerAlignment(
-                rotation=rotation,
-                scale=scale,
-                offset=offset,
+                transform=Similarity(rotation, scale, offset),
                 method=f"fitted to {len(pairs)} markers named like joints (rms {rms:.3g})",
             )
     return _heuristic_alignment(marker_positions, joint_positions, marker_units)
@@ -189,9 +185,7 @@ def _heuristic_alignment(all_markers: np.ndarray, joints: np.ndarray, marker_uni
     axes = "XYZ"
     shift = f", frame offset {lag}" if lag else ""
     return MarkerAlignment(
-        rotation=rotation,
-        scale=float(scale),
-        offset=offset,
+        transform=Similarity(rotation, float(scale), offset),
         frame_offset=lag,
         method=f"{unit_note}, {axes[marker_up]} up -> {axes[joint_up]} up, "
         f"heading{shift} and offset from the centroid path",

@@ -5,7 +5,8 @@ A map is a small TOML file (``resources/markermaps/*.toml``; the format is docum
 
 - ``units``: the length unit the map works in (markers are converted to it first);
 - ``[alignment]``: ``skeleton = scale * rotation @ marker + offset``, from the marker
-  file's axes and units to the skeleton's (CMU: Z-up millimetres to Y-up ASF units);
+  file's axes and units to the skeleton's (CMU: Z-up millimetres to Y-up ASF units), read
+  as a :class:`~core.space.similarity.Similarity` (the file's ``offset`` its translation);
 - ``[pelvis]``: ``markers = [X1, X2, X3]``, the three virtual markers of the technical
   note (pelvis root, left femur, lower back: any three points rigid with the pelvis, X1 the
   skeleton's root), with optional ``home`` positions (their rest-pose positions in
@@ -38,6 +39,7 @@ import numpy as np
 
 from gmr_studio.core.atomic import atomic_write_text
 from gmr_studio.core.errors import MotionFileError
+from gmr_studio.core.space.similarity import Similarity
 from gmr_studio.core.space.units import UNITS, parse_unit
 from gmr_studio.resources import resource_path
 
@@ -52,46 +54,6 @@ PELVIS_GUESSES = (
     ("Hips", "LeftHip", "RightHip"),
     ("pelvis", "l_hip", "r_hip"),
 )
-
-
-@dataclasses.dataclass(frozen=True, eq=False)
-class Alignment:
-    """``skeleton = scale * rotation @ marker + offset``: marker axes/units to skeleton's.
-
-    rotation (3, 3) a rotation or axis permutation, scale > 0 (skeleton units per marker
-    unit), offset (3,) in skeleton units.
-    """
-
-    rotation: np.ndarray = dataclasses.field(default_factory=lambda: np.eye(3))
-    scale: float = 1.0
-    offset: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))
-
-    def __post_init__(self) -> None:
-        rotation = np.asarray(self.rotation, dtype=np.float64)
-        offset = np.asarray(self.offset, dtype=np.float64)
-        if rotation.shape != (3, 3) or not np.allclose(rotation.T @ rotation, np.eye(3), atol=1e-9):
-            raise ValueError("the alignment rotation must be an orthonormal 3x3 matrix")
-        if not (np.isfinite(self.scale) and self.scale > 0) or offset.shape != (3,) or not np.isfinite(offset).all():
-            raise ValueError("the alignment needs a positive scale and a finite offset of 3 numbers")
-        object.__setattr__(self, "rotation", rotation)
-        object.__setattr__(self, "offset", offset)
-        object.__setattr__(self, "scale", float(self.scale))
-
-    def to_skeleton(self, points: np.ndarray) -> np.ndarray:
-        """(..., 3) marker-space points -> skeleton space."""
-        return self.scale * np.einsum("ab,...b->...a", self.rotation, points) + self.offset
-
-    def to_markers(self, points: np.ndarray) -> np.ndarray:
-        """(..., 3) skeleton-space points -> marker space."""
-        return np.einsum("ba,...b->...a", self.rotation, np.asarray(points) - self.offset) / self.scale
-
-    def rotation_to_skeleton(self, rotations: np.ndarray) -> np.ndarray:
-        """(..., 3, 3) rotations in marker axes -> the same rotations in skeleton axes."""
-        return self.rotation @ rotations @ self.rotation.T
-
-    @property
-    def is_identity(self) -> bool:
-        return self.scale == 1.0 and np.array_equal(self.rotation, np.eye(3)) and not self.offset.any()
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -123,7 +85,7 @@ class MarkerMap:
     pelvis: tuple[str, str, str] | None = None
     pelvis_home: np.ndarray | None = None
     units: str | None = None
-    alignment: Alignment = dataclasses.field(default_factory=Alignment)
+    alignment: Similarity = dataclasses.field(default_factory=Similarity)
     description: str = ""
     calibration: dict = dataclasses.field(default_factory=dict)
     source: str = ""
@@ -210,7 +172,7 @@ def _map_from_table(table: dict, path: Path) -> MarkerMap:
         raise fail(f"units {units!r}: expected one of {', '.join(UNITS)}")
     try:
         section = table.get("alignment", {})
-        alignment = Alignment(
+        alignment = Similarity(  # the file's "offset" is the transform's translation
             np.array(section.get("rotation", np.eye(3)), dtype=float),
             float(section.get("scale", 1.0)),
             np.array(section.get("offset", (0.0, 0.0, 0.0)), dtype=float),
@@ -298,7 +260,7 @@ def marker_map_text(marker_map: MarkerMap) -> str:
         "[alignment]",
         f"rotation = {_matrix(a.rotation)}",
         f"scale = {_number(a.scale)}",
-        f"offset = {_vector(a.offset)}",
+        f"offset = {_vector(a.translation)}",
     ]
     if marker_map.pelvis:
         lines += ["", "# X1 pelvis root, X2 left femur, X3 lower back (technical note, section 1)", "[pelvis]"]

@@ -202,7 +202,7 @@ def recover_pelvis(
         home = rest_positions(skeleton, resolved.pelvis)
     if home is None:
         home = resolved.pelvis_home
-    home_markers = None if home is None else resolved.alignment.to_markers(np.asarray(home, dtype=np.float64))
+    home_markers = None if home is None else resolved.alignment.inverse().apply(np.asarray(home, dtype=np.float64))
     sources = [resolved.virtual[resolved.names.index(name)] for name in resolved.pelvis]
     fit_points, fit_home, fit_labels, note = triple, home_markers, tuple(resolved.pelvis), ""
     raw = _raw_triple(sources, home_markers, markers, virtual.units) if home_markers is not None else None

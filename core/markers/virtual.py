@@ -24,9 +24,10 @@ from collections.abc import Sequence
 import numpy as np
 
 from gmr_studio.core.errors import OperationError
-from gmr_studio.core.markers.markermap import Alignment, MarkerMap, VirtualMarker
+from gmr_studio.core.markers.markermap import MarkerMap, VirtualMarker
 from gmr_studio.core.markers.markerset import MarkerSet, frame_ranges
 from gmr_studio.core.markers.procrustes import fit_rigid
+from gmr_studio.core.space.similarity import Similarity
 
 #: generalised-Procrustes iterations for a cluster template (the template moves by less
 #: than 1e-9 of its size after three on the CMU clusters)
@@ -43,7 +44,7 @@ class VirtualMarkers:
     positions : (F, V, 3) float64, marker axes, ``units``; NaN where not ``valid``.
     valid : (F, V) bool.
     fit_rms : (F, V) float64, cluster fit RMS (NaN for other kinds and invalid frames).
-    units : str, alignment : Alignment (to skeleton space), rate : float.
+    units : str, alignment : Similarity (to skeleton space), rate : float.
     reasons : tuple of str, one per virtual marker with invalid frames.
     """
 
@@ -52,7 +53,7 @@ class VirtualMarkers:
     valid: np.ndarray
     fit_rms: np.ndarray
     units: str
-    alignment: Alignment
+    alignment: Similarity
     rate: float
     reasons: tuple[str, ...] = ()
 
@@ -68,7 +69,7 @@ class VirtualMarkers:
 
     def skeleton_positions(self) -> np.ndarray:
         """(F, V, 3) positions in the skeleton's axes and units (through the alignment)."""
-        return self.alignment.to_skeleton(self.positions)
+        return self.alignment.apply(self.positions)
 
 
 def resolve_map(
@@ -261,7 +262,7 @@ def calibrate_marker_map(
             f"the reference has {joint_positions.shape[0]} frames and the markers {n_frames}: "
             "calibration needs the same trial, frame for frame (or a one-frame static pose)"
         )
-    known = marker_map.alignment.to_markers(joint_positions)  # (F, J, 3) marker space
+    known = marker_map.alignment.inverse().apply(joint_positions)  # (F, J, 3) marker space
     names = list(joint_names)
     positions = np.full((n_frames, len(marker_map.virtual), 3), np.nan)
     calibrated: list[VirtualMarker] = []

@@ -1,7 +1,13 @@
-"""Least-squares rigid and similarity fits of point sets: the one home of Kabsch / Umeyama.
+"""Similarity transforms and their least-squares fits: the one home of both.
 
-Two shapes of the same fit, both correcting the reflection case (``det(U V^T) < 0``: the
-smallest singular direction flips, so the result is always a proper rotation):
+:class:`Similarity` is ``x' = scale * rotation @ x + translation`` (column vectors): how marker
+axes and units become a skeleton's (marker maps, the marker alignment), how a compared motion
+B is brought into A's space (units, up axis, a fitted alignment). It applies to points,
+inverts, composes and turns orientations; the fits below return its parts.
+
+Least-squares fits of point sets (Kabsch / Umeyama) come in two shapes, both correcting the
+reflection case (``det(U V^T) < 0``: the smallest singular direction flips, so the result is
+always a proper rotation):
 
 - :func:`fit_points`: one transform ``a ~ scale R b + t`` over all points present on both
   sides (a comparison's alignment, markers named like joints); rigid or similarity (Umeyama
@@ -15,9 +21,72 @@ Shapes: points ``(N, 3)`` or ``(..., K, 3)``; rotations act on column vectors.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
-from gmr_studio.core.rotations.euler import nearest_rotation
+from gmr_studio.core.rotations.euler import nearest_rotation, rotation_about_axis
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class Similarity:
+    """``x' = scale * rotation @ x + translation``.
+
+    rotation : (3, 3) orthonormal (a rotation, or an axis permutation read from a file).
+    scale : float > 0. translation : (3,), in the target's units.
+    """
+
+    rotation: np.ndarray = dataclasses.field(default_factory=lambda: np.eye(3))
+    scale: float = 1.0
+    translation: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))
+
+    def __post_init__(self) -> None:
+        rotation = np.asarray(self.rotation, dtype=np.float64)
+        translation = np.asarray(self.translation, dtype=np.float64)
+        if rotation.shape != (3, 3) or not np.allclose(rotation.T @ rotation, np.eye(3), atol=1e-9):
+            raise ValueError("the rotation must be an orthonormal 3x3 matrix")
+        scale = float(self.scale)
+        if not (np.isfinite(scale) and scale > 0) or translation.shape != (3,) or not np.isfinite(translation).all():
+            raise ValueError("a similarity needs a positive scale and a finite translation of 3 numbers")
+        object.__setattr__(self, "rotation", rotation)
+        object.__setattr__(self, "scale", scale)
+        object.__setattr__(self, "translation", translation)
+
+    def apply(self, points: np.ndarray) -> np.ndarray:
+        """(..., 3) points -> (..., 3) transformed (NaN stays NaN)."""
+        return self.scale * np.einsum("ab,...b->...a", self.rotation, points) + self.translation
+
+    def inverse(self) -> Similarity:
+        """The transform back: ``x = (R^T (x' - t)) / s``."""
+        back = self.rotation.T / self.scale
+        return Similarity(self.rotation.T, 1.0 / self.scale, -back @ self.translation)
+
+    def then(self, after: Similarity) -> Similarity:
+        """This transform followed by ``after``: ``after.apply(self.apply(x))``."""
+        return Similarity(after.rotation @ self.rotation, after.scale * self.scale, after.apply(self.translation))
+
+    def turned_about(self, axis: str, radians: float, pivot: np.ndarray) -> Similarity:
+        """This transform followed by a turn of ``radians`` about ``axis`` ('x', 'y' or 'z')
+        through ``pivot`` (target space), so the pivot stays where it is."""
+        turn = rotation_about_axis(axis.upper(), radians)
+        pivot = np.asarray(pivot, dtype=np.float64)
+        return Similarity(turn @ self.rotation, self.scale, turn @ (self.translation - pivot) + pivot)
+
+    def change_frames(self, rotations: np.ndarray) -> np.ndarray:
+        """(..., 3, 3) rotations written in the source's axes -> the same rotations in the
+        target's axes (``R W R^T``)."""
+        return self.rotation @ rotations @ self.rotation.T
+
+    @property
+    def is_identity(self) -> bool:
+        return self.scale == 1.0 and np.array_equal(self.rotation, np.eye(3)) and not self.translation.any()
+
+
+def fit_similarity(points_a: np.ndarray, points_b: np.ndarray, *, scaled: bool = True) -> Similarity:
+    """The :class:`Similarity` taking B onto A by least squares (:func:`fit_points`)."""
+    rotation, translation, scale = fit_points(points_a, points_b, scaled=scaled)
+    return Similarity(rotation, scale, translation)
+
 
 #: a per-frame fit whose point spread has a second singular value below this fraction of the
 #: first is degenerate (coincident or collinear points: the rotation about their line is free)
