@@ -6,18 +6,18 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from gmr_studio.app.model.alignment import (
+from gmr_studio.core.demo import demo_markers, demo_motion
+from gmr_studio.core.kinematics.fk import world_positions
+from gmr_studio.core.markers.alignment import (
     MarkerAlignment,
     auto_alignment,
-    detect_up_axis,
     markers_on_motion_frames,
     similarity_fit,
 )
-from gmr_studio.core.demo import demo_markers, demo_motion
-from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers.markerset import Y_UP_TO_Z_UP
 from gmr_studio.core.rotations.euler import axis_permutations, rotation_about_axis
 from gmr_studio.core.space.similarity import Similarity
+from gmr_studio.core.space.up_axis import detect_up_axis
 
 
 def turn(axis: int, degrees: float) -> np.ndarray:

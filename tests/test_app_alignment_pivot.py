@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from gmr_studio.app.dialogs.alignment_dialog import PIVOT_COLOR, AlignmentDialog
-from gmr_studio.app.model.alignment import MarkerAlignment, figure_centre_joint, turned_about
 from gmr_studio.core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
+from gmr_studio.core.markers.alignment import MarkerAlignment, figure_centre_joint, turned_about
 from gmr_studio.core.rotations.euler import rotation_about_axis
 from gmr_studio.core.space.similarity import Similarity
 from tests import app_fixtures

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.app.model.alignment import auto_alignment
+from gmr_studio.core.markers.alignment import auto_alignment
 from tests import app_fixtures
 from tests.app_fixtures import open_file
 from tests.conftest import shared_path

@@ -17,12 +17,10 @@ from gmr_studio.core.space import similarity as fit
 from gmr_studio.core.space.up_axis import detect_up_axis, up_axis_of
 
 
-def test_one_fit_for_comparisons_markers_and_the_app(rng):
-    from gmr_studio.app.model import alignment as app_alignment
+def test_one_fit_for_comparisons_and_markers(rng):
     from gmr_studio.core.markers import alignment as marker_alignment
 
     assert procrustes.fit_rigid is fit.fit_rigid
-    assert app_alignment.similarity_fit is marker_alignment.similarity_fit
     b = rng.normal(size=(200, 3))
     truth = Rotation.random(random_state=4).as_matrix()
     a = 2.5 * b @ truth.T + [1.0, -2.0, 0.5]

@@ -6,11 +6,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.app.model.alignment import detect_up_axis
 from gmr_studio.core.edits.operations import join, join_all, shift_root, split, split_all
 from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.rigs import RIGS, make_rig, walk
+from gmr_studio.core.space.up_axis import detect_up_axis
 
 SMALL_RIGS = [name for name in RIGS if name != "long_take"]
 

@@ -22,9 +22,9 @@ from PyQt6.QtWidgets import (
     QWidget,
 )
 
-from gmr_studio.app.model.alignment import MarkerAlignment, auto_alignment, figure_centre_joint, turned_about
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.app.scene.highlight import PIVOT_COLOR, PivotMarker
+from gmr_studio.core.markers.alignment import MarkerAlignment, auto_alignment, figure_centre_joint, turned_about
 from gmr_studio.core.space.similarity import Similarity
 from gmr_studio.core.space.up_axis import up_axis_of
 

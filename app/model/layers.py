@@ -19,13 +19,13 @@ from pathlib import Path
 import numpy as np
 from PyQt6.QtCore import QObject, pyqtSignal
 
-from gmr_studio.app.model.alignment import MarkerAlignment
 from gmr_studio.app.model.marker_layers import MARKER_LAYER_OPACITY, MarkerLayer, realign_marker_layer
 from gmr_studio.app.model.state import Snapshot, StudioState, marker_overlay_on
 from gmr_studio.core.compare import ALIGN_KINDS, Comparison, compare_motions
 from gmr_studio.core.compare.clock import DEFAULT_OFFSET, ghost_positions
 from gmr_studio.core.jointmap import available_joint_maps, match_joints
 from gmr_studio.core.markers import MarkerSet
+from gmr_studio.core.markers.alignment import MarkerAlignment
 from gmr_studio.core.rotations.euler import angle_axis_degrees
 
 #: colours of successive layers (RGB in [0, 1]): none of them a tree colour of the document

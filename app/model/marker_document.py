@@ -24,10 +24,10 @@ from pathlib import Path
 import numpy as np
 from PyQt6.QtGui import QUndoCommand
 
-from gmr_studio.app.model.alignment import MarkerAlignment
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.markers import MarkerSet, read_markers
+from gmr_studio.core.markers.alignment import MarkerAlignment
 from gmr_studio.core.markers.built_motion import BuiltMotion, markers_to_built_motion
 from gmr_studio.core.markers.file_model import FILE_POINTS
 from gmr_studio.core.space.similarity import Similarity

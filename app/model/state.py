@@ -20,10 +20,10 @@ import numpy as np
 from PyQt6.QtCore import QObject, pyqtSignal
 from PyQt6.QtGui import QUndoStack
 
-from gmr_studio.app.model.alignment import MarkerAlignment, auto_alignment, markers_on_motion_frames
 from gmr_studio.core.formats.bvh import FileChannels
 from gmr_studio.core.kinematics.fk import forward_kinematics
 from gmr_studio.core.markers import MarkerSet
+from gmr_studio.core.markers.alignment import MarkerAlignment, auto_alignment, markers_on_motion_frames
 from gmr_studio.core.markers.pelvis import PelvisFrames
 from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.timebase.clock import frame_seconds
