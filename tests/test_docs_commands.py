@@ -130,11 +130,11 @@ def _lists(help_text: str, option: str) -> bool:
     return re.search(rf"(?<![\w-]){re.escape(option)}(?![\w-])", help_text) is not None
 
 
-def _gmr_help(subcommand: str | None) -> tuple[int, str]:
-    """Exit code and output of ``gmr [SUBCOMMAND] --help``, in this process."""
+def _gmr_help(*words: str) -> tuple[int, str]:
+    """Exit code and output of ``gmr [WORDS...] --help``, in this process."""
     out = io.StringIO()
     with contextlib.redirect_stdout(out), pytest.raises(SystemExit) as exit_:
-        gmr_main([subcommand, "--help"] if subcommand else ["--help"])
+        gmr_main([*words, "--help"])
     return exit_.value.code, out.getvalue()
 
 
@@ -188,11 +188,20 @@ def test_every_gmr_command_shown_has_its_subcommand_and_options():
     for shown in (s for s in COMMANDS_SHOWN if s.program == "gmr"):
         words = [w for w in shown.words if w != "--help"]
         subcommand = words[1] if len(words) > 1 else None
-        if subcommand == "...":  # "gmr ... --asf S": any subcommand
+        if subcommand is None:  # "gmr --help": the list of subcommands
+            texts = [_gmr_help()[1]]
+        elif subcommand == "...":  # "gmr ... --asf S": any subcommand
             texts = [text for _, text in helps.values()]
         elif subcommand not in helps:
             wrong.append(f"{shown.where}: {shown.text!r}: no subcommand {subcommand!r}")
             continue
+        elif len(words) > 2 and not words[2].startswith("-"):
+            # the word after the subcommand: an action with options of its own ("gmr library
+            # index DIR --db F", "gmr library list|query ..."), or a file, which prints the
+            # subcommand's help as it is
+            answers = [_gmr_help(subcommand, action) for action in words[2].split("|")]
+            assert all(code == 0 for code, _ in answers)
+            texts = [text for _, text in answers]
         else:
             code, text = helps[subcommand]
             assert code == 0

@@ -57,10 +57,9 @@ class Inspector(QScrollArea):
         state.marker_selection_changed.connect(self._on_changed)
         state.overlay_changed.connect(self._on_changed)
         state.modified_changed.connect(self._on_changed)  # "unchanged by the edits" (channels_caption)
-        # every change is shown at once, during playback too: building and setting the text
-        # takes a median 0.5 ms on CMU 01_01 (the throttled one took 0.15 ms, at most every
-        # 100 ms, which is what made it lag ~10 frames), and it is painted in the same pass as
-        # the timeline, so the two never disagree; a hidden inspector only notes it is stale
+        # every change is shown at once, during playback too (a throttled refresh lagged the
+        # frame shown by several frames), and it is painted in the same pass as the timeline,
+        # so the two never disagree; a hidden inspector only notes it is stale
         self._stale = False
         self.sections: list = []  # more sections: (frame, joint or None) -> list of HTML parts
         # each section's HTML and slot count when last built (see _on_frame_changed)
@@ -88,8 +87,7 @@ class Inspector(QScrollArea):
         """A new frame: the sections with a number on screen are built again, the others keep
         their text of an earlier frame, marked stale (the label asks for the text as it is
         now, :meth:`_html`, when one of their lines comes into sight or the text is read).
-        At the default layout four sections of ten are on screen; building every section
-        took 0.25-0.4 ms a frame."""
+        At the default layout fewer than half the sections are on screen."""
         if not self.isVisible():
             self._stale = True
             return
@@ -280,6 +278,5 @@ class Inspector(QScrollArea):
 
 def _value_line(text: str, bottom: int = 0) -> str:
     """A paragraph of its own for a number that changes every frame: its block is short,
-    so writing it lays out one short line, not the sentence naming it (a block of three
-    wrapped lines took ~0.2 ms to lay out again at every frame)."""
+    so writing it lays out one short line, not the wrapped sentence naming it."""
     return f"<p style='margin:0 0 {bottom}px 0'>{text}</p>"

@@ -129,7 +129,7 @@ class Timeline(QWidget):
     def _fit_time_label(self) -> None:
         """Size the time label once per document for its widest text, at a fixed size: a label
         whose size follows its text asks the window to lay out its docks again on every frame
-        (a layout pass and a repaint of the dock area, about 7% of a frame during playback)."""
+        (a layout pass and a repaint of the dock area, on every frame during playback)."""
         motion = self.state.motion
         widest = time_text(motion, motion.n_frames - 1) if motion is not None else ""
         metrics = self.time_label.fontMetrics()

@@ -14,8 +14,8 @@ from pathlib import Path
 
 #: float64 numbers per frame and joint in the caches: position 3 + rotation 9
 CACHE_NUMBERS = 3 + 9
-#: the caches' working memory on top of themselves (forward kinematics' temporaries, the
-#: undo history's next snapshot); measured 1.0 to 1.3 for CMU 01_01 tiled, 0.5 kept as margin
+#: the caches' working memory on top of themselves, as a fraction of their size (forward
+#: kinematics' temporaries, the undo history's next snapshot)
 HEADROOM = 0.5
 GIB = 1024**3
 

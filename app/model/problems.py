@@ -3,10 +3,10 @@
 :class:`Problems` runs :func:`core.checks.run_checks` on the document's snapshot (its cached
 world positions, so no forward kinematics is repeated) whenever the document or its motion
 changes (an edit such as trimming the T-pose frames or resampling, an undo), in a worker
-thread: 0.07 s on a 2,752-frame CMU take, about 1 s on 100,000 frames, which must not
-freeze the window. Results are kept per snapshot, so an undo shows the earlier findings at
-once. The settings (which kinds, the thresholds: a :class:`core.checks.CheckSettings`) are
-remembered in the window's QSettings as JSON (``checks/settings``).
+thread: on a long take they take long enough to be felt, and must not freeze the window.
+Results are kept per snapshot, so an undo shows the earlier findings at once. The settings
+(which kinds, the thresholds: a :class:`core.checks.CheckSettings`) are remembered in the
+window's QSettings as JSON (``checks/settings``).
 
 ``findings`` is the list for the current document, ``skipped`` the frames some checks left
 out and why (:func:`core.checks.skipped_frames`: the rest pose at the ends), and ``flags``

@@ -7,10 +7,9 @@ when the layers change (the scene rebuilds it after an edit too):
   layer's colour, at the document's frame (B on A's clock and in A's space); its joints are
   where its bones meet (and where the error lines end), a sphere drawn only for a joint no
   bone reaches (a lone root, a joint split off by itself), so a ghost split into single
-  joints still shows. Spheres at every joint, 2-3 pixels across in a usual view and inside
-  the document's joints wherever the two agree, were a fifth of a layer's cost in software
-  OpenGL (1.0 of 4.5 million instructions a frame, their translucent blocks and their
-  buffers) for dots the bones' ends already draw;
+  joints still shows. Spheres at every joint would be a few pixels across in a usual view,
+  inside the document's joints wherever the two agree, and cost a translucent pass and
+  buffers of their own for dots the bones' ends already draw;
 - each visible marker-set layer (:mod:`app.marker_layers`) as small spheres in its colour
   at the document's frame (gaps not drawn);
 - the error view of the active layer: the document's matched joints coloured by their
@@ -18,8 +17,8 @@ when the layers change (the scene rebuilds it after an edit too):
   to the comparison's largest error, with a legend in the view titled in the document's
   units), and a thin line from each matched joint to its match. The figure draws those
   joints itself, in the error's colours and a little larger
-  (:meth:`app.scene.figure.SkeletonFigure.tint_joints`): spheres of their own over the
-  joints cost a sixth of a layer's frame in software OpenGL, each of them shaded twice.
+  (:meth:`app.scene.figure.SkeletonFigure.tint_joints`) rather than spheres of their own
+  over the joints, which would shade each joint twice.
 
 Everything is built once per change of the layers (added, removed, recomputed, restyled); a
 frame change only writes points and colours into the existing poly data (the colours of

@@ -11,10 +11,9 @@ that follow points (:class:`LabelPart`: every text rendered once into one textur
 label, one texel a pixel) are written at every render.
 
 VTK's 2D mapper, which draws display coordinates as they are, rebuilds its shader program each
-time its points change and runs its pipeline at every render: with 38 joint labels that was 0.4
-ms of each frame in software OpenGL. Quads put into the world at the near plane before each
-render (the earlier way) cost the camera's inverse and the points' upload at every render:
-0.3 ms of a comparison layer's frame for its legend while the rasteriser's threads ran.
+time its points change and runs its pipeline at every render, a cost on every frame with joint
+labels shown. Quads put into the world at the near plane before each render would cost the
+camera's inverse and the points' upload at every render.
 The scene draws every prop without culling (:mod:`app.scene.scene`), which matters here: the
 quads' points are not world points, and a frustum culler would test them as such.
 """
@@ -29,8 +28,8 @@ from gmr_studio.app.scene.vtk_parts import Part, render_texts, rgba_texture
 NEAR_DEPTH = -0.999  # normalised depth of the quads (-1: the near plane): in front of everything
 HIDDEN = -1e4  # display pixels left of and below any view: where a hidden label goes
 
-# the whole fragment shader: the texel as it is (VTK's own, with its colour, lighting and
-# clipping terms, shaded 30% more instructions a pixel in software OpenGL); a texel with
+# the whole fragment shader: the texel as it is (VTK's own adds colour, lighting and clipping
+# terms, work on every pixel that a texture's quad does not need); a texel with
 # nothing in it writes neither colour nor depth, so what is drawn after the quads still
 # shows between their letters. VTK names the texture coordinates and the texture
 # (``tcoordVCVSOutput``, ``actortexture``) and fills in the version and output tags.

@@ -3,15 +3,13 @@ drawn once into one texture and shown at the view's right by one screen-space qu
 of its seven pieces (the bar, each label, the title), so that the empty texels between them
 cost nothing.
 
-VTK's ``vtkScalarBarActor`` drew the same as a dozen props, and laid itself out again at
-every render in which the camera had moved (it watches the renderer's time, which follows
-the camera's): 0.4 ms of every frame at 1018x425 in software OpenGL, the largest part of a
-comparison layer's cost. This legend is built when the layer's error scale is
-(:meth:`app.scene.ghost_layer.GhostLayers.build`) and costs one actor of textured quads a
-frame (:class:`app.scene.labels.ScreenQuads`), placed again only when the view's size
-changes. One quad over the whole picture (about 90 x 235 pixels) shaded 2.0 million
-instructions a frame in software OpenGL, most of them for texels with nothing in them; the
-pieces' quads cover about 40% of it.
+VTK's ``vtkScalarBarActor`` draws the same as a dozen props, and lays itself out again at
+every render in which the camera has moved (it watches the renderer's time, which follows
+the camera's): a cost paid on every frame while the view follows the figure. This legend is
+built when the layer's error scale is (:meth:`app.scene.ghost_layer.GhostLayers.build`) and
+costs one actor of textured quads a frame (:class:`app.scene.labels.ScreenQuads`), placed
+again only when the view's size changes. One quad per piece rather than one over the whole
+picture, so that the mostly empty space between the pieces is not shaded.
 """
 
 from __future__ import annotations

@@ -38,7 +38,7 @@ class ProblemMarks(Drawing):
     """Joints flagged at the current frame, one sphere part per drawn level, drawn in front
     of everything (:func:`draw_in_front`: at depth 0 in the main
     renderer, not in a front layer, which would cost a pass over the whole view at every
-    frame with a flag, ~0.45 ms at 1018x425 in software OpenGL): a flagged joint shows through
+    frame with a flag): a flagged joint shows through
     the body in front of it, inside the selection's ring, which stays visible around it."""
 
     def __init__(self) -> None:

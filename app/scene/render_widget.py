@@ -5,9 +5,8 @@ scene, picking, screenshots, resizing all go through it). Its base class is chos
 pyvistaqt is first imported, by VTK's documented switch ``vtkmodules.qt.QVTKRWIBase``:
 
 - ``"QWidget"`` (**native**, the default under X11 and offscreen): VTK renders straight into
-  the widget's own native window; Qt composites nothing. Measured with 38 joints and a grid
-  at 1280x800 in software OpenGL: 9.3 ms a frame, against 8.7 ms for plain VTK
-  (``python -m gmr_studio.app.tools.bench`` prints both every run).
+  the widget's own native window; Qt composites nothing, so a frame costs about what plain
+  VTK's does (``python -m gmr_studio.app.tools.bench`` compares the two).
 - ``"QOpenGLWidget"`` (**framebuffer**): VTK renders into an OpenGL framebuffer object that
   Qt then composites into the window. It works where a foreign native window cannot be
   embedded (Wayland), at the price of the composition.
@@ -83,9 +82,8 @@ def blit_colour_only(render_window) -> None:
     depth tests outside VTK; nothing does that here (screenshots, video and picking read
     VTK's own framebuffer), so ``BlitToCurrent`` copies the colour alone into the buffer
     current when the frame ends: the native window's back buffer, or the framebuffer the Qt
-    widget renders into. The screen shows the same pixels; in software OpenGL a frame at
-    1018x425 is 0.6-1.6 ms shorter (``tests/test_app_drawables.py`` compares the screen with
-    VTK's image)."""
+    widget renders into. The screen shows the same pixels, without the extra pass
+    (``tests/test_app_drawables.py`` compares the screen with VTK's image)."""
     render_window.SetFrameBlitModeToBlitToCurrent()
 
 

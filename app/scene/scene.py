@@ -71,9 +71,8 @@ def up_axis_of(snapshot: Snapshot) -> int:
 def one_headlight(plotter: pv.BasePlotter) -> None:
     """Light the scene with one light at the camera, VTK's own default, instead of
     pyvista's kit of five: every lit pixel of the joints, bones and markers sums each light,
-    and every lit actor is handed each light's uniforms at every render (0.2-0.5 ms of a
-    frame at 1018x425 in software OpenGL). Seen from the camera the figure is shaded as
-    before, its edges a little darker."""
+    and every lit actor is handed each light's uniforms at every render. Seen from the camera
+    the figure is shaded as before, its edges a little darker."""
     plotter.remove_all_lights()
     plotter.add_light(pv.Light(light_type="headlight"))
 
@@ -82,8 +81,8 @@ def without_culling(renderer) -> None:
     """Take VTK's frustum culler out of ``renderer``. Before every render it asks each of
     the scene's dozen actors for its bounds (a pipeline update of each, and a count of the
     processors read from /sys, since the points changed) to skip those outside the view;
-    the figure, its overlays and the ground are in view, so it skipped nothing and cost
-    about a sixth of each render (0.2-0.3 ms at 1018x425 in software OpenGL)."""
+    the figure, its overlays and the ground are in view, so it skipped nothing and only added
+    work to each render."""
     renderer.GetCullers().RemoveAllItems()
 
 
@@ -328,9 +327,9 @@ class SkeletonScene(SceneCamera):
     def _fit_clipping_range(self) -> None:
         """Fit the near and far planes to the box everything shown may occupy over the take
         (:meth:`world_box`, kept between frames): without measuring the actors, which costs
-        each one a pipeline update per render once its points changed (0.3 ms of a frame
-        with VTK's frustum culler, both taken out); VTK measures them only when a drawable
-        cannot give its box."""
+        each one a pipeline update per render once its points changed (as VTK's frustum
+        culler did; both are taken out); VTK measures them only when a drawable cannot give
+        its box."""
         renderer = self.plotter.renderer
         box = self.world_box() if self.snapshot is not None else None
         if box is None:

@@ -30,7 +30,7 @@ class SkeletonView(QWidget):
     def __init__(self, state: StudioState, parent: QWidget | None = None) -> None:
         super().__init__(parent)
         self.state = state
-        # no multisampling: it quadruples the cost of a frame in software OpenGL (Xvfb, VMs)
+        # no multisampling: it multiplies the cost of a frame in software OpenGL (Xvfb, VMs)
         self.kind = render_widget.preferred_kind()
         self.interactor = render_widget.interactor_class(self.kind)(self, auto_update=False, multi_samples=0)
         render_widget.blit_colour_only(self.interactor.ren_win)

@@ -113,9 +113,8 @@ class SpherePart(Part):
 
     Drawn by ``vtkOpenGLSphereMapper``: each sphere is one screen-facing square whose
     fragment shader computes the sphere's surface, normal and depth, so it is lit and hides
-    what is behind it like a mesh sphere, with no triangles to transform. In software
-    OpenGL 38 tessellated spheres (16x12) cost about 1.9 ms a frame at 1018x425, as
-    imposters about 0.3 ms (docs/app.md, "Performance").
+    what is behind it like a mesh sphere, with no triangles to transform: far cheaper than
+    tessellated spheres, above all in software OpenGL.
     """
 
     def __init__(self, n_points: int, radius: float) -> None:
@@ -200,9 +199,8 @@ class RingPart(Part):
     every render (``vtkFollower``): a selection ring. The mesh holds the one point (the
     centre, written in place as every part's); the actor draws a closed line of
     :data:`RING_SEGMENTS` chords in its own x-y plane, moved by its position, so following
-    the point costs no upload and no filter. A wireframe sphere of the same size drew about
-    5,000 line segments: 0.65 ms of every frame at 1018x425 in software OpenGL
-    (docs/app.md, "Performance")."""
+    the point costs no upload and no filter (a wireframe sphere of the same size would draw
+    thousands of line segments every frame)."""
 
     def __init__(self, radius: float, camera: vtkCamera, color, width: float) -> None:
         super().__init__(1)
@@ -360,7 +358,7 @@ def render_texts(texts: list[str], color, size: int) -> tuple[list[np.ndarray], 
 def draws_anything(renderer) -> bool:
     """Whether ``renderer`` has a visible prop with something to draw (a mapper's input with
     points, or a prop without a mapper). The scene leaves an empty layer undrawn: a second
-    layer costs a pass over the whole view (about 1.5 ms at 1018x425 in software OpenGL)."""
+    layer costs a pass over the whole view."""
     props = renderer.GetViewProps()
     for index in range(props.GetNumberOfItems()):
         prop = props.GetItemAsObject(index)

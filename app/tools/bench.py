@@ -186,7 +186,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     from gmr_studio.app.tools import view_bench
 
-    view_bench.main(["--frames", str(args.frames)])  # the view against a bare VTK widget (issue 26)
+    view_bench.main(["--frames", str(args.frames)])  # the view against a bare VTK widget
     if args.frames_only:
         return 0
     bench_comparison(args.frames)

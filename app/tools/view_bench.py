@@ -18,8 +18,8 @@ selected and the Curves dock shown, it prints side by side:
 measured in :data:`ROUNDS` short rounds, each of them all four in turn on the same frames
 (round r on its own share of the take): a figure is the median of its rounds, a ratio the
 median of the rounds' own ratios, so that a machine whose speed changes during the run (a
-shared one does, by 10-30% from one second to the next) weighs on both sides of each ratio
-alike (with six rounds of 50 frames the layer's ratio ranged 1.09x-1.31x over runs);
+shared one does, from one second to the next) weighs on both sides of each ratio alike
+(a few long rounds let the ratios swing from run to run);
 - the docks' own costs, each timed alone: the inspector's text, the curves' cursor (moved
   and repainted), the foot contacts' bars (cursor moved and repainted).
 

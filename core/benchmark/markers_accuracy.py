@@ -1,10 +1,10 @@
-"""Marker-conversion accuracy, printed (asserts nothing): the figures in docs/markers.md.
+"""Marker-conversion accuracy, printed (asserts nothing) (docs/markers.md, "Accuracy and limits").
 
 1. Real markers: CMU 01_01.c3d through the shipped ``cmu`` map (calibrated on frames
    0:1100) against the FK of 01_01.amc, on frames 1100:2751 (not used for calibration):
    MPJPE in millimetres per joint and overall, for both ways of aiming the bones; then the
    same onto the BVH skeleton of the take (against the BVH itself, its frame 0 a T-pose), and
-   both after ``--refine`` (issue 22's figures: <= 15 mm on the ASF, <= 20 mm on the BVH);
+   both after ``--refine`` (the goals: within 15 mm on the ASF, 20 mm on the BVH);
    the closed form with its root fitted (the default, :mod:`core.markers.root_fit`) and with
    the paper's root at the pelvis root virtual marker X1 (``root_at="pelvis"``).
 2. Twist from the same trial: 02_01's joint positions as markers (the exact case), twists

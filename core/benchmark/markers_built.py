@@ -1,14 +1,14 @@
-"""Skeletons built from lab marker sets (issue 22), printed (asserts nothing).
+"""Skeletons built from lab marker sets, printed (asserts nothing).
 
 1. Every shared file of a known set: the set, the bone lengths' spread over the take (RMS
    about the fitted length, mm), and the marker residuals of the refinement: per marker the
    median over the frames (mm), its worst marker and the overall RMS; the closed form's for
-   comparison (issue 22: Plug-in Gait files <= 10 mm per marker after ``--refine``).
+   comparison (the goal: Plug-in Gait files within 10 mm per marker after ``--refine``).
 2. Against the lab model stored in the file (``--against-file-model``): c3d.org sample 03
    (Plug-in Gait outputs PELO..., LFEO...) and opensim-core's walking5 (LHJC, LKJC, LAJC).
 3. Speed: 10,000 frames of the 40-marker Plug-in Gait full-body sample (its 721 frames
    repeated, 2 mm of noise added) through skeleton building, the closed form and the
-   refinement (issue 22: < 10 s); wall and CPU seconds and the load average when it ends
+   refinement (the goal: under 10 s); wall and CPU seconds and the load average when it ends
    (the machine is shared).
 
 Run: ``.venv/bin/python -m gmr_studio.core.benchmark.markers_built``.

@@ -98,7 +98,7 @@ def format_text(info: dict) -> str:
         "soft links: " + (", ".join(f"{a} -> {b}" for a, b in links.items()) if links else "none"),
         f"dummies:    {len(info['dummies'])}"
         + (f" ({', '.join(info['dummies'])}; gmr convert --remove-dummies folds them)" if info["dummies"] else ""),
-        f"size:       {info['size']:.6g} (largest extent of the first frame)",
+        f"size:       {info['size']:.6g} (the figure's largest extent in one frame)",
         f"units:      {info['units'] or 'not stated'}"
         + (f" (data from {info['source_units']})" if info["source_units"] else ""),
         f"up axis:    {info['up_axis']} "

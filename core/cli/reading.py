@@ -51,7 +51,9 @@ def add_reading_options(parser: argparse.ArgumentParser, *, transforms: bool = T
     if transforms:
         group.add_argument("--scale", type=positive_number, help="multiply every length by this factor")
         group.add_argument("--up", choices=UP_AXES, help="make this axis the up axis")
-        group.add_argument("--from-up", choices=UP_AXES, help="the input's up axis (default: its header's, else y)")
+        group.add_argument(
+            "--from-up", choices=UP_AXES, help="the input's up axis (default: what its file states, else its figure's)"
+        )
     return group
 
 

@@ -7,12 +7,12 @@ relative to the skeleton's size (:attr:`Motion.size`). Each path has the toleran
 project documents for it:
 
 - operations (shift root, split, join, dummy removal, the GMR form): positions kept to
-  1e-9 of the size (docs/reliability.md);
-- the GMR file: 15 significant digits, 1e-12 (docs/gmr-format.md says ~1e-14);
+  1e-9 of the size (docs/conventions.md);
+- the GMR file: 15 significant digits, 1e-12 (docs/gmr-format.md);
 - BVH export, also of a forest after split all: 1e-6 (docs/formats.md);
 - glTF export (``.glb`` in memory, read back by :mod:`core.formats.gltf_in`, metres and Y up
   turned back to the source's units and up axis), also of a forest after split all: 2e-7,
-  float32 precision (docs/gltf.md: 6e-8 per value, composed down the chain);
+  float32 precision (about 6e-8 per value, composed down the chain; docs/gltf.md);
 - for an AMC input, the ASF's rest pose read alone against the motion's rest pose: 1e-9.
 """
 
@@ -39,7 +39,7 @@ from gmr_studio.core.space.up_axis import up_axis_of
 OPERATION_TOLERANCE = 1e-9
 GMR_FILE_TOLERANCE = 1e-12
 BVH_FILE_TOLERANCE = 1e-6
-#: glTF stores float32: measured up to 1.0e-7 of the size over ../shared/data (docs/gltf.md)
+#: glTF stores float32: rounding of each value composed down a chain of joints (docs/gltf.md)
 GLTF_FILE_TOLERANCE = 2e-7
 
 

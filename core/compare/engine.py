@@ -263,7 +263,7 @@ def _times_transposed(rows: np.ndarray, matrix: np.ndarray) -> np.ndarray:
     """``rows @ matrix.T`` for rows (N, K), matrix (L, K) -> (N, L), in chunks of
     :data:`PRODUCT_CHUNK` rows: each product is small enough for BLAS to run it on the
     calling thread (a whole-array product starts threads that cost more CPU than the work;
-    einsum's generic loop is 5 times slower)."""
+    einsum's generic loop is slower still)."""
     out = np.empty((rows.shape[0], matrix.shape[0]))
     right = np.ascontiguousarray(matrix.T)
     for start in range(0, rows.shape[0], PRODUCT_CHUNK):

@@ -1,7 +1,7 @@
 """BVH export of anything GMR can hold: trees with independent siblings, forests.
 
 :func:`bvh_export` turns any motion into a post-rotation motion that the BVH writer prints
-as a standard file (docs/formats.md, "BVH export"):
+as a standard file (docs/formats.md, "Writing BVH"):
 
 - siblings with different rotations get one zero-offset dummy joint each, named after the
   child (:func:`core.kinematics.convention.post_from_pre`);

@@ -1,7 +1,7 @@
 """The tuned forward-kinematics engine: world positions (and rotations) of any forest.
 
-Same results as the reference :mod:`core.kinematics.fk` (to rounding, ~1e-15 of the size),
-for both conventions. With ``W`` the world rotation and ``P`` the world position:
+Same results as the reference :mod:`core.kinematics.fk` (to rounding), for both conventions.
+With ``W`` the world rotation and ``P`` the world position:
 
 - root r:          ``P_r = t_r`` (a copy; ``W_r = R_r`` only when someone needs it)
 - pre (GMR):       ``W_j = W_p R_j``,  ``P_j = P_p + W_j t_j``
@@ -13,40 +13,27 @@ pure-numpy path. Both start from the :class:`~core.model.motion.Motion` arrays a
 rotations cached at load as ``(F, J, 3, 3)`` matrices. :func:`positions_from_euler` starts
 from the Euler angles instead (what a file stores) and turns them into matrices on the fly.
 
-Choices, measured on this project's machine (AMD EPYC, 2 cores shared with other jobs,
-numpy 2.4, numba 0.68; CMU 01_01 tiled to 100,000 frames, 38 joints; best of 5-9 runs,
-the copy of the (F, J, 3) output, the memory-bound yardstick, took 0.075-0.09 us/frame
-in the same runs; docs/benchmark.md has the full benchmark):
+Choices (``gmr bench`` times them; docs/benchmark.md):
 
-- **A compiled kernel, frame-major.** numpy's batched 3x3 matmul costs 0.06-0.09
-  us/frame per joint however it is batched (per joint or per depth level; einsum and
-  explicit element expressions are slower): ~3 us/frame for 38 joints, and the reference
-  takes 4.4. The numba kernel walks each frame's joints with the 3x3 products in
-  registers and the world rotations of one frame in a (J, 3, 3) scratch that stays in L1:
-  0.40-0.47 us/frame (BVH and GMR alike), reading the rotations once, in the order they
-  are stored (frame-major, the Motion layout). Tried and dropped: joint-major component
-  planes per block of 8-64 frames so that LLVM vectorises across frames (0.73-0.99: the
-  transposes cost more than SIMD saves); two or four frames interleaved in one joint loop
-  (0.73-1.36); fused multiply-add (``fastmath={'contract'}``, no gain within the noise,
-  and it would break the bitwise equality below).
-- **Memory order of the walk.** Re-rooted trees (shift root) first ran 2-3x slower
-  (0.8-1.2 us/frame) with identical arithmetic: a depth-first walk from a new root jumps
-  back and forth in the frame's 2.7 KB, and the hardware prefetchers stop following. The
-  kernel now walks parents before children and otherwise by increasing index (a min-heap
+- **A compiled kernel, frame-major.** numpy's batched 3x3 matmul costs about the same per
+  joint however it is batched, so a per-joint numpy loop is bound by call overhead. The
+  numba kernel walks each frame's joints with the 3x3 products in registers and the world
+  rotations of one frame in a (J, 3, 3) scratch small enough to stay in L1, reading the
+  rotations once, in the order they are stored (frame-major, the Motion layout). Tried and
+  dropped: joint-major component planes so that LLVM vectorises across frames (the
+  transposes cost more than SIMD saves); several frames interleaved in one joint loop;
+  fused multiply-add (no gain, and it would break the bitwise equality below).
+- **Memory order of the walk.** A depth-first walk from a new root (after shift root) jumps
+  back and forth in the frame's memory and the hardware prefetchers stop following. The
+  kernel walks parents before children and otherwise by increasing index (a min-heap
   topological order), which is plain memory order for a file's own root; for any other
   order it first copies, in memory order, the rotations it will read and the frame's
-  translations into an L1 scratch (``staged``).
-  Mean over the 38 single-root trees of CMU 01_01 (20,000 frames): depth-first 0.77,
-  increasing-index 0.62, staged 0.47 us/frame (min 0.37, max 0.55); staging a walk
-  that is already in memory order costs ~0.07, so it is skipped there. Touching the
-  frame's cache lines instead of copying them was slower (0.64-0.68).
-- **Known weak spot: many roots, a few scattered non-roots** (k of about 28-35 of 38):
-  the few rotations read are sparse in each frame's memory and the prefetchers do not
-  follow: 0.4-0.6 us/frame from memory against 0.16-0.22 for the same forest on 1,000
-  frames in cache. A software prefetch of the needed lines a few frames ahead (an
-  ``llvm.prefetch`` numba intrinsic) recovered most of it (k=30: 0.45 against 0.75-0.97)
-  but made every other configuration ~0.1 us/frame slower, even with nothing to
-  prefetch, and ties the code to LLVM's intrinsic names: not adopted.
+  translations into an L1 scratch (``staged``). Staging is skipped for a walk already in
+  memory order. Touching the frame's cache lines instead of copying them was slower.
+- **Known weak spot: many roots, a few scattered non-roots**: the few rotations read are
+  sparse in each frame's memory and the prefetchers do not follow. A software prefetch (an
+  ``llvm.prefetch`` numba intrinsic) helps those forests but slows every other one and ties
+  the code to LLVM's intrinsic names: not adopted.
 - **Matrices, not quaternions.** The Motion stores matrices (see core/model/motion.py); a
   quaternion kernel would first have to convert them, a pass costing more than the FK.
 - **float64 throughout**: the operations promise 1e-9 of the size over chains of edits,
@@ -54,15 +41,13 @@ in the same runs; docs/benchmark.md has the full benchmark):
 - **Leaves skip their world rotation** (pre-rotation): ``P_j = P_p + W_p (R_j t_j)``,
   18 multiplications instead of 36 and no store; post-rotation leaves never read their
   rotation. Roots with world coordinates cost one copy of their translation, and a
-  forest of roots only (fully translational) is one array copy: the positions are the
-  data (the per-joint loop took 1.5x the copy).
-- **numba is optional** (the ``fast`` extra; ``bench`` includes it). Compiling takes
-  ~1.3 s per kernel once, ``cache=True`` keeps the machine code on disk. Without numba
-  the numpy backend below (1.8 us/frame: per depth level, frames in blocks of 1024 laid
-  out joint-major with frames last so that every ufunc runs over long rows) gives the
-  same bits: numba compiles without fast-math, so ``a*b + c`` rounds twice as in numpy,
-  and both sum ``(a0 b0 + a1 b1) + a2 b2`` in that order (tested bitwise on random
-  forests). ``GMR_DISABLE_NUMBA=1`` forces the numpy backend.
+  forest of roots only (fully translational) is one array copy: the positions are the data.
+- **numba is optional** (the ``fast`` extra; ``bench`` includes it). Each kernel compiles
+  once and ``cache=True`` keeps the machine code on disk. Without numba the numpy backend
+  below (per depth level, frames in blocks laid out joint-major with frames last so that
+  every ufunc runs over long rows) gives the same bits: numba compiles without fast-math,
+  so ``a*b + c`` rounds twice as in numpy, and both sum ``(a0 b0 + a1 b1) + a2 b2`` in that
+  order (tested bitwise on random forests). ``GMR_DISABLE_NUMBA=1`` forces the numpy backend.
 - **Threads on request.** The kernels release the GIL, so ``threads=N`` splits the frames
   into N blocks computed at once (each with its own scratch; same bits). The default is
   one thread: the benchmark compares against a single-threaded copy, and reports the
@@ -335,10 +320,9 @@ def degrees_to_matrices_compiled(
     (F, V); the file readers' conversion. Returns False (doing nothing) without numba.
 
     The same operations as ``matrix_from_euler(np.radians(...))``; sin and cos come from
-    the C library rather than numpy's own, so results may differ in the last bit. Measured
-    on 100,000 frames of CMU 01_01 (3.1 million rotations): 0.36 s through numpy (two
-    threads) against 0.1 s here, which is what keeps BVH parsing at more than half of
-    numpy.loadtxt's speed.
+    the C library rather than numpy's own, so results may differ in the last bit. One pass
+    per frame in compiled code instead of a dozen numpy temporaries: this keeps BVH parsing
+    near the speed of reading the numbers alone.
     """
     if _kernels is None:
         return False
@@ -400,8 +384,7 @@ def _numpy_fk(
 
     Each block is turned joint-major with the frames last, ``(J, 3, 3, n)`` (component
     planes), so that every ufunc call runs over long contiguous rows of frames instead of
-    3-element ones; this took it from 9.8 to 1.8 us/frame (100,000 frames, 38 joints; the reference
-    core.kinematics.fk takes ~4.4).
+    3-element ones, where each call's overhead would outweigh its arithmetic.
     """
     n_frames, n_joints = rotations.shape[:2]
     roots = np.flatnonzero(plan.kinds == ROOT)

@@ -113,7 +113,7 @@ def markers_to_built_motion(
     after the placement (so it costs no more); ``residuals_before`` stays the closed form's.
     ``root_at``: where the closed form puts the root (:mod:`core.markers.root_fit`): by default
     at the pelvis markers' root, the mid-point of the hip centres the markers place rigidly,
-    which the app shows as the recovered pelvis (docs/markersets.md, "Figures", has both)."""
+    which the app shows as the recovered pelvis (docs/markersets.md)."""
     from gmr_studio.core.markers.refine import attach_markers, refine_motion
     from gmr_studio.core.markers.solve import solve_positions
 

@@ -2,12 +2,12 @@
 
 ezc3d reads every C3D flavour (Intel, DEC and SGI byte orders; integer and float samples;
 ``LABELS2``... for more than 255 markers). It is a C++ extension, and on corrupt files it
-does not always raise: fuzzing the real files of this project (random bytes in the
-parameter section) made it hang for minutes or die with a segmentation fault in about 5%
-of the cases. A reader in a desktop app must not take the app down with it, so by default
-the decoding runs in a child Python process (``python -m gmr_studio.core.markers.c3d_worker FILE``) with a
-time and memory limit; it costs about 0.15 s per file. A C3D that ezc3d rejects, or that
-makes it crash or hang, becomes a :class:`~core.errors.MotionFileError` naming the file.
+does not always raise: random bytes in a real file's parameter section can make it hang
+for minutes or die with a segmentation fault. A reader in a desktop app must not take the
+app down with it, so by default the decoding runs in a child Python process
+(``python -m gmr_studio.core.markers.c3d_worker FILE``) with a time and memory limit, at the
+cost of starting that process. A C3D that ezc3d rejects, or that makes it crash or hang,
+becomes a :class:`~core.errors.MotionFileError` naming the file.
 
 Gaps and computed samples. A sample whose residual is negative is invalid in every C3D
 (ezc3d gives NaN): a gap. A residual of zero marks a point the cameras did not measure but

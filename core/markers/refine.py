@@ -80,9 +80,8 @@ def _openblas():
 @contextmanager
 def one_blas_thread():
     """Run LAPACK on one thread for the block: ``numpy.linalg.solve`` on a stack of small
-    systems lets OpenBLAS wake its thread pool for each one, which on the shared two-core
-    machine made the refinement 90 times slower (61 s instead of 0.7 s for 300 frames of CMU's
-    BVH). Does nothing where numpy's OpenBLAS is not found."""
+    systems lets OpenBLAS wake its thread pool for each one, which makes the refinement many
+    times slower where cores are shared. Does nothing where numpy's OpenBLAS is not found."""
     functions = _openblas()
     if functions is None:
         yield

@@ -1,7 +1,7 @@
 """What the refinement fits on a given skeleton, and whether a map fits the markers at all.
 
 - :func:`check_map_fits`: a map most of whose markers the file lacks is refused, naming the
-  file's own marker set (issue 22: not "pelvis marker root missing in frames 0-141").
+  file's own marker set (rather than reporting the map's missing markers as gaps).
 - :func:`transported`: targets for the joints below a bone the skeleton lacks (CMU's BVH has
   no thorax bone): the markers moved by that bone.
 - :func:`below_missing_bones`: those joints, which the root's fit leaves out.

@@ -33,10 +33,9 @@ its children only. ``"pre"`` is GMR: ``L_j = [R_j, R_j t_j]``, a joint's rotatio
 bone that ends at it. In both, a root's world transform is ``[R_r, t_r]``: its translation
 is its world position (the paper's ``G_r``; roots carry no separate local offset).
 
-Storage choice, measured (100,000 frames, 38 joints, numpy 2.4, this project's machine):
-local rotations as matrices make the per-joint FK step one batched 3x3 product; as unit
-quaternions the same FK took 1.3x longer in numpy (each product and vector rotation is a
-dozen separate array operations), for 40% of the memory. Matrices it is; the Euler angles
+Storage choice: local rotations as matrices make the per-joint FK step one batched 3x3
+product; as unit quaternions each product and vector rotation is a dozen separate array
+operations, slower in numpy for less than half the memory. Matrices it is; the Euler angles
 of the files are converted once, at load. Translations are dense ``(F, J, 3)`` so that a
 fully translational forest computes its positions as one array copy.
 
