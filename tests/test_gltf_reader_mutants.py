@@ -179,20 +179,14 @@ def _with_asset(builder: GltfBuilder, tmp_path, **asset):
 
 
 @pytest.mark.parametrize(
-    ("factor", "note"),
-    [
-        (0.01, "source units: 0.01 m (written by GMR Studio from a motion in those units)"),
-        (1, "source units: 1 m (written by GMR Studio from a motion in those units)"),
-        (0, None),
-        (-0.01, None),
-        (True, None),
-        ("0.01", None),
-        (float("inf"), None),
-    ],
+    ("factor", "metres"),
+    [(0.01, 0.01), (1, None), (0, None), (-0.01, None), (True, None), ("0.01", None), (float("inf"), None)],
 )
-def test_source_units_only_from_a_positive_finite_number(tmp_path, factor, note):
-    comments = _with_asset(two_nodes(), tmp_path, extras={"metres_per_unit": factor}).comments
-    assert [c for c in comments if c.startswith("source units")] == ([note] if note else [])
+def test_source_units_only_from_a_positive_finite_number(tmp_path, factor, metres):
+    """The unit a glTF written by this project came from (its extras' metres per unit):
+    a positive finite number other than a metre; anything else is no source unit."""
+    source = _with_asset(two_nodes(), tmp_path, extras={"metres_per_unit": factor}).facts.source_unit
+    assert (None if source is None else source.metres) == metres
 
 
 def test_a_pre_rotation_export_by_this_project_is_read_as_one(tmp_path):

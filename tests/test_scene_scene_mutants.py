@@ -15,8 +15,9 @@ from gmr_studio.app.model.state import OVERLAYS
 from gmr_studio.app.scene.drawable import Drawing
 from gmr_studio.app.scene.figure import SkeletonFigure, SoftLinks
 from gmr_studio.app.scene.overlays import Ground, JointAxes, JointLabels, Markers, PelvisTriad, Trail
-from gmr_studio.app.scene.scene import BACKGROUND, SkeletonScene, another_space, up_axis_of
+from gmr_studio.app.scene.scene import BACKGROUND, SkeletonScene, another_space
 from gmr_studio.app.scene.vtk_parts import sphere_part
+from gmr_studio.core.space.up_axis import up_axis_of
 from tests.tiny_scene import (
     FIGURE_NAMES,
     FIGURE_PARENTS,
@@ -91,8 +92,8 @@ def test_another_space_is_a_size_changed_fivefold_or_more():
 
 
 def test_the_up_axis_is_the_one_the_figure_stands_along():
-    assert up_axis_of(snapshot_of(figure_motion())) == 1
-    assert up_axis_of(z_up()) == 2
+    assert up_axis_of(snapshot_of(figure_motion()).motion) == "y"
+    assert up_axis_of(z_up().motion) == "z"
 
 
 def test_a_new_scene_draws_nothing_over_its_background():

@@ -18,6 +18,7 @@ from gmr_studio.app.model.state import Snapshot
 from gmr_studio.app.scene.onion import pose_lines, pose_points
 from gmr_studio.core.library.drawing import side_by_side, side_view
 from gmr_studio.core.space.heading import travel_axis
+from gmr_studio.core.space.up_axis import axis_index, up_axis_of
 
 __all__ = ["filmstrip_command", "parse_frame_steps", "pose_colors", "render_filmstrip", "side_by_side", "travel_axis"]
 
@@ -69,11 +70,11 @@ def render_filmstrip(
     from gmr_studio.app.media.video import save_screenshot
     from gmr_studio.app.scene import vtk_parts as parts
     from gmr_studio.app.scene.labels import label_part
-    from gmr_studio.app.scene.scene import SkeletonScene, up_axis_of
+    from gmr_studio.app.scene.scene import SkeletonScene
 
     if layout not in ("path", "side"):
         raise ValueError(f"unknown filmstrip layout {layout!r}: expected path or side")
-    up = up_axis_of(snapshot)
+    up = axis_index(up_axis_of(snapshot.motion))
     figure = ~snapshot.motion.anchors  # an anchor at the origin is no part of the picture
     positions = np.asarray(snapshot.positions[frames])
     if layout == "side":

@@ -13,7 +13,7 @@ where it was while its colours, root marks and soft links change. The camera and
 projection are the scene's other half (:mod:`app.scene.camera`).
 
 The up axis (Y or Z) is the one the file's comments state, else the one detected from the
-motion (:func:`up_axis_of`), and the camera's up follows it, so Y-up and Z-up files both
+motion (:func:`core.space.up_axis.up_axis_of`), and the camera's up follows it, so Y-up and Z-up files both
 stand upright.
 """
 
@@ -42,7 +42,7 @@ from gmr_studio.app.scene.overlays import (
     nice_step,
 )
 from gmr_studio.core.library.drawing import BACKGROUND
-from gmr_studio.core.space import up_axis as space_up_axis
+from gmr_studio.core.space.up_axis import axis_index, up_axis_of
 
 __all__ = [
     "BACKGROUND",
@@ -55,17 +55,10 @@ __all__ = [
     "SkeletonScene",
     "actor_positions",
     "nice_step",
-    "up_axis_of",
 ]
 
 TREE_COLORS = PALETTE  # the trees' colours, in the order new trees get them
 # everything is opaque: translucency costs a separate pass, several ms a frame in software GL
-
-
-def up_axis_of(snapshot: Snapshot) -> int:
-    """1 (Y) or 2 (Z): the column of the core's one up axis (:func:`core.space.up_axis.up_axis_of`:
-    what the file states, else what the figure's joints show)."""
-    return space_up_axis.axis_index(space_up_axis.up_axis_of(snapshot.motion))
 
 
 def one_headlight(plotter: pv.BasePlotter) -> None:
@@ -231,7 +224,7 @@ class SkeletonScene(SceneCamera):
             return
         self.frame = min(self.frame, snapshot.motion.n_frames - 1)
         if self.new_document:
-            self.up_axis = up_axis_of(snapshot)
+            self.up_axis = axis_index(up_axis_of(snapshot.motion))  # core's one rule
         for drawable in self.drawables:
             drawable.build(self)
         self._draw_labels_last()

@@ -18,11 +18,11 @@ import numpy as np
 from gmr_studio.core.edits.world import scale_lengths, turned_world
 from gmr_studio.core.formats.fbx_in.worker import EULER_ORDERS
 from gmr_studio.core.formats.gltf_in.pose import NodePose, skeleton_pose
-from gmr_studio.core.formats.gltf_in.reader import scale_notes, valid_joint_names
+from gmr_studio.core.formats.gltf_in.reader import bind_note, scale_notes, valid_joint_names
 from gmr_studio.core.formats.gltf_in.rest import turn_to_bind
 from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.model.motion import Motion
-from gmr_studio.core.rotations.euler import nearest_rotation, rotation_angle
+from gmr_studio.core.rotations.euler import nearest_rotation
 from gmr_studio.core.space.units import LIKELY_UNITS, UNITS, unit_of_length
 
 #: ufbx coordinate axis codes (``ufbx.CoordinateAxis``) -> names
@@ -110,7 +110,7 @@ def motion_from_nodes(meta: dict, trs: dict[int, tuple[np.ndarray, np.ndarray, n
                 take_line(meta),
                 f"skeleton: {meta['selection']}",
                 *armature_lines(meta, above, joints, parents, index),
-                bind_line(bind, from_pose, source),
+                bind_note(bind, from_pose, source),
                 *left_out_lines(meta),
                 *inherit_lines(meta, joints, poses),
                 *scale_notes(labels, poses),
@@ -140,16 +140,6 @@ def bind_rotations(meta: dict, joints: list[int]) -> tuple[np.ndarray, int]:
     usable = np.abs(np.linalg.det(linear)) > 1e-12
     bind[ours[usable]] = nearest_rotation(linear[usable])
     return bind, int(usable.sum())
-
-
-def bind_line(bind: np.ndarray, from_pose: int, source: str) -> str:
-    angles = np.degrees(rotation_angle(bind))
-    if not from_pose or angles.max() < 1e-6:
-        return ""
-    return (
-        f"rest pose: {source}; the rest orientation of its joints (up to {angles.max():.4g} deg, "
-        f"{int((angles > 1e-6).sum())} joints) taken out of their frames"
-    )
 
 
 def content_line(meta: dict) -> str:

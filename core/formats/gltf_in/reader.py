@@ -110,7 +110,7 @@ def _read(doc: GltfDocument, animation, skin, frame_rate) -> Motion:
         f"glTF {doc.path.name}: " + ", ".join(filter(None, [skin_note or _no_skin_note(doc), anim_note])),
         clock.note,
         *_armature_notes(doc, above, joints, parents, index),
-        _bind_note(bind, from_skin),
+        bind_note(bind, from_skin),
         pre_note,
         *_scale_notes(doc, poses, needed),
         *ignored,
@@ -232,12 +232,14 @@ def _extras(doc: GltfDocument) -> dict:
     return extras if isinstance(extras, dict) else {}
 
 
-def _bind_note(bind: np.ndarray, from_skin: int) -> str:
+def bind_note(bind: np.ndarray, from_pose: int, source: str = "the skin's bind pose") -> str:
+    """The note on the rest orientation taken out of the joints' frames (``bind`` (J, 3, 3),
+    from ``source``), empty when none was."""
     angles = np.degrees(rotation_angle(bind))
-    if not from_skin or angles.max() < 1e-6:
+    if not from_pose or angles.max() < 1e-6:
         return ""
     return (
-        f"rest pose: the skin's bind pose; the rest orientation of its joints (up to {angles.max():.4g} deg, "
+        f"rest pose: {source}; the rest orientation of its joints (up to {angles.max():.4g} deg, "
         f"{int((angles > 1e-6).sum())} joints) taken out of their frames"
     )
 
