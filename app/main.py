@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 from collections.abc import Sequence
 
 from gmr_studio.app.arguments import (
@@ -46,6 +47,10 @@ def main(argv: Sequence[str] | None = None) -> int:
 
         return print_recoveries()
     motion_path, markers_path = default_files(args)
+    for output in (args.screenshot, args.filmstrip):
+        if output and not Path(output).resolve().parent.is_dir():
+            print(f"gmr-studio: {output}: the folder {Path(output).resolve().parent} does not exist", file=sys.stderr)
+            return 2
     render_without_display()
     if args.filmstrip:
         from gmr_studio.app.media.filmstrip import filmstrip_command

@@ -76,6 +76,14 @@ def test_a_bad_file_on_the_command_line_is_one_line_and_exit_2(tmp_path):
     assert not (tmp_path / "x.png").exists()
 
 
+def test_a_picture_into_a_folder_that_does_not_exist_is_one_line_and_exit_2(tmp_path):
+    for flag in ("--screenshot", "--filmstrip"):
+        target = tmp_path / "missing" / "x.png"
+        result = subprocess.run([*STUDIO, flag, str(target)], capture_output=True, text=True, env=headless_env())
+        assert result.returncode == 2 and "Traceback" not in result.stderr
+        assert result.stderr.strip() == f"gmr-studio: {target}: the folder {target.parent} does not exist"
+
+
 def test_size_and_arguments():
     assert parse_size("640x480") == (640, 480)
     with pytest.raises(Exception, match="1280x800"):
