@@ -166,3 +166,14 @@ def matrices_from_degrees(values, joints, columns, codes, start, stop, out):  # 
             b = values[f, columns[m, 1]] * scale if columns[m, 1] >= 0 else 0.0
             c = values[f, columns[m, 2]] * scale if columns[m, 2] >= 0 else 0.0
             _euler_matrix(a, b, c, codes[m], out[f, joints[m]])
+
+
+@numba.njit(nogil=True, cache=True, boundscheck=False)
+def gather_joints(rows, joints, width, start, stop, out):  # pragma: no cover - compiled
+    """out[f, n * width + i] = rows[f, joints[n] * width + i] for frames start..stop-1: the
+    joints' numbers (``width`` of them each: 9 for a rotation) picked out of every frame's row."""
+    for f in range(start, stop):
+        for n in range(joints.shape[0]):
+            first = joints[n] * width
+            for i in range(width):
+                out[f, n * width + i] = rows[f, first + i]

@@ -231,7 +231,7 @@ def forward_kinematics(
                 np.empty((n_joints, 3)),
             )
 
-        _in_blocks(block, n_frames, threads)
+        in_blocks(block, n_frames, threads)
     else:
         _numpy_fk(rotations, translations, plan, positions, world)
     return positions, world
@@ -246,18 +246,42 @@ def world_positions(motion: Motion, *, backend: Backend = "auto", threads: int |
 MIN_FRAMES_PER_THREAD = 4096
 
 
-def _in_blocks(work, n_frames: int, threads: int | None) -> None:
-    """``work(frames)`` over consecutive blocks of frames, on up to ``threads`` threads."""
+def in_blocks(work, n_frames: int, threads: int | None, *, align: int = 1) -> None:
+    """``work(frames)`` over consecutive blocks of frames, on up to ``threads`` threads
+    (None: one per core); every block but the last starts and ends on a multiple of
+    ``align`` frames."""
     count = (os.cpu_count() or 1) if threads is None else max(1, int(threads))
-    count = min(count, max(1, n_frames // MIN_FRAMES_PER_THREAD))
+    count = min(count, max(1, n_frames // max(MIN_FRAMES_PER_THREAD, align)))
     if count == 1:
         work(slice(0, n_frames))
         return
     from concurrent.futures import ThreadPoolExecutor
 
     bounds = np.linspace(0, n_frames, count + 1).astype(int)
+    bounds[1:-1] = bounds[1:-1] // align * align
     with ThreadPoolExecutor(max_workers=count) as pool:
         list(pool.map(work, [slice(a, b) for a, b in itertools.pairwise(bounds)]))
+
+
+def gather_joints(array: np.ndarray, joints: np.ndarray, *, threads: int | None = 1) -> np.ndarray:
+    """``array[:, joints]`` of a per-frame, per-joint array (F, J, ...): a new C-contiguous
+    (F, len(joints), ...) array, computed in one pass over the frames by the compiled kernel
+    (on ``threads`` threads, None: one per core) or by ``numpy.take``; the same numbers.
+    numpy's ``take`` along the joints copies each joint's few numbers with a call of its own,
+    several times slower than copying the array; the kernel runs at about a copy's speed."""
+    joints = np.asarray(joints, dtype=np.int64)
+    if _kernels is None or array.dtype != np.float64 or array.ndim < 2 or not array.shape[0] or not joints.size:
+        return np.ascontiguousarray(np.take(array, joints, axis=1))
+    source = np.ascontiguousarray(array)
+    n_frames, width = source.shape[0], int(np.prod(source.shape[2:], dtype=np.int64))
+    out = np.empty((n_frames, joints.size, *source.shape[2:]))
+    rows, out_rows = source.reshape(n_frames, -1), out.reshape(n_frames, -1)
+
+    def block(frames: slice) -> None:
+        _kernels.gather_joints(rows, joints, width, frames.start, frames.stop, out_rows)
+
+    in_blocks(block, n_frames, threads)
+    return out
 
 
 # ------------------------------------------------------------------ from Euler angles

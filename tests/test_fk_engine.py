@@ -206,3 +206,15 @@ def test_threads_give_the_same_bits(threads, rng):
         np.testing.assert_array_equal(one[0], many[0])
         if with_rotations:
             np.testing.assert_array_equal(one[1], many[1])
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_gathering_joints_picks_the_same_numbers_as_numpy(threads, rng):
+    from gmr_studio.core.fk_engine import MIN_FRAMES_PER_THREAD
+
+    frames = 2 * MIN_FRAMES_PER_THREAD + 3
+    joints = np.array([4, 0, 0, 2])  # any order, repeats allowed
+    for shape in ((frames, 5, 3), (frames, 5, 3, 3), (0, 5, 3, 3)):
+        array = rng.normal(size=shape)
+        np.testing.assert_array_equal(fk_engine.gather_joints(array, joints, threads=threads), array[:, joints])
+    assert fk_engine.gather_joints(np.zeros((4, 5, 3)), np.zeros(0, np.int64)).shape == (4, 0, 3)
