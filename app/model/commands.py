@@ -21,7 +21,7 @@ from gmr_studio.core.clip import resample, trim
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.mirror import mirror
 from gmr_studio.core.motion import Motion
-from gmr_studio.core.operations import join, join_all, shift_root, split, split_all
+from gmr_studio.core.operations import Edited, join_all_edit, join_edit, shift_root_edit, split_all_edit, split_edit
 
 
 class MotionEdit(QUndoCommand):
@@ -40,20 +40,28 @@ class MotionEdit(QUndoCommand):
         self.state.apply_snapshot(self.before)
 
 
-def run_edit(state: StudioState, text: str, operation: Callable[[Motion], Motion]) -> bool:
+def run_edit(state: StudioState, text: str, operation: Callable[[Motion], Motion | Edited]) -> bool:
     """Apply ``operation`` to the document as an undoable edit named ``text``.
 
-    Returns True if the edit was pushed. A refused operation (OperationError) or one that
-    changes nothing is reported in the status bar and leaves the document and history as
-    they were.
+    An operation that returns an :class:`~core.operations.Edited` hands the new snapshot
+    the document's kinematics (:meth:`Snapshot.of_edit`); one that returns a motion gets
+    its forward kinematics computed. Returns True if the edit was pushed. A refused
+    operation (OperationError) or one that changes nothing is reported in the status bar
+    and leaves the document and history as they were.
     """
     before = state.snapshot
     if before is None:
         state.show_message(f"{text}: no motion is open")
         return False
     try:
-        motion = operation(before.motion)
-        after = None if motion is before.motion else Snapshot.of(motion)
+        result = operation(before.motion)
+        motion = result.motion if isinstance(result, Edited) else result
+        if motion is before.motion:
+            after = None
+        elif isinstance(result, Edited):
+            after = Snapshot.of_edit(before, result)
+        else:
+            after = Snapshot.of(motion)
     except OperationError as exc:
         state.show_message(f"{text} refused: {exc}")
         return False
@@ -72,27 +80,37 @@ def _name(state: StudioState, joint: int) -> str:
     return state.motion.names[joint] if state.motion is not None else str(joint)
 
 
+#: the operations edit blocks of frames on every core, as the cache is computed
+THREADS = None
+
+
 def make_root(state: StudioState, joint: int) -> bool:
     """Shift the root of the joint's tree to the joint."""
-    return run_edit(state, f"Make '{_name(state, joint)}' root", lambda m: shift_root(m, joint))
+    return run_edit(state, f"Make '{_name(state, joint)}' root", lambda m: shift_root_edit(m, joint, threads=THREADS))
 
 
 def split_here(state: StudioState, joint: int) -> bool:
     """Split the tree at the joint (it becomes a root with a soft link to its parent)."""
-    return run_edit(state, f"Split at '{_name(state, joint)}'", lambda m: split(m, joint))
+    return run_edit(state, f"Split at '{_name(state, joint)}'", lambda m: split_edit(m, joint, threads=THREADS))
 
 
 def join_to_parent(state: StudioState, joint: int) -> bool:
     """Join the split root back under its soft-link parent."""
-    return run_edit(state, f"Join '{_name(state, joint)}' to its parent", lambda m: join(m, joint))
+    return run_edit(
+        state, f"Join '{_name(state, joint)}' to its parent", lambda m: join_edit(m, joint, threads=THREADS)
+    )
 
 
 def split_everything(state: StudioState) -> bool:
-    return run_edit(state, "Split all", split_all)
+    """Every joint a root: the document's world positions and rotations become the motion's
+    translations and rotations (the same arrays, nothing computed)."""
+    snapshot = state.snapshot
+    kinematics = None if snapshot is None else (snapshot.positions, snapshot.rotations)
+    return run_edit(state, "Split all", lambda m: split_all_edit(m, kinematics=kinematics))
 
 
 def join_everything(state: StudioState) -> bool:
-    return run_edit(state, "Join all", join_all)
+    return run_edit(state, "Join all", lambda m: join_all_edit(m, threads=THREADS))
 
 
 def can_join(motion: Motion | None, joint: int | None) -> bool:

@@ -1,6 +1,6 @@
 """Features whose core parts come from other branches, found when they are installed.
 
-- Remove dummy joints: ``core.dummies.remove_dummies(motion) -> Motion`` (formats branch).
+- Remove dummy joints: ``core.dummies.remove_dummies_edit(motion) -> (Edited, names)`` (formats branch).
 - Pelvis frames: ``core.markers.pelvis.recover_pelvis(markers, marker_map) -> PelvisFrames``
   (markers branch); a shipped map made for the markers shown that cannot apply to the
   skeleton (no joint-name map pairs them) is said, even when the recovery is quiet.
@@ -39,21 +39,22 @@ def marker_suffixes() -> set[str]:
 def remove_dummies_available(motion=None) -> bool:
     """The core can remove dummy joints (and, given a motion, it has some)."""
     find = _find("gmr_studio.core.dummies", "find_dummies")
-    if find is None or _find("gmr_studio.core.dummies", "remove_dummies") is None:
+    if find is None or _find("gmr_studio.core.dummies", "remove_dummies_edit") is None:
         return False
     return motion is None or bool(find(motion))
 
 
 def remove_dummy_joints(state: StudioState) -> bool:
-    """Fold zero-offset dummy joints into their children, as an undoable edit."""
-    remove = _find("gmr_studio.core.dummies", "remove_dummies")
+    """Fold zero-offset dummy joints into their children, as an undoable edit (the
+    remaining joints keep their cached world transforms: :meth:`Snapshot.of_edit`)."""
+    remove = _find("gmr_studio.core.dummies", "remove_dummies_edit")
     if remove is None:
         state.show_message("Remove dummy joints needs core.dummies (not installed in this build)")
         return False
     removed: list[str] = []
 
     def operation(motion):
-        result, names = remove(motion)
+        result, names = remove(motion, threads=None)
         removed.extend(names)
         return result
 
