@@ -68,7 +68,7 @@ class SceneCamera:
         up_axis = self.up_axis
         up = np.eye(3)[up_axis]
         across = [a for a in (0, 1, 2) if a != up_axis]
-        path = actor_positions(self.snapshot)[:, :, across].mean(axis=1)  # (F, 2) horizontal centroid path
+        path = actor_positions(self.snapshot).mean(axis=1)[:, across]  # (F, 2) horizontal centroid path
         travel = np.zeros(3)
         spread = path - path.mean(axis=0)
         if len(path) > 1 and np.abs(spread).max() > 0.5 * self.snapshot.motion.size:

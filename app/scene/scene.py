@@ -64,8 +64,10 @@ BACKGROUND = (0.16, 0.17, 0.20)
 
 def up_axis_of(snapshot: Snapshot) -> int:
     """1 (Y) or 2 (Z): the core's one rule for a view (:func:`core.conversions.figure_up_axis`:
-    what the file's comments state, else what the figure's joints show), on the cached positions."""
-    return figure_up_axis(snapshot.motion, snapshot.positions)
+    what the file's comments state, else what the figure's joints show at the frames
+    :attr:`~core.motion.Motion.size` samples; the median over every frame of a long take
+    held up its first frame)."""
+    return figure_up_axis(snapshot.motion)
 
 
 def one_headlight(plotter: pv.BasePlotter) -> None:
