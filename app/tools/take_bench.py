@@ -4,13 +4,16 @@ frames, 38 joints) edited, cached, opened and checked, each figure beside its ya
 Every row is timed in the same rounds as its yardstick, interleaved (round after round:
 the yardsticks, then each row once), and keeps its best round: the load of other jobs on
 the machine then falls on both sides alike. Wall time and the process's CPU time (every
-thread) are both given; the ratio of the best wall times is the one the goals speak of.
+thread, and of it the system's: page faults of new arrays, mostly) are both given; the
+ratio of the best wall times is the one the goals speak of.
 
 Yardsticks:
 - ``copy R``: one copy of the motion's rotation array (F, J, 3, 3), allocation included;
 - ``copy P``: one copy of the FK output (F, J, 3), as ``gmr bench`` times it;
 - ``FK 1``: the single-root FK of every frame on one thread, as ``gmr bench`` times it;
-- ``parse``: ``numpy.loadtxt`` of the file's frame lines, as ``gmr bench`` times it.
+- ``parse``: ``numpy.loadtxt`` of the file's frame lines, as ``gmr bench`` times it;
+and, beside the FK, one read of what it reads (the largest rotation and translation
+number: no FK can take less).
 
 Rows: the FK itself; the cache a document holds (``Snapshot.of``); every edit as the core
 operation alone and as the app's undoable edit (with the cache of its result), with the
@@ -24,6 +27,7 @@ from __future__ import annotations
 import argparse
 import io
 import os
+import resource
 import sys
 import tempfile
 import time
@@ -39,28 +43,34 @@ MB = 1e6
 
 
 class Rounds:
-    """Named calls timed round after round; the best wall and CPU seconds of each."""
+    """Named calls timed round after round; the best wall seconds of each, and the CPU
+    seconds (every thread; of which in the system: page faults, mostly) of that round."""
 
     def __init__(self) -> None:
         self.calls: dict[str, Callable[[], object]] = {}
-        self.wall: dict[str, list[float]] = {}
-        self.cpu: dict[str, list[float]] = {}
+        self.times: dict[str, list[tuple[float, float, float]]] = {}
 
     def add(self, name: str, call: Callable[[], object]) -> None:
         self.calls[name] = call
-        self.wall[name], self.cpu[name] = [], []
+        self.times[name] = []
 
     def run(self, rounds: int, log: Callable[[str], None]) -> None:
         for round_ in range(rounds):
             for name, call in self.calls.items():
-                start, start_cpu = time.perf_counter(), time.process_time()
+                start, before = time.perf_counter(), resource.getrusage(resource.RUSAGE_SELF)
                 call()
-                self.wall[name].append(time.perf_counter() - start)
-                self.cpu[name].append(time.process_time() - start_cpu)
+                wall, after = time.perf_counter() - start, resource.getrusage(resource.RUSAGE_SELF)
+                system = after.ru_stime - before.ru_stime
+                self.times[name].append((wall, after.ru_utime - before.ru_utime + system, system))
             log(f"  round {round_ + 1} of {rounds} done ({_load()})")
 
-    def best(self, name: str) -> tuple[float, float]:
-        return min(self.wall[name]), min(self.cpu[name])
+    def best(self, name: str) -> tuple[float, float, float]:
+        """(wall, CPU, system) seconds of the round with the least wall time."""
+        return min(self.times[name])
+
+    def line(self, name: str) -> str:
+        wall, cpu, system = self.best(name)
+        return f"{wall:7.3f} s  cpu {cpu:6.3f} s (sys {system:5.3f})"
 
 
 def _load() -> str:
@@ -123,8 +133,9 @@ def _app_edit(state, command) -> Callable[[], None]:
     return edit
 
 
-def bench_take(n_frames: int, rounds: int, log: Callable[[str], None] = print) -> None:
-    """Everything but opening (see the module docstring)."""
+def bench_take(n_frames: int, rounds: int, log: Callable[[str], None] = print, only: str = "") -> None:
+    """Everything but opening (see the module docstring); ``only``: the edits whose name
+    holds this text (the yardsticks, FK, cache and check are always timed)."""
     from gmr_studio.app.model.state import Snapshot, StudioState, history_bytes
     from gmr_studio.core import fk_engine
     from gmr_studio.core.benchmark.timing import peak_memory
@@ -142,10 +153,11 @@ def bench_take(n_frames: int, rounds: int, log: Callable[[str], None] = print) -
     timed = Rounds()
     timed.add("copy R", motion.rotations.copy)
     timed.add("copy P", positions.copy)
+    timed.add("read", lambda: (motion.rotations.max(), motion.translations.max()))
     timed.add("FK 1", lambda: fk_engine.world_positions(motion))
     timed.add("FK cache", lambda: Snapshot.of(motion))
     timed.add("gmr check", lambda: run_checks(motion))
-    rows = edits(motion)
+    rows = [row for row in edits(motion) if only in row[0]]
     for name, source, core, command in rows:
         core(sources[source])  # compiled kernels loaded before timing
         timed.add(f"{name}: core", lambda core=core, m=sources[source]: core(m))
@@ -158,8 +170,9 @@ def bench_take(n_frames: int, rounds: int, log: Callable[[str], None] = print) -
         ("copy R", f"one copy of the rotations (F, J, 3, 3), {motion.rotations.nbytes / MB:.0f} MB"),
         ("copy P", f"one copy of the FK output (F, J, 3), {positions.nbytes / MB:.0f} MB"),
     ):
-        wall, cpu = timed.best(name)
-        print(f"  {what:<62} {wall:7.3f} s  cpu {cpu:6.3f} s")
+        print(f"  {what:<58} {timed.line(name)}")
+    read = f"reading what FK reads once (max of R and of T), {(motion.rotations.nbytes + positions.nbytes) / MB:.0f} MB"
+    print(f"  {read:<58} {timed.line('read')}  {timed.best('read')[0] / copy_p:5.2f} x copy P")
     _row(timed, "FK 1", "single-root FK, 1 thread (gmr bench's)", copy_p, "copy P", 2.0)
     _row(timed, "FK cache", "FK cache of a document (Snapshot.of, every core)", fk, "FK 1", 1.5)
     _row(timed, "gmr check", "gmr check (core.checks.run_checks)", fk, "FK 1", 3.0)
@@ -187,10 +200,9 @@ def bench_take(n_frames: int, rounds: int, log: Callable[[str], None] = print) -
 
 
 def _row(timed: Rounds, name: str, label: str, yardstick: float, against: str, goal: float) -> None:
-    wall, cpu = timed.best(name)
-    ratio = wall / yardstick
+    ratio = timed.best(name)[0] / yardstick
     verdict = "met" if ratio <= goal else "NOT met"
-    print(f"  {label:<58} {wall:7.3f} s  cpu {cpu:6.3f} s  {ratio:5.2f} x {against:<7} (goal {goal}: {verdict})")
+    print(f"  {label:<58} {timed.line(name)}  {ratio:5.2f} x {against:<7} (goal {goal}: {verdict})")
 
 
 def _history(state, history_bytes, motion, log) -> None:
@@ -252,15 +264,13 @@ def bench_open(n_frames: int, rounds: int, log: Callable[[str], None] = print) -
         close_bench_window(window, scratch)
     parse = timed.best("parse")[0]
     print(f"\nopening (best of {rounds} rounds; x parse: numpy.loadtxt of the frame lines, gmr bench's figure):")
-    wall, cpu = timed.best("parse")
-    print(f"  {'numpy.loadtxt of the frame lines (yardstick)':<58} {wall:7.3f} s  cpu {cpu:6.3f} s")
+    print(f"  {'numpy.loadtxt of the frame lines (yardstick)':<58} {timed.line('parse')}")
     for name, label in (
         ("read", "read the file (core.formats, BVH as written)"),
         ("convert", "convert to GMR (pre_from_post)"),
         ("cache", "FK cache (Snapshot.of)"),
     ):
-        wall, cpu = timed.best(name)
-        print(f"  {label:<58} {wall:7.3f} s  cpu {cpu:6.3f} s  {wall / parse:5.2f} x parse")
+        print(f"  {label:<58} {timed.line(name)}  {timed.best(name)[0] / parse:5.2f} x parse")
     _row(timed, "open", "open in the window to its first drawn frame", parse, "parse", 2.0)
 
 
@@ -270,6 +280,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--frames", type=int, default=100_000, help="frames of the take (100000)")
     parser.add_argument("--rounds", type=int, default=5, help="rounds; each figure keeps its best (5)")
     parser.add_argument("--no-open", action="store_true", help="leave out opening the file in a window")
+    parser.add_argument("--only", default="", metavar="TEXT", help="only the edits whose name holds TEXT")
     args = parser.parse_args(argv)
     if not (shared_data_dir() / BVH).exists():
         print(f"the CMU files are not in {shared_data_dir()}: nothing to measure", file=sys.stderr)
@@ -277,7 +288,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     from gmr_studio.app.tools.bench import application
 
     application()  # the undo stacks and the window need the process's QApplication
-    bench_take(args.frames, args.rounds)
+    bench_take(args.frames, args.rounds, only=args.only)
     if not args.no_open:
         bench_open(args.frames, args.rounds)
     print(f"\n{_load()}")
