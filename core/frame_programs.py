@@ -10,9 +10,14 @@ translations (J, 3), in order:
   children of ``a`` get ``R_b^T R_i`` and the children of ``b`` get ``R_b R_k``;
 - ``split(j, path)``: ``j`` takes its world transform, walked down its root ``path``;
 - ``join(j, path)``: the root ``j`` goes under the last joint ``p`` of ``path``:
-  ``R_j <- R_p^T R_j``, ``t_j <- R_j^T (t_j - t_p)`` in world terms, or a static offset
-  when the joint is rigid over all frames (the offsets are measured in a first pass);
+  ``R_j <- R_p^T R_j``, ``t_j <- R_j^T (t_j - t_p)`` in world terms (its offset, per
+  frame; the pass also sums it and keeps its extremes, and the caller writes the static
+  offset over it when the joint is rigid over all frames, :func:`set_static`);
 - ``fold(d, children)``: the dummy ``d``'s rotation goes into each child, ``R_c <- R_d R_c``.
+
+Split and join read the input's world transforms, walked in the input's forest (every
+operation keeps them): a program of several joins (join all) needs no order between them.
+Swap and fold read and write the frame as the steps before left it.
 
 The compiled kernel (:mod:`core._operation_kernels`) loads each frame once, runs every
 step on it in cache and writes it once, on up to ``threads`` threads (the result does
@@ -76,15 +81,17 @@ class FrameProgram:
         return first, len(self.lists) - first
 
     def swap(self, old_root: int, new_root: int, others, kids) -> None:
+        """``others``: the other children of ``old_root``; ``kids``: those of ``new_root``."""
         self.steps.append((0, old_root, new_root, *self._list(others), *self._list(kids), 0))
 
     def split(self, joint: int, path: list[int], leaf: bool) -> None:
-        """``path`` from the root down to ``joint``; ``leaf``: it has no children (the FK
-        engine then computes its position as ``P_p + W_p (R_j t_j)``)."""
+        """``path`` from the root down to ``joint`` in the input's forest; ``leaf``: it has
+        no children (the FK engine then computes its position as ``P_p + W_p (R_j t_j)``)."""
         self.steps.append((1, joint, path[-1], *self._list(path), 0, 0, int(leaf)))
 
     def join(self, joint: int, path: list[int]) -> int:
-        """``path`` from its root down to the new parent; returns the join's index."""
+        """``path`` from its root down to the new parent, in the input's forest; returns
+        the join's index."""
         self.steps.append((2, joint, path[-1], *self._list(path), 0, 0, self.joins))
         self.joins += 1
         return self.joins - 1
@@ -99,7 +106,7 @@ class FrameProgram:
 
 @dataclasses.dataclass(frozen=True)
 class JoinOffsets:
-    """What a measuring pass found for each join of a program, over all frames.
+    """What the pass found for each join of a program, over all frames.
 
     mean, low, high : (n_joins, 3) the mean, minimum and maximum of each joint's offset
         under its new parent (``R_j^T (t_j - t_p)`` with the world transforms of that frame).
