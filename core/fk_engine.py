@@ -352,11 +352,20 @@ def positions_from_euler(
 
 
 def degrees_to_matrices_compiled(
-    values: np.ndarray, groups: list[tuple[str, list[int], np.ndarray]], out: np.ndarray, start: int, stop: int
+    values: np.ndarray,
+    groups: list[tuple[str, list[int], np.ndarray]],
+    out: np.ndarray,
+    start: int,
+    stop: int,
+    *,
+    identities: list[int] | tuple[int, ...] = (),
+    threads: int | None = 1,
 ) -> bool:
     """Fill ``out[start:stop, joints]`` (F, J, 3, 3) from Euler angles in degrees, the
     channel columns of each (order, joints, (n, len(order)) columns) group of ``values``
-    (F, V); the file readers' conversion. Returns False (doing nothing) without numba.
+    (F, V), and ``out[start:stop, identities]`` with the identity; the file readers'
+    conversion, on ``threads`` threads (None: one per core; the same numbers). Returns
+    False (doing nothing) without numba.
 
     The same operations as ``matrix_from_euler(np.radians(...))``; sin and cos come from
     the C library rather than numpy's own, so results may differ in the last bit. Measured
@@ -373,16 +382,19 @@ def degrees_to_matrices_compiled(
             joints.append(joint)
             columns.append(list(joint_cols) + [-1] * (3 - len(joint_cols)))
             codes.append(code)
-    if joints:
-        _kernels.matrices_from_degrees(
-            np.ascontiguousarray(values, dtype=np.float64),
-            np.asarray(joints, dtype=np.int64),
-            np.asarray(columns, dtype=np.int64),
-            np.asarray(codes, dtype=np.float64),
-            start,
-            stop,
-            out,
-        )
+    arguments = (
+        np.ascontiguousarray(values, dtype=np.float64),
+        np.asarray(joints, dtype=np.int64).reshape(-1),
+        np.asarray(columns, dtype=np.int64).reshape(-1, 3),
+        np.asarray(codes, dtype=np.float64).reshape(-1, 4),
+        np.asarray(identities, dtype=np.int64).reshape(-1),
+    )
+
+    def block(frames: slice) -> None:
+        _kernels.matrices_from_degrees(*arguments, start + frames.start, start + frames.stop, out)
+
+    if joints or len(identities):
+        in_blocks(block, stop - start, threads)
     return True
 
 

@@ -133,19 +133,19 @@ def _fill_rotations(
     rotations: np.ndarray, values: np.ndarray, groups: list[tuple[str, list[int], np.ndarray]], without: list[int]
 ) -> None:
     """rotations[:, joints] from the degree columns of each order group, and the identity
-    for the joints ``without`` rotation channels, in frame chunks.
+    for the joints ``without`` rotation channels.
 
-    Chunks keep the temporaries in cache and run on a few threads (numpy's ufuncs release
-    the GIL): on 100,000 frames of CMU 01_01 this halves the conversion time on 2 cores. The
-    identities are written chunk by chunk too: written for all frames at once first, they
-    made the main thread alone touch every page of the new array (a third of the reading
-    time of 100,000 frames).
+    With numba, one compiled pass on every core (no Python between its blocks of frames);
+    without, frame chunks on a few threads (numpy's ufuncs release the GIL), which keep the
+    temporaries in cache. Either writes the identities as it goes: written for all frames at
+    once first, they made the main thread alone touch (and the system zero) every page of
+    the new array.
     """
+    if degrees_to_matrices_compiled(values, groups, rotations, 0, values.shape[0], identities=without, threads=None):
+        return
 
     def convert(frames: slice) -> None:
         rotations[frames, without] = np.eye(3)
-        if degrees_to_matrices_compiled(values, groups, rotations, frames.start, min(frames.stop, values.shape[0])):
-            return  # the compiled kernel, when numba is installed (3x faster)
         block = values[frames]
         for order, joints, cols in groups:
             rotations[frames, joints] = matrix_from_euler(np.radians(block[:, cols]), order)
