@@ -8,7 +8,7 @@ overlays, add markers, save as GMR and reload, export BVH and reopen. After ever
 
 - every joint's world position at every frame equals the first opened file's (joints
   matched by name; a BVH export adds dummy joints and a ``World`` root, which are left out)
-  to 1e-9 of the skeleton's size;
+  to 1e-9 of the skeleton's size, in the document's cache and computed from its motion;
 - the first command of the history holds the document's opening snapshot, and undoing to
   the start gives back those very arrays (checked exactly by a rule that undoes all);
 - the forest dock, the view's actors and the inspector agree with the state: the same
@@ -47,6 +47,7 @@ from PyQt6.QtCore import Qt
 from gmr_studio.app.model import commands
 from gmr_studio.app.model.state import OVERLAYS
 from gmr_studio.core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
+from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.shared_data import shared_data_dir
 from tests import app_fixtures
 
@@ -321,6 +322,9 @@ class StudioModel(RuleBasedStateMachine):
         assert kept  # (a tree exported on its own holds only that tree's joints)
         order = [self.reference_names.index(motion.names[j]) for j in kept]
         error = np.abs(self.state.positions[:, kept] - self.reference[:, order]).max()
+        assert error <= POSITION_TOLERANCE * self.size, error / self.size
+        # the cache an edit carries over is the motion's own forward kinematics
+        error = np.abs(world_positions(motion)[:, kept] - self.reference[:, order]).max()
         assert error <= POSITION_TOLERANCE * self.size, error / self.size
 
     @invariant()

@@ -9,11 +9,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.app.model import commands
-from gmr_studio.app.model.state import UNDO_MEMORY_BUDGET, Snapshot, StudioState, undo_limit_for
+from gmr_studio.app.model import commands, extensions
+from gmr_studio.app.model.state import UNDO_MEMORY_BUDGET, Snapshot, StudioState, history_bytes, undo_limit_for
 from gmr_studio.core.demo import demo_markers, demo_motion
-from gmr_studio.core.edits.operations import split
-from gmr_studio.core.kinematics.fk import world_positions
+from gmr_studio.core.kinematics.fk import forward_kinematics, world_positions
 from gmr_studio.core.markers.pelvis import PelvisFrames
 from gmr_studio.core.rotations.euler import matrix_from_euler
 from tests.conftest import random_motion
@@ -83,6 +82,58 @@ def test_every_edit_undoes_and_redoes_exactly(state, name, edit):
     assert state.snapshot is after
     state.undo_stack.undo()
     assert state.snapshot is before
+
+
+def with_a_dummy(motion):
+    """The motion with joint 1 (children 2 and 4) a zero-offset, channel-free joint."""
+    offsets, translations = motion.offsets.copy(), motion.translations.copy()
+    offsets[1], translations[:, 1] = 0.0, 0.0
+    return motion.replace(offsets=offsets, translations=translations)
+
+
+EVERY_EDIT = [
+    ("make_root", lambda s: commands.make_root(s, 5)),
+    ("split", lambda s: commands.split_here(s, 4)),
+    ("join", lambda s: commands.split_here(s, 4) and commands.join_to_parent(s, 4)),
+    ("split_all", commands.split_everything),
+    ("join_all", lambda s: commands.split_everything(s) and commands.join_everything(s)),
+    (
+        "join_all_rerooted",
+        lambda s: commands.split_here(s, 2) and commands.make_root(s, 3) and commands.join_everything(s),
+    ),
+    ("remove_dummies", extensions.remove_dummy_joints),
+]
+
+
+@pytest.mark.parametrize(("name", "edit"), EVERY_EDIT, ids=[e[0] for e in EVERY_EDIT])
+def test_the_cache_after_every_edit_is_the_forward_kinematics_of_its_motion(rng, name, edit):
+    state = StudioState()
+    state.open_document(Snapshot.of(with_a_dummy(random_motion(rng, PARENTS, n_frames=7))), None)
+    size = state.motion.size
+    assert edit(state)
+    positions, rotations = forward_kinematics(state.motion)
+    np.testing.assert_allclose(state.positions, positions, rtol=0, atol=1e-12 * size)
+    np.testing.assert_allclose(state.rotations, rotations, rtol=0, atol=1e-12)
+    assert not state.positions.flags.writeable and not state.rotations.flags.writeable
+
+
+def test_edits_that_keep_the_world_transforms_share_them_with_the_snapshot_before(state):
+    opened = state.snapshot
+    held = history_bytes(state)
+    assert commands.split_here(state, 4)
+    assert state.positions is opened.positions and state.rotations is opened.rotations
+    motion_bytes = state.motion.rotations.nbytes + state.motion.translations.nbytes
+    assert history_bytes(state) == held + motion_bytes  # the new motion, nothing else
+    assert commands.make_root(state, 3)  # frames move along the path: new rotations, same positions
+    assert state.positions is opened.positions and state.rotations is not opened.rotations
+    shifted = state.snapshot
+    assert commands.split_everything(state)  # the world transforms become the motion's data
+    held = history_bytes(state)
+    assert np.shares_memory(state.motion.rotations, shifted.rotations)
+    assert np.shares_memory(state.motion.translations, shifted.positions)
+    state.undo_stack.undo()
+    state.undo_stack.redo()
+    assert history_bytes(state) == held
 
 
 def test_join_and_join_all_undo_exactly(state):
@@ -246,9 +297,17 @@ def test_recovered_pelvis_turns_with_the_root(case):
     assert np.nanmedian(distance) < 0.02 * motion.size
 
 
-def test_undo_limit_scales_with_motion_size(rng):
+def test_the_undo_history_of_a_long_take_fits_in_its_budget(rng):
     small = Snapshot.of(random_motion(rng, PARENTS, n_frames=3))
     assert undo_limit_for(small) == 100
-    big = Snapshot.of(split(demo_motion(), 3))
-    per_edit = 2 * big.nbytes
-    assert undo_limit_for(big) == min(100, max(3, UNDO_MEMORY_BUDGET // per_edit))
+    for frames in (30_000, 100_000, 400_000):  # 01_01 tiled, 38 joints (views: nothing allocated)
+        motion = demo_motion()
+        take = motion.replace(
+            rotations=np.broadcast_to(np.eye(3), (frames, motion.n_joints, 3, 3)),
+            translations=np.broadcast_to(motion.offsets, (frames, motion.n_joints, 3)),
+        )
+        snapshot = Snapshot(take, take.translations, take.rotations)
+        limit = undo_limit_for(snapshot)
+        assert limit >= 1
+        # the document and `limit` edits that each hold a whole new snapshot as big
+        assert (limit + 1) * snapshot.nbytes <= UNDO_MEMORY_BUDGET or limit == 1

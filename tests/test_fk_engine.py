@@ -169,19 +169,24 @@ def test_bad_arguments(rng):
 def test_compiled_degree_conversion_matches_numpy(rng):
     from gmr_studio.core.rotations.euler import matrix_from_euler
 
-    values = rng.uniform(-400, 400, size=(50, 12))
+    frames = 2 * fk_engine.MIN_FRAMES_PER_THREAD + 50  # enough for two threads
+    values = rng.uniform(-400, 400, size=(frames, 12))
     groups = [
         ("ZYX", [0, 3], np.array([[0, 1, 2], [5, 6, 7]])),
         ("XZ", [1], np.array([[3, 4]])),
         ("Y", [4], np.array([[8]])),
         ("YXZ", [2], np.array([[9, 10, 11]])),
     ]
-    out = np.full((50, 6, 3, 3), 7.0)
-    assert fk_engine.degrees_to_matrices_compiled(values, groups, out, 10, 50)
+    out = np.full((frames, 7, 3, 3), 7.0)
+    assert fk_engine.degrees_to_matrices_compiled(values, groups, out, 10, frames, identities=[6])
     assert (out[:10] == 7.0).all() and (out[:, 5] == 7.0).all()  # only the frames and joints asked for
     for order, joints, cols in groups:
         expected = matrix_from_euler(np.radians(values[10:, cols]), order)
         np.testing.assert_allclose(out[10:, joints], expected, rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(out[10:, 6], np.broadcast_to(np.eye(3), (frames - 10, 3, 3)))
+    many = np.full_like(out, 7.0)
+    assert fk_engine.degrees_to_matrices_compiled(values, groups, many, 10, frames, identities=[6], threads=2)
+    np.testing.assert_array_equal(many, out)  # threads change nothing
 
 
 @pytest.mark.parametrize("backend", BACKENDS)
@@ -206,3 +211,15 @@ def test_threads_give_the_same_bits(threads, rng):
         np.testing.assert_array_equal(one[0], many[0])
         if with_rotations:
             np.testing.assert_array_equal(one[1], many[1])
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_gathering_joints_picks_the_same_numbers_as_numpy(threads, rng):
+    from gmr_studio.core.kinematics.engine import MIN_FRAMES_PER_THREAD
+
+    frames = 2 * MIN_FRAMES_PER_THREAD + 3
+    joints = np.array([4, 0, 0, 2])  # any order, repeats allowed
+    for shape in ((frames, 5, 3), (frames, 5, 3, 3), (0, 5, 3, 3)):
+        array = rng.normal(size=shape)
+        np.testing.assert_array_equal(fk_engine.gather_joints(array, joints, threads=threads), array[:, joints])
+    assert fk_engine.gather_joints(np.zeros((4, 5, 3)), np.zeros(0, np.int64)).shape == (4, 0, 3)

@@ -18,9 +18,16 @@ from PyQt6.QtGui import QUndoCommand
 from gmr_studio.app.crash import report_unexpected
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.core.edits.clip import resample, trim
-from gmr_studio.core.edits.dummies import find_dummies, remove_dummies
+from gmr_studio.core.edits.dummies import find_dummies, remove_dummies_edit
 from gmr_studio.core.edits.mirror import mirror, mirror_pairs, pairs_text
-from gmr_studio.core.edits.operations import join, join_all, shift_root, split, split_all
+from gmr_studio.core.edits.operations import (
+    Edited,
+    join_all_edit,
+    join_edit,
+    shift_root_edit,
+    split_all_edit,
+    split_edit,
+)
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.model.motion import Motion
 
@@ -44,20 +51,28 @@ class MotionEdit(QUndoCommand):
         self.state.apply_snapshot(self.before)
 
 
-def run_edit(state: StudioState, text: str, operation: Callable[[Motion], Motion]) -> bool:
+def run_edit(state: StudioState, text: str, operation: Callable[[Motion], Motion | Edited]) -> bool:
     """Apply ``operation`` to the document as an undoable edit named ``text``.
 
-    Returns True if the edit was pushed. A refused operation (OperationError) or one that
-    changes nothing is reported in the status bar and leaves the document and history as
-    they were.
+    An operation that returns an :class:`~core.edits.operations.Edited` hands the new snapshot
+    the document's kinematics (:meth:`Snapshot.of_edit`); one that returns a motion gets
+    its forward kinematics computed. Returns True if the edit was pushed. A refused
+    operation (OperationError) or one that changes nothing is reported in the status bar
+    and leaves the document and history as they were.
     """
     before = state.snapshot
     if before is None:
         state.show_message(f"{text}: no motion is open")
         return False
     try:
-        motion = operation(before.motion)
-        after = None if motion is before.motion else Snapshot.of(motion)
+        result = operation(before.motion)
+        motion = result.motion if isinstance(result, Edited) else result
+        if motion is before.motion:
+            after = None
+        elif isinstance(result, Edited):
+            after = Snapshot.of_edit(before, result)
+        else:
+            after = Snapshot.of(motion)
     except OperationError as exc:
         state.show_message(f"{text} refused: {exc}")
         return False
@@ -78,29 +93,39 @@ def _name(state: StudioState, joint: int) -> str:
 
 #: how a shift root's edit is named in the history: ``Shift root to 'LeftHand'``
 SHIFT_ROOT_TEXT = "Shift root to"
+#: the operations edit blocks of frames on every core, as the cache is computed
+THREADS = None
 
 
 def shift_root_to(state: StudioState, joint: int) -> bool:
     """Shift the root of the joint's tree to the joint (:func:`core.edits.operations.shift_root`)."""
-    return run_edit(state, f"{SHIFT_ROOT_TEXT} '{_name(state, joint)}'", lambda m: shift_root(m, joint))
+    return run_edit(
+        state, f"{SHIFT_ROOT_TEXT} '{_name(state, joint)}'", lambda m: shift_root_edit(m, joint, threads=THREADS)
+    )
 
 
 def split_here(state: StudioState, joint: int) -> bool:
     """Split the tree at the joint (it becomes a root with a soft link to its parent)."""
-    return run_edit(state, f"Split at '{_name(state, joint)}'", lambda m: split(m, joint))
+    return run_edit(state, f"Split at '{_name(state, joint)}'", lambda m: split_edit(m, joint, threads=THREADS))
 
 
 def join_to_parent(state: StudioState, joint: int) -> bool:
     """Join the split root back under its soft-link parent."""
-    return run_edit(state, f"Join '{_name(state, joint)}' to its parent", lambda m: join(m, joint))
+    return run_edit(
+        state, f"Join '{_name(state, joint)}' to its parent", lambda m: join_edit(m, joint, threads=THREADS)
+    )
 
 
 def split_everything(state: StudioState) -> bool:
-    return run_edit(state, "Split all", split_all)
+    """Every joint a root: the document's world positions and rotations become the motion's
+    translations and rotations (the same arrays, nothing computed)."""
+    snapshot = state.snapshot
+    kinematics = None if snapshot is None else (snapshot.positions, snapshot.rotations)
+    return run_edit(state, "Split all", lambda m: split_all_edit(m, kinematics=kinematics))
 
 
 def join_everything(state: StudioState) -> bool:
-    return run_edit(state, "Join all", join_all)
+    return run_edit(state, "Join all", lambda m: join_all_edit(m, threads=THREADS))
 
 
 def can_join(motion: Motion | None, joint: int | None) -> bool:
@@ -116,11 +141,12 @@ def can_remove_dummies(motion: Motion | None) -> bool:
 
 def remove_dummy_joints(state: StudioState) -> bool:
     """Fold zero-offset dummy joints into their children (:func:`core.edits.dummies.remove_dummies`);
+    the remaining joints keep their cached world transforms (:meth:`Snapshot.of_edit`), and
     the status bar names the joints removed."""
     removed: list[str] = []
 
-    def operation(motion: Motion) -> Motion:
-        result, names = remove_dummies(motion)
+    def operation(motion: Motion) -> Edited:
+        result, names = remove_dummies_edit(motion, threads=THREADS)
         removed.extend(names)
         return result
 

@@ -8,7 +8,10 @@ The document is a :class:`Snapshot`: an immutable GMR :class:`~core.model.motion
 the world positions (F, J, 3) and rotations (F, J, 3, 3) of every joint for every frame,
 computed once with the vectorised forward kinematics. The views index these arrays; an edit
 swaps in another snapshot, and undo swaps the previous one back (the same objects, so
-undo restores positions and structure exactly and recomputes nothing).
+undo restores positions and structure exactly and recomputes nothing). An operation that
+keeps every world transform (shift root, split, join, split all, join all, remove dummy
+joints: :class:`core.edits.operations.Edited`) hands the new snapshot the old one's arrays
+instead of computing them again (:meth:`Snapshot.of_edit`).
 """
 
 from __future__ import annotations
@@ -20,6 +23,7 @@ import numpy as np
 from PyQt6.QtCore import QObject, pyqtSignal
 from PyQt6.QtGui import QUndoStack
 
+from gmr_studio.core.edits.operations import Edited
 from gmr_studio.core.formats.bvh import FileChannels
 from gmr_studio.core.kinematics.fk import forward_kinematics
 from gmr_studio.core.markers import MarkerSet
@@ -71,6 +75,18 @@ class Snapshot:
     def of(cls, motion: Motion, file_channels: FileChannels | None = None) -> Snapshot:
         positions, rotations = forward_kinematics(motion, threads=None)  # all cores: the cache of every frame
         return cls(motion, _readonly(positions), _readonly(rotations), file_channels)
+
+    @classmethod
+    def of_edit(cls, before: Snapshot, edited: Edited) -> Snapshot:
+        """The snapshot of an operation's result on ``before``'s motion: its world positions
+        and rotations are ``before``'s (the same arrays where every joint keeps its own,
+        gathered where joints went or frames moved; :meth:`core.edits.operations.Edited.kinematics`),
+        which equal the result's forward kinematics to rounding; computed afresh when the
+        result's frames are not the input's."""
+        if edited.frames is None:
+            return cls.of(edited.motion)
+        positions, rotations = edited.kinematics(before.positions, before.rotations, threads=None)
+        return cls(edited.motion, _readonly(positions), _readonly(rotations))
 
     @property
     def nbytes(self) -> int:
@@ -351,6 +367,33 @@ def pelvis_on_motion(pelvis: PelvisFrames, rate: float, alignment: MarkerAlignme
 
 
 def undo_limit_for(snapshot: Snapshot) -> int:
-    """How many edits the history keeps for a motion this big (at least 3, at most 100),
-    so that 100,000-frame motions do not exhaust memory."""
-    return int(min(100, max(3, UNDO_MEMORY_BUDGET // max(2 * snapshot.nbytes, 1))))
+    """How many edits the history keeps for a motion this big (at least 1, at most 100):
+    as many as fit in :data:`UNDO_MEMORY_BUDGET` beside the document's own snapshot when
+    every edit holds a whole new snapshot as big (the most an edit holds: trim, resample,
+    mirror; shift root, split, join and the others share arrays with the snapshot before
+    and hold less, :func:`history_bytes`)."""
+    size = max(snapshot.nbytes, 1)
+    return int(min(100, max(1, (UNDO_MEMORY_BUDGET - size) // size)))
+
+
+def array_buffer(array: np.ndarray) -> np.ndarray:
+    """The array that owns ``array``'s memory (itself, or the base of a view)."""
+    while isinstance(array.base, np.ndarray):
+        array = array.base
+    return array
+
+
+def history_bytes(state: StudioState) -> int:
+    """Bytes held by the document's snapshot and every snapshot its undo history keeps,
+    each buffer counted once however many snapshots share it."""
+    snapshots = [state.snapshot] if state.snapshot is not None else []
+    for index in range(state.undo_stack.count()):
+        command = state.undo_stack.command(index)
+        snapshots += [getattr(command, "before", None), getattr(command, "after", None)]
+    buffers = {}
+    for snapshot in filter(None, snapshots):
+        motion = snapshot.motion
+        for array in (motion.rotations, motion.translations, snapshot.positions, snapshot.rotations):
+            owner = array_buffer(array)
+            buffers[id(owner)] = owner.nbytes
+    return sum(buffers.values())

@@ -32,7 +32,14 @@ EMPTY_BOX = np.array([[np.inf] * 3, [-np.inf] * 3])
 def box_of(points: np.ndarray, pad: float = 0.0) -> np.ndarray:
     """(2, 3) the smallest box (min and max corners) holding the finite points of (..., 3)
     ``points``, grown by ``pad`` on every side; :data:`EMPTY_BOX` when there is none."""
-    points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    points = np.asarray(points, dtype=np.float64)
+    if points.size:  # every point finite (a document's cache): no copy of the finite ones
+        # frames as rows (F, J * 3): numpy reduces long rows at once, not 3 numbers at a time
+        rows = points.reshape(points.shape[0], -1) if points.ndim >= 3 else points.reshape(-1, 3)
+        low, high = rows.min(axis=0).reshape(-1, 3).min(axis=0), rows.max(axis=0).reshape(-1, 3).max(axis=0)
+        if np.isfinite(low).all() and np.isfinite(high).all():
+            return np.stack([low - pad, high + pad])
+    points = points.reshape(-1, 3)
     finite = points[np.isfinite(points).all(axis=1)]
     if not len(finite):
         return EMPTY_BOX.copy()

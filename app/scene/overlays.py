@@ -44,9 +44,7 @@ def ground_lines(positions: np.ndarray, size: float, up: int) -> tuple[np.ndarra
     """The grid under ``positions`` (..., 3): (2 L, 3) segment end points, and the bounds
     ``(low (3,), high (3,), floor height)``."""
     across = [a for a in (0, 1, 2) if a != up]
-    flat = positions.reshape(-1, 3)
-    flat = flat[np.isfinite(flat).all(axis=1)]
-    low, high = flat.min(axis=0), flat.max(axis=0)
+    low, high = box_of(positions)
     step = nice_step(size / 4)
     margin = 0.4 * size
     start = np.floor((low[across] - margin) / step) * step

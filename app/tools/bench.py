@@ -9,9 +9,9 @@
    error colours, lines, legend, error plot): measured in alternating blocks in one run, so
    that the load of a busy machine falls on both alike; medians and their ratio, for wall time
    and for the main thread's CPU time (``time.thread_time``, less sensitive to other jobs).
-4. Edits on a 100,000-frame motion (01_01 tiled): shift root, split and join, each as the
-   core operation alone and as the app's undoable edit (operation + forward kinematics of
-   every frame for the cache).
+4. A long take (01_01 tiled to 100,000 frames): the FK cache, every edit as the core
+   operation and as the app's undoable edit, memory, ``gmr check`` and opening the file,
+   each beside its yardstick (:mod:`app.tools.take_bench`, also on its own).
 """
 
 from __future__ import annotations
@@ -140,45 +140,11 @@ def bench_launch() -> None:
     print(f"{'launch to first frame of 01_01.bvh':<46} {shown - start:6.2f} s (new process, window shown)")
 
 
-def bench_edits(n_frames: int) -> None:
-    from gmr_studio.app.model import commands
-    from gmr_studio.app.model.state import Snapshot, StudioState
-    from gmr_studio.core.edits.operations import join, shift_root, split
-    from gmr_studio.core.formats import load_gmr
-
-    base = load_gmr(shared_data_dir() / BVH)
-    repeat = -(-n_frames // base.n_frames)
-    index = np.tile(np.arange(base.n_frames), repeat)[:n_frames]
-    motion = base.frame_slice(index)
-    print(f"edits on {motion.n_frames} frames x {motion.n_joints} joints (01_01 tiled)")
-    foot, forearm = motion.joint_index("LeftFoot"), motion.joint_index("RightForeArm")
-    start = time.perf_counter()
-    snapshot = Snapshot.of(motion)
-    print(f"{'  forward kinematics of every frame (cache)':<46} {time.perf_counter() - start:6.3f} s")
-    split_motion = split(motion, forearm)
-    for label, operation, source in (
-        ("shift root to LeftFoot", lambda m: shift_root(m, foot), motion),
-        ("split at RightForeArm", lambda m: split(m, forearm), motion),
-        ("join RightForeArm", lambda m: join(m, forearm), split_motion),
-    ):
-        start = time.perf_counter()
-        operation(source)
-        core_time = time.perf_counter() - start
-        state = StudioState()
-        state.open_document(snapshot if source is motion else Snapshot.of(source), None)
-        start = time.perf_counter()
-        assert commands.run_edit(state, label, operation)
-        edit_time = time.perf_counter() - start
-        start = time.perf_counter()
-        state.undo_stack.undo()
-        undo_time = time.perf_counter() - start
-        print(f"  {label:<44} core {core_time:6.3f} s   app edit {edit_time:6.3f} s   undo {1000 * undo_time:5.2f} ms")
-
-
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m gmr_studio.app.tools.bench", description=__doc__.splitlines()[0])
     parser.add_argument("--frames", type=int, default=600, help="frames played for the frame-update timing")
-    parser.add_argument("--edit-frames", type=int, default=100_000, help="frames of the motion edited")
+    parser.add_argument("--edit-frames", type=int, default=100_000, help="frames of the long take edited")
+    parser.add_argument("--rounds", type=int, default=5, help="rounds of the long take's timings (best of)")
     parser.add_argument("--frames-only", action="store_true", help="only the frame-update timing")
     args = parser.parse_args(argv)
     if not (shared_data_dir() / BVH).exists():
@@ -191,7 +157,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 0
     bench_comparison(args.frames)
     bench_launch()
-    bench_edits(args.edit_frames)
+    from gmr_studio.app.tools import take_bench
+
+    take_bench.bench_take(args.edit_frames, args.rounds)
+    take_bench.bench_open(args.edit_frames, args.rounds)
     return 0
 
 

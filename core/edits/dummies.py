@@ -13,7 +13,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from gmr_studio.core.edits import frame_programs
+from gmr_studio.core.edits.frame_programs import FrameProgram
+from gmr_studio.core.edits.operations import Edited
 from gmr_studio.core.kinematics.convention import pre_from_post
+from gmr_studio.core.kinematics.engine import Backend
 from gmr_studio.core.model.motion import DEFAULT_RELATIVE_TOLERANCE, Motion
 
 
@@ -39,13 +43,17 @@ def find_dummies(motion: Motion, *, tolerance: float = DEFAULT_RELATIVE_TOLERANC
     ]
 
 
-def remove_dummies(motion: Motion, *, tolerance: float = DEFAULT_RELATIVE_TOLERANCE) -> tuple[Motion, list[str]]:
+def remove_dummies(
+    motion: Motion, *, tolerance: float = DEFAULT_RELATIVE_TOLERANCE, backend: Backend = "auto"
+) -> tuple[Motion, list[str]]:
     """Fold every dummy joint into its children.
 
     Parameters
     ----------
     motion : any motion; a post-rotation one is converted to GMR first (paper 5.2).
     tolerance : a joint's offset counts as zero up to ``tolerance * motion.size``.
+    backend : 'auto', 'numba' or 'numpy' (:mod:`core.edits.frame_programs`; the same result to
+        rounding).
 
     Returns
     -------
@@ -54,20 +62,46 @@ def remove_dummies(motion: Motion, *, tolerance: float = DEFAULT_RELATIVE_TOLERA
     gets ``R_d R_c`` (chains of dummies compose) and ``d``'s parent. World positions of the
     remaining joints are unchanged (to rounding, ~1e-15 of the size).
     """
-    motion = pre_from_post(motion)
+    edited, names = remove_dummies_edit(motion, tolerance=tolerance, backend=backend)
+    return edited.motion, names
+
+
+def remove_dummies_edit(
+    motion: Motion,
+    *,
+    tolerance: float = DEFAULT_RELATIVE_TOLERANCE,
+    backend: Backend = "auto",
+    threads: int | None = 1,
+) -> tuple[Edited, list[str]]:
+    """:func:`remove_dummies`; the remaining joints keep their world positions and, in a
+    GMR input, their world rotations (``W_p R_d R_c`` is the child's world rotation before).
+    ``threads``: blocks of frames edited at once by the compiled backend (None: one per
+    core; the same result)."""
+    converted = pre_from_post(motion)
+    carried = converted is motion
+    motion = converted
     dummies = find_dummies(motion, tolerance=tolerance)
+    every = np.arange(motion.n_joints)
     if not dummies:
-        return motion, []
+        return Edited(motion, every, every if carried else None), []
     removed = np.zeros(motion.n_joints, bool)
     removed[dummies] = True
+    kept = np.flatnonzero(~removed)
     parents = motion.parents.copy()
-    rotations = motion.rotations.copy()
+    program = FrameProgram()
     # parents before children: a dummy below a dummy has already absorbed its parent
     for d in motion.topological_order:
-        if not removed[d]:
-            continue
-        for child in motion.children[d]:
-            rotations[:, child] = rotations[:, d] @ rotations[:, child]
-            parents[child] = parents[d]
-    result = motion.replace(parents=parents, rotations=rotations).joint_slice(np.flatnonzero(~removed))
-    return result, [motion.names[d] for d in dummies]
+        if removed[d]:
+            program.fold(int(d), motion.children[d])
+            parents[list(motion.children[d])] = parents[d]
+    if frame_programs.use_kernel(backend) and motion.n_frames:
+        rotations, translations, _ = frame_programs.run(motion, program, kept=kept, threads=threads)
+    else:
+        rotations = motion.rotations.copy()
+        for _, d, _, first, count, *_ in program.steps:
+            for child in program.lists[first : first + count]:
+                rotations[:, child] = rotations[:, d] @ rotations[:, child]
+        rotations, translations = rotations[:, kept], motion.translations[:, kept]
+    structure = motion.frame_slice(slice(0, 0)).replace(parents=parents).joint_slice(kept)
+    result = structure.replace(rotations=rotations, translations=translations)
+    return Edited(result, kept, kept if carried else None), [motion.names[d] for d in dummies]

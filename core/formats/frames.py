@@ -25,8 +25,10 @@ def within_range(values, *, allow_nan: bool = False) -> bool:
     """True when every value is a number of magnitude at most MAX_ABS_VALUE (NaN counts as
     out of range unless ``allow_nan``: missing marker samples)."""
     values = np.asarray(values, dtype=np.float64)
+    if not allow_nan:  # two passes without temporaries (a frame block is tens of megabytes)
+        return bool(values.size == 0 or (values.max() <= MAX_ABS_VALUE and values.min() >= -MAX_ABS_VALUE))
     inside = np.abs(values) <= MAX_ABS_VALUE
-    return bool(np.all(inside | np.isnan(values)) if allow_nan else np.all(inside))
+    return bool(np.all(inside | np.isnan(values)))
 
 
 def out_of_range(text: str) -> str:
@@ -70,16 +72,17 @@ def parse_frames(
     is not a finite number, a frame beyond ``n_frames`` (unless ``allow_extra``), or at the
     end of the file when there are fewer frames than promised.
     """
-    block = data[offset:]
     values = None
-    if not block or block.isspace():
+    if _VALUE.search(data, offset) is None:  # nothing but white space
         if n_values == 0 or n_frames == 0:
             return np.zeros((n_frames, n_values)), None
     elif n_values:
+        stream = io.BytesIO(data)  # shares the bytes: the frame lines are not copied
+        stream.seek(offset)
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                values = np.loadtxt(io.BytesIO(block), dtype=np.float64, comments=None, ndmin=2)
+                values = np.loadtxt(stream, dtype=np.float64, comments=None, ndmin=2)
         except ValueError:
             values = None
     if values is not None and values.shape == (n_frames, n_values) and within_range(values):
@@ -92,7 +95,7 @@ def parse_frames(
                 f"that 'Frames:' on line {frames_line} promises: all {values.shape[0]} were read (as Blender does)"
             )
             return values, note
-    _raise_first_problem(block, first_line, n_values, n_frames, frames_line, path, allow_extra)
+    _raise_first_problem(data[offset:], first_line, n_values, n_frames, frames_line, path, allow_extra)
     raise MotionFileError(path, "the frame data could not be read", first_line, 1)  # pragma: no cover
 
 

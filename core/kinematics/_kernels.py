@@ -155,14 +155,30 @@ def fk_euler(  # pragma: no cover - compiled
 
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)
-def matrices_from_degrees(values, joints, columns, codes, start, stop, out):  # pragma: no cover - compiled
+def matrices_from_degrees(values, joints, columns, codes, identities, start, stop, out):  # pragma: no cover
     """out[f, joints[m]] = the rotation of the Euler angles in degrees at ``values[f,
-    columns[m]]`` (a column of -1: angle 0), for frames start..stop-1. codes (M, 4) as in
-    :func:`_euler_matrix`. Same operations as numpy.radians + core.rotations.euler.matrix_from_euler."""
+    columns[m]]`` (a column of -1: angle 0), and out[f, identities[n]] = the identity, for
+    frames start..stop-1. codes (M, 4) as in :func:`_euler_matrix`. Same operations as
+    numpy.radians + core.rotations.matrix_from_euler."""
     scale = np.pi / 180.0
     for f in range(start, stop):
+        for n in range(identities.shape[0]):
+            for a in range(3):
+                for b in range(3):
+                    out[f, identities[n], a, b] = 1.0 if a == b else 0.0
         for m in range(joints.shape[0]):
             a = values[f, columns[m, 0]] * scale if columns[m, 0] >= 0 else 0.0
             b = values[f, columns[m, 1]] * scale if columns[m, 1] >= 0 else 0.0
             c = values[f, columns[m, 2]] * scale if columns[m, 2] >= 0 else 0.0
             _euler_matrix(a, b, c, codes[m], out[f, joints[m]])
+
+
+@numba.njit(nogil=True, cache=True, boundscheck=False)
+def gather_joints(rows, joints, width, start, stop, out):  # pragma: no cover - compiled
+    """out[f, n * width + i] = rows[f, joints[n] * width + i] for frames start..stop-1: the
+    joints' numbers (``width`` of them each: 9 for a rotation) picked out of every frame's row."""
+    for f in range(start, stop):
+        for n in range(joints.shape[0]):
+            first = joints[n] * width
+            for i in range(width):
+                out[f, n * width + i] = rows[f, first + i]

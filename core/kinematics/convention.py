@@ -13,7 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from gmr_studio.core.model.motion import Motion, identity_rotations
+from gmr_studio.core.kinematics.engine import gather_joints
+from gmr_studio.core.model.motion import Motion
 
 #: rotation order given to joints whose parent had no rotation channels
 DEFAULT_ORDER = "ZYX"
@@ -28,9 +29,10 @@ def pre_from_post(motion: Motion) -> Motion:
     if motion.convention == "pre":
         return motion
     parents = motion.parents
-    rotations = identity_rotations(motion.n_frames, motion.n_joints)
-    children = np.flatnonzero(parents >= 0)
-    rotations[:, children] = motion.rotations[:, parents[children]]
+    roots = np.flatnonzero(parents < 0)
+    # one gathering pass over the frames (a root reads its own rotation, replaced just after)
+    rotations = gather_joints(motion.rotations, np.where(parents >= 0, parents, np.arange(motion.n_joints)))
+    rotations[:, roots] = np.eye(3)
     orders = []
     for j, p in enumerate(parents):
         source = motion.rotation_orders[p] if p >= 0 else motion.rotation_orders[j]

@@ -216,7 +216,7 @@ def forward_kinematics(
                 np.empty((n_joints, 3)),
             )
 
-        _in_blocks(block, n_frames, threads)
+        in_blocks(block, n_frames, threads)
     else:
         _numpy_fk(rotations, translations, plan, positions, world)
     return positions, world
@@ -231,18 +231,42 @@ def world_positions(motion: Motion, *, backend: Backend = "auto", threads: int |
 MIN_FRAMES_PER_THREAD = 4096
 
 
-def _in_blocks(work, n_frames: int, threads: int | None) -> None:
-    """``work(frames)`` over consecutive blocks of frames, on up to ``threads`` threads."""
+def in_blocks(work, n_frames: int, threads: int | None, *, align: int = 1) -> None:
+    """``work(frames)`` over consecutive blocks of frames, on up to ``threads`` threads
+    (None: one per core); every block but the last starts and ends on a multiple of
+    ``align`` frames."""
     count = (os.cpu_count() or 1) if threads is None else max(1, int(threads))
-    count = min(count, max(1, n_frames // MIN_FRAMES_PER_THREAD))
+    count = min(count, max(1, n_frames // max(MIN_FRAMES_PER_THREAD, align)))
     if count == 1:
         work(slice(0, n_frames))
         return
     from concurrent.futures import ThreadPoolExecutor
 
     bounds = np.linspace(0, n_frames, count + 1).astype(int)
+    bounds[1:-1] = bounds[1:-1] // align * align
     with ThreadPoolExecutor(max_workers=count) as pool:
         list(pool.map(work, [slice(a, b) for a, b in itertools.pairwise(bounds)]))
+
+
+def gather_joints(array: np.ndarray, joints: np.ndarray, *, threads: int | None = 1) -> np.ndarray:
+    """``array[:, joints]`` of a per-frame, per-joint array (F, J, ...): a new C-contiguous
+    (F, len(joints), ...) array, computed in one pass over the frames by the compiled kernel
+    (on ``threads`` threads, None: one per core) or by ``numpy.take``; the same numbers.
+    numpy's ``take`` along the joints copies each joint's few numbers with a call of its own,
+    several times slower than copying the array; the kernel runs at about a copy's speed."""
+    joints = np.asarray(joints, dtype=np.int64)
+    if _kernels is None or array.dtype != np.float64 or array.ndim < 2 or not array.shape[0] or not joints.size:
+        return np.ascontiguousarray(np.take(array, joints, axis=1))
+    source = np.ascontiguousarray(array)
+    n_frames, width = source.shape[0], int(np.prod(source.shape[2:], dtype=np.int64))
+    out = np.empty((n_frames, joints.size, *source.shape[2:]))
+    rows, out_rows = source.reshape(n_frames, -1), out.reshape(n_frames, -1)
+
+    def block(frames: slice) -> None:
+        _kernels.gather_joints(rows, joints, width, frames.start, frames.stop, out_rows)
+
+    in_blocks(block, n_frames, threads)
+    return out
 
 
 # ------------------------------------------------------------------ from Euler angles
@@ -313,11 +337,20 @@ def positions_from_euler(
 
 
 def degrees_to_matrices_compiled(
-    values: np.ndarray, groups: list[tuple[str, list[int], np.ndarray]], out: np.ndarray, start: int, stop: int
+    values: np.ndarray,
+    groups: list[tuple[str, list[int], np.ndarray]],
+    out: np.ndarray,
+    start: int,
+    stop: int,
+    *,
+    identities: list[int] | tuple[int, ...] = (),
+    threads: int | None = 1,
 ) -> bool:
     """Fill ``out[start:stop, joints]`` (F, J, 3, 3) from Euler angles in degrees, the
     channel columns of each (order, joints, (n, len(order)) columns) group of ``values``
-    (F, V); the file readers' conversion. Returns False (doing nothing) without numba.
+    (F, V), and ``out[start:stop, identities]`` with the identity; the file readers'
+    conversion, on ``threads`` threads (None: one per core; the same numbers). Returns
+    False (doing nothing) without numba.
 
     The same operations as ``matrix_from_euler(np.radians(...))``; sin and cos come from
     the C library rather than numpy's own, so results may differ in the last bit. One pass
@@ -333,16 +366,19 @@ def degrees_to_matrices_compiled(
             joints.append(joint)
             columns.append(list(joint_cols) + [-1] * (3 - len(joint_cols)))
             codes.append(code)
-    if joints:
-        _kernels.matrices_from_degrees(
-            np.ascontiguousarray(values, dtype=np.float64),
-            np.asarray(joints, dtype=np.int64),
-            np.asarray(columns, dtype=np.int64),
-            np.asarray(codes, dtype=np.float64),
-            start,
-            stop,
-            out,
-        )
+    arguments = (
+        np.ascontiguousarray(values, dtype=np.float64),
+        np.asarray(joints, dtype=np.int64).reshape(-1),
+        np.asarray(columns, dtype=np.int64).reshape(-1, 3),
+        np.asarray(codes, dtype=np.float64).reshape(-1, 4),
+        np.asarray(identities, dtype=np.int64).reshape(-1),
+    )
+
+    def block(frames: slice) -> None:
+        _kernels.matrices_from_degrees(*arguments, start + frames.start, start + frames.stop, out)
+
+    if joints or len(identities):
+        in_blocks(block, stop - start, threads)
     return True
 
 

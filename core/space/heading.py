@@ -21,7 +21,7 @@ def travel_axis(
     across = [a for a in (0, 1, 2) if a != up]
     if figure is not None:
         positions = positions[:, figure]
-    path = positions[:, :, across].mean(axis=1)
+    path = positions.mean(axis=1)[:, across]  # the centroid first: no copy of every joint
     spread = path - path.mean(axis=0)
     axis = np.zeros(3)
     if len(path) > 1 and np.abs(spread).max() > still_below:

@@ -1,0 +1,202 @@
+"""Compiled per-frame programs of the operations (numba); imported by :mod:`core.edits.frame_programs` only.
+
+Importing this module raises ImportError when numba is not installed; the operations then
+run their numpy path (:mod:`core.edits.operations`), which is the reference these kernels are
+tested against.
+
+A program is a list of steps (shift the root one bone, split, join, fold a dummy joint),
+each row ``(kind, a, b, first, count, first2, count2, extra)`` of an int64 table, the
+lists of joints it names held in one int64 array (:class:`core.edits.frame_programs.FrameProgram`).
+
+Each frame is copied to the output as one row of numbers (copying joint by joint, or
+through views reshaped frame by frame, was markedly slower than a copy), and every step
+then edits it there while it sits in the L1 cache. Split and join read the input's frame,
+never the edited one: the world transforms they need are the input's (every operation
+keeps them). 3x3 matrices are held as 9-tuples, in registers (through scratch arrays the
+Newton-Schulz steps ran at half the speed). Products are summed ``(a0 b0 + a1 b1) + a2 b2``
+as in the FK kernels (:mod:`core.kinematics._kernels`), and nothing is compiled with fast-math, so
+a split gives the FK engine's world transform of the joint bit for bit.
+
+Tried and dropped: eight frames at a time in vector lanes (structure-of-arrays scratches
+of the touched joints, frames last). LLVM unrolls lane loops of constant length into scalar
+code (it cannot prove that the views do not overlap); with the length hidden it vectorises
+them behind run-time overlap checks, and the orthonormalisations then ran slower than the
+scalar code in registers.
+"""
+
+from __future__ import annotations
+
+import numba
+
+SWAP, SPLIT, JOIN, FOLD = 0, 1, 2, 3
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _load(m):  # pragma: no cover - compiled
+    """The nine entries of a (3, 3) array, row by row (held in registers from here on)."""
+    return m[0, 0], m[0, 1], m[0, 2], m[1, 0], m[1, 1], m[1, 2], m[2, 0], m[2, 1], m[2, 2]
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _store(m, v):  # pragma: no cover - compiled
+    m[0, 0], m[0, 1], m[0, 2], m[1, 0], m[1, 1], m[1, 2], m[2, 0], m[2, 1], m[2, 2] = v
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _mul(a, b):  # pragma: no cover - compiled
+    """a @ b of two 9-tuples."""
+    return (
+        (a[0] * b[0] + a[1] * b[3]) + a[2] * b[6],
+        (a[0] * b[1] + a[1] * b[4]) + a[2] * b[7],
+        (a[0] * b[2] + a[1] * b[5]) + a[2] * b[8],
+        (a[3] * b[0] + a[4] * b[3]) + a[5] * b[6],
+        (a[3] * b[1] + a[4] * b[4]) + a[5] * b[7],
+        (a[3] * b[2] + a[4] * b[5]) + a[5] * b[8],
+        (a[6] * b[0] + a[7] * b[3]) + a[8] * b[6],
+        (a[6] * b[1] + a[7] * b[4]) + a[8] * b[7],
+        (a[6] * b[2] + a[7] * b[5]) + a[8] * b[8],
+    )
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _transposed(a):  # pragma: no cover - compiled
+    return a[0], a[3], a[6], a[1], a[4], a[7], a[2], a[5], a[8]
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _times(a, v0, v1, v2):  # pragma: no cover - compiled
+    """a @ v of a 9-tuple and a vector."""
+    return (
+        (a[0] * v0 + a[1] * v1) + a[2] * v2,
+        (a[3] * v0 + a[4] * v1) + a[5] * v2,
+        (a[6] * v0 + a[7] * v1) + a[8] * v2,
+    )
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _orthonormal(a):  # pragma: no cover - compiled
+    """core.rotations.orthonormalize of a 9-tuple: two steps ``R <- R (1.5 I - 0.5 R^T R)``
+    (the Gram matrix is symmetric: six of its products are computed, the same numbers)."""
+    for _ in range(2):
+        g00 = (a[0] * a[0] + a[3] * a[3]) + a[6] * a[6]
+        g01 = (a[0] * a[1] + a[3] * a[4]) + a[6] * a[7]
+        g02 = (a[0] * a[2] + a[3] * a[5]) + a[6] * a[8]
+        g11 = (a[1] * a[1] + a[4] * a[4]) + a[7] * a[7]
+        g12 = (a[1] * a[2] + a[4] * a[5]) + a[7] * a[8]
+        g22 = (a[2] * a[2] + a[5] * a[5]) + a[8] * a[8]
+        f01, f02, f12 = 0.0 - 0.5 * g01, 0.0 - 0.5 * g02, 0.0 - 0.5 * g12
+        a = _mul(a, (1.5 - 0.5 * g00, f01, f02, f01, 1.5 - 0.5 * g11, f12, f02, f12, 1.5 - 0.5 * g22))
+    return a
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _walk(rot, trans, lists, first, count, last_is_leaf):  # pragma: no cover - compiled
+    """World rotation (a 9-tuple) and position (p0, p1, p2) of the last joint of the root
+    path ``lists[first:first + count]`` (pre-rotation), with the FK kernel's operations:
+    ``W_j = W_p R_j`` and ``P_j = P_p + W_j t_j``, or for a leaf ``P_j = P_p + W_p (R_j t_j)``."""
+    root = lists[first]
+    world = _load(rot[root])
+    p0, p1, p2 = trans[root, 0], trans[root, 1], trans[root, 2]
+    for step in range(1, count):
+        j = lists[first + step]
+        local = _load(rot[j])
+        if last_is_leaf and step == count - 1:
+            v0, v1, v2 = _times(local, trans[j, 0], trans[j, 1], trans[j, 2])
+            d0, d1, d2 = _times(world, v0, v1, v2)
+            world = _mul(world, local)
+        else:
+            world = _mul(world, local)
+            d0, d1, d2 = _times(world, trans[j, 0], trans[j, 1], trans[j, 2])
+        p0, p1, p2 = p0 + d0, p1 + d1, p2 + d2
+    return world, p0, p1, p2
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _run_steps(src_rot, src_trans, rot, trans, steps, lists, offsets):  # pragma: no cover - compiled
+    """Every step of the program on one frame: ``rot`` (J, 3, 3) and ``trans`` (J, 3)
+    edited in place; ``src_*`` the input's frame (read by split and join). A join's
+    per-frame offset ``R_j^T (t_j - t_p)`` (its translation) also goes to ``offsets[k]``
+    (k its ``extra``)."""
+    for s in range(steps.shape[0]):
+        kind = steps[s, 0]
+        a = steps[s, 1]
+        b = steps[s, 2]
+        if kind == SWAP:  # the root a hands the root over to its child b
+            r0 = _load(rot[a])
+            r1 = _load(rot[b])
+            t0, t1, t2 = trans[b, 0], trans[b, 1], trans[b, 2]
+            turned_back = _transposed(r1)
+            for i in range(steps[s, 4]):
+                c = lists[steps[s, 3] + i]
+                _store(rot[c], _orthonormal(_mul(turned_back, _load(rot[c]))))
+            for i in range(steps[s, 6]):
+                c = lists[steps[s, 5] + i]
+                _store(rot[c], _orthonormal(_mul(r1, _load(rot[c]))))
+            d0, d1, d2 = _times(_mul(r0, r1), t0, t1, t2)
+            trans[b, 0], trans[b, 1], trans[b, 2] = trans[a, 0] + d0, trans[a, 1] + d1, trans[a, 2] + d2
+            trans[a, 0], trans[a, 1], trans[a, 2] = -t0, -t1, -t2
+            _store(rot[b], r0)
+            _store(rot[a], r1)
+        elif kind == SPLIT:  # a takes its world transform
+            world, p0, p1, p2 = _walk(src_rot, src_trans, lists, steps[s, 3], steps[s, 4], steps[s, 7] == 1)
+            _store(rot[a], world)
+            trans[a, 0], trans[a, 1], trans[a, 2] = p0, p1, p2
+        elif kind == JOIN:  # the root a goes back under the last joint of its path
+            world, p0, p1, p2 = _walk(src_rot, src_trans, lists, steps[s, 3], steps[s, 4], False)
+            own = _transposed(_load(src_rot[a]))
+            k = steps[s, 7]
+            o0, o1, o2 = _times(own, src_trans[a, 0] - p0, src_trans[a, 1] - p1, src_trans[a, 2] - p2)
+            offsets[k, 0], offsets[k, 1], offsets[k, 2] = o0, o1, o2
+            trans[a, 0], trans[a, 1], trans[a, 2] = o0, o1, o2
+            _store(rot[a], _orthonormal(_mul(_transposed(world), _load(src_rot[a]))))
+        else:  # FOLD: the dummy a's rotation goes into each of its children
+            dummy = _load(rot[a])
+            for i in range(steps[s, 4]):
+                c = lists[steps[s, 3] + i]
+                _store(rot[c], _mul(dummy, _load(rot[c])))
+
+
+@numba.njit(nogil=True, cache=True, boundscheck=False)
+def run_program(
+    rotations, translations, rows, rows_t, steps, lists, kept, start, stop, block, sums, lows, highs, out_rotations,
+    out_translations, out_rows, out_rows_t, rot, trans, offsets,
+):  # pragma: no cover - compiled  # fmt: skip
+    """Frames start..stop-1 of the edited motion.
+
+    rotations (F, J, 3, 3), translations (F, J, 3): the input, and the same numbers as
+    rows (F, J * 9) and (F, J * 3); out_* likewise for the output (J' joints). ``kept``
+    (J',): the output's joints, in order, when the program removes some (the frame is then
+    edited in the scratch ``rot`` (J, 3, 3) and ``trans`` (J, 3) and its kept joints written
+    out); empty: all of them, the frame copied as one row of numbers and edited in place in
+    the output. Each join's offsets are summed per block of ``block`` frames (counted from
+    frame 0, in frame order) into ``sums`` (n_blocks, n_joins, 3), their minimum and maximum
+    into ``lows`` and ``highs`` (the same shape, starting at +inf and -inf). offsets: scratch
+    (max(n_joins, 1), 3)."""
+    n_joins = sums.shape[1]
+    in_place = kept.shape[0] == 0
+    row = rot.reshape(rot.size)
+    row_t = trans.reshape(trans.size)
+    for f in range(start, stop):
+        if in_place:
+            for i in range(rows.shape[1]):
+                out_rows[f, i] = rows[f, i]
+            for i in range(rows_t.shape[1]):
+                out_rows_t[f, i] = rows_t[f, i]
+            _run_steps(rotations[f], translations[f], out_rotations[f], out_translations[f], steps, lists, offsets)
+        else:
+            for i in range(rows.shape[1]):
+                row[i] = rows[f, i]
+            for i in range(rows_t.shape[1]):
+                row_t[i] = rows_t[f, i]
+            _run_steps(rotations[f], translations[f], rot, trans, steps, lists, offsets)
+            for n in range(kept.shape[0]):
+                _store(out_rotations[f, n], _load(rot[kept[n]]))
+                for x in range(3):
+                    out_translations[f, n, x] = trans[kept[n], x]
+        b = f // block
+        for k in range(n_joins):
+            for x in range(3):
+                value = offsets[k, x]
+                sums[b, k, x] += value
+                lows[b, k, x] = min(lows[b, k, x], value)
+                highs[b, k, x] = max(highs[b, k, x], value)
