@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.app.model import commands, extensions
+from gmr_studio.app.model import commands
 from gmr_studio.app.model.state import UNDO_MEMORY_BUDGET, Snapshot, StudioState, history_bytes, undo_limit_for
 from gmr_studio.core.demo import demo_markers, demo_motion
 from gmr_studio.core.kinematics.fk import forward_kinematics, world_positions
@@ -92,16 +92,16 @@ def with_a_dummy(motion):
 
 
 EVERY_EDIT = [
-    ("make_root", lambda s: commands.make_root(s, 5)),
+    ("shift_root_to", lambda s: commands.shift_root_to(s, 5)),
     ("split", lambda s: commands.split_here(s, 4)),
     ("join", lambda s: commands.split_here(s, 4) and commands.join_to_parent(s, 4)),
     ("split_all", commands.split_everything),
     ("join_all", lambda s: commands.split_everything(s) and commands.join_everything(s)),
     (
         "join_all_rerooted",
-        lambda s: commands.split_here(s, 2) and commands.make_root(s, 3) and commands.join_everything(s),
+        lambda s: commands.split_here(s, 2) and commands.shift_root_to(s, 3) and commands.join_everything(s),
     ),
-    ("remove_dummies", extensions.remove_dummy_joints),
+    ("remove_dummies", commands.remove_dummy_joints),
 ]
 
 
@@ -124,7 +124,7 @@ def test_edits_that_keep_the_world_transforms_share_them_with_the_snapshot_befor
     assert state.positions is opened.positions and state.rotations is opened.rotations
     motion_bytes = state.motion.rotations.nbytes + state.motion.translations.nbytes
     assert history_bytes(state) == held + motion_bytes  # the new motion, nothing else
-    assert commands.make_root(state, 3)  # frames move along the path: new rotations, same positions
+    assert commands.shift_root_to(state, 3)  # frames move along the path: new rotations, same positions
     assert state.positions is opened.positions and state.rotations is not opened.rotations
     shifted = state.snapshot
     assert commands.split_everything(state)  # the world transforms become the motion's data

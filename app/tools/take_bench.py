@@ -89,7 +89,7 @@ def tiled_motion(n_frames: int):
 def edits(motion) -> list[tuple[str, str, Callable, Callable]]:
     """(name, source, core operation, app command) of every edit timed: ``source`` names
     the document it starts from ('take', 'split', 'all': split at RightForeArm, split all)."""
-    from gmr_studio.app.model import commands, extensions
+    from gmr_studio.app.model import commands
     from gmr_studio.core.edits.clip import resample, trim
     from gmr_studio.core.edits.dummies import remove_dummies
     from gmr_studio.core.edits.mirror import mirror
@@ -99,12 +99,12 @@ def edits(motion) -> list[tuple[str, str, Callable, Callable]]:
     foot, forearm = motion.joint_index("LeftFoot"), motion.joint_index("RightForeArm")
     half = (motion.n_frames // 4, 3 * motion.n_frames // 4)
     return [
-        ("shift root to LeftFoot", "take", lambda m: shift_root(m, foot), lambda s: commands.make_root(s, foot)),
+        ("shift root to LeftFoot", "take", lambda m: shift_root(m, foot), lambda s: commands.shift_root_to(s, foot)),
         ("split at RightForeArm", "take", lambda m: split(m, forearm), lambda s: commands.split_here(s, forearm)),
         ("join RightForeArm", "split", lambda m: join(m, forearm), lambda s: commands.join_to_parent(s, forearm)),
         ("split all", "take", split_all, commands.split_everything),
         ("join all", "all", join_all, commands.join_everything),
-        ("remove dummies", "take", remove_dummies, extensions.remove_dummy_joints),
+        ("remove dummies", "take", remove_dummies, commands.remove_dummy_joints),
         ("trim to the middle half", "take", lambda m: trim(m, *half), lambda s: commands.trim_to_range(s, *half)),
         ("resample to 60 Hz", "take", lambda m: resample(m, 60.0), lambda s: commands.resample_to(s, 60.0)),
         ("mirror", "take", mirror, commands.mirror_left_right),
@@ -212,7 +212,7 @@ def _history(state, history_bytes, motion, log) -> None:
     limit = state.undo_stack.undoLimit()
     foot, forearm = motion.joint_index("LeftFoot"), motion.joint_index("RightForeArm")
     steps = [
-        lambda: commands.make_root(state, foot),
+        lambda: commands.shift_root_to(state, foot),
         lambda: commands.split_here(state, forearm),
         lambda: commands.join_to_parent(state, forearm),
         lambda: commands.mirror_left_right(state),  # a whole new snapshot

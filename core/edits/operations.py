@@ -26,9 +26,10 @@ import itertools
 
 import numpy as np
 
-from gmr_studio.core import fk_engine, frame_programs
+from gmr_studio.core.edits import frame_programs
 from gmr_studio.core.edits.frame_programs import FrameProgram
 from gmr_studio.core.errors import OperationError
+from gmr_studio.core.kinematics import engine as fk_engine
 from gmr_studio.core.kinematics.fk import forward_kinematics, joint_world_transform
 from gmr_studio.core.model.motion import RIGID_RELATIVE_TOLERANCE, Motion
 from gmr_studio.core.rotations.euler import orthonormalize
