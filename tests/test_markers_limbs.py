@@ -1,6 +1,6 @@
 """Limb rotations from bone directions (core/markers/limbs.py): the shapes the functions
-document, the twist of a bone turned exactly a right angle, and the half turn within the
-antiparallel threshold (the mutation run's blind spots, docs/reliability.md)."""
+document, the twist of a bone turned exactly a right angle, the half turn within the
+antiparallel threshold, and the twists read from a marker rigid with the bone."""
 
 from __future__ import annotations
 

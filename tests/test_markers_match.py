@@ -1,7 +1,8 @@
-"""The pose matcher's edges (core/markers/match.py): what its mutation run found untested.
+"""The pose matcher (core/markers/match.py): the nearest reference frame of each query frame.
 
-Few reference frames (all of them candidates), a reference of CANDIDATES + 1 frames, ties
-resolved by time, tiny and huge figures, query frames with one joint or none, an empty side.
+Few reference frames and one more than the candidates re-measured, ties resolved by time,
+tiny and huge figures, query frames with one joint or none, an empty side, and the reference
+poses in the skeleton's order and pelvis frame.
 """
 
 from __future__ import annotations
@@ -14,8 +15,8 @@ import pytest
 from gmr_studio.core.markers import match as match_module
 from gmr_studio.core.markers.match import best_matches
 
-#: the candidates re-measured exactly (match.CANDIDATES), written out: a test on the module's
-#: own value would follow it when it changes
+#: how many frames the matcher re-measures exactly (match.CANDIDATES): references of that many
+#: frames and one more take both of its paths
 CANDIDATES = 4
 
 

@@ -1,5 +1,5 @@
-"""Joint centres from skin markers (core/markers/joint_centres.py): the blind spots of the
-mutation run (docs/reliability.md)."""
+"""Joint centres from skin markers (core/markers/joint_centres.py): the chord construction
+when no right angle exists, the hip regressions per frame, Davis's marker diameter."""
 
 from __future__ import annotations
 
@@ -40,7 +40,6 @@ def test_hip_regressions_per_frame_are_the_one_frame_values_stacked():
 
 
 def test_davis_takes_plug_in_gaits_14_mm_markers_by_default():
-    assert jc.MARKER_DIAMETER == 14.0
     np.testing.assert_array_equal(jc.hip_davis(900.0, 250.0), jc.hip_davis(900.0, 250.0, 7.0))
     # a measured ASIS-trochanter distance replaces the leg-length estimate (0.1288 LL - 48.56)
     np.testing.assert_allclose(
