@@ -1,7 +1,7 @@
 """Our joints against the lab model's points stored in a C3D (core.markers.file_model) on
-exact values (mutation testing, docs/reliability.md): which file point stands for a joint,
-each joint's error statistics over the frames both have, the pelvis frame against the file's
-after a constant axis offset, the refusal, and the text."""
+exact values: which file point stands for a joint, each joint's error statistics over the
+frames both have, the pelvis frame against the file's after a constant axis offset, the
+refusal, and the text."""
 
 from __future__ import annotations
 
