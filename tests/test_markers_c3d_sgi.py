@@ -1,8 +1,8 @@
 """The SGI-to-Intel rewrite (core.markers.c3d_byteorder) on small C3D files built byte by byte
-(tests/c3d_bytes.py; mutation testing, docs/reliability.md): an SGI file's Intel copy is, byte
-for byte, the same numbers laid out in Intel order, whatever the sample format, where the
-data start and scale are read, free space between records, and records whose stored offset
-cannot be right; and each malformed section gives its message."""
+(tests/c3d_bytes.py): an SGI file's Intel copy is, byte for byte, the same numbers laid out in
+Intel order, whatever the sample format, where the data start and scale are read, free space
+between records, and records whose stored offset cannot be right; and each malformed section
+gives its message."""
 
 from __future__ import annotations
 

@@ -1,5 +1,4 @@
-"""The C3D worker (core.markers.c3d_worker) on the conditions the file tests leave open
-(mutation testing, docs/reliability.md): the output groups and PROCESSING numbers of
+"""The C3D worker (core.markers.c3d_worker): the output groups and PROCESSING numbers of
 parameter mappings written here, what ``decode_c3d`` takes from an ezc3d reading stood in
 for (labels over several parameters, defaults, long captures, the analog layout's note), and
 the worker process's exits."""
@@ -17,7 +16,7 @@ import sys
 import numpy as np
 import pytest
 
-from gmr_studio.core.markers import c3d_frames, c3d_worker
+from gmr_studio.core.markers import c3d_frames
 from gmr_studio.core.markers.c3d_worker import REJECTED, decode_c3d, output_groups, processing_parameters
 
 
@@ -90,13 +89,16 @@ def fake_reading(n_frames=2, labels=("A", "B", "C"), point=None, analogs=None, p
     return reading, xyz, residuals[0].T
 
 
-def decode(monkeypatch, tmp_path, reading, notes=(), header_analog=0):
+def decode(monkeypatch, tmp_path, reading, header_analog=0):
+    """decode_c3d of an Intel file whose 1024 bytes hold a header only, ezc3d's reading of it
+    stood in for by ``reading``."""
+    ezc3d = pytest.importorskip("ezc3d")
     path = tmp_path / "f.c3d"
     header = bytearray(1024)
     header[0], header[1], header[512 + 3] = 2, 0x50, 84
     header[4:6] = struct.pack("<H", header_analog)
     path.write_bytes(bytes(header))
-    monkeypatch.setattr(c3d_worker, "_ezc3d_read", lambda _: (reading, list(notes)))
+    monkeypatch.setattr(ezc3d, "c3d", lambda _: reading)
     return decode_c3d(path)
 
 
@@ -106,12 +108,12 @@ def test_what_decode_c3d_takes_from_ezc3d(monkeypatch, tmp_path):
     reading["parameters"]["POINT"]["UNITS"] = text("m", "mm")
     reading["parameters"]["POINT"]["RATE"] = {"value": [120.0, 30.0], "type": 4}
     reading["parameters"]["PROCESSING"] = {"Mass": {"value": [70.0]}}
-    decoded = decode(monkeypatch, tmp_path, reading, notes=["earlier"])
+    decoded = decode(monkeypatch, tmp_path, reading)
     np.testing.assert_array_equal(decoded["points"], xyz)
     np.testing.assert_array_equal(decoded["residuals"], residuals)
     meta = decoded["meta"]
     assert meta["labels"] == ["A", "B", "C"] and meta["units"] == "m" and meta["rate"] == 120.0
-    assert meta["first_frame"] == 7 and meta["parameters"] == {"Mass": 70.0} and meta["notes"] == ["earlier"]
+    assert meta["first_frame"] == 7 and meta["parameters"] == {"Mass": 70.0} and meta["notes"] == []
     assert "long_frames" not in meta and meta["output_groups"] == {} and meta["output_units"] == {}
     json.dumps(meta)  # JSON-ready
 
@@ -224,23 +226,37 @@ def test_the_worker_process(tmp_path):
     assert worker(path, 4 << 30, -2).returncode == -signal.SIGXCPU
 
 
+def run_worker_here(*arguments) -> int:
+    """``python -m gmr_studio.core.markers.c3d_worker ARGUMENTS`` run in this process (so that
+    ezc3d can be stood in for): its exit status."""
+    import runpy
+    import warnings
+
+    with pytest.MonkeyPatch.context() as patch, warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # runpy: the module is imported already
+        patch.setattr(sys, "argv", ["c3d_worker", *map(str, arguments)])
+        with pytest.raises(SystemExit) as exit_:
+            runpy.run_module("gmr_studio.core.markers.c3d_worker", run_name="__main__")
+    return exit_.value.code
+
+
 def test_the_workers_refusals(tmp_path, capsys, monkeypatch):
-    """In this process: ezc3d's own message, the project's with its prefix, memory."""
+    """In this process: ezc3d's own message on a file it refuses, and what the worker says
+    of ezc3d running out of memory or failing otherwise."""
+    ezc3d = pytest.importorskip("ezc3d")
     bad = tmp_path / "bad.c3d"
     bad.write_bytes(b"\x02\x50" + bytes(600))
-    assert c3d_worker._worker([str(bad)]) == REJECTED
+    assert run_worker_here(bad) == REJECTED
     out = capsys.readouterr()
     assert out.out == "" and out.err.strip() and not out.err.startswith("gmr: ")
     # too short for a header: not taken for an SGI file, ezc3d says what is wrong
     short = tmp_path / "short.c3d"
     short.write_bytes(b"\x02\x50" + bytes(98))
-    ezc3d = pytest.importorskip("ezc3d")
     with pytest.raises(Exception) as theirs:
         ezc3d.c3d(str(short))
-    assert c3d_worker._worker([str(short)]) == REJECTED
+    assert run_worker_here(short) == REJECTED
     assert capsys.readouterr().err == f"{theirs.value}\n"
     for error, message in [
-        (c3d_worker.OwnError("damaged"), "gmr: damaged\n"),
         (MemoryError(), "the file asks for more memory than any C3D needs\n"),
         (RuntimeError("odd"), "odd\n"),
     ]:
@@ -248,8 +264,8 @@ def test_the_workers_refusals(tmp_path, capsys, monkeypatch):
         def failing(_, error=error):
             raise error
 
-        monkeypatch.setattr(c3d_worker, "decode_c3d", failing)
-        assert c3d_worker._worker([str(bad)]) == REJECTED
+        monkeypatch.setattr(ezc3d, "c3d", failing)
+        assert run_worker_here(bad) == REJECTED
         assert capsys.readouterr().err == message
 
 
@@ -258,18 +274,6 @@ def test_labels_over_ninety_nine_parameters(monkeypatch, tmp_path):
     point = {"LABELS": text("L1"), **{f"LABELS{k}": text(f"L{k}") for k in range(2, 101)}}
     reading, _, _ = fake_reading(labels=("A",), point=point)
     assert decode(monkeypatch, tmp_path, reading)["meta"]["labels"] == [f"L{k}" for k in range(1, 100)]
-
-
-def test_the_worker_asks_to_die_with_its_parent():
-    """PR_SET_PDEATHSIG: SIGKILL once asked (here, in the test's own process: harmless)."""
-    import ctypes
-
-    libc = ctypes.CDLL(None, use_errno=True)
-    libc.prctl(1, 0)  # none yet
-    c3d_worker._die_with_parent(None)
-    asked = ctypes.c_int(-1)
-    assert libc.prctl(2, ctypes.byref(asked)) == 0  # PR_GET_PDEATHSIG
-    assert asked.value == signal.SIGKILL
 
 
 def test_an_sgi_file_read_through_its_intel_copy():

@@ -1,8 +1,7 @@
-"""The C3D reader's own rules (core.markers.c3d) on the conditions the file tests leave open
-(mutation testing, docs/reliability.md): the header's checks and announced frames on
+"""The C3D reader's own rules (core.markers.c3d): the header's checks and announced frames on
 512-byte headers written here, the child process's command and exits with ``subprocess.run``
 stood in for, and the decoded points turned into a marker set (gaps, residual rules, notes,
-labels, analysis outputs) without ezc3d."""
+labels, analysis outputs) with ezc3d's decoding stood in for (``c3d_worker.decode_c3d``)."""
 
 from __future__ import annotations
 
@@ -12,13 +11,16 @@ import os
 import struct
 import subprocess
 import sys
+import tempfile
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.markers import c3d as c3d_module
-from gmr_studio.core.markers.c3d import _check_header, _clean, _labels, _marker_set, _output_kinds, read_c3d
+from gmr_studio.core.markers import c3d_worker
+from gmr_studio.core.markers.c3d import read_c3d
 
 
 def header_bytes(block: int = 2, processor: int = 84, first: int = 1, last: int = 10, size: int = 1024) -> bytes:
@@ -33,10 +35,17 @@ def header_bytes(block: int = 2, processor: int = 84, first: int = 1, last: int 
     return bytes(data)
 
 
-def checked(tmp_path, data: bytes) -> tuple[int, int]:
+def checked(tmp_path, data: bytes, monkeypatch=None) -> tuple[int, int]:
+    """(the file's size, the frames its header announces) as read_c3d sees them: ezc3d's
+    decoding stood in for by a reading of no frames, whose note names the frames announced."""
     path = tmp_path / "h.c3d"
     path.write_bytes(data)
-    return _check_header(path, str(path))
+    empty = {"points": np.zeros((0, 2, 3)), "residuals": np.zeros((0, 2)), "meta": base_meta()}
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(c3d_worker, "decode_c3d", lambda _: empty)
+        notes = read_c3d(path, isolate=False).notes
+    announced = int(notes[0].split()[3]) if notes else 0
+    return path.stat().st_size, announced
 
 
 def header_error(tmp_path, data: bytes) -> str:
@@ -136,8 +145,9 @@ def test_the_child_process_command_and_limits(tmp_path, monkeypatch):
     assert options["env"]["OMP_NUM_THREADS"] == options["env"]["OPENBLAS_NUM_THREADS"] == "1"
     # a file of 100 MB asks for 6.4 GB, above the 4 GB floor; a timeout given is used as it is
     fake.calls.clear()
-    again = c3d_module._decode_in_child(path, str(path), 100_000_000, 3.4)
-    np.testing.assert_array_equal(again["points"], points)
+    os.truncate(path, 100_000_000)  # sparse: no disk taken
+    again = read_c3d(path, timeout=3.4)
+    np.testing.assert_array_equal(again.positions, points)
     ((command, options),) = fake.calls
     assert command[4:6] == ["6400000000", "3"] and options["timeout"] == 3.4
 
@@ -160,9 +170,14 @@ def test_the_child_processs_exits(tmp_path, monkeypatch):
         assert info.value.message == message
 
 
-def test_the_last_line_of_a_message():
-    assert _clean("first\n  second: iostream error \n\n") == "second"
-    assert _clean("  \n") == "no reason given"
+def test_the_reason_is_the_last_line_of_ezc3ds_message(tmp_path, monkeypatch):
+    path = tmp_path / "x.c3d"
+    path.write_bytes(header_bytes())
+    for stderr, reason in [(b"first\n  second: iostream error \n\n", "second"), (b"  \n", "no reason given")]:
+        monkeypatch.setattr(c3d_module.subprocess, "run", FakeRun(3, stderr=stderr))
+        with pytest.raises(MotionFileError) as info:
+            read_c3d(path)
+        assert info.value.message == f"ezc3d rejects the file: {reason}"
 
 
 def test_errors_of_the_in_process_read(tmp_path, monkeypatch):
@@ -212,8 +227,17 @@ def test_the_in_process_read_gets_the_announced_frames(tmp_path, monkeypatch):
     assert markers.notes == ("the header announces 5 frames, the file holds 4: it may be truncated",)
 
 
-def marker_set(points, residuals, zero_residual="auto", **meta):
-    return _marker_set(decoded(points, residuals, **meta), "f.c3d", zero_residual)
+def marker_set(points, residuals, zero_residual="auto", announced=None, name="f.c3d", **meta):
+    """The marker set read_c3d makes of ezc3d's decoding (stood in for) of a file whose header
+    announces ``announced`` frames (default: as many as decoded; 0: the header cannot tell)."""
+    points = np.asarray(points, dtype=float)
+    announced = len(points) if announced is None else announced
+    given = {"points": points, "residuals": np.asarray(residuals, dtype=float), "meta": base_meta(**meta)}
+    with tempfile.TemporaryDirectory() as folder, pytest.MonkeyPatch.context() as patch:
+        path = Path(folder) / name
+        path.write_bytes(header_bytes(first=1, last=announced if announced else 0xFFFF))
+        patch.setattr(c3d_worker, "decode_c3d", lambda _: given)
+        return read_c3d(path, isolate=False, zero_residual=zero_residual)
 
 
 def two_markers():
@@ -287,51 +311,45 @@ def test_units_known_and_not():
 
 def test_the_notes_on_frame_counts():
     one = np.ones((3, 2, 3)), np.ones((3, 2))
-    fewer = _marker_set({**decoded(*one), "meta": base_meta(announced_frames=5)}, "f.c3d", "auto")
+    fewer = marker_set(*one, announced=5)
     assert fewer.notes == ("the header announces 5 frames, the file holds 3: it may be truncated",)
-    unknown = _marker_set({**decoded(*one), "meta": base_meta(announced_frames=0)}, "f.c3d", "auto")
-    assert unknown.notes == ()
+    assert marker_set(*one, announced=0).notes == ()
     long = {"where": "POINT:LONG_FRAMES", "announced": 70000, "read": 3}
-    noted = _marker_set(
-        {**decoded(*one), "meta": base_meta(announced_frames=5, long_frames=long, notes=["earlier"])}, "f", "auto"
-    )
+    noted = marker_set(*one, announced=5, long_frames=long, notes=["earlier"])
     assert noted.notes == (
         "earlier",
         "POINT:LONG_FRAMES gives 70000 frames, more than the header's 16-bit frame numbers hold: 3 frames read "
         "(the file ends there: it may be truncated)",
     )
-    whole = dict(long, read=70000)
-    complete = _marker_set({**decoded(*one), "meta": base_meta(announced_frames=5, long_frames=whole)}, "f", "auto")
+    complete = marker_set(*one, announced=5, long_frames=dict(long, read=70000))
     assert complete.notes[0].endswith(": 70000 frames read")
-    meta = base_meta(announced_frames=3, first_frame=12, parameters={"KneeWidth": 100.0})
-    fields = _marker_set({**decoded(*one), "meta": meta}, "src.c3d", "auto")
-    assert (fields.first_frame, fields.source, fields.parameters, fields.rate) == (
-        12,
-        "src.c3d",
-        {"KneeWidth": 100.0},
-        100.0,
-    )
+    fields = marker_set(*one, name="src.c3d", first_frame=12, parameters={"KneeWidth": 100.0})
+    assert (fields.first_frame, fields.parameters, fields.rate) == (12, {"KneeWidth": 100.0}, 100.0)
+    assert fields.source.endswith("src.c3d")
 
 
 def test_labels_blank_missing_and_repeated():
-    notes: list[str] = []
-    subjects, labels = _labels(["S:A", "  ", "S:A", "A", "S:A", "A~2"], 7, notes)
-    assert subjects == ["S", "", "S", "", "S", "", ""]
-    assert labels == ["A", "M002", "A~2", "A", "A~3", "A~2", "M007"]
-    assert notes == [
+    markers = marker_set(np.ones((1, 7, 3)), np.ones((1, 7)), labels=["S:A", "  ", "S:A", "A", "S:A", "A~2"])
+    assert markers.subjects == ("S", "", "S", "", "S", "", "")
+    assert markers.labels == ("A", "M002", "A~2", "A", "A~3", "A~2", "M007")
+    assert markers.notes == (
         "POINT:LABELS names 6 of the 7 points: the others are named M001...",
         "point 3 repeats the label 'S:A': renamed 'A~2'",
         "point 5 repeats the label 'S:A': renamed 'A~3'",
-    ]
-    exact: list[str] = []
-    assert _labels(["A", "B", "C"], 3, exact) == (["", "", ""], ["A", "B", "C"]) and exact == []
-    assert _labels(["A", "B", "C"], 2, exact) == (["", ""], ["A", "B"]) and exact == []
+    )
+    exact = marker_set(np.ones((1, 3, 3)), np.ones((1, 3)), labels=["A", "B", "C"])
+    assert (exact.subjects, exact.labels, exact.notes) == (("", "", ""), ("A", "B", "C"), ())
+    fewer = marker_set(np.ones((1, 2, 3)), np.ones((1, 2)), labels=["A", "B", "C"])
+    assert (fewer.labels, fewer.notes) == (("A", "B"), ())
 
 
-def test_output_kinds_by_label_or_bare_label():
+def test_outputs_named_by_label_or_bare_label():
     groups = {"ANGLES": ["LHipAngles", "Sam:LKneeAngles"], "COFM": ["CentreOfMass", "LHipAngles"]}
     raw = ["Sam:LHipAngles", "LKneeAngles", "Sam:LKneeAngles", " CentreOfMass ", "LASI", ""]
-    assert _output_kinds(raw, 7, groups) == ["angles", "", "angles", "cofm", "", "", ""]
+    markers = marker_set(np.ones((1, 7, 3)), np.ones((1, 7)), labels=raw, output_groups=groups)
+    assert markers.outputs.labels == ("LHipAngles", "LKneeAngles", "CentreOfMass")
+    assert markers.outputs.kinds == ("angles", "angles", "cofm")
+    assert markers.labels == ("LKneeAngles", "LASI", "M006", "M007")
 
 
 def test_outputs_are_kept_out_of_the_markers():
@@ -418,7 +436,5 @@ def test_options_are_keywords_only(tmp_path):
 
 
 def test_a_header_announcing_one_frame():
-    one = _marker_set(
-        decoded(np.ones((3, 2, 3)), np.ones((3, 2))) | {"meta": base_meta(announced_frames=1)}, "f", "auto"
-    )
+    one = marker_set(np.ones((3, 2, 3)), np.ones((3, 2)), announced=1)
     assert one.notes == ("the header announces 1 frames, the file holds 3: it may be truncated",)

@@ -1,7 +1,7 @@
 """The long-capture reader (core.markers.c3d_frames) on data sections written here sample by
-sample (mutation testing, docs/reliability.md): the frame count from each place the standard
-keeps it, and the 3D points and residuals of Intel, DEC and SGI files, float and integer,
-with analog values between the frames, against the numbers written."""
+sample: the frame count from each place the standard keeps it, and the 3D points and
+residuals of Intel, DEC and SGI files, float and integer, with analog values between the
+frames, against the numbers written."""
 
 from __future__ import annotations
 
