@@ -1,6 +1,6 @@
-"""What ``gmr info`` lists of a glTF file (core.formats.gltf_in.contents) on the conditions
-the reader's file tests left open (mutation testing, docs/reliability.md): unnamed skins and
-animations, missing or malformed joints, channels and samplers, interpolations by default."""
+"""What ``gmr info`` lists of a glTF file (core.formats.gltf_in.contents): skins and
+animations with their sizes, unnamed ones, missing or malformed joints, channels and
+samplers, interpolations by default."""
 
 from __future__ import annotations
 

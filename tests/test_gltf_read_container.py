@@ -1,5 +1,4 @@
-"""The glTF container (core.formats.gltf_in.container) on the conditions the reader's file
-tests left open (mutation testing, docs/reliability.md): every field check and its message,
+"""The glTF container (core.formats.gltf_in.container): every field check and its message,
 buffers by chunk, data URI or file (escaped names, drive letters), accessors at exactly their
 view's end, strides, normalised integers of each type, sparse values, the GLB header and
 chunks, the JSON's encoding, depth and required extensions."""

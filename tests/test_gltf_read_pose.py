@@ -1,8 +1,7 @@
-"""glTF node transforms to a post-rotation skeleton (core.formats.gltf_in.pose) on the
-conditions the reader's file tests left open (mutation testing, docs/reliability.md): two
-armature nodes above the root (one scaled unevenly), animated and non-uniform scales along
-the joints, every joint position against glTF's own ``parent_world @ T R S`` with 4x4
-matrices (scipy's quaternions); which translations change; many frames converted in chunks."""
+"""glTF node transforms to a post-rotation skeleton (core.formats.gltf_in.pose): two armature
+nodes above the root (one scaled unevenly), animated and non-uniform scales along the joints,
+every joint position against glTF's own ``parent_world @ T R S`` with 4x4 matrices (scipy's
+quaternions); which translations change; many frames converted in chunks."""
 
 from __future__ import annotations
 
@@ -10,7 +9,6 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from gmr_studio.core.formats.gltf_in import pose
 from gmr_studio.core.formats.gltf_in.pose import CHUNK_FRAMES, node_poses, skeleton_pose
 from tests.gltf_builder import post_rotation_forward, quaternion
 
@@ -129,13 +127,6 @@ def test_many_frames_are_converted_in_chunks_all_of_them():
     np.testing.assert_allclose(block[:, 0], np.broadcast_to(matrix(still), (frames, 3, 3)), rtol=0, atol=1e-15)
     np.testing.assert_allclose(block[:, 1], matrix(moving), rtol=0, atol=1e-14)
     assert np.shares_memory(poses[9].rotation, block) and poses[9].rotation.shape == (frames, 3, 3)
-
-
-def test_the_chain_above_a_root_is_top_first_and_only_the_posed_nodes():
-    parents = np.array([-1, 0, 1, 2])
-    assert pose._chain(parents, 3, {0: None, 1: None, 2: None}) == [0, 1, 2]
-    assert pose._chain(parents, 3, {1: None, 2: None}) == [1, 2]
-    assert pose._chain(parents, 0, {0: None}) == []
 
 
 def test_uniform_scales_fold_into_offsets_exactly_and_two_equal_frames_are_static():

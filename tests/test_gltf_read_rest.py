@@ -1,6 +1,5 @@
 """The rest pose of a glTF skeleton and this project's pre-rotation exports
-(core.formats.gltf_in.rest) on the conditions the reader's file tests left open (mutation
-testing, docs/reliability.md): inverse bind matrices of a scaled skin listed in its own
+(core.formats.gltf_in.rest): inverse bind matrices of a scaled skin listed in its own
 order, the bind orientations taken out with every joint position kept, the identity left
 alone, pre-rotation translations static to float32 rounding or moving."""
 

@@ -1,8 +1,7 @@
-"""The node tree of a glTF file (core.formats.gltf_in.scene) on the conditions the reader's
-file tests left open (mutation testing, docs/reliability.md): deep chains and cycles,
-matrices at the affine tolerance, mirrored, or flattening an axis; zero and unnormalised
-quaternions; skins and animations chosen by name or index; the scene's roots; the joints
-of a skin in depth-first order with the nodes between them and the armature above."""
+"""The node tree of a glTF file (core.formats.gltf_in.scene): deep chains and cycles, matrices
+at the affine tolerance, mirrored, or flattening an axis; zero and unnormalised quaternions;
+skins and animations chosen by name or index; the scene's roots; the joints of a skin in
+depth-first order with the nodes between them and the armature above."""
 
 from __future__ import annotations
 

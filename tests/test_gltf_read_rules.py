@@ -1,7 +1,6 @@
-"""The glTF reader's own steps (core.formats.gltf_in.reader) on the conditions its file tests
-left open (mutation testing, docs/reliability.md): channels left out and why, each refusal
-of an animation's channels and samplers, node names made joint names, the notes on units,
-bind pose, armature and scale, this project's pre-rotation exports, the sample limit."""
+"""The glTF reader's own rules (core.formats.gltf_in.reader): channels left out and why, each
+refusal of an animation's channels and samplers, node names made joint names, the notes on
+units, bind pose, armature and scale, this project's pre-rotation exports, the sample limit."""
 
 from __future__ import annotations
 
