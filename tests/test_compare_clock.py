@@ -1,7 +1,7 @@
-"""The comparison's clock against plain loops and scipy (issue 24, the mutants of
-core/compare/clock.py): one rate within the printed frame time's rounding, B's fractional
-frames, the overlap refusal, rows taken, linear and geodesic resampling in and out of B's
-range, in blocks and chunks, and for some columns only."""
+"""The comparison's clock (core/compare/clock.py) against plain loops and scipy: one rate within
+the printed frame time's rounding, B's fractional frames, the overlap refusal, rows taken,
+linear and geodesic resampling in and out of B's range, in blocks and chunks, and for some
+columns only."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
-"""What a comparison reads of each side (issue 24, the mutants of core/compare/tracks.py):
-the units and source units a file's comments state, a motion's and a marker set's track,
-and B's units and up axis brought to A's, with the sentence that says how."""
+"""What a comparison reads of each side (core/compare/tracks.py): the units and source units a
+file's comments state, a motion's and a marker set's track, and B's units and up axis brought to
+A's, with the sentence that says how."""
 
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
-"""The comparison engine against a sample-by-sample reference (issue 24, the mutants of
-core/compare/engine.py): B put on A's clock (whole and fractional frames, out of its range),
-in A's space (units, up axis, a fitted alignment), errors per frame and joint against loops
-and scipy, in blocks, the frames asked for, the offset, and the refusals."""
+"""The comparison engine (core/compare/engine.py) against a sample-by-sample reference: B put on
+A's clock (whole and fractional frames, out of its range), in A's space (units, up axis, a
+fitted alignment), errors per frame and joint against loops and scipy, in blocks, the frames
+asked for, the offset, and the refusals."""
 
 from __future__ import annotations
 
