@@ -72,7 +72,7 @@ def resample(motion: Motion, rate: float) -> Motion:
     lower = np.minimum(np.floor(where).astype(np.int64), max(motion.n_frames - 2, 0))
     fraction = where - lower
     exact = fraction == 0.0
-    upper = np.minimum(lower + 1, motion.n_frames - 1)
+    upper = lower + 1
     between = ~exact & (fraction != 1.0)
     rotations = motion.rotations[np.where(fraction == 1.0, upper, lower)].copy()
     translations = motion.translations[np.where(fraction == 1.0, upper, lower)].copy()
