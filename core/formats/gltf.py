@@ -79,7 +79,7 @@ def quaternions_from_matrices(matrices: np.ndarray) -> np.ndarray:
     # squared components times 4: w, x, y, z
     candidates = np.stack([1 + trace, 1 + m00 - m11 - m22, 1 - m00 + m11 - m22, 1 - m00 - m11 + m22], axis=-1)
     best = np.argmax(candidates, axis=-1)
-    big = 2.0 * np.sqrt(np.maximum(np.take_along_axis(candidates, best[..., None], -1)[..., 0], 1e-300))
+    big = 2.0 * np.sqrt(np.take_along_axis(candidates, best[..., None], -1)[..., 0])  # at least 1: they sum to 4
     zy, yz = m[..., 2, 1], m[..., 1, 2]
     xz, zx = m[..., 0, 2], m[..., 2, 0]
     yx, xy = m[..., 1, 0], m[..., 0, 1]
