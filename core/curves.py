@@ -129,8 +129,6 @@ def continuous_euler(angles: np.ndarray) -> np.ndarray:
     switches add up with a cumulative sum), then each column is unwrapped. The first frame
     keeps the principal solution.
     """
-    if angles.shape[0] < 2:
-        return np.array(angles)
     other = np.stack([angles[:, 0] + np.pi, np.pi - angles[:, 1], angles[:, 2] + np.pi], axis=-1)
     stay = np.sum(_wrapped(angles[1:] - angles[:-1]) ** 2, axis=-1)
     switch = np.sum(_wrapped(other[1:] - angles[:-1]) ** 2, axis=-1)
