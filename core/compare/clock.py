@@ -121,7 +121,7 @@ def _resample_inside(
     n = values.shape[0]
     nearest = np.rint(at)
     if np.all(np.abs(at - nearest) <= WHOLE_FRAME_TOLERANCE):
-        picked = take(values, np.clip(nearest.astype(np.int64), 0, n - 1), columns)
+        picked = take(values, nearest.astype(np.int64), columns)
         if out is None:
             return picked
         np.copyto(out, picked)
