@@ -100,8 +100,6 @@ def quaternions_from_matrices(matrices: np.ndarray) -> np.ndarray:
 def continuous_quaternions(quat: np.ndarray) -> np.ndarray:
     """Flip signs along the frames so consecutive quaternions are in one hemisphere (glTF
     interpolates linearly between them): (F, J, 4) -> (F, J, 4)."""
-    if quat.shape[0] < 2:
-        return quat
     flips = np.einsum("fjq,fjq->fj", quat[1:], quat[:-1]) < 0
     sign = np.ones(quat.shape[:2])
     sign[1:] = np.where(np.cumsum(flips, axis=0) % 2 == 1, -1.0, 1.0)
