@@ -1,6 +1,5 @@
-"""Flips and bone lengths (core.checks.joints) on the conditions the checks' tests left open
-(mutation testing, docs/reliability.md): angles of known turns, a turn that stays, flips that
-do not come back, bones stretched twice in a short while or by little."""
+"""Flips and bone lengths (core.checks.joints): angles of known turns, a turn that stays, flips
+that do not come back, bones stretched twice in a short while or by little."""
 
 from __future__ import annotations
 

@@ -1,10 +1,8 @@
-"""The pictures of docs/checks.md (core.checks.figures): the quantity each one plots, on the
-clean walk with planted defects, and the picture of a real take (mutation testing,
-docs/reliability.md)."""
+"""The pictures of docs/checks.md (core.checks.figures): the quantity each one plots, on the clean
+walk with planted defects, and the picture of a real take."""
 
 from __future__ import annotations
 
-import dataclasses
 import struct
 
 import numpy as np
@@ -97,27 +95,16 @@ def test_main_writes_one_picture_per_example(tmp_path, monkeypatch):
     ]
 
 
-def test_the_examples_are_the_pictures_of_the_docs():
-    """docs/checks.md shows these takes, kinds, joints and frames (docs/images/checks-*.png)."""
-    assert [dataclasses.astuple(e) for e in EXAMPLES] == [
-        ("cmu/subject01/01_01.bvh", "foot-skate", "RightToeBase", 2008, 2133),
-        ("cmu/subject01/01_01.bvh", "pop", "LeftToeBase_End", 824, 884),
-        ("bvh/assimp_Boxing_Toes.bvh", "jitter", "Head", 2360, 2440),
-        ("cmu/subject01/01_01.bvh", "penetration", "LeftToeBase", 1990, 2060),
-        ("cmu/subject01/01_01.bvh", "rest-pose", None, 0, 30),
-    ]
-    assert {f"checks-{e.kind}.png" for e in EXAMPLES} <= {p.name for p in (PROJECT_ROOT / "docs" / "images").iterdir()}
-
-
-def test_examples_are_frozen():
-    with pytest.raises(dataclasses.FrozenInstanceError):
-        EXAMPLES[0].first = 3
+def test_every_example_has_its_picture_in_the_docs():
+    """docs/checks.md shows one picture per example (docs/images/checks-KIND.png)."""
+    pictures = {p.name for p in (PROJECT_ROOT / "docs" / "images").iterdir()}
+    assert {f"checks-{e.kind}.png" for e in EXAMPLES} <= pictures
 
 
 @pytest.mark.parametrize("example", EXAMPLES, ids=[e.kind for e in EXAMPLES])
 def test_the_picture_of_each_example(example, monkeypatch):
     """docs/checks.md's pictures: 900 x 340 pixels, the measured quantity over the example's
-    frames (a line of width 1.2, dots of 3), the findings of its kind (and joint) there
+    frames, the findings of its kind (and joint) there
     shaded over their frames and labelled at the top, titled with the file, kind and joint."""
     pyplot = pytest.importorskip("matplotlib.pyplot", reason="matplotlib comes with the bench extra")
     from gmr_studio.core.checks import run_checks
@@ -149,7 +136,6 @@ def test_the_picture_of_each_example(example, monkeypatch):
     (line,) = axes.lines
     np.testing.assert_array_equal(line.get_xdata(), frames)
     np.testing.assert_array_equal(line.get_ydata(), values[frames])
-    assert (line.get_linewidth(), line.get_marker(), line.get_markersize()) == (1.2, ".", 3)
     assert axes.get_xlim() == (example.first - 0.5, example.last + 0.5)
     spans = [(patch.get_x(), patch.get_x() + patch.get_width()) for patch in axes.patches]
     assert spans == [(f.start - 0.5, f.end + 0.5) for f in shown]

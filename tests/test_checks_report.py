@@ -1,5 +1,4 @@
-"""The report of ``gmr check`` (core.checks.report) on the conditions its CLI tests left
-open (mutation testing, docs/reliability.md): the document's fields, the table's rows and
+"""The report of ``gmr check`` (core.checks.report): the document's fields, the table's rows and
 heading, the batch row, the strict verdict at each severity."""
 
 from __future__ import annotations

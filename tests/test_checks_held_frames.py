@@ -1,15 +1,15 @@
-"""Frozen, duplicated and rest-pose frames (core.checks.frames) on the conditions the
-checks' tests left open (mutation testing, docs/reliability.md): takes of two frames or
-none, near copies, a hold of exactly the frozen limit, the joints that move, a take at rest
+"""Frozen, duplicated and rest-pose frames (core.checks.frames): takes of two frames or none,
+near copies, a hold of exactly the frozen limit, the joints that move, a take at rest
 throughout."""
 
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from gmr_studio.core.checks import CheckSettings, run_checks
 from gmr_studio.core.checks.context import CheckData
-from gmr_studio.core.checks.frames import _moving_joints, rest_fractions, rest_frames, same_pose_runs
+from gmr_studio.core.checks.frames import rest_fractions, rest_frames, same_pose_runs
 from gmr_studio.core.kinematics import world_positions
 from gmr_studio.core.rotations import rotation_about_axis
 from tests.checks_walk import clean_walk
@@ -58,36 +58,30 @@ def test_a_frame_shown_three_times_is_a_warning():
 
 
 def _turned_once(motion, joint: int, frame: int):
-    """``motion`` with ``joint`` still (the identity) but at ``frame``, turned 0.1 rad about X."""
+    """``motion`` with every joint but the root still (the identity) but ``joint`` at
+    ``frame``, turned 0.1 rad about X: the one joint that moves."""
     rotations = motion.rotations.copy()
-    rotations[:, joint] = np.eye(3)
+    rotations[:, 1:] = np.eye(3)
     rotations[frame, joint] = rotation_about_axis("X", np.array(0.1))
     return motion.replace(rotations=rotations)
 
 
-def test_a_joint_turned_at_one_frame_of_64_moves():
-    """64 frames: all of them are sampled, whichever one frame a joint turns at."""
+@pytest.mark.parametrize("name", ["Head", "Spine", "LeftUpLeg"])
+def test_a_joint_turned_at_any_one_frame_is_the_joint_that_moves(name):
+    """The rest fraction counts the joints that move (the root's children too): with one joint
+    turned at one frame of 64, every other frame is at rest and that one is not."""
     motion = clean_walk(120.0, unit=CM).frame_slice(slice(0, 64))
-    j = motion.names.index("Head")
+    j = motion.names.index(name)
     for frame in range(64):
-        assert j in _moving_joints(_turned_once(motion, j, frame))
-
-
-def test_a_joint_turned_at_any_of_the_64_frames_sampled_moves():
-    """600 frames: the 64 frames spread over them, 0, 10, 19... 599, are sampled."""
-    motion = clean_walk(120.0, unit=CM)
-    j = motion.names.index("Head")
-    for frame in np.unique(np.linspace(0, 599, 64).round().astype(int)):
-        assert j in _moving_joints(_turned_once(motion, j, frame))
+        expected = np.ones(64)
+        expected[frame] = 0.0
+        np.testing.assert_array_equal(rest_fractions(_turned_once(motion, j, frame), CheckSettings()), expected)
 
 
 def test_a_joint_turned_at_the_first_frame_only_moves():
     motion = clean_walk(120.0, unit=CM)
-    j = motion.names.index("Head")
-    rotations = motion.rotations.copy()
-    rotations[:, j] = np.eye(3)
-    rotations[0, j] = rotation_about_axis("X", np.array(0.1))
-    assert j in _moving_joints(motion.replace(rotations=rotations))
+    fractions = rest_fractions(_turned_once(motion, motion.names.index("Head"), 0), CheckSettings())
+    assert fractions[0] == 0.0 and (fractions[1:] == 1.0).all()
 
 
 def test_a_turning_root_is_not_counted_for_the_rest_pose():
@@ -137,13 +131,6 @@ def test_duplicates_come_with_their_kind_only():
     copied = motion.frame_slice(np.concatenate([np.arange(251), [250], np.arange(251, motion.n_frames)]))
     assert [f.kind for f in run_checks(copied, CheckSettings(kinds=("duplicate",)))] == ["duplicate"]
     assert run_checks(copied, CheckSettings(kinds=("frozen",))) == []
-
-
-def test_the_roots_children_are_among_the_moving_joints():
-    motion = clean_walk(120.0, unit=CM)
-    moving = set(_moving_joints(motion).tolist())
-    assert {motion.names.index(n) for n in ("Spine", "LeftUpLeg", "RightUpLeg")} <= moving
-    assert 0 not in moving
 
 
 def test_rest_frames_at_the_end():

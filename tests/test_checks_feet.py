@@ -1,6 +1,5 @@
-"""Foot skating (core.checks.feet) on the conditions the checks' tests left open (mutation
-testing, docs/reliability.md): a slide forward, a foot creeping below the skate speed, a
-take that starts with the foot in the air."""
+"""Foot skating (core.checks.feet): a slide forward, a foot creeping below the skate speed, a take
+that starts with the foot in the air."""
 
 from __future__ import annotations
 

@@ -1,6 +1,5 @@
-"""What the checks read (core.checks.context) on the conditions the checks' tests left open
-(mutation testing, docs/reliability.md): the cache, the up axis and units a file states,
-the middles on exact values, findings' levels and frames, runs per joint and their merging."""
+"""What the checks read (core.checks.context): the cache, the up axis and units a file states, the
+middles on exact values, findings' levels and frames, runs per joint and their merging."""
 
 from __future__ import annotations
 
