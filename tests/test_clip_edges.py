@@ -1,5 +1,4 @@
-"""Resampling at the edges: rates below 1 Hz, one frame, no frames (mutation survivors of
-core/clip.py, docs/reliability.md)."""
+"""Resampling at the edges: rates below 1 Hz, one frame, no frames (core/clip.py)."""
 
 from __future__ import annotations
 

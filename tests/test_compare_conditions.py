@@ -1,6 +1,6 @@
-"""Conditions the comparison's first tests never met (issue 24): a comparison that does not
-start at frame 0, a mirrored target, errors with gaps, summaries read twice, an audit path
-that loses joints. Each test names the planted bug it catches."""
+"""The comparison in less common conditions: a comparison that does not start at frame 0, a
+mirrored target, errors with gaps, summaries read twice, an audit path that loses joints. Each
+test names the planted bug it catches."""
 
 from __future__ import annotations
 

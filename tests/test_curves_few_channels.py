@@ -1,5 +1,5 @@
-"""Euler curves of joints with fewer than three rotation channels, and a mirror whose left
-and right joints turn in different orders (issue 24)."""
+"""Euler curves of joints with fewer than three rotation channels, and a mirror whose left and
+right joints turn in different orders."""
 
 from __future__ import annotations
 
