@@ -1,5 +1,4 @@
-"""The glTF samplers and frame clock (core.formats.gltf_in.sampling) on the conditions the
-reader's file tests left open (mutation testing, docs/reliability.md): where each time falls
+"""The glTF samplers and frame clock (core.formats.gltf_in.sampling): where each time falls
 among the keys, the frames chosen for regular, irregular and asked rates and their limits,
 STEP between keys, CUBICSPLINE against an independent Hermite spline, keys read bit for bit."""
 
@@ -78,29 +77,28 @@ def test_an_asked_rate_starts_at_the_first_key_covers_the_last_and_lands_on_keys
 
 
 def test_frames_snap_to_keys_within_the_tolerance_of_a_frame_only():
-    """Tolerance 1e-4 of a 0.5 s frame: 5e-5 s. A frame just before or after a key (the
-    first, a middle one, the last, beyond the last) takes it; one 1e-4 s away stays."""
-    keys, step = np.array([1.0, 2.0, 3.0]), 0.5
-    times = np.array([0.99997, 1.5, 1.99997, 2.00003, 2.9999, 3.00003, 3.5])
-    snapped = sampling._on_keys(times, keys, step)
-    np.testing.assert_array_equal(snapped, [1.0, 1.5, 2.0, 2.0, 2.9999, 3.0, 3.5])
-    np.testing.assert_array_equal(sampling._on_keys(np.array([0.7, 0.7 + 2e-5]), np.array([0.7]), 0.5), [0.7, 0.7])
+    """Tolerance 1e-4 of a 0.5 s frame: 5e-5 s. A frame just after a key (3e-5 s) or just
+    before one, the last beyond the last key, takes the key; one 1e-4 s away stays."""
+    keys = np.array([1.0, 1.99997, 2.50003, 3.0001, 3.99997])
+    clock = frame_times([keys], 2.0)
+    np.testing.assert_array_equal(clock.times, [1.0, 1.5, 1.99997, 2.50003, 3.0, 3.5, 3.99997])
+    np.testing.assert_array_equal(frame_times([np.array([0.7])], 2.0).times, [0.7])
 
 
-def test_a_frame_exactly_at_the_snap_tolerance_snaps(monkeypatch):
-    monkeypatch.setattr(sampling, "SNAP_TOLERANCE", 0.25)  # binary: the distance is exact
-    keys = np.array([1.0, 2.0, 3.0])
-    np.testing.assert_array_equal(sampling._on_keys(np.array([0.5, 2.5]), keys, 2.0), [1.0, 2.0])  # the key before
-    np.testing.assert_array_equal(sampling._on_keys(np.array([1.75, 2.25]), keys, 1.0), [2.0, 2.0])
-    np.testing.assert_array_equal(sampling._on_keys(np.array([1.5, 2.7]), keys, 1.0), [1.5, 2.7])
+def test_a_frame_exactly_at_the_snap_tolerance_snaps_to_the_key_before_it(monkeypatch):
+    """A quarter of a 1 s frame (binary: the distances are exact): frame 2 lies exactly that
+    far from the keys 1.75 and 2.25 and takes the one before it; frame 1 is farther from any."""
+    monkeypatch.setattr(sampling, "SNAP_TOLERANCE", 0.25)
+    clock = frame_times([np.array([0.0, 1.75, 2.25, 3.0])], 1.0)
+    np.testing.assert_array_equal(clock.times, [0.0, 1.0, 1.75, 3.0])
 
 
-def test_the_frame_count_limit_is_inclusive():
-    assert sampling._frame_count(MAX_FRAMES - 1, 1.0) == MAX_FRAMES
-    assert sampling._frame_count(2.0, 0.5) == 5  # a whole number of steps: no frame beyond the last key
-    assert sampling._frame_count(2.0 + 1e-9, 0.5) == 5  # float32 noise above it neither
+def test_the_frames_reach_the_last_key_and_their_limit_is_inclusive():
+    assert frame_times([np.array([0.0, MAX_FRAMES - 1.0])], 1.0).times.size == MAX_FRAMES
+    assert frame_times([np.array([0.0, 2.0])], 2.0).times.size == 5  # no frame beyond the last key
+    assert frame_times([np.array([0.0, 2.0 + 1e-9])], 2.0).times.size == 5  # float32 noise above it neither
     with pytest.raises(ValueError, match=r"^the animation lasts 1e\+06 s: 2000001 frames at 2 Hz, more than 2000000$"):
-        sampling._frame_count(MAX_FRAMES / 2, 0.5)
+        frame_times([np.array([0.0, MAX_FRAMES / 2])], 2.0)
 
 
 # ------------------------------------------------------------------------ regular grid
