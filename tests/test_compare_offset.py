@@ -438,3 +438,17 @@ def test_up_to_12_complete_channels_are_searched_as_they_are():
     fa = np.random.default_rng(18).normal(size=(60, 12))
     found = search_offset(fa, fa[5:] + 0.1, 10.0)
     assert found.lag == -5 and found.mismatch == pytest.approx(0.1, rel=1e-9)
+
+
+def test_complete_and_gappy_channels_weigh_in_the_search_as_in_the_mismatch():
+    """13 complete channels (projected for the search) agree at lag -10, 4 channels with gaps
+    (searched as they are) at lag -20, three times larger: the search picks the lag whose
+    mismatch over every channel is least, -20, as if no channel were projected."""
+    rng = np.random.default_rng(3)
+    complete = np.cumsum(rng.normal(size=(140, 13)), axis=0)
+    gappy = 3.0 * np.cumsum(rng.normal(size=(140, 4)), axis=0)
+    fa = np.concatenate([complete, gappy], axis=1)
+    fa[[5, 60, 90, 120], 13 + np.arange(4)] = np.nan
+    fb = np.concatenate([complete[10:110], gappy[20:120]], axis=1)
+    assert direct_mismatch(fa, fb, -20) < 0.6 * direct_mismatch(fa, fb, -10)
+    assert search_offset(fa, fb, 30.0).lag == -20
