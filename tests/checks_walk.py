@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from gmr_studio.core.model.motion import Motion
-from gmr_studio.core.rigs import ORDER, _humanoid
+from gmr_studio.core.rigs import ORDER, _humanoid, walk
 from gmr_studio.core.rotations.euler import matrix_from_euler
 
 STRIDE_SECONDS = 1.1
@@ -56,7 +56,8 @@ def _leg_angles(hip: np.ndarray, ankle: np.ndarray) -> tuple[np.ndarray, np.ndar
 def clean_walk(rate: float = 120.0, seconds: float = 5.0, unit: float = 1.0) -> Motion:
     """The walk at ``rate`` Hz for ``seconds``, lengths in units of ``unit`` metres
     (0.01: centimetres, 0.0254: inches). Post-rotation convention, as a BVH reads."""
-    names, parents, offsets = _humanoid()
+    skeleton = walk(1)  # the humanoid rig's joints and offsets
+    names, parents, offsets = list(skeleton.names), list(skeleton.parents), skeleton.offsets
     n = round(rate * seconds)
     time = np.arange(n) / rate
     beat = 2 * np.pi * time / STRIDE_SECONDS

@@ -11,6 +11,7 @@ picks one explicitly.
 from __future__ import annotations
 
 import os
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
@@ -25,7 +26,7 @@ settings.register_profile("ci", derandomize=True, database=None, print_blob=True
 settings.register_profile("dev", derandomize=False)
 
 
-def hypothesis_profile(environ: dict[str, str] | os._Environ = os.environ) -> str:
+def hypothesis_profile(environ: Mapping[str, str] = os.environ) -> str:
     """The hypothesis profile for an environment (see the module docstring)."""
     if environ.get("HYPOTHESIS_PROFILE"):
         return environ["HYPOTHESIS_PROFILE"]

@@ -13,7 +13,7 @@ import pytest
 from gmr_studio.core.benchmark import peers as peers_module
 from gmr_studio.core.benchmark.configs import random_root_sets, with_roots
 from gmr_studio.core.benchmark.data import build_benchmark_data, find_bvh_files
-from gmr_studio.core.benchmark.peers import PEERS, _compare, _pybvh_name, run_peers
+from gmr_studio.core.benchmark.peers import PEERS, run_peers
 from gmr_studio.core.benchmark.startup import report_lines, startup_seconds
 from gmr_studio.core.benchmark.timing import Timing, peak_memory, time_call
 from gmr_studio.core.cli import main
@@ -74,13 +74,19 @@ def test_files_are_grouped_by_skeleton_and_tiled(tmp_path):
     assert read_bvh(data.path).n_frames == 7
 
 
-def test_peer_helpers():
-    assert _pybvh_name("EndSiteLeftToeBase") == "LeftToeBase_End" and _pybvh_name("Hips") == "Hips"
+def test_a_peer_is_compared_on_the_joints_it_shares_by_name(monkeypatch, tmp_path):
+    """A peer's joints are matched to ours by name (its others left out); the error is the
+    largest distance between matched joints. The peer stands in for numpy, installed."""
     ours = np.zeros((2, 3, 3))
     theirs = np.zeros((2, 2, 3))
     theirs[1, 0] = (0, 3, 4)
-    error, compared = _compare(ours, ("a", "b", "c"), theirs, ["c", "zzz"])
-    assert (error, compared) == (5.0, 1)
+
+    def peer(path, repeat, frames):
+        return [("peer", "as is", 2, 1e-3, theirs, ["c", "zzz"])]
+
+    monkeypatch.setattr(peers_module, "PEERS", (("numpy", peer, True),))
+    (result,) = run_peers(tmp_path / "a.bvh", tmp_path / "b.bvh", ours, ("a", "b", "c"), 10.0, 1, 2, print)
+    assert (result.max_error, result.joints_compared, result.relative_error) == (5.0, 1, 0.5)
 
 
 def test_timing_and_memory_helpers():
@@ -137,19 +143,19 @@ def test_a_peer_that_fails_is_reported_and_each_row_is_checked_on_its_own_output
     def broken(path, repeat, frames):
         raise RuntimeError("simulated peer bug")
 
-    monkeypatch.setattr(peers_module, "PEERS", (("good-peer", good, True), ("broken-peer", broken, True)))
-    monkeypatch.setattr(peers_module, "_version", lambda distribution: "1.0")
+    # the peers stand in for two distributions installed here, numpy and scipy
+    monkeypatch.setattr(peers_module, "PEERS", (("numpy", good, True), ("scipy", broken, True)))
     lines: list[str] = []
     results = run_peers(tmp_path / "a.bvh", tmp_path / "b.bvh", ours, names, 10.0, 1, 2, lines.append)
     assert [(r.name, r.starts_from) for r in results] == [
         ("good", "as is"),
         ("good", "shifted"),
-        ("broken-peer", "(failed)"),
+        ("scipy", "(failed)"),
     ]
     assert results[0].max_error == 0.0 and results[0].agrees() and results[0].us_per_frame == pytest.approx(500.0)
     assert results[1].max_error == 2.0 and results[1].relative_error == 0.2 and not results[1].agrees()
     assert results[2].failure == "RuntimeError: simulated peer bug" and not results[2].agrees()
-    assert lines == ["  broken-peer 1.0: FAILED: RuntimeError: simulated peer bug"]
+    assert lines == [f"  scipy {importlib.metadata.version('scipy')}: FAILED: RuntimeError: simulated peer bug"]
 
 
 def test_pymotion_times_and_checks_each_of_its_rows(tmp_path):
@@ -157,14 +163,18 @@ def test_pymotion_times_and_checks_each_of_its_rows(tmp_path):
         pytest.fail("upc-pymotion is not installed: install the bench extra (pip install '.[bench]')")
     path = tmp_path / "small.bvh"
     path.write_text(SMALL)
-    rows = peers_module._pymotion(path, 2, 10)
+    pymotion = {distribution: runner for distribution, runner, _ in PEERS}["upc-pymotion"]
+    rows = pymotion(path, 2, 10)
     assert [row[1] for row in rows] == ["quaternions cached at load", "Euler angles as stored (get_data + fk)"]
     assert rows[0][4] is not rows[1][4]  # each row's own timed output
-    expected = world_positions(read_bvh(path))
-    names = read_bvh(path).names
+    motion = read_bvh(path)
+    expected = world_positions(motion)
     for row in rows:
-        error, compared = _compare(expected, names, row[4], row[5])
-        assert compared == 2 and error <= 1e-7  # no end sites in pymotion; float32: 2.8e-8 measured
+        shared = [name for name in row[5] if name in motion.names]
+        assert len(shared) == 2  # no end sites in pymotion
+        ours = expected[:, [motion.names.index(n) for n in shared]]
+        theirs = row[4][:, [row[5].index(n) for n in shared]]
+        assert np.linalg.norm(ours - theirs, axis=-1).max() <= 1e-7  # float32: 2.8e-8 measured
 
 
 def test_bench_command_on_a_tiny_input(capsys, tmp_path):
@@ -210,6 +220,7 @@ def test_bench_command_on_a_tiny_input(capsys, tmp_path):
     assert {name: sum(1 for n, _ in rows if n == name) for name in expected} == expected, rows
     for peer in result["peers"]:
         assert not peer["failure"] and peer["agrees"] and peer["joints_compared"] >= 31, peer
+        assert peer["name"] != "pybvh" or peer["joints_compared"] == 38, peer  # its end sites matched by name
         assert peer["relative_error"] <= PEER_TOLERANCE[peer["name"]], peer
         assert peer["frames"] == (20 if peer["name"] == "bvhio" else 2000)
     for label in ("C_1 ", "C_38", "faster than BVH", "targets:", "MB/s", "operations on 2000 frames"):

@@ -1,5 +1,7 @@
 """Quality checks (core.checks): each planted defect found at its frames and joint with its
-size within 10%; nothing found on the clean synthetic walk at 24 to 240 Hz in m, cm, in."""
+size within 10%; nothing found on the clean synthetic walk at 24 to 240 Hz in m, cm, in. Running
+them: the rest frames left out of every check but the rest pose's, the positions given by the
+caller, the findings' order, and the pops a flip explains dropped."""
 
 from __future__ import annotations
 
@@ -9,7 +11,8 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.checks import KINDS, CheckSettings, Skipped, joint_flags, run_checks, skipped_frames
-from gmr_studio.core.kinematics.fk import world_rotations
+from gmr_studio.core.checks.run import check_data
+from gmr_studio.core.kinematics.fk import world_positions, world_rotations
 from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.rigs import RIGS, make_rig
 from gmr_studio.core.rotations.euler import rotation_about_axis
@@ -395,3 +398,103 @@ def test_defects_planted_in_a_real_take_are_found_among_its_own():
     ]
     assert found[1].value == pytest.approx(0.05 / unit, rel=0.1)
     assert found[3].value == pytest.approx(0.5 / unit, rel=0.1)
+
+
+def _walk_at_rest_at_both_ends():
+    """The clean walk (30 Hz, metres, 30 frames) in the rest pose at frames 0-2 and 28-29."""
+    motion = clean_walk(30.0, seconds=1.0)
+    rotations = motion.rotations.copy()
+    rotations[:3] = np.eye(3)
+    rotations[-2:] = np.eye(3)
+    return motion.replace(rotations=rotations)
+
+
+def test_the_rest_frames_are_left_out_of_every_check_but_the_rest_pose():
+    motion = _walk_at_rest_at_both_ends()
+    positions = world_positions(motion)
+    whole, inner = check_data(motion, CheckSettings(), positions)
+    assert whole.positions is positions and (whole.n_frames, whole.first) == (30, 0)
+    assert (inner.n_frames, inner.first, inner.motion.n_frames) == (25, 3, 25)
+    np.testing.assert_array_equal(inner.positions, positions[3:28])
+    np.testing.assert_array_equal(inner.motion.rotations, motion.rotations[3:28])
+    assert inner.size == whole.size == motion.size
+    found = [(f.kind, f.start, f.end, f.value) for f in run_checks(motion)]
+    assert found == [("rest-pose", 0, 2, 3.0), ("rest-pose", 28, 29, 2.0)]  # the jumps into the rest pose not checked
+
+
+def test_the_positions_given_are_the_ones_checked():
+    motion = clean_walk(30.0, seconds=1.0)
+    positions = world_positions(motion).copy()
+    hand = motion.names.index("LeftHand")
+    positions[12, hand, 1] += 0.05  # the caller's positions: a pop the motion has not
+    settings = CheckSettings(kinds=("pop",))
+    assert run_checks(motion, settings) == []
+    (pop,) = run_checks(motion, settings, positions=positions)
+    assert (pop.kind, pop.start, pop.names) == ("pop", 12, ("LeftHand",))
+    whole, _inner = check_data(motion, settings)
+    np.testing.assert_array_equal(whole.positions, world_positions(motion))
+
+
+def test_findings_sorted_by_frame_then_in_the_kinds_order():
+    """Two knocks of the hand (frames 20 and 12): each a pop and a stretched bone, listed by
+    frame and, at one frame, pop before bone-length (the checks' order, not the alphabet's)."""
+    motion = clean_walk(30.0, seconds=1.0)
+
+    def knock(frames):
+        shift = np.zeros((frames.size, 3))
+        shift[frames == 20] = [0.05, 0.0, 0.0]
+        shift[frames == 12] = [0.0, 0.05, 0.0]
+        return shift
+
+    found = run_checks(with_translation(motion, "LeftHand", knock))
+    assert [(f.kind, f.start) for f in found] == [("pop", 12), ("bone-length", 12), ("pop", 20), ("bone-length", 20)]
+
+
+def turned_for_a_frame(motion, joints, frame: int = 300):
+    """``motion`` with each of ``joints`` turned 120 degrees about Y at ``frame`` only: a flip
+    that moves the joints below it (their pop, where flips are not checked)."""
+    rotations = motion.rotations.copy()
+    for name in joints:
+        j = motion.names.index(name)
+        rotations[frame, j] = rotations[frame, j] @ rotation_about_axis("Y", np.array(np.radians(120.0)))
+    return motion.replace(rotations=rotations)
+
+
+def knocked(motion, joint: str, frame: int):
+    def knock(frames):
+        shift = np.zeros((frames.size, 3))
+        shift[frames == frame, 0] = 0.05
+        return shift
+
+    return with_translation(motion, joint, knock)
+
+
+def found(motion, kinds):
+    return [(f.kind, f.start, f.names) for f in run_checks(motion, CheckSettings(kinds=kinds))]
+
+
+def test_the_pops_a_flip_explains_are_dropped():
+    """A flip of the left arm for one frame moves its forearm: a pop when flips are not
+    checked, explained by the flip when they are. A pop of another frame stays."""
+    flipped = turned_for_a_frame(clean_walk(120.0), ["LeftArm"])
+    assert found(flipped, ("pop",)) == [("pop", 300, ("LeftForeArm",))]
+    assert found(flipped, ("pop", "flip")) == [("flip", 300, ("LeftArm",))]
+    elsewhere = knocked(flipped, "LeftHand", 200)
+    assert found(elsewhere, ("pop", "flip")) == [("pop", 200, ("LeftHand",)), ("flip", 300, ("LeftArm",))]
+
+
+def test_a_pop_of_a_joint_outside_the_flipped_subtree_is_kept():
+    """The right hand knocked at the frame the left arm flips: one pop of both (the forearm's
+    and the hand's), which the flip does not explain whole."""
+    motion = knocked(turned_for_a_frame(clean_walk(120.0), ["LeftArm"]), "RightHand", 300)
+    assert found(motion, ("pop", "flip")) == [
+        ("pop", 300, ("LeftForeArm", "RightHand")),
+        ("flip", 300, ("LeftArm",)),
+    ]
+
+
+def test_the_flips_of_several_joints_explain_the_pops_of_all_their_subtrees():
+    flipped = turned_for_a_frame(clean_walk(120.0), ["LeftArm", "RightArm"])
+    ((kind, frame, names),) = found(flipped, ("pop",))
+    assert (kind, frame, set(names)) == ("pop", 300, {"LeftForeArm", "RightForeArm"})
+    assert found(flipped, ("pop", "flip")) == [("flip", 300, ("LeftArm",)), ("flip", 300, ("RightArm",))]

@@ -1,6 +1,4 @@
-"""Resampling at the edges: rates below 1 Hz, one frame, no frames (mutation survivors of
-core/edits/clip.py, docs/reliability.md), and the last frame of a take whose frame time is printed
-rounded (issue 40)."""
+"""Resampling at the edges: rates below 1 Hz, one frame, no frames (core/edits/clip.py)."""
 
 from __future__ import annotations
 

@@ -1,6 +1,5 @@
-"""The alignment record at its edges (issue 24, the mutation run of core/compare/align.py):
-the default is the identity, the scales and rotations compose as documented, the JSON's
-numbers, and "none" fits nothing."""
+"""The alignment record at its edges (core/compare/align.py): the default is the identity, the
+scales and rotations compose as documented, the JSON's numbers, and "none" fits nothing."""
 
 from __future__ import annotations
 

@@ -1,7 +1,6 @@
-"""A comparison's summaries and documents at their edges (issue 24, the mutation run of
-core/compare/result.py): no frames, no joints, a joint never compared, every sample
-finite or none, rotations in the JSON and the CSV, the documents' numbers against the
-arrays they come from."""
+"""A comparison's summaries and documents at their edges (core/compare/result.py): no frames, no
+joints, a joint never compared, every sample finite or none, rotations in the JSON and the CSV,
+the documents' numbers against the arrays they come from."""
 
 from __future__ import annotations
 

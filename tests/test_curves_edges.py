@@ -1,6 +1,6 @@
-"""Curves at their edges (issue 24, the mutation run of core/analysis/curves.py): Euler branches through
-90 degrees, one- and two-channel wraps, two frames, no channels, the file's values kept bit
-for bit, leaves and independent children, a post motion's GMR rotations, the block type."""
+"""Curves at their edges (core/analysis/curves.py): Euler branches through 90 degrees, one- and two-channel
+wraps, two frames, no channels, the file's values kept bit for bit, leaves and independent
+children, a post motion's GMR rotations, the block type."""
 
 from __future__ import annotations
 

@@ -1,6 +1,5 @@
-"""The glTF writer's bookkeeping (issue 24, mutation survivors of core/formats/gltf.py): the
-buffer's layout, the time accessor's bounds, names, a motion without frames, refusals, the
-summary and the quaternions of half turns."""
+"""The glTF writer's bookkeeping (core/formats/gltf.py): the buffer's layout, the time accessor's
+bounds, names, a motion without frames, refusals, the summary and the quaternions of half turns."""
 
 from __future__ import annotations
 

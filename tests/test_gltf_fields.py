@@ -1,5 +1,5 @@
-"""Fields a glTF validator reads (mutation survivors of core/formats/gltf.py): the scene and
-buffer indices, the scene root's name, continuity of a one-joint motion, the summary frozen."""
+"""Fields a glTF validator reads (core/formats/gltf.py): the scene and buffer indices, the scene
+root's name, continuity of a one-joint motion, the summary frozen."""
 
 from __future__ import annotations
 

@@ -1,5 +1,4 @@
-"""The glTF writer's units, static pose, bounds and options (mutation survivors of
-core/formats/gltf.py)."""
+"""The glTF writer's units, static pose, bounds and options (core/formats/gltf.py)."""
 
 from __future__ import annotations
 

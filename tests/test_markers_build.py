@@ -1,6 +1,8 @@
-"""Skeleton from markers (issue 22): joint-centre formulas against hand-worked examples, the
-exact case for every marker set (markers generated from a known skeleton and motion give that
-motion back), the refinement, and missing markers named."""
+"""Skeleton from markers (core/markers/build.py): joint-centre formulas against hand-worked
+examples, the exact case for every marker set (markers generated from a known skeleton and
+motion give that motion back), the refinement, missing markers named; the rest pose's bone
+directions, the root alone translating, the bone lengths' spread and span, the subject's
+widths, and the pelvis or a leg the markers cannot place."""
 
 from __future__ import annotations
 
@@ -10,12 +12,18 @@ import pytest
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.markers import joint_centres as jc
-from gmr_studio.core.markers.build import SYNONYMS, build_skeleton, functional_centre
+from gmr_studio.core.markers.build import (
+    DEFAULT_WIDTHS,
+    SYNONYMS,
+    build_skeleton,
+    functional_centre,
+    joint_centre_trajectories,
+)
 from gmr_studio.core.markers.built_motion import markers_to_built_motion
 from gmr_studio.core.markers.limbs import about_axis
 from gmr_studio.core.markers.markerset import MarkerSet
 from gmr_studio.core.markers.refine import refine_motion
-from gmr_studio.core.markers.sets import identify_marker_set, known_sets, set_by_name
+from gmr_studio.core.markers.sets import identify_marker_set, known_sets, match_set, set_by_name
 from gmr_studio.core.rotations.euler import nearest_rotation
 
 
@@ -323,55 +331,171 @@ def test_hidden_pelvis_and_medial_markers_are_carried_by_their_segment():
         assert np.abs(result[:, j] - joints[name]).max() <= 1e-9 * size, name
 
 
-# ------------------------------------------------------------------ bone lengths
-def test_a_bones_spread_is_the_rms_about_its_fitted_median_length():
-    """The toe marker slid 4 mm out along the foot at three of eight frames (a one-sided
-    slide, where the mean and the median differ): the toe bone keeps its rigid length (the
-    median) and its spread is the RMS about that length, 4 * sqrt(3/8) mm, not the standard
-    deviation about the mean (4 * sqrt(15)/8 mm)."""
+DOWN = ("LKJC", "LAJC", "RKJC", "RAJC", "LEJC", "LWJC", "LHAND", "REJC", "RWJC", "RHAND")
+
+
+@pytest.fixture(scope="module")
+def full_body():
+    markers, _ = generated_markers("plug-in-gait-full", n_frames=6, seed=2)
+    return markers, build_skeleton(markers)
+
+
+def test_the_rest_pose_hangs_legs_and_arms_below_the_trunk(full_body):
+    _, built = full_body
+    skeleton = built.skeleton
+    offsets = np.asarray(skeleton.offsets)
+    up = offsets[skeleton.joint_index("thorax")] / np.linalg.norm(offsets[skeleton.joint_index("thorax")])
+    assert np.count_nonzero(np.abs(up) > 1e-12) == 1  # one of the file's axes
+    for name in DOWN:
+        j = skeleton.joint_index(name)
+        np.testing.assert_allclose(offsets[j], -built.lengths[j] * up, atol=1e-9, err_msg=name)
+    np.testing.assert_allclose(np.linalg.norm(offsets[1:], axis=1), built.lengths[1:], rtol=1e-12)
+
+
+def test_the_root_alone_translates_at_the_markers_rate_and_the_source_is_named(full_body):
+    markers, built = full_body
+    skeleton = built.skeleton
+    assert skeleton.has_translation.tolist() == [True] + [False] * (skeleton.n_joints - 1)
+    assert skeleton.frame_time == pytest.approx(1 / markers.rate, rel=1e-15)
+    assert skeleton.comments == ("skeleton built from the markers of (memory), set plug-in-gait-full",)
+    named = build_skeleton(markers.replace(source="walk.c3d", rate=250.0))
+    assert named.skeleton.comments[0] == "skeleton built from the markers of walk.c3d, set plug-in-gait-full"
+    assert named.skeleton.frame_time == pytest.approx(1 / 250.0, rel=1e-15)
+
+
+def test_a_bones_length_is_the_median_its_spread_the_rms_about_it_and_its_span_5_to_95(rng):
+    """The toe marker slid along the foot by +d and -d in turn: the toe bone's length is the
+    rigid one, its spread d, its span the 5th and 95th percentiles."""
     markers, joints = generated_markers("helen-hayes", n_frames=8, seed=4)
     built = build_skeleton(markers)
     j = built.skeleton.joint_index("LTOE")
+    rigid = built.lengths[j]
+    assert built.spread[j] < 1e-9
     foot = joints["LTOE"] - joints["LAJC"]
     foot /= np.linalg.norm(foot, axis=1, keepdims=True)
-    out = np.array([0.0, 4.0, 0.0, 0.0, 4.0, 0.0, 4.0, 0.0])
+    slide = 3.0 * np.array([1.0, -1.0] * 4)[:, None] * foot
     positions = markers.positions.copy()
-    positions[:, markers.index("LTOE")] += out[:, None] * foot
+    positions[:, markers.index("LTOE")] += slide
     moved = build_skeleton(markers.replace(positions=positions))
-    assert moved.lengths[j] == pytest.approx(built.lengths[j], rel=1e-12)
-    assert moved.spread[j] == pytest.approx(4.0 * np.sqrt(3 / 8), rel=1e-9)
+    assert moved.lengths[j] == pytest.approx(rigid, rel=1e-12)
+    assert moved.spread[j] == pytest.approx(3.0, rel=1e-9)
+    np.testing.assert_allclose(moved.span[j], np.percentile(rigid + 3.0 * np.array([1.0, -1.0] * 4), [5, 95]))
+    assert np.isnan(moved.lengths[0]) and np.isnan(moved.spread[0]) and np.isnan(moved.span[0]).all()
 
 
-def test_walking5s_knee_spreads_are_the_rms_about_the_median_lengths():
-    """On a real gait trial, whose thigh lengths lean to one side (their mean 1.4-1.6 mm
-    above their median), each spread is the RMS of the measured lengths about the fitted
-    one, recomputed here from the joint centres."""
-    from gmr_studio.core.markers import read_markers
-    from tests.conftest import shared_path
+def test_the_rest_pose_stands_up_the_files_axis_nearest_the_pelvis_vertical(full_body):
+    """z (up) of the rest pose is the file's axis nearest the pelvis frame's mean vertical, with
+    its sign: for the markers as generated and turned a quarter about x (z to -y)."""
+    from gmr_studio.core.markers import joint_centres as jc
 
-    built = build_skeleton(read_markers(shared_path("c3d/opensim-core_walking5.c3d")))
-    for name in ("LKJC", "RKJC"):
-        j = built.skeleton.joint_index(name)
-        lengths = np.linalg.norm(built.centres[:, j] - built.centres[:, built.skeleton.parents[j]], axis=1)
-        lengths = lengths[np.isfinite(lengths)]
-        assert built.lengths[j] == pytest.approx(np.median(lengths), rel=1e-12)
-        assert built.spread[j] == pytest.approx(np.sqrt(np.mean((lengths - np.median(lengths)) ** 2)), rel=1e-9)
+    markers, _ = full_body
+    quarter = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
+    seen = set()
+    for turned in (markers, markers.transformed(quarter)):
+        lasi, rasi = (turned.positions[:, turned.index(n)] for n in ("LASI", "RASI"))
+        psi = 0.5 * (turned.positions[:, turned.index("LPSI")] + turned.positions[:, turned.index("RPSI")])
+        vertical = np.nanmean(jc.pelvis_frame(lasi, rasi, psi)[1][:, :, 2], axis=0)
+        k = int(np.argmax(np.abs(vertical)))
+        expected = np.zeros(3)
+        expected[k] = np.sign(vertical[k])
+        built = build_skeleton(turned)
+        thorax = built.skeleton.joint_index("thorax")
+        np.testing.assert_allclose(built.skeleton.offsets[thorax] / built.lengths[thorax], expected, atol=1e-12)
+        seen.add(tuple(expected))
+    assert len(seen) == 2
 
 
-def test_a_pelvis_never_seen_whole_is_an_error_naming_its_markers_not_a_crash():
-    """The Vicon gait trial with its pelvis markers mostly hidden (LASI missing in frames
-    0-49, RASI in 50-99, SACR from 100 on: never all three in one frame): an OperationError
-    saying how much of each is missing and what to do, not numpy's All-NaN ValueError."""
-    from gmr_studio.core.markers import read_markers
-    from tests.conftest import shared_path
-
-    markers = read_markers(shared_path("c3d/c3dorg_s03_gait-pig.c3d"))
+def test_span_is_the_5th_and_95th_percentiles_of_the_lengths():
+    markers, joints = generated_markers("helen-hayes", n_frames=21, seed=4)
+    j = build_skeleton(markers).skeleton.joint_index("LTOE")
+    foot = joints["LTOE"] - joints["LAJC"]
+    foot /= np.linalg.norm(foot, axis=1, keepdims=True)
+    steps = 0.3 * np.arange(-10, 11)
     positions = markers.positions.copy()
-    for label, frames in (("LASI", slice(0, 50)), ("RASI", slice(50, 100)), ("SACR", slice(100, None))):
-        positions[frames, markers.index(label)] = np.nan
-    with pytest.raises(OperationError) as error:
-        markers_to_built_motion(markers.replace(positions=positions))
-    assert str(error.value).startswith(
-        "the pelvis is in no frame: its markers are never seen together (missing: LASI 55%, RASI 55%, SACR 30% of "
-        "the 142 frames)"
-    )
+    positions[:, markers.index("LTOE")] += steps[:, None] * foot
+    moved = build_skeleton(markers.replace(positions=positions))
+    rigid = moved.lengths[j]
+    np.testing.assert_allclose(moved.span[j], rigid + np.percentile(steps, [5, 95]), rtol=1e-12)
+    assert moved.spread[j] == pytest.approx(np.sqrt(np.mean(steps**2)), rel=1e-9)
+
+
+def test_widths_by_side_then_in_general_else_assumed_and_said_once():
+    """A knee's width is the side's (LKneeWidth, RightKneeWidth...), else the general one,
+    else the assumed one (a width of 0 is none), said once in the notes: the knees and ankles
+    placed by Plug-in Gait's chord, without medial markers."""
+    markers, match = lower_body(drop=("LKNM", "RKNM", "LMED", "RMED"))
+
+    def centres(**widths):
+        found, _, _, notes = joint_centre_trajectories(markers.replace(parameters=widths), match)
+        return found, [n for n in notes if "PROCESSING" in n]
+
+    def same(a, b, name):
+        np.testing.assert_array_equal(a[0][name], b[0][name], err_msg=name)
+
+    by_side = centres(LKneeWidth=90.0, RightKneeWidth=110.0, KneeWidth=120.0, AnkleWidth=70.0)
+    same(by_side, centres(KneeWidth=90.0, AnkleWidth=70.0), "LKJC")
+    same(by_side, centres(KneeWidth=110.0, AnkleWidth=70.0), "RKJC")
+    assert by_side[1] == []
+    general = centres(LKneeWidth=95.0, RKneeWidth=0.0, KneeWidth=120.0, AnkleWidth=70.0)
+    same(general, centres(KneeWidth=120.0, AnkleWidth=70.0), "RKJC")
+    same(general, centres(KneeWidth=95.0, AnkleWidth=70.0), "LKJC")
+    assert np.abs(general[0]["LKJC"] - by_side[0]["LKJC"]).max() > 1e-3  # the width places the centre
+    assumed = centres(KneeWidth=0.5, AnkleWidth=0.0)  # any positive width; 0 is none
+    same(assumed, centres(KneeWidth=0.5, AnkleWidth=DEFAULT_WIDTHS["AnkleWidth"]), "LAJC")
+    assert assumed[1] == ["no AnkleWidth in the file's PROCESSING parameters: 70 mm assumed"]
+    assert centres()[1] == [
+        "no KneeWidth in the file's PROCESSING parameters: 100 mm assumed",
+        "no AnkleWidth in the file's PROCESSING parameters: 70 mm assumed",
+    ]
+
+
+def test_unknown_methods_are_refused():
+    markers, _ = generated_markers("helen-hayes", n_frames=2)
+    with pytest.raises(ValueError, match=r"hip 'bell' or knee 'functional': expected one of"):
+        build_skeleton(markers, hip="bell")
+    with pytest.raises(ValueError, match=r"hip 'harrington' or knee 'hinge'"):
+        build_skeleton(markers, knee="hinge")
+
+
+def lower_body(drop=(), add=None):
+    markers, _ = generated_markers("plug-in-gait-lower", n_frames=4, seed=6)
+    keep = [label for label in markers.labels if label not in drop]
+    markers = markers.select(keep)
+    if add:
+        for label, values in add.items():
+            markers = markers.replace(
+                labels=(*markers.labels, label), subjects=(*markers.subjects, ""),
+                positions=np.concatenate([markers.positions, values[:, None]], axis=1),
+            )  # fmt: skip
+    return markers, match_set(markers.labels, set_by_name("plug-in-gait-lower"))
+
+
+@pytest.mark.parametrize("hidden", ["LPSI", "RPSI"])
+def test_a_sacral_marker_stands_in_for_a_psis_hidden_throughout(hidden):
+    full, match = lower_body()
+    sacrum = 0.5 * (full.positions[:, full.index("LPSI")] + full.positions[:, full.index("RPSI")])
+    markers, match = lower_body(drop=(hidden,), add={"SACR": sacrum})
+    centres = joint_centre_trajectories(markers, match)[0]
+    expected = joint_centre_trajectories(full, match_set(full.labels, set_by_name("plug-in-gait-lower")))[0]
+    for name in ("LHJC", "RHJC", "pelvis"):
+        np.testing.assert_allclose(centres[name], expected[name], atol=1e-9)
+
+
+@pytest.mark.parametrize("drop", [("LASI",), ("RASI",), ("LPSI",), ("RPSI",), ("LASI", "LPSI"), ("RASI", "LPSI")])
+def test_a_pelvis_the_markers_cannot_place_is_refused(drop):
+    """An ASIS missing throughout, or a PSIS without a sacral marker; with the sacral marker
+    standing in for the PSIS, an ASIS missing still."""
+    full, _ = lower_body()
+    sacrum = 0.5 * (full.positions[:, full.index("LPSI")] + full.positions[:, full.index("RPSI")])
+    markers, match = lower_body(drop=drop, add={"SACR": sacrum} if len(drop) == 2 else None)
+    with pytest.raises(
+        OperationError, match=r"^set plug-in-gait-lower: the pelvis needs both ASIS and the PSIS or a sacral"
+    ):
+        joint_centre_trajectories(markers, match)
+
+
+@pytest.mark.parametrize("drop", ["LANK", "LKNE"])
+def test_a_leg_without_its_lateral_knee_or_ankle_marker_is_refused(drop):
+    markers, match = lower_body(drop=(drop,))
+    with pytest.raises(OperationError, match=r"^set plug-in-gait-lower has no lateral knee and ankle markers"):
+        joint_centre_trajectories(markers, match)

@@ -1,7 +1,6 @@
-"""Mirror at its edges (issue 24, the mutation run of core/edits/mirror.py): each strict rule's
-unmatched names, pairs as (left, right), names found through a sided parent (in any joint
-order), the lateral axis's threshold, soft links to the first joint, the roots' rest offsets
-and a motion without frames."""
+"""Mirror at its edges (core/edits/mirror.py): each strict rule's unmatched names, pairs as (left,
+right), names found through a sided parent (in any joint order), the lateral axis's threshold,
+soft links to the first joint, the roots' rest offsets and a motion without frames."""
 
 from __future__ import annotations
 

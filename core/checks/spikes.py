@@ -130,7 +130,7 @@ def jitter(data: CheckData, settings: CheckSettings) -> list[Finding]:
     findings = []
     for g in groups:
         level = max(1, severity_levels(g["value"] / data.size, settings.jitter_limits))  # its blocks passed
-        first, last = g["start"] * block, min(g["stop"] * block + 2, data.n_frames - 1)
+        first, last = g["start"] * block, g["stop"] * block + 2  # the last block ends by frame F - 1
         findings.append(data.finding("jitter", g["joints"], first, last, level, g["value"], data.units))
     return findings
 

@@ -180,7 +180,7 @@ def _die_with_parent(parent: int | None) -> None:
         import ctypes
         import signal
 
-        libc = ctypes.CDLL(None, use_errno=True)
+        libc = ctypes.CDLL(None)
         libc.prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
     except (OSError, AttributeError):  # pragma: no cover - not Linux
         return

@@ -50,7 +50,7 @@ def frame_from_triple(x1: np.ndarray, x2: np.ndarray, x3: np.ndarray, min_sine: 
     b = np.where(finite[..., None], b, 0.0)
     len_a, len_b = np.linalg.norm(a, axis=-1), np.linalg.norm(b, axis=-1)
     longest = np.maximum(np.maximum(len_a, len_b), np.linalg.norm(a - b, axis=-1))
-    coincident = finite & ((len_a <= min_sine * longest) | (len_b <= min_sine * longest) | (longest == 0))
+    coincident = finite & ((len_a <= min_sine * longest) | (len_b <= min_sine * longest))
     p1 = a / np.where(len_a > 0, len_a, 1.0)[..., None]
     p2 = b - np.sum(b * p1, axis=-1)[..., None] * p1
     len_p2 = np.linalg.norm(p2, axis=-1)

@@ -184,7 +184,6 @@ def refine_motion(
 def _solve_chunk(motion, rotations, translation, targets, bones, offsets, weights, moves, active, iterations):
     present = np.isfinite(targets).all(axis=2)
     w = np.where(present, weights[None], 0.0)  # (F, M)
-    y = np.where(present[..., None], targets, 0.0)
     n_frames = len(present)
     n_active = len(active)
     size = 3 + 3 * n_active
@@ -216,7 +215,7 @@ def _solve_chunk(motion, rotations, translation, targets, bones, offsets, weight
         world, positions = _fk(motion, rot, trans)
         pivots = _pivots(motion, positions)
         x = pivots[:, bones] + np.einsum("fmab,mb->fma", world[:, bones], offsets)
-        r = np.where(present[..., None], y - x, 0.0)
+        r = np.where(present[..., None], targets - x, 0.0)
         return world, pivots, x, r, np.einsum("fm,fma,fma->f", w, r, r)
 
     def subtree_sums(values):

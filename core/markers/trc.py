@@ -79,7 +79,7 @@ def read_trc(path: str | Path, data: bytes | None = None, *, rate: float | None 
         raise fail(f"NumMarkers says {n_markers}, but the fourth line names {len(full_labels)} markers", 4)
     split = [split_subject(label) for label in full_labels]
     positions, first_frame, rows = _read_rows(lines, 5, 2 + 3 * n_markers, delimiter, where)
-    claimed = header.get("NumFrames", ("", 0))[0]
+    claimed = header["NumFrames"][0] if "NumFrames" in header else ""
     if claimed.isdigit() and int(claimed) != rows:
         notes.append(f"the header says NumFrames {claimed}; the file holds {rows} frames")
     return MarkerSet(

@@ -226,7 +226,7 @@ class GltfDocument:
         indices = self._read_elements(
             indices_spec.get("bufferView"), indices_spec, count, 1, COMPONENTS[index_type][0], f"{at} sparse indices"
         )[:, 0].astype(np.int64)
-        if (indices >= values.shape[0]).any() or (count > 1 and (np.diff(indices) <= 0).any()):
+        if (indices >= values.shape[0]).any() or (np.diff(indices) <= 0).any():
             raise self.error(f"{at}: sparse indices must increase and stay below {values.shape[0]}")
         values[indices] = self._read_elements(
             values_spec.get("bufferView"), values_spec, count, width, dtype, f"{at} sparse values"

@@ -183,7 +183,7 @@ def _sampler(doc: GltfDocument, spec: object, width: int, at: str) -> Sampler:
         raise doc.error(f"{at}: interpolation {interpolation!r} is not one of {', '.join(INTERPOLATIONS)}")
     times = doc.key_times(spec.get("input"), f"{at} input")
     values = doc.accessor(spec.get("output"), f"{at} output")
-    if times.size > 1 and (np.diff(times) < 0).any():
+    if (np.diff(times) < 0).any():
         raise doc.error(f"{at}: key times must not decrease (key {int(np.argmax(np.diff(times) < 0)) + 1})")
     expected = times.size * (3 if interpolation == "CUBICSPLINE" else 1)
     if values.shape != (expected, width):

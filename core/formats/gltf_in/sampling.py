@@ -120,11 +120,11 @@ def segments(keys: np.ndarray, times: np.ndarray) -> tuple[np.ndarray, np.ndarra
     """For each time: the key at or before it and the next (clamped), the gap between their
     times, and the fraction of it (0 on a key): (F,) each."""
     after = np.searchsorted(keys, times, side="right")  # first key later than t
-    before = np.clip(after - 1, 0, keys.size - 1)
-    nxt = np.clip(after, 0, keys.size - 1)
+    before = np.maximum(after - 1, 0)
+    nxt = np.minimum(after, keys.size - 1)
     gap = keys[nxt] - keys[before]
     fraction = np.where(gap > 0, (times - keys[before]) / np.where(gap > 0, gap, 1.0), 0.0)
-    return before, nxt, gap, np.clip(fraction, 0.0, 1.0)
+    return before, nxt, gap, fraction
 
 
 def sample(sampler: Sampler, times: np.ndarray, rotation: bool, located: tuple | None = None) -> np.ndarray:
@@ -134,7 +134,7 @@ def sample(sampler: Sampler, times: np.ndarray, rotation: bool, located: tuple |
     cubic = sampler.interpolation == "CUBICSPLINE"
     values = sampler.values.reshape(keys.size, 3, -1)[:, 1] if cubic else sampler.values
     before, nxt, gap, fraction = located if located is not None else segments(keys, times)
-    if sampler.interpolation == "STEP" or keys.size == 1 or not fraction.any():  # every frame on a key
+    if sampler.interpolation == "STEP" or not fraction.any():  # every frame on a key
         if np.array_equal(before, np.arange(keys.size)):
             return values  # frame k on key k (STEP frames between keys may be as many): no copy
         return values[before]  # (quaternions are normalised when they become matrices)

@@ -1,0 +1,93 @@
+"""What the checks read (core.checks.context): the cache, the up axis and units a file states, the
+middles on exact values, findings' levels and frames, runs per joint and their merging."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from gmr_studio.core.checks.context import FILE_UNITS, CheckData, joint_runs, merge_runs, runs
+from tests.checks_walk import clean_walk
+
+
+def _data(comments=(), first=0) -> CheckData:
+    motion = clean_walk(30.0, seconds=0.2).replace(comments=list(comments))
+    positions = np.zeros((motion.n_frames, motion.n_joints, 3))
+    return CheckData(motion, positions, 2.0, first=first)
+
+
+def test_cached_computes_once_per_key():
+    data, calls = _data(), []
+    assert data.cached("a", lambda: calls.append("a") or 1) == 1
+    assert data.cached("a", lambda: calls.append("again") or 2) == 1
+    assert data.cached("b", lambda: calls.append("b") or None) is None
+    assert data.cached("b", lambda: calls.append("b again") or 3) is None
+    assert calls == ["a", "b"]
+
+
+def test_the_data_of_a_motion():
+    data = _data()
+    assert (data.n_frames, data.frame_time, data.up, data.units) == (6, 1 / 30.0, 1, FILE_UNITS)
+    stated = _data(["up axis: z", "units: cm"])
+    assert (stated.up, stated.units) == (2, "cm")
+
+
+def test_middles_and_deviations_on_exact_values():
+    """P = 0, 1, 4 (x) and 0, 0, 2 (y): the middle frame is 1 - 2 = -1 in x, 0 - 1 = -1 in y."""
+    data = _data()
+    positions = np.zeros((3, 2, 3))
+    positions[:, 0, 0] = [0.0, 1.0, 4.0]
+    positions[:, 0, 1] = [0.0, 0.0, 2.0]
+    data = CheckData(data.motion, positions, 1.0)
+    np.testing.assert_array_equal(data.middles, [[[-1.0, -1.0, 0.0], [0.0, 0.0, 0.0]]])
+    np.testing.assert_allclose(data.deviations, [[np.sqrt(2.0), 0.0]], rtol=1e-15)
+    np.testing.assert_array_equal(positions[1, 0], [1.0, 0.0, 0.0])  # not changed in place
+
+
+def test_a_finding_at_the_files_frames():
+    data = _data(first=5)
+    finding = data.finding("pop", np.array([2, 0]), 1, 3, 2, np.float64(0.5), "cm")
+    assert (finding.joints, finding.names, finding.start, finding.end) == ((2, 0), ("Spine1", "Hips"), 6, 8)
+    assert (finding.severity, finding.value, type(finding.value)) == ("warning", 0.5, float)
+    assert [data.finding("pop", [], 0, 0, level, 1.0, "cm").severity for level in (1, 2, 3)] == [
+        "info",
+        "warning",
+        "error",
+    ]
+    for level in (0, 4):
+        with pytest.raises(ValueError, match=f"a pop finding needs a severity level of 1 to 3, not {level}"):
+            data.finding("pop", [], 0, 0, level, 1.0, "cm")
+
+
+def test_runs_of_each_joint():
+    mask = np.array([[1, 0], [1, 1], [0, 1], [1, 1]], bool)
+    np.testing.assert_array_equal(joint_runs(mask), [[0, 0, 2], [0, 3, 4], [1, 1, 4]])
+    assert joint_runs(mask).dtype == np.int64
+    assert joint_runs(np.zeros((3, 2), bool)).shape == (0, 3)
+    np.testing.assert_array_equal(runs(np.array([0, 1, 1, 0, 1], bool)), [[1, 3], [4, 5]])
+
+
+def test_merge_runs_across_gaps():
+    found = np.array([[0, 2], [3, 5], [7, 8], [11, 12]])
+    np.testing.assert_array_equal(merge_runs(found, 0), found)
+    np.testing.assert_array_equal(merge_runs(found, 1), [[0, 5], [7, 8], [11, 12]])
+    np.testing.assert_array_equal(merge_runs(found, 2), [[0, 8], [11, 12]])
+    np.testing.assert_array_equal(merge_runs(found, 3), [[0, 12]])
+    np.testing.assert_array_equal(merge_runs(found[:1], 5), [[0, 2]])
+    assert merge_runs(found[:0], 5).shape == (0, 2)
+
+
+def test_two_runs_merge():
+    np.testing.assert_array_equal(merge_runs(np.array([[0, 2], [3, 5]]), 1), [[0, 5]])
+
+
+def test_check_data_is_frozen_compared_by_identity_and_keeps_its_cache_out_of_repr():
+    data = _data()
+    twin = CheckData(data.motion, data.positions, data.size)
+    assert data == data and data != twin and len({data, twin}) == 2
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        data.size = 3.0
+    data.cached("big", lambda: "cached value")
+    assert "cached value" not in repr(data) and "shared" not in repr(data)
