@@ -2,7 +2,7 @@
 
     nice .venv/bin/python -m tests.audit core/markers/trc.py
     nice .venv/bin/python -m tests.audit core/checks                       # every module of a package
-    nice .venv/bin/python -m tests.audit core/clip.py -- tests/test_clip.py  # the tests named
+    nice .venv/bin/python -m tests.audit core/edits/clip.py -- tests/test_clip.py  # the tests named
     GMR_REQUIRE_GUI=1 nice xvfb-run -a .venv/bin/python -m tests.audit app/docks/timeplot.py
 
 cosmic-ray changes the module *on disk* (an operator, a comparison, a number, a condition

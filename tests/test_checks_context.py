@@ -9,11 +9,13 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.checks.context import FILE_UNITS, CheckData, joint_runs, merge_runs, runs
+from gmr_studio.core.model.facts import FileFacts
+from gmr_studio.core.space.units import UNITS
 from tests.checks_walk import clean_walk
 
 
-def _data(comments=(), first=0) -> CheckData:
-    motion = clean_walk(30.0, seconds=0.2).replace(comments=list(comments))
+def _data(facts: FileFacts | None = None, first=0) -> CheckData:
+    motion = clean_walk(30.0, seconds=0.2).replace(facts=facts or FileFacts(up_axis="y"))
     positions = np.zeros((motion.n_frames, motion.n_joints, 3))
     return CheckData(motion, positions, 2.0, first=first)
 
@@ -30,7 +32,7 @@ def test_cached_computes_once_per_key():
 def test_the_data_of_a_motion():
     data = _data()
     assert (data.n_frames, data.frame_time, data.up, data.units) == (6, 1 / 30.0, 1, FILE_UNITS)
-    stated = _data(["up axis: z", "units: cm"])
+    stated = _data(FileFacts(unit=UNITS["cm"], up_axis="z"))
     assert (stated.up, stated.units) == (2, "cm")
 
 

@@ -127,7 +127,7 @@ def test_the_markers_as_a_motion():
     np.testing.assert_array_equal(motion.rotations, np.broadcast_to(np.eye(3), (2, 3, 3, 3)))
     np.testing.assert_array_equal(motion.translations, positions)
     assert motion.frame_time == 1.0 / 120.0
-    assert motion.comments == ("units: cm",)
+    assert motion.facts.unit.name == "cm"
 
 
 def test_labels_are_names_unless_repeated_or_impossible():

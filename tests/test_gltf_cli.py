@@ -54,7 +54,7 @@ def test_compare_bvh_with_its_glb_on_its_clock_in_its_units(tmp_path, capsys):
     capsys.readouterr()
     assert main(["compare", str(bvh), str(glb)]) == 0
     out = capsys.readouterr().out
-    assert "B in m, exported from units of 0.0564444 m (its note); A states none" in out
+    assert "B in m, exported from ASF unit (in / 0.45) (its file facts); A states no unit" in out
     assert "unmatched in A: none" in out and "unmatched in B: none" in out
     mpjpe = float(out.split("MPJPE:")[1].split()[0])
     assert mpjpe < 2e-7 * read_motion(bvh).size  # float32: docs/gltf.md

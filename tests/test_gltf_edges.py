@@ -37,7 +37,8 @@ def test_the_buffer_holds_every_accessor_aligned_and_the_times_bounded(tmp_path,
     assert gltf.asset.generator == "GMR Studio" and gltf.asset.version == "2.0"
     assert gltf.asset.extras == {
         "convention": motion.convention,  # read back as the same convention (glTF in)
-        "metres_per_unit": 1.0,
+        "metres_per_unit": 1.0,  # the unit the lengths were in: the source unit of a read back
+        "source_unit": "m",
         "units": "lengths times 1 (metres per unit, given)",
         "up_axis": "Y up as in the source",
     }

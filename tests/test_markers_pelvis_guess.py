@@ -19,7 +19,7 @@ from gmr_studio.core.markers import pelvis_guess as guess
 from gmr_studio.core.markers.markerset import MarkerSet
 from gmr_studio.core.markers.pelvis_guess import PelvisChoice, candidates, choose_pelvis, side, triangle_quality
 from gmr_studio.core.markers.trc import write_trc
-from gmr_studio.core.motion import Motion, identity_rotations
+from gmr_studio.core.model.motion import Motion, identity_rotations
 from tests.conftest import shared_path
 from tests.test_markers_solve import assert_exact, joint_markers
 

@@ -21,7 +21,7 @@ from gmr_studio.core.markers.refine import refine_joints
 from gmr_studio.core.markers.root_fit import hanging_from_root, root_translations
 from gmr_studio.core.markers.solve import solve_positions
 from gmr_studio.core.markers.targets import below_missing_bones
-from gmr_studio.core.motion import Motion, build_translations
+from gmr_studio.core.model.motion import Motion, build_translations
 from tests.conftest import shared_path
 from tests.test_markers_solve import assert_exact, joint_markers
 

@@ -210,8 +210,8 @@ def test_the_rows_may_start_right_after_the_header():
     [
         (("\tNumMarkers\t", "\tNumMarkerz\t"), 2, 1, "the header has no NumMarkers"),
         (("\tUnits\t", "\tUnitz\t"), 2, 1, "the header has no Units"),
-        (("DataRate\tCameraRate", "DataRat\tCameraRat"), 2, 1, "the header has no DataRate"),
-        (("100\t100\t3\t2", "abc\t100\t3\t2"), 3, 1, "expected a positive DataRate, found 'abc'"),
+        (("DataRate\tCameraRate", "DataRat\tCameraRat"), 2, 1, "the header has no DataRate: use --rate HZ"),
+        (("100\t100\t3\t2", "abc\t100\t3\t2"), 3, 1, "expected a positive DataRate, found 'abc': use --rate HZ"),
         (("100\t100\t3\t2", "100\t100\t3\t2.0"), 3, 11, "expected a whole NumMarkers, found '2.0'"),
         (("Frame#\tTime", "Frame\tTime"), 4, 1, "expected 'Frame#' and 'Time' to start the fourth line"),
     ],
