@@ -16,14 +16,68 @@ BVH = "cmu/subject01/01_01.bvh"
 METHODS = ("build", "show_frame", "wanted", "set_visible", "remove")
 
 
-def test_the_view_kind_follows_the_session():
-    assert render_widget.preferred_kind({"DISPLAY": ":0"}) == "native"
-    assert render_widget.preferred_kind({"QT_QPA_PLATFORM": "wayland"}) == "framebuffer"
-    assert render_widget.preferred_kind({"XDG_SESSION_TYPE": "wayland", "WAYLAND_DISPLAY": "w"}) == "framebuffer"
-    assert render_widget.preferred_kind({"XDG_SESSION_TYPE": "wayland", "DISPLAY": ":0"}) == "native"  # XWayland
-    assert render_widget.preferred_kind({"GMR_STUDIO_VIEW": "framebuffer", "DISPLAY": ":0"}) == "framebuffer"
-    with pytest.raises(ValueError, match="GMR_STUDIO_VIEW"):
-        render_widget.preferred_kind({"GMR_STUDIO_VIEW": "opengl"})
+@pytest.mark.parametrize(
+    ("environ", "kind"),
+    [
+        ({}, "native"),
+        ({"DISPLAY": ":1"}, "native"),
+        ({"QT_QPA_PLATFORM": "xcb", "XDG_SESSION_TYPE": "wayland"}, "native"),  # X asked for explicitly
+        ({"QT_QPA_PLATFORM": "offscreen"}, "native"),
+        ({"QT_QPA_PLATFORM": "Wayland-EGL", "DISPLAY": ":0"}, "framebuffer"),  # Qt on Wayland, whatever else
+        ({"QT_QPA_PLATFORM": "wayland"}, "framebuffer"),
+        ({"XDG_SESSION_TYPE": "Wayland"}, "framebuffer"),  # a Wayland session without XWayland
+        ({"XDG_SESSION_TYPE": "wayland", "WAYLAND_DISPLAY": "w"}, "framebuffer"),
+        ({"XDG_SESSION_TYPE": "x11"}, "native"),
+        ({"XDG_SESSION_TYPE": "wayland", "DISPLAY": ":0"}, "native"),  # XWayland
+        ({"GMR_STUDIO_VIEW": " Framebuffer ", "DISPLAY": ":0"}, "framebuffer"),
+        ({"GMR_STUDIO_VIEW": "native", "QT_QPA_PLATFORM": "wayland"}, "native"),
+        ({"GMR_STUDIO_VIEW": "  ", "QT_QPA_PLATFORM": "wayland"}, "framebuffer"),  # blank: not asked
+    ],
+)
+def test_the_view_kind_follows_the_session(environ, kind):
+    assert render_widget.preferred_kind(environ) == kind
+
+
+def test_an_unknown_view_kind_is_refused_naming_the_variable_and_the_kinds():
+    with pytest.raises(ValueError, match=r"GMR_STUDIO_VIEW='opengl': expected one of native, framebuffer"):
+        render_widget.preferred_kind({"GMR_STUDIO_VIEW": "OpenGL"})
+    with pytest.raises(ValueError, match=r"unknown view kind 'qt': expected one of native, framebuffer"):
+        render_widget.interactor_class("qt")
+
+
+#: run in a fresh process (the kind is chosen once per process): the session asks for the
+#: framebuffer, the first view takes it and sets VTK's base to match, the other kind is refused
+FIRST_VIEW = """
+import vtkmodules.qt
+from gmr_studio.app.scene import render_widget as rw
+assert rw.current_kind() is None and rw.preferred_kind() == "framebuffer"
+interactor = rw.interactor_class()
+import pyvistaqt
+assert interactor is pyvistaqt.QtInteractor
+assert vtkmodules.qt.QVTKRWIBase == "QOpenGLWidget" and rw.current_kind() == "framebuffer"
+assert rw.interactor_class("framebuffer") is interactor
+try:
+    rw.interactor_class("native")
+except RuntimeError as error:
+    assert "the view is already framebuffer" in str(error), error
+else:
+    raise AssertionError("the other kind was not refused")
+assert vtkmodules.qt.QVTKRWIBase == "QOpenGLWidget" and rw.current_kind() == "framebuffer"
+assert rw.preferred_kind() == "framebuffer"  # fixed for the process
+assert rw.preferred_kind({"DISPLAY": ":5"}) == "native"  # a given environment is still judged
+print("ok")
+"""
+
+
+def test_the_first_view_fixes_the_kind_for_the_process_and_the_other_is_refused():
+    import os
+    import subprocess
+    import sys
+
+    environ = {k: v for k, v in os.environ.items() if k not in ("QT_QPA_PLATFORM", "XDG_SESSION_TYPE")}
+    environ.update(GMR_STUDIO_VIEW="framebuffer", DISPLAY=":0")
+    done = subprocess.run([sys.executable, "-c", FIRST_VIEW], env=environ, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0 and done.stdout.strip() == "ok", done.stderr
 
 
 def _props(renderer) -> list[str]:
