@@ -197,75 +197,30 @@ def test_two_lines_rewritten_far_apart_are_drawn_each_alone_as_a_whole_repaint_d
         pytest.fail("the screen never showed what a whole repaint draws")
 
 
-def _paint_event(*rects):
-    from PyQt6.QtGui import QPaintEvent, QRegion
-
-    region = QRegion()
-    for rect in rects:
-        region = region.united(QRegion(rect))
-    return QPaintEvent(region)
-
-
-def test_the_lines_asked_for_are_drawn_each_once_touching_ones_together(qtbot):
-    """The parts a paint draws when the exposed region is only the lines asked for: sorted
-    from the top, a line that overlaps or touches (starts on the row after) the one before
-    it joined to it, one a row apart or more kept apart; a line asked for outside the
-    region left out; a region with more than the lines in it drawn whole."""
-    from PyQt6.QtCore import QRect
-
-    label = RichText()
-    qtbot.addWidget(label)
-    first, touching = QRect(0, 10, 100, 10), QRect(0, 20, 100, 10)  # rows 10-19 and 20-29
-    apart, after = QRect(0, 31, 100, 5), QRect(0, 36, 100, 4)  # rows 31-35 (row 30 between) and 36-39
-    overlapping, outside = QRect(0, 38, 100, 6), QRect(0, 90, 100, 5)  # rows 38-43; not exposed
-    label._asked = [after, touching, outside, first, overlapping, apart]
-    parts = label._parts_to_paint(_paint_event(first, touching, apart, after, overlapping))
-    assert parts == [QRect(0, 10, 100, 20), QRect(0, 31, 100, 13)]
-    assert label._asked == []  # taken
-    label._asked = [QRect(0, 10, 100, 10), QRect(0, 10, 100, 10)]  # a line asked for twice (two slots)
-    assert label._parts_to_paint(_paint_event(QRect(0, 10, 100, 10))) == [QRect(0, 10, 100, 10)]
-    label._asked = [QRect(0, 10, 100, 10)]
-    exposed = _paint_event(QRect(0, 10, 100, 10), QRect(0, 50, 30, 5))  # more than the line: the whole rect
-    assert label._parts_to_paint(exposed) == [QRect(0, 10, 100, 45)]
-    label._asked = [QRect(0, 10, 300, 10)]  # wider than the exposed part: cut to it
-    assert label._parts_to_paint(_paint_event(QRect(0, 10, 100, 10))) == [QRect(0, 10, 100, 10)]
-
-
-def test_a_line_meets_a_part_of_the_text_it_touches(qtbot):
-    """A slot's line is in a part of the document (on screen, or painted) when it overlaps it
-    or touches it: its bottom at the part's top, or its top at the part's bottom."""
-    from PyQt6.QtCore import QRectF
-
-    label = RichText()
-    qtbot.addWidget(label)
-    label.setText(lines_page(["a", "b", "c", "d"]))
-    tops = [held.top for held in label._slots]
-    bottoms = [held.bottom for held in label._slots]
-    assert tops[1] == bottoms[0] and tops[1] > 0  # lines one after the other
-    assert label._lines_meeting(QRectF(0, 0, 1, tops[2])) == [True, True, True, False]  # to line 2's top
-    assert label._lines_meeting(QRectF(0, bottoms[1], 1, 0.5)) == [False, True, True, False]  # from line 1's bottom
-    assert label._lines_meeting(QRectF(0, bottoms[1] + 0.5, 1, 0.25)) == [False, False, True, False]
-    assert label._lines_meeting(None) == [False] * 4
-
-
-def test_a_line_rewritten_is_repainted_whole_and_at_most_two_rows_beyond(qtbot):
-    """The part repainted for a rewritten line covers its block (whole pixels) and reaches at
-    most two rows past it: the rows of its glyphs, none of the next lines'."""
+def test_a_line_rewritten_asks_for_a_repaint_of_its_whole_line_and_at_most_two_rows_beyond(qtbot):
+    """The part a rewritten line asks to be repainted covers its block (whole pixels) and
+    reaches at most two rows past it: the rows of its glyphs, none of the next lines'."""
     from PyQt6.QtWidgets import QApplication
 
     _area, label = _scrolled(qtbot, rows=6, height=400)
     QApplication.processEvents()
     layout = label.document.documentLayout()
+    asked = []
+    update = label.update
+    label.update = lambda *rect: asked.append(rect) or update(*rect)  # QWidget.update, noted
     for k in (0, 3, 5):
         rows = [f"row {j} value 0" for j in range(6)]
         rows[k] = f"row {k} value {k + 10}"
+        asked.clear()
         label.setText(lines_page(rows))
-        (asked,) = label._asked
-        block = layout.blockBoundingRect(label.document.findBlock(label._slots[k].start))
-        top, bottom = RichText.MARGIN + block.top(), RichText.MARGIN + block.bottom()
-        assert asked.top() <= top and asked.top() + asked.height() >= bottom, k  # the whole line
-        assert asked.top() > top - 1 and asked.top() + asked.height() <= bottom + 2, k
-        assert asked.left() == 0 and asked.width() == label.width()
+        ((rect,),) = asked
+        block = label.document.findBlockByNumber(k)
+        assert block.text() == rows[k]
+        box = layout.blockBoundingRect(block)
+        top, bottom = RichText.MARGIN + box.top(), RichText.MARGIN + box.bottom()
+        assert rect.top() <= top and rect.top() + rect.height() >= bottom, k  # the whole line
+        assert rect.top() > top - 1 and rect.top() + rect.height() <= bottom + 2, k
+        assert rect.left() == 0 and rect.width() == label.width()
         QApplication.processEvents()
         label.setText(lines_page([f"row {j} value 0" for j in range(6)]))
         QApplication.processEvents()
