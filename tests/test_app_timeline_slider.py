@@ -189,6 +189,17 @@ def test_flags_far_apart_are_spans_of_their_own_and_stay_inside_the_widget(qtbot
     assert [level for *_, level in spans] == [2, 2, 2]
 
 
+def test_a_run_of_flagged_frames_is_one_band_from_half_a_frame_before_to_half_after(qtbot):
+    slider = make_slider(qtbot, 0, 99, width=500)  # about 5 pixels a frame: wider than a flag's least
+    assert pixels_per_frame(slider) > FLAG_MIN_WIDTH
+    levels = np.zeros(100, np.int8)
+    levels[20:30] = 2
+    slider.set_levels(levels)
+    ((x0, x1, level),) = assert_flags_cover_their_frames(slider, levels)
+    assert level == 2
+    assert abs(x0 - slider.x_of_frame(19.5)) <= 1 and abs(x1 - slider.x_of_frame(29.5)) <= 1
+
+
 def test_flags_at_the_very_edges_are_clipped_to_the_widget(qtbot):
     slider = make_slider(qtbot, 0, 2, width=200)  # half a frame is wider than the handle's margin
     levels = np.array([3, 0, 3], np.int8)
@@ -280,7 +291,9 @@ def test_the_range_is_a_yellow_band_between_two_edges_over_its_frames(qtbot):
     alpha = RANGE_COLOUR.alphaF()
     blended = plain[inside] + (rgb(RANGE_COLOUR) - plain[inside]) * alpha  # the slider seen through the band
     assert np.abs(pixels[inside] - blended).max() <= TOLERANCE
-    assert (np.abs(pixels[0] - plain[0]) <= TOLERANCE).all()  # the top row left clear
+    between = np.s_[changed.min() + 1 : changed.max()]
+    for row in (0, height - 1):  # a pixel left clear above and below the band
+        assert (np.abs(pixels[row, between] - plain[row, between]) <= TOLERANCE).all(), row
 
 
 def test_a_one_frame_range_is_still_a_visible_band(qtbot):
