@@ -121,7 +121,7 @@ def test_a_walk_is_seen_from_the_side_of_its_travel_and_crosses_the_view():
     world = np.repeat(figure_world(1), 30, axis=0)
     world[:, 1:, 2] += 0.1 * np.arange(30)[:, None]  # walking 2.9 along +z (the size: 0.8)
     with scene_of(snapshot_from(world), size=(WIDTH, HEIGHT)) as scene:
-        direction = view_direction(scene)
+        direction = view_direction(scene)  # a little along the travel, either way
         assert_seen_from_the_side_front_and_above(direction * [1, 1, np.sign(direction[2])], x, z, y)
         scene.set_overlay("follow", False)
         scene.reset_camera()
@@ -130,7 +130,7 @@ def test_a_walk_is_seen_from_the_side_of_its_travel_and_crosses_the_view():
     world = np.repeat(figure_world(1), 30, axis=0)
     world[:, 1:, 0] -= 0.1 * np.arange(30)[:, None]  # walking along -x: seen from +z
     with scene_of(snapshot_from(world), size=(WIDTH, HEIGHT)) as scene:
-        direction = view_direction(scene)
+        direction = view_direction(scene)  # a little along the travel, either way
         assert_seen_from_the_side_front_and_above(direction * [np.sign(direction[0]), 1, 1], z, x, y)
 
 
