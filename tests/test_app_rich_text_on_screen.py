@@ -1,6 +1,6 @@
 """RichText on screen (app/docks/rich_text.py): slots written only when their line is seen or
-the text is read, stale slots taking the owner's fresh text, and repaints kept to the lines
-rewritten, each alone, drawing what a whole repaint draws. The slots themselves, layout,
+the text is read, stale slots taking the owner's fresh text, and a rewritten line's repaint
+asked for that line, the screen showing what a whole repaint draws. The slots themselves, layout,
 selection and menu are in tests/test_app_rich_text.py."""
 
 from __future__ import annotations
@@ -73,42 +73,50 @@ def test_a_hidden_text_writes_nothing_until_read(qtbot):
     assert label.plain_text() == "c\nd" and label.slots_pending == 0
 
 
-def test_only_the_lines_rewritten_are_repainted_and_a_line_that_grows_repaints_all(qtbot):
-    from PyQt6.QtCore import QRect
+def assert_screen_shows_a_whole_repaint(area, label) -> None:
+    """The screen shows the text as a whole repaint draws it. (Another test's window on the
+    same X display may cover this one for a moment: raised and grabbed again.)"""
+    import time
+
+    from PyQt6.QtCore import QPoint
+    from PyQt6.QtGui import QGuiApplication
     from PyQt6.QtWidgets import QApplication
 
-    _area, label = _scrolled(qtbot, rows=6, height=400)  # every line on screen
+    from gmr_studio.app.media.video import image_pixels
+
     QApplication.processEvents()
-    painted: list[QRect] = []
-    paint = label.paintEvent
+    whole = image_pixels(label.grab().toImage())  # a grab paints the whole widget afresh
+    origin = label.mapTo(area, QPoint(0, 0))
+    for _attempt in range(20):
+        area.raise_()
+        QApplication.processEvents()
+        shown = QGuiApplication.primaryScreen().grabWindow(
+            int(area.winId()), origin.x(), origin.y(), label.width(), label.height()
+        )
+        if np.array_equal(image_pixels(shown.toImage()), whole):
+            return
+        time.sleep(0.05)
+    pytest.fail("the screen never showed what a whole repaint draws")
 
-    def noted(event) -> None:
-        painted.append(event.rect())
-        paint(event)
 
-    label.paintEvent = noted
-    layout = label.document.documentLayout()
-    line = layout.blockBoundingRect(label.document.firstBlock()).height()
+def test_a_line_rewritten_or_grown_shows_on_screen_as_a_whole_repaint_draws_it(qtbot):
+    from PyQt6.QtWidgets import QApplication
+
+    area, label = _scrolled(qtbot, rows=6, height=400)  # every line on screen
+    QApplication.processEvents()
     rows = [f"row {k} value 0" for k in range(6)]
     rows[3] = "row 3 value 2"
     label.setText(lines_page(rows))
-    QApplication.processEvents()
-    assert len(painted) == 1 and painted[0].width() == label.width()
-    top = RichText.MARGIN + layout.blockBoundingRect(label.document.findBlock(0).next().next().next()).top()
-    assert painted[0].top() == int(top) and painted[0].height() <= line + 3  # line 3 alone
-    painted.clear()
-    label.setText(lines_page(rows))  # nothing changed: nothing painted
-    QApplication.processEvents()
-    assert painted == []
+    assert_screen_shows_a_whole_repaint(area, label)
+    label.setText(lines_page(rows))  # nothing changed
+    assert_screen_shows_a_whole_repaint(area, label)
     paragraphs = "".join(f"<p style='margin:0'>{slot(row)}</p>" for row in rows)
-    label.setText(paragraphs)  # another text: parsed whole, painted whole
-    QApplication.processEvents()
-    painted.clear()
+    label.setText(paragraphs)  # another text: parsed whole
+    assert_screen_shows_a_whole_repaint(area, label)
     rows[1] = "a long value " * 12  # wraps: every line after it moves
     label.setText("".join(f"<p style='margin:0'>{slot(row.strip())}</p>" for row in rows))
     assert label.slots_held == 6 and label.slots_pending == 0  # written in place, and it grew
-    QApplication.processEvents()
-    assert painted and painted[0].height() >= label.height() - 1
+    assert_screen_shows_a_whole_repaint(area, label)
     assert label.minimumHeight() == round(label.document.size().height()) + 2 * RichText.MARGIN
 
 
@@ -155,16 +163,8 @@ def test_stale_slots_in_a_text_of_another_template_are_parsed_from_the_fresh_tex
     assert label.plain_text() == "other 5" and label.slots_held == 1 and label.slots_pending == 0
 
 
-def test_two_lines_rewritten_far_apart_are_drawn_each_alone_as_a_whole_repaint_draws_them(qtbot):
-    """The screen after the two lines' paint is what a whole repaint draws. (Another test's
-    window on the same X display may cover this one for a moment: raised and grabbed again.)"""
-    import time
-
-    from PyQt6.QtCore import QPoint
-    from PyQt6.QtGui import QGuiApplication
+def test_two_lines_rewritten_far_apart_show_on_screen_as_a_whole_repaint_draws_them(qtbot):
     from PyQt6.QtWidgets import QApplication
-
-    from gmr_studio.app.media.video import image_pixels
 
     area, label = _scrolled(qtbot, rows=8, height=400)  # every line on screen
 
@@ -175,26 +175,8 @@ def test_two_lines_rewritten_far_apart_are_drawn_each_alone_as_a_whole_repaint_d
     label.setText(page("1", "0.1", rows))
     QApplication.processEvents()
     rows[1], rows[6] = "row 1 value 12345", "row 6 value 9"
-    label.setText(page("2", "0.2", rows))  # the first line asked for twice: drawn once
-    QApplication.processEvents()
-    line = label.document.documentLayout().blockBoundingRect(label.document.firstBlock()).height()
-    assert len(label.painted) == 3  # the first line, lines 1 and 6, not the four between them
-    assert all(rect.height() <= line + 3 for rect in label.painted)
-    assert label.painted[2].top() - label.painted[1].top() >= 4 * line
-    whole = image_pixels(label.grab().toImage())  # a grab paints the whole widget
-    assert len(label.painted) == 1 and label.painted[0] == label.rect()
-    origin = label.mapTo(area, QPoint(0, 0))
-    for _attempt in range(20):
-        area.raise_()
-        QApplication.processEvents()
-        shown = QGuiApplication.primaryScreen().grabWindow(
-            int(area.winId()), origin.x(), origin.y(), label.width(), label.height()
-        )
-        if np.array_equal(image_pixels(shown.toImage()), whole):
-            break
-        time.sleep(0.05)
-    else:
-        pytest.fail("the screen never showed what a whole repaint draws")
+    label.setText(page("2", "0.2", rows))  # the first line asked for twice
+    assert_screen_shows_a_whole_repaint(area, label)
 
 
 def test_a_line_rewritten_asks_for_a_repaint_of_its_whole_line_and_at_most_two_rows_beyond(qtbot):
