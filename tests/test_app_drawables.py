@@ -46,39 +46,24 @@ def test_an_unknown_view_kind_is_refused_naming_the_variable_and_the_kinds():
         render_widget.interactor_class("qt")
 
 
-#: run in a fresh process (the kind is chosen once per process): the session asks for the
-#: framebuffer, the first view takes it and sets VTK's base to match, the other kind is refused
-FIRST_VIEW = """
-import vtkmodules.qt
-from gmr_studio.app.scene import render_widget as rw
-assert rw.current_kind() is None and rw.preferred_kind() == "framebuffer"
-interactor = rw.interactor_class()
-import pyvistaqt
-assert interactor is pyvistaqt.QtInteractor
-assert vtkmodules.qt.QVTKRWIBase == "QOpenGLWidget" and rw.current_kind() == "framebuffer"
-assert rw.interactor_class("framebuffer") is interactor
-try:
-    rw.interactor_class("native")
-except RuntimeError as error:
-    assert "the view is already framebuffer" in str(error), error
-else:
-    raise AssertionError("the other kind was not refused")
-assert vtkmodules.qt.QVTKRWIBase == "QOpenGLWidget" and rw.current_kind() == "framebuffer"
-assert rw.preferred_kind() == "framebuffer"  # fixed for the process
-assert rw.preferred_kind({"DISPLAY": ":5"}) == "native"  # a given environment is still judged
-print("ok")
-"""
+def test_the_first_view_fixes_the_kind_for_the_process_and_the_other_is_refused(monkeypatch):
+    """The kind of this test session's views (chosen by its first view, or here): fixed for
+    the process, VTK's base set to match, the other kind refused. (The framebuffer kind in a
+    process of its own: the view bench, tests/test_view_bench.py.)"""
+    import pyvistaqt
+    import vtkmodules.qt
 
-
-def test_the_first_view_fixes_the_kind_for_the_process_and_the_other_is_refused():
-    import os
-    import subprocess
-    import sys
-
-    environ = {k: v for k, v in os.environ.items() if k not in ("QT_QPA_PLATFORM", "XDG_SESSION_TYPE")}
-    environ.update(GMR_STUDIO_VIEW="framebuffer", DISPLAY=":0")
-    done = subprocess.run([sys.executable, "-c", FIRST_VIEW], env=environ, capture_output=True, text=True, timeout=120)
-    assert done.returncode == 0 and done.stdout.strip() == "ok", done.stderr
+    interactor = render_widget.interactor_class()
+    kind = render_widget.current_kind()
+    other = "framebuffer" if kind == "native" else "native"
+    assert interactor is pyvistaqt.QtInteractor and vtkmodules.qt.QVTKRWIBase == render_widget.BASES[kind]
+    assert render_widget.interactor_class(kind) is interactor  # the same kind again
+    with pytest.raises(RuntimeError, match=f"the view is already {kind}"):
+        render_widget.interactor_class(other)
+    assert vtkmodules.qt.QVTKRWIBase == render_widget.BASES[kind] and render_widget.current_kind() == kind
+    monkeypatch.setenv("GMR_STUDIO_VIEW", other)
+    assert render_widget.preferred_kind() == kind  # fixed for the process
+    assert render_widget.preferred_kind({"GMR_STUDIO_VIEW": other}) == other  # a given environment is still judged
 
 
 def _props(renderer) -> list[str]:
