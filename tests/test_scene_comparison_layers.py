@@ -445,7 +445,7 @@ def test_the_legend_is_a_bar_from_zero_at_the_bottom_to_the_top_with_its_labels_
     assert (labels[:, 0] == labels[0, 0]).all()  # one column of labels
     assert title[1] >= labels[:, 3].max() and title[3] == height  # the title above them, at the top
     assert abs(piece_centre(title)[0] - width / 2) <= 1
-    assert boxes[:, 2].max() == width  # as wide as its widest piece
+    assert boxes[:, 2].max() == width and boxes[:, 1].min() <= 1  # no margin but the lowest label's half row
     inside = np.zeros((height, width), bool)
     for a, b, c, d in boxes:
         inside[b:d, a:c] = True
@@ -463,6 +463,9 @@ def test_the_legend_is_drawn_one_texel_a_pixel_at_the_views_lower_right_upright(
     pieces = legend_layout(2.0, "m", ramp)[1]  # each quad holds its piece and a texel around it
     assert (part.boxes[:, :2] <= pieces[:, :2]).all() and (part.boxes[:, 2:] >= pieces[:, 2:]).all()
     assert (part.boxes[:, :2] >= pieces[:, :2] - 2).all() and (part.boxes[:, 2:] <= pieces[:, 2:] + 2).all()
+    assert (
+        (part.boxes >= 0).all() and (part.boxes[:, [0, 2]] <= width).all() and (part.boxes[:, [1, 3]] <= height).all()
+    )
     assert part.draw_last and not part.actor.GetUseBounds()
     size = (800, 600)
     with scene_of(None, size=size) as scene:
@@ -495,7 +498,7 @@ def test_a_legend_is_shrunk_never_enlarged_and_moved_to_stay_in_the_view(view):
     width, height = part.image.shape[1], part.image.shape[0]
     part.place(view)
     left, bottom, right, top = part.outline
-    assert left >= -1e-9 and bottom >= 0 and top <= view[1]  # inside the view
+    assert left >= -1e-9 and right <= view[0] + 1e-9 and bottom >= 0 and top <= view[1]  # inside the view
     assert right <= view[0] - EDGE + 1e-9 or left == pytest.approx(0.0)  # off the right side unless too narrow
     assert right - left == pytest.approx(part.fitted[1] * width) and top - bottom == pytest.approx(
         part.fitted[1] * height
