@@ -69,6 +69,11 @@ def assert_fills_the_view(scene, points, least: float = 0.55) -> None:
     assert np.abs(centre).max() <= 0.2, "the points are not around the view's centre"
 
 
+def corners(low, high) -> np.ndarray:
+    """(8, 3) the corners of the box from ``low`` to ``high``."""
+    return np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])
+
+
 def assert_seen_from_the_side_front_and_above(direction, side, front, up) -> None:
     """Mostly from ``side``, a little from ``front`` and from above."""
     along_side, along_front, along_up = direction @ side, direction @ front, direction @ up
@@ -94,10 +99,10 @@ def test_a_standing_figure_is_seen_from_its_side_front_and_above_filling_the_vie
         # following: the figure at this frame and the floor under it fill the view
         assert_fills_the_view(scene, [*snapshot.positions[0, 1:], floor_point(scene, 0)])
         scene.set_overlay("follow", False)
-        scene.reset_camera()  # the whole motion: the ground's box
+        scene.reset_camera()  # the whole motion: the ground's box fills most of the view
         low, high, floor = scene.ground_bounds
         assert floor == pytest.approx(-0.2)
-        assert_fills_the_view(scene, [*snapshot.positions[:, 1:].reshape(-1, 3), low, high])
+        assert_fills_the_view(scene, [*snapshot.positions[:, 1:].reshape(-1, 3), *corners(low, high)], least=0.8)
 
 
 def test_a_figure_above_the_floor_is_framed_down_to_the_floor():
@@ -124,7 +129,8 @@ def test_a_walk_is_seen_from_the_side_of_its_travel_and_crosses_the_view():
         direction = view_direction(scene)  # a little along the travel, either way
         assert_seen_from_the_side_front_and_above(direction * [1, 1, np.sign(direction[2])], x, z, y)
         scene.set_overlay("follow", False)
-        scene.reset_camera()
+        scene.reset_camera()  # the whole walk's box fills most of the view
+        assert_fills_the_view(scene, corners(*scene.ground_bounds[:2]), least=0.8)
         start, end = on_screen(scene, [world[0, 1:].mean(axis=0), world[-1, 1:].mean(axis=0)])
         assert abs(end[0] - start[0]) > 1.0 and abs(end[1] - start[1]) < 0.5  # across the screen
     world = np.repeat(figure_world(1), 30, axis=0)
@@ -180,7 +186,7 @@ def test_a_z_up_figure_is_seen_with_z_up():
 
 def test_joints_that_coincide_are_framed_with_a_size_around_them():
     world = np.repeat(figure_world(1), 2, axis=0)
-    world[:] = [0.3, 0.1, 0.2]  # every joint at one point
+    world[:] = [3.0, 0.1, -2.0]  # every joint at one point, away from the origin
     snapshot = snapshot_from(world)
     size = snapshot.motion.size
     assert size == 1.0  # no extent: the size falls back to 1
@@ -190,6 +196,7 @@ def test_joints_that_coincide_are_framed_with_a_size_around_them():
         assert np.isfinite(scene.plotter.camera.GetPosition()).all()
         around = [world[0, 0] + d * size for d in np.array([[-0.25, 0, 0], [0.25, 0, 0], [0, 0.25, 0], [0, -0.25, 0]])]
         assert_fills_the_view(scene, around, least=0.3)
+        np.testing.assert_allclose(on_screen(scene, world[0, 0]), [[0.0, 0.0]], atol=0.02)  # at the centre
 
 
 def test_a_figure_that_grows_from_a_point_is_framed_around_the_point_first():
@@ -200,6 +207,8 @@ def test_a_figure_that_grows_from_a_point_is_framed_around_the_point_first():
         size = snapshot.motion.size
         around = [world[0, 1] + d * size for d in np.array([[-0.25, 0, 0], [0.25, 0, 0], [0, 0.25, 0]])]
         assert_fills_the_view(scene, [world[0, 1], *around], least=0.3)
+        x, _ = on_screen(scene, world[0, 1])[0]
+        assert abs(x) < 0.05  # the point (on the floor) across the view's middle
 
 
 # --------------------------------------------------------------------- following
@@ -337,6 +346,10 @@ def test_display_pixels_are_from_the_bottom_left_and_nothing_behind_the_camera_o
         flat = scene.display_positions([behind, beyond, snapshot.positions[2, 3]])
         assert np.isnan(flat[:2]).all() and np.isfinite(flat[2]).all()
         assert scene.display_positions(snapshot.positions[2, 3]).shape == (1, 2)
+        near, far = camera.GetClippingRange()  # drawn between the near and far planes only
+        ahead = (focal - eye) / np.linalg.norm(focal - eye)
+        at = scene.display_positions([eye + d * ahead for d in (0.85 * near, 1.05 * near, 0.95 * far, 1.05 * far)])
+        assert np.isnan(at[0]).all() and np.isfinite(at[1:3]).all() and np.isnan(at[3]).all()
 
 
 def test_display_pixels_follow_the_render_windows_size():
