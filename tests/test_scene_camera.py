@@ -7,6 +7,7 @@ camera's own pinhole."""
 
 from __future__ import annotations
 
+import warnings
 from types import SimpleNamespace
 
 import numpy as np
@@ -292,6 +293,23 @@ def test_without_a_document_the_camera_is_left_alone():
         assert (camera.GetPosition(), camera.GetFocalPoint()) == before
         assert scene.joint_screen_positions().shape == (0, 3)
         assert scene.joint_radius_pixels() == 0.0 and scene.pick_radius() == 8.0
+
+
+@pytest.mark.parametrize("size", [(WIDTH, 0), (0, HEIGHT)])
+def test_a_view_not_laid_out_yet_keeps_a_usable_camera(size):
+    """A widget is 0 pixels high or wide until Qt lays it out: a reset then leaves a finite
+    camera, and the figure is framed once the view has its size."""
+    with scene_of(snapshot_of(figure_motion()), size=(WIDTH, HEIGHT)) as scene:
+        laid_out = scene.viewport
+        scene.viewport = lambda: size  # the view's size as such a widget reports it
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", RuntimeWarning)  # nothing divided by the missing size
+            scene.reset_camera()
+        camera = scene.plotter.camera
+        assert np.isfinite([*camera.GetPosition(), *camera.GetFocalPoint(), camera.GetViewAngle()]).all()
+        scene.viewport = laid_out
+        scene.reset_camera()
+        assert_fills_the_view(scene, [*scene.snapshot.positions[0, 1:], floor_point(scene, 0)])
 
 
 def test_reset_camera_brings_back_the_view_of_a_new_document():
