@@ -86,7 +86,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     install_hooks(window.report_problem)  # an exception in a slot is logged and survived
     window.show()
     if args.steps:
-        _apply_steps_once_loaded(window, args.steps)
+        apply_steps_once_loaded(window, args.steps)
     if args.first_frame_time:
         window.files.load_finished.connect(lambda ok: _report_first_frame(app, window, ok))
     if args.compare:
@@ -115,7 +115,7 @@ def _compare_once_loaded(window, args: argparse.Namespace) -> None:
     window.files.load_finished.connect(compare)
 
 
-def _apply_steps_once_loaded(window, steps: list) -> None:
+def apply_steps_once_loaded(window, steps: list) -> None:
     """Apply the edit flags to the first document the window loads (never to a later one)."""
 
     from gmr_studio.app.model.edit_steps import apply_steps

@@ -39,6 +39,7 @@ def studio(qtbot, tmp_path):
     QApplication.sendPostedEvents(None, QEvent.Type.DeferredDelete.value)  # delete it now, not in a later test
     QApplication.processEvents()
     gc.collect()
+    # private: pyvistaqt says whether its interactor closed only through this attribute
     assert window.view.interactor._closed, "the interactor was not closed"
     assert set(_ALL_PLOTTERS) <= plotters_before, "a VTK render window (plotter) leaked"
     assert live_windows() <= windows_before, "a window was left open"

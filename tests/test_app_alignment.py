@@ -77,6 +77,19 @@ def test_without_names_units_up_axis_and_heading_are_found(walk):
     assert error < 0.05 * motion.size  # only the centroid offset of the surface markers remains
 
 
+def test_a_figure_of_one_point_gets_the_markers_unit_and_a_usable_alignment(walk):
+    """One tree of a forest exported alone may be a single joint: it has no height to scale
+    the markers by, so the markers keep their unit (mm to the BVH's unknown unit: x1) and
+    are laid on the joint's path."""
+    _, positions, markers = walk
+    joint = positions[:, 3:4]  # (F, 1, 3) one joint's path
+    anonymous = tuple(f"M{i}" for i in range(markers.n_markers))
+    alignment = auto_alignment(markers.positions, anonymous, joint, ("lfemur",), markers.units)
+    assert alignment.transform.scale == 1.0 and np.isfinite(alignment.transform.translation).all()
+    centre = np.nanmean(alignment.apply(markers.positions[: len(joint)]), axis=1)  # (F, 3) the markers' centroid
+    np.testing.assert_allclose(centre.mean(axis=0), joint[:, 0].mean(axis=0), atol=1e-9 * np.ptp(joint))
+
+
 def test_a_turned_lab_is_turned_back(walk):
     motion, positions, markers = walk
     turned = markers.transformed(turn(2, 90.0))  # the lab's heading differs by 90 degrees

@@ -41,11 +41,11 @@ def test_failing_joints_are_highlighted(studio, qtbot, monkeypatch):
     dialog.table.selectRow(1)
     highlight = dialog.highlight
     assert highlight.joints.tolist() == [5, 9]
-    np.testing.assert_array_equal(highlight.part._view, studio.state.snapshot.positions[7, [5, 9]])
+    np.testing.assert_array_equal(highlight.part.mesh.points, studio.state.snapshot.positions[7, [5, 9]])
     ringed = screen_image(studio)
     assert _red(ringed) > _red(before) + 30
     studio.state.set_frame(40)  # it follows the frame
-    np.testing.assert_array_equal(highlight.part._view, studio.state.snapshot.positions[40, [5, 9]])
+    np.testing.assert_array_equal(highlight.part.mesh.points, studio.state.snapshot.positions[40, [5, 9]])
     dialog.close()
     QApplication.processEvents()
     assert highlight.part is None

@@ -184,7 +184,7 @@ def test_the_recent_files_menu(qtbot, edited, dialogs, bad_bvh, monkeypatch):
     before = document(edited)
     monkeypatch.setattr(QMessageBox, "question", lambda *a, **k: QMessageBox.StandardButton.Discard)
     edited.files.settings.setValue("recent_files", [str(bad_bvh)])
-    edited._on_recent_changed([str(bad_bvh)])
+    edited.files.recent_changed.emit([str(bad_bvh)])  # as the files' list says when it changes
     (entry,) = [a for a in edited.recent_menu.actions() if a.text() == bad_bvh.name]
     entry.trigger()
     qtbot.waitUntil(lambda: not edited.files.busy())

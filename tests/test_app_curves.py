@@ -231,8 +231,8 @@ def test_the_selected_marker_is_plotted_with_its_gaps_shaded(qtbot, studio):
     label = overlay.markers.labels[marker]
     assert plot.columns[-3:] == (f"{label}.x", f"{label}.y", f"{label}.z")
     np.testing.assert_array_equal(plot.values[:, -3:], overlay.positions[:, marker])
-    np.testing.assert_array_equal(plot._span_frames, gap_spans(overlay.positions[:, marker]))
-    assert len(plot._spans) == len(plot._span_frames) > 0
+    np.testing.assert_array_equal(plot.spans, gap_spans(overlay.positions[:, marker]))
+    assert len(plot.spans) > 0
 
 
 def test_a_hidden_dock_costs_nothing_and_catches_up_when_shown(walk):

@@ -43,7 +43,7 @@ def test_the_longest_gap_of_a_marker_is_shaded_over_its_frames(studio):
     margin = max(stop - start, 20)
     state.select(None)
     state.select_marker(marker)
-    np.testing.assert_array_equal(plot._span_frames, gap_spans(overlay.positions[:, marker]))
+    np.testing.assert_array_equal(plot.spans, gap_spans(overlay.positions[:, marker]))
     plot.plot_item.showGrid(x=False, y=False)
     plot.view_box.setXRange(start - margin, stop + margin, padding=0)
     state.set_frame(max(start - margin - 50, 0))  # the cursor out of view

@@ -1,4 +1,7 @@
-"""Comparison layers in the window: ghosts, the error view, the error plot, live after edits."""
+"""Comparison layers in the window: ghosts, the error view, the error plot, live after edits;
+the Layers and Error docks hidden until a layer is added (the Error dock not for a marker
+layer, neither shown again for a mere change) and where they go, File > Compare with..., and
+the inspector's comparison section."""
 
 from __future__ import annotations
 
@@ -6,13 +9,18 @@ import dataclasses
 
 import numpy as np
 import pytest
-from PyQt6.QtWidgets import QApplication
+from PyQt6.QtCore import Qt
+from PyQt6.QtWidgets import QApplication, QDockWidget, QFrame, QMainWindow, QScrollArea
 
 from gmr_studio.app.model import commands
+from gmr_studio.app.model.state import Snapshot
 from gmr_studio.app.scene.ghost_layer import error_colours
 from gmr_studio.app.scene.vtk_parts import rgb_bytes
+from gmr_studio.app.window import layout
 from gmr_studio.core.compare import compare_motions
-from gmr_studio.core.formats import read_motion
+from gmr_studio.core.demo import MARKERS_FILE, MOTION_FILE, demo_folder
+from gmr_studio.core.formats import load_gmr, read_motion, write_motion
+from gmr_studio.core.markers import read_markers
 from tests import app_fixtures
 from tests.app_fixtures import open_file, screen_image
 from tests.conftest import shared_path
@@ -188,11 +196,10 @@ def test_a_bad_file_leaves_everything_as_it_was(studio, tmp_path):
     assert len(studio.layers) == 0 and studio.state.snapshot is document
     assert any("broken.bvh" in m for m in messages)
     # no joint in common: refused with a message, nothing added
-    from gmr_studio.app.model.state import Snapshot
-
-    motion = document.motion
+    motion = document.motion.frame_slice(slice(0, 30))
     renamed = dataclasses.replace(motion, names=tuple(f"other_{n}" for n in motion.names))
-    studio.files._on_compare_loaded(Snapshot.of(renamed), "renamed.gmr", False, joint_map=None)
+    write_motion(renamed, tmp_path / "renamed.gmr")
+    _compare(studio, tmp_path / "renamed.gmr")
     assert len(studio.layers) == 0 and studio.state.snapshot is document
     assert "Cannot compare with renamed.gmr: no joints matched" in messages[-1]
 
@@ -310,3 +317,106 @@ def test_an_edit_that_drops_joints_under_an_error_view_colours_the_new_documents
     assert studio.ghosts.error_joints.max() < state.motion.n_joints
     image = screen_image(studio)
     assert ((image[..., 0] > 200) & (image[..., 1] < 80) & (image[..., 2] < 80)).sum() > 0  # the worst in red
+
+
+# ------------------------------------------------------------ the window's wiring
+@pytest.fixture(scope="module")
+def short_walk():
+    return load_gmr(demo_folder() / MOTION_FILE).frame_slice(slice(0, 60))
+
+
+def docks(window) -> tuple[QDockWidget, QDockWidget]:
+    return window.findChild(QDockWidget, "layers"), window.findChild(QDockWidget, "error")
+
+
+def test_the_docks_made_hidden_and_where_they_go(studio):
+    layers_dock, error_dock = docks(studio)
+    scroll = layers_dock.widget()  # the Layers panel scrolls, grown to its dock's size
+    assert isinstance(scroll, QScrollArea) and scroll.widget() is studio.layers_panel
+    assert scroll.widgetResizable() and scroll.frameShape() == QFrame.Shape.NoFrame
+    assert error_dock.widget() is studio.error_plot
+    assert studio.error_dock is error_dock and studio.layers_panel.layers is studio.layers
+    assert layers_dock.isHidden() and error_dock.isHidden()
+    assert studio.dockWidgetArea(layers_dock) == Qt.DockWidgetArea.RightDockWidgetArea
+    assert studio.dockWidgetArea(error_dock) == Qt.DockWidgetArea.BottomDockWidgetArea
+    for dock in (layers_dock, error_dock):
+        assert dock.widget().minimumWidth() == layout.DOCK_MINIMUM
+        assert dock.toggleViewAction() in studio.view_menu.actions()
+    assert studio.ghosts in studio.view.scene.drawables
+
+
+def test_a_layer_shows_the_docks_once(studio, short_walk):
+    layers_dock, error_dock = docks(studio)
+    studio.state.open_document(Snapshot.of(short_walk), None)
+    layers = studio.layers
+    layers.add(Snapshot.of(short_walk), "twin.gmr")
+    QApplication.processEvents()
+    assert layers_dock.isVisible() and error_dock.isVisible()
+    assert layers_dock in studio.tabifiedDockWidgets(studio.forest_dock)  # a tab of the Forest
+    layers_dock.hide()
+    error_dock.hide()
+    layers.set_alignment(0, kind="rigid")  # a change, not a new layer: the docks stay hidden
+    layers.set_opacity(0, 0.5)
+    assert layers_dock.isHidden() and error_dock.isHidden()
+    layers.add_markers(read_markers(demo_folder() / MARKERS_FILE), "walk.trc")  # no error to plot
+    assert layers_dock.isVisible() and error_dock.isHidden()
+    layers_dock.hide()
+    layers.remove(1)
+    layers.remove(0)
+    assert layers_dock.isHidden()
+    layers.add(Snapshot.of(short_walk), "again.gmr")  # after removals: a new layer again
+    assert layers_dock.isVisible() and error_dock.isVisible()
+
+
+def test_the_first_layer_shares_the_column_with_the_inspector_evenly(studio, short_walk, qtbot):
+    layers_dock, _ = docks(studio)
+    inspector = studio.inspector_dock
+    studio.state.open_document(Snapshot.of(short_walk), None)
+    QApplication.processEvents()
+    studio.layers.add(Snapshot.of(short_walk), "twin.gmr")
+    # once laid out: even (the Layers tab's bar, about 25 pixels, above its dock)
+    qtbot.waitUntil(lambda: 0 <= inspector.height() - layers_dock.height() <= 40, timeout=3000)
+    assert layers_dock.height() > 100
+    studio.resizeDocks([layers_dock, inspector], [120, 400], Qt.Orientation.Vertical)  # the user's split
+    qtbot.waitUntil(lambda: inspector.height() - layers_dock.height() > 150, timeout=3000)
+    before = inspector.height()
+    studio.layers.add(Snapshot.of(short_walk), "third.gmr")  # the Layers tab in sight already: left as it is
+    qtbot.wait(50)
+    assert inspector.height() == before
+    layers_dock.hide()  # closed, then brought back by a new layer: shared evenly again
+    studio.layers.add(Snapshot.of(short_walk), "fourth.gmr")
+    qtbot.waitUntil(lambda: 0 <= inspector.height() - layers_dock.height() <= 40, timeout=3000)
+
+
+def test_file_compare_with(studio):
+    file_menu = studio.menuBar().actions()[0].menu()
+    texts = [a.text().replace("&", "") for a in file_menu.actions()[:3]]
+    assert texts[0].startswith("Open") and texts[1].startswith("Open recent") and texts[2] == "Compare with..."
+    action = file_menu.actions()[2]
+    assert action is studio.compare_action and action in QMainWindow.actions(studio)  # its shortcut works in the window
+    assert action.shortcut().toString() == "Ctrl+Shift+O"
+
+
+def test_the_inspector_follows_the_layers(studio, short_walk):
+    state = studio.state
+    state.open_document(Snapshot.of(short_walk), None)
+    state.set_frame(10)
+    state.select(0)
+    assert "Compared with" not in studio.inspector.text()
+    studio.layers.add(Snapshot.of(short_walk), "twin.gmr")
+    text = studio.inspector.text()
+    assert "Compared with twin.gmr" in text and "Position error" in text
+
+
+def test_the_dock_and_the_menu_ask_for_a_file_and_the_error_view_toggles(studio, short_walk, monkeypatch):
+    from gmr_studio.app.window import files
+
+    asked = []
+    monkeypatch.setattr(files.QFileDialog, "getOpenFileName", lambda *args: asked.append(args[1]) or ("", ""))
+    studio.state.open_document(Snapshot.of(short_walk), None)
+    studio.compare_action.trigger()
+    studio.layers_panel.compare_requested.emit()
+    assert asked == ["Compare with", "Compare with"]
+    shown = studio.ghosts.show_errors
+    studio.layers_panel.errors_toggled.emit(not shown)
+    assert studio.ghosts.show_errors == (not shown)

@@ -147,7 +147,7 @@ class StudioModel(RuleBasedStateMachine):
     def open_first(self, path: Path) -> None:
         while len(self.window.layers):  # each sequence starts without comparisons (replayable)
             self.window.layers.remove(0)
-        self._open(path)
+        self.load_document(path)
         motion = self.state.motion
         self.reference_names = list(motion.names)
         self.reference = self.state.positions
@@ -160,7 +160,7 @@ class StudioModel(RuleBasedStateMachine):
     def state(self):
         return self.window.state
 
-    def _open(self, path: Path) -> None:
+    def load_document(self, path: Path) -> None:
         self.since_io = 0
         self.window.files.open_path(str(path), ask=False, wait=True)
         assert self.state.path == Path(path), self.window.status.text()
@@ -180,7 +180,7 @@ class StudioModel(RuleBasedStateMachine):
         before_names, before = list(self.state.motion.names), self.state.positions
         assert self.window.files.save_to(target), self.window.status.text()
         assert not self.state.modified
-        self._open(target)
+        self.load_document(target)
         order = [before_names.index(name) for name in self.state.motion.names]
         assert np.abs(self.state.positions - before[:, order]).max() <= POSITION_TOLERANCE * self.size
 
@@ -203,7 +203,7 @@ class StudioModel(RuleBasedStateMachine):
             # LFingers_End split off: the file's LFingers_End sits at LFingers); not compared
             self.foreign |= {motion.names[j] for j in range(motion.n_joints) if motion.tree_roots[j] != root}
         self.state.undo_stack.setClean()  # exported, not saved: the user discards the edits
-        self._open(target)
+        self.load_document(target)
         if not per_tree:
             assert all(name in self.state.motion.names for name in roots)
 

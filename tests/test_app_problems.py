@@ -18,16 +18,18 @@ from PyQt6.QtWidgets import QApplication, QToolTip
 from gmr_studio.app.docks.range_slider import FLAG_HEIGHT
 from gmr_studio.app.media.video import image_pixels
 from gmr_studio.app.model import commands
+from gmr_studio.app.model import problems as problems_module
 from gmr_studio.app.model.problems import LEVEL_COLOURS, Problems, shown_limits
 from gmr_studio.app.model.state import Snapshot
 from gmr_studio.app.window.main_window import MainWindow
-from gmr_studio.core.checks import CheckSettings
+from gmr_studio.core.checks import CheckSettings, Finding
 from gmr_studio.core.kinematics.convention import pre_from_post
 from tests import app_fixtures
 from tests.app_fixtures import screen_image
 from tests.checks_walk import clean_walk
 from tests.conftest import shared_path
 from tests.test_app_cli import read_png
+from tests.test_app_problems_model import knocked_walk
 from tests.test_checks import with_translation
 
 pytestmark = pytest.mark.gui
@@ -297,3 +299,58 @@ def test_a_whole_pose_finding_fits_the_figure_to_the_view_the_docks_leave(studio
         assert rows.min() >= margin and rows.max() < figure.shape[0] - margin  # head and feet inside
         assert columns.min() >= margin and columns.max() < figure.shape[1] - margin
         assert rows.max() - rows.min() > 0.5 * figure.shape[0]  # and large: fitted, not lost in the view
+
+
+# --------------------------------------------------------- the window's wiring on a small walk
+def test_the_dock_is_made_hidden_in_the_analysis_area(studio):
+    dock = studio.problems_dock
+    assert dock.widget() is studio.problems_panel and dock.objectName() == "problems"
+    assert dock.isHidden() and studio.dockWidgetArea(dock) == Qt.DockWidgetArea.BottomDockWidgetArea
+    assert studio.problem_marks in studio.view.scene.drawables
+    assert studio.problems_count.textFormat() == Qt.TextFormat.RichText
+    assert studio.problems_count.text() == ""  # no motion: no count
+
+
+def test_a_chosen_finding_frames_its_joint_or_the_figure(studio):
+    state, scene = studio.state, studio.view.scene
+    state.open_document(Snapshot.of(knocked_walk()), None)
+    studio.problems.wait()
+    state.set_frame(5)
+    camera = scene.plotter.camera
+    for joint in (0, 10):
+        studio.problems_panel.joint_framed.emit(joint)
+        np.testing.assert_allclose(camera.GetFocalPoint(), state.positions[5, joint], atol=1e-9)
+    studio.problems_panel.joint_framed.emit(-1)
+    pose = state.positions[5, ~state.motion.anchors]  # the whole figure: the middle of its box
+    np.testing.assert_allclose(camera.GetFocalPoint(), (pose.min(axis=0) + pose.max(axis=0)) / 2, atol=1e-9)
+
+
+def test_the_count_and_the_marks_follow_the_findings(studio, monkeypatch):
+    state, problems, count, marks = studio.state, studio.problems, studio.problems_count, studio.problem_marks
+    state.open_document(Snapshot.of(knocked_walk(12)), None)
+    assert count.text() == '<a href="problems">Problems: checking\u2026</a>'
+    problems.wait()
+    assert count.text() == '<a href="problems">Problems: 1 error, 1 warning</a>'
+    assert marks.flags is problems.flags and marks.min_level == 1
+    problems.set_min_level(3)
+    assert marks.min_level == 3
+    found = []
+    monkeypatch.setattr(problems_module, "run_checks", lambda *args, **kwargs: list(found))
+    state.open_document(Snapshot.of(knocked_walk(12)), None)  # the checks (stood in for) find nothing
+    problems.wait()
+    assert count.text() == '<a href="problems">Problems: none</a>' and not marks.flags.any()
+    found.append(Finding("pop", (0,), ("Hips",), 2, 2, "info", 1.0, "m"))
+    state.open_document(Snapshot.of(knocked_walk(12)), None)
+    problems.wait()
+    assert count.text() == '<a href="problems">Problems: 1 info</a>' and marks.flags is problems.flags
+    assert marks.flags[2, 0] == 1 and marks.flags.sum() == 1
+
+
+def test_a_click_on_the_count_opens_the_dock(studio):
+    studio.state.open_document(Snapshot.of(knocked_walk(12)), None)
+    studio.problems.wait()
+    dock = studio.problems_dock
+    assert dock.isHidden()
+    studio.problems_count.linkActivated.emit("problems")
+    QApplication.processEvents()
+    assert dock.isVisible()

@@ -30,10 +30,10 @@ def test_an_edit_that_fails_unexpectedly_changes_nothing(qtbot, studio, crash_fo
     commands.split_here(studio.state, 5)
     before, count = studio.state.snapshot, studio.state.undo_stack.count()
 
-    def broken(motion, joint):
+    def broken(motion, joint, threads=None):
         raise RuntimeError("simulated bug in shift root")
 
-    monkeypatch.setattr(commands, "shift_root", broken)
+    monkeypatch.setattr(commands, "shift_root_edit", broken)
     assert commands.shift_root_to(studio.state, 3) is False
     assert studio.state.snapshot is before and studio.state.undo_stack.count() == count
     assert "failed unexpectedly: RuntimeError: simulated bug in shift root" in studio.status.text()
@@ -51,6 +51,7 @@ def test_running_out_of_memory_while_caching_an_edit_changes_nothing(qtbot, stud
         raise MemoryError("simulated: the forward kinematics cache does not fit")
 
     monkeypatch.setattr(commands.Snapshot, "of", staticmethod(no_memory))
+    monkeypatch.setattr(commands.Snapshot, "of_edit", staticmethod(lambda before, edited: no_memory(edited.motion)))
     assert commands.split_everything(studio.state) is False
     assert studio.state.snapshot is before and studio.state.undo_stack.count() == 0
     assert "MemoryError" in log_text(crash_folder)

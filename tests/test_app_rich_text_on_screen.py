@@ -1,6 +1,6 @@
 """RichText on screen (app/docks/rich_text.py): slots written only when their line is seen or
-the text is read, stale slots taking the owner's fresh text, and repaints kept to the lines
-rewritten, each alone, drawing what a whole repaint draws. The slots themselves, layout,
+the text is read, stale slots taking the owner's fresh text, and a rewritten line's repaint
+asked for that line, the screen showing what a whole repaint draws. The slots themselves, layout,
 selection and menu are in tests/test_app_rich_text.py."""
 
 from __future__ import annotations
@@ -73,42 +73,50 @@ def test_a_hidden_text_writes_nothing_until_read(qtbot):
     assert label.plain_text() == "c\nd" and label.slots_pending == 0
 
 
-def test_only_the_lines_rewritten_are_repainted_and_a_line_that_grows_repaints_all(qtbot):
-    from PyQt6.QtCore import QRect
+def assert_screen_shows_a_whole_repaint(area, label) -> None:
+    """The screen shows the text as a whole repaint draws it. (Another test's window on the
+    same X display may cover this one for a moment: raised and grabbed again.)"""
+    import time
+
+    from PyQt6.QtCore import QPoint
+    from PyQt6.QtGui import QGuiApplication
     from PyQt6.QtWidgets import QApplication
 
-    _area, label = _scrolled(qtbot, rows=6, height=400)  # every line on screen
+    from gmr_studio.app.media.video import image_pixels
+
     QApplication.processEvents()
-    painted: list[QRect] = []
-    paint = label.paintEvent
+    whole = image_pixels(label.grab().toImage())  # a grab paints the whole widget afresh
+    origin = label.mapTo(area, QPoint(0, 0))
+    for _attempt in range(20):
+        area.raise_()
+        QApplication.processEvents()
+        shown = QGuiApplication.primaryScreen().grabWindow(
+            int(area.winId()), origin.x(), origin.y(), label.width(), label.height()
+        )
+        if np.array_equal(image_pixels(shown.toImage()), whole):
+            return
+        time.sleep(0.05)
+    pytest.fail("the screen never showed what a whole repaint draws")
 
-    def noted(event) -> None:
-        painted.append(event.rect())
-        paint(event)
 
-    label.paintEvent = noted
-    layout = label.document.documentLayout()
-    line = layout.blockBoundingRect(label.document.firstBlock()).height()
+def test_a_line_rewritten_or_grown_shows_on_screen_as_a_whole_repaint_draws_it(qtbot):
+    from PyQt6.QtWidgets import QApplication
+
+    area, label = _scrolled(qtbot, rows=6, height=400)  # every line on screen
+    QApplication.processEvents()
     rows = [f"row {k} value 0" for k in range(6)]
     rows[3] = "row 3 value 2"
     label.setText(lines_page(rows))
-    QApplication.processEvents()
-    assert len(painted) == 1 and painted[0].width() == label.width()
-    top = RichText.MARGIN + layout.blockBoundingRect(label.document.findBlock(0).next().next().next()).top()
-    assert painted[0].top() == int(top) and painted[0].height() <= line + 3  # line 3 alone
-    painted.clear()
-    label.setText(lines_page(rows))  # nothing changed: nothing painted
-    QApplication.processEvents()
-    assert painted == []
+    assert_screen_shows_a_whole_repaint(area, label)
+    label.setText(lines_page(rows))  # nothing changed
+    assert_screen_shows_a_whole_repaint(area, label)
     paragraphs = "".join(f"<p style='margin:0'>{slot(row)}</p>" for row in rows)
-    label.setText(paragraphs)  # another text: parsed whole, painted whole
-    QApplication.processEvents()
-    painted.clear()
+    label.setText(paragraphs)  # another text: parsed whole
+    assert_screen_shows_a_whole_repaint(area, label)
     rows[1] = "a long value " * 12  # wraps: every line after it moves
     label.setText("".join(f"<p style='margin:0'>{slot(row.strip())}</p>" for row in rows))
     assert label.slots_held == 6 and label.slots_pending == 0  # written in place, and it grew
-    QApplication.processEvents()
-    assert painted and painted[0].height() >= label.height() - 1
+    assert_screen_shows_a_whole_repaint(area, label)
     assert label.minimumHeight() == round(label.document.size().height()) + 2 * RichText.MARGIN
 
 
@@ -155,16 +163,8 @@ def test_stale_slots_in_a_text_of_another_template_are_parsed_from_the_fresh_tex
     assert label.plain_text() == "other 5" and label.slots_held == 1 and label.slots_pending == 0
 
 
-def test_two_lines_rewritten_far_apart_are_drawn_each_alone_as_a_whole_repaint_draws_them(qtbot):
-    """The screen after the two lines' paint is what a whole repaint draws. (Another test's
-    window on the same X display may cover this one for a moment: raised and grabbed again.)"""
-    import time
-
-    from PyQt6.QtCore import QPoint
-    from PyQt6.QtGui import QGuiApplication
+def test_two_lines_rewritten_far_apart_show_on_screen_as_a_whole_repaint_draws_them(qtbot):
     from PyQt6.QtWidgets import QApplication
-
-    from gmr_studio.app.media.video import image_pixels
 
     area, label = _scrolled(qtbot, rows=8, height=400)  # every line on screen
 
@@ -175,97 +175,34 @@ def test_two_lines_rewritten_far_apart_are_drawn_each_alone_as_a_whole_repaint_d
     label.setText(page("1", "0.1", rows))
     QApplication.processEvents()
     rows[1], rows[6] = "row 1 value 12345", "row 6 value 9"
-    label.setText(page("2", "0.2", rows))  # the first line asked for twice: drawn once
-    QApplication.processEvents()
-    line = label.document.documentLayout().blockBoundingRect(label.document.firstBlock()).height()
-    assert len(label.painted) == 3  # the first line, lines 1 and 6, not the four between them
-    assert all(rect.height() <= line + 3 for rect in label.painted)
-    assert label.painted[2].top() - label.painted[1].top() >= 4 * line
-    whole = image_pixels(label.grab().toImage())  # a grab paints the whole widget
-    assert len(label.painted) == 1 and label.painted[0] == label.rect()
-    origin = label.mapTo(area, QPoint(0, 0))
-    for _attempt in range(20):
-        area.raise_()
-        QApplication.processEvents()
-        shown = QGuiApplication.primaryScreen().grabWindow(
-            int(area.winId()), origin.x(), origin.y(), label.width(), label.height()
-        )
-        if np.array_equal(image_pixels(shown.toImage()), whole):
-            break
-        time.sleep(0.05)
-    else:
-        pytest.fail("the screen never showed what a whole repaint draws")
+    label.setText(page("2", "0.2", rows))  # the first line asked for twice
+    assert_screen_shows_a_whole_repaint(area, label)
 
 
-def _paint_event(*rects):
-    from PyQt6.QtGui import QPaintEvent, QRegion
-
-    region = QRegion()
-    for rect in rects:
-        region = region.united(QRegion(rect))
-    return QPaintEvent(region)
-
-
-def test_the_lines_asked_for_are_drawn_each_once_touching_ones_together(qtbot):
-    """The parts a paint draws when the exposed region is only the lines asked for: sorted
-    from the top, a line that overlaps or touches (starts on the row after) the one before
-    it joined to it, one a row apart or more kept apart; a line asked for outside the
-    region left out; a region with more than the lines in it drawn whole."""
-    from PyQt6.QtCore import QRect
-
-    label = RichText()
-    qtbot.addWidget(label)
-    first, touching = QRect(0, 10, 100, 10), QRect(0, 20, 100, 10)  # rows 10-19 and 20-29
-    apart, after = QRect(0, 31, 100, 5), QRect(0, 36, 100, 4)  # rows 31-35 (row 30 between) and 36-39
-    overlapping, outside = QRect(0, 38, 100, 6), QRect(0, 90, 100, 5)  # rows 38-43; not exposed
-    label._asked = [after, touching, outside, first, overlapping, apart]
-    parts = label._parts_to_paint(_paint_event(first, touching, apart, after, overlapping))
-    assert parts == [QRect(0, 10, 100, 20), QRect(0, 31, 100, 13)]
-    assert label._asked == []  # taken
-    label._asked = [QRect(0, 10, 100, 10), QRect(0, 10, 100, 10)]  # a line asked for twice (two slots)
-    assert label._parts_to_paint(_paint_event(QRect(0, 10, 100, 10))) == [QRect(0, 10, 100, 10)]
-    label._asked = [QRect(0, 10, 100, 10)]
-    exposed = _paint_event(QRect(0, 10, 100, 10), QRect(0, 50, 30, 5))  # more than the line: the whole rect
-    assert label._parts_to_paint(exposed) == [QRect(0, 10, 100, 45)]
-    label._asked = [QRect(0, 10, 300, 10)]  # wider than the exposed part: cut to it
-    assert label._parts_to_paint(_paint_event(QRect(0, 10, 100, 10))) == [QRect(0, 10, 100, 10)]
-
-
-def test_a_line_meets_a_part_of_the_text_it_touches(qtbot):
-    """A slot's line is in a part of the document (on screen, or painted) when it overlaps it
-    or touches it: its bottom at the part's top, or its top at the part's bottom."""
-    from PyQt6.QtCore import QRectF
-
-    label = RichText()
-    qtbot.addWidget(label)
-    label.setText(lines_page(["a", "b", "c", "d"]))
-    tops = [held.top for held in label._slots]
-    bottoms = [held.bottom for held in label._slots]
-    assert tops[1] == bottoms[0] and tops[1] > 0  # lines one after the other
-    assert label._lines_meeting(QRectF(0, 0, 1, tops[2])) == [True, True, True, False]  # to line 2's top
-    assert label._lines_meeting(QRectF(0, bottoms[1], 1, 0.5)) == [False, True, True, False]  # from line 1's bottom
-    assert label._lines_meeting(QRectF(0, bottoms[1] + 0.5, 1, 0.25)) == [False, False, True, False]
-    assert label._lines_meeting(None) == [False] * 4
-
-
-def test_a_line_rewritten_is_repainted_whole_and_at_most_two_rows_beyond(qtbot):
-    """The part repainted for a rewritten line covers its block (whole pixels) and reaches at
-    most two rows past it: the rows of its glyphs, none of the next lines'."""
+def test_a_line_rewritten_asks_for_a_repaint_of_its_whole_line_and_at_most_two_rows_beyond(qtbot):
+    """The part a rewritten line asks to be repainted covers its block (whole pixels) and
+    reaches at most two rows past it: the rows of its glyphs, none of the next lines'."""
     from PyQt6.QtWidgets import QApplication
 
     _area, label = _scrolled(qtbot, rows=6, height=400)
     QApplication.processEvents()
     layout = label.document.documentLayout()
+    asked = []
+    update = label.update
+    label.update = lambda *rect: asked.append(rect) or update(*rect)  # QWidget.update, noted
     for k in (0, 3, 5):
         rows = [f"row {j} value 0" for j in range(6)]
         rows[k] = f"row {k} value {k + 10}"
+        asked.clear()
         label.setText(lines_page(rows))
-        (asked,) = label._asked
-        block = layout.blockBoundingRect(label.document.findBlock(label._slots[k].start))
-        top, bottom = RichText.MARGIN + block.top(), RichText.MARGIN + block.bottom()
-        assert asked.top() <= top and asked.top() + asked.height() >= bottom, k  # the whole line
-        assert asked.top() > top - 1 and asked.top() + asked.height() <= bottom + 2, k
-        assert asked.left() == 0 and asked.width() == label.width()
+        ((rect,),) = asked
+        block = label.document.findBlockByNumber(k)
+        assert block.text() == rows[k]
+        box = layout.blockBoundingRect(block)
+        top, bottom = RichText.MARGIN + box.top(), RichText.MARGIN + box.bottom()
+        assert rect.top() <= top and rect.top() + rect.height() >= bottom, k  # the whole line
+        assert rect.top() > top - 1 and rect.top() + rect.height() <= bottom + 2, k
+        assert rect.left() == 0 and rect.width() == label.width()
         QApplication.processEvents()
         label.setText(lines_page([f"row {j} value 0" for j in range(6)]))
         QApplication.processEvents()

@@ -33,14 +33,19 @@ def send(widget, kind: QEvent.Type, x: float, buttons, modifiers) -> None:
     QApplication.processEvents()
 
 
-def test_range_start_and_end_rules():
-    assert range_starting_at(None, 40, 100) == (40, 100)
-    assert range_starting_at((10, 60), 40, 100) == (40, 60)
-    assert range_starting_at((10, 30), 40, 100) == (40, 100)  # the old end is before: to the end
-    assert range_ending_at(None, 40) == (0, 41)
-    assert range_ending_at((10, 60), 40) == (10, 41)
-    assert range_ending_at((50, 60), 40) == (0, 41)  # the old start is after: from frame 0
-    assert range_ending_at((40, 60), 40) == (40, 41)
+def test_a_range_starting_at_a_frame_keeps_a_stop_after_it_else_runs_to_the_end():
+    assert range_starting_at(None, 5, 100) == (5, 100)
+    assert range_starting_at((2, 10), 5, 100) == (5, 10)
+    assert range_starting_at((2, 6), 5, 100) == (5, 6)  # the stop just after the frame: kept
+    assert range_starting_at((2, 5), 5, 100) == (5, 100)  # the stop at the frame: to the end
+    assert range_starting_at((2, 3), 5, 100) == (5, 100)
+
+
+def test_a_range_ending_at_a_frame_includes_it_and_keeps_a_start_not_after_it():
+    assert range_ending_at(None, 5) == (0, 6)
+    assert range_ending_at((3, 10), 5) == (3, 6)
+    assert range_ending_at((5, 10), 5) == (5, 6)  # the start at the frame: kept
+    assert range_ending_at((6, 10), 5) == (0, 6)  # the start after it: from frame 0
 
 
 def test_shift_drag_on_the_slider_selects_the_range_and_shades_it(studio):

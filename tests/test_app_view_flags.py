@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from gmr_studio.app.arguments import build_arguments
-from gmr_studio.app.main import _apply_steps_once_loaded
+from gmr_studio.app.main import apply_steps_once_loaded
 from gmr_studio.app.model.edit_steps import apply_steps
 from gmr_studio.app.tools.gallery import dilate, figure_mask
 from gmr_studio.core.edits.operations import shift_root, split, split_all
@@ -67,7 +67,7 @@ def test_a_refused_or_unknown_edit_stops_the_steps_with_its_message(qtbot, studi
 def test_the_window_opens_with_the_edits_applied_unsaved_and_undoable(qtbot, studio):
     path = shared_path(CMU)
     steps = build_arguments().parse_args([str(path), "--split", "LeftUpLeg", "--shift-root", "RightHand"]).steps
-    _apply_steps_once_loaded(studio, steps)
+    apply_steps_once_loaded(studio, steps)
     open_file(studio, path)
     motion = load_gmr(path)
     expected = shift_root(split(motion, "LeftUpLeg"), "RightHand")

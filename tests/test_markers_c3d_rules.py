@@ -139,6 +139,7 @@ def test_the_child_process_command_and_limits(tmp_path, monkeypatch):
     assert options["stdin"] == subprocess.DEVNULL
     assert options["env"]["OMP_NUM_THREADS"] == options["env"]["OPENBLAS_NUM_THREADS"] == "1"
     # a file of 100 MB asks for 6.4 GB, above the 4 GB floor; a timeout given is used as it is
+    # (private: a 100 MB file would be needed to reach this size through read_markers)
     fake.calls.clear()
     again = c3d_module._decode_in_child(path, str(path), 100_000_000, 3.4)
     np.testing.assert_array_equal(again["points"], points)

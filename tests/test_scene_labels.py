@@ -1,4 +1,4 @@
-"""Screen-space labels in a scene (app/scene/labels.py, SkeletonScene._draw_labels_last):
+"""Screen-space labels in a scene (app/scene/labels.py, drawn after everything else by the scene):
 placed at every render at the joints' display pixels, drawn after every other actor, in
 front of the figure."""
 

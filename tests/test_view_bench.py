@@ -20,7 +20,8 @@ def test_the_view_bench_prints_every_figure():
     result = subprocess.run(command, capture_output=True, text=True, timeout=600)
     assert result.returncode == 0, result.stderr
     out = result.stdout
-    for text in ("bare VTK widget", "x bare", "+ axes, trail, labels", "+ one comparison layer", "inspector text"):
+    figures = ("bare VTK widget", "x bare", "+ axes, trail, labels", "+ one comparison layer", "inspector text")
+    for text in (*figures, "renders a frame (default figure): "):
         assert text in out, out
     assert "native widget" in out and "framebuffer widget" in out and "failed" not in out, out
     # every figure with the Curves tab in front (adding a layer raises the Error tab over it)

@@ -97,10 +97,15 @@ def test_one_colour_or_a_colour_per_glyph():
     assert empty.actor.GetMapper().GetScalarVisibility() == 0 and empty.n_points == 0
 
 
+def one_vertex_a_point(n: int) -> np.ndarray:
+    """The cell array of ``n`` vertex cells, one per point: ``1 0 1 1 1 2 ...``."""
+    return np.column_stack([np.ones(n, dtype=np.int64), np.arange(n)]).ravel()
+
+
 def test_spheres_are_vertex_cells_with_float32_radii_and_nan_rows_get_radius_zero():
     part = parts.sphere_part(4, 0.25)
-    np.testing.assert_array_equal(parts._vertex_cells(3), [1, 0, 1, 1, 1, 2])
-    np.testing.assert_array_equal(part.mesh.verts, parts._vertex_cells(4))
+    np.testing.assert_array_equal(one_vertex_a_point(3), [1, 0, 1, 1, 1, 2])
+    np.testing.assert_array_equal(part.mesh.verts, one_vertex_a_point(4))
     radii = part.mesh.point_data["radius"]
     assert radii.dtype == np.float32
     np.testing.assert_array_equal(radii, [0.25] * 4)
@@ -175,7 +180,7 @@ def test_bones_run_between_their_joints_as_float32_directions_and_scales():
     # before the first placing: unit x, no length, the radius
     np.testing.assert_array_equal(direction, [[1, 0, 0]] * 3)
     np.testing.assert_allclose(scale, [[0, 0.1, 0.1]] * 3, rtol=1e-6)
-    np.testing.assert_array_equal(part.mesh.verts, parts._vertex_cells(3))
+    np.testing.assert_array_equal(part.mesh.verts, one_vertex_a_point(3))
     address = _points_address(part)
     part.set_joints(joints)
     np.testing.assert_allclose(part.mesh.points, [[0, 1, 0], [0.15, 2, 0.2], [5, 5, 5]])

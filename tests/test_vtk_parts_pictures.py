@@ -98,7 +98,7 @@ def first_label_tile(part) -> np.ndarray:
     image_data = part.actor.GetTexture().GetInput()
     width, height, _ = image_data.GetDimensions()
     atlas = vtk_to_numpy(image_data.GetPointData().GetScalars()).reshape(height, width, 4).astype(int)
-    w, h = (int(v) for v in part._boxes[0])
+    w, h = int(part.widths()[0]), int(part.heights()[0])
     return atlas[:h, :w]
 
 

@@ -1,5 +1,5 @@
 """A small synthetic skeleton in an off-screen scene, for the drawables' tests
-(``tests/test_scene_*_mutants.py``): positions written out by hand, a real
+(``tests/test_scene_*.py``): positions written out by hand, a real
 :class:`~app.scene.scene.SkeletonScene` in an off-screen PyVista plotter, no window.
 
 The figure (:func:`figure_motion`), frame ``f`` shifted by ``0.05 f`` along x::

@@ -176,6 +176,11 @@ class TimePlot(QWidget):
             self.plot_item.addItem(item, ignoreBounds=True)
             self._spans.append(item)
 
+    @property
+    def spans(self) -> np.ndarray:
+        """(G, 2) the shaded frame ranges, half-open, as last given to :meth:`set_spans`."""
+        return self._span_frames.copy()
+
     def set_x_unit(self, unit: str, frame_time: float) -> None:
         """Show x in ``"frames"`` or ``"seconds"`` (``frame_time`` seconds per frame)."""
         if unit not in ("frames", "seconds"):

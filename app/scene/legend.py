@@ -70,11 +70,6 @@ def legend_layout(top: float, units: str, colours: Callable[[np.ndarray], np.nda
     return image, np.array(boxes, dtype=np.int64)
 
 
-def legend_image(top: float, units: str, colours: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
-    """(H, W, 4) uint8 RGBA, rows bottom first: the legend's picture (:func:`legend_layout`)."""
-    return legend_layout(top, units, colours)[0]
-
-
 def legend_fit(view: tuple[int, int], image: tuple[int, int]) -> tuple[float, float]:
     """(shift, scale) of a legend of ``image`` (width, height) pixels in a view of ``view``
     (width, height) pixels: shrunk (never enlarged) to at most :data:`FIT_HEIGHT` of the

@@ -94,7 +94,7 @@ def edits(motion) -> list[tuple[str, str, Callable, Callable]]:
     from gmr_studio.core.edits.dummies import remove_dummies
     from gmr_studio.core.edits.mirror import mirror
     from gmr_studio.core.edits.operations import join, join_all, shift_root, split, split_all
-    from gmr_studio.core.space.conversions import change_up_axis, scale_lengths
+    from gmr_studio.core.edits.world import change_up_axis, scale_lengths
 
     foot, forearm = motion.joint_index("LeftFoot"), motion.joint_index("RightForeArm")
     half = (motion.n_frames // 4, 3 * motion.n_frames // 4)

@@ -21,7 +21,9 @@ median of the rounds' own ratios, so that a machine whose speed changes during t
 shared one does, from one second to the next) weighs on both sides of each ratio alike
 (a few long rounds let the ratios swing from run to run);
 - the docks' own costs, each timed alone: the inspector's text, the curves' cursor (moved
-  and repainted), the foot contacts' bars (cursor moved and repainted).
+  and repainted), the foot contacts' bars (cursor moved and repainted);
+- the view's renders a frame in the default figure (one is the aim: every drawable is
+  written first, then the view is drawn once).
 
 Each figure is given twice: wall time (with fps) and the process's CPU time per frame, all
 threads (on a machine shared with other work the wall time includes waiting for a core).
@@ -214,13 +216,20 @@ def measure(width: int, height: int, frames: int, bare: list[float] | None, roun
     }
     other = load_snapshot(data / AMC)
     block = max(frames // rounds, 1)
+    renders: list[int] = []
+    render_window = window.view.scene.plotter.ren_win
+    observer = render_window.AddObserver("EndEvent", lambda *_: renders.append(1))
+    default_renders = default_steps = 0
     measured: dict[str, list[list[float]]] = {name: [] for name in ("bare", "default", "overlays", "layer")}
     for index in range(rounds):
         first = FIRST + index * block  # every figure of the round over these frames
         reference = bare if bare is not None else bare_reference(app, *figures["view"], block, state.positions)
         measured["bare"].append(reference)
         figures["docks shown"] = _raise(app, window.forest_dock, window.curves_dock)
+        before = len(renders)
         measured["default"].append(_frames(app, state, first, block))
+        default_renders += len(renders) - before
+        default_steps += WARM_UP + block
         for name in ("axes", "trails", "labels"):
             state.set_overlay(name, True)
         measured["overlays"].append(_frames(app, state, first, block))
@@ -232,6 +241,8 @@ def measure(width: int, height: int, frames: int, bare: list[float] | None, roun
         measured["layer"].append(_frames(app, state, first, block))
         window.layers.remove(0)
         app.processEvents()
+    render_window.RemoveObserver(observer)
+    figures["renders a frame"] = default_renders / max(default_steps, 1)
     for name, values in measured.items():
         figures[name] = np.median(np.array(values), axis=0).tolist()
     figures["ratios"] = {
@@ -269,6 +280,7 @@ def report(figures: dict) -> None:
         print(f"  {label:<38} {wall:7.2f} ms  {1000 / wall:5.0f} fps  {ratio:15}  {cpu:5.2f} ms  {cpu_ratio}")
     docks = ", ".join(f"{name} {ms:.2f} ms" for name, ms in figures["docks"].items())
     print(f"  docks, each alone: {docks}")
+    print(f"  renders a frame (default figure): {figures['renders a frame']:.2f}")
     shown, with_layer = (", ".join(figures[key]) for key in ("docks shown", "docks shown with the layer"))
     print(f"  docks shown: {shown}; with the layer: {with_layer}")
 

@@ -157,7 +157,7 @@ def _heuristic_alignment(all_markers: np.ndarray, joints: np.ndarray, marker_uni
     marker_up, joint_up = axis_index(detect_up_axis(markers)), axis_index(detect_up_axis(joints))
     marker_height = median_extents(markers)[marker_up]
     joint_height = median_extents(joints)[joint_up]
-    ratio = joint_height / marker_height if marker_height > 0 else 1.0
+    ratio = joint_height / marker_height if marker_height > 0 and joint_height > 0 else 1.0  # a figure of one point
     scale, unit_note = ratio, "scale from the figure's height"
     marker_unit = parse_unit(marker_units)
     if marker_unit is not None:

@@ -286,26 +286,28 @@ class Motion:
     def anchors(self) -> np.ndarray:
         """(J,) bool: joints that only pin the figure to a fixed point, not part of it.
 
-        An anchor has one neighbour (counting bones and soft links alike, so shift root,
-        split and join do not change it), never moves, and that neighbour does: the ``Root``
-        left at the world origin by many game and dataset exports while the hips below it
-        carry the walk. A still motion (a T-pose) has none.
+        An anchor never moves and every link it has (bones and soft links alike, so shift
+        root, split and join do not change it) stretches: the ``Root`` left at the world
+        origin by many game and dataset exports while the hips below it carry the walk, or
+        the ``World`` root a forest is exported under. A joint whose link to a neighbour
+        keeps its length is part of the figure, and a still motion (a T-pose) has none.
         """
         points = self.sampled_positions
-        degree = np.zeros(self.n_joints, np.int64)
-        neighbour = np.full(self.n_joints, -1, np.int64)
-        for links in (self.parents, self.soft_parents):
-            child = np.flatnonzero(links >= 0)
-            np.add.at(degree, child, 1)
-            np.add.at(degree, links[child], 1)
-            neighbour[child] = links[child]
-            neighbour[links[child]] = child  # only read where the degree is 1
+        ends = [(np.flatnonzero(links >= 0), links) for links in (self.parents, self.soft_parents)]
+        child = np.concatenate([c for c, _ in ends])
+        parent = np.concatenate([links[c] for c, links in ends])
         extent = float(np.max(points.max(axis=(0, 1)) - points.min(axis=(0, 1))))
         spread = np.abs(points - points.mean(axis=0)).max(axis=(0, 2))  # (J,)
         still = spread <= STILL_RELATIVE_TOLERANCE * extent
-        moves = spread > MOVING_RELATIVE_TOLERANCE * extent
-        anchor = (degree == 1) & still
-        anchor[anchor] &= moves[neighbour[anchor]]
+        length = np.linalg.norm(points[:, child] - points[:, parent], axis=-1)  # (F, links)
+        rigid = np.ptp(length, axis=0) <= MOVING_RELATIVE_TOLERANCE * extent
+        linked = np.zeros(self.n_joints, np.int64)
+        np.add.at(linked, child, 1)
+        np.add.at(linked, parent, 1)
+        held = np.zeros(self.n_joints, np.int64)  # links that keep their length
+        np.add.at(held, child[rigid], 1)
+        np.add.at(held, parent[rigid], 1)
+        anchor = still & (linked > 0) & (held == 0)
         return _readonly(anchor)
 
     @cached_property

@@ -1,7 +1,9 @@
-"""The figure (app/scene/figure.py, issue 24) on a tiny synthetic skeleton
-(:mod:`tests.tiny_scene`): which joint pairs are bones and which are dashed links, the
-parts' sizes as fractions of the motion's size, their colours per tree, the points written
-in place each frame, and the selection ring shown only with a selection."""
+"""The figure as drawn (app/scene/figure.py) on a tiny synthetic skeleton (:mod:`tests.tiny_scene`):
+which joint pairs are bones and which are dashed links, each tree in its colour, joints and
+bones sized to the motion, the points written in place each frame, a tint that draws some
+joints otherwise until cleared, the selection's ring around its joint shown only with a
+selection, and the picture: a joint's disc, its bones and the ring where and as large as
+they should be."""
 
 from __future__ import annotations
 
@@ -9,7 +11,16 @@ import numpy as np
 import pytest
 
 from gmr_studio.app.model.tree_colors import PALETTE
-from gmr_studio.app.scene.figure import SkeletonFigure, SoftLinks, dash_points, figure_bones
+from gmr_studio.app.scene.figure import (
+    BONE_RADIUS,
+    JOINT_RADIUS,
+    SELECTION_COLOR,
+    SOFT_LINK_COLOR,
+    SkeletonFigure,
+    SoftLinks,
+    dash_points,
+    figure_bones,
+)
 from gmr_studio.app.scene.vtk_parts import rgb_bytes
 from tests.tiny_scene import (
     FIGURE_SIZE,
@@ -61,7 +72,7 @@ def test_the_figures_parts_their_sizes_and_colours():
     with scene_of(snapshot_of(figure_motion())) as scene:
         figure = scene.figure
         assert scene.snapshot.motion.size == pytest.approx(FIGURE_SIZE)
-        r = 0.016 * FIGURE_SIZE
+        r = JOINT_RADIUS * FIGURE_SIZE
         assert set(figure.parts) == {"joints", "roots", "bones", "selection"}
         for part in figure.parts.values():
             assert holds(scene.plotter.renderer, part.actor) and not holds(scene.front_renderer, part.actor)
@@ -72,20 +83,22 @@ def test_the_figures_parts_their_sizes_and_colours():
         assert roots.n_points == 2 and figure.roots.tolist() == [0, 4]
         np.testing.assert_array_equal(roots.mesh.point_data["colors"], rgb_bytes(PALETTE[[0, 1]]))
         cube = np.reshape(roots.actor.GetMapper().GetSource().GetBounds(), (3, 2))
-        np.testing.assert_allclose(cube, np.broadcast_to([-1.5 * r, 1.5 * r], (3, 2)), rtol=1e-6)
+        assert (cube[:, 0] < -r).all() and (cube[:, 1] > r).all()  # a root's cube holds its joint's sphere
+        np.testing.assert_allclose(cube[:, 0], -cube[:, 1])  # centred on it
         bones = figure.parts["bones"]
         assert bones.pairs.tolist() == [[2, 1], [3, 2], [5, 4]]
-        assert bones.radius == pytest.approx(0.0065 * FIGURE_SIZE)
-        np.testing.assert_array_equal(bones.mesh.point_data["colors"], rgb_bytes(0.85 * PALETTE[[0, 0, 1]]))
+        assert bones.radius == pytest.approx(BONE_RADIUS * FIGURE_SIZE) and bones.radius < r
+        colours = np.asarray(bones.mesh.point_data["colors"]).astype(float)
+        trees = rgb_bytes(PALETTE[[0, 0, 1]]).astype(float)
+        cosine = (colours * trees).sum(axis=1) / np.linalg.norm(colours, axis=1) / np.linalg.norm(trees, axis=1)
+        assert (cosine > 0.999).all() and (colours.sum(axis=1) < trees.sum(axis=1)).all()  # each tree's, darker
         ring = figure.parts["selection"]
-        assert ring.n_points == 1 and ring.radius == pytest.approx(1.9 * r)
+        assert ring.n_points == 1 and r < ring.radius < 3 * r  # around the joint
         circle = np.asarray(ring.circle.points)
-        np.testing.assert_allclose(np.linalg.norm(circle[:, :2], axis=1), 1.9 * r, rtol=1e-12)
+        np.testing.assert_allclose(np.linalg.norm(circle[:, :2], axis=1), ring.radius, rtol=1e-12)
         assert not circle[:, 2].any()  # in the follower's x-y plane, which it turns to the camera
         assert ring.actor.GetCamera() is scene.plotter.renderer.GetActiveCamera()
-        prop = ring.actor.GetProperty()
-        assert prop.GetLineWidth() == pytest.approx(2.5)
-        assert prop.GetColor() == pytest.approx((1.0, 0.85, 0.1))  # yellow
+        assert ring.actor.GetProperty().GetColor() == pytest.approx(SELECTION_COLOR)
 
 
 def test_a_frame_is_written_into_the_same_arrays():
@@ -110,7 +123,7 @@ def test_a_frame_is_written_into_the_same_arrays():
 
 def test_a_tint_draws_some_joints_in_other_colours_and_sizes_until_cleared():
     snapshot = snapshot_of(figure_motion())
-    r, big = 0.016 * FIGURE_SIZE, 0.021 * FIGURE_SIZE
+    r, big = JOINT_RADIUS * FIGURE_SIZE, 1.3 * JOINT_RADIUS * FIGURE_SIZE
     own = rgb_bytes(PALETTE[TREES])
     with scene_of(snapshot) as scene:
         figure = scene.figure
@@ -140,20 +153,14 @@ def test_a_tint_draws_some_joints_in_other_colours_and_sizes_until_cleared():
         np.testing.assert_allclose(joints.mesh.point_data["radius"], r, rtol=1e-6)
         figure.clear_tint()  # nothing tinted: nothing to do
         np.testing.assert_array_equal(joints.mesh.point_data["colors"], own)
-    with scene_of(snapshot_of(figure_motion())) as scene:  # re-tinting the same joints: no new radii
-        joints = scene.figure.parts["joints"]
-        scene.figure.tint_joints(np.array([1, 5]), rgb, big)
-        radius = joints.mesh.GetPointData().GetArray("radius")
-        stamp = radius.GetMTime()
-        scene.figure.tint_joints(np.array([1, 5]), rgb[::-1], big)  # a frame's new colours
-        assert radius.GetMTime() == stamp
-        np.testing.assert_array_equal(np.asarray(joints.mesh.point_data["colors"])[[1, 5]], rgb[::-1])
     two_joints = np.array([[[0.0, 0.0, 0.0], [0.0, 1.0, 0.0]]] * 2)  # (frames, joints, 3)
     with scene_of(snapshot_of(figure_motion())) as scene:  # a tint one past the new figure's joints dropped
         scene.figure.tint_joints(np.array([0, 2]), rgb, big)
         scene.set_snapshot(snapshot_of(posed_motion(["a", "b"], [-1, 0], two_joints)), reset_camera=False)
         assert scene.figure.tint is None
-        np.testing.assert_allclose(scene.figure.parts["joints"].sizes, 0.016 * scene.snapshot.motion.size, rtol=1e-6)
+        np.testing.assert_allclose(
+            scene.figure.parts["joints"].sizes, JOINT_RADIUS * scene.snapshot.motion.size, rtol=1e-6
+        )
     with scene_of(snapshot_of(figure_motion())) as scene:  # a smaller figure: a tint beyond its joints dropped
         figure = scene.figure
         figure.tint_joints(np.array([5]), rgb[:1], big)
@@ -162,7 +169,7 @@ def test_a_tint_draws_some_joints_in_other_colours_and_sizes_until_cleared():
         figure.tint_joints(np.array([], np.int64), np.zeros((0, 3), np.uint8), big)  # no joint: nothing drawn otherwise
         assert figure.tint is not None
         scene.redraw(figure)
-        assert figure.parts["joints"].sizes.tolist() == pytest.approx([0.016 * scene.snapshot.motion.size] * 2)
+        assert figure.parts["joints"].sizes.tolist() == pytest.approx([JOINT_RADIUS * scene.snapshot.motion.size] * 2)
 
 
 def test_the_ring_shows_with_a_selection_only():
@@ -199,9 +206,8 @@ def test_soft_links_are_dashed_grey_lines_between_the_linked_joints():
         assert holds(scene.plotter.renderer, part.actor)
         lines = part.mesh.lines.reshape(-1, 3)
         np.testing.assert_array_equal(lines, np.column_stack([np.full(16, 2), np.arange(32).reshape(16, 2)]))
-        prop = part.actor.GetProperty()
-        assert prop.GetLineWidth() == pytest.approx(1.5)
-        assert prop.GetColor() == pytest.approx((0.62, 0.62, 0.66))
+        assert part.actor.GetProperty().GetColor() == pytest.approx(SOFT_LINK_COLOR)
+        assert max(SOFT_LINK_COLOR) - min(SOFT_LINK_COLOR) < 0.1  # grey
         scene.show_frame(1)
         positions = snapshot.positions[1]
         expected = dash_points(positions[[4, 1]], positions[[2, 0]]).reshape(-1, 3)
@@ -234,10 +240,10 @@ def _yellow(image: np.ndarray) -> np.ndarray:
 
 
 def test_the_picture_a_joint_its_bones_and_the_ring_in_their_colours_and_sizes():
-    """Chest (frame 0, at (0, 0.2)) seen from above, 1000 pixels a unit: its sphere 12.8
-    pixels round in its tree's blue, the bones up to Head and down to Hips 5.2 pixels
-    thick, the selection's yellow ring 24.3 pixels round and 2.5 wide, the joint showing
-    through it."""
+    """Chest (frame 0, at (0, 0.2)) seen from above, 1000 pixels a unit: its sphere a disc
+    of its radius in its tree's blue, the bones up to Head and down to Hips as thick as
+    theirs, the selection's yellow ring around it, the joint showing through it."""
+    joint_px, bone_px = JOINT_RADIUS * FIGURE_SIZE * 1000, BONE_RADIUS * FIGURE_SIZE * 1000
     with scene_of(snapshot_of(figure_motion()), size=(200, 200)) as scene:
         look_down_at(scene, (0.0, 0.2, 0.0), 0.1)
         image = picture(scene)
@@ -245,11 +251,11 @@ def test_the_picture_a_joint_its_bones_and_the_ring_in_their_colours_and_sizes()
         drawn = np.abs(image - background).max(axis=-1) > 30
         blue = PALETTE[0]
         joint = np.flatnonzero(drawn[100])  # the row through the joint's centre (bones vertical)
-        assert abs(joint.min() - (100 - 12.8)) <= 1.5 and abs(joint.max() - (100 + 12.8)) <= 1.5
+        assert abs(joint.min() - (100 - joint_px)) <= 1.5 and abs(joint.max() - (100 + joint_px)) <= 1.5
         assert _along(image[100, 100], blue) > 0.99 and image[100, 100].max() > 0.8 * 255 * blue.max()
         for row in (30, 170):  # 70 pixels above and below: a bone
             bone = np.flatnonzero(drawn[row])
-            assert abs(bone.min() - (100 - 5.2)) <= 1.5 and abs(bone.max() - (100 + 5.2)) <= 1.5
+            assert abs(bone.min() - (100 - bone_px)) <= 1.5 and abs(bone.max() - (100 + bone_px)) <= 1.5
             assert _along(image[row, 100], blue) > 0.99
         assert not drawn[:, :80].any() and not drawn[:, 121:].any()  # nothing else in view
         scene.set_selection(2)
@@ -257,17 +263,19 @@ def test_the_picture_a_joint_its_bones_and_the_ring_in_their_colours_and_sizes()
         yellow = _yellow(image)
         rows, columns = np.nonzero(yellow)
         reach = np.hypot(rows - 99.5, columns - 99.5)
-        assert 22.0 <= reach.min() and reach.max() <= 26.5  # a ring: nothing yellow inside it
+        ring_px = scene.figure.parts["selection"].radius * 1000
+        assert joint_px + 2 <= reach.min() and reach.max() <= ring_px + 3  # a ring: nothing yellow inside it
+        assert ring_px - reach.min() < 3  # a thin line, not a disc
         assert _along(image[100, 100], blue) > 0.99  # the joint inside the ring is not covered
         around = np.unique(np.floor(np.degrees(np.arctan2(rows - 99.5, columns - 99.5)) / 10))
         assert len(around) >= 30  # all round, but where the bones in front hide it: 30 of 36 tens of degrees
-        assert np.median(_along(image[yellow], (1.0, 0.85, 0.1))) > 0.99  # edges blend with the blue
+        assert np.median(_along(image[yellow], SELECTION_COLOR)) > 0.99  # edges blend with the blue
         camera = scene.plotter.camera  # seen from the side (+x) now: the ring still faces the camera
         camera.position, camera.up = (5.0, 0.2, 0.0), (0.0, 1.0, 0.0)
         image = picture(scene)
         rows, columns = np.nonzero(_yellow(image))
         reach = np.hypot(rows - 99.5, columns - 99.5)
-        assert 22.0 <= reach.min() and reach.max() <= 26.5 and np.ptp(columns) > 45  # round, not edge on
+        assert joint_px + 2 <= reach.min() and reach.max() <= ring_px + 3 and np.ptp(columns) > 1.8 * ring_px
 
 
 def test_the_figures_box_is_its_joints_at_every_frame_grown_by_the_ring_and_the_links_box_its_joints():

@@ -1,11 +1,16 @@
-"""The app's model of the quality checks without a window (issue 24, the mutants of
-app/model/problems.py): the level colours, the limits in the panel's units, the settings and
-the level shown as remembered, the lines and counts the dock shows, the worker's result or
-failure, the runs on edits, undo and settings, and the queries of the timeline and view."""
+"""The app's model of the quality checks, without a window (app/model/problems.py): the level
+colours, the limits in the panel's units, the settings and the level shown as remembered, the
+lines and counts the dock shows, the checks run in a worker on every new motion (edits, undo,
+settings) with failures said not raised, and what the dock, the timeline and the view ask.
+
+Where a test needs particular findings the checks are stood in for (:func:`checks_find`):
+the model runs the stand-in in its worker exactly as it runs the real checks."""
 
 from __future__ import annotations
 
 import json
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -51,6 +56,22 @@ def finding(kind="pop", severity="warning", start=3, end=None, names=("LeftHand"
     return Finding(kind, joints, tuple(names), start, start if end is None else end, severity, value, "cm")
 
 
+def found_at(model: Problems) -> list[tuple[str, int]]:
+    return [(f.kind, f.start) for f in model.findings]
+
+
+@pytest.fixture
+def checks_find(monkeypatch):
+    """Stand in for the checks: after ``checks_find(findings)`` every run finds ``findings``."""
+    found: list[Finding] = []
+
+    def run_checks(motion, settings, positions=None) -> list[Finding]:
+        return list(found)
+
+    monkeypatch.setattr(problems_module, "run_checks", run_checks)
+    return lambda findings: found.__setitem__(slice(None), findings)
+
+
 def store(tmp_path, **values) -> QSettings:
     settings = QSettings(str(tmp_path / "settings.ini"), QSettings.Format.IniFormat)
     for key, value in values.items():
@@ -59,6 +80,25 @@ def store(tmp_path, **values) -> QSettings:
     return settings
 
 
+def _model(tmp_path=None):
+    """A state, its problems (remembered in a file when ``tmp_path``), and the signals said."""
+    state = StudioState()
+    model = Problems(state, store(tmp_path) if tmp_path is not None else None)
+    said = []
+    model.changed.connect(lambda: said.append("changed"))
+    model.settings_changed.connect(lambda: said.append("settings"))
+    return state, model, said
+
+
+def open_checked(state: StudioState, model: Problems, motion) -> Snapshot:
+    """Open ``motion`` as a new document and wait for its checks."""
+    snapshot = Snapshot.of(motion)
+    state.open_document(snapshot, None)
+    model.wait()
+    return snapshot
+
+
+# -------------------------------------------------------------------- what is shown
 def test_the_level_colours_are_light_blue_orange_and_red():
     assert set(LEVEL_COLOURS) == {1, 2, 3}
     assert all(0.0 <= c <= 1.0 for colour in LEVEL_COLOURS.values() for c in colour)
@@ -95,13 +135,10 @@ def test_the_limits_in_the_panels_units():
         with_limits(CheckSettings(), "flip", (90.0, 45.0, 150.0))
 
 
-def test_the_remembered_settings(tmp_path):
-    assert load_settings(None) == CheckSettings()
-    assert load_settings(store(tmp_path)) == CheckSettings()
-    chosen = CheckSettings(kinds=("pop", "flip"), flip_limits=(40, 80, 170))
-    assert load_settings(store(tmp_path, **{SETTINGS_KEY: json.dumps(chosen.to_dict())})) == chosen
-    for unreadable in ("{not json", '{"pop_limits": 5}', '{"pop_mad": "eight"}', '{"nope": 1}'):
-        assert load_settings(store(tmp_path, **{SETTINGS_KEY: unreadable})) == CheckSettings(), unreadable
+def test_the_panels_units_cannot_be_changed_by_accident():
+    with pytest.raises(AttributeError):  # dataclasses.FrozenInstanceError
+        LIMITS["pop"].factor = 1.0
+    assert len({LIMITS[kind] for kind in KINDS}) == len(KINDS)  # hashable: frozen
 
 
 def test_the_counts_worst_first():
@@ -122,6 +159,68 @@ def test_the_line_of_a_finding():
     assert finding_line(finding("duplicate", names=(), value=2)) == "duplicate (warning) 3: whole pose, 2 cm"
 
 
+# ---------------------------------------------------------------------- remembered
+def test_the_remembered_settings(tmp_path):
+    assert load_settings(None) == CheckSettings()
+    assert load_settings(store(tmp_path)) == CheckSettings()
+    chosen = CheckSettings(kinds=("pop", "flip"), flip_limits=(40, 80, 170))
+    assert load_settings(store(tmp_path, **{SETTINGS_KEY: json.dumps(chosen.to_dict())})) == chosen
+    for unreadable in ("{not json", '{"pop_limits": 5}', '{"pop_mad": "eight"}', '{"nope": 1}'):
+        assert load_settings(store(tmp_path, **{SETTINGS_KEY: unreadable})) == CheckSettings(), unreadable
+
+
+@pytest.mark.parametrize(("stored", "level"), [(None, 1), ("1", 1), ("2", 2), ("3", 3), ("0", 1), ("4", 1), ("x", 1)])
+def test_the_level_shown_as_remembered(qtbot, tmp_path, stored, level):
+    settings = store(tmp_path) if stored is None else store(tmp_path, **{SHOWN_KEY: stored})
+    assert Problems(StudioState(), settings).min_level == level
+
+
+def test_the_level_shown_is_clamped_and_remembered(qtbot, tmp_path):
+    state, model, said = _model(tmp_path)
+    model.set_min_level(1)  # as it is: nothing said, nothing written
+    assert said == [] and model.store.value(SHOWN_KEY) is None
+    model.set_min_level(0)
+    assert said == [] and model.min_level == 1
+    model.set_min_level(7)
+    assert (model.min_level, said, int(model.store.value(SHOWN_KEY))) == (3, ["changed"], 3)
+    model.set_min_level(2)
+    assert (model.min_level, said, int(model.store.value(SHOWN_KEY))) == (2, ["changed", "changed"], 2)
+    assert Problems(state, store(tmp_path)).min_level == 2
+    _, unstored, _ = _model()
+    unstored.set_min_level(3)
+    assert unstored.min_level == 3
+
+
+def test_settings_set_remembered_and_checked_again(qtbot, tmp_path):
+    state, model, said = _model(tmp_path)
+    open_checked(state, model, knocked_walk(12))
+    said.clear()
+    model.set_settings(CheckSettings())  # as it is: nothing said, nothing written, not run
+    assert said == [] and model.store.value(SETTINGS_KEY) is None and not model.running
+    model.set_kind_enabled("bone-length", False)
+    kinds = tuple(k for k in KINDS if k != "bone-length")
+    assert model.settings.kinds == kinds and said[:2] == ["settings", "changed"] and model.running
+    assert json.loads(model.store.value(SETTINGS_KEY)) == CheckSettings(kinds=kinds).to_dict()
+    model.wait()
+    assert found_at(model) == [("pop", 12)]
+    model.set_kind_enabled("pop", False)
+    model.set_kind_enabled("bone-length", True)
+    assert model.settings.kinds == tuple(k for k in KINDS if k != "pop")
+    model.set_kind_enabled("flip", True)  # on already
+    assert model.settings.kinds == tuple(k for k in KINDS if k != "pop")
+    model.wait()
+    assert found_at(model) == [("bone-length", 12)]
+    model.reset_settings()
+    assert model.settings == CheckSettings()
+    model.wait()
+    assert found_at(model) == [("pop", 12), ("bone-length", 12)]
+    assert load_settings(store(tmp_path)) == CheckSettings()
+    _, unstored, _ = _model()
+    unstored.set_settings(CheckSettings(kinds=("pop",)))
+    assert unstored.settings.kinds == ("pop",)
+
+
+# ------------------------------------------------------------------------ running
 def _run_job(snapshot, settings=None):
     job = CheckJob(snapshot, settings or CheckSettings())
     said = []
@@ -153,72 +252,15 @@ def test_a_check_that_fails_is_said_not_raised(qtbot, monkeypatch):
     messages = []
     state.message.connect(messages.append)
     model = Problems(state)
-    state.open_document(Snapshot.of(knocked_walk(12)), None)
-    model.wait()
+    open_checked(state, model, knocked_walk(12))
     assert (model.findings, model.flags, model.running) == ([], None, False)
     assert model.error == messages[-1] == "checks failed: ZeroDivisionError: a check's bug"
 
 
-@pytest.mark.parametrize(("stored", "level"), [(None, 1), ("1", 1), ("2", 2), ("3", 3), ("0", 1), ("4", 1), ("x", 1)])
-def test_the_level_shown_as_remembered(qtbot, tmp_path, stored, level):
-    settings = store(tmp_path) if stored is None else store(tmp_path, **{SHOWN_KEY: stored})
-    assert Problems(StudioState(), settings).min_level == level
-
-
-def _model(tmp_path=None):
-    """A state, its problems (remembered in a file when ``tmp_path``), and the signals said."""
-    state = StudioState()
-    model = Problems(state, store(tmp_path) if tmp_path is not None else None)
-    said = []
-    model.changed.connect(lambda: said.append("changed"))
-    model.settings_changed.connect(lambda: said.append("settings"))
-    return state, model, said
-
-
-def test_the_level_shown_is_clamped_and_remembered(qtbot, tmp_path):
-    state, model, said = _model(tmp_path)
-    model.set_min_level(1)  # as it is: nothing said, nothing written
-    assert said == [] and model.store.value(SHOWN_KEY) is None
-    model.set_min_level(0)
-    assert said == [] and model.min_level == 1
-    model.set_min_level(7)
-    assert (model.min_level, said, int(model.store.value(SHOWN_KEY))) == (3, ["changed"], 3)
-    model.set_min_level(2)
-    assert (model.min_level, said, int(model.store.value(SHOWN_KEY))) == (2, ["changed", "changed"], 2)
-    assert Problems(state, store(tmp_path)).min_level == 2
-    _, unstored, _ = _model()
-    unstored.set_min_level(3)
-    assert unstored.min_level == 3
-
-
-def test_settings_set_remembered_and_checked_again(qtbot, tmp_path):
-    state, model, said = _model(tmp_path)
-    state.open_document(Snapshot.of(knocked_walk(12)), None)
-    model.wait()
-    said.clear()
-    model.set_settings(CheckSettings())  # as it is: nothing said, nothing written, not run
-    assert said == [] and model.store.value(SETTINGS_KEY) is None and model._job is None
-    model.set_kind_enabled("bone-length", False)
-    kinds = tuple(k for k in KINDS if k != "bone-length")
-    assert model.settings.kinds == kinds and said[:2] == ["settings", "changed"] and model.running
-    assert json.loads(model.store.value(SETTINGS_KEY)) == CheckSettings(kinds=kinds).to_dict()
-    model.wait()
-    assert [(f.kind, f.start) for f in model.findings] == [("pop", 12)]
-    model.set_kind_enabled("pop", False)
-    model.set_kind_enabled("bone-length", True)
-    assert model.settings.kinds == tuple(k for k in KINDS if k != "pop")
-    model.set_kind_enabled("flip", True)  # on already
-    assert model.settings.kinds == tuple(k for k in KINDS if k != "pop")
-    model.wait()
-    assert [(f.kind, f.start) for f in model.findings] == [("bone-length", 12)]
-    model.reset_settings()
-    assert model.settings == CheckSettings()
-    model.wait()
-    assert [(f.kind, f.start) for f in model.findings] == [("pop", 12), ("bone-length", 12)]
-    assert load_settings(store(tmp_path)) == CheckSettings()
-    _, unstored, _ = _model()
-    unstored.set_settings(CheckSettings(kinds=("pop",)))
-    assert unstored.settings.kinds == ("pop",)
+def test_a_new_model_has_nothing_and_is_not_running(qtbot):
+    model = Problems(StudioState())
+    assert (model.findings, model.flags, model.running, model.error) == ([], None, False, "")
+    assert not model.frame_levels().size
 
 
 def test_edits_run_again_and_undo_is_at_once(qtbot):
@@ -233,123 +275,52 @@ def test_edits_run_again_and_undo_is_at_once(qtbot):
     state.apply_snapshot(second)
     assert model.running
     model.wait()
-    assert [(f.kind, f.start) for f in model.findings] == [("pop", 20), ("bone-length", 20)]
-    state.apply_snapshot(first)  # as an undo does: kept with the snapshot, no job
-    assert model._job is None and not model.running and model.findings == expected
+    assert found_at(model) == [("pop", 20), ("bone-length", 20)]
+    state.apply_snapshot(first)  # as an undo does: kept with the snapshot, no run
+    assert not model.running and model.findings == expected
     model.set_settings(CheckSettings(kinds=("pop",)))  # kept with other settings: run again
     assert model.running
     model.wait()
-    assert [(f.kind, f.start) for f in model.findings] == [("pop", 12)]
+    assert found_at(model) == [("pop", 12)]
     state.snapshot = None
     model.refresh()
     assert (model.findings, model.flags, model.running) == ([], None, False)
 
 
-def test_an_edit_while_a_job_runs_gets_its_own_findings(qtbot):
+def test_an_edit_while_the_checks_run_gets_its_own_findings(qtbot):
     state, model, _ = _model()
     first, second = Snapshot.of(knocked_walk(12)), Snapshot.of(knocked_walk(20))
     state.open_document(first, None)
-    job = model._job
-    state.apply_snapshot(second)  # before the first job is done
-    assert model._job is job and model.running
+    state.apply_snapshot(second)  # before the first run is done
+    assert model.running
     model.wait()
-    assert [(f.kind, f.start) for f in model.findings] == [("pop", 20), ("bone-length", 20)]
-    assert not model.running and model._job is None
-    state.apply_snapshot(first)  # the first job's findings were kept with its snapshot
-    assert model._job is None and [(f.kind, f.start) for f in model.findings] == [("pop", 12), ("bone-length", 12)]
+    assert found_at(model) == [("pop", 20), ("bone-length", 20)] and not model.running
+    state.apply_snapshot(first)  # the first run's findings were kept with its snapshot
+    assert not model.running and found_at(model) == [("pop", 12), ("bone-length", 12)]
     state.open_document(second, None)
-    job = model._job
-    model.set_settings(CheckSettings(kinds=("bone-length",)))  # while the job runs: its settings are old
+    model.set_settings(CheckSettings(kinds=("bone-length",)))  # while it runs: its settings are old
     model.wait()
-    assert [(f.kind, f.start) for f in model.findings] == [("bone-length", 20)]
-    model.shutdown()  # no job: nothing to wait for
-    state.apply_snapshot(first)
-    job = model._job
-    model.shutdown()
-    assert job.isFinished()
-    model.wait()
-
-
-def _published(model, findings, flags=None):
-    model._publish(findings, flags)
-    return model
-
-
-def test_what_the_dock_timeline_and_view_ask(qtbot):
-    state, model, _ = _model()
-    state.open_document(Snapshot.of(knocked_walk()), None)
-    model.wait()
-    assert model.findings == [] and not model.frame_levels().any() and model.frame_levels().shape == (30,)
-    found = [
-        finding("pop", "info", 3, 5, value=1.0),
-        finding("flip", "warning", 6, 6, value=2.0),
-        finding("teleport", "error", 8, 9, value=3.0),
-    ]
-    flags = np.zeros((30, 4), np.int8)
-    flags[3:6, 0], flags[6, 1], flags[8:10, 2], flags[8, 3] = 1, 2, 3, 1
-    _published(model, found, flags)
-    assert model.shown == found
-    assert model.at_frames(5, 7) == found[:2] and model.at_frames(1, 3) == found[:1]
-    assert model.at_frames(7, 7) == [] and model.at_frames(9, 20) == found[2:] and model.at_frames(0, 2) == []
-    np.testing.assert_array_equal(model.frame_levels(), flags.max(axis=1))
-    model.set_min_level(2)
-    assert model.shown == found[1:] and model.at_frames(3, 6) == found[1:2]
-    levels = np.zeros(30, np.int8)
-    levels[6], levels[8:10] = 2, 3
-    np.testing.assert_array_equal(model.frame_levels(), levels)
-    assert model.frame_levels().dtype == np.int8
-    model.set_min_level(3)
-    assert model.shown == found[2:]
-    np.testing.assert_array_equal(model.frame_levels(), np.where(levels == 3, 3, 0))
-    _published(model, found, np.zeros((0, 4), np.int8))  # flags of no frame: none
-    np.testing.assert_array_equal(model.frame_levels(), np.zeros(30, np.int8))
-
-
-def test_the_tooltip_of_frames(qtbot):
-    state, model, _ = _model()
-    state.open_document(Snapshot.of(knocked_walk()), None)
-    model.wait()
-    eight = [finding(start=s, names=(f"J{s}",)) for s in range(8)]
-    _published(model, eight)
-    lines = model.describe(0, 7).split("\n")
-    assert lines == [finding_line(f) for f in eight[:6]] + ["... and 2 more"]
-    assert model.describe(0, 5).split("\n") == [finding_line(f) for f in eight[:6]]
-    assert model.describe(0, 7, most=7).split("\n") == [finding_line(f) for f in eight[:7]] + ["... and 1 more"]
-    assert model.describe(2, 2) == finding_line(eight[2]) and model.describe(9, 9) == ""
-
-
-def test_a_new_model_has_nothing_and_is_not_running(qtbot):
-    model = Problems(StudioState())
-    assert (model.findings, model.flags, model.running, model.error) == ([], None, False, "")
-    assert not model.frame_levels().size
-
-
-def test_the_panels_units_are_constants(qtbot):
-    with pytest.raises(AttributeError):  # dataclasses.FrozenInstanceError
-        LIMITS["pop"].factor = 1.0
-    assert len({LIMITS[kind] for kind in KINDS}) == len(KINDS)  # hashable: frozen
+    assert found_at(model) == [("bone-length", 20)]
 
 
 def test_back_to_a_checked_motion_while_another_is_checked(qtbot):
-    """Undo to a motion already checked while the edit's job runs: the kept findings are
-    shown at once and stay when the stale job ends (its findings kept for a redo)."""
+    """Undo to a motion already checked while the edit's checks run: the kept findings are
+    shown at once and stay when the stale run ends (its findings kept for a redo)."""
     state, model, _ = _model()
     first, second = Snapshot.of(knocked_walk(12)), Snapshot.of(knocked_walk(20))
     state.open_document(first, None)
     model.wait()
     kept = list(model.findings)
-    state.apply_snapshot(second)  # the edit: a job starts
-    job = model._job
-    state.apply_snapshot(first)  # the undo: from the cache
+    state.apply_snapshot(second)  # the edit: a run starts
+    state.apply_snapshot(first)  # the undo: from what was kept
     assert model.findings == kept and not model.running
     model.wait()
-    assert job.isFinished() and model._job is None
     assert model.findings == kept and not model.running
-    state.apply_snapshot(second)  # the redo: the stale job's findings, at once
-    assert model._job is None and [(f.kind, f.start) for f in model.findings] == [("pop", 20), ("bone-length", 20)]
+    state.apply_snapshot(second)  # the redo: the stale run's findings, at once
+    assert not model.running and found_at(model) == [("pop", 20), ("bone-length", 20)]
 
 
-def test_a_refresh_asked_while_a_job_runs_gets_a_run_of_its_own(qtbot, monkeypatch):
+def test_a_refresh_asked_while_the_checks_run_gets_a_run_of_its_own(qtbot, monkeypatch):
     """The first run fails (say, out of memory), the motion is asked for again meanwhile:
     it is checked again after it, and its findings shown, not the stale failure."""
     calls = []
@@ -363,7 +334,68 @@ def test_a_refresh_asked_while_a_job_runs_gets_a_run_of_its_own(qtbot, monkeypat
     monkeypatch.setattr(problems_module, "run_checks", fails_once)
     state, model, _ = _model()
     state.open_document(Snapshot.of(knocked_walk(12)), None)
-    model.refresh()  # the same motion asked for while its job runs
+    model.refresh()  # the same motion asked for while its run is in flight
     model.wait()
     assert len(calls) == 2 and model.error == ""
-    assert [(f.kind, f.start) for f in model.findings] == [("pop", 12), ("bone-length", 12)]
+    assert found_at(model) == [("pop", 12), ("bone-length", 12)]
+
+
+def test_shutting_down_waits_for_the_checks_in_flight(qtbot, monkeypatch):
+    """The window closes while the checks run: it waits for them (a running thread must not
+    be destroyed); with nothing running it returns at once."""
+    started, finished = threading.Event(), []
+
+    def slow(*args, **kwargs):
+        started.set()
+        time.sleep(0.2)
+        finished.append(1)
+        return []
+
+    monkeypatch.setattr(problems_module, "run_checks", slow)
+    state, model, _ = _model()
+    model.shutdown()  # nothing running
+    state.open_document(Snapshot.of(knocked_walk()), None)
+    assert started.wait(5)
+    model.shutdown()
+    assert finished == [1]
+    model.wait()
+    assert not model.running
+
+
+# ------------------------------------------------------------------------ queries
+def test_what_the_dock_timeline_and_view_ask(qtbot, checks_find):
+    state, model, _ = _model()
+    open_checked(state, model, knocked_walk())
+    assert model.findings == [] and not model.frame_levels().any() and model.frame_levels().shape == (30,)
+    found = [
+        finding("pop", "info", 3, 5, value=1.0),
+        finding("flip", "warning", 6, 6, ("A", "B"), value=2.0),
+        finding("teleport", "error", 8, 9, ("A", "B", "C"), value=3.0),
+    ]
+    checks_find(found)
+    open_checked(state, model, knocked_walk())
+    assert model.shown == found
+    assert model.at_frames(5, 7) == found[:2] and model.at_frames(1, 3) == found[:1]
+    assert model.at_frames(7, 7) == [] and model.at_frames(9, 20) == found[2:] and model.at_frames(0, 2) == []
+    levels = np.zeros(30, np.int8)
+    levels[3:6], levels[6], levels[8:10] = 1, 2, 3
+    np.testing.assert_array_equal(model.frame_levels(), levels)
+    assert model.frame_levels().dtype == np.int8
+    model.set_min_level(2)
+    assert model.shown == found[1:] and model.at_frames(3, 6) == found[1:2]
+    np.testing.assert_array_equal(model.frame_levels(), np.where(levels >= 2, levels, 0))
+    model.set_min_level(3)
+    assert model.shown == found[2:]
+    np.testing.assert_array_equal(model.frame_levels(), np.where(levels == 3, 3, 0))
+
+
+def test_the_tooltip_of_frames(qtbot, checks_find):
+    state, model, _ = _model()
+    eight = [finding(start=s, names=(f"J{s}",)) for s in range(8)]
+    checks_find(eight)
+    open_checked(state, model, knocked_walk())
+    lines = model.describe(0, 7).split("\n")
+    assert lines == [finding_line(f) for f in eight[:6]] + ["... and 2 more"]
+    assert model.describe(0, 5).split("\n") == [finding_line(f) for f in eight[:6]]
+    assert model.describe(0, 7, most=7).split("\n") == [finding_line(f) for f in eight[:7]] + ["... and 1 more"]
+    assert model.describe(2, 2) == finding_line(eight[2]) and model.describe(9, 9) == ""

@@ -1,7 +1,8 @@
-"""The comparison layers drawn (app/scene/ghost_layer.py, issue 24) on the tiny synthetic
-skeleton (:mod:`tests.tiny_scene`): a ghost B of the figure, 0.05 nearer (+z) with its Hand
-0.1 higher, over A's first four frames of six; the error view of the active layer; a marker
-set layer; the colour map and its scale."""
+"""The comparison layers as drawn (app/scene/ghost_layer.py, app/scene/legend.py) on the tiny
+synthetic skeleton (:mod:`tests.tiny_scene`): a ghost B of the figure, 0.05 nearer (+z) with
+its Hand 0.1 higher, over A's first four frames of six; the error view of the active layer
+(the figure's joints in the error's colours, lines to their matches, the legend at the view's
+right); a marker set layer; the colour map and its scale."""
 
 from __future__ import annotations
 
@@ -14,9 +15,16 @@ import pytest
 from gmr_studio.app.model.layers import ComparisonLayer, Layers
 from gmr_studio.app.model.marker_layers import MarkerLayer
 from gmr_studio.app.model.state import MarkerOverlay, StudioState
-from gmr_studio.app.scene.ghost_layer import GhostLayers, error_colours, error_scale_top
+from gmr_studio.app.scene.figure import BONE_RADIUS, JOINT_RADIUS
+from gmr_studio.app.scene.ghost_layer import (
+    ERROR_JOINT_RADIUS,
+    LINE_COLOUR,
+    GhostLayers,
+    error_colours,
+    error_scale_top,
+)
 from gmr_studio.app.scene.labels import box_corners
-from gmr_studio.app.scene.legend import BAR_HEIGHT, BAR_WIDTH, EDGE, LABEL_GAP, label_texts, legend_fit
+from gmr_studio.app.scene.legend import EDGE, label_texts, legend_fit, legend_layout, legend_part
 from gmr_studio.app.scene.vtk_parts import rgb_bytes
 from gmr_studio.core.compare import compare_motions
 from gmr_studio.core.compare.clock import ghost_positions
@@ -100,14 +108,13 @@ def test_a_layer_is_a_translucent_ghost_in_its_colour_at_the_documents_frame(qtb
         bones, joints = ghosts.parts["ghost_0_0"], ghosts.parts["ghost_0_1"]
         assert ghosts.ghosts == [(bones, joints)]
         assert bones.pairs.tolist() == [[2, 1], [3, 2], [5, 4]]  # the anchor's bone left out
-        assert bones.radius == pytest.approx(0.005 * FIGURE_SIZE)
+        assert bones.radius < BONE_RADIUS * FIGURE_SIZE  # thinner than the figure's
         # a sphere only where no bone reaches: the anchor (joint 0), its bone left out
         assert ghosts.loose[0].tolist() == [0] and ghosts.loose[0].dtype.kind == "i"
-        assert joints.n_points == 1 and joints.radius == pytest.approx(0.012 * FIGURE_SIZE)
+        assert joints.n_points == 1 and joints.radius < JOINT_RADIUS * FIGURE_SIZE
         for part in (bones, joints):
             assert holds(scene.plotter.renderer, part.actor) and part.visible
-            prop = part.actor.GetProperty()
-            assert prop.GetOpacity() == pytest.approx(layer.opacity) and prop.GetAmbient() == pytest.approx(0.6)
+            assert part.actor.GetProperty().GetOpacity() == pytest.approx(layer.opacity)
         np.testing.assert_array_equal(bones.mesh.point_data["colors"], rgb_bytes(np.tile(layer.colour, (3, 1))))
         assert joints.actor.GetProperty().GetColor() == pytest.approx(layer.colour)
         for frame in (0, 3):
@@ -195,15 +202,15 @@ def test_the_error_view_colours_the_matched_joints_and_links_them_to_their_match
         assert lines.n_points == 12
         cells = lines.mesh.lines.reshape(-1, 3)
         np.testing.assert_array_equal(cells, np.column_stack([np.full(6, 2), np.arange(6), 6 + np.arange(6)]))
-        prop = lines.actor.GetProperty()
-        assert prop.GetColor() == pytest.approx((0.95, 0.95, 0.95)) and prop.GetLineWidth() == pytest.approx(1.5)
+        assert lines.actor.GetProperty().GetColor() == pytest.approx(LINE_COLOUR)
         expected = rgb_bytes(error_colours(np.array([0.05] * 5 + [HAND_ERROR]), HAND_ERROR))
         np.testing.assert_array_equal(ghosts.error_rgb[:4], np.broadcast_to(expected, (4, 6, 3)))
         assert (expected[:5] != expected[5]).any()  # the Hand's colour is another
         scene.show_frame(2)
         # the figure's own spheres in the error's colours, a little larger, at the document's joints
         np.testing.assert_array_equal(joints.mesh.point_data["colors"], expected)
-        np.testing.assert_allclose(joints.mesh.point_data["radius"], 0.021 * FIGURE_SIZE, rtol=1e-6)
+        np.testing.assert_allclose(joints.mesh.point_data["radius"], ERROR_JOINT_RADIUS * FIGURE_SIZE, rtol=1e-6)
+        assert ERROR_JOINT_RADIUS > JOINT_RADIUS  # larger than the joints: their colour shows
         np.testing.assert_allclose(joints.mesh.points, comparison.positions_a[2])
         np.testing.assert_allclose(lines.mesh.points, np.concatenate([comparison.positions_a[2], layers[0].ghost[2]]))
         scene.show_frame(4)  # B has no sample: grey, the lines of no length
@@ -214,7 +221,7 @@ def test_the_error_view_colours_the_matched_joints_and_links_them_to_their_match
         assert ghosts.show_errors is False and ghosts.error_joints is None and ghosts.error_lines is None
         assert not {"error_lines", "error_legend"} & set(ghosts.parts)
         np.testing.assert_array_equal(joints.mesh.point_data["colors"], own)
-        np.testing.assert_allclose(joints.mesh.point_data["radius"], 0.016 * FIGURE_SIZE, rtol=1e-6)
+        np.testing.assert_allclose(joints.mesh.point_data["radius"], JOINT_RADIUS * FIGURE_SIZE, rtol=1e-6)
         assert scene.figure.tint is None
         ghosts.set_show_errors(True)
         assert ghosts.error_joints is not None and ghosts.parts["error_legend"] is ghosts.legend
@@ -226,7 +233,7 @@ def test_the_error_view_colours_the_matched_joints_and_links_them_to_their_match
         scene.redraw(scene.figure)  # the figure rebuilt alone (new parts): tinted as it was
         joints = scene.figure.parts["joints"]
         np.testing.assert_array_equal(joints.mesh.point_data["colors"], np.full((6, 3), 128))
-        np.testing.assert_allclose(joints.mesh.point_data["radius"], 0.021 * FIGURE_SIZE, rtol=1e-6)
+        np.testing.assert_allclose(joints.mesh.point_data["radius"], ERROR_JOINT_RADIUS * FIGURE_SIZE, rtol=1e-6)
         scene.remove_drawable(ghosts)  # no layers drawn: no tint left behind
         np.testing.assert_array_equal(scene.figure.parts["joints"].mesh.point_data["colors"], own)
 
@@ -255,7 +262,9 @@ def test_a_frame_not_compared_shows_the_documents_joints_in_grey(qtbot):
         np.testing.assert_array_equal(joints.mesh.point_data["colors"][1:], ghosts.error_rgb[1])
         np.testing.assert_array_equal(joints.mesh.point_data["colors"][0], own)  # the Root, not matched: its own
         radii = np.asarray(joints.mesh.point_data["radius"])
-        np.testing.assert_allclose(radii, [0.016 * FIGURE_SIZE] + [0.021 * FIGURE_SIZE] * 5, rtol=1e-6)
+        np.testing.assert_allclose(
+            radii, [JOINT_RADIUS * FIGURE_SIZE] + [ERROR_JOINT_RADIUS * FIGURE_SIZE] * 5, rtol=1e-6
+        )
         scene.show_frame(3)
         np.testing.assert_array_equal(joints.mesh.point_data["colors"][1:], np.full((5, 3), 128))
         points = state.snapshot.positions[3, 1:]
@@ -265,68 +274,6 @@ def test_a_frame_not_compared_shows_the_documents_joints_in_grey(qtbot):
 def test_the_legends_labels_run_from_zero_to_the_top_in_three_digits():
     assert label_texts(3.8) == ["0", "0.95", "1.9", "2.85", "3.8"]
     assert label_texts(HAND_ERROR) == ["0", "0.028", "0.0559", "0.0839", "0.112"]
-
-
-def test_the_legend_is_a_bar_in_the_maps_colours_its_labels_and_title_in_one_texture(qtbot):
-    with compared(qtbot) as (scene, _state, _layers, ghosts):
-        legend = ghosts.legend
-        assert ghosts.parts["error_legend"] is legend and holds(scene.plotter.renderer, legend.actor)
-        image = legend.image
-        height, width = image.shape[:2]
-        alpha = image[..., 3]
-        bar_rows = np.flatnonzero((alpha[:, :BAR_WIDTH] == 255).all(axis=1))  # the bar: opaque all across
-        assert len(bar_rows) == BAR_HEIGHT and np.ptp(bar_rows) == BAR_HEIGHT - 1
-        bottom = bar_rows[0]
-        top = ghosts.top
-        assert top == pytest.approx(HAND_ERROR, rel=1e-12)
-        values = (np.arange(BAR_HEIGHT) + 0.5) / BAR_HEIGHT * top  # bottom (0, green) to top (red)
-        expected = rgb_bytes(error_colours(values, top))
-        for column in (0, BAR_WIDTH - 1):
-            np.testing.assert_array_equal(image[bottom : bottom + BAR_HEIGHT, column, :3], expected)
-        assert (alpha[bottom : bottom + BAR_HEIGHT, :BAR_WIDTH] == 255).all()
-        assert not alpha[: bottom + BAR_HEIGHT, BAR_WIDTH : BAR_WIDTH + LABEL_GAP].any()  # a gap, then the labels
-        # a label beside each fifth of the bar, bottom to top, in light grey text
-        labels = alpha[:, BAR_WIDTH + LABEL_GAP :] > 0
-        for k in range(5):
-            centre = bottom + round(k * (BAR_HEIGHT - 1) / 4)
-            assert labels[max(centre - 3, 0) : centre + 4].any(), k
-            assert not labels[centre + 12 : centre + 14].any() or k == 4  # and nothing between two
-        text = image[..., :3][image[..., 3] == 255]
-        assert (text.max(axis=1) >= 220).any()  # 0.9 grey at full cover
-        # the title above the bar, centred over the legend
-        title = alpha[bottom + BAR_HEIGHT + 8 :]
-        columns = np.flatnonzero(title.any(axis=0))
-        assert title.any() and abs((columns[0] + columns[-1]) / 2 - (width - 1) / 2) <= 2
-        assert height > BAR_HEIGHT + 20 and width > 80  # "error (file units)": wider than the bar and its labels
-        # one quad of the image's size fitted to the view, anchored at (0.86, 0.08) of it
-        # (moved left to keep the title in it), placed before the render
-        picture(scene)
-        view_width, view_height = scene.plotter.renderer.GetSize()
-        shift, scale = legend.fitted
-        assert (shift, scale) == legend_fit((view_width, view_height), (width, height))
-        x, y = 0.86 * view_width - shift, 0.08 * view_height
-        w, h = scale * width, scale * height
-        np.testing.assert_allclose(legend.outline, [x, y, x + w, y + h])
-        np.testing.assert_allclose(legend.corners, (x, y) + scale * box_corners(legend.boxes))
-        assert legend.actor.GetTexture().GetInput().GetDimensions() == (width, height, 1)
-        assert legend.actor.GetTexture().GetInterpolate() == (scale < 1)
-
-
-def test_the_legend_is_drawn_at_the_views_right_upright(qtbot):
-    with compared(qtbot, size=(400, 400)) as (scene, _state, _layers, ghosts):
-        for overlay in ("ground", "soft_links"):
-            scene.set_overlay(overlay, False)
-        image = picture(scene)
-        bottom = int(np.flatnonzero((ghosts.legend.image[:, :BAR_WIDTH, 3] == 255).all(axis=1))[0])
-        shift, scale = ghosts.legend.fitted  # moved left to keep the title inside the view, not shrunk
-        assert scale == 1.0 and shift == pytest.approx(0.86 * 400 + ghosts.legend.image.shape[1] + EDGE - 400)
-        x = round(0.86 * 400 - shift) + BAR_WIDTH // 2
-        low, high = 400 - 1 - (round(0.08 * 400) + bottom), 400 - 1 - (round(0.08 * 400) + bottom + BAR_HEIGHT - 1)
-        green, red = rgb_bytes(error_colours(np.array([0.0, HAND_ERROR]), HAND_ERROR))
-        assert np.abs(image[low - 1, x] - green).max() <= 8 and np.abs(image[high + 1, x] - red).max() <= 8
-        assert np.abs(image[low + 3, x] - image[2, 2]).max() <= 2  # below the bar: the background
-        ghosts.set_show_errors(False)
-        assert np.abs(picture(scene)[high + 1, x] - image[2, 2]).max() <= 2
 
 
 def test_a_marker_layer_is_spheres_in_its_colour_gaps_not_drawn(qtbot):
@@ -344,9 +291,9 @@ def test_a_marker_layer_is_spheres_in_its_colour_gaps_not_drawn(qtbot):
         layers.changed.emit()
         (spheres,) = ghosts.ghosts[0]
         assert ghosts.parts["ghost_0_0"] is spheres and spheres.n_points == 2
-        assert spheres.radius == pytest.approx(0.011 * FIGURE_SIZE)
+        assert 0 < spheres.radius < JOINT_RADIUS * FIGURE_SIZE  # smaller than the figure's joints
         prop = spheres.actor.GetProperty()
-        assert prop.GetColor() == pytest.approx((0.9, 0.1, 0.5)) and prop.GetOpacity() == pytest.approx(0.9)
+        assert prop.GetColor() == pytest.approx((0.9, 0.1, 0.5)) and 0.5 < prop.GetOpacity() <= 1.0
         assert ghosts.error_joints is None  # a marker set is drawn, not compared
         for frame in (1, 5):
             scene.show_frame(frame)
@@ -432,24 +379,6 @@ def test_hiding_writes_no_frame_and_needs_no_scene(qtbot):
         np.testing.assert_allclose(bones.mesh.points, ghost[1][bones.pairs].mean(axis=1))
 
 
-def test_in_a_small_view_the_legend_is_shrunk_to_fit_and_kept_off_the_right_side(qtbot):
-    with compared(qtbot, size=(200, 150)) as (scene, _state, _layers, ghosts):
-        for overlay in ("ground", "soft_links"):
-            scene.set_overlay(overlay, False)
-        image = picture(scene)  # rendered: the legend fitted before the render
-        legend = ghosts.legend
-        height, width = legend.image.shape[:2]
-        shift, scale = legend.fitted
-        assert (shift, scale) == legend_fit((200, 150), (width, height)) and scale < 1 and shift > 0
-        background = image[2, 2]
-        drawn = np.abs(image - background).max(axis=-1) > 30
-        drawn[:, :120] = False  # the figure is at the view's left and centre
-        columns, rows = np.flatnonzero(drawn.any(axis=0)), np.flatnonzero(drawn.any(axis=1))
-        assert columns.max() <= 200 - EDGE and rows.min() >= 150 - round(0.08 * 150) - round(scale * height) - 2
-        red = rgb_bytes(error_colours(np.array([ghosts.top]), ghosts.top))[0]
-        assert (np.abs(image[rows.min() : rows.min() + 40, 120:] - red).max(axis=-1) <= 12).any()  # the bar's top
-
-
 def test_the_layers_box_is_their_ghosts_markers_and_the_compared_joints_grown_by_an_error_joint(qtbot):
     """The box the layers may draw in at any frame: each layer's ghost (or markers) at every
     frame and, in the error view, both ends of the error lines (A's and B's compared joints),
@@ -463,12 +392,11 @@ def test_the_layers_box_is_their_ghosts_markers_and_the_compared_joints_grown_by
         scene.add_drawable(ghosts)
         np.testing.assert_array_equal(ghosts.extent(), EMPTY_BOX)
     with compared(qtbot) as (scene, state, layers, ghosts):
-        pad = 0.021 * FIGURE_SIZE
+        pad = ERROR_JOINT_RADIUS * FIGURE_SIZE
         comparison = layers[0].comparison
         ends = [box_of(comparison.positions_a, pad), box_of(comparison.positions_b, pad)]
         box = ghosts.extent()
         np.testing.assert_array_equal(box, union_box([box_of(layers[0].ghost, pad), *ends]))
-        assert ghosts.extent() is box  # measured once
         for frame in range(6):
             scene.show_frame(frame)
             for part in (*ghosts.ghosts[0], ghosts.error_lines):
@@ -482,3 +410,151 @@ def test_the_layers_box_is_their_ghosts_markers_and_the_compared_joints_grown_by
         layers.layers.append(MarkerLayer(markers, "m.trc", (0.9, 0.1, 0.5), overlay=overlay))
         layers.changed.emit()
         np.testing.assert_array_equal(ghosts.extent(), union_box([box_of(layers[0].ghost, pad), box_of(points, pad)]))
+
+
+# ------------------------------------------------------------------------ the legend
+def ramp(values: np.ndarray, top: float = 2.0) -> np.ndarray:
+    """A colour map that tells every value of [0, top] apart by its red: (N,) -> (N, 3)."""
+    t = np.asarray(values) / top
+    return np.column_stack([t, 1.0 - t, 0.25 + 0.5 * t])
+
+
+def piece_centre(box) -> np.ndarray:
+    x0, y0, x1, y1 = box
+    return np.array([(x0 + x1) / 2, (y0 + y1) / 2])
+
+
+@pytest.mark.parametrize(("top", "units"), [(2.0, "a unit with a long name"), (1234.5, "m")])
+def test_the_legend_is_a_bar_from_zero_at_the_bottom_to_the_top_with_its_labels_beside_it(top, units):
+    """The picture (rows bottom first): the colour map's bar from 0 at its bottom to ``top``
+    at its top, each label beside the bar at its value's height, the title centred above;
+    nothing drawn outside these pieces, and no empty margin around them."""
+    image, boxes = legend_layout(top, units, lambda v: ramp(v, top))
+    height, width = image.shape[:2]
+    assert image.dtype == np.uint8 and image.shape[2] == 4 and boxes.shape == (7, 4)
+    bar, labels, title = boxes[0], boxes[1:6], boxes[6]
+    x0, y0, x1, y1 = bar
+    assert x0 == 0 and x1 - x0 >= 10 and y1 - y0 >= 100  # a bar, taller than wide, at the left
+    rows = image[y0:y1, x0:x1]
+    assert (rows[..., 3] == 255).all() and (rows == rows[:, :1]).all()  # opaque, one colour a row
+    values = rows[:, 0, 0] / 255 * top  # each row's value, read back from the ramp's red
+    assert (np.diff(values) >= 0).all() and values[0] < 0.01 * top and values[-1] > 0.99 * top
+    for k, label in enumerate(labels):  # 0, a quarter of the top, ... the top
+        assert label[0] >= x1 + 2  # right of the bar, a gap between
+        row = y0 + np.argmin(np.abs(values - k * top / 4))  # the bar's row of the label's value
+        assert abs(piece_centre(label)[1] - (row + 0.5)) <= 1.5, k
+    assert (labels[:, 0] == labels[0, 0]).all()  # one column of labels
+    assert title[1] >= labels[:, 3].max() and title[3] == height  # the title above them, at the top
+    assert abs(piece_centre(title)[0] - width / 2) <= 1
+    assert boxes[:, 2].max() == width and boxes[:, 1].min() <= 1  # no margin but the lowest label's half row
+    inside = np.zeros((height, width), bool)
+    for a, b, c, d in boxes:
+        inside[b:d, a:c] = True
+    assert not image[~inside].any()  # every texel drawn is in a piece
+    letters = image[labels[0, 1] : labels[0, 3], labels[0, 0] : labels[0, 2]]
+    written = letters[letters[..., 3] > 0][:, :3]
+    assert (written == written[:, :1]).all() and written.max() > 200  # light grey text
+
+
+def test_the_legend_is_drawn_one_texel_a_pixel_at_the_views_lower_right_upright():
+    part = legend_part(2.0, "m", ramp)
+    height, width = part.image.shape[:2]
+    assert part.top == 2.0 and isinstance(part.top, float)
+    assert not part.outline.any()  # not placed yet
+    pieces = legend_layout(2.0, "m", ramp)[1]  # each quad holds its piece and a texel around it
+    assert (part.boxes[:, :2] <= pieces[:, :2]).all() and (part.boxes[:, 2:] >= pieces[:, 2:]).all()
+    assert (part.boxes[:, :2] >= pieces[:, :2] - 2).all() and (part.boxes[:, 2:] <= pieces[:, 2:] + 2).all()
+    assert (
+        (part.boxes >= 0).all() and (part.boxes[:, [0, 2]] <= width).all() and (part.boxes[:, [1, 3]] <= height).all()
+    )
+    assert part.draw_last and not part.actor.GetUseBounds()
+    size = (800, 600)
+    with scene_of(None, size=size) as scene:
+        scene.plotter.set_background((0, 0, 0))
+        scene.plotter.renderer.AddActor(part.actor)
+        scene.plotter.renderer.ResetCameraClippingRange()
+        part.place(size)
+        image = picture(scene)
+    left, bottom, right, top = part.outline
+    assert (right - left, top - bottom) == (width, height)  # room enough: one texel a pixel
+    assert left > 0.6 * size[0] and right <= size[0] - EDGE  # at the right, off its edge
+    assert 0.05 * size[1] < bottom < 0.2 * size[1]  # low, a margin below it
+    np.testing.assert_allclose(part.corners, np.array([left, bottom]) + box_corners(part.boxes))
+    x0, y0 = round(left), round(bottom)
+    drawn = image[size[1] - y0 - height : size[1] - y0, x0 : x0 + width][::-1]  # rows bottom first
+    over_black = part.image[..., :3].astype(int) * part.image[..., 3:].astype(int) // 255
+    assert np.abs(drawn - over_black).max() <= 3  # upright: its bottom row at the bottom
+    outside = image.copy()
+    outside[size[1] - y0 - height : size[1] - y0, x0 : x0 + width] = 0
+    assert not outside.any()
+
+
+@pytest.mark.parametrize("view", [(1000, 1000), (1000, 200), (200, 1000), (300, 200), (10, 1000), (120, 90)])
+def test_a_legend_is_shrunk_never_enlarged_and_moved_to_stay_in_the_view(view):
+    legend = (100, 200)
+    shift, scale = legend_fit(view, legend)
+    assert 0 < scale <= 1
+    if view[0] >= 3 * legend[0] and view[1] >= 2 * legend[1]:
+        assert (shift, scale) == (0.0, 1.0)  # room enough: as drawn
+    part = legend_part(2.0, "m", ramp)
+    width, height = part.image.shape[1], part.image.shape[0]
+    part.place(view)
+    left, bottom, right, top = part.outline
+    assert left >= -1e-9 and right <= view[0] + 1e-9 and bottom >= 0 and top <= view[1]  # inside the view
+    assert right <= view[0] - EDGE + 1e-9 or left == pytest.approx(0.0)  # off the right side unless too narrow
+    assert right - left == pytest.approx(part.fitted[1] * width) and top - bottom == pytest.approx(
+        part.fitted[1] * height
+    )
+
+
+def test_a_shrunk_legend_is_smoothed_and_comes_back_sharp_with_room():
+    part = legend_part(2.0, "m", ramp)
+    height, width = part.image.shape[:2]
+    assert part.fitted == (0.0, 1.0)  # as built: one texel a pixel
+    part.fit((2000, 2000))  # room enough: as built
+    assert part.fitted == (0.0, 1.0) and not part.actor.GetTexture().GetInterpolate()
+    part.place((300, 200))
+    shift, scale = part.fitted
+    assert scale < 1 and shift > 0 and part.actor.GetTexture().GetInterpolate()
+    left, bottom = part.outline[:2]
+    np.testing.assert_allclose(part.outline[2:], [left + scale * width, bottom + scale * height])
+    np.testing.assert_allclose(part.corners, (left, bottom) + scale * box_corners(part.boxes))  # each piece with it
+    part.place((2000, 2000))  # room again: one texel a pixel
+    np.testing.assert_allclose(part.outline[2:] - part.outline[:2], [width, height])
+    assert not part.actor.GetTexture().GetInterpolate()
+
+
+def test_the_error_views_legend_is_the_maps_bar_at_the_views_right_green_below_red_above(qtbot):
+    with compared(qtbot, size=(400, 400)) as (scene, _state, _layers, ghosts):
+        for overlay in ("ground", "soft_links"):
+            scene.set_overlay(overlay, False)
+        legend = ghosts.legend
+        assert ghosts.parts["error_legend"] is legend and holds(scene.plotter.renderer, legend.actor)
+        assert legend.top == pytest.approx(HAND_ERROR, rel=1e-12)
+        image = picture(scene)
+        (x0, y0), (x1, _), (_, y1) = legend.corners[0, :3]  # the bar's quad: its texel around it too
+        x = int((x0 + x1) / 2)
+        low, high = 400 - 1 - int(y0 + 3), 400 - 1 - int(y1 - 3)  # image rows, from the top
+        green, red = rgb_bytes(error_colours(np.array([0.0, HAND_ERROR]), HAND_ERROR))
+        assert np.abs(image[low, x] - green).max() <= 8 and np.abs(image[high, x] - red).max() <= 8
+        assert x > 0.6 * 400 and legend.outline[2] <= 400 - EDGE
+        assert np.abs(image[400 - 1 - int(y0 - 4), x] - image[2, 2]).max() <= 2  # below the bar: the background
+        ghosts.set_show_errors(False)
+        assert np.abs(picture(scene)[high, x] - image[2, 2]).max() <= 2
+
+
+def test_in_a_small_view_the_error_views_legend_is_shrunk_and_kept_off_the_right_side(qtbot):
+    with compared(qtbot, size=(200, 150)) as (scene, _state, _layers, ghosts):
+        for overlay in ("ground", "soft_links"):
+            scene.set_overlay(overlay, False)
+        image = picture(scene)  # rendered: the legend fitted before the render
+        legend = ghosts.legend
+        shift, scale = legend.fitted
+        assert scale < 1 and shift > 0 and legend.actor.GetTexture().GetInterpolate()
+        background = image[2, 2]
+        drawn = np.abs(image - background).max(axis=-1) > 30
+        drawn[:, :120] = False  # the figure is at the view's left and centre
+        columns, rows = np.flatnonzero(drawn.any(axis=0)), np.flatnonzero(drawn.any(axis=1))
+        assert columns.max() <= 200 - EDGE and rows.min() >= 150 - legend.outline[3] - 2
+        red = rgb_bytes(error_colours(np.array([ghosts.top]), ghosts.top))[0]
+        assert (np.abs(image[rows.min() : rows.min() + 40, 120:] - red).max(axis=-1) <= 12).any()  # the bar's top

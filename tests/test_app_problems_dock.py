@@ -1,25 +1,28 @@
-"""The Problems dock on its own, without the window (issue 24, the mutants of
-app/docks/problems_dock.py): the table's rows and how they sort, the summary, choosing a
-finding and stepping through them, the severity filter, and the settings table's edits."""
+"""The Problems dock on its own, without the window (app/docks/problems_dock.py): the table's
+rows and how each column sorts, the summary, choosing a finding and stepping through them,
+the severity filter, the settings table's edits, and where things are in the dock.
+
+The checks are stood in for (:func:`dock`'s ``checks_find``) so that the dock lists known
+findings; the model runs the stand-in in its worker as it runs the real checks."""
 
 from __future__ import annotations
 
 import math
 
-import numpy as np
 import pytest
 from PyQt6.QtCore import Qt
-from PyQt6.QtWidgets import QHeaderView
 
 from gmr_studio.app.docks.problems_dock import COLUMNS, NEVER, ProblemsDock, parse_limit
+from gmr_studio.app.model import problems as problems_module
 from gmr_studio.app.model.problems import LEVEL_COLOURS, LIMITS, Problems
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.core.checks import KINDS, CheckSettings, Finding
-from tests.test_problems_model_mutants import knocked_walk
+from tests.test_app_problems_model import knocked_walk
 
 pytestmark = pytest.mark.gui  # widgets
 
 ENABLED_SELECTABLE = Qt.ItemFlag.ItemIsEnabled | Qt.ItemFlag.ItemIsSelectable
+WALK = knocked_walk()
 
 
 def finding(kind, severity, start, end=None, joints=(), value=1.0) -> Finding:
@@ -37,18 +40,39 @@ FOUND = [
 ]
 
 
+class Checks:
+    """A stand-in for the checks: every run finds :attr:`found`, or fails with :attr:`failure`."""
+
+    def __init__(self, found: list[Finding]) -> None:
+        self.found, self.failure = list(found), ""
+
+    def __call__(self, motion, settings, positions=None) -> list[Finding]:
+        if self.failure:
+            raise RuntimeError(self.failure)
+        return list(self.found)
+
+
+def check_again(dock, found: list[Finding] | None = None, failure: str = "", *, wait: bool = True) -> None:
+    """The walk opened afresh with the checks finding ``found`` (or failing with ``failure``)."""
+    dock.checks.found, dock.checks.failure = list(found or []), failure
+    dock.state.open_document(Snapshot.of(WALK), None)
+    if wait:
+        dock.problems.wait()
+
+
 @pytest.fixture
-def dock(qtbot):
-    """A dock of a state with a 30-frame walk open and :data:`FOUND` published."""
+def dock(qtbot, monkeypatch):
+    """A dock of a state with the 30-frame walk open and :data:`FOUND` listed."""
+    checks = Checks(FOUND)
+    monkeypatch.setattr(problems_module, "run_checks", checks)
     state = StudioState()
     problems = Problems(state)
-    state.open_document(Snapshot.of(knocked_walk()), None)
-    problems.wait()
     widget = ProblemsDock(problems)
+    widget.checks = checks
     qtbot.addWidget(widget)
-    problems._publish(FOUND, None)
+    check_again(widget, FOUND)
     yield widget
-    problems.wait()  # a settings change started a job: a running thread must not be collected
+    problems.wait()  # a settings change started a run: a running thread must not be collected
 
 
 def rows(dock) -> list[tuple[str, ...]]:
@@ -70,10 +94,6 @@ def test_the_rows_sorted_by_frames_and_their_cells(dock):
         assert all(table.item(row, c).flags() == ENABLED_SELECTABLE for c in range(len(COLUMNS)))
     assert [dock.finding_at(r) for r in range(3)] == FOUND
     assert dock.finding_at(3) is None
-    header = table.horizontalHeader()
-    assert header.sectionResizeMode(3) == QHeaderView.ResizeMode.Stretch  # the joints' column takes the room
-    assert header.sectionResizeMode(2) == QHeaderView.ResizeMode.ResizeToContents
-    assert table.verticalHeader().defaultSectionSize() == dock.fontMetrics().height() + 6
 
 
 @pytest.mark.parametrize(
@@ -98,12 +118,28 @@ def test_each_column_sorts_by_its_meaning(dock, column, ascending):
 
 def test_a_refill_while_sorted_by_value_keeps_rows_whole(dock):
     dock.table.sortByColumn(4, Qt.SortOrder.DescendingOrder)
-    dock.problems._publish(FOUND[::-1], None)
+    check_again(dock, FOUND[::-1])
     assert rows(dock) == [
         ("pop", "error", "9", "J4, J5", "100 cm"),
         ("teleport", "warning", "5-6", "J0", "9.5 cm"),
         ("duplicate", "info", "10-12", "(whole pose)", "2 cm"),
     ]
+
+
+def test_findings_of_one_frame_keep_the_checks_order_when_sorted(qtbot):
+    """A pop and its stretched bone at frame 12 (sort keys equal by frames): listed as the
+    checks list them, pop first; sorted by frames again, equal keys keep the order they had."""
+    state = StudioState()
+    problems = Problems(state)
+    state.open_document(Snapshot.of(knocked_walk(12)), None)
+    problems.wait()
+    dock = ProblemsDock(problems)
+    qtbot.addWidget(dock)
+    assert [r[0] for r in rows(dock)] == ["pop", "bone-length"]
+    dock.table.sortByColumn(0, Qt.SortOrder.DescendingOrder)
+    assert [r[0] for r in rows(dock)] == ["bone-length", "pop"]
+    dock.table.sortByColumn(2, Qt.SortOrder.AscendingOrder)
+    assert [r[0] for r in rows(dock)] == ["bone-length", "pop"]
 
 
 def test_the_summary(dock):
@@ -113,10 +149,12 @@ def test_the_summary(dock):
     assert dock.summary.text() == "3 findings: 1 error, 1 warning, 1 info (1 not listed)"
     assert [r[0] for r in rows(dock)] == ["teleport", "pop"]
     assert dock.filter_box.currentIndex() == 1  # the filter follows the level set elsewhere
-    problems._publish([], None, running=True)
+    check_again(dock, [], wait=False)
     assert dock.summary.text() == "Checking\u2026" and dock.table.rowCount() == 0
-    problems._publish([], None, error="checks failed: boom")
-    assert dock.summary.text() == "checks failed: boom"
+    problems.wait()
+    assert dock.summary.text() == "0 findings: none"
+    check_again(dock, failure="boom")
+    assert dock.summary.text() == "checks failed: RuntimeError: boom"
     problems.state.snapshot = None
     problems.refresh()
     assert dock.summary.text() == "No motion"
@@ -164,7 +202,7 @@ def test_stepping_through_the_findings(dock):
     dock.step_buttons[-1].click()  # before 10: 9
     assert dock.finding_at(table.currentRow()) == FOUND[1]
     assert dock.choose_next(-1) == FOUND[0] and state.frame == 5
-    dock.problems._publish([], None)
+    check_again(dock, [])
     assert dock.choose_next(1) is None and dock.choose_next(-1) is None
 
 
@@ -212,51 +250,8 @@ def test_editing_the_limits(dock):
     assert problems.settings.kinds == KINDS
 
 
-def test_limits_typed(qtbot):
-    assert [parse_limit(t) for t in ("", " never ", "INF", "Never")] == [math.inf] * 4
-    assert parse_limit(" 2.5 ") == 2.5
-    with pytest.raises(ValueError):
-        parse_limit("often")
-
-
-def test_the_layout(dock):
-    """The table beside the settings (3 to 2), a thin margin, the list taking the height."""
-    assert dock.table.sizePolicy().horizontalStretch() == 3
-    assert dock.settings_panel.sizePolicy().horizontalStretch() == 2
-    layout = dock.layout()
-    margins = layout.contentsMargins()
-    assert (margins.left(), margins.top(), margins.right(), margins.bottom()) == (2, 2, 2, 2)
-    assert (layout.stretch(0), layout.stretch(1)) == (0, 1)
-    top = layout.itemAt(0).layout()
-    assert [top.stretch(i) for i in range(top.count())] == [0, 0, 1, 0, 0]  # the summary takes the width
-    panel = dock.settings_panel.layout()
-    margins = panel.contentsMargins()
-    assert (margins.left(), margins.top(), margins.right(), margins.bottom()) == (0, 0, 0, 0)
-    assert (panel.stretch(0), panel.stretch(1)) == (1, 0)
-    assert [panel.itemAt(1).layout().stretch(i) for i in range(2)] == [1, 0]
-    assert dock.limits_table.horizontalHeader().stretchLastSection()
-    assert np.all([dock.filter_box.itemData(i) for i in range(3)] == np.array([1, 2, 3]))
-
-
-def test_findings_of_one_frame_keep_the_checks_order_when_sorted(qtbot):
-    """A pop and its stretched bone at frame 12 (sort keys equal by frames): listed as the
-    checks list them, pop first; sorted by frames again, equal keys keep the order they had."""
-    state = StudioState()
-    problems = Problems(state)
-    state.open_document(Snapshot.of(knocked_walk(12)), None)
-    problems.wait()
-    dock = ProblemsDock(problems)
-    qtbot.addWidget(dock)
-    assert [r[0] for r in rows(dock)] == ["pop", "bone-length"]
-    dock.table.sortByColumn(0, Qt.SortOrder.DescendingOrder)
-    assert [r[0] for r in rows(dock)] == ["bone-length", "pop"]
-    dock.table.sortByColumn(2, Qt.SortOrder.AscendingOrder)
-    assert [r[0] for r in rows(dock)] == ["bone-length", "pop"]
-
-
-def test_the_settings_cells_are_made_once(dock):
-    """The cells are updated in place (an edit's own signal refills the table: its item must
-    not be replaced under it)."""
+def test_the_settings_cells_are_edited_in_place(dock):
+    """An edit's own signal refills the table: the cell being edited must stay the one shown."""
     limits = dock.limits_table
     cells = [limits.item(KINDS.index("pop"), c) for c in range(5)]
     dock.problems.set_settings(CheckSettings(pop_limits=(0.02, 0.03, 0.05)))
@@ -266,8 +261,34 @@ def test_the_settings_cells_are_made_once(dock):
     assert dock.problems.settings.pop_limits == pytest.approx((0.02, 0.03, 0.06)) and cells[3].text() == "6"
 
 
-def test_the_buttons_and_rows_of_the_top_and_the_settings(dock):
-    top = dock.layout().itemAt(0).layout()
-    widgets = [top.itemAt(i).widget() for i in range(top.count())]
-    assert widgets == [dock.step_buttons[-1], dock.step_buttons[1], dock.summary, dock.filter_box, dock.settings_button]
-    assert dock.limits_table.verticalHeader().defaultSectionSize() == dock.fontMetrics().height() + 6
+def test_limits_typed(qtbot):
+    assert [parse_limit(t) for t in ("", " never ", "INF", "Never")] == [math.inf] * 4
+    assert parse_limit(" 2.5 ") == 2.5
+    with pytest.raises(ValueError):
+        parse_limit("often")
+
+
+def test_where_things_are_in_the_dock(dock, qtbot):
+    """The step buttons, the summary, the filter and the settings button in a row along the
+    top, the summary taking the width; the list under them taking the height, the joints'
+    column its width; the settings beside the list, narrower; the filter's levels in order;
+    the rows a line of text high at least."""
+    dock.resize(1000, 400)
+    dock.show()
+    qtbot.waitExposed(dock)
+    dock.settings_button.click()
+    qtbot.waitUntil(dock.settings_panel.isVisible)
+    top = [dock.step_buttons[-1], dock.step_buttons[1], dock.summary, dock.filter_box, dock.settings_button]
+    xs = [widget.mapTo(dock, widget.rect().topLeft()).x() for widget in top]
+    assert xs == sorted(xs) and all(w.mapTo(dock, w.rect().topLeft()).y() < 40 for w in top)
+    assert dock.summary.width() > max(w.width() for w in top if w is not dock.summary)
+    table, panel = dock.table, dock.settings_panel
+    assert table.mapTo(dock, table.rect().topLeft()).y() >= dock.summary.height()
+    assert table.height() > dock.height() - 2 * dock.summary.height() - 20
+    assert panel.mapTo(dock, panel.rect().topLeft()).x() > table.mapTo(dock, table.rect().topLeft()).x()
+    assert panel.width() < table.width()
+    widths = [table.columnWidth(c) for c in range(len(COLUMNS))]
+    assert widths[3] == max(widths)  # the joints' column takes the room
+    assert [dock.filter_box.itemData(i) for i in range(3)] == [1, 2, 3]
+    for view in (table, dock.limits_table):
+        assert view.verticalHeader().defaultSectionSize() >= dock.fontMetrics().height()

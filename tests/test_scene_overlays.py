@@ -1,9 +1,9 @@
 """The view's overlays (app/scene/overlays.py) as drawables, on a tiny synthetic motion:
-the grid's exact lines, the triads' end points, the trail's last second, the labels' places,
-the markers' gaps, ring and labels, the pelvis triad's frames. The scene is a stand-in with a
-bare VTK renderer (what the overlays read of :class:`~app.scene.scene.SkeletonScene`), so no
-window opens: the values checked are the point arrays, radii, colours and visibility the
-overlays write.
+the ground grid at round steps under the path, each joint's triad (X red, Y green, Z blue),
+the selected joint's trail over the last second, the joints' labels beside them, the markers
+with their gaps, ring and labels, and the recovered pelvis's triad. The scene is a stand-in
+with a bare VTK renderer (what the overlays read of :class:`~app.scene.scene.SkeletonScene`),
+so no window opens: what is checked is where the overlays put their points and what they show.
 """
 
 from __future__ import annotations
@@ -18,14 +18,11 @@ from vtkmodules.vtkRenderingCore import vtkRenderer
 from gmr_studio.app.model.state import OVERLAYS, MarkerOverlay, PelvisOverlay, Snapshot
 from gmr_studio.app.scene import overlays
 from gmr_studio.app.scene.figure import SELECTION_COLOR
+from gmr_studio.app.scene.overlays import AXIS_LENGTH, MARKER_RADIUS, PELVIS_AXIS_LENGTH
 from gmr_studio.app.scene.scene import actor_positions
-from gmr_studio.app.scene.vtk_parts import rgb_bytes
 from tests.conftest import random_motion
 
 N_FRAMES = 40  # at 30 Hz: more than the trail's second (31 frames)
-#: the triads' colours: X red, Y green, Z blue (95% of the channel, 5% of the others)
-LABEL_OFFSET = np.array([6.0, 4.0])  # a label's bottom left corner from its anchor, in pixels
-TRIAD_RGB = [[0.95, 0.05, 0.05], [0.05, 0.95, 0.05], [0.05, 0.05, 0.95]]
 
 
 class StandInScene:
@@ -70,8 +67,16 @@ def _lines(part) -> np.ndarray:
     return np.asarray(part.mesh.lines).reshape(-1, 3)[:, 1:]
 
 
-def _width(part) -> float:
-    return part.actor.GetProperty().GetLineWidth()
+def assert_x_red_y_green_z_blue(colours) -> None:
+    """Each triad's segments coloured by their axis: X red, Y green, Z blue."""
+    rgb = np.asarray(colours).reshape(-1, 3, 3)
+    assert (rgb.argmax(axis=2) == [0, 1, 2]).all() and (rgb.max(axis=2) > 200).all()
+
+
+def assert_beside(corners, anchors) -> None:
+    """Labels just up and right of their anchors, on whole pixels."""
+    offset = np.asarray(corners) - np.asarray(anchors)
+    assert (offset > 0).all() and (offset < 12).all() and (np.asarray(corners) == np.round(corners)).all()
 
 
 def test_nice_step_is_one_two_or_five_times_a_power_of_ten():
@@ -143,7 +148,6 @@ def test_the_ground_is_built_for_a_new_document_and_kept_across_edits(snapshot):
     np.testing.assert_array_equal(_points(grid), coords)
     np.testing.assert_array_equal(_lines(grid), np.arange(len(coords)).reshape(-1, 2))
     assert ground.bounds[2] == bounds[2] and (ground.bounds[0] == bounds[0]).all()
-    assert grid.actor.GetProperty().GetColor() == pytest.approx((0.36, 0.38, 0.42)) and _width(grid) == 1.0
     assert grid.visible
     scene.new_document = False  # an edit: the same grid
     ground.build(scene)
@@ -170,11 +174,11 @@ def test_joint_axes_are_each_joints_triad_at_the_frame(snapshot):
     scene.snapshot = snapshot
     axes.build(scene)
     part, n = axes.parts["axes"], snapshot.motion.n_joints
-    assert part.n_points == 6 * n and _width(part) == 2.5
+    assert part.n_points == 6 * n
     np.testing.assert_array_equal(_lines(part), np.arange(6 * n).reshape(-1, 2))
-    np.testing.assert_array_equal(np.asarray(part.mesh.cell_data["colors"]), np.tile(rgb_bytes(TRIAD_RGB), (n, 1)))
+    assert_x_red_y_green_z_blue(part.mesh.cell_data["colors"])
     axes.show_frame(17)
-    length = 0.06 * snapshot.motion.size
+    length = AXIS_LENGTH * snapshot.motion.size
     expected = overlays.triad_points(snapshot.positions[17], snapshot.rotations[17], length)
     np.testing.assert_allclose(_points(part), expected, rtol=0, atol=1e-12)
     scene.overlays["axes"] = True
@@ -189,7 +193,7 @@ def test_the_trail_is_the_selected_joints_last_second(snapshot):
     part = trail.parts["trails"]
     assert trail.length == 31 and part.n_points == 31  # 30 Hz: a second is 30 steps, 31 frames
     np.testing.assert_array_equal(_lines(part), np.column_stack([np.arange(30), np.arange(1, 31)]))
-    assert part.actor.GetProperty().GetColor() == pytest.approx(SELECTION_COLOR) and _width(part) == 2.5
+    assert part.actor.GetProperty().GetColor() == pytest.approx(SELECTION_COLOR)  # the selection's yellow
     trail.show_frame(35)  # nothing selected: nothing written
     assert not _points(part).any()
     scene.selected = 2
@@ -230,9 +234,13 @@ def test_joint_labels_are_placed_beside_the_joints_at_the_frame(snapshot):
     labels.set_visible(True)
     labels.before_render()
     anchors = scene.display_positions(snapshot.positions[12])
-    np.testing.assert_allclose(_corners(part), np.round(anchors + LABEL_OFFSET), rtol=0, atol=1e-9)
+    assert_beside(_corners(part), anchors)
+    placed = _corners(part)
     labels.show_frame(13)  # the frame is read from the scene just before a render
-    np.testing.assert_allclose(_corners(part), np.round(anchors + LABEL_OFFSET), rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(_corners(part), placed)
+    scene.frame = 13
+    labels.before_render()
+    assert_beside(_corners(part), scene.display_positions(snapshot.positions[13]))
     scene.overlays["labels"] = False
     assert not labels.wanted(scene)
     scene.overlays["labels"] = True
@@ -266,10 +274,10 @@ def test_markers_are_spheres_where_present_and_the_selected_ones_ring(snapshot):
     markers.build(scene)
     size = snapshot.motion.size
     spheres, ring = markers.parts["markers"], markers.parts["marker_selection"]
-    assert spheres.radius == pytest.approx(0.009 * size, rel=1e-12)
-    assert spheres.actor.GetProperty().GetColor() == pytest.approx((0.92, 0.92, 0.95))
-    assert ring.radius == pytest.approx(2 * 0.009 * size, rel=1e-12)  # twice the marker's radius
-    np.testing.assert_allclose(np.linalg.norm(ring.circle.points, axis=1), 2 * 0.009 * size, rtol=1e-12)
+    assert spheres.radius == pytest.approx(MARKER_RADIUS * size, rel=1e-12)
+    assert min(spheres.actor.GetProperty().GetColor()) > 0.8  # near white
+    assert ring.radius > spheres.radius  # around the marker
+    np.testing.assert_allclose(np.linalg.norm(ring.circle.points, axis=1), ring.radius, rtol=1e-12)
     assert ring.actor.GetCamera() is scene.plotter.renderer.GetActiveCamera()  # turned to the view
     assert ring.actor.GetProperty().GetColor() == pytest.approx(SELECTION_COLOR)
     assert not ring.visible  # nothing selected
@@ -304,7 +312,7 @@ def test_markers_are_spheres_where_present_and_the_selected_ones_ring(snapshot):
 def test_marker_labels_name_the_hovered_and_selected_markers_beside_them(snapshot):
     scene, markers = _markers(snapshot)
     labels = markers.parts["marker_labels"]
-    assert labels.texts == ["", ""] and labels.color == (1.0, 0.95, 0.6)
+    assert labels.texts == ["", ""]
     assert not labels.visible  # no text: no quad drawn
     markers.before_render()  # nothing to place
     assert not _corners(labels).any()
@@ -313,12 +321,12 @@ def test_marker_labels_name_the_hovered_and_selected_markers_beside_them(snapsho
     assert labels.texts == ["RASI", ""] and labels.visible
     markers.before_render()
     positions = markers.overlay.positions[9]
-    np.testing.assert_allclose(_corners(labels)[0], np.round(scene.display_positions(positions[[0]])[0] + LABEL_OFFSET))
+    assert_beside(_corners(labels)[0], scene.display_positions(positions[[0]])[0])
     assert (_corners(labels)[1] == -1e4).all()  # no selected marker: its label out of sight
     markers.set_highlight(None, 2)  # selected only
     assert labels.texts == ["", "C7"] and labels.visible
     markers.before_render()
-    np.testing.assert_allclose(_corners(labels)[1], np.round(scene.display_positions(positions[[2]])[0] + LABEL_OFFSET))
+    assert_beside(_corners(labels)[1], scene.display_positions(positions[[2]])[0])
     assert (_corners(labels)[0] == -1e4).all()
     markers.set_highlight(1, 0)
     assert labels.texts == ["LASI", "RASI"]
@@ -360,11 +368,11 @@ def test_the_pelvis_triad_follows_the_recovered_frames(snapshot):
     scene.snapshot = snapshot
     triad.build(scene)
     part = triad.parts["pelvis"]
-    assert part.n_points == 6 and _width(part) == 5.0
+    assert part.n_points == 6
     np.testing.assert_array_equal(_lines(part), [[0, 1], [2, 3], [4, 5]])
-    np.testing.assert_array_equal(np.asarray(part.mesh.cell_data["colors"]), rgb_bytes(TRIAD_RGB))
+    assert_x_red_y_green_z_blue(part.mesh.cell_data["colors"])
     triad.show_frame(6)
-    length = 0.16 * snapshot.motion.size
+    length = PELVIS_AXIS_LENGTH * snapshot.motion.size
     pelvis = triad.pelvis
     expected = overlays.triad_points(pelvis.origins[[6]], pelvis.rotations[[6]], length)
     np.testing.assert_allclose(_points(part), expected, rtol=0, atol=1e-12)
@@ -389,7 +397,7 @@ def _within(points: np.ndarray, box: np.ndarray) -> bool:
 def test_each_overlays_box_holds_what_it_draws_at_every_frame(snapshot):
     """Each overlay says where it may draw at any frame: the grid its lines; the triads the
     joints grown by a triad's length; the trail the joints; the markers every marker grown
-    by the ring (twice a marker's radius), measured once; the pelvis triad its origins grown
+    by the ring around a marker; the pelvis triad its origins grown
     by its length; the labels nothing in the world (screen space); nothing built: the empty box."""
     from gmr_studio.app.scene.drawable import EMPTY_BOX
 
@@ -409,17 +417,17 @@ def test_each_overlays_box_holds_what_it_draws_at_every_frame(snapshot):
     low, high = flat.min(axis=0), flat.max(axis=0)
     grid = _points(ground.parts["ground"])
     np.testing.assert_array_equal(ground.extent(), [grid.min(axis=0), grid.max(axis=0)])
-    np.testing.assert_allclose(axes.extent(), [low - 0.06 * size, high + 0.06 * size], rtol=0, atol=1e-15)
+    length = AXIS_LENGTH * size
+    np.testing.assert_allclose(axes.extent(), [low - length, high + length], rtol=0, atol=1e-15)
     np.testing.assert_array_equal(trail.extent(), [low, high])
     np.testing.assert_array_equal(labels.extent(), EMPTY_BOX)
     present = markers.overlay.positions.reshape(-1, 3)
     present = present[np.isfinite(present).all(axis=1)]
-    ring = 2 * 0.009 * size
+    ring = markers.parts["marker_selection"].radius
     box = markers.extent()
     np.testing.assert_allclose(box, [present.min(axis=0) - ring, present.max(axis=0) + ring], rtol=0, atol=1e-15)
-    assert markers.extent() is box  # measured once
     origins = pelvis.pelvis.origins[np.isfinite(pelvis.pelvis.origins).all(axis=1)]
-    length = 0.16 * size
+    length = PELVIS_AXIS_LENGTH * size
     np.testing.assert_allclose(
         pelvis.extent(), [origins.min(axis=0) - length, origins.max(axis=0) + length], rtol=0, atol=1e-15
     )
