@@ -90,6 +90,21 @@ def test_a_bvh_written_z_up_reads_back_with_its_axes(tmp_path, capsys):
     np.testing.assert_array_equal(after, before)
 
 
+@pytest.mark.parametrize("up", ["y", "z"])
+def test_a_forest_exported_under_a_world_root_reads_back_with_its_axes_and_size(tmp_path, capsys, up):
+    """Regression: a split-all walk written as one BVH hangs its trees under a still
+    ``World`` root at the origin; counted as part of the figure, the walk's distance from
+    it made a Y-up walk look Z up (a comparison with the source then turned it over)."""
+    walk = change_up_axis(demo_motion(), up)
+    source, forest, again = tmp_path / "walk.gmr", tmp_path / "forest.gmr", tmp_path / "forest.bvh"
+    source.write_text(gmr_text(walk.replace(facts=FileFacts())))  # stating nothing: detected
+    assert main(["edit", str(source), "--split-all", "-o", str(forest)]) == 0
+    assert main(["convert", str(forest), str(again)]) == 0
+    capsys.readouterr()
+    motion = read_motion(again)
+    assert [motion.names[j] for j in np.flatnonzero(motion.anchors)] == ["World"]
+    assert up_axis_of(motion) == up_axis_of(walk) == up
+    assert motion.size == pytest.approx(walk.size, rel=1e-9)
 def test_a_conversion_chain_through_gltf_keeps_the_units_it_came_from(tmp_path, capsys):
     """Regression: AMC -> BVH -> glb -> BVH wrote the last BVH in metres, stating nothing, and
     compare with the AMC gave an MPJPE of 30 units on a 29-unit skeleton."""
