@@ -105,6 +105,8 @@ def test_a_forest_exported_under_a_world_root_reads_back_with_its_axes_and_size(
     assert [motion.names[j] for j in np.flatnonzero(motion.anchors)] == ["World"]
     assert up_axis_of(motion) == up_axis_of(walk) == up
     assert motion.size == pytest.approx(walk.size, rel=1e-9)
+
+
 def test_a_conversion_chain_through_gltf_keeps_the_units_it_came_from(tmp_path, capsys):
     """Regression: AMC -> BVH -> glb -> BVH wrote the last BVH in metres, stating nothing, and
     compare with the AMC gave an MPJPE of 30 units on a 29-unit skeleton."""

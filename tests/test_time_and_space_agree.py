@@ -15,6 +15,8 @@ first frames):
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -99,14 +101,17 @@ def test_every_writer_keeps_positions_units_axes_and_clock(source, suffix):
 @pytest.mark.parametrize("suffix", [".bvh", ".glb"])
 def test_compare_with_the_written_file_needs_no_flags(source, suffix):
     path, motion, folder = source
-    if suffix == ".bvh" and not stands_on_its_axis(motion):
-        pytest.skip(f"{path.name}: its figure does not show its up axis, which a BVH cannot state")
     target = folder / f"compared{suffix}"
     if suffix == ".glb":
         export_gltf(motion, target, skin=False)
     else:
         write_motion(post_from_pre(motion)[0], target)
-    result = compare_motions(motion, read_motion(target), label_a=path.name, label_b=target.name)
+    written = read_motion(target)
+    if suffix == ".bvh" and not stands_on_its_axis(motion):
+        # a BVH cannot state its up axis, and this figure does not show it: given as a user
+        # would give it, the comparison agrees as well
+        written = written.replace(facts=dataclasses.replace(written.facts, up_axis=up_axis_of(motion)))
+    result = compare_motions(motion, written, label_a=path.name, label_b=target.name)
     tolerance = 1e-6 if suffix == ".glb" else 1e-9
     assert result.position.mean <= tolerance * motion.size, result.alignment.notes
 
@@ -126,9 +131,7 @@ def test_the_channels_curves_are_the_channels_the_bvh_holds(source):
 
 
 def test_contacts_are_the_same_on_either_up_axis(source):
-    path, motion, _folder = source
-    if motion.n_frames < 10:
-        pytest.skip(f"{path.name} has {motion.n_frames} frames: no contacts to speak of")
+    _path, motion, _folder = source
     up = up_axis_of(motion)
     other = change_up_axis(motion, "z" if up == "y" else "y")  # states its new up axis
     np.testing.assert_array_equal(foot_contacts(other).planted, foot_contacts(motion).planted)
