@@ -21,16 +21,18 @@ import argparse
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from gmr_studio.core.kinematics.fk import forward_kinematics
-from gmr_studio.core.markers.markerset import Y_UP_TO_Z_UP, MarkerSet
 from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.model.motion import Motion, build_translations
 from gmr_studio.core.rotations.euler import matrix_from_euler
 from gmr_studio.core.space.units import UNITS
 from gmr_studio.resources import resource_path
+
+if TYPE_CHECKING:
+    from gmr_studio.core.markers.markerset import MarkerSet
 
 #: joint name -> (parent name, bone vector in the rest pose, cm); the CMU ASF hierarchy
 SKELETON: dict[str, tuple[str | None, tuple[float, float, float]]] = {
@@ -191,6 +193,11 @@ def demo_markers(motion: Motion | None = None) -> MarkerSet:
 
     The first 31 markers sit on the joints and carry their names; ten surface markers
     follow (``SURFACE_MARKERS``)."""
+    # imported here: the demo's file names are read by gmr-studio's argument parser, which
+    # loads no kinematics engine to print its usage
+    from gmr_studio.core.kinematics.fk import forward_kinematics
+    from gmr_studio.core.markers.markerset import Y_UP_TO_Z_UP, MarkerSet
+
     motion = demo_motion() if motion is None else motion
     positions, world = forward_kinematics(motion)
     labels = list(motion.names)

@@ -30,10 +30,11 @@ def read_png(path) -> np.ndarray:
     return image_pixels(QImage(str(path)))
 
 
-def test_help_is_printed_without_loading_qt_or_vtk():
+def test_help_is_printed_without_loading_qt_vtk_or_the_numerical_code():
     out, _, loaded = modules_loaded_by("gmr_studio.app.main", "--help")
     assert "--screenshot OUT.png" in out and "--shift-root J" in out
     assert not {"PyQt6", "pyvista", "pyvistaqt", "vtk", "vtkmodules", "pyqtgraph"} & loaded
+    assert not {"numba", "scipy", "gmr_studio.core.kinematics", "gmr_studio.core.compare.engine"} & loaded
 
 
 def test_without_a_display_it_says_how_to_run_and_exits_2():

@@ -13,23 +13,37 @@ Pure numpy, shared by ``gmr compare``, ``gmr audit`` and the app's comparison la
 See ``docs/compare.md``.
 """
 
-from gmr_studio.core.compare.align import ALIGN_KINDS, Alignment, fit_alignment
-from gmr_studio.core.compare.clock import DEFAULT_OFFSET
-from gmr_studio.core.compare.engine import compare_motions, compare_tracks
-from gmr_studio.core.compare.result import Comparison, ErrorSummary, summarize
-from gmr_studio.core.compare.tracks import Track, track_of_motion, track_of_points
+from __future__ import annotations
 
-__all__ = [
-    "ALIGN_KINDS",
-    "DEFAULT_OFFSET",
-    "Alignment",
-    "Comparison",
-    "ErrorSummary",
-    "Track",
-    "compare_motions",
-    "compare_tracks",
-    "fit_alignment",
-    "summarize",
-    "track_of_motion",
-    "track_of_points",
-]
+import importlib
+
+#: each name this package exports and the module that defines it, imported when first asked
+#: for (PEP 562), so a command line that only needs a constant does not load the engine
+_EXPORTS = {
+    "ALIGN_KINDS": "align",
+    "Alignment": "align",
+    "fit_alignment": "align",
+    "DEFAULT_OFFSET": "clock",
+    "compare_motions": "engine",
+    "compare_tracks": "engine",
+    "Comparison": "result",
+    "ErrorSummary": "result",
+    "summarize": "result",
+    "Track": "tracks",
+    "track_of_motion": "tracks",
+    "track_of_points": "tracks",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str):
+    if name not in _EXPORTS:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_EXPORTS))
