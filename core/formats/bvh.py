@@ -11,10 +11,12 @@ from __future__ import annotations
 from pathlib import Path
 
 from gmr_studio.core.atomic import atomic_write_text
-from gmr_studio.core.errors import read_input
-from gmr_studio.core.formats.frames import parse_frames
-from gmr_studio.core.formats.hierarchy import normalise_newlines, parse_header
-from gmr_studio.core.formats.textmotion import _motion_from_header, format_text_motion, read_text_motion
+from gmr_studio.core.formats.textmotion import (
+    format_text_motion,
+    motion_from_header,
+    parse_text_file,
+    read_text_motion,
+)
 from gmr_studio.core.model.channels import FileChannels
 from gmr_studio.core.model.motion import Motion
 
@@ -29,21 +31,8 @@ def read_bvh(path: str | Path, data: bytes | None = None) -> Motion:
 def read_bvh_with_channels(path: str | Path, data: bytes | None = None) -> tuple[Motion, FileChannels]:
     """:func:`read_bvh`, and the file's rotation channel values as written
     (:class:`core.model.channels.FileChannels`, re-exported here)."""
-    path_text = str(path)
-    data = normalise_newlines(read_input(path, data))
-    header = parse_header(data, path_text, "bvh")
-    n_values = sum(len(j.channels) for j in header.joints)
-    values, note = parse_frames(
-        data,
-        header.data_offset,
-        header.data_line,
-        n_values,
-        header.n_frames,
-        header.frames_token.line,
-        path_text,
-        allow_extra=True,
-    )
-    motion = _motion_from_header(header, values, "bvh", path_text, note)
+    header, values, note = parse_text_file(path, "bvh", data)
+    motion = motion_from_header(header, values, "bvh", str(path), note)
     values.flags.writeable = False
     orders, angles, column = {}, {}, 0
     for joint in header.joints:

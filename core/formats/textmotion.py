@@ -39,6 +39,15 @@ _CHUNK_FRAMES = 2048
 
 def read_text_motion(path: str | Path, dialect: str, data: bytes | None = None) -> Motion:
     """Read a BVH ('bvh', post-rotation) or GMR ('gmr', pre-rotation) file."""
+    header, values, note = parse_text_file(path, dialect, data)
+    return motion_from_header(header, values, dialect, str(path), note)
+
+
+def parse_text_file(
+    path: str | Path, dialect: str, data: bytes | None = None
+) -> tuple[ParsedHeader, np.ndarray, str | None]:
+    """A BVH or GMR file's parsed header, its (F, V) frame values as written (V channels in
+    file order) and a note on what the reader tolerated (None if nothing)."""
     path_text = str(path)
     data = normalise_newlines(read_input(path, data))
     header = parse_header(data, path_text, dialect)
@@ -53,10 +62,10 @@ def read_text_motion(path: str | Path, dialect: str, data: bytes | None = None) 
         path_text,
         allow_extra=dialect == "bvh",
     )
-    return _motion_from_header(header, values, dialect, path_text, note)
+    return header, values, note
 
 
-def _motion_from_header(
+def motion_from_header(
     header: ParsedHeader, values: np.ndarray, dialect: str, path: str, note: str | None = None
 ) -> Motion:
     """The motion of a parsed header and its (F, V) frame values; ``note`` (what the reader
