@@ -24,7 +24,7 @@ from gmr_studio.app.scene.ghost_layer import (
     error_scale_top,
 )
 from gmr_studio.app.scene.labels import box_corners
-from gmr_studio.app.scene.legend import EDGE, label_texts, legend_fit, legend_layout, legend_part
+from gmr_studio.app.scene.legend import EDGE, LABEL_GAP, label_texts, legend_fit, legend_layout, legend_part
 from gmr_studio.app.scene.vtk_parts import rgb_bytes
 from gmr_studio.core.compare import compare_motions
 from gmr_studio.core.compare.clock import ghost_positions
@@ -441,10 +441,11 @@ def test_the_legend_is_a_bar_from_zero_at_the_bottom_to_the_top_with_its_labels_
     assert (np.diff(values) >= 0).all() and values[0] < 0.01 * top and values[-1] > 0.99 * top
     for k, label in enumerate(labels):  # 0, a quarter of the top, ... the top
         assert label[0] >= x1 + 2  # right of the bar, a gap between
-        row = y0 + np.argmin(np.abs(values - k * top / 4))  # the bar's row of the label's value
-        assert abs(piece_centre(label)[1] - (row + 0.5)) <= 1.5, k
+        level = y0 + k / 4 * (y1 - y0)  # where the bar reaches the label's value
+        assert abs(piece_centre(label)[1] - level) <= 1, k  # the label's middle within a pixel
     assert (labels[:, 0] == labels[0, 0]).all()  # one column of labels
-    assert title[1] >= labels[:, 3].max() and title[3] == height  # the title above them, at the top
+    assert title[3] == height  # the title at the top, just above the top label, the gap between
+    assert LABEL_GAP <= title[1] - labels[:, 3].max() <= LABEL_GAP + 1
     assert abs(piece_centre(title)[0] - width / 2) <= 1
     assert boxes[:, 2].max() == width and boxes[:, 1].min() <= 1  # no margin but the lowest label's half row
     inside = np.zeros((height, width), bool)
