@@ -185,24 +185,12 @@ def gather_joints(rows, joints, width, start, stop, out):  # pragma: no cover - 
 
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)
-def turned_vectors(source, first, joints, axes, signs, scale, shift, start, stop, out):  # pragma: no cover
-    """out[f, n, a] = (signs[a] * source[first + f, joints[n], axes[a]]) * scale + shift[n, a]
-    for frames start..stop-1 of ``out``: a signed permutation of the axes applied to each
-    joint's vector, then scaled and shifted."""
+def signed_gather(rows, first, index, factor, scale, shift, start, stop, out):  # pragma: no cover - compiled
+    """out[f, i] = (factor[i] * rows[first + f, index[i]]) * scale + shift[i] for frames
+    start..stop-1 of ``out`` (F', W'): every output number one input number of its frame's
+    row, signed, scaled and shifted (the axes of each joint's vector or matrix permuted)."""
     for f in range(start, stop):
-        for n in range(joints.shape[0]):
-            j = joints[n]
-            for a in range(3):
-                out[f, n, a] = (signs[a] * source[first + f, j, axes[a]]) * scale + shift[n, a]
-
-
-@numba.njit(nogil=True, cache=True, boundscheck=False)
-def turned_matrices(source, first, joints, axes, signs, start, stop, out):  # pragma: no cover - compiled
-    """out[f, n, a, b] = signs[a] signs[b] source[first + f, joints[n], axes[a], axes[b]] for
-    frames start..stop-1 of ``out``: each joint's matrix conjugated by a signed permutation."""
-    for f in range(start, stop):
-        for n in range(joints.shape[0]):
-            j = joints[n]
-            for a in range(3):
-                for b in range(3):
-                    out[f, n, a, b] = (signs[a] * signs[b]) * source[first + f, j, axes[a], axes[b]]
+        source = rows[first + f]
+        target = out[f]
+        for i in range(index.shape[0]):
+            target[i] = (factor[i] * source[index[i]]) * scale + shift[i]

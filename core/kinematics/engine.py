@@ -322,13 +322,19 @@ def turned_joints(
     source = np.ascontiguousarray(array)
     out = np.empty((n_frames, joints.size, *array.shape[2:]))
     axes, signs = signed
-    shift = np.ascontiguousarray(shift)
+    if matrices:  # entry (a, b) of joint n: entry (axes[a], axes[b]) of joint joints[n], signed twice
+        within = (3 * axes[:, None] + axes[None, :]).ravel()
+        index = (9 * joints[:, None] + within).ravel()
+        factor = np.tile(np.outer(signs, signs).ravel(), joints.size)
+        flat_shift = np.zeros(index.size)
+    else:
+        index = (3 * joints[:, None] + axes).ravel()
+        factor = np.tile(signs, joints.size)
+        flat_shift = np.ascontiguousarray(shift, dtype=np.float64).ravel()
+    rows, out_rows, scale = source.reshape(source.shape[0], -1), out.reshape(n_frames, -1), float(scale)
 
     def block(frames: slice) -> None:
-        if matrices:
-            _kernels.turned_matrices(source, first, joints, axes, signs, frames.start, frames.stop, out)
-        else:
-            _kernels.turned_vectors(source, first, joints, axes, signs, scale, shift, frames.start, frames.stop, out)
+        _kernels.signed_gather(rows, first, index, factor, scale, flat_shift, frames.start, frames.stop, out_rows)
 
     in_blocks(block, n_frames, threads)
     return out
