@@ -16,7 +16,7 @@ import numba
 import numpy as np
 
 
-@numba.njit(inline="always", boundscheck=False)
+@numba.njit(boundscheck=False)
 def _slerp_far(r0, r1, weight, out):  # pragma: no cover - compiled
     """:func:`core.timebase.sampling._slerp_far` for one sample: r0, r1, out (3, 3)."""
     rel = np.empty((3, 3))
@@ -65,43 +65,66 @@ def slerp_rows(rotations, low, high, weight, columns, out):  # pragma: no cover 
     """out[f, n] = the rotation ``weight[f]`` of the way along the geodesic from
     rotations[low[f], columns[n]] to rotations[high[f], columns[n]] (each (3, 3)), as
     :func:`core.timebase.sampling.slerp_component_major` computes it (near steps by
-    Rodrigues' formula on ``u``, steps of 60 degrees or more by the far formula)."""
-    u = np.empty(3)
+    Rodrigues' formula on ``u``, steps of 60 degrees or more by the far formula).
+
+    Each frame in three passes over its joints (``u`` and the cosine; the two factors;
+    the rotations): the square roots, divisions and the arcsine and sine of one joint do
+    not wait for another's, so that the processor overlaps them."""
+    n_columns = columns.shape[0]
+    u = np.empty((n_columns, 3))
+    factors = np.empty((n_columns, 2))
+    far = np.empty(n_columns, np.bool_)
     for f in range(out.shape[0]):
         w = weight[f]
-        for n in range(columns.shape[0]):
+        lo = low[f]
+        hi = high[f]
+        for n in range(n_columns):
             j = columns[n]
-            r0 = rotations[low[f], j]
-            r1 = rotations[high[f], j]
-            o = out[f, n]
-            for i in range(3):
-                a = (i + 1) % 3
-                b = (i + 2) % 3
-                u[i] = ((r0[a, 0] * r1[b, 0] + r0[a, 1] * r1[b, 1]) + r0[a, 2] * r1[b, 2]) - (
-                    (r0[b, 0] * r1[a, 0] + r0[b, 1] * r1[a, 1]) + r0[b, 2] * r1[a, 2]
-                )
             dot = 0.0
             for a in range(3):
                 for b in range(3):
-                    dot += r0[a, b] * r1[a, b]
-            cos = (dot - 1.0) * 0.5
-            if cos < 0.5:
-                _slerp_far(r0, r1, w, o)
-                continue
-            sin = math.sqrt((u[0] * u[0] + u[1] * u[1]) + u[2] * u[2]) * 0.5
+                    dot += rotations[lo, j, a, b] * rotations[hi, j, a, b]
+            far[n] = (dot - 1.0) * 0.5 < 0.5
+            u[n, 0] = _row_cross(rotations, lo, hi, j, 1, 2)
+            u[n, 1] = _row_cross(rotations, lo, hi, j, 2, 0)
+            u[n, 2] = _row_cross(rotations, lo, hi, j, 0, 1)
+        for n in range(n_columns):
+            sin = math.sqrt((u[n, 0] * u[n, 0] + u[n, 1] * u[n, 1]) + u[n, 2] * u[n, 2]) * 0.5
             h = math.sin(math.asin(min(sin, 1.0)) * w * 0.5)
             if sin == 0.0:
                 sin = 1.0
             q = h / sin
             root = math.sqrt(1.0 - h * h)
-            qa = q * root
-            qb = q * 0.5 / root
-            a0, a1, a2 = u[0] * qa, u[1] * qa, u[2] * qa
-            b0, b1, b2 = u[0] * qb, u[1] * qb, u[2] * qb
+            factors[n, 0] = q * root
+            factors[n, 1] = q * 0.5 / root
+        for n in range(n_columns):
+            j = columns[n]
+            if far[n]:
+                _slerp_far(rotations[lo, j], rotations[hi, j], w, out[f, n])
+                continue
+            qa = factors[n, 0]
+            qb = factors[n, 1]
+            a0, a1, a2 = u[n, 0] * qa, u[n, 1] * qa, u[n, 2] * qa
+            b0, b1, b2 = u[n, 0] * qb, u[n, 1] * qb, u[n, 2] * qb
             for c in range(3):
-                x0 = a1 * r0[2, c] - a2 * r0[1, c]
-                x1 = a2 * r0[0, c] - a0 * r0[2, c]
-                x2 = a0 * r0[1, c] - a1 * r0[0, c]
-                o[0, c] = (x0 + r0[0, c]) + (b1 * x2 - b2 * x1)
-                o[1, c] = (x1 + r0[1, c]) + (b2 * x0 - b0 * x2)
-                o[2, c] = (x2 + r0[2, c]) + (b0 * x1 - b1 * x0)
+                r0c0 = rotations[lo, j, 0, c]
+                r0c1 = rotations[lo, j, 1, c]
+                r0c2 = rotations[lo, j, 2, c]
+                x0 = a1 * r0c2 - a2 * r0c1
+                x1 = a2 * r0c0 - a0 * r0c2
+                x2 = a0 * r0c1 - a1 * r0c0
+                out[f, n, 0, c] = (x0 + r0c0) + (b1 * x2 - b2 * x1)
+                out[f, n, 1, c] = (x1 + r0c1) + (b2 * x0 - b0 * x2)
+                out[f, n, 2, c] = (x2 + r0c2) + (b0 * x1 - b1 * x0)
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _row_cross(rotations, lo, hi, j, a, b):  # pragma: no cover - compiled
+    """Component of ``u`` from rows a and b: R_0[a] . R_1[b] - R_0[b] . R_1[a]."""
+    first = (rotations[lo, j, a, 0] * rotations[hi, j, b, 0] + rotations[lo, j, a, 1] * rotations[hi, j, b, 1]) + (
+        rotations[lo, j, a, 2] * rotations[hi, j, b, 2]
+    )
+    second = (rotations[lo, j, b, 0] * rotations[hi, j, a, 0] + rotations[lo, j, b, 1] * rotations[hi, j, a, 1]) + (
+        rotations[lo, j, b, 2] * rotations[hi, j, a, 2]
+    )
+    return first - second
