@@ -128,3 +128,17 @@ def _row_cross(rotations, lo, hi, j, a, b):  # pragma: no cover - compiled
         rotations[lo, j, b, 2] * rotations[hi, j, a, 2]
     )
     return first - second
+
+
+@numba.njit(nogil=True, cache=True, boundscheck=False)
+def lerp_rows(values, low, high, weight, out):  # pragma: no cover - compiled
+    """out[f, i] = a + (b - a) * weight[f] with a = values[low[f], i], b = values[high[f], i]
+    (rows of numbers): the operations of :func:`core.timebase.sampling.interpolate`'s numpy
+    path, in one pass."""
+    for f in range(out.shape[0]):
+        w = weight[f]
+        lo = low[f]
+        hi = high[f]
+        for i in range(out.shape[1]):
+            a = values[lo, i]
+            out[f, i] = a + (values[hi, i] - a) * w

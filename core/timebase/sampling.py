@@ -13,9 +13,10 @@ comparisons (B on A's frames) and their offset search.
   along the geodesic between the two neighbouring frames (:func:`interpolate_rotations`:
   quaternion slerp, computed on the matrices). Where a sample falls on a source frame, the
   frame is taken as it is (bit for bit); outside the source's range, and next to its gaps
-  (NaN), the samples are NaN. With numba installed the rotations are interpolated by a
-  compiled kernel (:mod:`core.timebase._kernels`), one pass over the samples; the numpy
-  path (:func:`slerp_component_major`) is the reference it agrees with to rounding.
+  (NaN), the samples are NaN. With numba installed both run as compiled kernels
+  (:mod:`core.timebase._kernels`), one pass over the samples: the linear one with the numpy
+  path's very operations, the rotations in agreement with the numpy path
+  (:func:`slerp_component_major`, the reference) to rounding.
 """
 
 from __future__ import annotations
@@ -108,6 +109,14 @@ def _resample_inside(
         np.copyto(out, picked)
         return out
     low, high, weight = neighbours(at, n)
+    compiled = _kernels is not None and columns is None and values.dtype == np.float64 and values.ndim > 1
+    if compiled and (out is None or out.flags.c_contiguous):
+        if out is None:
+            out = np.empty((len(at), *values.shape[1:]))
+        rows = np.ascontiguousarray(values).reshape(n, -1)
+        flat_out = out.reshape(len(at), -1)  # out is C-contiguous: a view
+        _kernels.lerp_rows(rows, low, high, weight, flat_out)
+        return out
     first, second = take(values, low, columns), take(values, high, columns)
     if out is None:
         out = np.empty(first.shape)
