@@ -104,8 +104,7 @@ def jitter(data: CheckData, settings: CheckSettings) -> list[Finding]:
     n_blocks = (data.n_frames - 3) // block
     if n_blocks < 1:
         return []
-    middles = data.middles  # row i: frames i..i+2
-    products = np.einsum("fja,fja->fj", middles[:-1], middles[1:])[: n_blocks * block]  # row i: frames i..i+3
+    products = data.middle_products[: n_blocks * block]  # row i: frames i..i+3
     blocks = products.reshape(n_blocks, block, -1)
     middle = block // 2
     noise = np.sqrt(np.maximum(0.0, -NOISE_FROM_MEDIAN * np.partition(blocks, middle, axis=1)[:, middle]))  # (B, J)
