@@ -11,7 +11,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from gmr_studio.core.checks.context import FILE_UNITS, CheckData, joint_runs, merge_runs, runs
-from gmr_studio.core.checks.passes import largest_steps, middles, second_differences, step_angles
+from gmr_studio.core.checks.passes import largest_steps, middles, second_differences, step_angles, step_cosines
 from gmr_studio.core.kinematics.engine import have_numba
 from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.space.units import UNITS
@@ -131,7 +131,7 @@ def test_the_compiled_passes_agree_with_numpy(rng):
         ((largest_steps(positions, backend="numba"),), (largest_steps(positions, backend="numpy"),)),
         ((largest_steps(positions, [6, 3], backend="numba"),), (largest_steps(positions, [6, 3], backend="numpy"),)),
         ((step_angles(rotations, backend="numba"),), (step_angles(rotations, backend="numpy"),)),
-        ((step_angles(rotations, [4, 0], backend="numba"),), (step_angles(rotations, [4, 0], backend="numpy"),)),
+        ((step_cosines(rotations, [4, 0], backend="numba"),), (step_cosines(rotations, [4, 0], backend="numpy"),)),
     ):
         for got, expected in zip(compiled, reference, strict=True):
             np.testing.assert_allclose(got, expected, rtol=1e-14, atol=1e-14)

@@ -54,11 +54,10 @@ def largest_steps(positions, joints, out):  # pragma: no cover - compiled
 
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)
-def step_angles(rotations, joints, out):  # pragma: no cover - compiled
-    """rotations (F, J, 3, 3) -> out (F-1, K): the angle in degrees of ``R_f^T R_{f+1}`` of
-    each of the ``joints`` (K,), from its trace (the sum of the entries' products), its
-    cosine clipped to [-1, 1] (NaN stays NaN)."""
-    to_degrees = 180.0 / np.pi
+def step_cosines(rotations, joints, out):  # pragma: no cover - compiled
+    """rotations (F, J, 3, 3) -> out (F-1, K): the cosine of the angle of ``R_f^T R_{f+1}``
+    of each of the ``joints`` (K,), ``(trace - 1) / 2`` from the sum of the entries'
+    products, clipped to [-1, 1] (NaN stays NaN)."""
     for f in range(rotations.shape[0] - 1):
         for k in range(joints.shape[0]):
             j = joints[k]
@@ -71,4 +70,4 @@ def step_angles(rotations, joints, out):  # pragma: no cover - compiled
                 cos = -1.0
             elif cos > 1.0:
                 cos = 1.0
-            out[f, k] = math.acos(cos) * to_degrees
+            out[f, k] = cos

@@ -4,7 +4,8 @@
   and the products of consecutive middles (pops and jitter, :mod:`core.checks.spikes`);
 - :func:`largest_steps`: the largest squared step of any joint from frame to frame (frozen
   and duplicate frames, :mod:`core.checks.frames`);
-- :func:`step_angles`: the angle of ``R_f^T R_{f+1}`` of every joint (flips, :mod:`core.checks.joints`).
+- :func:`step_cosines`: the cosine of the angle of ``R_f^T R_{f+1}`` of every joint (flips,
+  :mod:`core.checks.joints`).
 
 With numba installed each is a compiled kernel (:mod:`core.checks._kernels`) that writes only
 its result; without it (or with ``backend='numpy'``) numpy computes the same (the reference;
@@ -67,15 +68,19 @@ def largest_steps(positions: np.ndarray, joints: np.ndarray | None = None, *, ba
     return np.fmax.reduce(np.einsum("fja,fja->fj", steps, steps), axis=1)
 
 
-def step_angles(rotations: np.ndarray, joints: np.ndarray | None = None, *, backend: str = "auto") -> np.ndarray:
-    """(F-1, K): the angle in degrees between consecutive rotations (F, J, 3, 3) of the
-    ``joints`` (K,) (None: all), ``arccos((trace(R_f^T R_{f+1}) - 1) / 2)`` with the cosine
-    clipped to [-1, 1]."""
+def step_cosines(rotations: np.ndarray, joints: np.ndarray | None = None, *, backend: str = "auto") -> np.ndarray:
+    """(F-1, K): the cosine of the angle between consecutive rotations (F, J, 3, 3) of the
+    ``joints`` (K,) (None: all), ``(trace(R_f^T R_{f+1}) - 1) / 2`` clipped to [-1, 1]."""
     every = np.arange(rotations.shape[1]) if joints is None else np.asarray(joints, dtype=np.int64)
     if _compiled(backend, rotations):
         out = np.empty((max(rotations.shape[0] - 1, 0), every.size))
-        _kernels.step_angles(np.ascontiguousarray(rotations), every, out)
+        _kernels.step_cosines(np.ascontiguousarray(rotations), every, out)
         return out
     picked = rotations[:, every]
     trace = np.einsum("fkab,fkab->fk", picked[1:], picked[:-1])
-    return np.degrees(np.arccos(np.clip(0.5 * (trace - 1.0), -1.0, 1.0)))
+    return np.clip(0.5 * (trace - 1.0), -1.0, 1.0)
+
+
+def step_angles(rotations: np.ndarray, joints: np.ndarray | None = None, *, backend: str = "auto") -> np.ndarray:
+    """(F-1, K): the angles in degrees of :func:`step_cosines`."""
+    return np.degrees(np.arccos(step_cosines(rotations, joints, backend=backend)))
