@@ -1,5 +1,6 @@
 """What the checks read (core.checks.context): the cache, the up axis and units a file states, the
-middles on exact values, findings' levels and frames, runs per joint and their merging."""
+middles on exact values, findings' levels and frames, runs per joint and their merging; the
+passes over the frames (core.checks.passes) in both backends."""
 
 from __future__ import annotations
 
@@ -7,8 +8,11 @@ import dataclasses
 
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation
 
 from gmr_studio.core.checks.context import FILE_UNITS, CheckData, joint_runs, merge_runs, runs
+from gmr_studio.core.checks.passes import largest_steps, middles, second_differences, step_angles, step_cosines
+from gmr_studio.core.kinematics.engine import have_numba
 from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.space.units import UNITS
 from tests.checks_walk import clean_walk
@@ -43,8 +47,9 @@ def test_middles_and_deviations_on_exact_values():
     positions[:, 0, 0] = [0.0, 1.0, 4.0]
     positions[:, 0, 1] = [0.0, 0.0, 2.0]
     data = CheckData(data.motion, positions, 1.0)
-    np.testing.assert_array_equal(data.middles, [[[-1.0, -1.0, 0.0], [0.0, 0.0, 0.0]]])
+    np.testing.assert_array_equal(middles(positions), [[[-1.0, -1.0, 0.0], [0.0, 0.0, 0.0]]])
     np.testing.assert_allclose(data.deviations, [[np.sqrt(2.0), 0.0]], rtol=1e-15)
+    assert data.middle_products.shape == (0, 2)
     np.testing.assert_array_equal(positions[1, 0], [1.0, 0.0, 0.0])  # not changed in place
 
 
@@ -93,3 +98,41 @@ def test_check_data_is_frozen_compared_by_identity_and_keeps_its_cache_out_of_re
         data.size = 3.0
     data.cached("big", lambda: "cached value")
     assert "cached value" not in repr(data) and "shared" not in repr(data)
+
+
+@pytest.mark.parametrize("backend", ["numpy", "numba"])
+def test_the_passes_over_the_frames_on_exact_values(backend):
+    """Joint 0's middles -1 then 1 (x), their product -1; joint 1's middle -1.5 (z) and then
+    a gap; the largest steps of any joint; the angles between consecutive rotations."""
+    if backend == "numba" and not have_numba():
+        pytest.skip("numba is not installed")
+    positions = np.zeros((4, 2, 3))
+    positions[:, 0, 0] = [0.0, 1.0, 4.0, 5.0]  # middles: 1 - 2 = -1, 4 - 3 = 1
+    positions[:, 1, 2] = [0.0, 0.0, 3.0, np.nan]
+    deviations, products = second_differences(positions, backend=backend)
+    np.testing.assert_allclose(deviations[:, 0], [1.0, 1.0], rtol=1e-15)
+    np.testing.assert_allclose(deviations[:, 1], [1.5, np.nan], rtol=1e-15)
+    np.testing.assert_allclose(products, [[-1.0, np.nan]], rtol=1e-15)
+    np.testing.assert_allclose(largest_steps(positions, backend=backend), [1.0, 9.0, 1.0], rtol=1e-15)
+    assert np.isnan(largest_steps(positions, [1], backend=backend)[2])  # every step NaN: NaN
+    quarter = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # 90 degrees about z
+    rotations = np.stack([np.eye(3), quarter, quarter])[:, None]
+    np.testing.assert_allclose(step_angles(rotations, backend=backend), [[90.0], [0.0]], rtol=1e-15)
+
+
+@pytest.mark.skipif(not have_numba(), reason="numba is not installed")
+def test_the_compiled_passes_agree_with_numpy(rng):
+    positions = rng.normal(size=(50, 7, 3))
+    positions[20, 3] = np.nan  # a gap
+    rotations = Rotation.random(150, random_state=3).as_matrix().reshape(30, 5, 3, 3)
+    rotations[7, 2] = np.nan
+    for compiled, reference in (
+        (second_differences(positions, backend="numba"), second_differences(positions, backend="numpy")),
+        ((largest_steps(positions, backend="numba"),), (largest_steps(positions, backend="numpy"),)),
+        ((largest_steps(positions, [6, 3], backend="numba"),), (largest_steps(positions, [6, 3], backend="numpy"),)),
+        ((step_angles(rotations, backend="numba"),), (step_angles(rotations, backend="numpy"),)),
+        ((step_cosines(rotations, [4, 0], backend="numba"),), (step_cosines(rotations, [4, 0], backend="numpy"),)),
+    ):
+        for got, expected in zip(compiled, reference, strict=True):
+            np.testing.assert_allclose(got, expected, rtol=1e-14, atol=1e-14)
+            assert np.array_equal(np.isnan(got), np.isnan(expected))

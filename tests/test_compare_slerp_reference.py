@@ -6,7 +6,8 @@ The rotations are made to reach the hard cases of the vectorised path: steps bet
 frames of 0, 1e-9 rad, around the 60-degree switch to the far path and up to 180 - 1e-6
 degrees; angles between A and B of 1e-8 rad and of 180 degrees minus 1e-7 rad (where the
 chord's arcsin would lose digits); NaN frames on either side; A's frames outside B's time
-range on both ends; two frame rates, so that the fractional frames vary.
+range on both ends; two frame rates, so that the fractional frames vary. Resampling is
+checked with both interpolators, the numpy reference and the compiled kernel.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from scipy.spatial.transform import Rotation, Slerp
 from gmr_studio.core.compare import compare_tracks
 from gmr_studio.core.compare.tracks import Track
 from gmr_studio.core.jointmap import match_joints
+from gmr_studio.core.kinematics.engine import have_numba
 from gmr_studio.core.timebase.sampling import interpolate_rotations as resample_rotations
 
 N_B, N_A, RATE_A, RATE_B, OFFSET = 60, 100, 40.0, 30.0, -0.3  # A's frame i is B's 0.75 i - 9
@@ -124,9 +126,13 @@ def test_interpolated_rotation_errors_equal_scipy(case, align):
     assert np.nanmax(np.abs(result.rotation_error - expected)) <= 1e-9
 
 
-def test_resampled_rotations_equal_scipy(case):
+@pytest.mark.parametrize("backend", ["numpy", "numba"])
+def test_resampled_rotations_equal_scipy(case, backend):
+    """Both interpolators: the numpy reference and the compiled kernel."""
+    if backend == "numba" and not have_numba():
+        pytest.skip("numba is not installed")
     _a, b, at, reference_b = case
-    got = resample_rotations(b.rotations, at)
+    got = resample_rotations(b.rotations, at, backend=backend)
     assert np.array_equal(np.isnan(got), np.isnan(reference_b))
     assert np.nanmax(np.abs(got - reference_b)) <= 1e-12
     # orthonormal to rounding, also after steps towards 180 degrees

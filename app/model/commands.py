@@ -17,17 +17,18 @@ from PyQt6.QtGui import QUndoCommand
 
 from gmr_studio.app.crash import report_unexpected
 from gmr_studio.app.model.state import Snapshot, StudioState
-from gmr_studio.core.edits.clip import resample, trim
+from gmr_studio.core.edits.clip import resample, trim_edit
 from gmr_studio.core.edits.dummies import find_dummies, remove_dummies_edit
-from gmr_studio.core.edits.mirror import mirror, mirror_pairs, pairs_text
+from gmr_studio.core.edits.edited import Edited
+from gmr_studio.core.edits.mirror import mirror_edit, mirror_pairs, pairs_text
 from gmr_studio.core.edits.operations import (
-    Edited,
     join_all_edit,
     join_edit,
     shift_root_edit,
     split_all_edit,
     split_edit,
 )
+from gmr_studio.core.edits.world import change_up_axis_edit, scale_lengths_edit
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.model.motion import Motion
 
@@ -54,7 +55,7 @@ class MotionEdit(QUndoCommand):
 def run_edit(state: StudioState, text: str, operation: Callable[[Motion], Motion | Edited]) -> bool:
     """Apply ``operation`` to the document as an undoable edit named ``text``.
 
-    An operation that returns an :class:`~core.edits.operations.Edited` hands the new snapshot
+    An operation that returns an :class:`~core.edits.edited.Edited` hands the new snapshot
     the document's kinematics (:meth:`Snapshot.of_edit`); one that returns a motion gets
     its forward kinematics computed. Returns True if the edit was pushed. A refused
     operation (OperationError) or one that changes nothing is reported in the status bar
@@ -157,8 +158,9 @@ def remove_dummy_joints(state: StudioState) -> bool:
 
 
 def trim_to_range(state: StudioState, start: int, stop: int) -> bool:
-    """Keep frames ``[start, stop)`` (:func:`core.edits.clip.trim`)."""
-    return run_edit(state, f"Trim to frames {start}-{stop - 1}", lambda m: trim(m, start, stop))
+    """Keep frames ``[start, stop)`` (:func:`core.edits.clip.trim`); the cache keeps the
+    document's rows of those frames."""
+    return run_edit(state, f"Trim to frames {start}-{stop - 1}", lambda m: trim_edit(m, start, stop))
 
 
 def resample_to(state: StudioState, rate: float) -> bool:
@@ -167,12 +169,13 @@ def resample_to(state: StudioState, rate: float) -> bool:
 
 
 def mirror_left_right(state: StudioState) -> bool:
-    """Swap left and right (:func:`core.edits.mirror.mirror`); the status bar says the pairs
+    """Swap left and right (:func:`core.edits.mirror.mirror`; the cache is the document's,
+    reflected and swapped: :meth:`Snapshot.of_edit`); the status bar says the pairs
     swapped (the first :data:`MIRROR_PAIRS_SHOWN` by name) and the names without a partner."""
     said: list[str] = []
 
-    def operation(motion: Motion) -> Motion:
-        result, unmatched = mirror(motion)
+    def operation(motion: Motion) -> Edited:
+        result, unmatched = mirror_edit(motion, threads=THREADS)
         said.append(f"swapped {pairs_text(motion.names, mirror_pairs(motion).pairs, MIRROR_PAIRS_SHOWN)}")
         if unmatched:
             said.append(f"no partner for {', '.join(unmatched)} (left as they are)")
@@ -182,3 +185,15 @@ def mirror_left_right(state: StudioState) -> bool:
     if done:
         state.show_message("Mirror left/right: " + "; ".join(said))
     return done
+
+
+def up_axis_to(state: StudioState, axis: str) -> bool:
+    """Turn the world so that ``axis`` ('y' or 'z') is up (:func:`core.edits.world.change_up_axis`);
+    the cache is the document's, turned (:meth:`Snapshot.of_edit`)."""
+    return run_edit(state, f"{axis.upper()} up", lambda m: change_up_axis_edit(m, axis, threads=THREADS))
+
+
+def scale_by(state: StudioState, factor: float) -> bool:
+    """Every length times ``factor`` (:func:`core.edits.world.scale_lengths`); the cache's
+    positions are the document's scaled, its rotations the document's."""
+    return run_edit(state, f"Scale by {factor:g}", lambda m: scale_lengths_edit(m, factor))

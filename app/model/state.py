@@ -8,10 +8,12 @@ The document is a :class:`Snapshot`: an immutable GMR :class:`~core.model.motion
 the world positions (F, J, 3) and rotations (F, J, 3, 3) of every joint for every frame,
 computed once with the vectorised forward kinematics. The views index these arrays; an edit
 swaps in another snapshot, and undo swaps the previous one back (the same objects, so
-undo restores positions and structure exactly and recomputes nothing). An operation that
-keeps every world transform (shift root, split, join, split all, join all, remove dummy
-joints: :class:`core.edits.operations.Edited`) hands the new snapshot the old one's arrays
-instead of computing them again (:meth:`Snapshot.of_edit`).
+undo restores positions and structure exactly and recomputes nothing). An edit whose
+result's world transforms follow from the document's (shift root, split, join, split all,
+join all, remove dummy joints, trim, mirror, up axis, scale:
+:class:`core.edits.edited.Edited`) hands the new snapshot the old one's arrays, or makes
+them from those in one pass, instead of running forward kinematics again
+(:meth:`Snapshot.of_edit`).
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ import numpy as np
 from PyQt6.QtCore import QObject, pyqtSignal
 from PyQt6.QtGui import QUndoStack
 
-from gmr_studio.core.edits.operations import Edited
+from gmr_studio.core.edits.edited import Edited
 from gmr_studio.core.formats.bvh import FileChannels
 from gmr_studio.core.kinematics.fk import forward_kinematics
 from gmr_studio.core.markers import MarkerSet
@@ -79,10 +81,10 @@ class Snapshot:
     @classmethod
     def of_edit(cls, before: Snapshot, edited: Edited) -> Snapshot:
         """The snapshot of an operation's result on ``before``'s motion: its world positions
-        and rotations are ``before``'s (the same arrays where every joint keeps its own,
-        gathered where joints went or frames moved; :meth:`core.edits.operations.Edited.kinematics`),
-        which equal the result's forward kinematics to rounding; computed afresh when the
-        result's frames are not the input's."""
+        and rotations follow from ``before``'s (the same arrays where every joint keeps its
+        own, else gathered, sliced, turned or scaled in one pass;
+        :meth:`core.edits.edited.Edited.kinematics`), which equal the result's forward
+        kinematics to rounding; computed afresh when the result's frames are not the input's."""
         if edited.frames is None:
             return cls.of(edited.motion)
         positions, rotations = edited.kinematics(before.positions, before.rotations, threads=None)

@@ -112,13 +112,13 @@ def edits(motion) -> list[tuple[str, str, Callable, Callable]]:
             "up axis to Z",
             "take",
             lambda m: change_up_axis(m, "z"),
-            lambda s: commands.run_edit(s, "Z up", lambda m: change_up_axis(m, "z")),
+            lambda s: commands.up_axis_to(s, "z"),
         ),
         (
             "scale by 0.01",
             "take",
             lambda m: scale_lengths(m, 0.01),
-            lambda s: commands.run_edit(s, "Scale", lambda m: scale_lengths(m, 0.01)),
+            lambda s: commands.scale_by(s, 0.01),
         ),
     ]
 

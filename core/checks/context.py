@@ -10,6 +10,7 @@ import numpy as np
 
 from gmr_studio.core.analysis.contacts import contact_runs
 from gmr_studio.core.checks.model import Finding
+from gmr_studio.core.checks.passes import second_differences
 from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.space.up_axis import axis_index, up_axis_of
 
@@ -61,19 +62,21 @@ class CheckData:
         return axis_index(up_axis_of(self.motion))
 
     @cached_property
-    def middles(self) -> np.ndarray:
-        """(F-2, J, 3): ``P_f - (P_{f-1} + P_{f+1}) / 2`` for frames 1..F-2 (half the second
-        difference, :mod:`.spikes`)."""
-        p = self.positions
-        out = np.add(p[:-2], p[2:])
-        out *= -0.5
-        out += p[1:-1]
-        return out
+    def _second_differences(self) -> tuple[np.ndarray, np.ndarray]:
+        return second_differences(self.positions)
 
-    @cached_property
+    @property
     def deviations(self) -> np.ndarray:
-        """(F-2, J): the lengths of :attr:`middles`."""
-        return np.sqrt(np.einsum("fja,fja->fj", self.middles, self.middles))
+        """(F-2, J): the lengths of the middles ``P_f - (P_{f-1} + P_{f+1}) / 2`` of frames
+        1..F-2 (half the second difference, :mod:`.spikes`;
+        :func:`core.checks.passes.second_differences`)."""
+        return self._second_differences[0]
+
+    @property
+    def middle_products(self) -> np.ndarray:
+        """(F-3, J): the dot products of the middles of consecutive frames (row i: frames
+        i..i+3)."""
+        return self._second_differences[1]
 
     @cached_property
     def units(self) -> str:

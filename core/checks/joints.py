@@ -27,19 +27,22 @@ import numpy as np
 
 from gmr_studio.core.checks.context import CheckData, joint_runs, merge_runs
 from gmr_studio.core.checks.model import CheckSettings, Finding, severity_levels
+from gmr_studio.core.checks.passes import step_angles, step_cosines
 
 #: a flip and its return at most this far apart (seconds) make one flip
 FLIP_PAIR_SECONDS = 0.5
 #: gaps (seconds) across which a bone's changed frames make one finding
 BONE_GAP_SECONDS = 0.1
+#: steps whose cosine is above the limit's by more than this are taken as under the limit
+COSINE_MARGIN = 1e-9
 #: bones shorter than this, times the size, have no length to compare
 MIN_BONE = 1e-6
 
 
-def rotation_steps(rotations: np.ndarray) -> np.ndarray:
-    """Angles in degrees between consecutive rotations: (F, K, 3, 3) -> (F-1, K)."""
-    trace = np.einsum("fkab,fkab->fk", rotations[1:], rotations[:-1])
-    return np.degrees(np.arccos(np.clip(0.5 * (trace - 1.0), -1.0, 1.0)))
+def rotation_steps(rotations: np.ndarray, joints: np.ndarray | None = None) -> np.ndarray:
+    """Angles in degrees between consecutive rotations: (F, J, 3, 3) -> (F-1, K) of the
+    ``joints`` (K,) (None: all; :func:`core.checks.passes.step_angles`)."""
+    return step_angles(rotations, joints)
 
 
 def _angle(a: np.ndarray, b: np.ndarray) -> float:
@@ -52,8 +55,13 @@ def flip(data: CheckData, settings: CheckSettings) -> list[Finding]:
     if data.n_frames < 2 or not rotating.size:
         return []
     rotations = motion.rotations  # (F, J, 3, 3), all joints (a copy of some would cost more)
-    steps = rotation_steps(rotations)[:, rotating]  # (F-1, K)
+    cosines = step_cosines(rotations, rotating)  # (F-1, K)
     limit = max(settings.flip_limits[0], settings.flip_speed * data.frame_time)
+    # the angle falls as the cosine rises: only steps with a cosine below the limit's (a
+    # margin for rounding) can pass it, and only theirs are worth an arccos
+    near = np.flatnonzero(cosines < np.cos(np.radians(limit)) + COSINE_MARGIN)
+    steps = np.zeros(cosines.shape)  # (F-1, K) degrees where near, else 0 (under the limit)
+    steps.flat[near] = np.degrees(np.arccos(cosines.flat[near]))
     flagged = steps > limit
     pair = round(FLIP_PAIR_SECONDS / data.frame_time)
     together: dict[tuple[int, int, int], list[tuple[int, float]]] = {}  # (start, end, parent) -> joints

@@ -82,16 +82,19 @@ def pop(data: CheckData, settings: CheckSettings) -> list[Finding]:
         return []
     frames, joints = np.nonzero(candidate)
     span = np.linalg.norm(p[frames + 2, joints] - p[frames, joints], axis=-1)
-    padded = np.pad(e, ((1, 1), (0, 0)))
-    neighbours = np.maximum(padded[frames, joints], padded[frames + 2, joints])
-    keep = (e[frames, joints] > span) & (e[frames, joints] >= 1.5 * neighbours)
-    popping = np.zeros_like(candidate)
-    popping[frames[keep], joints[keep]] = True
+    last = e.shape[0] - 1
+    before = np.where(frames > 0, e[np.maximum(frames - 1, 0), joints], 0.0)  # 0 beyond the ends
+    after = np.where(frames < last, e[np.minimum(frames + 1, last), joints], 0.0)
+    keep = (e[frames, joints] > span) & (e[frames, joints] >= 1.5 * np.maximum(before, after))
+    rows = np.unique(frames[keep])  # the frames where some joint pops, and which joints
+    popping = np.zeros((rows.size, e.shape[1]), bool)
+    popping[np.searchsorted(rows, frames[keep]), joints[keep]] = True
     parents = data.motion.parents
     source = popping & ~np.where(parents >= 0, popping[:, np.maximum(parents, 0)], False)
     findings = []
-    for row in np.flatnonzero(source.any(axis=1)):
-        found = np.flatnonzero(source[row])
+    for i in np.flatnonzero(source.any(axis=1)):
+        row = int(rows[i])
+        found = np.flatnonzero(source[i])
         found = found[np.argsort(-e[row, found], kind="stable")]
         value = float(e[row, found[0]])
         level = severity_levels(value / data.size, settings.pop_limits)
@@ -104,8 +107,7 @@ def jitter(data: CheckData, settings: CheckSettings) -> list[Finding]:
     n_blocks = (data.n_frames - 3) // block
     if n_blocks < 1:
         return []
-    middles = data.middles  # row i: frames i..i+2
-    products = np.einsum("fja,fja->fj", middles[:-1], middles[1:])[: n_blocks * block]  # row i: frames i..i+3
+    products = data.middle_products[: n_blocks * block]  # row i: frames i..i+3
     blocks = products.reshape(n_blocks, block, -1)
     middle = block // 2
     noise = np.sqrt(np.maximum(0.0, -NOISE_FROM_MEDIAN * np.partition(blocks, middle, axis=1)[:, middle]))  # (B, J)

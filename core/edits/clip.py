@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from gmr_studio.core.edits.edited import Edited
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.timebase.sampling import interpolate, interpolate_rotations, resample_grid
@@ -37,12 +38,18 @@ def frame_range(n_frames: int, start: int | None, stop: int | None) -> tuple[int
 
 def trim(motion: Motion, start: int | None, stop: int | None) -> Motion:
     """The frames ``[start, stop)`` of the motion (0-based, stop excluded), copied."""
+    return trim_edit(motion, start, stop).motion
+
+
+def trim_edit(motion: Motion, start: int | None, stop: int | None) -> Edited:
+    """:func:`trim`; the result's world transforms are the input's of the frames kept."""
     first, end = frame_range(motion.n_frames, start, stop)
     if (first, end) == (0, motion.n_frames):
-        return motion
-    return motion.replace(
+        return Edited.same_joints(motion)
+    result = motion.replace(
         rotations=motion.rotations[first:end].copy(), translations=motion.translations[first:end].copy()
     )
+    return Edited.same_joints(result, rows=(first, end))
 
 
 def resample(motion: Motion, rate: float) -> Motion:

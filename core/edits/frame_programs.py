@@ -168,5 +168,10 @@ def run(
 
 def set_static(translations: np.ndarray, joints, offsets: np.ndarray) -> None:
     """Write each joint's static offset (K, 3) over its column of ``translations`` (F, J, 3)."""
-    if len(joints):
-        translations[:, np.asarray(joints, dtype=np.int64)] = offsets
+    joints = np.asarray(joints, dtype=np.int64)
+    if joints.size:  # one masked pass over the frames (numpy's fancy assignment is far slower)
+        row = np.zeros(translations.shape[1:])
+        row[joints] = offsets
+        mask = np.zeros(translations.shape[1:], bool)
+        mask[joints] = True
+        np.copyto(translations, row, where=mask)

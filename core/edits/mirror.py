@@ -39,7 +39,9 @@ import re
 
 import numpy as np
 
+from gmr_studio.core.edits.edited import Edited
 from gmr_studio.core.errors import OperationError
+from gmr_studio.core.kinematics.engine import turned_joints
 from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.model.motion import Motion
 
@@ -163,6 +165,14 @@ def mirror(motion: Motion) -> tuple[Motion, tuple[str, ...]]:
 
     Raises OperationError when no joints pair up.
     """
+    edited, unmatched = mirror_edit(motion)
+    return edited.motion, unmatched
+
+
+def mirror_edit(motion: Motion, *, threads: int | None = 1) -> tuple[Edited, tuple[str, ...]]:
+    """:func:`mirror`; joint ``j`` of the result is at ``S P_σ(j) + 2 c n`` with the world
+    rotation ``S W_σ(j) S``. The frames are swapped and reflected in one compiled pass (on
+    ``threads``, None: one per core; :func:`core.kinematics.engine.turned_joints`)."""
     sides = mirror_pairs(motion)
     axis = lateral_axis(motion, sides.pairs)
     sigma = sides.partner
@@ -187,11 +197,11 @@ def mirror(motion: Motion) -> tuple[Motion, tuple[str, ...]]:
     parents = np.where(parents >= 0, sigma[np.maximum(parents, 0)], -1)
     soft = motion.soft_parents[sigma]
     soft = np.where(soft >= 0, sigma[np.maximum(soft, 0)], -1)
-    is_root = (parents < 0)[:, None]
-    offsets = motion.offsets[sigma] * flip + np.where(is_root, shift, 0.0)
-    translations = motion.translations[:, sigma] * flip + np.where(is_root, shift, 0.0)
-    # S R S for a diagonal S of +-1: entry (a, b) times flip[a] * flip[b]
-    rotations = motion.rotations[:, sigma] * np.outer(flip, flip)
+    root_shift = np.where((parents < 0)[:, None], shift, 0.0)
+    offsets = motion.offsets[sigma] * flip + root_shift
+    reflection = np.diag(flip)
+    translations = turned_joints(motion.translations, sigma, turn=reflection, shift=root_shift, threads=threads)
+    rotations = turned_joints(motion.rotations, sigma, turn=reflection, threads=threads)
     mirrored = motion.replace(
         names=motion.names,
         parents=parents,
@@ -202,4 +212,4 @@ def mirror(motion: Motion) -> tuple[Motion, tuple[str, ...]]:
         rotations=rotations,
         translations=translations,
     )
-    return mirrored, sides.unmatched
+    return Edited(mirrored, sigma, sigma, turn=reflection, shift=shift), sides.unmatched

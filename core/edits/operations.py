@@ -4,9 +4,9 @@ Every function takes a pre-rotation :class:`~core.model.motion.Motion` and retur
 the input is never changed. World positions of every joint are unchanged by all of them.
 World rotations are unchanged by split and join; shift root moves each bone's frame along
 the path to the new root (in GMR a joint's frame is the frame of the bone that ends at it).
-The ``*_edit`` forms return an :class:`Edited`, which says so joint by joint, so that a
-caller holding the input's world transforms (the app's cache) gets the result's without
-computing them again.
+The ``*_edit`` forms return an :class:`~core.edits.edited.Edited`, which says so joint by
+joint, so that a caller holding the input's world transforms (the app's cache) gets the
+result's without computing them again.
 
 Two backends: the new forest is decided in Python (a few joints); the frames are edited
 either by numpy, vectorised over frames with Python work per joint and step (the
@@ -21,12 +21,12 @@ restore it. Refusals raise :class:`~core.errors.OperationError` and change nothi
 
 from __future__ import annotations
 
-import dataclasses
 import itertools
 
 import numpy as np
 
 from gmr_studio.core.edits import frame_programs
+from gmr_studio.core.edits.edited import Edited
 from gmr_studio.core.edits.frame_programs import FrameProgram
 from gmr_studio.core.errors import OperationError
 from gmr_studio.core.kinematics import engine as fk_engine
@@ -44,50 +44,6 @@ def _require_pre(motion: Motion, what: str) -> None:
 
 def _transposed(rotations: np.ndarray) -> np.ndarray:
     return np.swapaxes(rotations, -1, -2)
-
-
-@dataclasses.dataclass(frozen=True, eq=False)
-class Edited:
-    """An operation's result, and where the world transforms of its joints come from.
-
-    motion : the result (J' joints).
-    joints : (J',) int64, the joint of the input each joint of the result is (all, in order,
-        but after removing dummy joints); its world position is that joint's.
-    frames : (J',) int64, the joint of the input whose world rotation each joint of the
-        result has (shift root hands the frames along its path), or None when they are not
-        the input's (a post-rotation input converted first).
-    """
-
-    motion: Motion
-    joints: np.ndarray
-    frames: np.ndarray | None
-
-    @classmethod
-    def same_joints(cls, motion: Motion, frames: np.ndarray | None = None) -> Edited:
-        """A result with the input's joints, each keeping its world rotation unless
-        ``frames`` says otherwise."""
-        every = np.arange(motion.n_joints)
-        return cls(motion, every, every if frames is None else np.asarray(frames, dtype=np.int64))
-
-    def kinematics(
-        self, positions: np.ndarray, rotations: np.ndarray, *, threads: int | None = 1
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """The result's world positions (F, J', 3) and rotations (F, J', 3, 3) from the
-        input's (F, J, 3) and (F, J, 3, 3): the very arrays where every joint keeps its own,
-        else gathered (on ``threads``; :func:`core.kinematics.engine.gather_joints`). They equal the
-        result's forward kinematics to rounding (~1e-15 of the size): the operations keep
-        every world position and frame exactly in theory. Raises ValueError when the frames
-        are not the input's."""
-        if self.frames is None:
-            raise ValueError("the result's world rotations are not the input's: compute its forward kinematics")
-        return _gathered(positions, self.joints, threads), _gathered(rotations, self.frames, threads)
-
-
-def _gathered(array: np.ndarray, joints: np.ndarray, threads: int | None) -> np.ndarray:
-    """``array[:, joints]``, or ``array`` itself when ``joints`` is every joint in order."""
-    if joints.size == array.shape[1] and np.array_equal(joints, np.arange(joints.size)):
-        return array
-    return fk_engine.gather_joints(array, joints, threads=threads)
 
 
 def shift_root(motion: Motion, joint: int | str, *, backend: Backend = "auto") -> Motion:

@@ -26,6 +26,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from gmr_studio.core.edits.edited import Edited
+from gmr_studio.core.kinematics.engine import turned_joints
 from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.space.units import unit_factor
 from gmr_studio.core.space.up_axis import check_up_axis, up_axis_of, up_turn
@@ -33,18 +35,25 @@ from gmr_studio.core.space.up_axis import check_up_axis, up_axis_of, up_turn
 
 def scale_lengths(motion: Motion, factor: float) -> Motion:
     """Every offset and translation times ``factor`` (> 0); the stated unit follows."""
+    return scale_lengths_edit(motion, factor).motion
+
+
+def scale_lengths_edit(motion: Motion, factor: float) -> Edited:
+    """:func:`scale_lengths`; every world position is ``factor`` times the input's, every
+    world rotation the input's."""
     if not np.isfinite(factor) or factor <= 0:
         raise ValueError(f"the scale must be a positive number, not {factor}")
     if factor == 1:
-        return motion
+        return Edited.same_joints(motion)
     facts = motion.facts
     unit = None if facts.unit is None else facts.unit.scaled(factor)
-    return motion.replace(
+    result = motion.replace(
         offsets=motion.offsets * factor,
         translations=motion.translations * factor,
         comments=(*motion.comments, f"lengths scaled by {factor:.15g}"),
         facts=facts.replace(unit=unit),
     )
+    return Edited.same_joints(result, scale=float(factor))
 
 
 def change_up_axis(motion: Motion, target: str, source: str | None = None) -> Motion:
@@ -54,30 +63,41 @@ def change_up_axis(motion: Motion, target: str, source: str | None = None) -> Mo
     Nothing turns when they agree (the stated up axis becomes ``target`` either way). Every
     world position ``P`` becomes ``Q P``; see the module docstring.
     """
+    return change_up_axis_edit(motion, target, source).motion
+
+
+def change_up_axis_edit(motion: Motion, target: str, source: str | None = None, *, threads: int | None = 1) -> Edited:
+    """:func:`change_up_axis`; every world position ``P`` becomes ``Q P`` and every world
+    rotation ``W`` becomes ``Q W Q^T`` (``threads``: as for :func:`turned_world`)."""
     source = check_up_axis(source or up_axis_of(motion))
     target = check_up_axis(target)
     if source == target:
-        return motion if motion.facts.up_axis == target else motion.replace(facts=motion.facts.replace(up_axis=target))
+        same = motion if motion.facts.up_axis == target else motion.replace(facts=motion.facts.replace(up_axis=target))
+        return Edited.same_joints(same)
     swap = str.maketrans("YZ", "ZY")
     mapping = "(x, y, z) -> (x, -z, y)" if target == "z" else "(x, y, z) -> (x, z, -y)"
-    return turned_world(motion, up_turn(source, target)).replace(
+    turn = up_turn(source, target)
+    result = turned_world(motion, turn, threads=threads).replace(
         rotation_orders=tuple(order.translate(swap) for order in motion.rotation_orders),
         comments=(*motion.comments, f"world turned from {source} up to {target} up: {mapping}"),
         facts=motion.facts.replace(up_axis=target),
     )
+    return Edited.same_joints(result, turn=turn)
 
 
-def turned_world(motion: Motion, turn: np.ndarray) -> Motion:
+def turned_world(motion: Motion, turn: np.ndarray, *, threads: int | None = 1) -> Motion:
     """The motion with its world turned by ``turn`` (3, 3), a rotation or axis permutation:
     every joint's frame conjugated (``R' = Q R Q^T``), every offset and translation turned, so
-    every world position is ``Q P``. The stated up axis is left to the caller."""
+    every world position is ``Q P``. The stated up axis is left to the caller. An axis
+    permutation is one compiled pass over the frames (on ``threads``, None: one per core;
+    :func:`core.kinematics.engine.turned_joints`)."""
     turn = np.asarray(turn, dtype=np.float64)
     if np.array_equal(turn, np.eye(3)):
         return motion
     return motion.replace(
-        rotations=turn @ motion.rotations @ turn.T,
+        rotations=turned_joints(motion.rotations, turn=turn, threads=threads),
         offsets=motion.offsets @ turn.T,
-        translations=motion.translations @ turn.T,
+        translations=turned_joints(motion.translations, turn=turn, threads=threads),
     )
 
 

@@ -182,3 +182,15 @@ def gather_joints(rows, joints, width, start, stop, out):  # pragma: no cover - 
             first = joints[n] * width
             for i in range(width):
                 out[f, n * width + i] = rows[f, first + i]
+
+
+@numba.njit(nogil=True, cache=True, boundscheck=False)
+def signed_gather(rows, first, index, factor, scale, shift, start, stop, out):  # pragma: no cover - compiled
+    """out[f, i] = (factor[i] * rows[first + f, index[i]]) * scale + shift[i] for frames
+    start..stop-1 of ``out`` (F', W'): every output number one input number of its frame's
+    row, signed, scaled and shifted (the axes of each joint's vector or matrix permuted)."""
+    for f in range(start, stop):
+        source = rows[first + f]
+        target = out[f]
+        for i in range(index.shape[0]):
+            target[i] = (factor[i] * source[index[i]]) * scale + shift[i]

@@ -269,6 +269,90 @@ def gather_joints(array: np.ndarray, joints: np.ndarray, *, threads: int | None 
     return out
 
 
+def signed_axes(turn: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """(axes (3,) int64, signs (3,) float64) with ``turn[a, axes[a]] = signs[a]`` and every
+    other entry 0 when ``turn`` (3, 3) is a signed permutation (an axis swap or reflection);
+    None otherwise."""
+    turn = np.asarray(turn, dtype=np.float64)
+    axes = np.argmax(np.abs(turn), axis=1)
+    signs = turn[np.arange(3), axes]
+    exact = np.zeros((3, 3))
+    exact[np.arange(3), axes] = signs
+    if not (np.array_equal(np.abs(signs), np.ones(3)) and np.array_equal(exact, turn)):
+        return None
+    return axes.astype(np.int64), signs
+
+
+def turned_joints(
+    array: np.ndarray,
+    joints: np.ndarray | None = None,
+    *,
+    rows: tuple[int, int] | None = None,
+    turn: np.ndarray | None = None,
+    scale: float = 1.0,
+    shift: np.ndarray | None = None,
+    backend: Backend = "auto",
+    threads: int | None = 1,
+) -> np.ndarray:
+    """Vectors (F, J, 3) or matrices (F, J, 3, 3) of some rows and joints, in a turned world.
+
+    The frames ``rows`` (first, stop) (None: all) and the joints ``joints`` (J',) (None: all,
+    in order) of ``array``, each vector ``v`` becoming ``scale * turn @ v + shift[n]`` and each
+    matrix ``M`` becoming ``turn @ M @ turn.T`` (``scale`` and ``shift`` are for vectors only).
+    ``turn`` (3, 3): an orthogonal matrix (None: the identity); ``shift``: (J', 3) or (3,)
+    (None: zero). Returns a new C-contiguous (F', J', ...) array.
+
+    When ``turn`` is a signed permutation (an axis swap or reflection: up axis, mirror) the
+    compiled kernel makes it in one pass over the frames (on ``threads``, None: one per core),
+    with exactly the operations and results of the numpy path (``backend``: as for
+    :func:`forward_kinematics`): ``turn @`` picks and signs entries, so the only rounding is
+    the scale's product and the shift's sum.
+    """
+    first, stop = (0, array.shape[0]) if rows is None else (int(rows[0]), int(rows[1]))
+    every = np.arange(array.shape[1])
+    joints = every if joints is None else np.asarray(joints, dtype=np.int64)
+    turn = np.eye(3) if turn is None else np.asarray(turn, dtype=np.float64)
+    matrices = array.ndim == 4
+    shift = np.zeros((joints.size, 3)) if shift is None else np.broadcast_to(np.asarray(shift, float), (joints.size, 3))
+    signed = signed_axes(turn)
+    n_frames = stop - first
+    compiled = _resolve(backend) == "numba" and signed is not None and array.dtype == np.float64
+    if not (compiled and n_frames and joints.size):
+        return _turned_numpy(array[first:stop], joints, turn, scale, shift, matrices)
+    source = np.ascontiguousarray(array)
+    out = np.empty((n_frames, joints.size, *array.shape[2:]))
+    axes, signs = signed
+    if matrices:  # entry (a, b) of joint n: entry (axes[a], axes[b]) of joint joints[n], signed twice
+        within = (3 * axes[:, None] + axes[None, :]).ravel()
+        index = (9 * joints[:, None] + within).ravel()
+        factor = np.tile(np.outer(signs, signs).ravel(), joints.size)
+        flat_shift = np.zeros(index.size)
+    else:
+        index = (3 * joints[:, None] + axes).ravel()
+        factor = np.tile(signs, joints.size)
+        flat_shift = np.ascontiguousarray(shift, dtype=np.float64).ravel()
+    rows, out_rows, scale = source.reshape(source.shape[0], -1), out.reshape(n_frames, -1), float(scale)
+
+    def block(frames: slice) -> None:
+        _kernels.signed_gather(rows, first, index, factor, scale, flat_shift, frames.start, frames.stop, out_rows)
+
+    in_blocks(block, n_frames, threads)
+    return out
+
+
+def _turned_numpy(
+    array: np.ndarray, joints: np.ndarray, turn: np.ndarray, scale: float, shift: np.ndarray, matrices: bool
+) -> np.ndarray:
+    """:func:`turned_joints` by numpy (the reference), ``array`` already cut to its rows."""
+    picked = np.take(array, joints, axis=1)
+    if matrices:
+        return np.ascontiguousarray(turn @ picked @ turn.T)
+    out = picked @ turn.T
+    out *= scale
+    out += shift
+    return out
+
+
 # ------------------------------------------------------------------ from Euler angles
 def euler_codes(orders: tuple[str, ...]) -> np.ndarray:
     """(J, 4) float64 rows ``(i, j, k, parity)`` of each joint's completed Euler order

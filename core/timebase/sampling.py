@@ -13,14 +13,26 @@ comparisons (B on A's frames) and their offset search.
   along the geodesic between the two neighbouring frames (:func:`interpolate_rotations`:
   quaternion slerp, computed on the matrices). Where a sample falls on a source frame, the
   frame is taken as it is (bit for bit); outside the source's range, and next to its gaps
-  (NaN), the samples are NaN.
+  (NaN), the samples are NaN. With numba installed both run as compiled kernels
+  (:mod:`core.timebase._kernels`), one pass over the samples: the linear one with the numpy
+  path's very operations, the rotations in agreement with the numpy path
+  (:func:`slerp_component_major`, the reference) to rounding.
 """
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
 from gmr_studio.core.timebase.clock import frames_within
+
+try:  # the compiled slerp is optional, as the FK engine's kernels are
+    if os.environ.get("GMR_DISABLE_NUMBA") == "1":
+        raise ImportError("disabled by GMR_DISABLE_NUMBA=1")
+    from gmr_studio.core.timebase import _kernels
+except ImportError:  # pragma: no cover - depends on the environment
+    _kernels = None
 
 #: a fractional frame this close to a whole number is that frame (rounding of ``k / rate``)
 WHOLE_FRAME_TOLERANCE = 1e-6
@@ -97,6 +109,14 @@ def _resample_inside(
         np.copyto(out, picked)
         return out
     low, high, weight = neighbours(at, n)
+    compiled = _kernels is not None and columns is None and values.dtype == np.float64 and values.ndim > 1
+    if compiled and (out is None or out.flags.c_contiguous):
+        if out is None:
+            out = np.empty((len(at), *values.shape[1:]))
+        rows = np.ascontiguousarray(values).reshape(n, -1)
+        flat_out = out.reshape(len(at), -1)  # out is C-contiguous: a view
+        _kernels.lerp_rows(rows, low, high, weight, flat_out)
+        return out
     first, second = take(values, low, columns), take(values, high, columns)
     if out is None:
         out = np.empty(first.shape)
@@ -131,20 +151,43 @@ def neighbours(at: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarr
     return low, high, weight
 
 
-def interpolate_rotations(rotations: np.ndarray, at: np.ndarray, columns: np.ndarray | None = None) -> np.ndarray:
+def interpolate_rotations(
+    rotations: np.ndarray, at: np.ndarray, columns: np.ndarray | None = None, *, backend: str = "auto"
+) -> np.ndarray:
     """Rotations (N, J, 3, 3) at fractional frames (F,) -> (F, J, 3, 3), along the geodesic.
 
-    :func:`rotations_component_major` in blocks of :data:`ROTATION_BLOCK` frames, put back in
-    row-major order. NaN outside B's range.
+    ``backend``: 'numba' (the compiled kernel, one pass over the samples), 'numpy'
+    (:func:`rotations_component_major` in blocks of :data:`ROTATION_BLOCK` frames, put back
+    in row-major order), or 'auto' (numba when installed); the same rotations to rounding.
+    NaN outside B's range.
     """
     if whole_frames(at):
         return interpolate(rotations, at, columns)
+    if backend not in ("auto", "numba", "numpy"):
+        raise ValueError(f"unknown backend {backend!r}: expected 'auto', 'numba' or 'numpy'")
+    if backend == "numba" and _kernels is None:
+        raise RuntimeError("the numba backend is not available: install the 'fast' extra (numba)")
+    if backend != "numpy" and _kernels is not None and rotations.shape[0] and rotations.dtype == np.float64:
+        return _slerp_compiled(rotations, at, columns)
     n_columns = rotations.shape[1] if columns is None else len(columns)
     out = np.empty((len(at), n_columns, 3, 3))
     for start in range(0, len(at), ROTATION_BLOCK):
         block = slice(start, start + ROTATION_BLOCK)
         major = rotations_component_major(rotations, at[block], columns)
         out[block] = np.moveaxis(major.reshape(9, -1, n_columns), 0, -1).reshape(-1, n_columns, 3, 3)
+    return out
+
+
+def _slerp_compiled(rotations: np.ndarray, at: np.ndarray, columns: np.ndarray | None) -> np.ndarray:
+    """:func:`interpolate_rotations` by the compiled kernel (B has frames)."""
+    n = rotations.shape[0]
+    low, high, weight = neighbours(at, n)
+    joints = np.arange(rotations.shape[1]) if columns is None else np.asarray(columns, dtype=np.int64)
+    out = np.empty((len(at), joints.size, 3, 3))
+    _kernels.slerp_rows(np.ascontiguousarray(rotations), low, high, weight, joints, out)
+    inside = (at >= -WHOLE_FRAME_TOLERANCE) & (at <= n - 1 + WHOLE_FRAME_TOLERANCE)
+    if not inside.all():
+        out[~inside] = np.nan
     return out
 
 

@@ -1,0 +1,98 @@
+"""An edit's result and how its world transforms follow from the input's.
+
+Most edits change every frame in a way forward kinematics passes straight through: shift
+root, split, join and removing dummy joints keep every joint's world position (and frame,
+or hand the frames along a path); trim keeps some frames; scale multiplies every world
+position; up axis and mirror turn or reflect the whole world (mirror also swaps left and
+right joints). An :class:`Edited` says which, so that a caller holding the input's world
+transforms (the app's cache) gets the result's in one pass over the frames instead of
+running forward kinematics again.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from gmr_studio.core.kinematics import engine as fk_engine
+from gmr_studio.core.model.motion import Motion
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class Edited:
+    """An operation's result, and where the world transforms of its joints come from.
+
+    With ``P`` and ``W`` the input's world positions and rotations, frame ``f`` and joint
+    ``n`` of the result are at ``scale * turn @ P[first + f, joints[n]] + shift`` with the
+    world rotation ``turn @ W[first + f, frames[n]] @ turn.T``.
+
+    motion : the result (J' joints).
+    joints : (J',) int64, the joint of the input whose world position each joint of the
+        result has (all, in order, but after removing dummy joints; the partner after a mirror).
+    frames : (J',) int64, the joint of the input whose world rotation each joint of the
+        result has (shift root hands the frames along its path), or None when they are not
+        the input's (a post-rotation input converted first).
+    rows : (first, stop), the input's frames the result keeps (trim), or None for all.
+    turn : (3, 3) the orthogonal matrix the world is turned or reflected by (up axis,
+        mirror), or None for none.
+    scale : the factor of every length (scale).
+    shift : (3,) added to every world position after turning and scaling (mirror's
+        reflection through a plane off the origin), or None for none.
+    """
+
+    motion: Motion
+    joints: np.ndarray
+    frames: np.ndarray | None
+    rows: tuple[int, int] | None = None
+    turn: np.ndarray | None = None
+    scale: float = 1.0
+    shift: np.ndarray | None = None
+
+    @classmethod
+    def same_joints(cls, motion: Motion, frames: np.ndarray | None = None, **world) -> Edited:
+        """A result with the input's joints, each keeping its world rotation unless
+        ``frames`` says otherwise; ``world``: the other fields (rows, turn, scale, shift)."""
+        every = np.arange(motion.n_joints)
+        return cls(motion, every, every if frames is None else np.asarray(frames, dtype=np.int64), **world)
+
+    def kinematics(
+        self, positions: np.ndarray, rotations: np.ndarray, *, threads: int | None = 1
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """The result's world positions (F', J', 3) and rotations (F', J', 3, 3) from the
+        input's (F, J, 3) and (F, J, 3, 3) (class docstring): the very arrays where nothing
+        changes, else made in one pass over the frames (on ``threads``;
+        :func:`core.kinematics.engine.turned_joints`). They equal the result's forward
+        kinematics to rounding (~1e-15 of the size): the edits keep, turn or scale every
+        world position and frame exactly in theory. Raises ValueError when the frames are
+        not the input's."""
+        if self.frames is None:
+            raise ValueError("the result's world rotations are not the input's: compute its forward kinematics")
+        turned = self.turn is not None and not np.array_equal(self.turn, np.eye(3))
+        turn = self.turn if turned else None
+        moved = self.scale != 1.0 or (self.shift is not None and np.any(self.shift != 0.0))
+        return (
+            self._taken(positions, self.joints, turn, moved, threads),
+            self._taken(rotations, self.frames, turn, False, threads),
+        )
+
+    def _taken(
+        self, array: np.ndarray, joints: np.ndarray, turn: np.ndarray | None, moved: bool, threads: int | None
+    ) -> np.ndarray:
+        """The result's part of the input's ``array``: ``array`` itself when every joint,
+        frame and axis stays, else :func:`core.kinematics.engine.turned_joints`."""
+        every = joints.size == array.shape[1] and np.array_equal(joints, np.arange(joints.size))
+        rows = self.rows if self.rows is not None and self.rows != (0, array.shape[0]) else None
+        if every and rows is None and turn is None and not moved:
+            return array
+        if every and turn is None and not moved:
+            return array[rows[0] : rows[1]].copy()  # a copy: the input's cache may be let go
+        return fk_engine.turned_joints(
+            array,
+            joints,
+            rows=rows,
+            turn=turn,
+            scale=self.scale if moved else 1.0,
+            shift=self.shift if moved else None,
+            threads=threads,
+        )
