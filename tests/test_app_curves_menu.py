@@ -1,4 +1,5 @@
-"""The clip edits from the Edit menu: Trim to range, Resample..., Mirror left/right.
+"""The clip and world edits from the Edit menu: Trim to range, Resample..., Mirror
+left/right, Up axis..., Scale lengths....
 
 Each is triggered through the menu's own QAction (the Resample dialog is answered as a user
 would), checked against the core, and undone to the very same snapshot.
@@ -13,14 +14,17 @@ from PyQt6.QtGui import QAction
 from PyQt6.QtWidgets import QApplication, QInputDialog
 
 from gmr_studio.app.model.state import Snapshot
+from gmr_studio.core.demo import MOTION_FILE, demo_folder
 from gmr_studio.core.edits.clip import resample
 from gmr_studio.core.edits.mirror import mirror
 from gmr_studio.core.formats.bvh import write_bvh
 from gmr_studio.core.kinematics.fk import world_positions
 from gmr_studio.core.rigs import make_rig
+from gmr_studio.core.space.up_axis import Y_TO_Z, up_axis_of
 from tests import app_fixtures
-from tests.app_fixtures import open_file
+from tests.app_fixtures import open_file, screen_image
 from tests.conftest import shared_path
+from tests.test_app_problems import figure_pixels
 
 pytestmark = pytest.mark.gui
 studio = app_fixtures.studio
@@ -34,8 +38,9 @@ def edit_menu_action(window, text: str) -> QAction:
     return next(a for a in menu.actions() if a.text().replace("&", "") == text)
 
 
-def answer_rate_dialog(rate: float | None) -> None:
-    """Answer the next QInputDialog with ``rate`` (None: cancel it) once it is shown."""
+def answer_rate_dialog(rate: float | str | None) -> None:
+    """Answer the next QInputDialog with ``rate`` (a number, or a choice's text; None:
+    cancel it) once it is shown."""
 
     def answer() -> None:
         dialog = QApplication.activeModalWidget()
@@ -44,15 +49,19 @@ def answer_rate_dialog(rate: float | None) -> None:
             return
         if rate is None:
             dialog.reject()
+            return
+        if isinstance(rate, str):
+            assert rate in dialog.comboBoxItems()
+            dialog.setTextValue(rate)
         else:
             dialog.setDoubleValue(rate)
-            dialog.accept()
+        dialog.accept()
 
     QTimer.singleShot(0, answer)
 
 
 def test_the_clip_edits_are_disabled_without_a_motion(studio):
-    for text in ("Trim to range", "Resample...", "Mirror left/right"):
+    for text in ("Trim to range", "Resample...", "Mirror left/right", "Up axis...", "Scale lengths..."):
         assert not edit_menu_action(studio, text).isEnabled()
 
 
@@ -140,3 +149,40 @@ def test_mirror_is_disabled_when_no_joint_names_a_side(studio):
     assert not edit_menu_action(studio, "Mirror left/right").isEnabled()
     assert not studio.curves.mirror_button.isEnabled()  # the dock's button follows the same rule
     assert edit_menu_action(studio, "Resample...").isEnabled() and studio.curves.resample_button.isEnabled()
+
+
+def test_up_axis_from_the_menu_turns_the_world_and_the_view_keeps_the_figure_upright(studio):
+    open_file(studio, demo_folder() / MOTION_FILE)  # Y up
+    state, action = studio.state, edit_menu_action(studio, "Up axis...")
+    before, picture = state.snapshot, screen_image(studio)
+    answer_rate_dialog(None)
+    action.trigger()
+    assert state.snapshot is before  # cancelled: nothing done
+    answer_rate_dialog("Z up")
+    action.trigger()
+    assert up_axis_of(state.motion) == "z" and studio.status.text() == "Z up"
+    # the document's kinematics turned (not computed afresh): the result's FK to rounding
+    size = state.motion.size
+    np.testing.assert_allclose(state.positions, before.positions @ Y_TO_Z.T, rtol=0, atol=1e-12 * size)
+    np.testing.assert_allclose(state.positions, world_positions(state.motion), rtol=0, atol=1e-9 * size)
+    # drawn Z up, the figure stands as it stood: about the same pixels, taller than wide
+    after = screen_image(studio)
+    figure_before, figure_after = figure_pixels(picture), figure_pixels(after)
+    assert abs(int(figure_after.sum()) - int(figure_before.sum())) < 0.2 * figure_before.sum()
+    rows, columns = np.nonzero(figure_after)
+    assert np.ptp(rows) > np.ptp(columns)
+    state.undo_stack.undo()
+    assert state.snapshot is before and up_axis_of(state.motion) == "y"
+
+
+def test_scale_lengths_from_the_menu_scales_every_position_and_undoes(studio):
+    open_file(studio, shared_path(WALK))
+    state, action = studio.state, edit_menu_action(studio, "Scale lengths...")
+    before = state.snapshot
+    answer_rate_dialog(2.54)
+    action.trigger()
+    assert state.motion.size == pytest.approx(2.54 * before.motion.size, rel=1e-12)
+    np.testing.assert_allclose(state.positions, 2.54 * before.positions, rtol=1e-15, atol=0)
+    np.testing.assert_array_equal(state.rotations, before.rotations)  # lengths only
+    state.undo_stack.undo()
+    assert state.snapshot is before

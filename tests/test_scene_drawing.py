@@ -17,7 +17,7 @@ from gmr_studio.app.scene import vtk_parts as parts
 from gmr_studio.app.scene.drawable import Drawing
 from gmr_studio.app.scene.scene import BACKGROUND, SkeletonScene, another_space
 from gmr_studio.app.scene.vtk_parts import sphere_part
-from gmr_studio.core.space.up_axis import up_axis_of
+from gmr_studio.core.space.up_axis import Y_TO_Z, up_axis_of
 from tests.tiny_scene import (
     FIGURE_NAMES,
     FIGURE_PARENTS,
@@ -93,6 +93,12 @@ def scaled(factor: float, n_frames: int = 3):
 def z_up(n_frames: int = 3):
     """The figure stood up along z (y and z swapped)."""
     world = figure_world(n_frames)[..., [0, 2, 1]]
+    return snapshot_of(posed_motion(FIGURE_NAMES, FIGURE_PARENTS, world, FIGURE_SOFT_PARENTS))
+
+
+def turned_z_up(factor: float = 1.0, n_frames: int = 3):
+    """The figure ``factor`` times as large with its world turned Z up, as Edit > Up axis turns it."""
+    world = figure_world(n_frames) * factor @ Y_TO_Z.T
     return snapshot_of(posed_motion(FIGURE_NAMES, FIGURE_PARENTS, world, FIGURE_SOFT_PARENTS))
 
 
@@ -183,8 +189,14 @@ def test_an_edit_keeps_the_ground_and_camera_a_new_document_makes_them_afresh():
         scene.set_snapshot(scaled(2.0), reset_camera=False)  # an edit in the same space
         assert scene.parts["ground"].actor is ground and camera_of(scene) == camera
         assert scene.new_document is False
-        scene.set_snapshot(z_up(), reset_camera=False)  # an edit that stands it up along z: the view stays
-        assert scene.up_axis == 1 and scene.parts["ground"].actor is ground
+        seen = scene.joint_screen_positions()
+        scene.set_snapshot(turned_z_up(2.0), reset_camera=False)  # Edit > Up axis: Z up
+        assert scene.up_axis == 2 and scene.parts["ground"].actor is not ground  # the floor under it
+        np.testing.assert_allclose(scene.joint_screen_positions(), seen, atol=1e-6)  # seen as it was
+        scene.set_snapshot(scaled(2.0), reset_camera=False)  # and undone: back on Y, still seen so
+        assert scene.up_axis == 1
+        np.testing.assert_allclose(scene.joint_screen_positions(), seen, atol=1e-6)
+        ground = scene.parts["ground"].actor
         scene.set_snapshot(scaled(10.0), reset_camera=False)  # another space: made afresh
         assert scene.parts["ground"].actor is not ground and camera_of(scene) != camera
         assert scene.ground_bounds[1][0] > 5 * bounds[1][0]

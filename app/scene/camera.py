@@ -102,6 +102,19 @@ class SceneCamera:
             camera.SetFocalPoint(*(np.asarray(camera.GetFocalPoint()) + delta))
         self._followed = point
 
+    def turn_with_the_world(self, rotation: np.ndarray) -> None:
+        """Turn the camera (its position, focal point and up) by ``rotation`` (3, 3), as an
+        edit turned the world (a new up axis): the figure is seen as it was."""
+        camera = self.plotter.camera
+        for get, put in (
+            (camera.GetPosition, camera.SetPosition),
+            (camera.GetFocalPoint, camera.SetFocalPoint),
+            (camera.GetViewUp, camera.SetViewUp),
+        ):
+            put(*(rotation @ np.asarray(get())))
+        if self._followed is not None:
+            self._followed = rotation @ self._followed
+
     def reset_camera(self) -> None:
         if self.snapshot is not None:
             self._reset_camera()

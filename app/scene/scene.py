@@ -42,7 +42,7 @@ from gmr_studio.app.scene.overlays import (
     nice_step,
 )
 from gmr_studio.core.library.drawing import BACKGROUND
-from gmr_studio.core.space.up_axis import axis_index, up_axis_of
+from gmr_studio.core.space.up_axis import axis_index, up_axis_of, up_turn
 
 __all__ = [
     "BACKGROUND",
@@ -213,10 +213,14 @@ class SkeletonScene(SceneCamera):
     def set_snapshot(self, snapshot: Snapshot | None, *, reset_camera: bool) -> None:
         """Build every drawable for ``snapshot``; a new document also gets a new ground grid,
         up axis and camera, an edit keeps them."""
+        turned = None  # an edit that turned the world (a new up axis): the view turns with it
         if not reset_camera and snapshot is not None and self.snapshot is not None:
             reset_camera = another_space(self.snapshot, snapshot)
+            up_before, up_after = "xyz"[self.up_axis], up_axis_of(snapshot.motion)
+            if not reset_camera and up_after != up_before:
+                turned = up_turn(up_before, up_after)
         self.snapshot = snapshot
-        self.new_document = reset_camera or not self.ground.parts
+        self.new_document = reset_camera or turned is not None or not self.ground.parts
         if snapshot is None:
             for drawable in self.drawables:
                 drawable.remove()
@@ -231,6 +235,8 @@ class SkeletonScene(SceneCamera):
         self.new_document = False
         if reset_camera:
             self._reset_camera()
+        elif turned is not None:
+            self.turn_with_the_world(turned)
         self._apply_visibility()
         self.show_frame(self.frame)
 

@@ -17,6 +17,7 @@ from gmr_studio.app.model import commands
 from gmr_studio.app.model.commands import can_join, can_remove_dummies
 from gmr_studio.app.model.state import StudioState
 from gmr_studio.core.edits.mirror import side_partners
+from gmr_studio.core.space.up_axis import up_axis_of
 from gmr_studio.core.timebase.clock import nominal_rate, rate_text
 
 Key = QKeySequence.StandardKey
@@ -71,6 +72,8 @@ ACTIONS: dict[str, tuple[str, object, str, bool, str | None]] = {
     "trim_range": ("&Trim to range", "", "Keep only the selected frame range (an undoable edit)", False, None),
     "resample": ("Res&ample...", "", "Resample the motion to another frame rate (an undoable edit)", False, None),
     "mirror": ("&Mirror left/right", "", "Swap left and right across the sagittal plane (undoable)", False, None),
+    "up_axis": ("&Up axis...", "", "Turn the world so that Y or Z is up (an undoable edit)", False, None),
+    "scale": ("S&cale lengths...", "", "Multiply every length by a factor (an undoable edit)", False, None),
     "range_start": ("Set range &start", "I", "Start the frame range at the current frame", False, None),
     "range_end": ("Set range &end", "O", "End the frame range at the current frame (included)", False, None),
     "clear_range": ("&Clear range", "", "Forget the frame range", False, None),
@@ -111,7 +114,7 @@ ACTIONS: dict[str, tuple[str, object, str, bool, str | None]] = {
 }
 
 SELECTION_EDITS = ("shift_root", "split", "join")
-CLIP_EDITS = ("trim_range", "resample", "mirror")
+CLIP_EDITS = ("trim_range", "resample", "mirror", "up_axis", "scale")
 RANGE_ACTIONS = ("range_start", "range_end", "clear_range")
 #: longest undo/redo label shown in the menu and the toolbar (the full one is the tooltip),
 #: so that an edit of a long joint name does not widen the toolbar
@@ -304,6 +307,8 @@ def update_enabled(actions: dict[str, QAction], state: StudioState) -> None:
     actions["trim_range"].setEnabled(bool(has_motion and selected is not None and selected != (0, motion.n_frames)))
     actions["resample"].setEnabled(bool(has_motion and motion.n_frames >= 2))
     actions["mirror"].setEnabled(bool(has_motion and side_partners(motion.names).pairs.size))
+    for name in ("up_axis", "scale"):
+        actions[name].setEnabled(has_motion)
     for name in ("range_start", "range_end"):
         actions[name].setEnabled(has_motion)
     actions["clear_range"].setEnabled(selected is not None)
@@ -325,6 +330,8 @@ def clip_handlers(window: QMainWindow, state: StudioState) -> dict[str, Callable
         "trim_range": trim_to_range,
         "resample": lambda: ask_and_resample(window, state),
         "mirror": lambda: commands.mirror_left_right(state),
+        "up_axis": lambda: ask_and_turn_up(window, state),
+        "scale": lambda: ask_and_scale(window, state),
         "range_start": set_start,
         "range_end": set_end,
         "clear_range": lambda: state.set_frame_range(-1, -1),
@@ -346,3 +353,25 @@ def ask_and_resample(window: QMainWindow, state: StudioState) -> bool:
         3,
     )
     return bool(accepted) and commands.resample_to(state, rate)
+
+
+def ask_and_turn_up(window: QMainWindow, state: StudioState) -> bool:
+    """Ask which axis is to be up (the other one than the motion's offered) and turn the
+    world to it, undoably."""
+    motion = state.motion
+    if motion is None:
+        return False
+    now = up_axis_of(motion)
+    choices = ["Z up", "Y up"] if now == "y" else ["Y up", "Z up"]
+    choice, accepted = QInputDialog.getItem(
+        window, "Up axis", f"The motion is {now.upper()} up. Turn the world so that:", choices, 0, False
+    )
+    return bool(accepted) and commands.up_axis_to(state, choice[0].lower())
+
+
+def ask_and_scale(window: QMainWindow, state: StudioState) -> bool:
+    """Ask for a factor and multiply every length by it, undoably."""
+    if state.motion is None:
+        return False
+    factor, accepted = QInputDialog.getDouble(window, "Scale lengths", "Multiply every length by:", 1.0, 1e-6, 1e6, 6)
+    return bool(accepted) and factor != 1.0 and commands.scale_by(state, factor)
