@@ -15,16 +15,17 @@ Errors: :class:`~core.errors.MotionFileError` naming the file and what was wrong
 
 from __future__ import annotations
 
-import io
 import json
 import os
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
 
-from gmr_studio.core.errors import MotionFileError, read_input
+from gmr_studio.core.array_transfer import read_arrays
+from gmr_studio.core.errors import MotionFileError, input_size, read_input
 from gmr_studio.core.formats.fbx_in.skeleton import counted, motion_from_nodes
 from gmr_studio.core.model.motion import Motion
 
@@ -37,12 +38,9 @@ TIMEOUT_SECONDS = 60.0
 
 def read_fbx(path: str | Path, *, animation: str | int | None = None, data: bytes | None = None) -> Motion:
     """Read an ``.fbx`` file as a post-rotation motion (see the module docstring)."""
-    output = _run(path, data, {"mode": "motion", "animation": None if animation is None else str(animation)})
-    with np.load(io.BytesIO(output), allow_pickle=False) as archive:
-        meta = json.loads(str(archive["meta"]))
-        trs = {node: tuple(archive[f"{part}{node}"] for part in "trs") for node in meta["joints"] + meta["above"]}
+    header, arrays = _run(path, data, {"mode": "motion", "animation": None if animation is None else str(animation)})
     try:
-        return motion_from_nodes(meta, trs)
+        return motion_from_nodes(header["meta"], arrays)
     except ValueError as exc:  # limits of the motion model
         raise MotionFileError(path, str(exc)) from None
 
@@ -50,7 +48,7 @@ def read_fbx(path: str | Path, *, animation: str | int | None = None, data: byte
 def fbx_contents(path: str | Path, data: bytes | None = None) -> dict:
     """``{"takes": [{"index", "name", "begin", "end", "layers"}], "frame_rate", "unit_meters",
     "axes", "nodes", "bones", "meshes", "cameras", "lights", "version", "ascii"}`` (JSON-ready)."""
-    return json.loads(_run(path, data, {"mode": "contents"}).decode("utf-8"))
+    return _run(path, data, {"mode": "contents"})[0]["contents"]
 
 
 def contents_text(contents: dict) -> list[str]:
@@ -70,28 +68,54 @@ def contents_text(contents: dict) -> list[str]:
 
 
 # ---------------------------------------------------------------------------- the child
-def _run(path: str | Path, data: bytes | None, options: dict) -> bytes:
-    """The worker's stdout for the file's bytes (read here, so that a missing file is the
-    usual error), or MotionFileError."""
-    payload = read_input(path, data)
-    if not payload:
+def _run(path: str | Path, data: bytes | None, options: dict) -> tuple[dict, dict[str, np.ndarray]]:
+    """The worker's header and arrays for the file (given by its path, or ``data`` through
+    the child's stdin), or MotionFileError."""
+    source, size, payload = _source(path, data)
+    if size == 0:
         raise MotionFileError(path, "the file is empty: expected an FBX file")
-    limit = TIMEOUT_SECONDS + len(payload) / 1e6
+    limit = TIMEOUT_SECONDS + size / 1e6
     env = dict(os.environ)
     env["OMP_NUM_THREADS"] = env["OPENBLAS_NUM_THREADS"] = "1"
-    command = [sys.executable, str(WORKER), "-", json.dumps(options)]
-    try:
-        done = subprocess.run(command, input=payload, capture_output=True, timeout=limit, env=env)
-    except subprocess.TimeoutExpired:
-        raise MotionFileError(path, f"ufbx did not finish reading the file in {limit:.0f} s") from None
-    message = _last_line(done.stderr.decode("utf-8", "replace"))
-    if done.returncode == REJECTED:
-        raise MotionFileError(path, message)
-    if done.returncode != 0:
-        cause = f"signal {-done.returncode}" if done.returncode < 0 else f"exit status {done.returncode}"
-        detail = f" ({message})" if done.stderr.strip() else ""
-        raise MotionFileError(path, f"ufbx crashed reading the file ({cause}){detail}: the file is corrupt")
-    return done.stdout
+    with tempfile.TemporaryDirectory(prefix="gmr-fbx-") as folder:
+        output = Path(folder) / "result.arrays"
+        command = [sys.executable, str(WORKER), source, json.dumps({**options, "output": str(output)})]
+        try:
+            done = subprocess.run(
+                command,
+                input=payload,
+                stdin=subprocess.DEVNULL if payload is None else None,
+                capture_output=True,
+                timeout=limit,
+                env=env,
+            )
+        except subprocess.TimeoutExpired:
+            raise MotionFileError(path, f"ufbx did not finish reading the file in {limit:.0f} s") from None
+        message = _last_line(done.stderr.decode("utf-8", "replace"))
+        if done.returncode == REJECTED:
+            raise MotionFileError(path, message)
+        if done.returncode != 0:
+            cause = f"signal {-done.returncode}" if done.returncode < 0 else f"exit status {done.returncode}"
+            detail = f" ({message})" if done.stderr.strip() else ""
+            raise MotionFileError(path, f"ufbx crashed reading the file ({cause}){detail}: the file is corrupt")
+        try:
+            return read_arrays(output)
+        except (OSError, ValueError) as exc:
+            raise MotionFileError(path, f"the reader's child process left no result ({exc})") from None
+
+
+def _source(path: str | Path, data: bytes | None) -> tuple[str, int, bytes | None]:
+    """(the worker's FILE argument, the file's size, the bytes for its stdin): the path, which
+    ufbx reads itself, or ``-`` and the bytes (given, or a path ufbx cannot take as text)."""
+    if data is None:
+        size = input_size(path)
+        name = os.path.abspath(os.fsdecode(path))  # never "-" or an option
+        try:
+            name.encode("utf-8")
+            return name, size, None
+        except UnicodeEncodeError:
+            data = read_input(path)
+    return "-", len(data), data
 
 
 def _last_line(text: str) -> str:
