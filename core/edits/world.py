@@ -27,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.rotations.blocks import sandwiched
 from gmr_studio.core.space.units import unit_factor
 from gmr_studio.core.space.up_axis import check_up_axis, up_axis_of, up_turn
 
@@ -75,7 +76,7 @@ def turned_world(motion: Motion, turn: np.ndarray) -> Motion:
     if np.array_equal(turn, np.eye(3)):
         return motion
     return motion.replace(
-        rotations=turn @ motion.rotations @ turn.T,
+        rotations=sandwiched(turn[None], motion.rotations, turn.T[None]),
         offsets=motion.offsets @ turn.T,
         translations=motion.translations @ turn.T,
     )

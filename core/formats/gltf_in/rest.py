@@ -21,6 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from gmr_studio.core.formats.gltf_in.container import GltfDocument
+from gmr_studio.core.rotations.blocks import sandwiched, turned_vectors
 from gmr_studio.core.rotations.euler import nearest_rotation
 
 #: a translation of a pre-rotation export varying less than this (relative to its length)
@@ -64,9 +65,9 @@ def turn_to_bind(
     if np.abs(bind - np.eye(3)).max(initial=0.0) <= 1e-12:
         return rotations, translations, offsets
     above = np.where((parents >= 0)[:, None, None], bind[np.maximum(parents, 0)], np.eye(3))
-    turned = above @ rotations @ np.swapaxes(bind, -1, -2)
+    turned = sandwiched(above, rotations, np.swapaxes(bind, -1, -2))
     offsets = (above @ offsets[..., None])[..., 0]
-    translations = (above @ translations[..., None])[..., 0]
+    translations = turned_vectors(above, translations)
     translations[:, ~moving] = offsets[~moving]
     return turned, translations, offsets
 
