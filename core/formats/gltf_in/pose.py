@@ -44,7 +44,8 @@ class NodePose:
 @dataclasses.dataclass
 class _World:
     """A node's world rotation U (F|1, 3, 3), position P (F|1, 3) and carried scale M:
-    (F|1,) when it is a number times the identity, else (F|1, 3, 3)."""
+    (F|1,) when it is a number times the identity, else (3, 3, F|1), the frames last (the
+    products of :func:`_product` run along them, as numpy runs fastest)."""
 
     turn: np.ndarray
     place: np.ndarray
@@ -54,12 +55,24 @@ class _World:
         """``M t`` for vectors (F|1, 3)."""
         if self.stretch.ndim == 1:
             return self.stretch[:, None] * vector
-        return _apply(self.stretch, vector)
+        stretch, vector = _frames_alike(self.stretch, vector.T)
+        return np.einsum("ikf,kf->fi", stretch, vector)
 
 
 def _apply(matrices: np.ndarray, vectors: np.ndarray) -> np.ndarray:
     """Matrices (F|1, 3, 3) times vectors (F|1, 3), broadcasting the frames."""
     return (matrices @ vectors[..., None])[..., 0]
+
+
+def _frames_alike(*arrays: np.ndarray) -> list[np.ndarray]:
+    """Arrays with the frames last, (F or 1) each, as views with F frames each."""
+    frames = max(a.shape[-1] for a in arrays)
+    return [a if a.shape[-1] == frames else np.broadcast_to(a, (*a.shape[:-1], frames)) for a in arrays]
+
+
+def _product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Matrix products (3, 3, F) of matrices (3, 3, F|1) with the frames last."""
+    return np.einsum("ijf,jkf->ikf", *_frames_alike(a, b))
 
 
 def _child(world: _World, pose: NodePose, *, placed: bool = True) -> _World:
@@ -71,9 +84,10 @@ def _child(world: _World, pose: NodePose, *, placed: bool = True) -> _World:
     scale = pose.scale
     if world.stretch.ndim == 1 and (scale == scale[:, :1]).all():
         return _World(turn, place, world.stretch * scale[:, 0])
-    stretch = world.stretch[:, None, None] * np.eye(3) if world.stretch.ndim == 1 else world.stretch
-    back = np.swapaxes(pose.rotation, -1, -2)
-    return _World(turn, place, back @ stretch @ pose.rotation * scale[:, None, :])
+    stretch = np.eye(3)[:, :, None] * world.stretch if world.stretch.ndim == 1 else world.stretch
+    rotation = np.ascontiguousarray(np.moveaxis(pose.rotation, 0, -1))  # (3, 3, F|1): one pass over a column
+    carried = _product(rotation.transpose(1, 0, 2), _product(stretch, rotation))  # R^T M R
+    return _World(turn, place, carried * scale.T[None])
 
 
 def node_poses(
