@@ -115,15 +115,38 @@ def skeleton_pose(
     translations change over the frames (J,) bool, of the joints (node indices, parents
     first); ``poses`` holds every joint and every node above them, ``block`` the joints'
     rotation matrices (F|1, J, 3, 3) from :func:`node_poses`, which become the rotations
-    (the roots' overwritten)."""
+    (the roots' overwritten). Worked :data:`CHUNK_FRAMES` frames at a time, so that what
+    is carried down the skeleton stays in cache."""
     rotations = block if len(block) == n_frames else np.repeat(block, n_frames, axis=0)
     translations = np.empty((n_frames, len(joints), 3))
-    moving = np.zeros(len(joints), bool)
+    spread, size = np.zeros(len(joints)), np.zeros(len(joints))  # of each translation over the frames
+    varying = max(max(len(p.translation), len(p.rotation), len(p.scale)) for p in poses.values()) > 1
+    for start in range(0, n_frames if varying else min(n_frames, 1), CHUNK_FRAMES):
+        part = slice(start, start + CHUNK_FRAMES) if varying else slice(None)
+        _chunk_pose(poses, parents, joints, part, rotations, translations)
+        local = translations[part]  # reduced over the frames first: a reduction along the outer axis is fast
+        spread = np.maximum(spread, np.abs(local - translations[:1]).max(axis=0).max(axis=1))
+        size = np.maximum(size, np.abs(local).max(axis=0).max(axis=1))
+    moving = (spread > STATIC_RELATIVE_TOLERANCE * size) if n_frames > 1 else np.zeros(len(joints), bool)
+    translations[:, ~moving] = translations[:1, ~moving]
+    return rotations, translations, moving
+
+
+def _chunk_pose(
+    poses: dict[int, NodePose],
+    parents: np.ndarray,
+    joints: list[int],
+    part: slice,
+    rotations: np.ndarray,
+    translations: np.ndarray,
+) -> None:
+    """:func:`skeleton_pose` over the frames ``part``: their translations (all of them
+    when nothing changes over the frames) and the roots' rotations written in place."""
     index = {node: j for j, node in enumerate(joints)}
     origin = _World(np.eye(3)[None], np.zeros((1, 3)), np.ones(1))
     worlds: dict[int, _World] = {}
     for j, node in enumerate(joints):
-        pose, parent = poses[node], int(parents[node])
+        pose, parent = _frames_of(poses[node], part), int(parents[node])
         if parent in index:
             world = worlds[parent]
             local = world.carry(pose.translation)
@@ -131,15 +154,17 @@ def skeleton_pose(
         else:
             world = origin
             for up in _chain(parents, node, poses):  # the armature above the root
-                world = _child(world, poses[up])
+                world = _child(world, _frames_of(poses[up], part))
             local = world.place + _apply(world.turn, world.carry(pose.translation))
             worlds[node] = _child(world, pose, placed=False)
-            rotations[:, j] = world.turn @ pose.rotation  # pose.rotation is this column: used above first
-        if len(local) > 1 and np.abs(local - local[:1]).max() <= STATIC_RELATIVE_TOLERANCE * np.abs(local).max():
-            local = local[:1]
-        moving[j] = len(local) > 1
-        translations[:, j] = local
-    return rotations, translations, moving
+            rotations[part, j] = world.turn @ pose.rotation  # pose.rotation is this column: used above first
+        translations[part, j] = local
+
+
+def _frames_of(pose: NodePose, part: slice) -> NodePose:
+    """The pose over some frames (what does not change kept as it is)."""
+    values = (pose.translation, pose.rotation, pose.scale)
+    return NodePose(*(value if len(value) == 1 else value[part] for value in values))
 
 
 def _chain(parents: np.ndarray, node: int, poses: dict[int, NodePose]) -> list[int]:
