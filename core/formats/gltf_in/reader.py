@@ -282,7 +282,10 @@ def scale_notes(labels: dict[int, str], poses: dict[int, NodePose]) -> list[str]
     for node in sorted(labels):
         scale = poses[node].scale
         label = labels[node]
-        ratio = float((np.abs(scale).max(axis=-1) / np.maximum(np.abs(scale).min(axis=-1), 1e-300)).max())
+        size = np.abs(scale)
+        widest = np.maximum(np.maximum(size[:, 0], size[:, 1]), size[:, 2])  # per frame (elementwise: fast)
+        narrowest = np.minimum(np.minimum(size[:, 0], size[:, 1]), size[:, 2])
+        ratio = float((widest / np.maximum(narrowest, 1e-300)).max())
         if ratio > 1 + SCALE_NOTE_TOLERANCE or (scale <= 0).any():
             skewed.append(f"{label} (axes up to {ratio:.6g}:1{', mirrored' if (scale < 0).any() else ''})")
         elif np.ptp(scale[:, 0]) > SCALE_NOTE_TOLERANCE * abs(scale[0, 0]):
