@@ -20,6 +20,8 @@ from gmr_studio.core.rotations.quaternions import matrix_from_quaternion
 
 #: a node's nine channels: translation, rotation (degrees), scale, x y z each
 TRANSLATION, ROTATION, SCALE = slice(0, 3), slice(3, 6), slice(6, 9)
+#: frames gathered at a time
+CHUNK_FRAMES = 2048
 
 
 def node_poses(meta: dict, arrays: dict[str, np.ndarray]) -> tuple[dict[int, NodePose], np.ndarray]:
@@ -45,14 +47,15 @@ def node_poses(meta: dict, arrays: dict[str, np.ndarray]) -> tuple[dict[int, Nod
         for j, node in enumerate(joints):
             if specs[node]["kind"] != "channels":
                 block[:, j] = matrix_from_quaternion(arrays[f"q{node}"], scalar_last=True)
-    poses = {node: _pose(node, specs[node], arrays, block[:, j], frames) for j, node in enumerate(joints)}
+    parts = _translations_and_scales(joints + above, specs, arrays, frames)
+    poses = {node: _pose(node, specs[node], arrays, block[:, j], parts) for j, node in enumerate(joints)}
     for node in above:
         spec = specs[node]
         if spec["kind"] == "channels":
             turn = _rotations([spec], arrays, spec["order"], frames)[:, 0]
         else:
             turn = matrix_from_quaternion(arrays[f"q{node}"], scalar_last=True)
-        poses[node] = _pose(node, spec, arrays, turn, frames)
+        poses[node] = _pose(node, spec, arrays, turn, parts)
     return poses, block
 
 
@@ -69,9 +72,11 @@ def _gathered(specs: list[dict], arrays: dict, part: slice, frames: int) -> np.n
     channels = [spec["channels"][part] for spec in specs]
     varying = any(isinstance(c, str) for row in channels for c in row)
     out = np.empty((frames if varying else 1, len(specs), 3))
-    for n, row in enumerate(channels):
-        for c, channel in enumerate(row):
-            out[:, n, c] = arrays[channel] if isinstance(channel, str) else channel
+    for start in range(0, len(out), CHUNK_FRAMES):  # the strided writes land in cache
+        chunk = slice(start, start + CHUNK_FRAMES)
+        for n, row in enumerate(channels):
+            for c, channel in enumerate(row):
+                out[chunk, n, c] = arrays[channel][chunk] if isinstance(channel, str) else channel
     return out
 
 
@@ -86,11 +91,25 @@ def _rotations(specs: list[dict], arrays: dict, order: int, frames: int) -> np.n
     return stack_rotation(degrees, order, _stack(specs, "PreRotation"), _stack(specs, "PostRotation"))
 
 
-def _pose(node: int, spec: dict, arrays: dict, turn: np.ndarray, frames: int) -> NodePose:
-    """The node's pose over the take's ``frames``, given its rotation ``turn`` (F|1, 3, 3)."""
+def _translations_and_scales(nodes: list[int], specs: dict, arrays: dict, frames: int) -> dict[int, tuple]:
+    """Per node sent as channels, its Lcl translation and scale (F|1, 3): views of one array
+    per part for all such nodes (one gather each), a leading 1 where the node's part is
+    numbers only."""
+    chosen = [node for node in nodes if specs[node]["kind"] == "channels"]
+    rows = [specs[node] for node in chosen]
+    gathered = [(part, _gathered(rows, arrays, part, frames)) for part in (TRANSLATION, SCALE)]
+    out = {}
+    for m, node in enumerate(chosen):
+        fixed = [not any(isinstance(c, str) for c in specs[node]["channels"][part]) for part, _ in gathered]
+        out[node] = tuple(block[:1, m] if numbers else block[:, m] for numbers, (_, block) in zip(fixed, gathered))
+    return out
+
+
+def _pose(node: int, spec: dict, arrays: dict, turn: np.ndarray, parts: dict[int, tuple]) -> NodePose:
+    """The node's pose, given its rotation ``turn`` (F|1, 3, 3) and (channels) its Lcl
+    translation and scale."""
     if spec["kind"] != "channels":
         return NodePose(arrays[f"t{node}"], turn, arrays[f"s{node}"])
-    translation = _gathered([spec], arrays, TRANSLATION, frames)[:, 0]
-    scale = _gathered([spec], arrays, SCALE, frames)[:, 0]
+    translation, scale = parts[node]
     stack = {name: np.asarray(spec["stack"][name], dtype=np.float64) for name in STATIC_STACK}
     return NodePose(stack_translation(translation, turn, scale, stack), turn, scale)
