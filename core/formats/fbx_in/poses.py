@@ -92,16 +92,20 @@ def _rotations(specs: list[dict], arrays: dict, order: int, frames: int) -> np.n
 
 
 def _translations_and_scales(nodes: list[int], specs: dict, arrays: dict, frames: int) -> dict[int, tuple]:
-    """Per node sent as channels, its Lcl translation and scale (F|1, 3): views of one array
-    per part for all such nodes (one gather each), a leading 1 where the node's part is
-    numbers only."""
-    chosen = [node for node in nodes if specs[node]["kind"] == "channels"]
-    rows = [specs[node] for node in chosen]
-    gathered = [(part, _gathered(rows, arrays, part, frames)) for part in (TRANSLATION, SCALE)]
+    """Per node sent as channels, its Lcl translation and scale (F|1, 3), each contiguous
+    (what reads them runs along the frames), a leading 1 where they are numbers only."""
     out = {}
-    for m, node in enumerate(chosen):
-        fixed = [not any(isinstance(c, str) for c in specs[node]["channels"][part]) for part, _ in gathered]
-        out[node] = tuple(block[:1, m] if numbers else block[:, m] for numbers, (_, block) in zip(fixed, gathered))
+    for node in nodes:
+        if specs[node]["kind"] != "channels":
+            continue
+        parts = []
+        for part in (TRANSLATION, SCALE):
+            channels = specs[node]["channels"][part]
+            values = np.empty((frames if any(isinstance(c, str) for c in channels) else 1, 3))
+            for c, channel in enumerate(channels):
+                values[:, c] = arrays[channel] if isinstance(channel, str) else channel
+            parts.append(values)
+        out[node] = tuple(parts)
     return out
 
 
