@@ -143,6 +143,7 @@ def _chunk_pose(
     """:func:`skeleton_pose` over the frames ``part``: their translations (all of them
     when nothing changes over the frames) and the roots' rotations written in place."""
     index = {node: j for j, node in enumerate(joints)}
+    parents_of_joints = {int(parents[node]) for node in joints}  # the others carry nothing further
     origin = _World(np.eye(3)[None], np.zeros((1, 3)), np.ones(1))
     worlds: dict[int, _World] = {}
     for j, node in enumerate(joints):
@@ -150,13 +151,14 @@ def _chunk_pose(
         if parent in index:
             world = worlds[parent]
             local = world.carry(pose.translation)
-            worlds[node] = _child(world, pose, placed=False)
         else:
             world = origin
             for up in _chain(parents, node, poses):  # the armature above the root
                 world = _child(world, _frames_of(poses[up], part))
             local = world.place + _apply(world.turn, world.carry(pose.translation))
+        if node in parents_of_joints:
             worlds[node] = _child(world, pose, placed=False)
+        if parent not in index:
             rotations[part, j] = world.turn @ pose.rotation  # pose.rotation is this column: used above first
         translations[part, j] = local
 
