@@ -83,7 +83,8 @@ def motion_from_nodes(meta: dict, arrays: dict[str, np.ndarray]) -> Motion:
     motion_parents = np.array([index.get(int(parents[node]), -1) for node in joints], dtype=np.int64)
     bind, from_pose = bind_rotations(meta, joints)
     source = meta.get("bind", {}).get("source", "")
-    rotations, translations, offsets = turn_to_bind(bind, motion_parents, rotations, translations, offsets, moving)
+    turned = turn_to_bind(bind, motion_parents, rotations, translations, offsets, moving, overwrite=True)  # ours
+    rotations, translations, offsets = turned
     names, renamed = valid_joint_names([meta["names"][node] for node in joints], joints)
     factor, turn, facts, notes = file_facts(meta["unit_meters"], meta["axes"])
     labels = {node: repr(meta["names"][node]) for node in joints + above}

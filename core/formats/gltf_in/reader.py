@@ -100,7 +100,8 @@ def _read(doc: GltfDocument, animation, skin, frame_rate) -> Motion:
     rotations, translations, moving = skeleton_pose(poses, parents, joints, n_frames, block)
     offsets[~moving] = translations[0, ~moving]  # constant over the animation: that value, not the rest's
     bind, from_skin = bind_rotations(doc, skin_index, joints)
-    rotations, translations, offsets = turn_to_bind(bind, motion_parents, rotations, translations, offsets, moving)
+    turned = turn_to_bind(bind, motion_parents, rotations, translations, offsets, moving, overwrite=True)  # ours
+    rotations, translations, offsets = turned
     convention, pre_note = "post", ""
     if _extras(doc).get("convention") == "pre" and str(doc.json["asset"].get("generator", "")).startswith("GMR"):
         translations, offsets, moving = pre_from_export(rotations, translations, offsets, motion_parents, moving)
