@@ -1,16 +1,16 @@
 """The child process of :func:`core.formats.fbx_in.read_fbx`: ufbx loads one FBX file, and
 this module works out how each node of its skeleton moves over one take.
 
-``python .../fbx_in/worker.py FILE|- OPTIONS_JSON`` (run by its path: it imports only numpy,
-ufbx and three numpy modules of the core, not the package of every format; ``-`` reads the
-file's bytes from stdin) writes its result to the file named by the option ``output``
-(:mod:`core.array_transfer`: raw arrays, read by the parent in one go), or its error to
-stderr with exit status :data:`REJECTED`. The result's ``meta`` (JSON) has, per node
-index, what the parent composes the node's local transform from (``nodes``):
+``python .../fbx_in/worker.py FILE OPTIONS_JSON`` (run by its path: it imports only numpy,
+ufbx and three numpy modules of the core, not the package of every format) writes its
+result to the file named by the option ``output`` (:mod:`core.array_transfer`: raw
+arrays, read by the parent in one go) and closes its stderr, or writes its error to stderr
+and exits with status :data:`REJECTED`. The result's ``meta`` (JSON) has, per node index,
+what the parent composes the node's local transform from (``nodes``):
 
 - ``channels``: its nine Lcl channels (translation, rotation in degrees, scale; x y z), each
-  a number or the name of an array (F,) of the file's own key values (float32 as FBX
-  stores them), its rotation order and its static pre/post rotations, pivots and offsets;
+  a number or the name of an array (F,) of the file's key values as ufbx holds them, its
+  rotation order and its static pre/post rotations, pivots and offsets;
 - ``evaluated`` or ``static``: ufbx's local transform, arrays ``t<k>`` (F|1, 3), ``q<k>``
   (F|1, 4, x y z w) and ``s<k>`` (F|1, 3), a leading 1 where the value does not change.
 
@@ -571,13 +571,13 @@ def contents(scene) -> dict:
 
 
 def main(argv: list[str]) -> None:
-    """``FILE|- OPTIONS_JSON``: ``-`` reads the file's bytes from stdin; options ``mode``
-    (``motion`` or ``contents``), ``animation`` and ``output`` (the file to write)."""
+    """``FILE OPTIONS_JSON``: options ``mode`` (``motion`` or ``contents``), ``animation``
+    and ``output`` (the file to write; stderr is closed once it is there)."""
     from gmr_studio.core.array_transfer import write_arrays
 
     source, options = argv[0], json.loads(argv[1]) if len(argv) > 1 else {}
     try:
-        scene = load(source if source != "-" else sys.stdin.buffer.read())
+        scene = load(source)
         if options.get("mode") == "contents":
             header, arrays = {"contents": contents(scene)}, {}
         else:
@@ -587,7 +587,10 @@ def main(argv: list[str]) -> None:
         sys.stderr.write(f"{exc}\n")
         sys.stderr.flush()
         os._exit(REJECTED)
-    write_arrays(options["output"], header, arrays)
+    partial = f"{options['output']}.part"
+    write_arrays(partial, header, arrays)
+    os.replace(partial, options["output"])  # whole, or not there
+    os.close(2)  # done: the parent reads the result while this process releases its memory
     os._exit(0)  # never free the scene (module docstring)
 
 
