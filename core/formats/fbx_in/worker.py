@@ -256,8 +256,8 @@ def euler_matrices(degrees: np.ndarray, order: int) -> np.ndarray:
     from gmr_studio.core.rotations.euler import matrix_from_euler
 
     intrinsic = EULER_ORDERS[order]
-    columns = ["XYZ".index(axis) for axis in intrinsic]
-    return matrix_from_euler(np.radians(degrees[..., columns]), intrinsic)
+    angles = np.take(np.asarray(degrees, dtype=np.float64), ["XYZ".index(axis) for axis in intrinsic], axis=-1)
+    return matrix_from_euler(np.radians(angles, out=angles), intrinsic)  # the new array turned in place
 
 
 def stack_rotation(degrees: np.ndarray, order: int, pre: np.ndarray, post: np.ndarray) -> np.ndarray:
