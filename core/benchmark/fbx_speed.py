@@ -7,7 +7,8 @@ default ``$GMR_BPY_PYTHON`` or ``.venv-blender/bin/python``), and exported as ``
 this project; both are read back (best of ``--repeat``, interleaved). The goal: the FBX
 within 2x the time of the glTF. Each read is timed in wall seconds and in CPU seconds (this
 process and its children: the FBX reader's child process), and the load average is printed,
-since on a shared machine the wall time moves with the other jobs.
+since on a shared machine the wall time moves with the other jobs. Timed with them: ufbx
+loading the file in a new process and doing nothing else, the floor of a reader on ufbx.
 
 ``--keep DIR`` keeps the three files in DIR and reuses them when they are there for the
 same number of frames (Blender's export of 100,000 frames takes minutes).
@@ -22,6 +23,7 @@ import argparse
 import os
 import resource
 import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -41,6 +43,15 @@ source, output = sys.argv[-2], sys.argv[-1]
 bpy.ops.wm.read_factory_settings(use_empty=True)
 bpy.ops.import_anim.bvh(filepath=source, global_scale=1.0, update_scene_fps=True, update_scene_duration=True)
 bpy.ops.export_scene.fbx(filepath=output, bake_anim=True, bake_anim_simplify_factor=0.0, add_leaf_bones=False)
+"""
+
+
+#: ufbx's load of the file alone, as the reader's child process loads it, and nothing else
+#: (argv: FILE): the floor under any reader built on ufbx
+UFBX_LOAD_ONLY = """
+import os, sys, ufbx
+ufbx.load_file(sys.argv[1], retain_dom=True, no_format_from_extension=True)
+os._exit(0)
 """
 
 
@@ -86,8 +97,13 @@ def reading_speed(frames: int, repeat: int, bpy: Path, keep: Path | None = None)
         folder.mkdir(parents=True, exist_ok=True)
         fbx, glb, export_seconds = made_files(frames, folder, bpy)
         load_before = os.getloadavg()[0]
-        best = {"FBX": (float("inf"), float("inf")), "glb": (float("inf"), float("inf"))}
-        readers = {"FBX": lambda: read_fbx(fbx), "glb": lambda: read_gltf(glb)}
+        load_only = [sys.executable, "-c", UFBX_LOAD_ONLY, str(fbx)]
+        readers = {
+            "FBX": lambda: read_fbx(fbx),
+            "glb": lambda: read_gltf(glb),
+            "ufbx load": lambda: subprocess.run(load_only, check=True),
+        }
+        best = {name: (float("inf"), float("inf")) for name in readers}
         for _ in range(repeat):  # interleaved, so that a change of the machine's load hits both
             for name, read in readers.items():
                 wall, cpu = timed(read)
@@ -96,14 +112,18 @@ def reading_speed(frames: int, repeat: int, bpy: Path, keep: Path | None = None)
         motion = read_fbx(fbx)
         sizes = {"FBX": fbx.stat().st_size / 1e6, "glb": glb.stat().st_size / 1e6}
     made = "reused from --keep" if export_seconds is None else f"Blender exported the FBX in {export_seconds:.1f} s"
+    sizes["ufbx load"] = sizes["FBX"]
     print(f"reading {frames} frames (CMU 01_01 tiled), best of {repeat}, interleaved:")
     print(f"  ({made}: {motion.n_frames} frames, {motion.n_joints} joints)")
-    print(f"  {'format':<6} {'file MB':>8} {'wall s':>8} {'CPU s':>8} {'MB/s':>7}")
+    print(f"  {'read':<10} {'file MB':>8} {'wall s':>8} {'CPU s':>8} {'MB/s':>7} {'x glTF':>7}")
     for name, (wall, cpu) in best.items():
-        print(f"  {name:<6} {sizes[name]:>8.1f} {wall:>8.2f} {cpu:>8.2f} {sizes[name] / wall:>7.1f}")
+        ratio = wall / best["glb"][0]
+        print(f"  {name:<10} {sizes[name]:>8.1f} {wall:>8.2f} {cpu:>8.2f} {sizes[name] / wall:>7.1f} {ratio:>7.2f}")
     wall_ratio = best["FBX"][0] / best["glb"][0]
     cpu_ratio = best["FBX"][1] / best["glb"][1]
     print(f"  FBX / glTF: {wall_ratio:.2f} in wall time, {cpu_ratio:.2f} in CPU time (goal: within 2)")
+    floor = best["ufbx load"][0] / best["glb"][0], best["ufbx load"][1] / best["glb"][1]
+    print(f"  ufbx's load alone (a new process, no reading): {floor[0]:.2f} x glTF in wall, {floor[1]:.2f} in CPU time")
     print(f"  load average: {load_before:.1f} before the reads, {load_after:.1f} after ({os.cpu_count()} cores)")
 
 
