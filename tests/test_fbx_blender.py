@@ -15,6 +15,7 @@ Blender keeps 120 fps with ``fps_base`` 0.999996), so FBX frame ``f`` is BVH fra
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 from pathlib import Path
 
@@ -127,4 +128,6 @@ def test_the_benchmark_prints_its_figures(capsys):
     shared_path("cmu/subject01/01_01.bvh")
     reading_speed(300, 1, bpy_python())  # the figures themselves: gmr bench --fbx
     out = capsys.readouterr().out
-    assert "reading 300 frames x 38 joints" in out and "FBX / glTF time:" in out
+    assert "reading 300 frames" in out and "FBX / glTF:" in out and "ufbx's load alone" in out
+    rows = {line.split()[0]: line.split() for line in out.splitlines() if re.match(r"  (FBX|glb) +[0-9.]+ ", line)}
+    assert float(rows["glb"][-1]) == 1.0 and float(rows["FBX"][-1]) > 0  # each read as a multiple of glTF's
