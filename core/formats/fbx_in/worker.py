@@ -333,17 +333,17 @@ class KeyFrames:
 
     def __init__(self, times: np.ndarray, rate: float) -> None:
         self.times, self.rate = times, rate
-        self.seen: list[tuple[bytes, object]] = []
+        self.seen: list[tuple[bytes, str, object]] = []
 
     def __call__(self, ticks: bytes, dtype: str):
         """``slice``: key ``f`` is on frame ``f``, one per frame; ``(keys (K,), frames (K,))``:
         the keys on frames and their frames, every frame having one; None: some frame has
         none."""
-        for blob, found in self.seen:
-            if blob == ticks:
+        for blob, kind, found in self.seen:
+            if kind == dtype and blob == ticks:
                 return found
         found = self._work_out(np.frombuffer(ticks, dtype))
-        self.seen.append((ticks, found))
+        self.seen.append((ticks, dtype, found))
         return found
 
     def _work_out(self, ticks: np.ndarray):
