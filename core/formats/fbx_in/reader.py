@@ -76,7 +76,7 @@ def _worker_result(path: str | Path, data: bytes | None, options: dict) -> Itera
     """The worker's header and arrays for the file (its path, or ``data`` written to a
     temporary file), or MotionFileError. The child says it is done by closing its stderr
     once its result is in place; it is waited for on leaving, having released ufbx's
-    memory meanwhile (a few tenths of a second on a long take)."""
+    memory meanwhile (on a long take, gigabytes the system takes a while to reclaim)."""
     with tempfile.TemporaryDirectory(prefix="gmr-fbx-") as folder:
         source, size = _source(path, data, Path(folder))
         if size == 0:
