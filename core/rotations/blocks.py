@@ -4,8 +4,8 @@ Changing the joints' frames (``L_j R C_j`` for every frame: the rest orientation
 reader takes out, a turn of the world) with numpy's ``@`` costs one small product per
 frame and joint. Written as one linear map of the nine entries per joint,
 ``vec(L R C) = (L kron C^T) vec(R)``, it becomes a few matrix products per
-:data:`CHUNK_FRAMES` frames, each a size the cache holds: several times faster, equal to
-the products to rounding.
+:data:`CHUNK_FRAMES` frames, each a size the cache holds (one call per joint and chunk,
+not per frame), equal to the products to rounding.
 """
 
 from __future__ import annotations
