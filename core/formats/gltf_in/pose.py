@@ -127,7 +127,8 @@ def skeleton_pose(
         local = translations[part]  # reduced over the frames first: a reduction along the outer axis is fast
         spread = np.maximum(spread, np.abs(local - translations[:1]).max(axis=0).max(axis=1))
         size = np.maximum(size, np.abs(local).max(axis=0).max(axis=1))
-    moving = (spread > STATIC_RELATIVE_TOLERANCE * size) if n_frames > 1 else np.zeros(len(joints), bool)
+    static = spread <= STATIC_RELATIVE_TOLERANCE * size  # NaN (a bad file) counts as moving, keeping every frame
+    moving = ~static if n_frames > 1 else np.zeros(len(joints), bool)
     translations[:, ~moving] = translations[:1, ~moving]
     return rotations, translations, moving
 
