@@ -14,6 +14,7 @@ when asked for something that makes no sense; the motion they were given is neve
 
 from __future__ import annotations
 
+import os
 from os import PathLike
 from pathlib import Path
 
@@ -79,4 +80,19 @@ def read_input(path: str | PathLike[str], data: bytes | None = None) -> bytes:
     try:
         return Path(path).read_bytes()
     except OSError as exc:
-        raise MotionFileError(path, f"cannot read the file: {exc.strerror or exc}") from None
+        raise _unreadable(path, exc) from None
+
+
+def input_size(path: str | PathLike[str]) -> int:
+    """The size in bytes of an input file that can be opened for reading (for a reader that
+    hands the path to another process); one that cannot raises :class:`MotionFileError`
+    as :func:`read_input` does."""
+    try:
+        with open(path, "rb") as handle:
+            return os.fstat(handle.fileno()).st_size
+    except OSError as exc:
+        raise _unreadable(path, exc) from None
+
+
+def _unreadable(path: str | PathLike[str], exc: OSError) -> MotionFileError:
+    return MotionFileError(path, f"cannot read the file: {exc.strerror or exc}")

@@ -15,6 +15,7 @@ Blender keeps 120 fps with ``fps_base`` 0.999996), so FBX frame ``f`` is BVH fra
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 from pathlib import Path
 
@@ -109,6 +110,21 @@ def test_blender_fbx_export_of_a_bvh_reads_back_as_the_bvh(relative, tmp_path):
 
 
 @pytest.mark.slow
+def test_a_blender_export_read_in_bulk_puts_every_joint_where_ufbx_does(tmp_path):
+    """Blender bakes a key on every frame, so the reader takes the keys as the file holds them
+    and composes FBX's transform stack itself rather than asking ufbx frame by frame: the
+    joints are still where ufbx's own evaluation puts them, to rounding, with the float32
+    scale Blender writes on every bone and the bones' rest orientations."""
+    _, fbx = bvh_through_blender("cmu/subject01/01_01.bvh", tmp_path)
+    expected, _ = ufbx_positions(tmp_path / "out_Y.fbx", fbx.n_frames, tmp_path)
+    got = world_positions(pre_from_post(fbx))
+    reference = np.stack([expected[name] for name in fbx.names], axis=1)
+    error = float(np.abs(got - reference).max()) / fbx.size
+    print(f"01_01 through Blender: {fbx.n_joints} joints, {fbx.n_frames} frames, worst {error:.2e} of the size")
+    assert error <= 1e-9
+
+
+@pytest.mark.slow
 def test_an_fbx_in_cm_z_up_compares_with_metres_y_up_without_flags(tmp_path):
     bvh, fbx = bvh_through_blender("cmu/subject01/01_01.bvh", tmp_path, up="Z")
     assert (fbx.facts.unit.name, fbx.facts.up_axis) == ("cm", "z")
@@ -127,4 +143,6 @@ def test_the_benchmark_prints_its_figures(capsys):
     shared_path("cmu/subject01/01_01.bvh")
     reading_speed(300, 1, bpy_python())  # the figures themselves: gmr bench --fbx
     out = capsys.readouterr().out
-    assert "reading 300 frames x 38 joints" in out and "FBX / glTF time:" in out
+    assert "reading 300 frames" in out and "FBX / glTF:" in out and "ufbx's load alone" in out
+    rows = {line.split()[0]: line.split() for line in out.splitlines() if re.match(r"  (FBX|glb) +[0-9.]+ ", line)}
+    assert float(rows["glb"][-1]) == 1.0 and float(rows["FBX"][-1]) > 0  # each read as a multiple of glTF's

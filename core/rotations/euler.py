@@ -33,6 +33,9 @@ GIMBAL_EPSILON = 1e-15
 #: each lose digits (their errors grow as eps / cos), and only this keeps the matrix they
 #: make equal to the input to rounding
 NEAR_GIMBAL = 1e-2
+#: rotations :func:`matrix_from_euler` fills at a time: the chunk of the output and the
+#: temporaries stay in cache while each of the nine entries is written
+CHUNK_ANGLES = 4096
 
 
 def check_order(order: str) -> str:
@@ -66,33 +69,43 @@ def matrix_from_euler(angles: np.ndarray, order: str) -> np.ndarray:
 
     Returns
     -------
-    array (..., 3, 3) float64: ``R = R_order[0](a) @ R_order[1](b) @ R_order[2](c)``.
+    array (..., 3, 3) float64: ``R = R_order[0](a) @ R_order[1](b) @ R_order[2](c)``,
+    filled :data:`CHUNK_ANGLES` rotations at a time.
     """
     angles = np.asarray(angles, dtype=np.float64)
     n = len(check_order(order))
     if angles.shape[-1:] != (n,):
         raise ValueError(f"angles of shape {angles.shape} do not match order {order!r}")
-    i, j, k, e = _indices_and_parity(order)
-    zero = np.zeros(angles.shape[:-1])
-    a = angles[..., 0]
-    b = angles[..., 1] if n > 1 else zero
-    c = angles[..., 2] if n > 2 else zero
+    flat = angles.reshape(-1, n)
+    out = np.empty((len(flat), 3, 3))
+    indices = _indices_and_parity(order)
+    for start in range(0, len(flat), CHUNK_ANGLES):
+        _fill_matrices(flat[start : start + CHUNK_ANGLES], indices, out[start : start + CHUNK_ANGLES])
+    return out.reshape(*angles.shape[:-1], 3, 3)
+
+
+def _fill_matrices(angles: np.ndarray, indices: tuple[int, int, int, float], out: np.ndarray) -> None:
+    """Write the matrices (N, 3, 3) of angles (N, n) into ``out``."""
+    i, j, k, e = indices
+    n = angles.shape[1]
+    zero = np.zeros(len(angles))
+    a = angles[:, 0]
+    b = angles[:, 1] if n > 1 else zero
+    c = angles[:, 2] if n > 2 else zero
     ca, sa = np.cos(a), np.sin(a)
     cb, sb = np.cos(b), np.sin(b)
     cc, sc = np.cos(c), np.sin(c)
-    out = np.empty((*angles.shape[:-1], 3, 3))
-    out[..., i, i] = cb * cc
-    out[..., i, j] = -e * cb * sc
-    out[..., i, k] = e * sb
+    out[:, i, i] = cb * cc
+    out[:, i, j] = -e * cb * sc
+    out[:, i, k] = e * sb
     sa_sb = sa * sb
     ca_sb = ca * sb
-    out[..., j, i] = e * ca * sc + sa_sb * cc
-    out[..., j, j] = ca * cc - e * sa_sb * sc
-    out[..., j, k] = -e * sa * cb
-    out[..., k, i] = sa * sc - e * ca_sb * cc
-    out[..., k, j] = e * sa * cc + ca_sb * sc
-    out[..., k, k] = ca * cb
-    return out
+    out[:, j, i] = e * ca * sc + sa_sb * cc
+    out[:, j, j] = ca * cc - e * sa_sb * sc
+    out[:, j, k] = -e * sa * cb
+    out[:, k, i] = sa * sc - e * ca_sb * cc
+    out[:, k, j] = e * sa * cc + ca_sb * sc
+    out[:, k, k] = ca * cb
 
 
 def euler_from_matrix(matrices: np.ndarray, order: str) -> np.ndarray:

@@ -15,16 +15,18 @@ Errors: :class:`~core.errors.MotionFileError` naming the file and what was wrong
 
 from __future__ import annotations
 
-import io
+import contextlib
 import json
 import os
 import subprocess
 import sys
+import tempfile
+import threading
+from collections.abc import Iterator
 from pathlib import Path
 
-import numpy as np
-
-from gmr_studio.core.errors import MotionFileError, read_input
+from gmr_studio.core.array_transfer import read_arrays
+from gmr_studio.core.errors import MotionFileError, input_size, read_input
 from gmr_studio.core.formats.fbx_in.skeleton import counted, motion_from_nodes
 from gmr_studio.core.model.motion import Motion
 
@@ -37,20 +39,19 @@ TIMEOUT_SECONDS = 60.0
 
 def read_fbx(path: str | Path, *, animation: str | int | None = None, data: bytes | None = None) -> Motion:
     """Read an ``.fbx`` file as a post-rotation motion (see the module docstring)."""
-    output = _run(path, data, {"mode": "motion", "animation": None if animation is None else str(animation)})
-    with np.load(io.BytesIO(output), allow_pickle=False) as archive:
-        meta = json.loads(str(archive["meta"]))
-        trs = {node: tuple(archive[f"{part}{node}"] for part in "trs") for node in meta["joints"] + meta["above"]}
-    try:
-        return motion_from_nodes(meta, trs)
-    except ValueError as exc:  # limits of the motion model
-        raise MotionFileError(path, str(exc)) from None
+    options = {"mode": "motion", "animation": None if animation is None else str(animation)}
+    with _worker_result(path, data, options) as (header, arrays):
+        try:
+            return motion_from_nodes(header["meta"], arrays)
+        except ValueError as exc:  # limits of the motion model
+            raise MotionFileError(path, str(exc)) from None
 
 
 def fbx_contents(path: str | Path, data: bytes | None = None) -> dict:
     """``{"takes": [{"index", "name", "begin", "end", "layers"}], "frame_rate", "unit_meters",
     "axes", "nodes", "bones", "meshes", "cameras", "lights", "version", "ascii"}`` (JSON-ready)."""
-    return json.loads(_run(path, data, {"mode": "contents"}).decode("utf-8"))
+    with _worker_result(path, data, {"mode": "contents"}) as (header, _):
+        return header["contents"]
 
 
 def contents_text(contents: dict) -> list[str]:
@@ -70,28 +71,71 @@ def contents_text(contents: dict) -> list[str]:
 
 
 # ---------------------------------------------------------------------------- the child
-def _run(path: str | Path, data: bytes | None, options: dict) -> bytes:
-    """The worker's stdout for the file's bytes (read here, so that a missing file is the
-    usual error), or MotionFileError."""
-    payload = read_input(path, data)
-    if not payload:
-        raise MotionFileError(path, "the file is empty: expected an FBX file")
-    limit = TIMEOUT_SECONDS + len(payload) / 1e6
-    env = dict(os.environ)
-    env["OMP_NUM_THREADS"] = env["OPENBLAS_NUM_THREADS"] = "1"
-    command = [sys.executable, str(WORKER), "-", json.dumps(options)]
-    try:
-        done = subprocess.run(command, input=payload, capture_output=True, timeout=limit, env=env)
-    except subprocess.TimeoutExpired:
-        raise MotionFileError(path, f"ufbx did not finish reading the file in {limit:.0f} s") from None
-    message = _last_line(done.stderr.decode("utf-8", "replace"))
-    if done.returncode == REJECTED:
+@contextlib.contextmanager
+def _worker_result(path: str | Path, data: bytes | None, options: dict) -> Iterator[tuple[dict, dict]]:
+    """The worker's header and arrays for the file (its path, or ``data`` written to a
+    temporary file), or MotionFileError. The child says it is done by closing its stderr
+    once its result is in place; it is waited for on leaving, having released ufbx's
+    memory meanwhile (on a long take, gigabytes the system takes a while to reclaim)."""
+    with tempfile.TemporaryDirectory(prefix="gmr-fbx-") as folder:
+        source, size = _source(path, data, Path(folder))
+        if size == 0:
+            raise MotionFileError(path, "the file is empty: expected an FBX file")
+        limit = TIMEOUT_SECONDS + size / 1e6
+        output = Path(folder) / "result.arrays"
+        env = dict(os.environ)
+        env["OMP_NUM_THREADS"] = env["OPENBLAS_NUM_THREADS"] = "1"
+        command = [sys.executable, str(WORKER), source, json.dumps({**options, "output": str(output)})]
+        quiet = subprocess.DEVNULL
+        child = subprocess.Popen(command, stdin=quiet, stdout=quiet, stderr=subprocess.PIPE, env=env)
+        timed_out = threading.Event()
+        timer = threading.Timer(limit, lambda: (timed_out.set(), child.kill()))
+        try:
+            timer.start()
+            try:
+                stderr = child.stderr.read()  # to its end: the child closes it when done, or exits
+            finally:
+                timer.cancel()
+            if not output.exists():
+                _refused_or_crashed(path, child.wait(), stderr.decode("utf-8", "replace"), timed_out.is_set(), limit)
+            try:
+                result = read_arrays(output)
+            except (OSError, ValueError) as exc:
+                raise MotionFileError(path, f"the reader's child process left no usable result ({exc})") from None
+            yield result
+        finally:
+            child.stderr.close()
+            if child.poll() is None and not output.exists():
+                child.kill()  # stopped early (an interrupt): nothing is waiting for its result
+            child.wait()
+
+
+def _refused_or_crashed(path: str | Path, status: int, stderr: str, timed_out: bool, limit: float) -> None:
+    """The MotionFileError of a child that ended without a result."""
+    message = _last_line(stderr)
+    if timed_out:
+        raise MotionFileError(path, f"ufbx did not finish reading the file in {limit:.0f} s")
+    if status == REJECTED:
         raise MotionFileError(path, message)
-    if done.returncode != 0:
-        cause = f"signal {-done.returncode}" if done.returncode < 0 else f"exit status {done.returncode}"
-        detail = f" ({message})" if done.stderr.strip() else ""
-        raise MotionFileError(path, f"ufbx crashed reading the file ({cause}){detail}: the file is corrupt")
-    return done.stdout
+    cause = f"signal {-status}" if status < 0 else f"exit status {status}"
+    detail = f" ({message})" if stderr.strip() else ""
+    raise MotionFileError(path, f"ufbx crashed reading the file ({cause}){detail}: the file is corrupt")
+
+
+def _source(path: str | Path, data: bytes | None, folder: Path) -> tuple[str, int]:
+    """(the path the worker reads, the file's size): the file itself, or a copy of its
+    bytes in ``folder`` (``data`` given, or a path ufbx cannot take as text)."""
+    if data is None:
+        size = input_size(path)
+        name = os.path.abspath(os.fsdecode(path))
+        try:
+            name.encode("utf-8")
+            return name, size
+        except UnicodeEncodeError:
+            data = read_input(path)
+    copy = folder / "input.fbx"
+    copy.write_bytes(data)
+    return str(copy), len(data)
 
 
 def _last_line(text: str) -> str:

@@ -1,8 +1,8 @@
 """From the FBX nodes' local transforms to a post-rotation motion, and the file's facts.
 
-:func:`motion_from_nodes` takes what :mod:`.worker` evaluated (each node's translation,
-rotation matrix and scale per frame: FBX's whole transform stack composed into one
-``T R S``) and builds the motion exactly as the glTF reader builds one from node ``T R S``
+:func:`motion_from_nodes` takes what :mod:`.worker` sent, each node's translation, rotation
+matrix and scale per frame (:mod:`.poses`: FBX's whole transform stack composed into one
+``T R S``), and builds the motion exactly as the glTF reader builds one from node ``T R S``
 (:mod:`core.formats.gltf_in.pose`): a joint's rotation is its node's, its translation the
 node's carried through the scales above, the nodes above the skeleton (the armature)
 applied to the roots, uniform scale folded into the lengths and non-uniform scale named in
@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from gmr_studio.core.edits.world import scale_lengths, turned_world
+from gmr_studio.core.formats.fbx_in.poses import node_poses
 from gmr_studio.core.formats.fbx_in.worker import EULER_ORDERS
 from gmr_studio.core.formats.gltf_in.pose import NodePose, skeleton_pose
 from gmr_studio.core.formats.gltf_in.reader import bind_note, scale_notes, valid_joint_names
@@ -70,25 +71,20 @@ def file_facts(unit_meters: float, axes: list[int]) -> tuple[float, np.ndarray, 
     return factor, turn, FileFacts(unit=unit, up_axis=up), lines
 
 
-def motion_from_nodes(meta: dict, trs: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]]) -> Motion:
-    """The motion of the worker's output: ``meta`` (its JSON) and per node index its
-    translation (F|1, 3), rotation (F|1, 3, 3) and scale (F|1, 3)."""
+def motion_from_nodes(meta: dict, arrays: dict[str, np.ndarray]) -> Motion:
+    """The motion of the worker's output: ``meta`` (its JSON) and the arrays it names."""
     joints, above = list(meta["joints"]), list(meta["above"])
     parents = np.asarray(meta["parents"], dtype=np.int64)
     n_frames = int(meta["frames"])
-    frames = max(len(trs[node][1]) for node in joints)
-    block = np.empty((frames, len(joints), 3, 3))
-    for k, node in enumerate(joints):
-        block[:, k] = trs[node][1]
-    poses = {node: NodePose(trs[node][0], block[:, k], trs[node][2]) for k, node in enumerate(joints)}
-    poses.update({node: NodePose(*trs[node]) for node in above})
+    poses, block = node_poses(meta, arrays)
     rotations, translations, moving = skeleton_pose(poses, parents, joints, n_frames, block)
     offsets = translations[0].copy()
     index = {node: j for j, node in enumerate(joints)}
     motion_parents = np.array([index.get(int(parents[node]), -1) for node in joints], dtype=np.int64)
     bind, from_pose = bind_rotations(meta, joints)
     source = meta.get("bind", {}).get("source", "")
-    rotations, translations, offsets = turn_to_bind(bind, motion_parents, rotations, translations, offsets, moving)
+    turned = turn_to_bind(bind, motion_parents, rotations, translations, offsets, moving, overwrite=True)  # ours
+    rotations, translations, offsets = turned
     names, renamed = valid_joint_names([meta["names"][node] for node in joints], joints)
     factor, turn, facts, notes = file_facts(meta["unit_meters"], meta["axes"])
     labels = {node: repr(meta["names"][node]) for node in joints + above}

@@ -1,11 +1,18 @@
-"""The child process of :func:`core.formats.fbx_in.read_fbx`: ufbx loads one FBX file and
-evaluates the transforms of its skeleton's nodes at every frame of one take.
+"""The child process of :func:`core.formats.fbx_in.read_fbx`: ufbx loads one FBX file, and
+this module works out how each node of its skeleton moves over one take.
 
-``python .../fbx_in/worker.py FILE|- OPTIONS_JSON`` (run by its path: it imports only numpy,
-ufbx and two numpy modules of the core, not the package of every format) writes an .npz
-archive to stdout (``meta``: JSON; per node ``t<k>``, ``r<k>``, ``s<k>``: its local
-translation (F|1, 3), rotation matrix (F|1, 3, 3) and scale (F|1, 3), a leading 1 where
-the value does not change), or its error to stderr with exit status :data:`REJECTED`.
+``python .../fbx_in/worker.py FILE OPTIONS_JSON`` (run by its path: it imports only numpy,
+ufbx and three numpy modules of the core, not the package of every format) writes its
+result to the file named by the option ``output`` (:mod:`core.array_transfer`: raw
+arrays, read by the parent in one go) and closes its stderr, or writes its error to stderr
+and exits with status :data:`REJECTED`. The result's ``meta`` (JSON) has, per node index,
+what the parent composes the node's local transform from (``nodes``):
+
+- ``channels``: its nine Lcl channels (translation, rotation in degrees, scale; x y z), each
+  a number or the name of an array (F,) of the file's key values as ufbx holds them, its
+  rotation order and its static pre/post rotations, pivots and offsets;
+- ``evaluated`` or ``static``: ufbx's local transform, arrays ``t<k>`` (F|1, 3), ``q<k>``
+  (F|1, 4, x y z w) and ``s<k>`` (F|1, 3), a leading 1 where the value does not change.
 
 **Why a child process.** The ``ufbx`` Python bindings (0.0.5) hand out their cached element
 objects (nodes, takes, curves) without counting the reference they return: the second time
@@ -18,19 +25,20 @@ still crashes ufbx takes only the child down, and the reader reports it as a bad
 **The transform stack.** FBX composes a node's local transform as
 ``T Roff Rp Rpre R Rpost^-1 Rp^-1 Soff Sp S Sp^-1``: a translation, the rotation
 ``Q = Rpre R Rpost^-1`` and the scale ``S``, with the pivots and offsets folded into the
-translation ``T + Roff + Rp + Q (Sp + Soff - Rp - S Sp)``. Where every animated channel of
-a node has a key on every frame of the take (as exported takes and baked motion capture
-do), the values are the keys themselves, read in bulk, and the stack is composed here with
-numpy (:func:`composed_trs`); this is checked against ufbx's own evaluation at the first,
-middle and last frames (:data:`AGREEMENT`), and any other node (keys between frames, cubic
-curves sampled between keys, several layers, animated pivots) is evaluated by ufbx, frame
-by frame. Either way the result is ufbx's local transform of the node (``ufbx_transform``).
+translation ``T + Roff + Rp + Q (Sp + Soff - Rp - S Sp)`` (:func:`stack_rotation`,
+:func:`stack_translation`, numpy over any number of frames and nodes). Where every animated
+channel of a node has a key on every frame of the take (as exported takes and baked motion
+capture do), its values are the keys themselves, read in bulk from the file's arrays, and
+the node is sent as ``channels``: composed here at the first, middle and last frames and
+checked against ufbx's own evaluation there (:data:`AGREEMENT`), the parent composes the
+rest. Any other node (keys between frames, cubic curves sampled between keys, several
+layers blended, animated pivots, a rotation order that is not Euler) is evaluated by ufbx,
+frame by frame. Either way the result is ufbx's local transform of the node.
 """
 
 from __future__ import annotations
 
 import ctypes
-import io
 import json
 import os
 import sys
@@ -63,6 +71,8 @@ STACK_PROPS = (
     "RotationOrder",
     "InheritType",
 )
+#: the static vectors of the stack composed with the Lcl values (degrees for the rotations)
+STATIC_STACK = STACK_PROPS[:6]
 
 
 class RefusedError(ValueError):
@@ -98,14 +108,15 @@ _SCENES: list = []
 
 # --------------------------------------------------------------------------- the scene
 def load(source: str | bytes):
-    """The scene of a file (a path, or its bytes), kept for the life of the process."""
+    """The scene of a file (a path, or its bytes), kept for the life of the process. The
+    format is recognised by the content, whatever the file's name (as for bytes)."""
     import ufbx
 
     try:
         if isinstance(source, bytes):
             scene = ufbx.load_memory(source, retain_dom=True)
         else:
-            scene = ufbx.load_file(source, retain_dom=True)
+            scene = ufbx.load_file(source, retain_dom=True, no_format_from_extension=True)
     except ufbx.UfbxError as exc:
         raise RefusedError(describe_error(exc)) from None
     _SCENES.append(scene)
@@ -237,7 +248,48 @@ def skeleton(table: dict, animated: set[int]) -> tuple[list[int], list[int], str
     return joints, sorted(above), f"{len(bones)} bones"
 
 
-# ---------------------------------------------------------------------- evaluation
+# ------------------------------------------------------------------ the transform stack
+# Pure numpy, over any leading shape: the child composes the probe frames with it, the
+# parent (.poses) every frame of every node.
+def euler_matrices(degrees: np.ndarray, order: int) -> np.ndarray:
+    """Rotation matrices (..., 3, 3) of FBX Euler angles (..., 3) in degrees, x y z."""
+    from gmr_studio.core.rotations.euler import matrix_from_euler
+
+    intrinsic = EULER_ORDERS[order]
+    angles = np.take(np.asarray(degrees, dtype=np.float64), ["XYZ".index(axis) for axis in intrinsic], axis=-1)
+    return matrix_from_euler(np.radians(angles, out=angles), intrinsic)  # the new array turned in place
+
+
+def stack_rotation(degrees: np.ndarray, order: int, pre: np.ndarray, post: np.ndarray) -> np.ndarray:
+    """``Q = Rpre R Rpost^-1`` (..., 3, 3) of Lcl Rotation angles (..., 3) in degrees turned in
+    ``order`` and static pre- and post-rotations (..., 3), degrees in FBX's XYZ order; the
+    products with identities are left out."""
+    turn = euler_matrices(degrees, order)
+    if pre.any():
+        turn = euler_matrices(pre, 0) @ turn
+    if post.any():
+        turn = turn @ np.swapaxes(euler_matrices(post, 0), -1, -2)
+    return turn
+
+
+def stack_translation(translation: np.ndarray, turn: np.ndarray, scale: np.ndarray, stack: dict) -> np.ndarray:
+    """The node's translation (..., 3) with its static pivots and offsets (``stack``: name ->
+    (..., 3)) folded in: ``T + Roff + Rp + Q (Sp + Soff - Rp - S Sp)`` (module docstring);
+    ``translation`` itself when they are all zero."""
+    pivot, offset = stack["RotationPivot"], stack["RotationOffset"]
+    scale_pivot, scale_offset = stack["ScalingPivot"], stack["ScalingOffset"]
+    if not (pivot.any() or offset.any() or scale_pivot.any() or scale_offset.any()):
+        return translation
+    inner = scale_pivot + scale_offset - pivot - scale * scale_pivot
+    return translation + offset + pivot + (turn @ inner[..., None])[..., 0]
+
+
+def static_stack(node) -> dict[str, np.ndarray]:
+    """A node's static pre/post rotations, pivots and offsets (name -> (3,))."""
+    return {name: prop_vector(node, name) for name in STATIC_STACK}
+
+
+# ----------------------------------------------------------------------- the channels
 def animated_nodes(scene, stack) -> tuple[dict[int, dict[str, object]], set[int]]:
     """Per node element id: its animated transform properties (name -> ufbx AnimValue) in
     the take's single layer; and the element ids of nodes with other animated properties
@@ -262,119 +314,115 @@ def curves_of(value) -> list:
     return [owned(curve) for curve in value.curves]
 
 
-def curve_keys(curve) -> tuple[np.ndarray, np.ndarray] | None:
-    """(seconds (K,), values (K,)) of one component's curve, read in bulk from the file's
-    own arrays; None when the component has no curve."""
-    if curve is None:
-        return None
-    dom = curve.dom_node
-    if dom is None:
-        raise LookupError("no curve data")
-    times = _dom_array(dom, "KeyTime")
-    values = _dom_array(dom, "KeyValueFloat")
-    if times is None or values is None or times.shape != values.shape:
-        raise LookupError("curve arrays missing")
-    return times.astype(np.float64) / KTIME_SECOND, values.astype(np.float64)
-
-
 _DOM_DTYPES = {3: "<i4", 4: "<i8", 5: "<f4", 6: "<f8"}
 
 
-def _dom_array(dom, name: str) -> np.ndarray | None:
+def _dom_blob(dom, name: str) -> tuple[bytes, str] | None:
+    """The bytes and dtype of one of a curve's arrays in the file (``KeyTime``...)."""
     node = dom.find(name)
     if node is None or len(node.values) != 1:
         return None
     value = node.values[0]
     dtype = _DOM_DTYPES.get(int(value.type))
-    if dtype is None:
+    return None if dtype is None else (value.value_blob, dtype)
+
+
+class KeyFrames:
+    """Which keys of a curve fall on which frames of the take, worked out once per distinct
+    ``KeyTime`` array (the curves of an exported take share one)."""
+
+    def __init__(self, times: np.ndarray, rate: float) -> None:
+        self.times, self.rate = times, rate
+        self.seen: list[tuple[bytes, str, object]] = []
+
+    def __call__(self, ticks: bytes, dtype: str):
+        """``slice``: key ``f`` is on frame ``f``, one per frame; ``(keys (K,), frames (K,))``:
+        the keys on frames and their frames, every frame having one; None: some frame has
+        none."""
+        for blob, kind, found in self.seen:
+            if kind == dtype and blob == ticks:
+                return found
+        found = self._work_out(np.frombuffer(ticks, dtype))
+        self.seen.append((ticks, dtype, found))
+        return found
+
+    def _work_out(self, ticks: np.ndarray):
+        count = self.times.size
+        position = (ticks.astype(np.float64) / KTIME_SECOND - self.times[0]) * self.rate
+        index = np.round(position)
+        keys = np.flatnonzero((np.abs(position - index) <= ON_FRAME) & (index >= 0) & (index < count))
+        frames = index[keys].astype(np.int64)
+        covered = np.zeros(count, bool)
+        covered[frames] = True
+        if not covered.all():
+            return None
+        if keys.size == count and keys[-1] == count - 1 and np.array_equal(frames, keys):
+            return slice(0, count)
+        return keys, frames
+
+
+def curve_on_frames(curve, key_frames: KeyFrames) -> float | np.ndarray | None:
+    """One component's value at every frame: a number when its keys all hold one value, an
+    array (F,) of the file's own values (its dtype) when it has a key on every frame; None
+    otherwise (or when its arrays cannot be read in bulk)."""
+    dom = curve.dom_node
+    ticks = _dom_blob(dom, "KeyTime") if dom is not None else None
+    values = _dom_blob(dom, "KeyValueFloat") if dom is not None else None
+    if ticks is None or values is None:
         return None
-    return np.frombuffer(value.value_blob, dtype=dtype)
-
-
-def on_frames(keys: tuple[np.ndarray, np.ndarray], times: np.ndarray, rate: float) -> np.ndarray | None:
-    """The curve's value at every frame (F,) when it is constant or has a key on every
-    frame, else None."""
-    seconds, values = keys
-    if values.size == 0:
+    ticks_blob, values_array = ticks[0], np.frombuffer(*values)
+    if values_array.size == 0 or len(ticks_blob) // np.dtype(ticks[1]).itemsize != values_array.size:
         return None
-    if np.all(values == values[0]):
-        return np.full(times.size, values[0])
-    position = (seconds - times[0]) * rate
-    index = np.round(position)
-    on = np.abs(position - index) <= ON_FRAME
-    index = index[on].astype(np.int64)
-    inside = (index >= 0) & (index < times.size)
-    index, kept = index[inside], values[on][inside]
-    if index.size < times.size:
+    if np.all(values_array == values_array[0]):
+        return float(values_array[0])
+    found = key_frames(*ticks)
+    if found is None:
         return None
-    out = np.full(times.size, np.nan)
-    out[index] = kept
-    return out if np.isfinite(out).all() else None
+    if isinstance(found, slice):
+        return values_array
+    keys, frames = found
+    out = np.empty(key_frames.times.size, values_array.dtype)
+    out[frames] = values_array[keys]
+    return out
 
 
-def euler_matrices(degrees: np.ndarray, order: int) -> np.ndarray:
-    """Rotation matrices (..., 3, 3) of FBX Euler angles (..., 3) in degrees, x y z."""
-    from gmr_studio.core.rotations.euler import matrix_from_euler
-
-    intrinsic = EULER_ORDERS[order]
-    columns = ["XYZ".index(axis) for axis in intrinsic]
-    return matrix_from_euler(np.radians(degrees[..., columns]), intrinsic)
-
-
-def composed_trs(node, channels: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Local translation (F|1, 3), rotation matrix (F|1, 3, 3) and scale (F|1, 3) of a node
-    from its Lcl values (``channels``: name -> (F|1, 3)) and its static pivots, offsets and
-    pre/post rotations (module docstring); the products with identities and zeros (most
-    nodes have no pivots, many no pre-rotation) are left out."""
-    translation = channels["Lcl Translation"]
-    turn = euler_matrices(channels["Lcl Rotation"], int(node.rotation_order))
-    scale = channels["Lcl Scaling"]
-    pre, post = prop_vector(node, "PreRotation"), prop_vector(node, "PostRotation")
-    if pre.any():
-        turn = euler_matrices(pre, 0) @ turn
-    if post.any():
-        turn = turn @ euler_matrices(post, 0).T
-    pivot, offset = prop_vector(node, "RotationPivot"), prop_vector(node, "RotationOffset")
-    scale_pivot, scale_offset = prop_vector(node, "ScalingPivot"), prop_vector(node, "ScalingOffset")
-    if pivot.any() or offset.any() or scale_pivot.any() or scale_offset.any():
-        inner = scale_pivot + scale_offset - pivot - scale * scale_pivot
-        translation = translation + offset + pivot + (turn @ inner[..., None])[..., 0]
-    return translation, turn, scale
-
-
-def fast_trs(node, props: dict, times: np.ndarray, rate: float):
-    """The node's local TRS over the frames by :func:`composed_trs`, or None where its
-    curves do not fall on the frames (or cannot be read in bulk)."""
-    channels = {}
+def node_channels(node, props: dict, key_frames: KeyFrames) -> list | None:
+    """The node's nine Lcl channels (translation, rotation in degrees, scale; x y z each) at
+    every frame, each a number or an array (F,) (:func:`curve_on_frames`); None when one of
+    them does not fall on the frames."""
+    channels = []
     for name in TRANSFORM_PROPS:
-        default = prop_vector(node, name, 1.0 if name == "Lcl Scaling" else 0.0)
+        static = prop_vector(node, name, 1.0 if name == "Lcl Scaling" else 0.0)
         value = props.get(name)
-        if value is None:
-            channels[name] = default[None]
-            continue
-        columns = []
-        for component, curve in enumerate(curves_of(value)):
-            try:
-                keys = curve_keys(curve)
-            except LookupError:
-                return None
-            if keys is None:
-                columns.append(np.full(times.size, default[component]))
+        curves = curves_of(value) if value is not None else [None] * 3
+        for component, curve in enumerate(curves):
+            if curve is None:
+                channels.append(float(static[component]))
                 continue
-            sampled = on_frames(keys, times, rate)
+            sampled = curve_on_frames(curve, key_frames)
             if sampled is None:
                 return None
-            columns.append(sampled)
-        channels[name] = np.stack(columns, axis=1)
-    frames = max(len(c) for c in channels.values())
-    channels = {k: (v if len(v) == frames else np.repeat(v, frames, axis=0)) for k, v in channels.items()}
-    return composed_trs(node, channels)
+            channels.append(sampled)
+    return channels
 
 
+def channels_at(channels: list, frames: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Lcl translation, rotation (degrees) and scale (P, 3) of the channels at some frames."""
+    block = np.stack([c[frames].astype(np.float64) if np.ndim(c) else np.full(frames.shape, c) for c in channels], 1)
+    return block[:, 0:3], block[:, 3:6], block[:, 6:9]
+
+
+def composed_at(channels: list, order: int, stack: dict, frames: np.ndarray) -> tuple:
+    """The node's local TRS (P, 3), (P, 3, 3), (P, 3) at some frames, composed from its channels."""
+    translation, degrees, scale = channels_at(channels, frames)
+    turn = stack_rotation(degrees, order, stack["PreRotation"], stack["PostRotation"])
+    return stack_translation(translation, turn, scale, stack), turn, scale
+
+
+# --------------------------------------------------------------------- evaluation
 def ufbx_trs(node, anim, times: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The node's local TRS at each time as ufbx evaluates it: (F, 3), (F, 3, 3), (F, 3)."""
-    from gmr_studio.core.rotations.quaternions import matrix_from_quaternion
-
+    """The node's local TRS at each time as ufbx evaluates it: translation (F, 3),
+    quaternion (F, 4, x y z w), scale (F, 3)."""
     translation = np.empty((times.size, 3))
     quaternion = np.empty((times.size, 4))
     scale = np.empty((times.size, 3))
@@ -383,11 +431,12 @@ def ufbx_trs(node, anim, times: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.
         translation[f] = transform[0]
         quaternion[f] = transform[1]
         scale[f] = transform[2]
-    return translation, matrix_from_quaternion(quaternion, scalar_last=True), scale
+    return translation, quaternion, scale
 
 
 def agrees(a: tuple, b: tuple) -> bool:
-    """Two TRS at the same frames agree to :data:`AGREEMENT` of their size."""
+    """Two TRS (rotations as matrices) at the same frames agree to :data:`AGREEMENT` of
+    their size."""
     size = max(1.0, float(np.abs(a[0]).max()), float(np.abs(b[0]).max()))
     return (
         float(np.abs(a[0] - b[0]).max()) <= AGREEMENT * size
@@ -396,11 +445,12 @@ def agrees(a: tuple, b: tuple) -> bool:
     )
 
 
-def evaluate(scene, stack, nodes: list, wanted: list[int], times: np.ndarray, rate: float) -> tuple[dict, int]:
-    """Per wanted node (index into ``nodes``): its TRS over the frames, a leading 1 where it
-    is static; and how many nodes ufbx evaluated frame by frame."""
-    out = {}
-    by_frame = 0
+def evaluate(scene, stack, nodes: list, wanted: list[int], times: np.ndarray, rate: float) -> tuple[dict, dict]:
+    """Per wanted node (index into ``nodes``), what the parent needs to pose it (JSON-ready,
+    module docstring), and the arrays named there."""
+    from gmr_studio.core.rotations.quaternions import matrix_from_quaternion
+
+    specs, arrays = {}, {}
     if stack is None:
         anim = scene.anim
         values, other = {}, set()
@@ -408,25 +458,37 @@ def evaluate(scene, stack, nodes: list, wanted: list[int], times: np.ndarray, ra
         anim = stack.anim
         values, other = animated_nodes(scene, stack)
     probe = np.array(sorted({0, times.size // 2, times.size - 1}))
+    key_frames = KeyFrames(times, rate)
     for k in wanted:
         node = nodes[k]
         props = values.get(node.element_id)
-        if props is None:  # not animated in this take: its static transform
-            out[k] = ufbx_trs(node, anim, times[:1])
+        order = int(node.rotation_order)
+        channels = None
+        if props is not None and node.element_id not in other and order in EULER_ORDERS:
+            channels = node_channels(node, props, key_frames)
+        if channels is not None:
+            stack_props = static_stack(node)
+            translation, quaternion, scale = ufbx_trs(node, anim, times[probe])
+            check = translation, matrix_from_quaternion(quaternion, scalar_last=True), scale
+            if not agrees(composed_at(channels, order, stack_props, probe), check):
+                channels = None
+        if channels is not None:
+            names = []
+            for c, channel in enumerate(channels):
+                if isinstance(channel, np.ndarray):
+                    arrays[f"c{k}.{c}"] = channel
+                    names.append(f"c{k}.{c}")
+                else:
+                    names.append(channel)
+            stack_lists = {name: vector.tolist() for name, vector in stack_props.items()}
+            specs[str(k)] = {"kind": "channels", "order": order, "stack": stack_lists, "channels": names}
             continue
-        trs = None
-        if node.element_id not in other and int(node.rotation_order) in EULER_ORDERS:
-            trs = fast_trs(node, props, times, rate)
-            if trs is not None:
-                check = ufbx_trs(node, anim, times[probe])
-                picked = tuple(part[probe] if len(part) > 1 else np.repeat(part, probe.size, 0) for part in trs)
-                if not agrees(picked, check):
-                    trs = None
-        if trs is None:
-            by_frame += 1
-            trs = ufbx_trs(node, anim, times)
-        out[k] = tuple(_squeeze(part) for part in trs)
-    return out, by_frame
+        # not animated in this take (its static transform), or evaluated by ufbx frame by frame
+        trs = ufbx_trs(node, anim, times if props is not None else times[:1])
+        for part, array in zip("tqs", trs):
+            arrays[f"{part}{k}"] = _squeeze(array)
+        specs[str(k)] = {"kind": "evaluated" if props is not None else "static"}
+    return specs, arrays
 
 
 def _squeeze(part: np.ndarray) -> np.ndarray:
@@ -438,8 +500,8 @@ def _squeeze(part: np.ndarray) -> np.ndarray:
 
 # ---------------------------------------------------------------------------- entry
 def extract(scene, animation=None) -> tuple[dict, dict]:
-    """Everything the reader needs from one scene: ``meta`` (JSON-ready) and per node
-    index its TRS arrays (module docstring)."""
+    """Everything the reader needs from one scene: ``meta`` (JSON-ready) and the arrays it
+    names (module docstring)."""
     facts = scene_facts(scene)
     nodes, table = node_table(scene)
     chosen = choose_stack(scene, facts, animation)
@@ -451,7 +513,7 @@ def extract(scene, animation=None) -> tuple[dict, dict]:
     wanted = sorted(set(joints) | set(above))
     if times.size * len(wanted) > MAX_SAMPLES:
         raise RefusedError(f"{times.size} frames of {len(wanted)} nodes is more than this reader holds")
-    trs, by_frame = evaluate(scene, stack, nodes, wanted, times, facts["frame_rate"])
+    specs, arrays = evaluate(scene, stack, nodes, wanted, times, facts["frame_rate"])
     bind = bind_pose(scene, nodes, joints)
     meta = {
         **facts,
@@ -461,10 +523,10 @@ def extract(scene, animation=None) -> tuple[dict, dict]:
         "above": above,
         "selection": how,
         "frames": int(times.size),
-        "evaluated_by_frame": by_frame,
+        "nodes": specs,
         "bind": bind,
     }
-    return meta, trs
+    return meta, arrays
 
 
 def bind_pose(scene, nodes: list, joints: list[int]) -> dict:
@@ -509,27 +571,26 @@ def contents(scene) -> dict:
 
 
 def main(argv: list[str]) -> None:
-    """``FILE|- OPTIONS_JSON``: ``-`` reads the file's bytes from stdin; options ``mode``
-    (``motion`` or ``contents``) and ``animation``."""
+    """``FILE OPTIONS_JSON``: options ``mode`` (``motion`` or ``contents``), ``animation``
+    and ``output`` (the file to write; stderr is closed once it is there)."""
+    from gmr_studio.core.array_transfer import write_arrays
+
     source, options = argv[0], json.loads(argv[1]) if len(argv) > 1 else {}
     try:
-        scene = load(source if source != "-" else sys.stdin.buffer.read())
+        scene = load(source)
         if options.get("mode") == "contents":
-            output = json.dumps(contents(scene)).encode("utf-8")
+            header, arrays = {"contents": contents(scene)}, {}
         else:
-            meta, trs = extract(scene, options.get("animation"))
-            arrays = {"meta": np.array(json.dumps(meta))}
-            for k, (t, r, s) in trs.items():
-                arrays[f"t{k}"], arrays[f"r{k}"], arrays[f"s{k}"] = t, r, s
-            buffer = io.BytesIO()
-            np.savez(buffer, **arrays)
-            output = buffer.getvalue()
+            meta, arrays = extract(scene, options.get("animation"))
+            header = {"meta": meta}
     except RefusedError as exc:
         sys.stderr.write(f"{exc}\n")
         sys.stderr.flush()
         os._exit(REJECTED)
-    sys.stdout.buffer.write(output)
-    sys.stdout.flush()
+    partial = f"{options['output']}.part"
+    write_arrays(partial, header, arrays)
+    os.replace(partial, options["output"])  # whole, or not there
+    os.close(2)  # done: the parent reads the result while this process releases its memory
     os._exit(0)  # never free the scene (module docstring)
 
 

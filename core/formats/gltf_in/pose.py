@@ -44,7 +44,8 @@ class NodePose:
 @dataclasses.dataclass
 class _World:
     """A node's world rotation U (F|1, 3, 3), position P (F|1, 3) and carried scale M:
-    (F|1,) when it is a number times the identity, else (F|1, 3, 3)."""
+    (F|1,) when it is a number times the identity, else (3, 3, F|1), the frames last (the
+    products of :func:`_product` run along them, as numpy runs fastest)."""
 
     turn: np.ndarray
     place: np.ndarray
@@ -54,12 +55,24 @@ class _World:
         """``M t`` for vectors (F|1, 3)."""
         if self.stretch.ndim == 1:
             return self.stretch[:, None] * vector
-        return _apply(self.stretch, vector)
+        stretch, vector = _frames_alike(self.stretch, vector.T)
+        return np.einsum("ikf,kf->fi", stretch, vector)
 
 
 def _apply(matrices: np.ndarray, vectors: np.ndarray) -> np.ndarray:
     """Matrices (F|1, 3, 3) times vectors (F|1, 3), broadcasting the frames."""
     return (matrices @ vectors[..., None])[..., 0]
+
+
+def _frames_alike(*arrays: np.ndarray) -> list[np.ndarray]:
+    """Arrays with the frames last, (F or 1) each, as views with F frames each."""
+    frames = max(a.shape[-1] for a in arrays)
+    return [a if a.shape[-1] == frames else np.broadcast_to(a, (*a.shape[:-1], frames)) for a in arrays]
+
+
+def _product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Matrix products (3, 3, F) of matrices (3, 3, F|1) with the frames last."""
+    return np.einsum("ijf,jkf->ikf", *_frames_alike(a, b))
 
 
 def _child(world: _World, pose: NodePose, *, placed: bool = True) -> _World:
@@ -71,9 +84,10 @@ def _child(world: _World, pose: NodePose, *, placed: bool = True) -> _World:
     scale = pose.scale
     if world.stretch.ndim == 1 and (scale == scale[:, :1]).all():
         return _World(turn, place, world.stretch * scale[:, 0])
-    stretch = world.stretch[:, None, None] * np.eye(3) if world.stretch.ndim == 1 else world.stretch
-    back = np.swapaxes(pose.rotation, -1, -2)
-    return _World(turn, place, back @ stretch @ pose.rotation * scale[:, None, :])
+    stretch = np.eye(3)[:, :, None] * world.stretch if world.stretch.ndim == 1 else world.stretch
+    rotation = np.ascontiguousarray(np.moveaxis(pose.rotation, 0, -1))  # (3, 3, F|1): one pass over a column
+    carried = _product(rotation.transpose(1, 0, 2), _product(stretch, rotation))  # R^T M R
+    return _World(turn, place, carried * scale.T[None])
 
 
 def node_poses(
@@ -101,31 +115,59 @@ def skeleton_pose(
     translations change over the frames (J,) bool, of the joints (node indices, parents
     first); ``poses`` holds every joint and every node above them, ``block`` the joints'
     rotation matrices (F|1, J, 3, 3) from :func:`node_poses`, which become the rotations
-    (the roots' overwritten)."""
+    (the roots' overwritten). Worked :data:`CHUNK_FRAMES` frames at a time, so that what
+    is carried down the skeleton stays in cache."""
     rotations = block if len(block) == n_frames else np.repeat(block, n_frames, axis=0)
     translations = np.empty((n_frames, len(joints), 3))
-    moving = np.zeros(len(joints), bool)
+    spread, size = np.zeros(len(joints)), np.zeros(len(joints))  # of each translation over the frames
+    varying = max(max(len(p.translation), len(p.rotation), len(p.scale)) for p in poses.values()) > 1
+    for start in range(0, n_frames if varying else min(n_frames, 1), CHUNK_FRAMES):
+        part = slice(start, start + CHUNK_FRAMES) if varying else slice(None)
+        _chunk_pose(poses, parents, joints, part, rotations, translations)
+        local = translations[part]  # reduced over the frames first: a reduction along the outer axis is fast
+        spread = np.maximum(spread, np.abs(local - translations[:1]).max(axis=0).max(axis=1))
+        size = np.maximum(size, np.abs(local).max(axis=0).max(axis=1))
+    static = spread <= STATIC_RELATIVE_TOLERANCE * size  # NaN (a bad file) counts as moving, keeping every frame
+    moving = ~static if n_frames > 1 else np.zeros(len(joints), bool)
+    translations[:, ~moving] = translations[:1, ~moving]
+    return rotations, translations, moving
+
+
+def _chunk_pose(
+    poses: dict[int, NodePose],
+    parents: np.ndarray,
+    joints: list[int],
+    part: slice,
+    rotations: np.ndarray,
+    translations: np.ndarray,
+) -> None:
+    """:func:`skeleton_pose` over the frames ``part``: their translations (all of them
+    when nothing changes over the frames) and the roots' rotations written in place."""
     index = {node: j for j, node in enumerate(joints)}
+    parents_of_joints = {int(parents[node]) for node in joints}  # the others carry nothing further
     origin = _World(np.eye(3)[None], np.zeros((1, 3)), np.ones(1))
     worlds: dict[int, _World] = {}
     for j, node in enumerate(joints):
-        pose, parent = poses[node], int(parents[node])
+        pose, parent = _frames_of(poses[node], part), int(parents[node])
         if parent in index:
             world = worlds[parent]
             local = world.carry(pose.translation)
-            worlds[node] = _child(world, pose, placed=False)
         else:
             world = origin
             for up in _chain(parents, node, poses):  # the armature above the root
-                world = _child(world, poses[up])
+                world = _child(world, _frames_of(poses[up], part))
             local = world.place + _apply(world.turn, world.carry(pose.translation))
+        if node in parents_of_joints:
             worlds[node] = _child(world, pose, placed=False)
-            rotations[:, j] = world.turn @ pose.rotation  # pose.rotation is this column: used above first
-        if len(local) > 1 and np.abs(local - local[:1]).max() <= STATIC_RELATIVE_TOLERANCE * np.abs(local).max():
-            local = local[:1]
-        moving[j] = len(local) > 1
-        translations[:, j] = local
-    return rotations, translations, moving
+        if parent not in index:
+            rotations[part, j] = world.turn @ pose.rotation  # pose.rotation is this column: used above first
+        translations[part, j] = local
+
+
+def _frames_of(pose: NodePose, part: slice) -> NodePose:
+    """The pose over some frames (what does not change kept as it is)."""
+    values = (pose.translation, pose.rotation, pose.scale)
+    return NodePose(*(value if len(value) == 1 else value[part] for value in values))
 
 
 def _chain(parents: np.ndarray, node: int, poses: dict[int, NodePose]) -> list[int]:

@@ -100,7 +100,8 @@ def _read(doc: GltfDocument, animation, skin, frame_rate) -> Motion:
     rotations, translations, moving = skeleton_pose(poses, parents, joints, n_frames, block)
     offsets[~moving] = translations[0, ~moving]  # constant over the animation: that value, not the rest's
     bind, from_skin = bind_rotations(doc, skin_index, joints)
-    rotations, translations, offsets = turn_to_bind(bind, motion_parents, rotations, translations, offsets, moving)
+    turned = turn_to_bind(bind, motion_parents, rotations, translations, offsets, moving, overwrite=True)  # ours
+    rotations, translations, offsets = turned
     convention, pre_note = "post", ""
     if _extras(doc).get("convention") == "pre" and str(doc.json["asset"].get("generator", "")).startswith("GMR"):
         translations, offsets, moving = pre_from_export(rotations, translations, offsets, motion_parents, moving)
@@ -282,7 +283,10 @@ def scale_notes(labels: dict[int, str], poses: dict[int, NodePose]) -> list[str]
     for node in sorted(labels):
         scale = poses[node].scale
         label = labels[node]
-        ratio = float((np.abs(scale).max(axis=-1) / np.maximum(np.abs(scale).min(axis=-1), 1e-300)).max())
+        size = np.abs(scale)
+        widest = np.maximum(np.maximum(size[:, 0], size[:, 1]), size[:, 2])  # per frame (elementwise: fast)
+        narrowest = np.minimum(np.minimum(size[:, 0], size[:, 1]), size[:, 2])
+        ratio = float((widest / np.maximum(narrowest, 1e-300)).max())
         if ratio > 1 + SCALE_NOTE_TOLERANCE or (scale <= 0).any():
             skewed.append(f"{label} (axes up to {ratio:.6g}:1{', mirrored' if (scale < 0).any() else ''})")
         elif np.ptp(scale[:, 0]) > SCALE_NOTE_TOLERANCE * abs(scale[0, 0]):

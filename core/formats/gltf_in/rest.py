@@ -21,6 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from gmr_studio.core.formats.gltf_in.container import GltfDocument
+from gmr_studio.core.rotations.blocks import sandwiched, turned_vectors
 from gmr_studio.core.rotations.euler import nearest_rotation
 
 #: a translation of a pre-rotation export varying less than this (relative to its length)
@@ -56,17 +57,20 @@ def turn_to_bind(
     translations: np.ndarray,
     offsets: np.ndarray,
     moving: np.ndarray,
+    *,
+    overwrite: bool = False,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Local rotations (F, J, 3, 3), translations (F, J, 3) and offsets (J, 3) with the
     joints' rest orientations ``bind`` (J, 3, 3) taken out (module docstring); the joints
     not ``moving`` (J,) keep their translations equal to their offsets. Unchanged when every
-    orientation is the identity (to 1e-12, as this project's exports bind)."""
+    orientation is the identity (to 1e-12, as this project's exports bind). ``overwrite``:
+    the rotations and translations given are the caller's own and may be written over."""
     if np.abs(bind - np.eye(3)).max(initial=0.0) <= 1e-12:
         return rotations, translations, offsets
     above = np.where((parents >= 0)[:, None, None], bind[np.maximum(parents, 0)], np.eye(3))
-    turned = above @ rotations @ np.swapaxes(bind, -1, -2)
+    turned = sandwiched(above, rotations, np.swapaxes(bind, -1, -2), overwrite=overwrite)
     offsets = (above @ offsets[..., None])[..., 0]
-    translations = (above @ translations[..., None])[..., 0]
+    translations = turned_vectors(above, translations, overwrite=overwrite)
     translations[:, ~moving] = offsets[~moving]
     return turned, translations, offsets
 
