@@ -45,13 +45,15 @@ THUMBNAILS_KEPT = 400
 TAKE_MIME = "application/x-gmr-library-takes"
 PATH_ROLE = Qt.ItemDataRole.UserRole + 1
 ROW_ROLE = Qt.ItemDataRole.UserRole + 2
-_DISPLAY, _DECORATION = Qt.ItemDataRole.DisplayRole, Qt.ItemDataRole.DecorationRole
+# the roles as plain numbers: the view asks for every role of every cell it paints, by number
+_DISPLAY, _DECORATION = int(Qt.ItemDataRole.DisplayRole), int(Qt.ItemDataRole.DecorationRole)
 _FOREGROUND, _ALIGNMENT, _TOOLTIP = (
-    Qt.ItemDataRole.ForegroundRole,
-    Qt.ItemDataRole.TextAlignmentRole,
-    Qt.ItemDataRole.ToolTipRole,
+    int(Qt.ItemDataRole.ForegroundRole),
+    int(Qt.ItemDataRole.TextAlignmentRole),
+    int(Qt.ItemDataRole.ToolTipRole),
 )
-_ROLES = {int(r) for r in (_DISPLAY, _DECORATION, _FOREGROUND, _ALIGNMENT, _TOOLTIP, PATH_ROLE, ROW_ROLE)}
+_PATH, _ROW = int(PATH_ROLE), int(ROW_ROLE)
+_ROLES = frozenset((_DISPLAY, _DECORATION, _FOREGROUND, _ALIGNMENT, _TOOLTIP, _PATH, _ROW))
 _FLAGS = Qt.ItemFlag.ItemIsEnabled | Qt.ItemFlag.ItemIsSelectable | Qt.ItemFlag.ItemIsDragEnabled
 _RIGHT = int(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
 
@@ -77,7 +79,9 @@ class LibraryModel(QAbstractTableModel):
         self.query = Query()
         self.ids = np.zeros(0, np.int64)
         self.thumbnail_height = SIZE[1]  # pixels: the thumbnails scaled to this height when read
-        self._pages: OrderedDict[int, list[dict | None]] = OrderedDict()
+        # page -> (row, its cells' texts, their brushes) of each row of the page (None: gone)
+        self._pages: OrderedDict[int, list[tuple[dict, tuple, tuple] | None]] = OrderedDict()
+        self._last: tuple[int, list] = (-1, [])  # the page asked for last
         self._pictures: OrderedDict[int, QPixmap | None] = OrderedDict()
         self._wanted: dict[int, int] = {}  # id -> row of thumbnails asked for, not yet read
         self._loader = QTimer(self, singleShot=True, interval=0)
@@ -99,6 +103,7 @@ class LibraryModel(QAbstractTableModel):
         self.beginResetModel()
         self.ids = select_ids(self.connection, self.query) if self.connection is not None else np.zeros(0, np.int64)
         self._pages.clear()
+        self._last = (-1, [])
         self._wanted.clear()
         self.endResetModel()
 
@@ -108,20 +113,29 @@ class LibraryModel(QAbstractTableModel):
 
     def row_of(self, row: int) -> dict | None:
         """The JSON row (:func:`core.library.query.row_json`) shown at ``row``."""
+        entry = self._entry(row)
+        return entry[0] if entry is not None else None
+
+    def _entry(self, row: int) -> tuple[dict, tuple, tuple] | None:
+        """(JSON row, its cells' texts, their brushes) shown at ``row``, its page read when
+        not in hand."""
         if not 0 <= row < len(self.ids):
             return None
         page = row // PAGE_ROWS
-        rows = self._pages.get(page)
-        if rows is None:
+        if page == self._last[0]:
+            return self._last[1][row - page * PAGE_ROWS]
+        entries = self._pages.get(page)
+        if entries is None:
             ids = self.ids[page * PAGE_ROWS : (page + 1) * PAGE_ROWS]
             found = rows_by_id(self.connection, ids.tolist()) if self.connection is not None else {}
-            rows = [found.get(int(i)) for i in ids]
-            self._pages[page] = rows
+            entries = [_cells(found[int(i)]) if int(i) in found else None for i in ids]
+            self._pages[page] = entries
             while len(self._pages) > PAGES_KEPT:
                 self._pages.popitem(last=False)
         else:
             self._pages.move_to_end(page)
-        return rows[row - page * PAGE_ROWS]
+        self._last = (page, entries)
+        return entries[row - page * PAGE_ROWS]
 
     def path_of(self, row: int) -> str | None:
         found = self.row_of(row)
@@ -145,7 +159,7 @@ class LibraryModel(QAbstractTableModel):
         return 0 if parent.isValid() else len(COLUMNS)
 
     def headerData(self, section: int, orientation: Qt.Orientation, role: int = Qt.ItemDataRole.DisplayRole):  # noqa: N802
-        if orientation == Qt.Orientation.Horizontal and role == Qt.ItemDataRole.DisplayRole:
+        if role == _DISPLAY and orientation == Qt.Orientation.Horizontal:
             return COLUMNS[section][0]
         return None
 
@@ -155,24 +169,22 @@ class LibraryModel(QAbstractTableModel):
     def data(self, index: QModelIndex, role: int = Qt.ItemDataRole.DisplayRole):
         if role not in _ROLES or not index.isValid():  # the view asks for many roles a cell: most are none
             return None
-        row = self.row_of(index.row())
-        if row is None:
+        entry = self._entry(index.row())
+        if entry is None:
             return None
+        row, texts, brushes = entry
         column = index.column()
         if role == _DISPLAY:
-            return _cell_text(row, column)
+            return texts[column]
         if role == _DECORATION:
             return self._thumbnail(row, index.row()) if column == THUMBNAIL else None
         if role == _FOREGROUND:
-            if row["status"] != "ok":
-                return _FAILED_BRUSH if column in (NAME, PROBLEMS) else None
-            worst = row["quality"]["worst"] if column == PROBLEMS and row["quality"] else None
-            return _LEVEL_BRUSHES[worst] if worst else None
+            return brushes[column]
         if role == _ALIGNMENT:
             return _RIGHT if column in _NUMBER_COLUMNS else None
         if role == _TOOLTIP:
             return _tooltip(row, column)
-        if role == PATH_ROLE:
+        if role == _PATH:
             return row["path"]
         return row  # ROW_ROLE
 
@@ -239,6 +251,19 @@ _FAILED_BRUSH = _LEVEL_BRUSHES["error"]
 def thumbnail_size() -> tuple[int, int]:
     """(width, height) pixels of a thumbnail as the library stores them."""
     return SIZE
+
+
+def _cells(row: dict) -> tuple[dict, tuple, tuple]:
+    """(row, the texts of its cells, their brushes (None: the view's own colour))."""
+    texts = tuple(_cell_text(row, column) for column in range(len(COLUMNS)))
+    if row["status"] != "ok":
+        brushes = tuple(_FAILED_BRUSH if column in (NAME, PROBLEMS) else None for column in range(len(COLUMNS)))
+    else:
+        worst = row["quality"]["worst"] if row["quality"] else None
+        brushes = tuple(
+            _LEVEL_BRUSHES[worst] if worst and column == PROBLEMS else None for column in range(len(COLUMNS))
+        )
+    return row, texts, brushes
 
 
 def _cell_text(row: dict, column: int) -> str | None:
