@@ -403,6 +403,14 @@ def row_json(row: Mapping, kinds: dict) -> dict:
     }
 
 
+def rows_json_text(rows: Sequence[dict]) -> str:
+    """The JSON text of a list of :func:`row_json` rows, one row a line (each encoded by the
+    json module's C encoder, which an indented dump does not use)."""
+    if not rows:
+        return "[]\n"
+    return "[\n" + ",\n".join(json.dumps(row) for row in rows) + "\n]\n"
+
+
 #: columns of the CSV table (one row per file), then one count column per kind of problem
 CSV_COLUMNS = (
     "path",
