@@ -142,6 +142,9 @@ def test_a_query_gives_the_rows_a_filter_and_sort_by_hand_gives(library, what):
     with Library(db) as indexed, Library(bare) as plain:
         rows = select_rows(indexed.connection)
         path_of = {row["id"]: row["path"] for row in rows}
+        row_of = {row["path"]: row for row in rows}
+        found = select_rows(indexed.connection, QUERIES[what])  # whole rows, their problems included
+        assert found == [row_of[path] for path in by_hand(rows, QUERIES[what])]
         for sort in SORTS:
             for descending in (False, True):
                 query = replace(QUERIES[what], sort=sort, descending=descending)

@@ -283,7 +283,8 @@ _ROW_SQL = (
     "EXISTS (SELECT 1 FROM thumbnails t WHERE t.file_id = files.id) AS has_thumbnail "
     "FROM files LEFT JOIN skeletons ON skeletons.id = files.skeleton_id"
 )
-#: more rows than this: their problems are found through the query's filters, not their ids
+#: more rows than this, all the query lets through: their problems are found through the
+#: query's filters, not a list of their ids
 _FEW_ROWS = 500
 
 
@@ -296,7 +297,7 @@ def select_rows(
     where, values = _where(connection, query)
     page = f" LIMIT {int(limit)} OFFSET {int(offset)}" if limit is not None else ""
     rows = _read_rows(connection, f"{_ROW_SQL}{where}{_order(query, bool(where) and not page)}{page}", values)
-    if len(rows) <= _FEW_ROWS:
+    if page or len(rows) <= _FEW_ROWS:
         return _with_problems(connection, rows)
     return _with_problems(connection, rows, f"SELECT files.id FROM files{where}", values)
 
