@@ -1,6 +1,7 @@
 """Queries over a library of a few thousand rows give the rows that filtering and sorting
 every row by hand gives, in the same order, whichever index answers them; a page is that
-order's slice; and a library without its indexes answers the same."""
+order's slice, and a row's place in it is where the order puts it; and a library without its
+indexes answers the same."""
 
 from __future__ import annotations
 
@@ -11,45 +12,11 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.library.index import Library
-from gmr_studio.core.library.query import Query, count, select_ids, select_rows
-from gmr_studio.core.library.reading import FileRecord
-from gmr_studio.core.library.skeletons import Skeleton
+from gmr_studio.core.library.query import Query, count, positions, select_ids, select_rows
+from tests.library_fixtures import made_up_records as records
+from tests.library_fixtures import write_records
 
 N_FILES = 2000
-FORMATS = ("bvh", "c3d", "amc", "glb")
-RIGS = (
-    Skeleton(("hips", "spine", "head"), (-1, 0, 1)),
-    Skeleton(("root", "lfemur", "rfemur", "lowerback"), (-1, 0, 0, 0)),
-    Skeleton(("a", "b"), (-1, 0)),
-)
-
-
-def records(n: int, seed: int = 3) -> list[FileRecord]:
-    """``n`` records of made-up files: ties in every field, some failed, some with problems."""
-    rng = np.random.default_rng(seed)
-    made = []
-    for k in range(n):
-        fmt = FORMATS[int(rng.integers(len(FORMATS)))]
-        name = f"{'Take' if k % 3 else 'take'}{int(rng.integers(400)):04d}.{fmt}"  # names repeat, cases differ
-        path = f"/lib/{'ab'[k % 2]}/{k:05d}/{name}"
-        record = FileRecord(path, 100 + k % 7, 10**18 + k % 11, "", f"{k:032x}", "", fmt, "motion")
-        if k % 17 == 0:
-            record.status, record.message = "failed", f"{path}:1:1: not a motion"
-        else:
-            rig = RIGS[int(rng.integers(len(RIGS)))]
-            record.frames = int(rng.integers(1, 40)) * 30
-            record.frame_rate = float(rng.choice([30.0, 60.0, 120.0]))
-            record.duration = record.frames / record.frame_rate
-            record.joints, record.roots, record.skeleton = rig.n_joints, 1, rig
-            levels = rng.integers(0, 4, size=3)  # a count of info, warning, error findings
-            kinds = [("pop", 1, int(levels[0])), ("jitter", 2, int(levels[1])), ("foot-skate", 3, int(levels[2]))]
-            record.problems = tuple(p for p in kinds if p[2])
-            record.infos, record.warnings, record.errors = (int(v) for v in levels)
-            record.findings = int(levels.sum())
-            record.worst_level = max((level for _, level, _ in record.problems), default=0)
-            record.worst = (None, "info", "warning", "error")[record.worst_level]
-        made.append(record)
-    return made
 
 
 @pytest.fixture(scope="module")
@@ -59,10 +26,7 @@ def library(tmp_path_factory):
     db, bare = folder / "library.sqlite", folder / "bare.sqlite"
     with Library(db) as made:
         written = records(N_FILES)
-        for start in range(0, N_FILES, 500):
-            made.write([(r, r.path.rsplit("/", 2)[0]) for r in written[start : start + 500]])
-        made.regroup()
-        made.connection.execute("ANALYZE")  # as indexing leaves it: the planner's statistics
+        write_records(made, written)
     shutil.copyfile(db, bare)
     with sqlite3.connect(bare) as connection:
         names = connection.execute("SELECT name FROM sqlite_master WHERE type = 'index' AND sql IS NOT NULL")
@@ -153,8 +117,12 @@ def test_a_query_gives_the_rows_a_filter_and_sort_by_hand_gives(library, what):
                 assert [path_of[i] for i in ids] == expected, (sort, descending)
                 assert count(indexed.connection, query) == len(expected)
                 assert np.array_equal(select_ids(plain.connection, query), ids)  # the same without indexes
-                page = select_rows(indexed.connection, query, limit=40, offset=len(expected) // 3)
-                assert [r["path"] for r in page] == expected[len(expected) // 3 :][:40]
+                third = len(expected) // 3
+                page = select_rows(indexed.connection, query, limit=40, offset=third)
+                assert [r["path"] for r in page] == expected[third:][:40]
+                assert np.array_equal(select_ids(indexed.connection, query, limit=100, offset=third), ids[third:][:100])
+                some = [int(i) for i in ids[::97]] + [-1]  # and an id of no row
+                assert positions(indexed.connection, query, some) == {i: 97 * k for k, i in enumerate(some[:-1])}
     assert {len(by_hand(rows, q)) for q in QUERIES.values()} - {0, N_FILES}  # the filters filter
 
 

@@ -2,8 +2,9 @@
 
 A :class:`Query` is what ``gmr library list|query`` and the app's filter box ask for; every
 filter it holds must hold (AND). :func:`select_rows` answers it as JSON-ready dicts
-(:func:`row_json`, docs/library.md), :func:`select_ids` as row ids in order (the app's
-table fetches the rows it shows by id), :func:`count`.
+(:func:`row_json`, docs/library.md), :func:`select_ids` as row ids in order, a page of them at
+a time if asked (the app's table reads the ids of the rows in view, then those rows),
+:func:`count`, and :func:`positions` where given rows come in that order.
 
 The filter box's text (:func:`parse_filter`) holds the same filters as words:
 ``walk format:bvh min:2 max:10 joints:31 has:pop:warning group:3 failed``; words that are
@@ -255,13 +256,38 @@ def _order(query: Query, filtered: bool) -> str:
     return " ORDER BY " + ", ".join([*(f"{plus}{key}{direction}" for key in keys), *tie])
 
 
-def select_ids(connection: sqlite3.Connection, query: Query) -> np.ndarray:
+#: ids a reader of a large result asks for at a time: the app's table reads the count and
+#: the first block to show a query's answer, then the blocks it is scrolled to
+ID_BLOCK = 2048
+
+
+def select_ids(
+    connection: sqlite3.Connection, query: Query, *, limit: int | None = None, offset: int = 0
+) -> np.ndarray:
     """(N,) int64 ids of the rows ``query`` lets through, in its order (the query's indexes
-    read; no row is)."""
+    read; no row is); ``limit`` of them from ``offset``."""
     where, values = _where(connection, query)
-    cursor = connection.execute(f"SELECT id FROM files{where}{_order(query, bool(where))}", values)
+    page = f" LIMIT {int(limit)} OFFSET {int(offset)}" if limit is not None else ""
+    cursor = connection.execute(f"SELECT id FROM files{where}{_order(query, bool(where))}{page}", values)
     cursor.row_factory = None
     return np.fromiter(itertools.chain.from_iterable(cursor), np.int64)
+
+
+def positions(connection: sqlite3.Connection, query: Query, ids: Sequence[int]) -> dict[int, int]:
+    """id -> its place (from 0) among the ids :func:`select_ids` gives, of each of ``ids``
+    that ``query`` lets through."""
+    if not len(ids):
+        return {}
+    where, values = _where(connection, query)
+    order = _order(query, bool(where))
+    marks = ", ".join(str(int(i)) for i in ids)
+    cursor = connection.execute(
+        f"SELECT id, place FROM (SELECT id, row_number() OVER ({order.strip()}) - 1 AS place FROM files{where}) "
+        f"WHERE id IN ({marks})",
+        values,
+    )
+    cursor.row_factory = None
+    return dict(cursor.fetchall())
 
 
 def count(connection: sqlite3.Connection, query: Query | None = None) -> int:
