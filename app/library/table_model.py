@@ -1,11 +1,13 @@
 """The Library panel's table over the library's SQLite file, holding only what is in view.
 
-:class:`LibraryModel` keeps the ids of the rows its query lets through, in order (8 bytes a
-row), and reads rows from the file a page at a time as the view asks for them
-(:data:`PAGE_ROWS` rows, the last :data:`PAGES_KEPT` pages kept). Thumbnails are read and
-decoded (and scaled to :attr:`LibraryModel.thumbnail_height`) after the view has asked for
-them, a batch at a time on the next turn of the event loop, so that scrolling never waits
-for a picture; the last :data:`THUMBNAILS_KEPT` stay.
+:class:`LibraryModel` counts the rows its query lets through and reads their ids a block at
+a time (:data:`core.library.query.ID_BLOCK` ids in the query's order, the last :data:`BLOCKS_KEPT` blocks kept)
+as the view scrolls to them, then the rows themselves a page at a time (:data:`PAGE_ROWS`
+rows, the last :data:`PAGES_KEPT` pages kept): a query is answered by its count and its first
+block, whatever the size of the library. Thumbnails are read and decoded (and scaled to
+:attr:`LibraryModel.thumbnail_height`) after the view has asked for them, a batch at a time
+on the next turn of the event loop, so that scrolling never waits for a picture; the last
+:data:`THUMBNAILS_KEPT` stay.
 Sorting a column asks the file again (its indexes sort); rows are dragged out as their files
 (``text/uri-list``) and as :data:`TAKE_MIME` (the window adds a dropped take as a comparison
 layer).
@@ -21,7 +23,7 @@ from PyQt6.QtCore import QAbstractTableModel, QMimeData, QModelIndex, Qt, QTimer
 from PyQt6.QtGui import QBrush, QColor, QImage, QPixmap
 
 from gmr_studio.app.model.problems import LEVEL_COLOURS
-from gmr_studio.core.library.query import Query, rows_by_id, select_ids
+from gmr_studio.core.library.query import ID_BLOCK, Query, count, positions, rows_by_id, select_ids
 from gmr_studio.core.library.thumbnails import SIZE
 
 #: (title, sort field) of each column; the thumbnail's column sorts by path
@@ -38,6 +40,8 @@ COLUMNS = (
 )
 THUMBNAIL, NAME, FORMAT, DURATION, FRAMES, RATE, JOINTS, GROUP, PROBLEMS = range(len(COLUMNS))
 _NUMBER_COLUMNS = (DURATION, FRAMES, RATE, JOINTS, GROUP)
+#: blocks of ids kept (:data:`core.library.query.ID_BLOCK` ids a block)
+BLOCKS_KEPT = 16
 PAGE_ROWS = 64
 PAGES_KEPT = 16
 THUMBNAILS_KEPT = 400
@@ -77,7 +81,9 @@ class LibraryModel(QAbstractTableModel):
         super().__init__(parent)
         self.connection: sqlite3.Connection | None = None
         self.query = Query()
-        self.ids = np.zeros(0, np.int64)
+        self.total = 0  # rows the query lets through
+        self.id_block = ID_BLOCK  # ids read at a time: a whole number of pages
+        self._blocks: OrderedDict[int, np.ndarray] = OrderedDict()  # block -> its ids
         self.thumbnail_height = SIZE[1]  # pixels: the thumbnails scaled to this height when read
         # page -> (row, its cells' texts, their brushes) of each row of the page (None: gone)
         self._pages: OrderedDict[int, list[tuple[dict, tuple, tuple] | None]] = OrderedDict()
@@ -101,7 +107,8 @@ class LibraryModel(QAbstractTableModel):
     def refresh(self) -> None:
         """Ask the file again (rows added, changed or gone), keeping the query."""
         self.beginResetModel()
-        self.ids = select_ids(self.connection, self.query) if self.connection is not None else np.zeros(0, np.int64)
+        self.total = count(self.connection, self.query) if self.connection is not None else 0
+        self._blocks.clear()
         self._pages.clear()
         self._last = (-1, [])
         self._wanted.clear()
@@ -119,14 +126,16 @@ class LibraryModel(QAbstractTableModel):
     def _entry(self, row: int) -> tuple[dict, tuple, tuple] | None:
         """(JSON row, its cells' texts, their brushes) shown at ``row``, its page read when
         not in hand."""
-        if not 0 <= row < len(self.ids):
+        if not 0 <= row < self.total:
             return None
         page = row // PAGE_ROWS
         if page == self._last[0]:
-            return self._last[1][row - page * PAGE_ROWS]
+            entries = self._last[1]
+            return entries[row - page * PAGE_ROWS] if row - page * PAGE_ROWS < len(entries) else None
         entries = self._pages.get(page)
         if entries is None:
-            ids = self.ids[page * PAGE_ROWS : (page + 1) * PAGE_ROWS]
+            block, start = divmod(page * PAGE_ROWS, self.id_block)
+            ids = self._ids_of_block(block)[start : start + PAGE_ROWS]
             found = rows_by_id(self.connection, ids.tolist()) if self.connection is not None else {}
             entries = [_cells(found[int(i)]) if int(i) in found else None for i in ids]
             self._pages[page] = entries
@@ -135,7 +144,21 @@ class LibraryModel(QAbstractTableModel):
         else:
             self._pages.move_to_end(page)
         self._last = (page, entries)
-        return entries[row - page * PAGE_ROWS]
+        return entries[row - page * PAGE_ROWS] if row - page * PAGE_ROWS < len(entries) else None
+
+    def _ids_of_block(self, block: int) -> np.ndarray:
+        """The ids of the rows of ``block`` (fewer when rows went since the count)."""
+        ids = self._blocks.get(block)
+        if ids is None:
+            if self.connection is None:
+                return np.zeros(0, np.int64)
+            ids = select_ids(self.connection, self.query, limit=self.id_block, offset=block * self.id_block)
+            self._blocks[block] = ids
+            while len(self._blocks) > BLOCKS_KEPT:
+                self._blocks.popitem(last=False)
+        else:
+            self._blocks.move_to_end(block)
+        return ids
 
     def path_of(self, row: int) -> str | None:
         found = self.row_of(row)
@@ -145,15 +168,32 @@ class LibraryModel(QAbstractTableModel):
         """The row showing the file at ``path`` (None when the query leaves it out)."""
         if self.connection is None:
             return None
-        found = self.connection.execute("SELECT id FROM files WHERE path = ?", (path,)).fetchone()
-        if found is None:
-            return None
-        rows = np.flatnonzero(self.ids == found[0])
-        return int(rows[0]) if rows.size else None
+        return self.rows_with_paths([path]).get(path)
+
+    def rows_with_paths(self, paths: list[str]) -> dict[str, int]:
+        """path -> the row showing it, of the ``paths`` the query lets through (found in the
+        blocks of ids in hand, else asked of the file at once)."""
+        if self.connection is None or not paths:
+            return {}
+        marks = ", ".join("?" * len(paths))
+        id_of = dict(self.connection.execute(f"SELECT path, id FROM files WHERE path IN ({marks})", paths).fetchall())
+        rows, missing = {}, []
+        for path, file_id in id_of.items():
+            for block, ids in self._blocks.items():
+                found = np.flatnonzero(ids == file_id)
+                if found.size:
+                    rows[path] = block * self.id_block + int(found[0])
+                    break
+            else:
+                missing.append((path, file_id))
+        if missing:
+            places = positions(self.connection, self.query, [file_id for _, file_id in missing])
+            rows.update({path: places[file_id] for path, file_id in missing if file_id in places})
+        return rows
 
     # ------------------------------------------------------------ Qt's model API
     def rowCount(self, parent: QModelIndex = QModelIndex()) -> int:  # noqa: N802, B008 (Qt's signature)
-        return 0 if parent.isValid() else len(self.ids)
+        return 0 if parent.isValid() else self.total
 
     def columnCount(self, parent: QModelIndex = QModelIndex()) -> int:  # noqa: N802, B008
         return 0 if parent.isValid() else len(COLUMNS)
@@ -237,7 +277,7 @@ class LibraryModel(QAbstractTableModel):
             self._pictures[file_id] = picture
         while len(self._pictures) > THUMBNAILS_KEPT:
             self._pictures.popitem(last=False)
-        rows = [r for r in wanted.values() if r < len(self.ids)]
+        rows = [r for r in wanted.values() if r < self.total]
         if rows:
             self.dataChanged.emit(
                 self.index(min(rows), THUMBNAIL), self.index(max(rows), THUMBNAIL), [Qt.ItemDataRole.DecorationRole]
