@@ -1,13 +1,13 @@
 """The Library panel's table over the library's SQLite file, holding only what is in view.
 
 :class:`LibraryModel` counts the rows its query lets through and reads their ids a block at
-a time (:data:`core.library.query.ID_BLOCK` ids in the query's order, the last :data:`BLOCKS_KEPT` blocks kept)
-as the view scrolls to them, then the rows themselves a page at a time (:data:`PAGE_ROWS`
-rows, the last :data:`PAGES_KEPT` pages kept): a query is answered by its count and its first
-block, whatever the size of the library. Thumbnails are read and decoded (and scaled to
-:attr:`LibraryModel.thumbnail_height`) after the view has asked for them, a batch at a time
-on the next turn of the event loop, so that scrolling never waits for a picture; the last
-:data:`THUMBNAILS_KEPT` stay.
+a time as the view scrolls to them (:data:`core.library.query.ID_BLOCK` ids in the query's
+order, the last :data:`BLOCKS_KEPT` blocks kept), then the rows themselves a page at a time
+(:data:`PAGE_ROWS` rows, the last :data:`PAGES_KEPT` pages kept): a query is answered by its
+count and its first block, whatever the size of the library. Thumbnails are read and
+decoded (and scaled to :attr:`LibraryModel.thumbnail_height`) after the view has asked for
+them, a batch at a time on the next turn of the event loop, so that scrolling never waits
+for a picture; the last :data:`THUMBNAILS_KEPT` stay.
 Sorting a column asks the file again (its indexes sort); rows are dragged out as their files
 (``text/uri-list``) and as :data:`TAKE_MIME` (the window adds a dropped take as a comparison
 layer).
@@ -175,8 +175,11 @@ class LibraryModel(QAbstractTableModel):
         blocks of ids in hand, else asked of the file at once)."""
         if self.connection is None or not paths:
             return {}
-        marks = ", ".join("?" * len(paths))
-        id_of = dict(self.connection.execute(f"SELECT path, id FROM files WHERE path IN ({marks})", paths).fetchall())
+        id_of = {}
+        for start in range(0, len(paths), 500):  # within SQLite's count of parameters a statement
+            chunk = paths[start : start + 500]
+            marks = ", ".join("?" * len(chunk))
+            id_of.update(self.connection.execute(f"SELECT path, id FROM files WHERE path IN ({marks})", chunk))
         rows, missing = {}, []
         for path, file_id in id_of.items():
             for block, ids in self._blocks.items():
