@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from gmr_studio.core.library.index import Library
-from gmr_studio.core.library.query import Query, count, positions, select_ids, select_rows
+from gmr_studio.core.library.query import Query, count, first_ids, positions, select_ids, select_rows
 from tests.library_fixtures import made_up_records as records
 from tests.library_fixtures import write_records
 
@@ -116,6 +116,9 @@ def test_a_query_gives_the_rows_a_filter_and_sort_by_hand_gives(library, what):
                 ids = select_ids(indexed.connection, query)
                 assert [path_of[i] for i in ids] == expected, (sort, descending)
                 assert count(indexed.connection, query) == len(expected)
+                for block in (64, len(expected) + 1):  # a block smaller than the result, one larger
+                    total, first = first_ids(indexed.connection, query, block)
+                    assert total == len(expected) and np.array_equal(first, ids[:block])
                 assert np.array_equal(select_ids(plain.connection, query), ids)  # the same without indexes
                 third = len(expected) // 3
                 page = select_rows(indexed.connection, query, limit=40, offset=third)

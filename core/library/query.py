@@ -4,7 +4,8 @@ A :class:`Query` is what ``gmr library list|query`` and the app's filter box ask
 filter it holds must hold (AND). :func:`select_rows` answers it as JSON-ready dicts
 (:func:`row_json`, docs/library.md), :func:`select_ids` as row ids in order, a page of them at
 a time if asked (the app's table reads the ids of the rows in view, then those rows),
-:func:`count`, and :func:`positions` where given rows come in that order.
+:func:`count` (:func:`first_ids`: both for the first block), and :func:`positions` where
+given rows come in that order.
 
 The filter box's text (:func:`parse_filter`) holds the same filters as words:
 ``walk format:bvh min:2 max:10 joints:31 has:pop:warning group:3 failed``; words that are
@@ -271,6 +272,14 @@ def select_ids(
     cursor = connection.execute(f"SELECT id FROM files{where}{_order(query, bool(where))}{page}", values)
     cursor.row_factory = None
     return np.fromiter(itertools.chain.from_iterable(cursor), np.int64)
+
+
+def first_ids(connection: sqlite3.Connection, query: Query, block: int = ID_BLOCK) -> tuple[int, np.ndarray]:
+    """(how many rows ``query`` lets through, the ids of the first ``block`` of them in its
+    order): what a reader of a large result shows first. The rows are counted only when
+    there are more than a block of them."""
+    ids = select_ids(connection, query, limit=block)
+    return (len(ids) if len(ids) < block else count(connection, query)), ids
 
 
 def positions(connection: sqlite3.Connection, query: Query, ids: Sequence[int]) -> dict[int, int]:
