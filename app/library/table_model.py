@@ -23,7 +23,7 @@ from PyQt6.QtCore import QAbstractTableModel, QMimeData, QModelIndex, Qt, QTimer
 from PyQt6.QtGui import QBrush, QColor, QImage, QPixmap
 
 from gmr_studio.app.model.problems import LEVEL_COLOURS
-from gmr_studio.core.library.query import ID_BLOCK, Query, count, positions, rows_by_id, select_ids
+from gmr_studio.core.library.query import ID_BLOCK, Query, first_ids, positions, rows_by_id, select_ids
 from gmr_studio.core.library.thumbnails import SIZE
 
 #: (title, sort field) of each column; the thumbnail's column sorts by path
@@ -107,8 +107,10 @@ class LibraryModel(QAbstractTableModel):
     def refresh(self) -> None:
         """Ask the file again (rows added, changed or gone), keeping the query."""
         self.beginResetModel()
-        self.total = count(self.connection, self.query) if self.connection is not None else 0
         self._blocks.clear()
+        self.total = 0
+        if self.connection is not None:
+            self.total, self._blocks[0] = first_ids(self.connection, self.query, self.id_block)
         self._pages.clear()
         self._last = (-1, [])
         self._wanted.clear()

@@ -9,10 +9,10 @@ the writing process's CPU seconds are the serial part, the workers' the parallel
 
 A query answers when the panel can show it: the count of the rows it lets through and the
 ids of the first :data:`core.library.query.ID_BLOCK` of them in its order
-(:func:`core.library.query.count`, :func:`core.library.query.select_ids`), read from the
-library file; beside it, every id in order (what a whole listing starts from). The first page
-of rows, every row of a large result as dicts and their JSON text (what ``gmr library list
---json`` prints) are timed on their own lines.
+(:func:`core.library.query.first_ids`), read from the library file; beside it, every id in
+order (what a whole listing starts from). The first page of rows, every row of a large
+result as dicts and their JSON text (what ``gmr library list --json`` prints) are timed on
+their own lines.
 
 The folder (``--files`` BVH files, 2,000 by default, in a temporary folder) is made from the
 shared takes: each file a stretch of one take (trimmed to 60 to 600 frames, tiled where the
@@ -47,6 +47,7 @@ from gmr_studio.core.library.query import (
     ID_BLOCK,
     Query,
     count,
+    first_ids,
     parse_has,
     rows_json_text,
     select_ids,
@@ -256,7 +257,7 @@ def query_figures(db: Path, repeat: int = 5) -> tuple[list[QueryFigure], list[tu
         }
         figures = []
         for what, query in queries.items():
-            answer = timed(lambda q=query: (count(connection, q), select_ids(connection, q, limit=ID_BLOCK)), repeat)
+            answer = timed(lambda q=query: first_ids(connection, q), repeat)
             ids = timed(lambda q=query: select_ids(connection, q), repeat)
             figures.append(QueryFigure(what, answer, ids, count(connection, query)))
         page = Query(formats=("bvh",), min_duration=2, sort="duration", descending=True)
