@@ -1,5 +1,6 @@
 """Fixtures for the library's tests: a folder of real takes (copied from the shared data at
-test time, trimmed to what the tests need), bad files beside them, and a PNG reader.
+test time, trimmed to what the tests need), bad files beside them, a PNG reader, and records
+of made-up files for libraries of thousands of rows.
 
 Import them into a test module (``from tests.library_fixtures import takes``).
 """
@@ -14,6 +15,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from gmr_studio.core.library.reading import FileRecord
+from gmr_studio.core.library.skeletons import Skeleton
 from tests.conftest import shared_path
 
 #: the real files of the folder: (shared path, path in the folder)
@@ -68,3 +71,48 @@ def read_png(data: bytes) -> np.ndarray:
     rows = np.frombuffer(zlib.decompress(chunks[b"IDAT"]), np.uint8).reshape(height, 1 + 3 * width)
     assert (rows[:, 0] == 0).all()
     return rows[:, 1:].reshape(height, width, 3)
+
+
+FORMATS = ("bvh", "c3d", "amc", "glb")
+RIGS = (
+    Skeleton(("hips", "spine", "head"), (-1, 0, 1)),
+    Skeleton(("root", "lfemur", "rfemur", "lowerback"), (-1, 0, 0, 0)),
+    Skeleton(("a", "b"), (-1, 0)),
+)
+
+
+def made_up_records(n: int, seed: int = 3) -> list[FileRecord]:
+    """``n`` records of made-up files: ties in every field, some failed, some with problems."""
+    rng = np.random.default_rng(seed)
+    made = []
+    for k in range(n):
+        fmt = FORMATS[int(rng.integers(len(FORMATS)))]
+        name = f"{'Take' if k % 3 else 'take'}{int(rng.integers(400)):04d}.{fmt}"  # names repeat, cases differ
+        path = f"/lib/{'ab'[k % 2]}/{k:05d}/{name}"
+        record = FileRecord(path, 100 + k % 7, 10**18 + k % 11, "", f"{k:032x}", "", fmt, "motion")
+        if k % 17 == 0:
+            record.status, record.message = "failed", f"{path}:1:1: not a motion"
+        else:
+            rig = RIGS[int(rng.integers(len(RIGS)))]
+            record.frames = int(rng.integers(1, 40)) * 30
+            record.frame_rate = float(rng.choice([30.0, 60.0, 120.0]))
+            record.duration = record.frames / record.frame_rate
+            record.joints, record.roots, record.skeleton = rig.n_joints, 1, rig
+            levels = rng.integers(0, 4, size=3)  # a count of info, warning, error findings
+            kinds = [("pop", 1, int(levels[0])), ("jitter", 2, int(levels[1])), ("foot-skate", 3, int(levels[2]))]
+            record.problems = tuple(p for p in kinds if p[2])
+            record.infos, record.warnings, record.errors = (int(v) for v in levels)
+            record.findings = int(levels.sum())
+            record.worst_level = max((level for _, level, _ in record.problems), default=0)
+            record.worst = (None, "info", "warning", "error")[record.worst_level]
+        made.append(record)
+    return made
+
+
+def write_records(library, records: list) -> None:
+    """Write ``records`` into ``library`` in batches, group their skeletons and gather the
+    query planner's statistics, as indexing does."""
+    for start in range(0, len(records), 500):
+        library.write([(r, r.path.rsplit("/", 2)[0]) for r in records[start : start + 500]])
+    library.regroup()
+    library.connection.execute("ANALYZE")

@@ -1,6 +1,7 @@
 """The Library panel in the real window, driven by Qt events under Xvfb: filter, sort,
 keyboard, open (unsaved edits asked about), compare two, drag a take onto the view, index in
-the background with progress and cancel, libraries remembered; and its picture."""
+the background with progress and cancel, libraries remembered; and its picture. Its table
+over a library of thousands of rows, read a block at a time."""
 
 from __future__ import annotations
 
@@ -12,13 +13,14 @@ from PyQt6.QtCore import QMimeData, QPoint, QPointF, Qt, QTimer, QUrl
 from PyQt6.QtGui import QDragEnterEvent, QDropEvent, QImage
 from PyQt6.QtWidgets import QApplication, QMessageBox
 
-from gmr_studio.app.library.table_model import COLUMNS, DURATION, NAME, THUMBNAIL
+from gmr_studio.app.library.table_model import COLUMNS, DURATION, NAME, PATH_ROLE, THUMBNAIL, LibraryModel
 from gmr_studio.app.model import commands
 from gmr_studio.core.library.drawing import BACKGROUND, PALETTE
 from gmr_studio.core.library.index import Library
+from gmr_studio.core.library.query import Query, select_rows
 from gmr_studio.resources import resource_path
 from tests import app_fixtures
-from tests.library_fixtures import make_takes
+from tests.library_fixtures import made_up_records, make_takes, write_records
 
 studio = app_fixtures.studio
 pytestmark = pytest.mark.gui
@@ -257,3 +259,24 @@ def test_the_panel_shows_each_takes_thumbnail(panel, studio, qtbot):
         assert background > 0.5 and (figure > 20 or white > 10)
         seen += 1
     assert seen >= 3
+
+
+def test_a_large_librarys_table_holds_the_querys_rows_in_order_read_a_block_at_a_time(qtbot, tmp_path):
+    db = tmp_path / "large.sqlite"
+    with Library(db) as library:
+        write_records(library, made_up_records(1500))
+    with Library(db) as library:
+        model = LibraryModel()
+        model.id_block = 64  # several blocks of ids (a page each), read as rows are asked for
+        model.set_connection(library.connection)
+        query = Query(formats=("bvh",), sort="duration", descending=True)
+        model.set_query(query)
+        expected = [row["path"] for row in select_rows(library.connection, query)]
+        asked = [expected[k] for k in (0, 300, 299, len(expected) - 1)] + ["/lib/nowhere.bvh"]
+        before = model.rows_with_paths(asked)  # no block read yet: found by the file
+        assert model.rowCount() == len(expected) > 2 * model.id_block
+        rows = list(range(model.rowCount()))[::-1]  # from the bottom up, as a jump to the end
+        assert [model.data(model.index(row, NAME), PATH_ROLE) for row in rows] == expected[::-1]
+        assert model.data(model.index(len(expected), NAME), PATH_ROLE) is None
+        after = model.rows_with_paths(asked)  # every block in hand
+        assert before == after == {path: expected.index(path) for path in asked[:-1]}

@@ -37,15 +37,60 @@ def test_a_new_library_says_what_it_is_and_which_version(tmp_path):
     assert columns == ["id", *schema.FILE_COLUMNS]
 
 
-def test_an_older_library_is_rebuilt_and_its_folders_indexed_again(takes, tmp_path):
+#: the indexes of the files table in a library of version 1
+VERSION_1_INDEXES = """
+CREATE INDEX files_name ON files(name COLLATE NOCASE);
+CREATE INDEX files_folder ON files(folder);
+CREATE INDEX files_format ON files(format);
+CREATE INDEX files_status ON files(status);
+CREATE INDEX files_frames ON files(frames);
+CREATE INDEX files_frame_rate ON files(frame_rate);
+CREATE INDEX files_duration ON files(duration);
+CREATE INDEX files_joints ON files(joints);
+CREATE INDEX files_markers ON files(markers);
+CREATE INDEX files_skeleton_id ON files(skeleton_id, path);
+CREATE INDEX files_skeleton_group ON files(skeleton_group);
+CREATE INDEX files_findings ON files(findings);
+CREATE INDEX files_errors ON files(errors);
+CREATE INDEX files_warnings ON files(warnings);
+CREATE INDEX files_size ON files(size);
+CREATE INDEX files_problems ON files(worst_level, errors, warnings, infos);
+"""
+
+
+def indexes(path) -> dict[str, str]:
+    with sqlite3.connect(path) as connection:
+        return dict(connection.execute("SELECT name, sql FROM sqlite_master WHERE type = 'index' AND sql IS NOT NULL"))
+
+
+def test_a_library_of_version_1_is_migrated_in_place_its_rows_kept(takes, tmp_path):
+    db, fresh = tmp_path / "library.sqlite", tmp_path / "fresh.sqlite"
+    Library(fresh).close()
+    with Library(db) as library:
+        library.index([takes], jobs=1)
+        rows = select_rows(library.connection)
+    with sqlite3.connect(db) as connection:  # version 1: the same tables, other indexes
+        for name in indexes(db):
+            if name.startswith("files_"):
+                connection.execute(f"DROP INDEX {name}")
+        connection.executescript(VERSION_1_INDEXES)
+        connection.execute("PRAGMA user_version = 1")
+    with Library(db) as library:
+        assert select_rows(library.connection) == rows
+        assert library.index([takes], jobs=1).read == 0  # nothing to read again
+    assert header(db)[1] == schema.SCHEMA_VERSION
+    assert indexes(db) == indexes(fresh)
+
+
+def test_an_older_library_with_no_way_to_this_version_is_rebuilt_and_indexed_again(takes, tmp_path):
     db = tmp_path / "library.sqlite"
     with Library(db) as library:
         library.index([takes], jobs=1)
         rows = len(select_rows(library.connection))
-    # a library of the version before: another layout of the files table, an older number
+    # a library of a version before any this one migrates: another layout of the files table
     with sqlite3.connect(db) as connection:
         connection.execute("ALTER TABLE files RENAME COLUMN duration TO seconds")
-        connection.execute(f"PRAGMA user_version = {schema.SCHEMA_VERSION - 1}")
+        connection.execute("PRAGMA user_version = 0")
     with Library(db) as library:
         assert library.count() == 0 and library.folders() == [str(takes.resolve())]
         summary = library.index(library.folders(), jobs=1)

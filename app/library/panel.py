@@ -53,7 +53,7 @@ MAX_LIBRARIES = 8
 #: the thumbnails' height in the table (pixels): three quarters of the stored picture's
 THUMBNAIL_HEIGHT = 48
 #: the table is read again at most this often while rows are being written (ms), and never
-#: more than a tenth of the time (a large library's ids take longer to read)
+#: more than a tenth of the time (a large library's rows take longer to count)
 REFRESH_MS = 500
 FILTER_HELP = (
     "Words of the name, and filters: format:bvh  min:2  max:10 (seconds)  joints:31  "
@@ -341,14 +341,14 @@ class LibraryPanel(QWidget):
         current = self.model.path_of(self.table.currentIndex().row()) if self.table.currentIndex().isValid() else None
         change()
         selection = self.table.selectionModel()
+        rows = self.model.rows_with_paths([*selected, *([current] if current else [])])
         for path in selected:
-            row = self.model.row_with_path(path)
-            if row is not None:
+            if path in rows:
                 selection.select(
-                    self.model.index(row, 0),
+                    self.model.index(rows[path], 0),
                     selection.SelectionFlag.Select | selection.SelectionFlag.Rows,
                 )
-        row = self.model.row_with_path(current) if current else None
+        row = rows.get(current) if current else None
         if row is not None:
             selection.setCurrentIndex(self.model.index(row, NAME), selection.SelectionFlag.NoUpdate)
 
@@ -357,7 +357,7 @@ class LibraryPanel(QWidget):
             self.status.setText("no library")
             return
         total = count(self.library.connection, Query())
-        shown = len(self.model.ids)
+        shown = self.model.rowCount()
         folders = len(self.library.folders())
         where = (
             f"{folders} folder{'s' * (folders != 1)}" if folders else "no folder yet: Add folder... or drop one here"

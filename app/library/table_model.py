@@ -1,8 +1,10 @@
 """The Library panel's table over the library's SQLite file, holding only what is in view.
 
-:class:`LibraryModel` keeps the ids of the rows its query lets through, in order (8 bytes a
-row), and reads rows from the file a page at a time as the view asks for them
-(:data:`PAGE_ROWS` rows, the last :data:`PAGES_KEPT` pages kept). Thumbnails are read and
+:class:`LibraryModel` counts the rows its query lets through and reads their ids a block at
+a time as the view scrolls to them (:data:`core.library.query.ID_BLOCK` ids in the query's
+order, the last :data:`BLOCKS_KEPT` blocks kept), then the rows themselves a page at a time
+(:data:`PAGE_ROWS` rows, the last :data:`PAGES_KEPT` pages kept): a query is answered by its
+count and its first block, whatever the size of the library. Thumbnails are read and
 decoded (and scaled to :attr:`LibraryModel.thumbnail_height`) after the view has asked for
 them, a batch at a time on the next turn of the event loop, so that scrolling never waits
 for a picture; the last :data:`THUMBNAILS_KEPT` stay.
@@ -21,7 +23,7 @@ from PyQt6.QtCore import QAbstractTableModel, QMimeData, QModelIndex, Qt, QTimer
 from PyQt6.QtGui import QBrush, QColor, QImage, QPixmap
 
 from gmr_studio.app.model.problems import LEVEL_COLOURS
-from gmr_studio.core.library.query import Query, rows_by_id, select_ids
+from gmr_studio.core.library.query import ID_BLOCK, Query, first_ids, positions, rows_by_id, select_ids
 from gmr_studio.core.library.thumbnails import SIZE
 
 #: (title, sort field) of each column; the thumbnail's column sorts by path
@@ -38,6 +40,8 @@ COLUMNS = (
 )
 THUMBNAIL, NAME, FORMAT, DURATION, FRAMES, RATE, JOINTS, GROUP, PROBLEMS = range(len(COLUMNS))
 _NUMBER_COLUMNS = (DURATION, FRAMES, RATE, JOINTS, GROUP)
+#: blocks of ids kept (:data:`core.library.query.ID_BLOCK` ids a block)
+BLOCKS_KEPT = 16
 PAGE_ROWS = 64
 PAGES_KEPT = 16
 THUMBNAILS_KEPT = 400
@@ -45,13 +49,15 @@ THUMBNAILS_KEPT = 400
 TAKE_MIME = "application/x-gmr-library-takes"
 PATH_ROLE = Qt.ItemDataRole.UserRole + 1
 ROW_ROLE = Qt.ItemDataRole.UserRole + 2
-_DISPLAY, _DECORATION = Qt.ItemDataRole.DisplayRole, Qt.ItemDataRole.DecorationRole
+# the roles as plain numbers: the view asks for every role of every cell it paints, by number
+_DISPLAY, _DECORATION = int(Qt.ItemDataRole.DisplayRole), int(Qt.ItemDataRole.DecorationRole)
 _FOREGROUND, _ALIGNMENT, _TOOLTIP = (
-    Qt.ItemDataRole.ForegroundRole,
-    Qt.ItemDataRole.TextAlignmentRole,
-    Qt.ItemDataRole.ToolTipRole,
+    int(Qt.ItemDataRole.ForegroundRole),
+    int(Qt.ItemDataRole.TextAlignmentRole),
+    int(Qt.ItemDataRole.ToolTipRole),
 )
-_ROLES = {int(r) for r in (_DISPLAY, _DECORATION, _FOREGROUND, _ALIGNMENT, _TOOLTIP, PATH_ROLE, ROW_ROLE)}
+_PATH, _ROW = int(PATH_ROLE), int(ROW_ROLE)
+_ROLES = frozenset((_DISPLAY, _DECORATION, _FOREGROUND, _ALIGNMENT, _TOOLTIP, _PATH, _ROW))
 _FLAGS = Qt.ItemFlag.ItemIsEnabled | Qt.ItemFlag.ItemIsSelectable | Qt.ItemFlag.ItemIsDragEnabled
 _RIGHT = int(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
 
@@ -75,9 +81,13 @@ class LibraryModel(QAbstractTableModel):
         super().__init__(parent)
         self.connection: sqlite3.Connection | None = None
         self.query = Query()
-        self.ids = np.zeros(0, np.int64)
+        self.total = 0  # rows the query lets through
+        self.id_block = ID_BLOCK  # ids read at a time: a whole number of pages
+        self._blocks: OrderedDict[int, np.ndarray] = OrderedDict()  # block -> its ids
         self.thumbnail_height = SIZE[1]  # pixels: the thumbnails scaled to this height when read
-        self._pages: OrderedDict[int, list[dict | None]] = OrderedDict()
+        # page -> (row, its cells' texts, their brushes) of each row of the page (None: gone)
+        self._pages: OrderedDict[int, list[tuple[dict, tuple, tuple] | None]] = OrderedDict()
+        self._last: tuple[int, list] = (-1, [])  # the page asked for last
         self._pictures: OrderedDict[int, QPixmap | None] = OrderedDict()
         self._wanted: dict[int, int] = {}  # id -> row of thumbnails asked for, not yet read
         self._loader = QTimer(self, singleShot=True, interval=0)
@@ -97,8 +107,12 @@ class LibraryModel(QAbstractTableModel):
     def refresh(self) -> None:
         """Ask the file again (rows added, changed or gone), keeping the query."""
         self.beginResetModel()
-        self.ids = select_ids(self.connection, self.query) if self.connection is not None else np.zeros(0, np.int64)
+        self._blocks.clear()
+        self.total = 0
+        if self.connection is not None:
+            self.total, self._blocks[0] = first_ids(self.connection, self.query, self.id_block)
         self._pages.clear()
+        self._last = (-1, [])
         self._wanted.clear()
         self.endResetModel()
 
@@ -108,20 +122,45 @@ class LibraryModel(QAbstractTableModel):
 
     def row_of(self, row: int) -> dict | None:
         """The JSON row (:func:`core.library.query.row_json`) shown at ``row``."""
-        if not 0 <= row < len(self.ids):
+        entry = self._entry(row)
+        return entry[0] if entry is not None else None
+
+    def _entry(self, row: int) -> tuple[dict, tuple, tuple] | None:
+        """(JSON row, its cells' texts, their brushes) shown at ``row``, its page read when
+        not in hand."""
+        if not 0 <= row < self.total:
             return None
         page = row // PAGE_ROWS
-        rows = self._pages.get(page)
-        if rows is None:
-            ids = self.ids[page * PAGE_ROWS : (page + 1) * PAGE_ROWS]
+        if page == self._last[0]:
+            entries = self._last[1]
+            return entries[row - page * PAGE_ROWS] if row - page * PAGE_ROWS < len(entries) else None
+        entries = self._pages.get(page)
+        if entries is None:
+            block, start = divmod(page * PAGE_ROWS, self.id_block)
+            ids = self._ids_of_block(block)[start : start + PAGE_ROWS]
             found = rows_by_id(self.connection, ids.tolist()) if self.connection is not None else {}
-            rows = [found.get(int(i)) for i in ids]
-            self._pages[page] = rows
+            entries = [_cells(found[int(i)]) if int(i) in found else None for i in ids]
+            self._pages[page] = entries
             while len(self._pages) > PAGES_KEPT:
                 self._pages.popitem(last=False)
         else:
             self._pages.move_to_end(page)
-        return rows[row - page * PAGE_ROWS]
+        self._last = (page, entries)
+        return entries[row - page * PAGE_ROWS] if row - page * PAGE_ROWS < len(entries) else None
+
+    def _ids_of_block(self, block: int) -> np.ndarray:
+        """The ids of the rows of ``block`` (fewer when rows went since the count)."""
+        ids = self._blocks.get(block)
+        if ids is None:
+            if self.connection is None:
+                return np.zeros(0, np.int64)
+            ids = select_ids(self.connection, self.query, limit=self.id_block, offset=block * self.id_block)
+            self._blocks[block] = ids
+            while len(self._blocks) > BLOCKS_KEPT:
+                self._blocks.popitem(last=False)
+        else:
+            self._blocks.move_to_end(block)
+        return ids
 
     def path_of(self, row: int) -> str | None:
         found = self.row_of(row)
@@ -131,21 +170,41 @@ class LibraryModel(QAbstractTableModel):
         """The row showing the file at ``path`` (None when the query leaves it out)."""
         if self.connection is None:
             return None
-        found = self.connection.execute("SELECT id FROM files WHERE path = ?", (path,)).fetchone()
-        if found is None:
-            return None
-        rows = np.flatnonzero(self.ids == found[0])
-        return int(rows[0]) if rows.size else None
+        return self.rows_with_paths([path]).get(path)
+
+    def rows_with_paths(self, paths: list[str]) -> dict[str, int]:
+        """path -> the row showing it, of the ``paths`` the query lets through (found in the
+        blocks of ids in hand, else asked of the file at once)."""
+        if self.connection is None or not paths:
+            return {}
+        id_of = {}
+        for start in range(0, len(paths), 500):  # within SQLite's count of parameters a statement
+            chunk = paths[start : start + 500]
+            marks = ", ".join("?" * len(chunk))
+            id_of.update(self.connection.execute(f"SELECT path, id FROM files WHERE path IN ({marks})", chunk))
+        rows, missing = {}, []
+        for path, file_id in id_of.items():
+            for block, ids in self._blocks.items():
+                found = np.flatnonzero(ids == file_id)
+                if found.size:
+                    rows[path] = block * self.id_block + int(found[0])
+                    break
+            else:
+                missing.append((path, file_id))
+        if missing:
+            places = positions(self.connection, self.query, [file_id for _, file_id in missing])
+            rows.update({path: places[file_id] for path, file_id in missing if file_id in places})
+        return rows
 
     # ------------------------------------------------------------ Qt's model API
     def rowCount(self, parent: QModelIndex = QModelIndex()) -> int:  # noqa: N802, B008 (Qt's signature)
-        return 0 if parent.isValid() else len(self.ids)
+        return 0 if parent.isValid() else self.total
 
     def columnCount(self, parent: QModelIndex = QModelIndex()) -> int:  # noqa: N802, B008
         return 0 if parent.isValid() else len(COLUMNS)
 
     def headerData(self, section: int, orientation: Qt.Orientation, role: int = Qt.ItemDataRole.DisplayRole):  # noqa: N802
-        if orientation == Qt.Orientation.Horizontal and role == Qt.ItemDataRole.DisplayRole:
+        if role == _DISPLAY and orientation == Qt.Orientation.Horizontal:
             return COLUMNS[section][0]
         return None
 
@@ -155,24 +214,22 @@ class LibraryModel(QAbstractTableModel):
     def data(self, index: QModelIndex, role: int = Qt.ItemDataRole.DisplayRole):
         if role not in _ROLES or not index.isValid():  # the view asks for many roles a cell: most are none
             return None
-        row = self.row_of(index.row())
-        if row is None:
+        entry = self._entry(index.row())
+        if entry is None:
             return None
+        row, texts, brushes = entry
         column = index.column()
         if role == _DISPLAY:
-            return _cell_text(row, column)
+            return texts[column]
         if role == _DECORATION:
             return self._thumbnail(row, index.row()) if column == THUMBNAIL else None
         if role == _FOREGROUND:
-            if row["status"] != "ok":
-                return _FAILED_BRUSH if column in (NAME, PROBLEMS) else None
-            worst = row["quality"]["worst"] if column == PROBLEMS and row["quality"] else None
-            return _LEVEL_BRUSHES[worst] if worst else None
+            return brushes[column]
         if role == _ALIGNMENT:
             return _RIGHT if column in _NUMBER_COLUMNS else None
         if role == _TOOLTIP:
             return _tooltip(row, column)
-        if role == PATH_ROLE:
+        if role == _PATH:
             return row["path"]
         return row  # ROW_ROLE
 
@@ -225,7 +282,7 @@ class LibraryModel(QAbstractTableModel):
             self._pictures[file_id] = picture
         while len(self._pictures) > THUMBNAILS_KEPT:
             self._pictures.popitem(last=False)
-        rows = [r for r in wanted.values() if r < len(self.ids)]
+        rows = [r for r in wanted.values() if r < self.total]
         if rows:
             self.dataChanged.emit(
                 self.index(min(rows), THUMBNAIL), self.index(max(rows), THUMBNAIL), [Qt.ItemDataRole.DecorationRole]
@@ -239,6 +296,19 @@ _FAILED_BRUSH = _LEVEL_BRUSHES["error"]
 def thumbnail_size() -> tuple[int, int]:
     """(width, height) pixels of a thumbnail as the library stores them."""
     return SIZE
+
+
+def _cells(row: dict) -> tuple[dict, tuple, tuple]:
+    """(row, the texts of its cells, their brushes (None: the view's own colour))."""
+    texts = tuple(_cell_text(row, column) for column in range(len(COLUMNS)))
+    if row["status"] != "ok":
+        brushes = tuple(_FAILED_BRUSH if column in (NAME, PROBLEMS) else None for column in range(len(COLUMNS)))
+    else:
+        worst = row["quality"]["worst"] if row["quality"] else None
+        brushes = tuple(
+            _LEVEL_BRUSHES[worst] if worst and column == PROBLEMS else None for column in range(len(COLUMNS))
+        )
+    return row, texts, brushes
 
 
 def _cell_text(row: dict, column: int) -> str | None:

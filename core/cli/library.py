@@ -38,6 +38,7 @@ from gmr_studio.core.library.query import (
     parse_has,
     parse_sort,
     row_of_path,
+    rows_json_text,
     select_rows,
 )
 from gmr_studio.core.library.reading import IndexOptions
@@ -177,7 +178,7 @@ def run_list(args: argparse.Namespace) -> int:
         rows = select_rows(library.connection, query_from_args(args, library), limit=args.limit)
         total = library.count()
     if args.json:
-        write_json(rows, "-")
+        sys.stdout.write(rows_json_text(rows))
     elif args.csv:
         sys.stdout.write(records_csv_text(CSV_COLUMNS, [csv_record(r) for r in rows]))
     else:

@@ -29,7 +29,7 @@ from pathlib import Path
 
 from gmr_studio.core.batch import workers
 from gmr_studio.core.library import schema
-from gmr_studio.core.library.reading import STAGES, FileRecord, IndexOptions, describe_files
+from gmr_studio.core.library.reading import STAGES, FileRecord, IndexOptions, clock, describe_files
 from gmr_studio.core.library.scan import Plan, plan_index
 from gmr_studio.core.library.skeletons import Skeleton, best_match, skeleton_groups
 
@@ -48,8 +48,10 @@ _RECORD_COLUMNS = tuple(c for c in schema.FILE_COLUMNS if c in {f.name for f in 
 class IndexSummary:
     """What an indexing run did: files found, read (new and changed), unchanged, removed,
     failed (of those read), touched (changed stamp, same content: not read again), and
-    time; ``stage_seconds``: the workers' seconds per stage (read, checks, thumbnail) summed
-    over files, and ``database`` the seconds spent writing; ``stopped``: ``stop()`` ended it."""
+    time; ``stage_seconds`` and ``stage_cpu``: the wall-clock and CPU seconds of each stage
+    of reading a file (:data:`core.library.reading.STAGES`) summed over the files, wherever
+    they ran; ``database`` and ``database_cpu``: the same of writing the rows (in this
+    process); ``stopped``: ``stop()`` ended it."""
 
     folders: list[str]
     found: int = 0
@@ -63,7 +65,9 @@ class IndexSummary:
     seconds: float = 0.0
     workers: str = ""
     stage_seconds: dict = dataclasses.field(default_factory=lambda: dict.fromkeys(STAGES, 0.0))
+    stage_cpu: dict = dataclasses.field(default_factory=lambda: dict.fromkeys(STAGES, 0.0))
     database: float = 0.0
+    database_cpu: float = 0.0
     stopped: bool = False
 
     def text(self) -> str:
@@ -273,9 +277,10 @@ class Library:
 
         def flush() -> None:
             if pending:
-                begin = time.perf_counter()
+                begin = clock()
                 self.write(pending)
-                summary.database += time.perf_counter() - begin
+                summary.database += time.perf_counter() - begin[0]
+                summary.database_cpu += time.thread_time() - begin[1]
                 if on_batch is not None:
                     on_batch(len(pending))
                 pending.clear()
@@ -322,6 +327,8 @@ def _count(summary: IndexSummary, record: FileRecord) -> None:
     summary.failed += record.status != "ok"
     for stage, seconds in record.seconds.items():
         summary.stage_seconds[stage] = summary.stage_seconds.get(stage, 0.0) + seconds
+    for stage, seconds in record.cpu.items():
+        summary.stage_cpu[stage] = summary.stage_cpu.get(stage, 0.0) + seconds
 
 
 class _Transaction:

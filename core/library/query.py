@@ -2,8 +2,10 @@
 
 A :class:`Query` is what ``gmr library list|query`` and the app's filter box ask for; every
 filter it holds must hold (AND). :func:`select_rows` answers it as JSON-ready dicts
-(:func:`row_json`, docs/library.md), :func:`select_ids` as row ids in order (the app's
-table fetches the rows it shows by id), :func:`count`.
+(:func:`row_json`, docs/library.md), :func:`select_ids` as row ids in order, a page of them at
+a time if asked (the app's table reads the ids of the rows in view, then those rows),
+:func:`count` (:func:`first_ids`: both for the first block), and :func:`positions` where
+given rows come in that order.
 
 The filter box's text (:func:`parse_filter`) holds the same filters as words:
 ``walk format:bvh min:2 max:10 joints:31 has:pop:warning group:3 failed``; words that are
@@ -14,18 +16,20 @@ word a pattern of the whole name).
 from __future__ import annotations
 
 import dataclasses
-import datetime
+import itertools
 import json
 import sqlite3
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 
 from gmr_studio.core.checks import KINDS, SEVERITIES
 from gmr_studio.core.library.skeletons import GROUP_MATCH, Skeleton, match_score
 
-#: ``--sort`` fields and the columns they sort by, one or several (then by id), each with an
-#: index; a file without the value (a failed file's frames) comes first going up, last going down
+#: ``--sort`` fields and the columns they sort by, one or several, then by path (ties in the
+#: path's order); a file without the value (a failed file's frames) comes first going up, last
+#: going down. The fields the panel sorts by have an index that gives that order
+#: (:data:`core.library.schema.FILE_INDEXES`); the others are sorted when asked.
 SORT_FIELDS: dict[str, str | tuple[str, ...]] = {
     "path": "files.path",
     "name": "files.name COLLATE NOCASE",
@@ -217,30 +221,82 @@ def _escaped(text: str) -> str:
     return text.replace("\\", "\\\\").replace("%", "\\%").replace("_", "\\_")
 
 
-#: the sort fields whose column a filter of the query may hold: (field, the query's attributes)
-_SORTED_BY_FILTER = {"duration": ("min_duration", "max_duration"), "joints": ("joints",), "group": ("groups",)}
+#: the filters that an index answers with its rows already in a sort's order: the sort's own
+#: field's index, or a ``(field, path)`` index under the path's order (one value a filter)
+_IN_ORDER = {
+    "path": ("formats", "joints", "groups", "failed"),
+    "duration": ("min_duration", "max_duration", "formats"),
+    "joints": ("joints",),
+    "group": ("groups",),
+}
+#: the sort fields whose own filter may hold several values and still come in order
+_OWN_MANY = {"group": "groups"}
+_FILTERS = ("name", "words", "formats", "min_duration", "max_duration", "joints", "groups", "skeleton", "has", "failed")
+
+
+def _in_order(query: Query) -> bool:
+    """Whether one index finds the rows the query's filters let through in its order."""
+    active = [a for a in _FILTERS if getattr(query, a) not in (None, (), False)]
+    if not set(active) <= set(_IN_ORDER.get(query.sort, ())):
+        return False
+    many = [a for a in ("formats", "groups") if a in active and a != _OWN_MANY.get(query.sort)]
+    equal = [a for a in active if a in ("formats", "joints", "groups", "failed")]
+    return all(len(getattr(query, a)) == 1 for a in many) and (query.sort != "path" or len(equal) <= 1)
 
 
 def _order(query: Query, filtered: bool) -> str:
-    """The ORDER BY clause. ``filtered``: the sort's columns are written ``+column`` so that
-    the filters' indexes find the rows (the sort then orders what they found), not the sort's
-    index (which would visit every row to test the filters); unless a filter is on the sort's
-    own column, whose index then finds the rows in order."""
+    """The ORDER BY clause: the sort's columns, then the path. ``filtered`` and the filters'
+    rows not found in order (:func:`_in_order`): the columns are written ``+column`` so that
+    the filters' indexes find the rows (then sorted), not the sort's index (which would visit
+    every row to test the filters)."""
     direction = " DESC" if query.descending else ""
     keys = SORT_FIELDS[query.sort]
     keys = (keys,) if isinstance(keys, str) else keys
-    own = any(getattr(query, a) not in (None, ()) for a in _SORTED_BY_FILTER.get(query.sort, ()))
-    plus = "+" if filtered and not own else ""
-    tie = [] if query.sort == "path" else [f"{plus}files.id{direction}"]
+    plus = "+" if filtered and not _in_order(query) else ""
+    tie = [] if query.sort == "path" else [f"{plus}files.path{direction}"]
     return " ORDER BY " + ", ".join([*(f"{plus}{key}{direction}" for key in keys), *tie])
 
 
-def select_ids(connection: sqlite3.Connection, query: Query) -> np.ndarray:
-    """(N,) int64 ids of the rows ``query`` lets through, in its order."""
+#: ids a reader of a large result asks for at a time: the app's table reads the count and
+#: the first block to show a query's answer, then the blocks it is scrolled to
+ID_BLOCK = 2048
+
+
+def select_ids(
+    connection: sqlite3.Connection, query: Query, *, limit: int | None = None, offset: int = 0
+) -> np.ndarray:
+    """(N,) int64 ids of the rows ``query`` lets through, in its order (the query's indexes
+    read; no row is); ``limit`` of them from ``offset``."""
     where, values = _where(connection, query)
-    cursor = connection.execute(f"SELECT id FROM files{where}{_order(query, bool(where))}", values)
+    page = f" LIMIT {int(limit)} OFFSET {int(offset)}" if limit is not None else ""
+    cursor = connection.execute(f"SELECT id FROM files{where}{_order(query, bool(where))}{page}", values)
     cursor.row_factory = None
-    return np.fromiter((r[0] for r in cursor), np.int64)
+    return np.fromiter(itertools.chain.from_iterable(cursor), np.int64)
+
+
+def first_ids(connection: sqlite3.Connection, query: Query, block: int = ID_BLOCK) -> tuple[int, np.ndarray]:
+    """(how many rows ``query`` lets through, the ids of the first ``block`` of them in its
+    order): what a reader of a large result shows first. The rows are counted only when
+    there are more than a block of them."""
+    ids = select_ids(connection, query, limit=block)
+    return (len(ids) if len(ids) < block else count(connection, query)), ids
+
+
+def positions(connection: sqlite3.Connection, query: Query, ids: Sequence[int]) -> dict[int, int]:
+    """id -> its place (from 0) among the ids :func:`select_ids` gives, of each of ``ids``
+    that ``query`` lets through."""
+    if not len(ids):
+        return {}
+    where, values = _where(connection, query)
+    order = _order(query, bool(where))
+    marks = ", ".join(str(int(i)) for i in ids)
+    cursor = connection.execute(
+        f"SELECT id, place FROM (SELECT id, row_number() OVER ({order.strip()}) - 1 AS place FROM files{where}) "
+        f"WHERE id IN ({marks})",
+        values,
+    )
+    cursor.row_factory = None
+    return dict(cursor.fetchall())
 
 
 def count(connection: sqlite3.Connection, query: Query | None = None) -> int:
@@ -248,27 +304,37 @@ def count(connection: sqlite3.Connection, query: Query | None = None) -> int:
     return connection.execute(f"SELECT count(*) FROM files{where}", values).fetchone()[0]
 
 
-#: the columns a row is read with (files' own, then its skeleton's)
+#: the columns a row is read with: the files' that a row shows, its time as text, its
+#: skeleton's, and whether it has a thumbnail
+_FILE_FIELDS = (
+    "id path name folder size mtime_ns hash format kind status message frames frame_rate duration joints roots "
+    "markers units up_axis skeleton_id skeleton_group findings infos warnings errors worst worst_frame"
+).split()
 _ROW_SQL = (
-    "SELECT files.*, skeletons.signature AS skeleton_signature, skeletons.topology AS skeleton_topology, "
-    "skeletons.group_match AS skeleton_match, EXISTS (SELECT 1 FROM thumbnails t WHERE t.file_id = files.id) "
-    "AS has_thumbnail FROM files LEFT JOIN skeletons ON skeletons.id = files.skeleton_id"
+    f"SELECT {', '.join(f'files.{field}' for field in _FILE_FIELDS)}, "
+    "strftime('%Y-%m-%dT%H:%M:%SZ', files.mtime_ns / 1000000000, 'unixepoch') AS modified, "
+    "skeletons.signature AS skeleton_signature, skeletons.topology AS skeleton_topology, "
+    "skeletons.group_match AS skeleton_match, "
+    "EXISTS (SELECT 1 FROM thumbnails t WHERE t.file_id = files.id) AS has_thumbnail "
+    "FROM files LEFT JOIN skeletons ON skeletons.id = files.skeleton_id"
 )
+#: more rows than this, all the query lets through: their problems are found through the
+#: query's filters, not a list of their ids
+_FEW_ROWS = 500
 
 
 def select_rows(
     connection: sqlite3.Connection, query: Query | None = None, *, limit: int | None = None, offset: int = 0
 ) -> list[dict]:
-    """The rows ``query`` lets through, in its order, as :func:`row_json` dicts (the ids
-    found first, then their rows)."""
+    """The rows ``query`` lets through, in its order, as :func:`row_json` dicts; ``limit``
+    rows from ``offset`` (a page: the sort's index may find it without reading the rest)."""
     query = query or Query()
     where, values = _where(connection, query)
     page = f" LIMIT {int(limit)} OFFSET {int(offset)}" if limit is not None else ""
-    # a page: the sort's index may find it first; all rows: the filters' indexes
-    cursor = connection.execute(f"SELECT id FROM files{where}{_order(query, bool(where) and not page)}{page}", values)
-    ids = [row[0] for row in cursor]
-    found = rows_by_id(connection, ids)
-    return [found[i] for i in ids]
+    rows = _read_rows(connection, f"{_ROW_SQL}{where}{_order(query, bool(where) and not page)}{page}", values)
+    if page or len(rows) <= _FEW_ROWS:
+        return _with_problems(connection, rows)
+    return _with_problems(connection, rows, f"SELECT files.id FROM files{where}", values)
 
 
 def rows_by_id(connection: sqlite3.Connection, ids: Sequence[int]) -> dict[int, dict]:
@@ -276,40 +342,57 @@ def rows_by_id(connection: sqlite3.Connection, ids: Sequence[int]) -> dict[int, 
     if not len(ids):
         return {}
     marks = ", ".join(str(int(i)) for i in ids)
-    rows = connection.execute(f"{_ROW_SQL} WHERE files.id IN ({marks})").fetchall()
-    return {row["id"]: json_row for row, json_row in zip(rows, _with_problems(connection, rows))}
+    rows = _read_rows(connection, f"{_ROW_SQL} WHERE files.id IN ({marks})", ())
+    return {row["id"]: row for row in _with_problems(connection, rows)}
 
 
 def row_of_path(connection: sqlite3.Connection, path: str) -> dict | None:
     """The row of the file at ``path`` (absolute), with its skeleton's joint names and
     parents; None when the library has no row for it."""
-    row = connection.execute(f"{_ROW_SQL} WHERE files.path = ?", (path,)).fetchone()
-    if row is None:
+    rows = _read_rows(connection, f"{_ROW_SQL} WHERE files.path = ?", (path,))
+    if not rows:
         return None
-    result = _with_problems(connection, [row])[0]
-    if row["skeleton_id"] is not None:
+    result = _with_problems(connection, rows)[0]
+    if rows[0]["skeleton_id"] is not None:
         names, parents = connection.execute(
-            "SELECT names, parents FROM skeletons WHERE id = ?", (row["skeleton_id"],)
+            "SELECT names, parents FROM skeletons WHERE id = ?", (rows[0]["skeleton_id"],)
         ).fetchone()
         result["skeleton"].update(names=json.loads(names), parents=json.loads(parents))
     return result
 
 
-def _with_problems(connection: sqlite3.Connection, rows: list[sqlite3.Row]) -> list[dict]:
+def _read_rows(connection: sqlite3.Connection, sql: str, values: Sequence) -> list[dict]:
+    """The rows of ``sql`` (a :data:`_ROW_SQL`), each a dict of its columns."""
+    cursor = connection.execute(sql, values)
+    cursor.row_factory = None
+    names = [column[0] for column in cursor.description]
+    return [dict(zip(names, row)) for row in cursor]
+
+
+def _with_problems(
+    connection: sqlite3.Connection, rows: list[dict], ids_sql: str | None = None, values: Sequence = ()
+) -> list[dict]:
+    """:func:`row_json` of each row, with its problems per kind; read for the rows' ids,
+    or for the ids ``ids_sql`` (with ``values``) selects."""
     kinds: dict[int, dict] = {}
     if rows:
-        marks = ", ".join(str(int(r["id"])) for r in rows)
-        for file_id, kind, level, number in connection.execute(
-            f"SELECT file_id, kind, level, count FROM problems WHERE file_id IN ({marks}) ORDER BY file_id, kind, level"
-        ):
+        if ids_sql is None:
+            ids_sql, values = ", ".join(str(int(r["id"])) for r in rows), ()
+        cursor = connection.execute(
+            f"SELECT file_id, kind, level, count FROM problems WHERE file_id IN ({ids_sql}) "
+            "ORDER BY file_id, kind, level",
+            values,
+        )
+        cursor.row_factory = None
+        for file_id, kind, level, number in cursor:
             kinds.setdefault(file_id, {}).setdefault(kind, {})[SEVERITIES[level - 1]] = number
     return [row_json(row, kinds.get(row["id"], {})) for row in rows]
 
 
-def row_json(row: sqlite3.Row, kinds: dict) -> dict:
-    """One row as JSON (docs/library.md): the file, what it holds, its skeleton, its quality."""
+def row_json(row: Mapping, kinds: dict) -> dict:
+    """One row as JSON (docs/library.md): the file, what it holds, its skeleton, its quality
+    (``row``: the columns of :data:`_ROW_SQL`)."""
     ok = row["status"] == "ok"
-    modified = datetime.datetime.fromtimestamp(row["mtime_ns"] / 1e9, datetime.UTC)
     skeleton = None
     if row["skeleton_id"] is not None:
         skeleton = {
@@ -335,7 +418,7 @@ def row_json(row: sqlite3.Row, kinds: dict) -> dict:
         "name": row["name"],
         "folder": row["folder"],
         "size": row["size"],
-        "modified": modified.isoformat(timespec="seconds").replace("+00:00", "Z"),
+        "modified": row["modified"],
         "mtime_ns": row["mtime_ns"],
         "hash": row["hash"],
         "format": row["format"],
@@ -354,6 +437,14 @@ def row_json(row: sqlite3.Row, kinds: dict) -> dict:
         "quality": quality,
         "thumbnail": bool(row["has_thumbnail"]),
     }
+
+
+def rows_json_text(rows: Sequence[dict]) -> str:
+    """The JSON text of a list of :func:`row_json` rows, one row a line (each encoded by the
+    json module's C encoder, which an indented dump does not use)."""
+    if not rows:
+        return "[]\n"
+    return "[\n" + ",\n".join(json.dumps(row) for row in rows) + "\n]\n"
 
 
 #: columns of the CSV table (one row per file), then one count column per kind of problem

@@ -42,8 +42,9 @@ from gmr_studio.core.timebase.clock import duration_of
 #: the version of what a record derives from a file: raised when the fields, the thumbnail
 #: drawing or the way checks are summed up change, so that the next run reads every file again
 RECORD_VERSION = 1
-#: seconds each stage of :func:`describe_file` took, by name
-STAGES = ("read", "checks", "thumbnail")
+#: the stages of :func:`describe_file`, each timed: the file's stamp and content hash, reading
+#: it (and its world positions), the checks, the thumbnail (drawn and encoded as PNG)
+STAGES = ("hash", "read", "checks", "thumbnail")
 
 
 def library_suffixes() -> tuple[str, ...]:
@@ -80,7 +81,8 @@ class FileRecord:
     """Everything the library stores about one file (docs/library.md, the ``files`` table).
 
     ``problems`` holds ``(kind, level, count)`` (level 1 info, 2 warning, 3 error);
-    ``seconds`` what each of :data:`STAGES` took; ``unchanged``: the content hash is the
+    ``seconds`` what each of :data:`STAGES` took (wall clock), ``cpu`` the CPU seconds
+    of the thread that ran it; ``unchanged``: the content hash is the
     one the library holds, nothing else was read.
     """
 
@@ -113,7 +115,20 @@ class FileRecord:
     worst_frame: int | None = None
     thumbnail: bytes | None = None
     seconds: dict = dataclasses.field(default_factory=dict)
+    cpu: dict = dataclasses.field(default_factory=dict)
     unchanged: bool = False
+
+    def timed(self, stage: str, start: tuple[float, float]) -> tuple[float, float]:
+        """Add the time since ``start`` (a :func:`clock` reading) to ``stage``; the clock now."""
+        now = clock()
+        self.seconds[stage] = self.seconds.get(stage, 0.0) + now[0] - start[0]
+        self.cpu[stage] = self.cpu.get(stage, 0.0) + now[1] - start[1]
+        return now
+
+
+def clock() -> tuple[float, float]:
+    """(wall clock, this thread's CPU time) in seconds."""
+    return time.perf_counter(), time.thread_time()
 
 
 def kind_of(suffix: str) -> str:
@@ -171,6 +186,7 @@ def describe_file(path: str, known_hash: str | None, options: IndexOptions) -> F
     """The record of one file (never raises: a file that cannot be read is a failed record
     with the reader's one-line message)."""
     suffix = motion_suffix(path)
+    start = clock()
     try:
         size, mtime_ns, stamp = file_stamp(path)
         digest = content_hash(path)
@@ -186,13 +202,15 @@ def describe_file(path: str, known_hash: str | None, options: IndexOptions) -> F
         format=suffix.lstrip("."),
         kind=kind_of(suffix),
     )
-    empty = dataclasses.replace(record)
+    record.timed("hash", start)
+    empty = dataclasses.replace(record, seconds={}, cpu={})
     if known_hash == digest:
         record.unchanged = True
         return record
     error, _ = workers.file_task(_fill, path, record, options)
     if error:  # the record as it was before reading, and the reader's line
-        return dataclasses.replace(empty, status="failed", message=" ".join(error.split()), seconds=record.seconds)
+        message = " ".join(error.split())
+        return dataclasses.replace(empty, status="failed", message=message, seconds=record.seconds, cpu=record.cpu)
     return record
 
 
@@ -214,39 +232,38 @@ def _failed_stat(path: str, suffix: str, options: IndexOptions, message: str) ->
 def _fill(path: str, record: FileRecord, options: IndexOptions) -> None:
     """Read the file into ``record`` (MotionFileError and others propagate to the caller)."""
     settings = CheckSettings.from_dict(options.settings)
-    start = time.perf_counter()
+    start = clock()
     if record.kind == "markers":
         markers = read_markers(path)
-        record.seconds["read"] = time.perf_counter() - start
-        start = time.perf_counter()
+        start = record.timed("read", start)
         motion, findings = run_marker_checks(markers, settings)
-        record.seconds["checks"] = time.perf_counter() - start
+        start = record.timed("checks", start)
         record.frames, record.frame_rate = markers.n_frames, float(markers.rate)
         record.duration = markers.duration
         record.markers, record.units = markers.n_markers, markers.units
         record.up_axis = detect_up_axis(markers.positions) if markers.n_frames else None
         _summarise(record, findings, markers.n_frames)
-        start = time.perf_counter()
+        start = record.timed("checks", start)
         picture = marker_thumbnail(markers.positions, options.size, options.poses) if markers.n_frames else None
     else:
         reading = {"body_model": options.body_model} if record.format == "npz" else {}
         motion = read_motion(path, **reading)
         positions = world_positions(motion)
-        record.seconds["read"] = time.perf_counter() - start
-        start = time.perf_counter()
+        start = record.timed("read", start)
         findings = run_checks(motion, settings, positions)
-        record.seconds["checks"] = time.perf_counter() - start
+        start = record.timed("checks", start)
         record.frames, record.frame_rate = motion.n_frames, float(motion.frame_rate)
         record.duration = duration_of(motion)
         record.joints, record.roots = motion.n_joints, len(motion.roots)
         record.units = None if motion.facts.unit is None else motion.facts.unit.name
         record.up_axis = up_axis_of(motion)
         record.skeleton = Skeleton.of(motion)
+        _ = record.skeleton.signature, record.skeleton.topology  # hashed here, not by the process writing
         _summarise(record, findings, motion.n_frames)
-        start = time.perf_counter()
+        start = record.timed("checks", start)
         picture = motion_thumbnail(motion, positions, options.size, options.poses) if motion.n_frames else None
     record.thumbnail = png_bytes(picture) if picture is not None else None
-    record.seconds["thumbnail"] = time.perf_counter() - start
+    record.timed("thumbnail", start)
 
 
 def _summarise(record: FileRecord, findings: list[Finding], n_frames: int) -> None:

@@ -12,9 +12,11 @@ The file says what it is in its header: ``PRAGMA application_id`` is :data:`APPL
 
 - a new or empty file gets the tables below;
 - a file of this version is used as it is;
-- a library of an older version is rebuilt: its tables are dropped and made afresh, the
-  list of folders kept (every other field is derived from the files, so the next
-  ``gmr library index`` reads them again); it is never read with this version's queries;
+- a library of an older version is migrated in place, its rows kept, when this version
+  knows the way (:data:`MIGRATIONS`: version 1's indexes are made again as version 2's);
+  else rebuilt: its tables are dropped and made afresh, the list of folders kept (every
+  other field is derived from the files, so the next ``gmr library index`` reads them
+  again). Either way its tables are this version's before a query reads them;
 - a library of a newer version, or an SQLite file of something else, or a file that is not
   SQLite, is refused (:class:`~core.errors.OperationError`) and left untouched.
 
@@ -37,7 +39,7 @@ from pathlib import Path
 
 from gmr_studio.core.errors import OperationError
 
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
 #: "GMRL" as a big-endian 32-bit number: PRAGMA application_id of a library
 APPLICATION_ID = 0x474D524C
 #: how long a writer waits for another process's transaction to end
@@ -45,6 +47,8 @@ BUSY_SECONDS = 120.0
 #: at most this much of the file is read through a memory map (the operating system's
 #: page cache, not the process's memory)
 MMAP_BYTES = 1 << 30
+#: the connection's page cache (KiB): what a query's sort holds before it spills
+CACHE_KIB = 32 << 10
 
 #: the ``files`` table's columns after ``id``, in order, with their SQL types
 FILE_COLUMNS: dict[str, str] = {
@@ -80,24 +84,30 @@ FILE_COLUMNS: dict[str, str] = {
     "indexed_at": "REAL NOT NULL",
 }
 
-#: the fields queries filter and sort on, each with its own index (the name's ignores case;
-#: the skeleton's holds the path, a skeleton's first file found in the index)
-INDEXED_FIELDS = (
-    "name COLLATE NOCASE",
-    "folder",
-    "format",
-    "status",
-    "frames",
-    "frame_rate",
-    "duration",
-    "joints",
-    "markers",
-    "skeleton_id, path",
-    "skeleton_group",
-    "findings",
-    "errors",
-    "warnings",
-    "size",
+#: the ``files`` table's indexes (``files_<name>``), each on the fields that queries filter and
+#: sort on, then the path: the index alone answers a filter on its fields (the rows in the
+#: path's order, the default sort) and a sort by them (ties in the path's order) without
+#: reading the rows. The name's ignores case; ``format_duration`` answers the two filters at once.
+FILE_INDEXES: dict[str, str] = {
+    "name": "name COLLATE NOCASE",
+    "format": "format",
+    "format_duration": "format, duration",
+    "status": "status",
+    "frames": "frames",
+    "frame_rate": "frame_rate",
+    "duration": "duration",
+    "joints": "joints",
+    "markers": "markers",
+    "skeleton_id": "skeleton_id",
+    "skeleton_group": "skeleton_group",
+    "findings": "findings",
+    "errors": "errors",
+    "warnings": "warnings",
+    "size": "size",
+    "problems": "worst_level, errors, warnings, infos",
+}
+_FILE_INDEXES_SQL = "".join(
+    f"CREATE INDEX files_{name} ON files({fields}, path);\n" for name, fields in FILE_INDEXES.items()
 )
 
 TABLES = f"""
@@ -121,9 +131,7 @@ CREATE TABLE files (
     id INTEGER PRIMARY KEY,
     {", ".join(f"{name} {kind}" for name, kind in FILE_COLUMNS.items())}
 );
-{"".join(f"CREATE INDEX files_{field.split()[0].strip(',')} ON files({field});" for field in INDEXED_FIELDS)}
-CREATE INDEX files_problems ON files(worst_level, errors, warnings, infos);
-CREATE TABLE problems (
+{_FILE_INDEXES_SQL}CREATE TABLE problems (
     file_id INTEGER NOT NULL REFERENCES files(id) ON DELETE CASCADE,
     kind TEXT NOT NULL,
     level INTEGER NOT NULL,
@@ -188,6 +196,8 @@ def open_library(path: str | Path, *, create: bool = True) -> sqlite3.Connection
         connection.execute("PRAGMA journal_mode = WAL")
         connection.execute("PRAGMA synchronous = NORMAL")
         connection.execute(f"PRAGMA mmap_size = {MMAP_BYTES}")  # pages read in place, not copied
+        connection.execute(f"PRAGMA cache_size = -{CACHE_KIB}")
+        connection.execute("PRAGMA temp_store = MEMORY")  # a query's sort in memory, never a temporary file
         _ensure_schema(connection, path)
         connection.execute("PRAGMA foreign_keys = ON")  # after a rebuild, which drops tables in any order
     except sqlite3.Error as exc:
@@ -215,8 +225,8 @@ def _tables(connection: sqlite3.Connection) -> list[str]:
 
 
 def _ensure_schema(connection: sqlite3.Connection, path: Path) -> None:
-    """Create, keep or rebuild the tables in one write transaction (another process doing
-    the same waits for it, then finds the tables made)."""
+    """Create, keep, migrate or rebuild the tables in one write transaction (another process
+    doing the same waits for it, then finds the tables made)."""
     version = connection.execute("PRAGMA user_version").fetchone()[0]
     if version == SCHEMA_VERSION:
         return
@@ -225,7 +235,10 @@ def _ensure_schema(connection: sqlite3.Connection, path: Path) -> None:
         application, version = _header(connection, path)  # again, inside the transaction
         if application == APPLICATION_ID and version > SCHEMA_VERSION:
             raise OperationError(f"{path} is a library of a newer GMR Studio (schema version {version})")
-        if version != SCHEMA_VERSION:
+        if application == APPLICATION_ID and _migrates(version):
+            for step in range(version, SCHEMA_VERSION):
+                MIGRATIONS[step](connection)
+        elif version != SCHEMA_VERSION:
             folders = _old_folders(connection) if application == APPLICATION_ID else []
             for table in _tables(connection):
                 connection.execute(f'DROP TABLE "{table}"')
@@ -233,12 +246,34 @@ def _ensure_schema(connection: sqlite3.Connection, path: Path) -> None:
                 if statement.strip():
                     connection.execute(statement)
             connection.executemany("INSERT INTO folders(path) VALUES (?)", [(f,) for f in folders])
-            connection.execute(f"PRAGMA application_id = {APPLICATION_ID}")
-            connection.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
+        connection.execute(f"PRAGMA application_id = {APPLICATION_ID}")
+        connection.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
         connection.execute("COMMIT")
     except BaseException:
         connection.execute("ROLLBACK")
         raise
+
+
+def _migrates(version: int) -> bool:
+    """Whether a library of ``version`` can be brought to this version in place."""
+    return 0 < version < SCHEMA_VERSION and all(step in MIGRATIONS for step in range(version, SCHEMA_VERSION))
+
+
+def _indexes_end_in_the_path(connection: sqlite3.Connection) -> None:
+    """Version 1 to 2: the ``files`` table's indexes dropped and made as :data:`FILE_INDEXES`
+    (the rows are the same)."""
+    names = connection.execute(
+        "SELECT name FROM sqlite_master WHERE type = 'index' AND tbl_name = 'files' AND sql IS NOT NULL"
+    ).fetchall()
+    for (name,) in names:
+        connection.execute(f'DROP INDEX "{name}"')
+    for statement in _FILE_INDEXES_SQL.split(";"):
+        if statement.strip():
+            connection.execute(statement)
+
+
+#: version -> the function that takes a library of that version to the next, in place
+MIGRATIONS = {1: _indexes_end_in_the_path}
 
 
 def _old_folders(connection: sqlite3.Connection) -> list[str]:
