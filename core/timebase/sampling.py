@@ -21,18 +21,28 @@ comparisons (B on A's frames) and their offset search.
 
 from __future__ import annotations
 
+import functools
 import os
+from types import ModuleType
 
 import numpy as np
 
 from gmr_studio.core.timebase.clock import frames_within
 
-try:  # the compiled slerp is optional, as the FK engine's kernels are
+
+@functools.cache
+def compiled_kernels() -> ModuleType | None:
+    """:mod:`core.timebase._kernels`, or None without numba (optional, as the FK engine's
+    kernels are). Loaded when first needed, so that what only reads a constant of this
+    module (a command's ``--help``) does not load numba."""
     if os.environ.get("GMR_DISABLE_NUMBA") == "1":
-        raise ImportError("disabled by GMR_DISABLE_NUMBA=1")
-    from gmr_studio.core.timebase import _kernels
-except ImportError:  # pragma: no cover - depends on the environment
-    _kernels = None
+        return None
+    try:
+        from gmr_studio.core.timebase import _kernels
+    except ImportError:  # pragma: no cover - depends on the environment
+        return None
+    return _kernels
+
 
 #: a fractional frame this close to a whole number is that frame (rounding of ``k / rate``)
 WHOLE_FRAME_TOLERANCE = 1e-6
@@ -109,13 +119,14 @@ def _resample_inside(
         np.copyto(out, picked)
         return out
     low, high, weight = neighbours(at, n)
-    compiled = _kernels is not None and columns is None and values.dtype == np.float64 and values.ndim > 1
+    kernels = compiled_kernels()
+    compiled = kernels is not None and columns is None and values.dtype == np.float64 and values.ndim > 1
     if compiled and (out is None or out.flags.c_contiguous):
         if out is None:
             out = np.empty((len(at), *values.shape[1:]))
         rows = np.ascontiguousarray(values).reshape(n, -1)
         flat_out = out.reshape(len(at), -1)  # out is C-contiguous: a view
-        _kernels.lerp_rows(rows, low, high, weight, flat_out)
+        kernels.lerp_rows(rows, low, high, weight, flat_out)
         return out
     first, second = take(values, low, columns), take(values, high, columns)
     if out is None:
@@ -165,9 +176,10 @@ def interpolate_rotations(
         return interpolate(rotations, at, columns)
     if backend not in ("auto", "numba", "numpy"):
         raise ValueError(f"unknown backend {backend!r}: expected 'auto', 'numba' or 'numpy'")
-    if backend == "numba" and _kernels is None:
+    kernels = compiled_kernels()
+    if backend == "numba" and kernels is None:
         raise RuntimeError("the numba backend is not available: install the 'fast' extra (numba)")
-    if backend != "numpy" and _kernels is not None and rotations.shape[0] and rotations.dtype == np.float64:
+    if backend != "numpy" and kernels is not None and rotations.shape[0] and rotations.dtype == np.float64:
         return _slerp_compiled(rotations, at, columns)
     n_columns = rotations.shape[1] if columns is None else len(columns)
     out = np.empty((len(at), n_columns, 3, 3))
@@ -184,7 +196,7 @@ def _slerp_compiled(rotations: np.ndarray, at: np.ndarray, columns: np.ndarray |
     low, high, weight = neighbours(at, n)
     joints = np.arange(rotations.shape[1]) if columns is None else np.asarray(columns, dtype=np.int64)
     out = np.empty((len(at), joints.size, 3, 3))
-    _kernels.slerp_rows(np.ascontiguousarray(rotations), low, high, weight, joints, out)
+    compiled_kernels().slerp_rows(np.ascontiguousarray(rotations), low, high, weight, joints, out)
     inside = (at >= -WHOLE_FRAME_TOLERANCE) & (at <= n - 1 + WHOLE_FRAME_TOLERANCE)
     if not inside.all():
         out[~inside] = np.nan
