@@ -28,6 +28,8 @@ from __future__ import annotations
 
 import numba
 
+from gmr_studio.core.rotations.euler import ORTHONORMAL_TOLERANCE
+
 SWAP, SPLIT, JOIN, FOLD = 0, 1, 2, 3
 
 
@@ -74,16 +76,30 @@ def _times(a, v0, v1, v2):  # pragma: no cover - compiled
 
 
 @numba.njit(inline="always", boundscheck=False)
+def _gram(a):  # pragma: no cover - compiled
+    """The six distinct entries of ``a^T a`` (00, 01, 02, 11, 12, 22) of a 9-tuple."""
+    return (
+        (a[0] * a[0] + a[3] * a[3]) + a[6] * a[6],
+        (a[0] * a[1] + a[3] * a[4]) + a[6] * a[7],
+        (a[0] * a[2] + a[3] * a[5]) + a[6] * a[8],
+        (a[1] * a[1] + a[4] * a[4]) + a[7] * a[7],
+        (a[1] * a[2] + a[4] * a[5]) + a[7] * a[8],
+        (a[2] * a[2] + a[5] * a[5]) + a[8] * a[8],
+    )
+
+
+@numba.njit(inline="always", boundscheck=False)
 def _orthonormal(a):  # pragma: no cover - compiled
-    """core.rotations.orthonormalize of a 9-tuple: two steps ``R <- R (1.5 I - 0.5 R^T R)``
+    """core.rotations.orthonormalize of a 9-tuple: ``a`` itself when its Gram matrix is
+    within ``ORTHONORMAL_TOLERANCE`` of the identity, else two steps ``R <- R (1.5 I - 0.5 R^T R)``
     (the Gram matrix is symmetric: six of its products are computed, the same numbers)."""
-    for _ in range(2):
-        g00 = (a[0] * a[0] + a[3] * a[3]) + a[6] * a[6]
-        g01 = (a[0] * a[1] + a[3] * a[4]) + a[6] * a[7]
-        g02 = (a[0] * a[2] + a[3] * a[5]) + a[6] * a[8]
-        g11 = (a[1] * a[1] + a[4] * a[4]) + a[7] * a[7]
-        g12 = (a[1] * a[2] + a[4] * a[5]) + a[7] * a[8]
-        g22 = (a[2] * a[2] + a[5] * a[5]) + a[8] * a[8]
+    g00, g01, g02, g11, g12, g22 = _gram(a)
+    off = max(max(abs(g00 - 1.0), abs(g11 - 1.0)), max(abs(g22 - 1.0), max(abs(g01), max(abs(g02), abs(g12)))))
+    if off <= ORTHONORMAL_TOLERANCE:
+        return a
+    for step in range(2):
+        if step:
+            g00, g01, g02, g11, g12, g22 = _gram(a)
         f01, f02, f12 = 0.0 - 0.5 * g01, 0.0 - 0.5 * g02, 0.0 - 0.5 * g12
         a = _mul(a, (1.5 - 0.5 * g00, f01, f02, f01, 1.5 - 0.5 * g11, f12, f02, f12, 1.5 - 0.5 * g22))
     return a

@@ -188,18 +188,35 @@ def rotation_angle(matrices: np.ndarray) -> np.ndarray:
     return np.arctan2(0.5 * np.linalg.norm(skew, axis=-1), 0.5 * (trace - 1.0))
 
 
+#: the largest departure of ``R^T R`` from the identity (any entry) that
+#: :func:`orthonormalize` leaves as it is: far below any length or angle a motion holds,
+#: far above the rounding of a product of a few rotations
+ORTHONORMAL_TOLERANCE = 1e-13
+
+
 def orthonormalize(matrices: np.ndarray, iterations: int = 2) -> np.ndarray:
     """Nearly-orthonormal matrices made orthonormal to rounding: (..., 3, 3) -> (..., 3, 3).
 
     Newton-Schulz steps towards the polar factor, ``R <- R (3 I - R^T R) / 2``: the error
-    ``|R^T R - I|`` squares at each step, so two steps take 1e-7 to rounding level. Used
-    where a rotation is recomputed from others (join, split): without it, rounding errors in
-    ``R^T`` instead of ``R^-1`` double at every level of a chain of joins.
+    ``|R^T R - I|`` squares at each step, so two steps take 1e-7 to rounding level. A
+    matrix whose ``R^T R`` is within :data:`ORTHONORMAL_TOLERANCE` of the identity is
+    returned as it is (the steps would only move its last bits), so errors stay below that
+    bound however many edits follow. Used where a rotation is recomputed from others (join,
+    shift root): without it, rounding errors in ``R^T`` instead of ``R^-1`` double at every
+    swap of a chain of shifts.
     """
-    out = np.asarray(matrices, dtype=np.float64)
-    for _ in range(iterations):
-        gram = np.swapaxes(out, -1, -2) @ out
-        out = out @ (1.5 * np.eye(3) - 0.5 * gram)
+    out = np.array(matrices, dtype=np.float64)
+    gram = np.swapaxes(out, -1, -2) @ out
+    off = ~(np.abs(gram - np.eye(3)).max(axis=(-2, -1)) <= ORTHONORMAL_TOLERANCE)  # NaN: off
+    if not off.any():
+        return out
+    fixed = out[off]
+    step_gram = gram[off]
+    for step in range(iterations):
+        if step:
+            step_gram = np.swapaxes(fixed, -1, -2) @ fixed
+        fixed = fixed @ (1.5 * np.eye(3) - 0.5 * step_gram)
+    out[off] = fixed
     return out
 
 
