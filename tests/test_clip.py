@@ -41,6 +41,19 @@ def test_resample_to_a_divisor_rate_keeps_every_fourth_frame_exactly(walk):
     quarter.check_invariants()
 
 
+def test_a_rate_dividing_the_printed_one_takes_every_nth_frame_as_it_is(walk):
+    # 0.0083333 s is 120 Hz printed to 7 decimals: 60 and 40 Hz are every 2nd and 3rd frame,
+    # not slerps drifting off the frames by the rounding (0.4 frames after 100,000 frames)
+    for rate, every in ((60.0, 2), (40.0, 3), (120.0, 1)):
+        resampled = resample(walk, rate)
+        assert resampled.n_frames == (walk.n_frames - 1) // every + 1
+        np.testing.assert_array_equal(resampled.rotations, walk.rotations[::every])
+        np.testing.assert_array_equal(resampled.translations, walk.translations[::every])
+        assert resampled.frame_time == (walk.frame_time if every == 1 else 1 / rate)
+    long = resample_positions(100_000, walk.frame_time, 60.0)
+    np.testing.assert_array_equal(long, np.arange(0.0, 100_000.0, 2.0))
+
+
 def test_resample_between_frames_is_slerp_and_lerp_and_kept_times_are_exact(walk):
     clip = trim(walk, 0, 400).replace(frame_time=1 / 120)  # the file says 0.0083333 s
     rate = 50.0  # 120 Hz -> 50 Hz: new frame k at source frame 2.4 k, every 5th one a source frame

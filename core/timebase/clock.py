@@ -101,7 +101,8 @@ def nominal_rate(frame_time: float) -> float:
     (:data:`NTSC_RATES`: ``0.0333667`` is 29.97 Hz); the exact ``1 / frame_time`` when none is.
 
     The app's timeline and ``gmr info`` show this rate (with the exact one on hover or
-    beside it); every computation keeps the frame time as read."""
+    beside it); every computation keeps the frame time as read (but a rate that divides it
+    to within that rounding counts every n-th frame: :func:`frames_per_frame`)."""
     frame_time = float(frame_time)
     rounding = frame_time_rounding(frame_time)
     low, high = 1.0 / (frame_time + rounding), 1.0 / max(frame_time - rounding, 1e-300)
@@ -120,6 +121,24 @@ def rate_text(frame_time: float) -> str:
     return f"{nominal_rate(frame_time):.6g}"
 
 
+def counting_rounding(frame_time: float) -> float:
+    """How far a frame time is taken to be off when its frames are counted on another clock
+    (seconds): its printed rounding (:func:`frame_time_rounding`), at most
+    :data:`FRAME_TIME_ROUNDING`."""
+    return min(frame_time_rounding(frame_time), FRAME_TIME_ROUNDING)
+
+
+def frames_per_frame(frame_time: float, rate: float) -> int | None:
+    """The whole number ``n`` of frames of ``frame_time`` s in one frame of a clock at
+    ``rate`` Hz, when ``rate`` divides the frame rate to within :func:`counting_rounding`
+    (60 Hz of 0.0083333 s: 2, though 2.000008 as printed); None when it does not."""
+    step = 1.0 / (float(rate) * float(frame_time))
+    every = round(step)
+    if every >= 1 and abs(step - every) <= every * counting_rounding(frame_time) / float(frame_time):
+        return every
+    return None
+
+
 def frames_within(n_frames: int, frame_time: float, rate: float) -> int:
     """How many frames of a clock at ``rate`` Hz (frame ``k`` at ``k / rate`` s) fall within
     ``n_frames`` frames of ``frame_time``: from 0 s to the last frame, at
@@ -127,6 +146,5 @@ def frames_within(n_frames: int, frame_time: float, rate: float) -> int:
     frames of 0.033333 s end at 0.99999 s, 1 s as meant: at 15 Hz, 16 frames). ``rate`` > 0."""
     if n_frames <= 0:
         return 0
-    slack = min(frame_time_rounding(frame_time), FRAME_TIME_ROUNDING)
-    last = (n_frames - 1) * (float(frame_time) + slack)
+    last = (n_frames - 1) * (float(frame_time) + counting_rounding(frame_time))
     return int(np.floor(last * float(rate) + _FLOAT_SLACK)) + 1

@@ -8,7 +8,11 @@ comparisons (B on A's frames) and their offset search.
   of ``frame_time`` s: its frame ``k`` at ``k / rate`` s is the source's fractional frame
   ``k / (rate * frame_time)``, up to the source's last frame give or take the rounding of a
   printed frame time (:func:`core.timebase.clock.frames_within`). A fractional frame within
-  :data:`WHOLE_FRAME_TOLERANCE` of a whole one is that frame.
+  :data:`WHOLE_FRAME_TOLERANCE` of a whole one is that frame. A rate that divides the
+  source's to within the rounding of its printed frame time (60 Hz of a 0.0083333 s take:
+  2.000008 source frames a frame) takes every n-th source frame: ``k n`` exactly, not a
+  fraction drifting off the frames by the printed digits' rounding
+  (:func:`core.timebase.clock.frames_per_frame`).
 - **The interpolator**: positions (any values) linearly (:func:`interpolate`), rotations
   along the geodesic between the two neighbouring frames (:func:`interpolate_rotations`:
   quaternion slerp, computed on the matrices). Where a sample falls on a source frame, the
@@ -27,7 +31,7 @@ from types import ModuleType
 
 import numpy as np
 
-from gmr_studio.core.timebase.clock import frames_within
+from gmr_studio.core.timebase.clock import frames_per_frame, frames_within
 
 
 @functools.cache
@@ -62,7 +66,11 @@ def resample_grid(n_frames: int, frame_time: float, rate: float) -> np.ndarray:
         raise ValueError(f"the frame rate must be a positive number, not {rate}")
     if n_frames <= 0:
         return np.zeros(0)
-    at = np.arange(frames_within(n_frames, frame_time, rate)) / (rate * frame_time)
+    count = frames_within(n_frames, frame_time, rate)
+    every = frames_per_frame(frame_time, rate)
+    if every is not None:
+        return every * np.arange(min(count, (n_frames - 1) // every + 1), dtype=np.float64)
+    at = np.arange(count) / (rate * frame_time)
     nearest = np.rint(at)
     return np.minimum(np.where(np.abs(at - nearest) <= WHOLE_FRAME_TOLERANCE, nearest, at), n_frames - 1)
 
