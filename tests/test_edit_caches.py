@@ -1,11 +1,12 @@
 """An edit's world transforms follow from the document's: the same as computing them afresh.
 
-Trim keeps some frames, scale multiplies every world position, up axis turns the world and
-mirror reflects it (swapping left and right joints); shift root, split and join keep every
-world position. The app hands the document's kinematics, so moved, to the result instead of
-running forward kinematics again: on random rigs, the demo and a real file, what it holds
-equals the result's own forward kinematics to 1e-9 of the size. The compiled pass that moves
-them gives the numpy reference's numbers exactly.
+Trim keeps some frames (and resampling to a rate that divides the motion's every n-th),
+scale multiplies every world position, up axis turns the world and mirror reflects it
+(swapping left and right joints); shift root, split and join keep every world position. The
+app hands the document's kinematics, so moved, to the result instead of running forward
+kinematics again: on random rigs, the demo and a real file, what it holds equals the
+result's own forward kinematics to 1e-9 of the size. The compiled pass that moves them gives
+the numpy reference's numbers exactly.
 """
 
 from __future__ import annotations
@@ -18,13 +19,14 @@ import pytest
 from gmr_studio.app.model import commands
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.core.demo import demo_motion
-from gmr_studio.core.edits.clip import trim_edit
+from gmr_studio.core.edits.clip import resample_edit, trim_edit
 from gmr_studio.core.edits.mirror import mirror_edit
 from gmr_studio.core.edits.world import change_up_axis_edit, scale_lengths_edit
 from gmr_studio.core.formats import load_gmr
 from gmr_studio.core.kinematics import engine
 from gmr_studio.core.kinematics.fk import forward_kinematics
 from gmr_studio.core.model.motion import Motion
+from gmr_studio.core.timebase.clock import rate_text
 from tests.conftest import random_motion, shared_path
 
 #: a small two-sided rig: hips, two legs of two joints and a chest
@@ -52,6 +54,7 @@ def test_trim_scale_up_axis_and_mirror_hand_over_the_results_kinematics(seed):
     rng = np.random.default_rng(seed)
     motion = sided_rig(rng)
     assert_follows(motion, trim_edit(motion, 2, 5))
+    assert_follows(motion, resample_edit(motion, motion.frame_rate / 3))
     assert_follows(motion, scale_lengths_edit(motion, 0.01))
     assert_follows(motion, change_up_axis_edit(motion, "z", "y"))
     assert_follows(motion, change_up_axis_edit(motion, "y", "z"))
@@ -110,6 +113,7 @@ def edits_of(motion: Motion) -> dict[str, object]:
     n = motion.n_frames
     return {
         "trim": lambda s: commands.trim_to_range(s, n // 4, 3 * n // 4),
+        "resample": lambda s: commands.resample_to(s, 0.5 * rate_text_value(s)),
         "scale": lambda s: commands.scale_by(s, 0.01),
         "up axis": lambda s: commands.up_axis_to(s, "z"),
         "mirror": commands.mirror_left_right,
@@ -129,7 +133,12 @@ def document(request, qapp) -> StudioState:
     return state
 
 
-@pytest.mark.parametrize("edit", ["trim", "scale", "up axis", "mirror", "shift root"])
+def rate_text_value(state: StudioState) -> float:
+    """The document's rate as the app shows it (120 for CMU's printed 0.0083333 s)."""
+    return float(rate_text(state.motion.frame_time))
+
+
+@pytest.mark.parametrize("edit", ["trim", "resample", "scale", "up axis", "mirror", "shift root"])
 def test_an_edits_cache_is_its_results_forward_kinematics(document, edit):
     before = document.snapshot
     assert edits_of(before.motion)[edit](document)

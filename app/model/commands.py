@@ -17,7 +17,7 @@ from PyQt6.QtGui import QUndoCommand
 
 from gmr_studio.app.crash import report_unexpected
 from gmr_studio.app.model.state import Snapshot, StudioState
-from gmr_studio.core.edits.clip import resample, trim_edit
+from gmr_studio.core.edits.clip import resample_edit, trim_edit
 from gmr_studio.core.edits.dummies import find_dummies, remove_dummies_edit
 from gmr_studio.core.edits.edited import Edited
 from gmr_studio.core.edits.mirror import mirror_edit, mirror_pairs, pairs_text
@@ -164,8 +164,9 @@ def trim_to_range(state: StudioState, start: int, stop: int) -> bool:
 
 
 def resample_to(state: StudioState, rate: float) -> bool:
-    """Resample to ``rate`` frames per second (:func:`core.edits.clip.resample`)."""
-    return run_edit(state, f"Resample to {rate:g} Hz", lambda m: resample(m, rate))
+    """Resample to ``rate`` frames per second (:func:`core.edits.clip.resample`); the cache
+    keeps the document's rows of every n-th frame when the rate divides its own."""
+    return run_edit(state, f"Resample to {rate:g} Hz", lambda m: resample_edit(m, rate))
 
 
 def mirror_left_right(state: StudioState) -> bool:

@@ -56,14 +56,28 @@ def resample(motion: Motion, rate: float) -> Motion:
     """The motion at ``rate`` frames per second (see the module docstring): rotations by
     slerp, translations linearly, source frames copied exactly where a new frame falls on one;
     the motion itself when every new frame falls on the source frame of its number."""
+    return resample_edit(motion, rate).motion
+
+
+def resample_edit(motion: Motion, rate: float) -> Edited:
+    """:func:`resample`; when the new frames are every n-th source frame (a rate that
+    divides the motion's), the result's world transforms are the input's of those frames;
+    else they are to be computed (``Edited.frames`` None)."""
     if not np.isfinite(rate) or rate <= 0:
         raise OperationError(f"the frame rate must be a positive number, not {rate}")
     at = resample_grid(motion.n_frames, motion.frame_time, rate)
     if motion.n_frames >= 2 and np.array_equal(at, np.arange(motion.n_frames)):
-        return motion  # every new frame is a source frame: the rate is the motion's own
-    return motion.replace(
+        return Edited.same_joints(motion)  # every new frame is a source frame: the rate is the motion's own
+    result = motion.replace(
         rotations=interpolate_rotations(motion.rotations, at),
         translations=interpolate(motion.translations, at),
         frame_time=1.0 / rate,
         comments=(*motion.comments, f"resampled from {motion.frame_rate:.12g} Hz to {rate:.12g} Hz"),
     )
+    step = int(at[1] - at[0]) if at.size > 1 else 1
+    whole = at.size and np.array_equal(at, np.rint(at))
+    if whole and step >= 1 and np.array_equal(at, at[0] + step * np.arange(at.size)):
+        first = int(at[0])
+        return Edited.same_joints(result, rows=(first, first + step * (at.size - 1) + 1, step))
+    every = np.arange(motion.n_joints)
+    return Edited(result, every, None)

@@ -33,7 +33,8 @@ class Edited:
     frames : (J',) int64, the joint of the input whose world rotation each joint of the
         result has (shift root hands the frames along its path), or None when they are not
         the input's (a post-rotation input converted first).
-    rows : (first, stop), the input's frames the result keeps (trim), or None for all.
+    rows : (first, stop) or (first, stop, step), the input's frames the result keeps (trim;
+        a resample taking every n-th frame), or None for all.
     turn : (3, 3) the orthogonal matrix the world is turned or reflected by (up axis,
         mirror), or None for none.
     scale : the factor of every length (scale).
@@ -44,7 +45,7 @@ class Edited:
     motion: Motion
     joints: np.ndarray
     frames: np.ndarray | None
-    rows: tuple[int, int] | None = None
+    rows: tuple[int, ...] | None = None
     turn: np.ndarray | None = None
     scale: float = 1.0
     shift: np.ndarray | None = None
@@ -82,7 +83,15 @@ class Edited:
         """The result's part of the input's ``array``: ``array`` itself when every joint,
         frame and axis stays, else :func:`core.kinematics.engine.turned_joints`."""
         every = joints.size == array.shape[1] and np.array_equal(joints, np.arange(joints.size))
-        rows = self.rows if self.rows is not None and self.rows != (0, array.shape[0]) else None
+        rows = (
+            self.rows
+            if self.rows is not None and tuple(self.rows) not in ((0, array.shape[0]), (0, array.shape[0], 1))
+            else None
+        )
+        if rows is not None and len(rows) == 3 and rows[2] != 1:
+            array, rows = array[slice(*rows)], None  # every n-th frame: a view, copied below
+            if every and turn is None and not moved:
+                return array.copy()
         if every and rows is None and turn is None and not moved:
             return array
         if every and turn is None and not moved:
