@@ -10,7 +10,7 @@ import pytest
 
 from gmr_studio.core.cli import main
 from gmr_studio.core.formats import read_motion_with_channels
-from gmr_studio.core.timebase.clock import frame_time_rounding, nominal_rate, rate_text
+from gmr_studio.core.timebase.clock import frame_time_rounding, frames_per_frame, nominal_rate, rate_text
 from tests.conftest import shared_files
 
 
@@ -52,6 +52,23 @@ def test_the_rounding_is_half_a_unit_of_the_last_printed_decimal():
     assert frame_time_rounding(0.04) == pytest.approx(5e-3)
     # a time computed in full precision keeps single precision's rounding (glTF stores floats)
     assert frame_time_rounding(1 / 24) == pytest.approx(1e-6 / 24)
+
+
+@pytest.mark.parametrize(
+    ("frame_time", "rate", "every"),
+    [
+        (0.0083333, 60.0, 2),  # 120 Hz printed to 7 decimals: 2.000008 frames, two as meant
+        (0.0083333, 40.0, 3),
+        (0.0083333, 120.0, 1),
+        (0.008333, 30.0, 4),  # to 6 decimals: 4.0002 frames, within the rounding
+        (0.0083333, 100.0, None),  # 1.2 frames: no whole number
+        (0.03333, 15.0, None),  # 30.003 Hz: 2.0002 frames, beyond the rounding counted
+        (1 / 30, 15.0 * (1 + 1e-5), None),  # an exact float time: beyond its 32-bit rounding
+        (0.01, 1000.0, None),  # upsampling: a tenth of a frame
+    ],
+)
+def test_a_rate_divides_a_frame_time_to_within_its_rounding(frame_time, rate, every):
+    assert frames_per_frame(frame_time, rate) == every
 
 
 def test_rate_text_is_the_nominal_rate_without_trailing_zeros():

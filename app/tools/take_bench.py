@@ -2,8 +2,11 @@
 frames, 38 joints) edited, cached, opened and checked, each figure beside its yardstick.
 
 Every row is timed in the same rounds as its yardstick, interleaved (round after round:
-the yardsticks, then each row once), and keeps its best round: the load of other jobs on
-the machine then falls on both sides alike. Wall time and the process's CPU time (every
+the yardsticks, then each row twice in a row), and keeps its best call: the load of other
+jobs on the machine then falls on both sides alike, and each side's second call gets
+memory freed a moment before, as a copy in a loop does (a virtual machine that hands freed
+memory back to its host makes the first touch of memory freed seconds ago several times
+slower: the first call meets that, the second the program's own cost). Wall time and the process's CPU time (every
 thread, and of it the system's: page faults of new arrays, mostly) are both given; the
 ratio of the best wall times is the one the goals speak of.
 
@@ -44,7 +47,7 @@ MB = 1e6
 
 class Rounds:
     """Named calls timed round after round; the best wall seconds of each, and the CPU
-    seconds (every thread; of which in the system: page faults, mostly) of that round."""
+    seconds (every thread; of which in the system: page faults, mostly) of that call."""
 
     def __init__(self) -> None:
         self.calls: dict[str, Callable[[], object]] = {}
@@ -54,18 +57,20 @@ class Rounds:
         self.calls[name] = call
         self.times[name] = []
 
-    def run(self, rounds: int, log: Callable[[str], None]) -> None:
+    def run(self, rounds: int, log: Callable[[str], None], repeats: int = 2) -> None:
+        """``rounds`` rounds, each calling every call ``repeats`` times in a row."""
         for round_ in range(rounds):
             for name, call in self.calls.items():
-                start, before = time.perf_counter(), resource.getrusage(resource.RUSAGE_SELF)
-                call()
-                wall, after = time.perf_counter() - start, resource.getrusage(resource.RUSAGE_SELF)
-                system = after.ru_stime - before.ru_stime
-                self.times[name].append((wall, after.ru_utime - before.ru_utime + system, system))
+                for _ in range(repeats):
+                    start, before = time.perf_counter(), resource.getrusage(resource.RUSAGE_SELF)
+                    call()
+                    wall, after = time.perf_counter() - start, resource.getrusage(resource.RUSAGE_SELF)
+                    system = after.ru_stime - before.ru_stime
+                    self.times[name].append((wall, after.ru_utime - before.ru_utime + system, system))
             log(f"  round {round_ + 1} of {rounds} done ({_load()})")
 
     def best(self, name: str) -> tuple[float, float, float]:
-        """(wall, CPU, system) seconds of the round with the least wall time."""
+        """(wall, CPU, system) seconds of the call with the least wall time."""
         return min(self.times[name])
 
     def line(self, name: str) -> str:
@@ -165,7 +170,7 @@ def bench_take(n_frames: int, rounds: int, log: Callable[[str], None] = print, o
     log(f"timing in {rounds} rounds ...")
     timed.run(rounds, log)
     copy_r, copy_p, fk = (timed.best(name)[0] for name in ("copy R", "copy P", "FK 1"))
-    print(f"\nyardsticks (best of {rounds} rounds; wall s, CPU s of every thread):")
+    print(f"\nyardsticks (best of {rounds} rounds of two calls in a row; wall s, CPU s of every thread):")
     for name, what in (
         ("copy R", f"one copy of the rotations (F, J, 3, 3), {motion.rotations.nbytes / MB:.0f} MB"),
         ("copy P", f"one copy of the FK output (F, J, 3), {positions.nbytes / MB:.0f} MB"),
@@ -263,7 +268,7 @@ def bench_open(n_frames: int, rounds: int, log: Callable[[str], None] = print) -
         timed.run(rounds, log)
         close_bench_window(window, scratch)
     parse = timed.best("parse")[0]
-    print(f"\nopening (best of {rounds} rounds; x parse: numpy.loadtxt of the frame lines, gmr bench's figure):")
+    print(f"\nopening (best of {rounds} rounds of two calls; x parse: numpy.loadtxt of the frame lines, gmr bench's figure):")
     print(f"  {'numpy.loadtxt of the frame lines (yardstick)':<58} {timed.line('parse')}")
     for name, label in (
         ("read", "read the file (core.formats, BVH as written)"),
