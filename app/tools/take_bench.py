@@ -185,7 +185,10 @@ def bench_take(n_frames: int, rounds: int, log: Callable[[str], None] = print, o
     for name, *_ in rows:
         _row(timed, f"{name}: core", f"{name}: core", copy_r, "copy R", 1.5)
         _row(timed, f"{name}: app", f"{name}: app edit + undo", copy_r, "copy R", 2.0)
-    print("\nmemory of one app edit (tracemalloc peak; allowed: the new motion and its cache):")
+    print(
+        "\nmemory of one app edit (tracemalloc peak: the new arrays it writes, also as copies of R, "
+        "which bound its time from below; allowed: the new motion and its cache):"
+    )
     for name, source, _core, command in rows:
         state = states[source]
         peak = peak_memory(lambda state=state, command=command: command(state))
@@ -198,7 +201,8 @@ def bench_take(n_frames: int, rounds: int, log: Callable[[str], None] = print, o
         swap = (time.perf_counter() - start) / 2
         verdict = "within" if peak <= allowed + MB else "over"  # a megabyte for the small arrays
         print(
-            f"  {name:<32} peak {peak / MB:7.0f} MB of {allowed / MB:5.0f} MB allowed ({verdict}); "
+            f"  {name:<32} peak {peak / MB:5.0f} MB ({peak / motion.rotations.nbytes:4.2f} x R) of "
+            f"{allowed / MB:4.0f} MB allowed ({verdict}); "
             f"undo/redo {1000 * swap:.2f} ms"
         )
     _history(states["take"], history_bytes, motion, log)
@@ -268,7 +272,7 @@ def bench_open(n_frames: int, rounds: int, log: Callable[[str], None] = print) -
         timed.run(rounds, log)
         close_bench_window(window, scratch)
     parse = timed.best("parse")[0]
-    print(f"\nopening (best of {rounds} rounds of two calls; x parse: numpy.loadtxt of the frame lines, gmr bench's figure):")
+    print(f"\nopening (best of {rounds} rounds of two calls; x parse: numpy.loadtxt of the frame lines):")
     print(f"  {'numpy.loadtxt of the frame lines (yardstick)':<58} {timed.line('parse')}")
     for name, label in (
         ("read", "read the file (core.formats, BVH as written)"),
