@@ -11,7 +11,16 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from gmr_studio.core.checks.context import FILE_UNITS, CheckData, joint_runs, merge_runs, runs
-from gmr_studio.core.checks.passes import largest_steps, middles, second_differences, step_angles, step_cosines
+from gmr_studio.core.checks.passes import (
+    block_counts_at_most,
+    cosines_below,
+    largest_steps,
+    medians_and_deviations,
+    middles,
+    second_differences,
+    step_angles,
+    step_cosines,
+)
 from gmr_studio.core.kinematics.engine import have_numba
 from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.space.units import UNITS
@@ -136,3 +145,37 @@ def test_the_compiled_passes_agree_with_numpy(rng):
         for got, expected in zip(compiled, reference, strict=True):
             np.testing.assert_allclose(got, expected, rtol=1e-14, atol=1e-14)
             assert np.array_equal(np.isnan(got), np.isnan(expected))
+
+
+@pytest.mark.skipif(not have_numba(), reason="numba is not installed")
+def test_the_compiled_selections_agree_with_numpy(rng):
+    """The steps below a cosine, the medians and their deviations, the counts per block:
+    the same from the kernels as from numpy (selections; the cosines to rounding, as above)."""
+    rotations = Rotation.random(600, random_state=4).as_matrix().reshape(100, 6, 3, 3)
+    rotations[40:60, 2] = rotations[40, 2]  # held still: cosine 1
+    rotations[7, 1] = np.nan
+    for joints, limit in ((None, 0.2), ([5, 0, 3], -0.5), (None, 2.0), (None, -2.0)):
+        got, expected = (
+            cosines_below(rotations, joints, limit),
+            cosines_below(rotations, joints, limit, backend="numpy"),
+        )
+        np.testing.assert_array_equal(got[0], expected[0])
+        np.testing.assert_allclose(got[1], expected[1], rtol=1e-14, atol=1e-14)  # sums of 9 products
+    many = Rotation.random(6000, random_state=5).as_matrix().reshape(1000, 6, 3, 3)
+    np.testing.assert_array_equal(cosines_below(many, None, 2.0)[0], np.arange(999 * 6))  # beyond the first guess
+    values = np.round(rng.normal(size=(1001, 5)), 1)  # many ties
+    values[:, 4] = 3.0  # all equal
+    for step in (1, 2, 5, 1001, 2000):
+        for n in (1001, 1000, 2):
+            got, expected = (
+                medians_and_deviations(values[:n], step),
+                medians_and_deviations(values[:n], step, backend="numpy"),
+            )
+            np.testing.assert_array_equal(got[0], expected[0])
+            np.testing.assert_array_equal(got[1], expected[1])
+    values[3, 1], values[4, 2] = np.nan, np.inf  # left to numpy: NaN, and NaN from |inf - inf|
+    for got, expected in zip(medians_and_deviations(values), medians_and_deviations(values, backend="numpy")):
+        np.testing.assert_array_equal(got, expected)
+    for block, limit in ((24, 0.0), (10, -0.5), (7, np.inf), (1000, 0.1), (2000, 0.0)):
+        got = block_counts_at_most(values, block, limit)
+        np.testing.assert_array_equal(got, block_counts_at_most(values, block, limit, backend="numpy"))

@@ -53,6 +53,21 @@ def largest_steps(positions, joints, out):  # pragma: no cover - compiled
         out[f] = largest
 
 
+@numba.njit(inline="always", boundscheck=False)
+def _step_cosine(rotations, f, j):  # pragma: no cover - compiled
+    """The cosine of the angle of ``R_f^T R_{f+1}`` of joint j, clipped to [-1, 1]."""
+    total = 0.0
+    for a in range(3):
+        for b in range(3):
+            total += rotations[f + 1, j, a, b] * rotations[f, j, a, b]
+    cos = 0.5 * (total - 1.0)
+    if cos < -1.0:
+        return -1.0
+    if cos > 1.0:
+        return 1.0
+    return cos
+
+
 @numba.njit(nogil=True, cache=True, boundscheck=False)
 def step_cosines(rotations, joints, out):  # pragma: no cover - compiled
     """rotations (F, J, 3, 3) -> out (F-1, K): the cosine of the angle of ``R_f^T R_{f+1}``
@@ -60,14 +75,107 @@ def step_cosines(rotations, joints, out):  # pragma: no cover - compiled
     products, clipped to [-1, 1] (NaN stays NaN)."""
     for f in range(rotations.shape[0] - 1):
         for k in range(joints.shape[0]):
-            j = joints[k]
-            total = 0.0
-            for a in range(3):
-                for b in range(3):
-                    total += rotations[f + 1, j, a, b] * rotations[f, j, a, b]
-            cos = 0.5 * (total - 1.0)
-            if cos < -1.0:
-                cos = -1.0
-            elif cos > 1.0:
-                cos = 1.0
-            out[f, k] = cos
+            out[f, k] = _step_cosine(rotations, f, joints[k])
+
+
+@numba.njit(nogil=True, cache=True, boundscheck=False)
+def counts_at_most(values, block, limit, out):  # pragma: no cover - compiled
+    """values (N, J) -> out (B, J): how many of each block of ``block`` rows (block b: rows
+    ``b * block ..``) are at most ``limit`` (NaN is not)."""
+    n_blocks, n_columns = out.shape
+    for b in range(n_blocks):
+        for j in range(n_columns):
+            out[b, j] = 0
+        for r in range(b * block, (b + 1) * block):
+            for j in range(n_columns):
+                if values[r, j] <= limit:
+                    out[b, j] += 1
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _select(buffer, n, k):  # pragma: no cover - compiled
+    """Reorder buffer[:n] so that buffer[k] is its k-th smallest value, the values before it
+    no larger and those after it no smaller (NaN-free values)."""
+    lo, hi = 0, n - 1
+    while hi > lo:
+        middle = (lo + hi) // 2
+        a, b, c = buffer[lo], buffer[middle], buffer[hi]
+        pivot = max(min(a, b), min(max(a, b), c))  # the median of three
+        i, j = lo, hi
+        while i <= j:
+            while buffer[i] < pivot:
+                i += 1
+            while buffer[j] > pivot:
+                j -= 1
+            if i <= j:
+                buffer[i], buffer[j] = buffer[j], buffer[i]
+                i += 1
+                j -= 1
+        if k <= j:
+            hi = j
+        elif k >= i:
+            lo = i
+        else:
+            return
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _median(buffer, n):  # pragma: no cover - compiled
+    """The median of buffer[:n] as numpy's: the middle value, or the mean ``(a + b) / 2`` of
+    the two middle ones (buffer reordered)."""
+    half = n // 2
+    _select(buffer, n, half)
+    upper = buffer[half]
+    if n % 2:
+        return upper
+    lower = buffer[0]
+    for i in range(1, half):
+        if buffer[i] > lower:
+            lower = buffer[i]
+    return (lower + upper) / 2.0
+
+
+@numba.njit(nogil=True, cache=True, boundscheck=False)
+def medians_and_deviations(values, step, medians, deviations):  # pragma: no cover - compiled
+    """values (N, J) -> medians (J,), deviations (J,): of each column of ``values[::step]``
+    its median and the median of its absolute deviations from it. Returns False, with the
+    outputs unset, when one of those values is NaN or infinite."""
+    n = (values.shape[0] + step - 1) // step
+    n_columns = values.shape[1]
+    if n == 0:
+        return False
+    buffer = np.empty((n_columns, n))
+    for i in range(n):
+        for j in range(n_columns):
+            value = values[i * step, j]
+            if not math.isfinite(value):
+                return False
+            buffer[j, i] = value
+    column = np.empty(n)
+    for j in range(n_columns):
+        column[:] = buffer[j]
+        middle = _median(column, n)
+        for i in range(n):
+            column[i] = abs(buffer[j, i] - middle)
+        medians[j] = middle
+        deviations[j] = _median(column, n)
+    return True
+
+
+@numba.njit(nogil=True, cache=True, boundscheck=False)
+def cosines_below(rotations, joints, limit, indices, cosines):  # pragma: no cover - compiled
+    """The steps of :func:`step_cosines` whose cosine is below ``limit``: their flat indices
+    ``f * K + k`` in order into indices and their cosines into cosines, as far as those hold
+    (K = joints.size). Returns how many there are."""
+    n_joints = joints.shape[0]
+    count = 0
+    capacity = indices.shape[0]
+    for f in range(rotations.shape[0] - 1):
+        for k in range(n_joints):
+            cos = _step_cosine(rotations, f, joints[k])
+            if cos < limit:
+                if count < capacity:
+                    indices[count] = f * n_joints + k
+                    cosines[count] = cos
+                count += 1
+    return count

@@ -5,7 +5,11 @@
 - :func:`largest_steps`: the largest squared step of any joint from frame to frame (frozen
   and duplicate frames, :mod:`core.checks.frames`);
 - :func:`step_cosines`: the cosine of the angle of ``R_f^T R_{f+1}`` of every joint (flips,
-  :mod:`core.checks.joints`).
+  :mod:`core.checks.joints`), and :func:`cosines_below`: only the steps whose cosine is
+  below a limit, without the (F-1, K) array;
+- :func:`medians_and_deviations`: each column's median and median absolute deviation
+  (pops' robust level), and :func:`block_counts_at_most`: per block of rows, how many are
+  at most a limit (jitter: a block's median is at most a value when more than half are).
 
 With numba installed each is a compiled kernel (:mod:`core.checks._kernels`) that writes only
 its result; without it (or with ``backend='numpy'``) numpy computes the same (the reference;
@@ -84,3 +88,49 @@ def step_cosines(rotations: np.ndarray, joints: np.ndarray | None = None, *, bac
 def step_angles(rotations: np.ndarray, joints: np.ndarray | None = None, *, backend: str = "auto") -> np.ndarray:
     """(F-1, K): the angles in degrees of :func:`step_cosines`."""
     return np.degrees(np.arccos(step_cosines(rotations, joints, backend=backend)))
+
+
+def cosines_below(
+    rotations: np.ndarray, joints: np.ndarray | None, limit: float, *, backend: str = "auto"
+) -> tuple[np.ndarray, np.ndarray]:
+    """The steps whose :func:`step_cosines` is below ``limit``: (N,) int64 flat indices
+    ``f * K + k`` into the (F-1, K) cosines, in order, and (N,) their cosines (NaN is not below)."""
+    every = np.arange(rotations.shape[1]) if joints is None else np.asarray(joints, dtype=np.int64)
+    if _compiled(backend, rotations):
+        rotations = np.ascontiguousarray(rotations)
+        indices, cosines = np.empty(4096, np.int64), np.empty(4096)
+        count = _kernels.cosines_below(rotations, every, limit, indices, cosines)
+        if count > indices.size:  # more than the first guess: again with room for all
+            indices, cosines = np.empty(count, np.int64), np.empty(count)
+            _kernels.cosines_below(rotations, every, limit, indices, cosines)
+        return indices[:count], cosines[:count]
+    cosines = step_cosines(rotations, every, backend="numpy")
+    indices = np.flatnonzero(cosines < limit)
+    return indices, cosines.flat[indices]
+
+
+def medians_and_deviations(
+    values: np.ndarray, step: int = 1, *, backend: str = "auto"
+) -> tuple[np.ndarray, np.ndarray]:
+    """Of each column of ``values[::step]`` (N, J): its median and the median of its absolute
+    deviations from that median, two (J,) arrays (``numpy.median``'s: NaN where a column has a
+    NaN; the kernel selects, and leaves values that are not finite to numpy)."""
+    if _compiled(backend, values) and values.shape[0]:
+        medians, deviations = np.empty(values.shape[1]), np.empty(values.shape[1])
+        if _kernels.medians_and_deviations(np.ascontiguousarray(values), step, medians, deviations):
+            return medians, deviations
+    columns = np.ascontiguousarray(values[::step].T)
+    medians = np.median(columns, axis=1)
+    return medians, np.median(np.abs(columns - medians[:, None]), axis=1)
+
+
+def block_counts_at_most(values: np.ndarray, block: int, limit: float, *, backend: str = "auto") -> np.ndarray:
+    """(B, J) int64: how many of each block of ``block`` rows of values (N, J) are at most
+    ``limit`` (B = N // block, the rows after the last whole block left out; NaN is not)."""
+    n_blocks = values.shape[0] // block
+    if _compiled(backend, values):
+        out = np.empty((n_blocks, values.shape[1]), np.int64)
+        _kernels.counts_at_most(np.ascontiguousarray(values), block, limit, out)
+        return out
+    blocks = values[: n_blocks * block].reshape(n_blocks, block, values.shape[1])
+    return np.count_nonzero(blocks <= limit, axis=1)

@@ -36,12 +36,15 @@ The finding covers the frames on both sides of the jump, ``f .. f+1``.
 
 from __future__ import annotations
 
+import math
+import struct
 import warnings
 
 import numpy as np
 
 from gmr_studio.core.checks.context import CheckData, joint_runs, merge_runs
 from gmr_studio.core.checks.model import CheckSettings, Finding, severity_levels
+from gmr_studio.core.checks.passes import block_counts_at_most, medians_and_deviations
 
 #: 1.4826 * MAD estimates a normal standard deviation
 MAD_SCALE = 1.4826
@@ -57,16 +60,15 @@ MIN_BLOCK = 10
 def robust_level(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Per column median and 1.4826 MAD of (N, J) values: two (J,) arrays (of every k-th
     row when there are more than :data:`ROBUST_SAMPLES`)."""
-    step = -(-values.shape[0] // ROBUST_SAMPLES)
-    columns = np.ascontiguousarray(values[::step].T)
-    if np.isnan(columns).any():  # markers' gaps: NaN, and a column without a value gives NaN
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            median = np.nanmedian(columns, axis=1)
-            spread = np.nanmedian(np.abs(columns - median[:, None]), axis=1)
-        return median, MAD_SCALE * spread
-    median = np.median(columns, axis=1)
-    spread = np.median(np.abs(columns - median[:, None]), axis=1)
+    step = max(1, -(-values.shape[0] // ROBUST_SAMPLES))
+    median, spread = medians_and_deviations(values, step)
+    if np.isnan(median).any() or np.isnan(spread).any():
+        columns = np.ascontiguousarray(values[::step].T)
+        if np.isnan(columns).any():  # markers' gaps: NaN, and a column without a value gives NaN
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                median = np.nanmedian(columns, axis=1)
+                spread = np.nanmedian(np.abs(columns - median[:, None]), axis=1)
     return median, MAD_SCALE * spread
 
 
@@ -102,6 +104,55 @@ def pop(data: CheckData, settings: CheckSettings) -> list[Finding]:
     return findings
 
 
+def block_noise(medians: np.ndarray) -> np.ndarray:
+    """The noise of blocks from the medians of their products: ``sqrt(max(0, -1.3349 m))``."""
+    return np.sqrt(np.maximum(0.0, -NOISE_FROM_MEDIAN * medians))
+
+
+def noisiest_product(limit: float) -> float:
+    """The largest product whose :func:`block_noise` reaches ``limit`` (-inf, or NaN when
+    none does): as the noise falls while the median rises, a block's noise reaches the
+    limit exactly when its median is at most this, that is when more than half of its
+    products are. Found by bisection over the float64 numbers in their order."""
+
+    def reaches(key: int) -> bool:
+        with np.errstate(over="ignore"):
+            return bool(block_noise(np.float64(_float_of(key))) >= limit)
+
+    low, high = _key_of(-math.inf), _key_of(math.inf)
+    if not reaches(low):
+        return math.nan
+    if reaches(high):
+        return math.inf
+    while high - low > 1:  # reaches(low), not reaches(high)
+        middle = (low + high) // 2
+        low, high = (middle, high) if reaches(middle) else (low, middle)
+    return _float_of(low)
+
+
+def _key_of(value: float) -> int:
+    """An integer that orders float64 numbers as their values (NaN aside; -0 as +0)."""
+    bits = struct.unpack("<q", struct.pack("<d", value))[0]
+    return bits if bits >= 0 else -(bits & 0x7FFF_FFFF_FFFF_FFFF)
+
+
+def _float_of(key: int) -> float:
+    bits = key if key >= 0 else -key | -0x8000_0000_0000_0000
+    return struct.unpack("<d", struct.pack("<q", bits))[0]
+
+
+def jittery_blocks(products: np.ndarray, block: int, limit: float, *, backend: str = "auto") -> np.ndarray:
+    """(B, J) bool: the blocks of ``block`` rows of products (N, J) (B = N // block) whose
+    :func:`block_noise` of the median reaches ``limit``. Counted against
+    :func:`noisiest_product` (the median itself found by numpy with ``backend='numpy'``)."""
+    middle = block // 2
+    if backend == "numpy":
+        n_blocks = products.shape[0] // block
+        blocks = products[: n_blocks * block].reshape(n_blocks, block, products.shape[1])
+        return block_noise(np.partition(blocks, middle, axis=1)[:, middle]) >= limit
+    return block_counts_at_most(products, block, noisiest_product(limit), backend=backend) > middle
+
+
 def jitter(data: CheckData, settings: CheckSettings) -> list[Finding]:
     block = max(MIN_BLOCK, round(settings.jitter_window / data.frame_time))
     n_blocks = (data.n_frames - 3) // block
@@ -109,9 +160,7 @@ def jitter(data: CheckData, settings: CheckSettings) -> list[Finding]:
         return []
     products = data.middle_products[: n_blocks * block]  # row i: frames i..i+3
     blocks = products.reshape(n_blocks, block, -1)
-    middle = block // 2
-    noise = np.sqrt(np.maximum(0.0, -NOISE_FROM_MEDIAN * np.partition(blocks, middle, axis=1)[:, middle]))  # (B, J)
-    jittery = noise >= settings.jitter_limits[0] * data.size
+    jittery = jittery_blocks(products, block, settings.jitter_limits[0] * data.size)  # (B, J)
     found = joint_runs(jittery)
     runs_of = {int(k): merge_runs(found[found[:, 0] == k, 1:], 1) for k in np.unique(found[:, 0])}
     groups: list[dict] = []  # a jittery joint, the jittery joints below it, their block range
