@@ -13,7 +13,9 @@ from scipy.spatial.transform import Rotation
 from gmr_studio.core.checks.context import FILE_UNITS, CheckData, joint_runs, merge_runs, runs
 from gmr_studio.core.checks.passes import (
     block_counts_at_most,
+    column_medians,
     cosines_below,
+    joint_coordinates,
     largest_steps,
     medians_and_deviations,
     middles,
@@ -176,6 +178,16 @@ def test_the_compiled_selections_agree_with_numpy(rng):
     values[3, 1], values[4, 2] = np.nan, np.inf  # left to numpy: NaN, and NaN from |inf - inf|
     for got, expected in zip(medians_and_deviations(values), medians_and_deviations(values, backend="numpy")):
         np.testing.assert_array_equal(got, expected)
+    np.testing.assert_array_equal(column_medians(values[:, :2]), np.median(values[:, :2], axis=0))
+    np.testing.assert_array_equal(column_medians(values), np.median(values, axis=0))  # NaN: numpy's
     for block, limit in ((24, 0.0), (10, -0.5), (7, np.inf), (1000, 0.1), (2000, 0.0)):
         got = block_counts_at_most(values, block, limit)
         np.testing.assert_array_equal(got, block_counts_at_most(values, block, limit, backend="numpy"))
+
+
+def test_joint_coordinates_are_the_positions_of_those_joints(rng):
+    positions = rng.normal(size=(40, 6, 3))
+    for backend in ("numpy", "numba") if have_numba() else ("numpy",):
+        coordinates = joint_coordinates(positions[3:], [5, 0, 2], backend=backend)
+        assert coordinates.shape == (3, 3, 37) and coordinates.flags.c_contiguous
+        np.testing.assert_array_equal(coordinates.transpose(2, 1, 0), positions[3:, [5, 0, 2]])

@@ -138,8 +138,9 @@ def _median(buffer, n):  # pragma: no cover - compiled
 @numba.njit(nogil=True, cache=True, boundscheck=False)
 def medians_and_deviations(values, step, medians, deviations):  # pragma: no cover - compiled
     """values (N, J) -> medians (J,), deviations (J,): of each column of ``values[::step]``
-    its median and the median of its absolute deviations from it. Returns False, with the
-    outputs unset, when one of those values is NaN or infinite."""
+    its median and (when deviations holds J values) the median of its absolute deviations
+    from it. Returns False, with the outputs unset, when one of those values is NaN or
+    infinite."""
     n = (values.shape[0] + step - 1) // step
     n_columns = values.shape[1]
     if n == 0:
@@ -155,10 +156,11 @@ def medians_and_deviations(values, step, medians, deviations):  # pragma: no cov
     for j in range(n_columns):
         column[:] = buffer[j]
         middle = _median(column, n)
-        for i in range(n):
-            column[i] = abs(buffer[j, i] - middle)
         medians[j] = middle
-        deviations[j] = _median(column, n)
+        if deviations.shape[0]:
+            for i in range(n):
+                column[i] = abs(buffer[j, i] - middle)
+            deviations[j] = _median(column, n)
     return True
 
 
@@ -179,3 +181,14 @@ def cosines_below(rotations, joints, limit, indices, cosines):  # pragma: no cov
                     cosines[count] = cos
                 count += 1
     return count
+
+
+@numba.njit(nogil=True, cache=True, boundscheck=False)
+def joint_coordinates(positions, joints, out):  # pragma: no cover - compiled
+    """positions (F, J, 3) -> out (3, K, F): each coordinate of the ``joints`` (K,)."""
+    for f in range(positions.shape[0]):
+        for k in range(joints.shape[0]):
+            j = joints[k]
+            out[0, k, f] = positions[f, j, 0]
+            out[1, k, f] = positions[f, j, 1]
+            out[2, k, f] = positions[f, j, 2]

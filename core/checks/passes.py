@@ -2,18 +2,20 @@
 
 - :func:`second_differences`: each joint's middle deviation ``|P_f - (P_{f-1} + P_{f+1}) / 2|``
   and the products of consecutive middles (pops and jitter, :mod:`core.checks.spikes`);
+- :func:`joint_coordinates`: the coordinates of some joints, taken out once (the feet);
 - :func:`largest_steps`: the largest squared step of any joint from frame to frame (frozen
   and duplicate frames, :mod:`core.checks.frames`);
 - :func:`step_cosines`: the cosine of the angle of ``R_f^T R_{f+1}`` of every joint (flips,
   :mod:`core.checks.joints`), and :func:`cosines_below`: only the steps whose cosine is
   below a limit, without the (F-1, K) array;
 - :func:`medians_and_deviations`: each column's median and median absolute deviation
-  (pops' robust level), and :func:`block_counts_at_most`: per block of rows, how many are
-  at most a limit (jitter: a block's median is at most a value when more than half are).
+  (pops' robust level; :func:`column_medians` the medians alone: feet that touch);
+- :func:`block_counts_at_most`: per block of rows, how many are at most a limit (jitter: a
+  block's median is at most a value when more than half are).
 
 With numba installed each is a compiled kernel (:mod:`core.checks._kernels`) that writes only
 its result; without it (or with ``backend='numpy'``) numpy computes the same (the reference;
-the two agree to rounding, tested).
+the two agree to rounding, tested; the selections, medians and counts exactly).
 """
 
 from __future__ import annotations
@@ -124,6 +126,15 @@ def medians_and_deviations(
     return medians, np.median(np.abs(columns - medians[:, None]), axis=1)
 
 
+def column_medians(values: np.ndarray, *, backend: str = "auto") -> np.ndarray:
+    """(J,): the median of each column of values (N, J), N > 0, ``numpy.median(values, axis=0)``."""
+    if _compiled(backend, values):
+        medians = np.empty(values.shape[1])
+        if _kernels.medians_and_deviations(np.ascontiguousarray(values), 1, medians, np.empty(0)):
+            return medians
+    return np.median(values, axis=0)
+
+
 def block_counts_at_most(values: np.ndarray, block: int, limit: float, *, backend: str = "auto") -> np.ndarray:
     """(B, J) int64: how many of each block of ``block`` rows of values (N, J) are at most
     ``limit`` (B = N // block, the rows after the last whole block left out; NaN is not)."""
@@ -134,3 +145,15 @@ def block_counts_at_most(values: np.ndarray, block: int, limit: float, *, backen
         return out
     blocks = values[: n_blocks * block].reshape(n_blocks, block, values.shape[1])
     return np.count_nonzero(blocks <= limit, axis=1)
+
+
+def joint_coordinates(positions: np.ndarray, joints: np.ndarray, *, backend: str = "auto") -> np.ndarray:
+    """(3, K, F): each coordinate of each of the ``joints`` (K,) over the frames of positions
+    (F, J, 3), contiguous (``.transpose(2, 1, 0)`` is ``positions[:, joints]``, laid out so
+    that operations along the frames read contiguous memory)."""
+    joints = np.asarray(joints, dtype=np.int64)
+    if _compiled(backend, positions):
+        out = np.empty((3, joints.size, positions.shape[0]))
+        _kernels.joint_coordinates(positions, joints, out)
+        return out
+    return np.ascontiguousarray(positions[:, joints].transpose(2, 1, 0))
