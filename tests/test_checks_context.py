@@ -15,10 +15,12 @@ from gmr_studio.core.checks.passes import (
     block_counts_at_most,
     column_medians,
     cosines_below,
+    flat_indices_above,
     joint_coordinates,
     largest_steps,
     medians_and_deviations,
     middles,
+    root_jumps,
     second_differences,
     step_angles,
     step_cosines,
@@ -191,3 +193,19 @@ def test_joint_coordinates_are_the_positions_of_those_joints(rng):
         coordinates = joint_coordinates(positions[3:], [5, 0, 2], backend=backend)
         assert coordinates.shape == (3, 3, 37) and coordinates.flags.c_contiguous
         np.testing.assert_array_equal(coordinates.transpose(2, 1, 0), positions[3:, [5, 0, 2]])
+
+
+@pytest.mark.skipif(not have_numba(), reason="numba is not installed")
+def test_candidates_and_root_jumps_are_numpys(rng):
+    """The values above their column's limit, in order (past the first guess of room), and the
+    roots' jumps and changes of velocity: the very numbers numpy gives."""
+    values = rng.normal(size=(3000, 4))
+    values[5, 1] = np.nan
+    for limits in ([0.0, 1.0, -np.inf, np.nan], [-10.0] * 4, [10.0] * 4):
+        np.testing.assert_array_equal(flat_indices_above(values, limits), np.flatnonzero(values > limits))
+    positions = rng.normal(size=(60, 5, 3)) * 100.0
+    positions[30, 2] = np.nan
+    for roots in ([0], [2, 4]):
+        for got, expected in zip(root_jumps(positions, roots), root_jumps(positions, roots, backend="numpy")):
+            np.testing.assert_array_equal(got, expected)
+    assert root_jumps(positions[:3], [0])[0].shape == (0, 1)

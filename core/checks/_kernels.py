@@ -192,3 +192,41 @@ def joint_coordinates(positions, joints, out):  # pragma: no cover - compiled
             out[0, k, f] = positions[f, j, 0]
             out[1, k, f] = positions[f, j, 1]
             out[2, k, f] = positions[f, j, 2]
+
+
+@numba.njit(nogil=True, cache=True, boundscheck=False)
+def above(values, limits, indices):  # pragma: no cover - compiled
+    """values (N, J), limits (J,): the flat indices ``n * J + j`` where ``values[n, j] >
+    limits[j]``, in order, into indices as far as it holds. Returns how many there are."""
+    n_columns = values.shape[1]
+    count = 0
+    capacity = indices.shape[0]
+    for n in range(values.shape[0]):
+        for j in range(n_columns):
+            if values[n, j] > limits[j]:
+                if count < capacity:
+                    indices[count] = n * n_columns + j
+                count += 1
+    return count
+
+
+@numba.njit(nogil=True, cache=True, boundscheck=False)
+def root_jumps(positions, roots, jumps, changes):  # pragma: no cover - compiled
+    """positions (F, J, 3) -> jumps, changes (F-3, R) of the ``roots`` (R,): with steps
+    ``V_f = P_{f+1} - P_f``, ``|V_{f+1} - (V_f + V_{f+2}) / 2|`` and ``|V_{f+2} - V_f|``,
+    each formed as numpy forms them (``0.5 * (a + b)``; lengths ``sqrt((x² + y²) + z²)``)."""
+    for f in range(positions.shape[0] - 3):
+        for r in range(roots.shape[0]):
+            j = roots[r]
+            jump = 0.0
+            change = 0.0
+            for a in range(3):
+                v0 = positions[f + 1, j, a] - positions[f, j, a]
+                v1 = positions[f + 2, j, a] - positions[f + 1, j, a]
+                v2 = positions[f + 3, j, a] - positions[f + 2, j, a]
+                d = v1 - 0.5 * (v0 + v2)
+                c = v2 - v0
+                jump = jump + d * d if a else d * d
+                change = change + c * c if a else c * c
+            jumps[f, r] = math.sqrt(jump)
+            changes[f, r] = math.sqrt(change)

@@ -11,7 +11,9 @@
 - :func:`medians_and_deviations`: each column's median and median absolute deviation
   (pops' robust level; :func:`column_medians` the medians alone: feet that touch);
 - :func:`block_counts_at_most`: per block of rows, how many are at most a limit (jitter: a
-  block's median is at most a value when more than half are).
+  block's median is at most a value when more than half are);
+- :func:`flat_indices_above`: where values exceed their column's limit (pops' candidates);
+- :func:`root_jumps`: the roots' jumps beyond their own velocity (teleports).
 
 With numba installed each is a compiled kernel (:mod:`core.checks._kernels`) that writes only
 its result; without it (or with ``backend='numpy'``) numpy computes the same (the reference;
@@ -157,3 +159,33 @@ def joint_coordinates(positions: np.ndarray, joints: np.ndarray, *, backend: str
         _kernels.joint_coordinates(positions, joints, out)
         return out
     return np.ascontiguousarray(positions[:, joints].transpose(2, 1, 0))
+
+
+def flat_indices_above(values: np.ndarray, limits: np.ndarray, *, backend: str = "auto") -> np.ndarray:
+    """(N,) int64: the flat indices, in order, where values (F, J) exceed their column's limit
+    (J,): ``numpy.flatnonzero(values > limits)`` without the (F, J) mask."""
+    limits = np.asarray(limits, dtype=np.float64)
+    if _compiled(backend, values):
+        values = np.ascontiguousarray(values)
+        indices = np.empty(4096, np.int64)
+        count = _kernels.above(values, limits, indices)
+        if count > indices.size:  # more than the first guess: again with room for all
+            indices = np.empty(count, np.int64)
+            _kernels.above(values, limits, indices)
+        return indices[:count]
+    return np.flatnonzero(values > limits)
+
+
+def root_jumps(positions: np.ndarray, roots: list[int], *, backend: str = "auto") -> tuple[np.ndarray, np.ndarray]:
+    """(jumps, changes), two (F-3, R) arrays of the ``roots`` (R,) of positions (F, J, 3), F >= 4:
+    with steps ``V_f = P_{f+1} - P_f``, row i holds ``|V_{i+1} - (V_i + V_{i+2}) / 2|`` (the step
+    beyond the root's own velocity) and ``|V_{i+2} - V_i|`` (the change of velocity across it)."""
+    roots = np.asarray(roots, dtype=np.int64)
+    if _compiled(backend, positions):
+        jumps = np.empty((positions.shape[0] - 3, roots.size))
+        changes = np.empty((positions.shape[0] - 3, roots.size))
+        _kernels.root_jumps(positions, roots, jumps, changes)
+        return jumps, changes
+    v = np.diff(positions[:, roots], axis=0)  # (F-1, R, 3): step f -> f+1
+    jumps = np.linalg.norm(v[1:-1] - 0.5 * (v[:-2] + v[2:]), axis=-1)
+    return jumps, np.linalg.norm(v[2:] - v[:-2], axis=-1)

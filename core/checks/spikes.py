@@ -44,7 +44,7 @@ import numpy as np
 
 from gmr_studio.core.checks.context import CheckData, joint_runs, merge_runs
 from gmr_studio.core.checks.model import CheckSettings, Finding, severity_levels
-from gmr_studio.core.checks.passes import block_counts_at_most, medians_and_deviations
+from gmr_studio.core.checks.passes import block_counts_at_most, flat_indices_above, medians_and_deviations, root_jumps
 
 #: 1.4826 * MAD estimates a normal standard deviation
 MAD_SCALE = 1.4826
@@ -79,10 +79,9 @@ def pop(data: CheckData, settings: CheckSettings) -> list[Finding]:
     e = data.deviations  # (F-2, J)
     median, spread = robust_level(e)
     threshold = np.maximum(median + settings.pop_mad * spread, settings.pop_limits[0] * data.size)
-    candidate = e > threshold
-    if not candidate.any():
+    frames, joints = np.divmod(flat_indices_above(e, threshold), e.shape[1])  # e > threshold
+    if not frames.size:
         return []
-    frames, joints = np.nonzero(candidate)
     span = np.linalg.norm(p[frames + 2, joints] - p[frames, joints], axis=-1)
     last = e.shape[0] - 1
     before = np.where(frames > 0, e[np.maximum(frames - 1, 0), joints], 0.0)  # 0 beyond the ends
@@ -199,9 +198,7 @@ def teleport(data: CheckData, settings: CheckSettings) -> list[Finding]:
     if data.n_frames < 4:
         return []
     roots = figure_roots(data)
-    v = np.diff(data.positions[:, roots], axis=0)  # (F-1, R, 3): step f -> f+1
-    jump = np.linalg.norm(v[1:-1] - 0.5 * (v[:-2] + v[2:]), axis=-1)  # (F-3, R), step i+1
-    change = np.linalg.norm(v[2:] - v[:-2], axis=-1)
+    jump, change = root_jumps(data.positions, roots)  # (F-3, R), step i+1
     teleporting = (jump >= settings.teleport_limits[0] * data.size) & (jump >= 2.0 * change)
     findings = []
     for k, start, stop in joint_runs(teleporting):
