@@ -177,6 +177,12 @@ def test_the_compiled_selections_agree_with_numpy(rng):
             )
             np.testing.assert_array_equal(got[0], expected[0])
             np.testing.assert_array_equal(got[1], expected[1])
+    close = 0.3 + np.spacing(0.3) * np.arange(6)  # values that differ in their last bits
+    near = rng.choice(np.concatenate([close, -close, [0.0, 1e300, -1e-300]]), size=(1001, 3))
+    for n in (1001, 1000, 17, 16, 3, 1):
+        got, expected = medians_and_deviations(near[:n]), medians_and_deviations(near[:n], backend="numpy")
+        np.testing.assert_array_equal(got[0], expected[0])
+        np.testing.assert_array_equal(got[1], expected[1])
     values[3, 1], values[4, 2] = np.nan, np.inf  # left to numpy: NaN, and NaN from |inf - inf|
     for got, expected in zip(medians_and_deviations(values), medians_and_deviations(values, backend="numpy")):
         np.testing.assert_array_equal(got, expected)

@@ -92,47 +92,81 @@ def counts_at_most(values, block, limit, out):  # pragma: no cover - compiled
                     out[b, j] += 1
 
 
-@numba.njit(inline="always", boundscheck=False)
-def _select(buffer, n, k):  # pragma: no cover - compiled
-    """Reorder buffer[:n] so that buffer[k] is its k-th smallest value, the values before it
-    no larger and those after it no smaller (NaN-free values)."""
-    lo, hi = 0, n - 1
-    while hi > lo:
-        middle = (lo + hi) // 2
-        a, b, c = buffer[lo], buffer[middle], buffer[hi]
-        pivot = max(min(a, b), min(max(a, b), c))  # the median of three
-        i, j = lo, hi
-        while i <= j:
-            while buffer[i] < pivot:
-                i += 1
-            while buffer[j] > pivot:
-                j -= 1
-            if i <= j:
-                buffer[i], buffer[j] = buffer[j], buffer[i]
-                i += 1
-                j -= 1
-        if k <= j:
-            hi = j
-        elif k >= i:
-            lo = i
-        else:
-            return
+#: the bits of a float64 other than its sign
+_MAGNITUDE = 0x7FFF_FFFF_FFFF_FFFF
+#: a radix digit: 12 bits, the first the sign and exponent
+_DIGIT_BITS = 12
+_DIGITS = 1 << _DIGIT_BITS
 
 
 @numba.njit(inline="always", boundscheck=False)
-def _median(buffer, n):  # pragma: no cover - compiled
-    """The median of buffer[:n] as numpy's: the middle value, or the mean ``(a + b) / 2`` of
-    the two middle ones (buffer reordered)."""
-    half = n // 2
-    _select(buffer, n, half)
-    upper = buffer[half]
+def _keys(values, n, keys):  # pragma: no cover - compiled
+    """keys[:n]: int64 numbers in the order of the finite float64 values[:n] (-0 before +0)."""
+    bits = values[:n].view(np.int64)
+    for i in range(n):
+        b = bits[i]
+        keys[i] = b if b >= 0 else b ^ _MAGNITUDE
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _value(key):  # pragma: no cover - compiled
+    """The float64 of a key of :func:`_keys`."""
+    bits = np.empty(1, np.int64)
+    bits[0] = key if key >= 0 else key ^ _MAGNITUDE
+    return bits.view(np.float64)[0]
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _digit(key, shift):  # pragma: no cover - compiled
+    if shift == 64 - _DIGIT_BITS:
+        return (key >> shift) + _DIGITS // 2  # the top digit, signed
+    return (key >> shift) & (_DIGITS - 1)
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _select(keys, n, rank, scratch, counts):  # pragma: no cover - compiled
+    """The key of rank ``rank`` (0: the smallest) among keys[:n], by radix: the digits from the
+    top, keeping the keys of the digit that holds the rank (scratch, counts: work space)."""
+    source = keys
+    m = n
+    shift = 64 - _DIGIT_BITS
+    while shift >= 0 and m > 16:  # shifts 52, 40, 28, 16, 4, then 0 (bits 4 to 11 again)
+        counts[:] = 0
+        for i in range(m):
+            counts[_digit(source[i], shift)] += 1
+        digit, below = 0, 0
+        while below + counts[digit] <= rank:
+            below += counts[digit]
+            digit += 1
+        rank -= below
+        if counts[digit] < m:  # keep those with that digit (in place once in scratch)
+            kept = 0
+            for i in range(m):
+                if _digit(source[i], shift) == digit:
+                    scratch[kept] = source[i]
+                    kept += 1
+            source, m = scratch, kept
+        shift = -1 if shift == 0 else max(shift - _DIGIT_BITS, 0)
+    if shift < 0:  # every digit the same: the keys left are equal
+        return source[0]
+    for i in range(1, m):  # a few left: sort them
+        key, j = source[i], i - 1
+        while j >= 0 and source[j] > key:
+            source[j + 1] = source[j]
+            j -= 1
+        source[j + 1] = key
+    return source[rank]
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _median(values, n, keys, scratch, counts):  # pragma: no cover - compiled
+    """The median of the finite values[:n] as numpy's: the middle value, or the mean
+    ``(a + b) / 2`` of the two middle ones."""
+    _keys(values, n, keys)
+    upper = _value(_select(keys, n, n // 2, scratch, counts))
     if n % 2:
         return upper
-    lower = buffer[0]
-    for i in range(1, half):
-        if buffer[i] > lower:
-            lower = buffer[i]
-    return (lower + upper) / 2.0
+    return (_value(_select(keys, n, n // 2 - 1, scratch, counts)) + upper) / 2.0
 
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)
@@ -153,14 +187,14 @@ def medians_and_deviations(values, step, medians, deviations):  # pragma: no cov
                 return False
             buffer[j, i] = value
     column = np.empty(n)
+    keys, scratch, counts = np.empty(n, np.int64), np.empty(n, np.int64), np.empty(_DIGITS, np.int64)
     for j in range(n_columns):
-        column[:] = buffer[j]
-        middle = _median(column, n)
+        middle = _median(buffer[j], n, keys, scratch, counts)
         medians[j] = middle
         if deviations.shape[0]:
             for i in range(n):
                 column[i] = abs(buffer[j, i] - middle)
-            deviations[j] = _median(column, n)
+            deviations[j] = _median(column, n, keys, scratch, counts)
     return True
 
 
