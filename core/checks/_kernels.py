@@ -124,9 +124,11 @@ def _digit(key, shift):  # pragma: no cover - compiled
 
 
 @numba.njit(inline="always", boundscheck=False)
-def _select(keys, n, rank, scratch, counts):  # pragma: no cover - compiled
-    """The key of rank ``rank`` (0: the smallest) among keys[:n], by radix: the digits from the
-    top, keeping the keys of the digit that holds the rank (scratch, counts: work space)."""
+def _select(keys, n, rank, pair, scratch, counts):  # pragma: no cover - compiled
+    """The keys of ranks ``rank`` and, when ``pair``, ``rank + 1`` (else ``rank`` again) among
+    keys[:n] (0: the smallest), by radix: the digits from the top, keeping the keys of the
+    digit that holds the ranks; ranks in two digits are the largest key of the one and the
+    smallest of the next (scratch, counts: work space)."""
     source = keys
     m = n
     shift = 64 - _DIGIT_BITS
@@ -139,6 +141,19 @@ def _select(keys, n, rank, scratch, counts):  # pragma: no cover - compiled
             below += counts[digit]
             digit += 1
         rank -= below
+        if pair and rank + 1 == counts[digit]:  # the next rank in the next digit that has keys
+            following = digit + 1
+            while counts[following] == 0:
+                following += 1
+            low, high = source[0], source[0]
+            found_low, found_high = False, False
+            for i in range(m):
+                d = _digit(source[i], shift)
+                if d == digit and (not found_low or source[i] > low):
+                    low, found_low = source[i], True
+                elif d == following and (not found_high or source[i] < high):
+                    high, found_high = source[i], True
+            return low, high
         if counts[digit] < m:  # keep those with that digit (in place once in scratch)
             kept = 0
             for i in range(m):
@@ -148,14 +163,14 @@ def _select(keys, n, rank, scratch, counts):  # pragma: no cover - compiled
             source, m = scratch, kept
         shift = -1 if shift == 0 else max(shift - _DIGIT_BITS, 0)
     if shift < 0:  # every digit the same: the keys left are equal
-        return source[0]
+        return source[0], source[0]
     for i in range(1, m):  # a few left: sort them
         key, j = source[i], i - 1
         while j >= 0 and source[j] > key:
             source[j + 1] = source[j]
             j -= 1
         source[j + 1] = key
-    return source[rank]
+    return source[rank], source[rank + 1] if pair else source[rank]
 
 
 @numba.njit(inline="always", boundscheck=False)
@@ -163,10 +178,10 @@ def _median(values, n, keys, scratch, counts):  # pragma: no cover - compiled
     """The median of the finite values[:n] as numpy's: the middle value, or the mean
     ``(a + b) / 2`` of the two middle ones."""
     _keys(values, n, keys)
-    upper = _value(_select(keys, n, n // 2, scratch, counts))
     if n % 2:
-        return upper
-    return (_value(_select(keys, n, n // 2 - 1, scratch, counts)) + upper) / 2.0
+        return _value(_select(keys, n, n // 2, False, scratch, counts)[0])
+    lower, upper = _select(keys, n, n // 2 - 1, True, scratch, counts)
+    return (_value(lower) + _value(upper)) / 2.0
 
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)
