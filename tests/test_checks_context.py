@@ -22,6 +22,7 @@ from gmr_studio.core.checks.passes import (
     middles,
     root_jumps,
     second_differences,
+    skate_windows,
     step_angles,
     step_cosines,
 )
@@ -215,3 +216,22 @@ def test_candidates_and_root_jumps_are_numpys(rng):
         for got, expected in zip(root_jumps(positions, roots), root_jumps(positions, roots, backend="numpy")):
             np.testing.assert_array_equal(got, expected)
     assert root_jumps(positions[:3], [0])[0].shape == (0, 1)
+
+
+@pytest.mark.skipif(not have_numba(), reason="numba is not installed")
+def test_the_skate_windows_are_numpys(rng):
+    """Feet planted in runs, moving a little or more, a gap: the steps covered by sliding
+    windows and the stillest steps, the same from the kernel as from numpy, for windows of
+    1 to 5 frames and groups of one to three joints."""
+    x, y = rng.normal(size=(2, 3, 200)).cumsum(axis=2) * 0.1
+    x[1, 50] = np.nan
+    planted = np.repeat(rng.random((40, 3)) < 0.7, 5, axis=0)  # (F, K) in runs of 5 frames
+    for w in (1, 3, 5):
+        for group in ([0], [2, 1], [0, 1, 2]):
+            for limit in (0.0, 0.05, 0.3):
+                got = skate_windows(x, y, planted, group, w, limit)
+                expected = skate_windows(x, y, planted, group, w, limit, backend="numpy")
+                np.testing.assert_array_equal(got[0], expected[0])
+                np.testing.assert_array_equal(got[1], expected[1])
+    covered, stillest = skate_windows(x[:, :2], y[:, :2], planted[:2], [0], 1, 0.0)
+    assert covered.shape == stillest.shape == (1,)

@@ -279,3 +279,45 @@ def root_jumps(positions, roots, jumps, changes):  # pragma: no cover - compiled
                 change = change + c * c if a else c * c
             jumps[f, r] = math.sqrt(jump)
             changes[f, r] = math.sqrt(change)
+
+
+@numba.njit(nogil=True, cache=True, boundscheck=False)
+def skate_windows(x, y, planted, group, w, limit, covered, stillest):  # pragma: no cover - compiled
+    """x, y, planted (K, F) of the foot joints; of the joints ``group`` (G,): covered (F-1,)
+    the steps in some window ``f .. f+w`` that slides (every joint of the group planted
+    throughout it moved more than ``limit``, and one is), stillest (F-1,) the smallest step
+    of the joints planted at both ends of it (inf: none; NaN as ``numpy.min`` passes it on)."""
+    n = x.shape[1]
+    held = np.zeros(group.shape[0], np.int64)  # frames planted in a row, up to frame e
+    last = -n  # the last window that slid
+    for e in range(n):
+        for i in range(group.shape[0]):
+            held[i] = held[i] + 1 if planted[group[i], e] else 0
+        if e >= 1:
+            s = e - 1
+            least = np.inf
+            for i in range(group.shape[0]):
+                k = group[i]
+                if planted[k, s] and planted[k, e] and not math.isnan(least):
+                    dx = x[k, e] - x[k, s]
+                    dy = y[k, e] - y[k, s]
+                    step = math.sqrt(dx * dx + dy * dy)
+                    if math.isnan(step) or step < least:
+                        least = step
+            stillest[s] = least
+        f = e - w
+        if f >= 0:
+            slides, inside = True, False
+            for i in range(group.shape[0]):
+                if held[i] >= w + 1:
+                    inside = True
+                    k = group[i]
+                    dx = x[k, e] - x[k, f]
+                    dy = y[k, e] - y[k, f]
+                    if not math.sqrt(dx * dx + dy * dy) > limit:
+                        slides = False
+            if slides and inside:
+                last = f
+            covered[f] = last > f - w
+    for s in range(max(n - w, 0), n - 1):  # the steps after the last window's start
+        covered[s] = last > s - w

@@ -44,7 +44,7 @@ import numpy as np
 from gmr_studio.core.analysis.contacts import foot_contacts, foot_joints
 from gmr_studio.core.checks.context import CheckData, joint_runs, merge_runs, runs
 from gmr_studio.core.checks.model import CheckSettings, Finding, severity_levels
-from gmr_studio.core.checks.passes import column_medians, joint_coordinates
+from gmr_studio.core.checks.passes import column_medians, joint_coordinates, skate_windows
 
 #: a touching joint's contact level: this quantile of its heights over its planted frames
 LEVEL_QUANTILE = 0.1
@@ -98,24 +98,17 @@ def foot_skate(data: CheckData, settings: CheckSettings) -> list[Finding]:
         return []
     across = [a for a in range(3) if a != data.up]
     coordinates = _foot_coordinates(data)  # (3, K, F)
-    x, y = coordinates[across[0]].T, coordinates[across[1]].T  # (F, K) horizontal coordinates
+    x, y = coordinates[across[0]], coordinates[across[1]]  # (K, F) horizontal coordinates
     heights = coordinates[data.up].T - coordinates[data.up].T.min(axis=0)
     planted = contacts.planted & (heights < settings.skate_height * data.size)
     w = max(1, min(round(SKATE_WINDOW_SECONDS / data.frame_time), data.n_frames - 1))
     speed = settings.skate_speed * data.size * data.frame_time  # per frame
-    count = np.concatenate([np.zeros((1, planted.shape[1]), np.int64), np.cumsum(planted, axis=0)])
-    throughout = count[w + 1 :] - count[: -w - 1] == w + 1  # (F-w, K): planted over f..f+w
-    moved = _length(x[w:] - x[:-w], y[w:] - y[:-w])  # (F-w, K)
     both = planted[1:] & planted[:-1]
-    steps = _length(np.diff(x, axis=0), np.diff(y, axis=0))  # (F-1, K)
     findings = []
     touching = _touching(data, contacts, settings)
     for whole in foot_groups(data.motion.parents, list(contacts.joints)):
         group = [k for k in whole if touching[k]]
-        window = np.where(throughout[:, group], moved[:, group], np.inf).min(axis=1) > w * speed
-        window &= throughout[:, group].any(axis=1)
-        covered = np.convolve(window.astype(np.int64), np.ones(w, np.int64))[: data.n_frames - 1] > 0
-        stillest = np.where(both[:, group], steps[:, group], np.inf).min(axis=1)  # (F-1,)
+        covered, stillest = skate_windows(x, y, planted, group, w, w * speed)  # (F-1,) each
         on_ground = np.isfinite(stillest)
         found = _split_off_ground(merge_runs(runs(covered), w), on_ground)
         # each run's first and last step where the stillest planted joint moves: frames a..b
@@ -123,7 +116,8 @@ def foot_skate(data: CheckData, settings: CheckSettings) -> list[Finding]:
         lo, hi = np.searchsorted(moving, found[:, 0]), np.searchsorted(moving, found[:, 1])
         a, b = moving[lo[hi > lo]], moving[hi[hi > lo] - 1] + 1
         ends = planted[a][:, group] & planted[b][:, group]  # (R, G) planted at both ends
-        slid = _length(x[b][:, group] - x[a][:, group], y[b][:, group] - y[a][:, group])  # (R, G)
+        dx, dy = (x[group][:, b] - x[group][:, a]).T, (y[group][:, b] - y[group][:, a]).T
+        slid = np.sqrt(dx * dx + dy * dy)  # (R, G) lengths, as numpy.linalg.norm sums them
         distances = np.where(ends, slid, np.inf).min(axis=1)
         for r in np.flatnonzero(~ends.any(axis=1)):  # none planted at both ends: the steps' sum
             steps_slid = stillest[a[r] : b[r]]
@@ -133,11 +127,6 @@ def foot_skate(data: CheckData, settings: CheckSettings) -> list[Finding]:
             joints = [int(contacts.joints[k]) for k in whole if both[a[r] : b[r], k].any()]
             findings.append(data.finding("foot-skate", joints, a[r], b[r], levels[r], distances[r], data.units))
     return findings
-
-
-def _length(dx: np.ndarray, dy: np.ndarray) -> np.ndarray:
-    """The lengths of the vectors (dx, dy), as ``numpy.linalg.norm`` sums their squares."""
-    return np.sqrt(dx * dx + dy * dy)
 
 
 def depths(data: CheckData, settings: CheckSettings) -> tuple[np.ndarray, np.ndarray]:

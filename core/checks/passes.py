@@ -13,7 +13,9 @@
 - :func:`block_counts_at_most`: per block of rows, how many are at most a limit (jitter: a
   block's median is at most a value when more than half are);
 - :func:`flat_indices_above`: where values exceed their column's limit (pops' candidates);
-- :func:`root_jumps`: the roots' jumps beyond their own velocity (teleports).
+- :func:`root_jumps`: the roots' jumps beyond their own velocity (teleports);
+- :func:`skate_windows`: the steps of a foot in windows that slide, and its stillest steps
+  (foot skate, :mod:`core.checks.feet`).
 
 With numba installed each is a compiled kernel (:mod:`core.checks._kernels`) that writes only
 its result; without it (or with ``backend='numpy'``) numpy computes the same (the reference;
@@ -189,3 +191,35 @@ def root_jumps(positions: np.ndarray, roots: list[int], *, backend: str = "auto"
     v = np.diff(positions[:, roots], axis=0)  # (F-1, R, 3): step f -> f+1
     jumps = np.linalg.norm(v[1:-1] - 0.5 * (v[:-2] + v[2:]), axis=-1)
     return jumps, np.linalg.norm(v[2:] - v[:-2], axis=-1)
+
+
+def skate_windows(
+    x: np.ndarray, y: np.ndarray, planted: np.ndarray, group: list[int], w: int, limit: float, *, backend: str = "auto"
+) -> tuple[np.ndarray, np.ndarray]:
+    """Of the foot joints ``group`` with horizontal coordinates x, y (K, F) and planted (F, K),
+    F > w >= 1: (covered, stillest), (F-1,) each. ``covered``: the steps inside some window
+    of frames ``f .. f+w`` that slides (the group's joints planted throughout it all moved
+    more than ``limit`` from f to f+w, and there is one); ``stillest``: the shortest step of
+    the group's joints planted at both its ends (inf where none is; NaN passed on)."""
+    group = np.asarray(group, dtype=np.int64)
+    n = x.shape[1]
+    if _compiled(backend, x):
+        covered, stillest = np.empty(n - 1, bool), np.empty(n - 1)
+        rows = np.ascontiguousarray(planted.T)
+        _kernels.skate_windows(
+            np.ascontiguousarray(x), np.ascontiguousarray(y), rows, group, w, limit, covered, stillest
+        )
+        return covered, stillest
+    xs, ys, held = x[group].T, y[group].T, planted[:, group]  # (F, G)
+    count = np.concatenate([np.zeros((1, group.size), np.int64), np.cumsum(held, axis=0)])
+    throughout = count[w + 1 :] - count[: -w - 1] == w + 1  # (F-w, G): planted over f..f+w
+    moved = _length(xs[w:] - xs[:-w], ys[w:] - ys[:-w])  # (F-w, G)
+    window = (np.where(throughout, moved, np.inf).min(axis=1) > limit) & throughout.any(axis=1)
+    covered = np.convolve(window.astype(np.int64), np.ones(w, np.int64))[: n - 1] > 0
+    steps = _length(np.diff(xs, axis=0), np.diff(ys, axis=0))  # (F-1, G)
+    return covered, np.where(held[1:] & held[:-1], steps, np.inf).min(axis=1)
+
+
+def _length(dx: np.ndarray, dy: np.ndarray) -> np.ndarray:
+    """The lengths of the vectors (dx, dy), as ``numpy.linalg.norm`` sums their squares."""
+    return np.sqrt(dx * dx + dy * dy)
