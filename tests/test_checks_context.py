@@ -15,6 +15,7 @@ from gmr_studio.core.checks.passes import (
     block_counts_at_most,
     column_medians,
     cosines_below,
+    deviations_and_block_counts,
     flat_indices_above,
     joint_coordinates,
     largest_steps,
@@ -192,6 +193,14 @@ def test_the_compiled_selections_agree_with_numpy(rng):
     for block, limit in ((24, 0.0), (10, -0.5), (7, np.inf), (1000, 0.1), (2000, 0.0)):
         got = block_counts_at_most(values, block, limit)
         np.testing.assert_array_equal(got, block_counts_at_most(values, block, limit, backend="numpy"))
+    positions = rng.normal(size=(100, 4, 3))
+    positions[30, 1] = np.nan
+    deviations, products = second_differences(positions)
+    for block, limit in ((10, 0.0), (7, -0.5), (97, 0.1), (98, 0.0)):  # products not kept, counted
+        got = deviations_and_block_counts(positions, block, limit)
+        np.testing.assert_array_equal(got[0], deviations)
+        np.testing.assert_array_equal(got[1], block_counts_at_most(products, block, limit))
+        np.testing.assert_array_equal(got[1], deviations_and_block_counts(positions, block, limit, backend="numpy")[1])
 
 
 def test_joint_coordinates_are_the_positions_of_those_joints(rng):

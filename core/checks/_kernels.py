@@ -17,19 +17,31 @@ import numpy as np
 
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)
-def second_differences(positions, deviations, products):  # pragma: no cover - compiled
+def second_differences(positions, deviations, products, block, limit, counts):  # pragma: no cover - compiled
     """positions (F, J, 3) -> deviations (F-2, J): the length of each middle ``m_f = P_f -
-    (P_{f-1} + P_{f+1}) / 2`` (frames 1..F-2), and products (F-3, J): ``m_f . m_{f+1}``."""
+    (P_{f-1} + P_{f+1}) / 2`` (frames 1..F-2), and the products ``m_f . m_{f+1}`` (row i:
+    frames i..i+3): into products (F-3, J) unless it is empty, and counted into counts
+    (B, J) unless it is empty: how many of each block of ``block`` rows are at most
+    ``limit`` (NaN is not)."""
     n_frames, n_joints = positions.shape[0], positions.shape[1]
+    keep, count = products.shape[0] > 0, counts.shape[0] > 0
+    if count:
+        counts[:] = 0
     previous = np.empty((n_joints, 3))
     for f in range(n_frames - 2):
+        b = (f - 1) // block if count else 0
+        counted = count and f > 0 and b < counts.shape[0]
         for j in range(n_joints):
             m0 = (positions[f, j, 0] + positions[f + 2, j, 0]) * -0.5 + positions[f + 1, j, 0]
             m1 = (positions[f, j, 1] + positions[f + 2, j, 1]) * -0.5 + positions[f + 1, j, 1]
             m2 = (positions[f, j, 2] + positions[f + 2, j, 2]) * -0.5 + positions[f + 1, j, 2]
             deviations[f, j] = math.sqrt((m0 * m0 + m1 * m1) + m2 * m2)
             if f > 0:
-                products[f - 1, j] = (previous[j, 0] * m0 + previous[j, 1] * m1) + previous[j, 2] * m2
+                product = (previous[j, 0] * m0 + previous[j, 1] * m1) + previous[j, 2] * m2
+                if keep:
+                    products[f - 1, j] = product
+                if counted and product <= limit:
+                    counts[b, j] += 1
             previous[j, 0] = m0
             previous[j, 1] = m1
             previous[j, 2] = m2

@@ -1,7 +1,8 @@
 """Per-frame statistics several checks read, each one pass over the motion.
 
 - :func:`second_differences`: each joint's middle deviation ``|P_f - (P_{f-1} + P_{f+1}) / 2|``
-  and the products of consecutive middles (pops and jitter, :mod:`core.checks.spikes`);
+  and the products of consecutive middles (pops and jitter, :mod:`core.checks.spikes`), or
+  (:func:`deviations_and_block_counts`) the deviations and jitter's counts of the products;
 - :func:`joint_coordinates`: the coordinates of some joints, taken out once (the feet);
 - :func:`largest_steps`: the largest squared step of any joint from frame to frame (frozen
   and duplicate frames, :mod:`core.checks.frames`);
@@ -59,10 +60,29 @@ def second_differences(positions: np.ndarray, *, backend: str = "auto") -> tuple
     if _compiled(backend, positions):
         deviations = np.empty((max(n_frames - 2, 0), n_joints))
         products = np.empty((max(n_frames - 3, 0), n_joints))
-        _kernels.second_differences(np.ascontiguousarray(positions), deviations, products)
+        counts = np.empty((0, n_joints), np.int64)
+        _kernels.second_differences(np.ascontiguousarray(positions), deviations, products, 1, 0.0, counts)
         return deviations, products
     m = middles(positions)
     return np.sqrt(np.einsum("fja,fja->fj", m, m)), np.einsum("fja,fja->fj", m[:-1], m[1:])
+
+
+def deviations_and_block_counts(
+    positions: np.ndarray, block: int, limit: float, *, backend: str = "auto"
+) -> tuple[np.ndarray, np.ndarray]:
+    """(deviations (F-2, J), counts (B, J)) of positions (F, J, 3), F >= 2: the deviations of
+    :func:`second_differences` and :func:`block_counts_at_most` of its products, in one pass
+    that does not keep the products."""
+    n_frames, n_joints = positions.shape[:2]
+    n_blocks = max(n_frames - 3, 0) // block
+    if _compiled(backend, positions):
+        deviations = np.empty((max(n_frames - 2, 0), n_joints))
+        counts = np.empty((n_blocks, n_joints), np.int64)
+        products = np.empty((0, n_joints))
+        _kernels.second_differences(np.ascontiguousarray(positions), deviations, products, block, limit, counts)
+        return deviations, counts
+    deviations, products = second_differences(positions, backend=backend)
+    return deviations, block_counts_at_most(products, block, limit, backend=backend)
 
 
 def largest_steps(positions: np.ndarray, joints: np.ndarray | None = None, *, backend: str = "auto") -> np.ndarray:

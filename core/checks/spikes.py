@@ -44,7 +44,14 @@ import numpy as np
 
 from gmr_studio.core.checks.context import CheckData, joint_runs, merge_runs
 from gmr_studio.core.checks.model import CheckSettings, Finding, severity_levels
-from gmr_studio.core.checks.passes import block_counts_at_most, flat_indices_above, medians_and_deviations, root_jumps
+from gmr_studio.core.checks.passes import (
+    block_counts_at_most,
+    deviations_and_block_counts,
+    flat_indices_above,
+    medians_and_deviations,
+    root_jumps,
+    second_differences,
+)
 
 #: 1.4826 * MAD estimates a normal standard deviation
 MAD_SCALE = 1.4826
@@ -76,7 +83,7 @@ def pop(data: CheckData, settings: CheckSettings) -> list[Finding]:
     p = data.positions
     if data.n_frames < 3:
         return []
-    e = data.deviations  # (F-2, J)
+    e = _spikes(data, settings)[0]  # (F-2, J)
     median, spread = robust_level(e)
     threshold = np.maximum(median + settings.pop_mad * spread, settings.pop_limits[0] * data.size)
     frames, joints = np.divmod(flat_indices_above(e, threshold), e.shape[1])  # e > threshold
@@ -152,14 +159,36 @@ def jittery_blocks(products: np.ndarray, block: int, limit: float, *, backend: s
     return block_counts_at_most(products, block, noisiest_product(limit), backend=backend) > middle
 
 
+def jitter_block(data: CheckData, settings: CheckSettings) -> int:
+    """The frames of a jitter block: ``jitter_window`` seconds, at least :data:`MIN_BLOCK`."""
+    return max(MIN_BLOCK, round(settings.jitter_window / data.frame_time))
+
+
+def _spikes(data: CheckData, settings: CheckSettings) -> tuple[np.ndarray, np.ndarray | None]:
+    """(deviations (F-2, J), jitter's counts (B, J) of each block's products at most
+    :func:`noisiest_product`, or None when jitter does not run): one pass over the positions,
+    shared by pops and jitter, that counts the products without keeping them."""
+    block = jitter_block(data, settings)
+    if "jitter" not in settings.kinds or (data.n_frames - 3) // block < 1:
+        return data.deviations, None
+    limit = noisiest_product(settings.jitter_limits[0] * data.size)
+    return data.cached(
+        ("deviations and jitter counts", block, limit),
+        lambda: deviations_and_block_counts(data.positions, block, limit),
+    )
+
+
 def jitter(data: CheckData, settings: CheckSettings) -> list[Finding]:
-    block = max(MIN_BLOCK, round(settings.jitter_window / data.frame_time))
+    block = jitter_block(data, settings)
     n_blocks = (data.n_frames - 3) // block
     if n_blocks < 1:
         return []
-    products = data.middle_products[: n_blocks * block]  # row i: frames i..i+3
-    blocks = products.reshape(n_blocks, block, -1)
-    jittery = jittery_blocks(products, block, settings.jitter_limits[0] * data.size)  # (B, J)
+    counts = _spikes(data, settings)[1]
+    if counts is None:  # called without jitter among the kinds
+        counts = block_counts_at_most(
+            data.middle_products, block, noisiest_product(settings.jitter_limits[0] * data.size)
+        )
+    jittery = counts > block // 2  # (B, J): more than half at most the noisiest product (jittery_blocks)
     found = joint_runs(jittery)
     runs_of = {int(k): merge_runs(found[found[:, 0] == k, 1:], 1) for k in np.unique(found[:, 0])}
     groups: list[dict] = []  # a jittery joint, the jittery joints below it, their block range
@@ -171,7 +200,8 @@ def jitter(data: CheckData, settings: CheckSettings) -> list[Finding]:
             group = above[0] if above else {"joints": [], "start": start, "stop": stop, "value": 0.0}
             if not above:
                 groups.append(group)
-            inside = blocks[start:stop, :, k][jittery[start:stop, k]]  # the products of its jittery blocks
+            products = second_differences(data.positions[start * block : stop * block + 3])[1]  # of the run's blocks
+            inside = products.reshape(stop - start, block, -1)[:, :, k][jittery[start:stop, k]]  # of its jittery ones
             value = float(np.sqrt(max(0.0, -NOISE_FROM_MEDIAN * np.nanmedian(inside))))
             group["joints"].append(int(k))
             group.update(start=min(group["start"], start), stop=max(group["stop"], stop))
