@@ -26,6 +26,7 @@ from gmr_studio.core.checks.passes import (
     skate_windows,
     step_angles,
     step_cosines,
+    steps_within,
 )
 from gmr_studio.core.kinematics.engine import have_numba
 from gmr_studio.core.model.facts import FileFacts
@@ -244,3 +245,19 @@ def test_the_skate_windows_are_numpys(rng):
                 np.testing.assert_array_equal(got[1], expected[1])
     covered, stillest = skate_windows(x[:, :2], y[:, :2], planted[:2], [0], 1, 0.0)
     assert covered.shape == stillest.shape == (1,)
+
+
+@pytest.mark.parametrize("backend", ["numpy", "numba"])
+def test_steps_within_a_tolerance_are_the_largest_steps_within_it(backend):
+    """Held frames, a step of exactly the tolerance, a joint in a gap, every joint in a gap."""
+    if backend == "numba" and not have_numba():
+        pytest.skip("numba is not installed")
+    positions = np.zeros((6, 3, 3))
+    positions[2:, 0, 0] = 2.0  # joint 0 steps by 2 (4 squared) from frame 1 to 2
+    positions[4, 1] = np.nan  # joint 1 in a gap at frame 4
+    positions[5, :, 1] = 1.0  # every joint steps by 1 from 4 to 5 (joint 1 from its gap)
+    for joints, tolerance in ((None, 1.0), (None, 4.0), ([1], 0.0), ([0, 2], 0.5)):
+        expected = largest_steps(positions, joints, backend="numpy") <= tolerance
+        np.testing.assert_array_equal(steps_within(positions, joints, tolerance, backend=backend), expected)
+    np.testing.assert_array_equal(steps_within(positions, None, 1.0, backend=backend), [True, False, True, True, True])
+    np.testing.assert_array_equal(steps_within(positions, [1], 1.0, backend=backend), [True, True, True, False, False])

@@ -333,3 +333,24 @@ def skate_windows(x, y, planted, group, w, limit, covered, stillest):  # pragma:
             covered[f] = last > f - w
     for s in range(max(n - w, 0), n - 1):  # the steps after the last window's start
         covered[s] = last > s - w
+
+
+@numba.njit(nogil=True, cache=True, boundscheck=False)
+def steps_within(positions, joints, tolerance, out):  # pragma: no cover - compiled
+    """positions (F, J, 3) -> out (F-1,) bool: whether :func:`largest_steps` of the ``joints``
+    is at most ``tolerance``: some step not NaN, none above (each frame left at the first
+    step above)."""
+    for f in range(positions.shape[0] - 1):
+        seen, within = False, True
+        for k in range(joints.shape[0]):
+            j = joints[k]
+            d0 = positions[f + 1, j, 0] - positions[f, j, 0]
+            d1 = positions[f + 1, j, 1] - positions[f, j, 1]
+            d2 = positions[f + 1, j, 2] - positions[f, j, 2]
+            value = (d0 * d0 + d1 * d1) + d2 * d2
+            if not math.isnan(value):
+                seen = True
+                if value > tolerance:
+                    within = False
+                    break
+        out[f] = seen and within

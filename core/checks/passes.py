@@ -4,8 +4,9 @@
   and the products of consecutive middles (pops and jitter, :mod:`core.checks.spikes`), or
   (:func:`deviations_and_block_counts`) the deviations and jitter's counts of the products;
 - :func:`joint_coordinates`: the coordinates of some joints, taken out once (the feet);
-- :func:`largest_steps`: the largest squared step of any joint from frame to frame (frozen
-  and duplicate frames, :mod:`core.checks.frames`);
+- :func:`largest_steps`: the largest squared step of any joint from frame to frame, and
+  :func:`steps_within`: whether it is within a tolerance (frozen and duplicate frames,
+  :mod:`core.checks.frames`);
 - :func:`step_cosines`: the cosine of the angle of ``R_f^T R_{f+1}`` of every joint (flips,
   :mod:`core.checks.joints`), and :func:`cosines_below`: only the steps whose cosine is
   below a limit, without the (F-1, K) array;
@@ -96,6 +97,19 @@ def largest_steps(positions: np.ndarray, joints: np.ndarray | None = None, *, ba
     picked = positions if joints is None else positions[:, joints]
     steps = picked[1:] - picked[:-1]
     return np.fmax.reduce(np.einsum("fja,fja->fj", steps, steps), axis=1)
+
+
+def steps_within(
+    positions: np.ndarray, joints: np.ndarray | None, tolerance: float, *, backend: str = "auto"
+) -> np.ndarray:
+    """(F-1,) bool: ``largest_steps(positions, joints) <= tolerance`` (a step of every joint NaN
+    is not), the kernel leaving each frame at its first step above the tolerance."""
+    if _compiled(backend, positions):
+        every = np.arange(positions.shape[1]) if joints is None else np.asarray(joints, dtype=np.int64)
+        out = np.empty(max(positions.shape[0] - 1, 0), bool)
+        _kernels.steps_within(np.ascontiguousarray(positions), every, tolerance, out)
+        return out
+    return largest_steps(positions, joints, backend="numpy") <= tolerance
 
 
 def step_cosines(rotations: np.ndarray, joints: np.ndarray | None = None, *, backend: str = "auto") -> np.ndarray:
