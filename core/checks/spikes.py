@@ -116,10 +116,10 @@ def block_noise(medians: np.ndarray) -> np.ndarray:
 
 
 def noisiest_product(limit: float) -> float:
-    """The largest product whose :func:`block_noise` reaches ``limit`` (-inf, or NaN when
-    none does): as the noise falls while the median rises, a block's noise reaches the
-    limit exactly when its median is at most this, that is when more than half of its
-    products are. Found by bisection over the float64 numbers in their order."""
+    """The largest product whose :func:`block_noise` reaches ``limit`` (inf when every one
+    does, NaN when none does): as the noise falls while the median rises, a block's noise
+    reaches the limit exactly when its median is at most this, that is when more than half
+    of its products are. Found by bisection over the float64 numbers in their order."""
 
     def reaches(key: int) -> bool:
         with np.errstate(over="ignore"):
@@ -143,6 +143,7 @@ def _key_of(value: float) -> int:
 
 
 def _float_of(key: int) -> float:
+    """The float64 number of a :func:`_key_of` key."""
     bits = key if key >= 0 else -key | -0x8000_0000_0000_0000
     return struct.unpack("<d", struct.pack("<q", bits))[0]
 
