@@ -38,6 +38,12 @@ except ImportError:  # pragma: no cover - depends on the environment
     _kernels = None
 
 
+def _first_guess(n: int) -> int:
+    """Room for the indices a kernel picks out of n values before it knows how many: one in
+    256 (a second pass when there are more)."""
+    return max(4096, n // 256)
+
+
 def _compiled(backend: str, array: np.ndarray) -> bool:
     if backend not in ("auto", "numba", "numpy"):
         raise ValueError(f"unknown backend {backend!r}: expected 'auto', 'numba' or 'numpy'")
@@ -138,7 +144,8 @@ def cosines_below(
     every = np.arange(rotations.shape[1]) if joints is None else np.asarray(joints, dtype=np.int64)
     if _compiled(backend, rotations):
         rotations = np.ascontiguousarray(rotations)
-        indices, cosines = np.empty(4096, np.int64), np.empty(4096)
+        room = _first_guess(max(rotations.shape[0] - 1, 0) * every.size)
+        indices, cosines = np.empty(room, np.int64), np.empty(room)
         count = _kernels.cosines_below(rotations, every, limit, indices, cosines)
         if count > indices.size:  # more than the first guess: again with room for all
             indices, cosines = np.empty(count, np.int64), np.empty(count)
@@ -203,7 +210,7 @@ def flat_indices_above(values: np.ndarray, limits: np.ndarray, *, backend: str =
     limits = np.asarray(limits, dtype=np.float64)
     if _compiled(backend, values):
         values = np.ascontiguousarray(values)
-        indices = np.empty(4096, np.int64)
+        indices = np.empty(_first_guess(values.size), np.int64)
         count = _kernels.above(values, limits, indices)
         if count > indices.size:  # more than the first guess: again with room for all
             indices = np.empty(count, np.int64)
