@@ -11,7 +11,23 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from gmr_studio.core.checks.context import FILE_UNITS, CheckData, joint_runs, merge_runs, runs
-from gmr_studio.core.checks.passes import largest_steps, middles, second_differences, step_angles, step_cosines
+from gmr_studio.core.checks.passes import (
+    block_counts_at_most,
+    column_medians,
+    cosines_below,
+    deviations_and_block_counts,
+    flat_indices_above,
+    joint_coordinates,
+    largest_steps,
+    medians_and_deviations,
+    middles,
+    root_jumps,
+    second_differences,
+    skate_windows,
+    step_angles,
+    step_cosines,
+    steps_within,
+)
 from gmr_studio.core.kinematics.engine import have_numba
 from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.space.units import UNITS
@@ -136,3 +152,112 @@ def test_the_compiled_passes_agree_with_numpy(rng):
         for got, expected in zip(compiled, reference, strict=True):
             np.testing.assert_allclose(got, expected, rtol=1e-14, atol=1e-14)
             assert np.array_equal(np.isnan(got), np.isnan(expected))
+
+
+@pytest.mark.skipif(not have_numba(), reason="numba is not installed")
+def test_the_compiled_selections_agree_with_numpy(rng):
+    """The steps below a cosine, the medians and their deviations, the counts per block:
+    the same from the kernels as from numpy (selections; the cosines to rounding, as above)."""
+    rotations = Rotation.random(600, random_state=4).as_matrix().reshape(100, 6, 3, 3)
+    rotations[40:60, 2] = rotations[40, 2]  # held still: cosine 1
+    rotations[7, 1] = np.nan
+    for joints, limit in ((None, 0.2), ([5, 0, 3], -0.5), (None, 2.0), (None, -2.0)):
+        got, expected = (
+            cosines_below(rotations, joints, limit),
+            cosines_below(rotations, joints, limit, backend="numpy"),
+        )
+        np.testing.assert_array_equal(got[0], expected[0])
+        np.testing.assert_allclose(got[1], expected[1], rtol=1e-14, atol=1e-14)  # sums of 9 products
+    many = Rotation.random(6000, random_state=5).as_matrix().reshape(1000, 6, 3, 3)
+    np.testing.assert_array_equal(cosines_below(many, None, 2.0)[0], np.arange(999 * 6))  # beyond the first guess
+    values = np.round(rng.normal(size=(1001, 5)), 1)  # many ties
+    values[:, 4] = 3.0  # all equal
+    for step in (1, 2, 5, 1001, 2000):
+        for n in (1001, 1000, 2):
+            got, expected = (
+                medians_and_deviations(values[:n], step),
+                medians_and_deviations(values[:n], step, backend="numpy"),
+            )
+            np.testing.assert_array_equal(got[0], expected[0])
+            np.testing.assert_array_equal(got[1], expected[1])
+    close = 0.3 + np.spacing(0.3) * np.arange(6)  # values that differ in their last bits
+    near = rng.choice(np.concatenate([close, -close, [0.0, 1e300, -1e-300]]), size=(1001, 3))
+    for n in (1001, 1000, 17, 16, 3, 1):
+        got, expected = medians_and_deviations(near[:n]), medians_and_deviations(near[:n], backend="numpy")
+        np.testing.assert_array_equal(got[0], expected[0])
+        np.testing.assert_array_equal(got[1], expected[1])
+    values[3, 1], values[4, 2] = np.nan, np.inf  # left to numpy: NaN, and NaN from |inf - inf|
+    for got, expected in zip(medians_and_deviations(values), medians_and_deviations(values, backend="numpy")):
+        np.testing.assert_array_equal(got, expected)
+    np.testing.assert_array_equal(column_medians(values[:, :2]), np.median(values[:, :2], axis=0))
+    np.testing.assert_array_equal(column_medians(values), np.median(values, axis=0))  # NaN: numpy's
+    for block, limit in ((24, 0.0), (10, -0.5), (7, np.inf), (1000, 0.1), (2000, 0.0)):
+        got = block_counts_at_most(values, block, limit)
+        np.testing.assert_array_equal(got, block_counts_at_most(values, block, limit, backend="numpy"))
+    positions = rng.normal(size=(100, 4, 3))
+    positions[30, 1] = np.nan
+    deviations, products = second_differences(positions)
+    for block, limit in ((10, 0.0), (7, -0.5), (97, 0.1), (98, 0.0)):  # products not kept, counted
+        got = deviations_and_block_counts(positions, block, limit)
+        np.testing.assert_array_equal(got[0], deviations)
+        np.testing.assert_array_equal(got[1], block_counts_at_most(products, block, limit))
+        np.testing.assert_array_equal(got[1], deviations_and_block_counts(positions, block, limit, backend="numpy")[1])
+
+
+def test_joint_coordinates_are_the_positions_of_those_joints(rng):
+    positions = rng.normal(size=(40, 6, 3))
+    for backend in ("numpy", "numba") if have_numba() else ("numpy",):
+        coordinates = joint_coordinates(positions[3:], [5, 0, 2], backend=backend)
+        assert coordinates.shape == (3, 3, 37) and coordinates.flags.c_contiguous
+        np.testing.assert_array_equal(coordinates.transpose(2, 1, 0), positions[3:, [5, 0, 2]])
+
+
+@pytest.mark.skipif(not have_numba(), reason="numba is not installed")
+def test_candidates_and_root_jumps_are_numpys(rng):
+    """The values above their column's limit, in order (past the first guess of room), and the
+    roots' jumps and changes of velocity: the very numbers numpy gives."""
+    values = rng.normal(size=(3000, 4))
+    values[5, 1] = np.nan
+    for limits in ([0.0, 1.0, -np.inf, np.nan], [-10.0] * 4, [10.0] * 4):
+        np.testing.assert_array_equal(flat_indices_above(values, limits), np.flatnonzero(values > limits))
+    positions = rng.normal(size=(60, 5, 3)) * 100.0
+    positions[30, 2] = np.nan
+    for roots in ([0], [2, 4]):
+        for got, expected in zip(root_jumps(positions, roots), root_jumps(positions, roots, backend="numpy")):
+            np.testing.assert_array_equal(got, expected)
+    assert root_jumps(positions[:3], [0])[0].shape == (0, 1)
+
+
+@pytest.mark.skipif(not have_numba(), reason="numba is not installed")
+def test_the_skate_windows_are_numpys(rng):
+    """Feet planted in runs, moving a little or more, a gap: the steps covered by sliding
+    windows and the stillest steps, the same from the kernel as from numpy, for windows of
+    1 to 5 frames and groups of one to three joints."""
+    x, y = rng.normal(size=(2, 3, 200)).cumsum(axis=2) * 0.1
+    x[1, 50] = np.nan
+    planted = np.repeat(rng.random((40, 3)) < 0.7, 5, axis=0)  # (F, K) in runs of 5 frames
+    for w in (1, 3, 5):
+        for group in ([0], [2, 1], [0, 1, 2]):
+            for limit in (0.0, 0.05, 0.3):
+                got = skate_windows(x, y, planted, group, w, limit)
+                expected = skate_windows(x, y, planted, group, w, limit, backend="numpy")
+                np.testing.assert_array_equal(got[0], expected[0])
+                np.testing.assert_array_equal(got[1], expected[1])
+    covered, stillest = skate_windows(x[:, :2], y[:, :2], planted[:2], [0], 1, 0.0)
+    assert covered.shape == stillest.shape == (1,)
+
+
+@pytest.mark.parametrize("backend", ["numpy", "numba"])
+def test_steps_within_a_tolerance_are_the_largest_steps_within_it(backend):
+    """Held frames, a step of exactly the tolerance, a joint in a gap, every joint in a gap."""
+    if backend == "numba" and not have_numba():
+        pytest.skip("numba is not installed")
+    positions = np.zeros((6, 3, 3))
+    positions[2:, 0, 0] = 2.0  # joint 0 steps by 2 (4 squared) from frame 1 to 2
+    positions[4, 1] = np.nan  # joint 1 in a gap at frame 4
+    positions[5, :, 1] = 1.0  # every joint steps by 1 from 4 to 5 (joint 1 from its gap)
+    for joints, tolerance in ((None, 1.0), (None, 4.0), ([1], 0.0), ([0, 2], 0.5)):
+        expected = largest_steps(positions, joints, backend="numpy") <= tolerance
+        np.testing.assert_array_equal(steps_within(positions, joints, tolerance, backend=backend), expected)
+    np.testing.assert_array_equal(steps_within(positions, None, 1.0, backend=backend), [True, False, True, True, True])
+    np.testing.assert_array_equal(steps_within(positions, [1], 1.0, backend=backend), [True, True, True, False, False])

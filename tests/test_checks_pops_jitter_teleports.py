@@ -11,7 +11,16 @@ import pytest
 
 from gmr_studio.core.checks import CheckSettings, run_checks
 from gmr_studio.core.checks.context import CheckData
-from gmr_studio.core.checks.spikes import pop, robust_level, teleport
+from gmr_studio.core.checks.spikes import (
+    block_noise,
+    jitter,
+    jittery_blocks,
+    noisiest_product,
+    pop,
+    robust_level,
+    teleport,
+)
+from gmr_studio.core.kinematics.fk import world_positions
 from tests.checks_walk import clean_walk
 from tests.test_checks import CM, cm, with_translation
 
@@ -273,3 +282,44 @@ def test_a_teleport_of_a_fast_root():
     translations[:, 0, 2] += 500.0 / 24.0 * f + np.where(f >= 60, 50.0, 0.0)
     (finding,) = run_checks(motion.replace(translations=translations), CheckSettings(kinds=("teleport",)))
     assert (finding.start, finding.end) == (59, 60)
+
+
+@pytest.mark.parametrize("limit", [0.0, 1e-3, 0.05, 1e-170, np.inf])
+def test_jittery_blocks_are_those_whose_median_noise_reaches_the_limit(limit):
+    """Counting the products up to the noisiest that reaches the limit picks the blocks the
+    median picks, on products at and around that boundary (ties, NaN gaps, blocks of 10 to 24)."""
+    boundary = noisiest_product(limit)
+    rng = np.random.default_rng(2)
+    near = boundary if np.isfinite(boundary) else -1e-300
+    around = near + np.array([-1.0, 0.0, 1.0]) * max(abs(near), 1e-300) * 2e-16
+    choices = np.concatenate([around, np.nextafter(near, [-np.inf, np.inf]), [-1.0, 0.0, 1.0, np.nan]])
+    products = rng.choice(choices, size=(480, 6))
+    products[:, 5] = near
+    with np.errstate(over="ignore"):  # the noise of products near -1e308 is infinite
+        for block in (10, 11, 24):
+            expected = jittery_blocks(products, block, limit, backend="numpy")
+            np.testing.assert_array_equal(jittery_blocks(products, block, limit), expected)
+        assert block_noise(np.float64(boundary)) >= limit  # the largest that reaches it: the next does not
+        assert boundary == np.inf or not block_noise(np.nextafter(boundary, np.inf)) >= limit
+
+
+def test_jitter_and_pops_find_the_same_alone_or_together():
+    """A hand shaken over frames 60 to 540 and knocked at 200 (120 Hz, cm): jitter and pops
+    run alone give what they give among every kind (they share one pass when both run)."""
+    rng = np.random.default_rng(7)
+
+    def shake(f):
+        shift = rng.normal(scale=cm(0.5, CM), size=(f.size, 3)) * ((f >= 60) & (f <= 540))[:, None]
+        shift[f == 200] += np.array([3.0, 4.0, 0.0]) * cm(1.0, CM)
+        return shift
+
+    motion = with_translation(clean_walk(120.0, unit=CM), "RightHand", shake)
+    positions = world_positions(motion)
+    together, settings = CheckData(motion, positions, motion.size), CheckSettings()
+    found = jitter(together, settings) + pop(together, settings)
+    assert {f.kind for f in found} == {"jitter", "pop"}
+    alone = [
+        check(CheckData(motion, positions, motion.size), settings.with_kinds([kind]))
+        for check, kind in ((jitter, "pop"), (pop, "pop"))
+    ]
+    assert alone[0] + alone[1] == found

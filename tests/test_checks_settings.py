@@ -85,6 +85,9 @@ def test_severity_levels_at_the_limits_exactly():
     np.testing.assert_array_equal(levels, [0, 0, 1, 1, 2, 2, 3, 3])
     assert levels.dtype == np.int8
     assert severity_levels(5, (1.0, 1.0, math.inf)) == 2
+    for number in (*q, *q.tolist(), 2, math.nan, math.inf):  # numpy and Python numbers, one at a time
+        level = severity_levels(number, (1.0, 2.0, 3.0))
+        assert level == severity_levels(np.array([number]), (1.0, 2.0, 3.0))[0] and level.dtype == np.int8
 
 
 def test_joint_flags_at_the_ends_and_overlapping():

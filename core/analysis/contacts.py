@@ -67,6 +67,7 @@ def foot_contacts(
     *,
     height: float = DEFAULT_HEIGHT,
     speed: float = DEFAULT_SPEED,
+    joint_positions: np.ndarray | None = None,
 ) -> Contacts:
     """Planted foot joints per frame (see the module docstring).
 
@@ -76,12 +77,15 @@ def foot_contacts(
     positions : optional (F, J, 3) world positions already computed.
     joints : the joints to examine (default :func:`foot_joints`).
     height, speed : thresholds as fractions of the size (per second for speed).
+    joint_positions : optional (F, K, 3) world positions of ``joints`` alone, already
+        taken out of the positions (then ``positions`` is not read).
     """
     joints = foot_joints(motion) if joints is None else [motion.joint_index(j) for j in joints]
     index = np.asarray(joints, dtype=np.int64)
-    if positions is None:
-        positions = world_positions(motion)
-    feet = positions[:, index]  # (F, K, 3)
+    if joint_positions is not None:
+        feet = joint_positions
+    else:
+        feet = (world_positions(motion) if positions is None else positions)[:, index]  # (F, K, 3)
     up = axis_index(up_axis_of(motion))
     heights = feet[..., up] - (feet[..., up].min(axis=0) if feet.shape[0] else 0.0)
     height_threshold = height * motion.size

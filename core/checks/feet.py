@@ -44,6 +44,7 @@ import numpy as np
 from gmr_studio.core.analysis.contacts import foot_contacts, foot_joints
 from gmr_studio.core.checks.context import CheckData, joint_runs, merge_runs, runs
 from gmr_studio.core.checks.model import CheckSettings, Finding, severity_levels
+from gmr_studio.core.checks.passes import column_medians, joint_coordinates, skate_windows
 
 #: a touching joint's contact level: this quantile of its heights over its planted frames
 LEVEL_QUANTILE = 0.1
@@ -66,6 +67,13 @@ def foot_groups(parents: np.ndarray, joints: list[int]) -> list[list[int]]:
     return list(feet.values())
 
 
+def _foot_coordinates(data: CheckData) -> np.ndarray:
+    """(3, K, F) the world coordinates of the foot joints (:func:`foot_joints`), taken once
+    (:func:`core.checks.passes.joint_coordinates`; ``.transpose(2, 1, 0)``: their positions)."""
+    joints = np.asarray(foot_joints(data.motion), dtype=np.int64)
+    return data.cached("foot coordinates", lambda: joint_coordinates(data.positions, joints))
+
+
 def _contacts(data: CheckData, settings: CheckSettings):
     joints = foot_joints(data.motion)
     if not joints or data.n_frames < 2:
@@ -74,7 +82,12 @@ def _contacts(data: CheckData, settings: CheckSettings):
     return data.cached(
         key,
         lambda: foot_contacts(
-            data.motion, data.positions, joints, height=settings.contact_height, speed=settings.contact_speed
+            data.motion,
+            data.positions,
+            joints,
+            height=settings.contact_height,
+            speed=settings.contact_speed,
+            joint_positions=_foot_coordinates(data).transpose(2, 1, 0),
         ),
     )
 
@@ -84,41 +97,35 @@ def foot_skate(data: CheckData, settings: CheckSettings) -> list[Finding]:
     if contacts is None:
         return []
     across = [a for a in range(3) if a != data.up]
-    positions = data.positions[:, contacts.joints]  # (F, K, 3)
-    feet = positions[..., across]  # (F, K, 2) horizontal positions
-    heights = positions[..., data.up] - positions[..., data.up].min(axis=0)
+    coordinates = _foot_coordinates(data)  # (3, K, F)
+    x, y = coordinates[across[0]], coordinates[across[1]]  # (K, F) horizontal coordinates
+    heights = coordinates[data.up].T - coordinates[data.up].T.min(axis=0)
     planted = contacts.planted & (heights < settings.skate_height * data.size)
     w = max(1, min(round(SKATE_WINDOW_SECONDS / data.frame_time), data.n_frames - 1))
     speed = settings.skate_speed * data.size * data.frame_time  # per frame
-    count = np.concatenate([np.zeros((1, planted.shape[1]), np.int64), np.cumsum(planted, axis=0)])
-    throughout = count[w + 1 :] - count[: -w - 1] == w + 1  # (F-w, K): planted over f..f+w
-    moved = np.linalg.norm(feet[w:] - feet[:-w], axis=-1)  # (F-w, K)
     both = planted[1:] & planted[:-1]
-    steps = np.linalg.norm(np.diff(feet, axis=0), axis=-1)  # (F-1, K)
     findings = []
     touching = _touching(data, contacts, settings)
     for whole in foot_groups(data.motion.parents, list(contacts.joints)):
         group = [k for k in whole if touching[k]]
-        window = np.where(throughout[:, group], moved[:, group], np.inf).min(axis=1) > w * speed
-        window &= throughout[:, group].any(axis=1)
-        covered = np.convolve(window.astype(np.int64), np.ones(w, np.int64))[: data.n_frames - 1] > 0
-        stillest = np.where(both[:, group], steps[:, group], np.inf).min(axis=1)  # (F-1,)
+        covered, stillest = skate_windows(x, y, planted, group, w, w * speed)  # (F-1,) each
         on_ground = np.isfinite(stillest)
-        for start, stop in _split_off_ground(merge_runs(runs(covered), w), on_ground):
-            moving = np.flatnonzero(np.isfinite(stillest[start:stop]) & (stillest[start:stop] > speed))
-            if not moving.size:
-                continue
-            a, b = start + int(moving[0]), start + int(moving[-1]) + 1  # frames a..b
-            ends = [k for k in group if planted[a, k] and planted[b, k]]
-            if ends:
-                distance = float(np.linalg.norm(feet[b, ends] - feet[a, ends], axis=-1).min())
-            else:
-                slid = stillest[a:b]
-                distance = float(np.sum(slid[np.isfinite(slid)]))
-            level = severity_levels(distance / data.size, settings.skate_limits)
-            if level:
-                joints = [int(contacts.joints[k]) for k in whole if both[a:b, k].any()]
-                findings.append(data.finding("foot-skate", joints, a, b, level, distance, data.units))
+        found = _split_off_ground(merge_runs(runs(covered), w), on_ground)
+        # each run's first and last step where the stillest planted joint moves: frames a..b
+        moving = np.flatnonzero(on_ground & (stillest > speed))
+        lo, hi = np.searchsorted(moving, found[:, 0]), np.searchsorted(moving, found[:, 1])
+        a, b = moving[lo[hi > lo]], moving[hi[hi > lo] - 1] + 1
+        ends = planted[a][:, group] & planted[b][:, group]  # (R, G) planted at both ends
+        dx, dy = (x[group][:, b] - x[group][:, a]).T, (y[group][:, b] - y[group][:, a]).T
+        slid = np.sqrt(dx * dx + dy * dy)  # (R, G) lengths, as numpy.linalg.norm sums them
+        distances = np.where(ends, slid, np.inf).min(axis=1)
+        for r in np.flatnonzero(~ends.any(axis=1)):  # none planted at both ends: the steps' sum
+            steps_slid = stillest[a[r] : b[r]]
+            distances[r] = np.sum(steps_slid[np.isfinite(steps_slid)])
+        levels = severity_levels(distances / data.size, settings.skate_limits)
+        for r in np.flatnonzero(levels):
+            joints = [int(contacts.joints[k]) for k in whole if both[a[r] : b[r], k].any()]
+            findings.append(data.finding("foot-skate", joints, a[r], b[r], levels[r], distances[r], data.units))
     return findings
 
 
@@ -128,7 +135,7 @@ def depths(data: CheckData, settings: CheckSettings) -> tuple[np.ndarray, np.nda
     contacts = _contacts(data, settings)
     if contacts is None:
         return np.zeros(0, np.int64), np.zeros((data.n_frames, 0))
-    heights = data.positions[:, contacts.joints, data.up]  # (F, K)
+    heights = _foot_coordinates(data)[data.up].T  # (F, K)
     planted = contacts.planted
     seen = planted.any(axis=0) & _touching(data, contacts, settings)
     level = np.array(
@@ -148,21 +155,25 @@ def penetration(data: CheckData, settings: CheckSettings) -> list[Finding]:
     return findings
 
 
-def _split_off_ground(found: np.ndarray, on_ground: np.ndarray) -> list[tuple[int, int]]:
-    """Half-open runs of steps cut wherever no foot joint is planted at both ends of a step."""
-    out = []
-    for start, stop in found:
-        for a, b in runs(on_ground[start:stop]):
-            out.append((int(start + a), int(start + b)))
-    return out
+def _split_off_ground(found: np.ndarray, on_ground: np.ndarray) -> np.ndarray:
+    """Half-open runs of steps (R, 2) cut wherever no foot joint is planted at both ends of a
+    step, of the runs ``found`` (sorted, none touching the next)."""
+    inside = np.zeros(on_ground.size + 1, np.int64)
+    np.add.at(inside, found[:, 0], 1)
+    np.add.at(inside, found[:, 1], -1)
+    return runs(on_ground & (np.cumsum(inside[:-1]) > 0))
 
 
 def _touching(data: CheckData, contacts, settings: CheckSettings) -> np.ndarray:
     """(K,) bool: the foot joints that touch the ground: typically (median over the frames)
     less than ``skate_height * size`` above the lowest joint of their foot."""
-    heights = data.positions[:, contacts.joints, data.up]  # (F, K)
-    touching = np.ones(len(contacts.joints), bool)
-    for group in foot_groups(data.motion.parents, list(contacts.joints)):
-        above = heights[:, group] - heights[:, group].min(axis=1, keepdims=True)
-        touching[group] = np.median(above, axis=0) < settings.skate_height * data.size
-    return touching
+
+    def touching() -> np.ndarray:
+        heights = _foot_coordinates(data)[data.up].T  # (F, K)
+        out = np.ones(len(contacts.joints), bool)
+        for group in foot_groups(data.motion.parents, list(contacts.joints)):
+            above = heights[:, group] - heights[:, group].min(axis=1, keepdims=True)
+            out[group] = column_medians(above) < settings.skate_height * data.size
+        return out
+
+    return data.cached(("touching", settings.skate_height), touching)

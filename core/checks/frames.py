@@ -33,7 +33,7 @@ import numpy as np
 
 from gmr_studio.core.checks.context import CheckData, runs
 from gmr_studio.core.checks.model import CheckSettings, Finding, severity_levels
-from gmr_studio.core.checks.passes import largest_steps
+from gmr_studio.core.checks.passes import steps_within
 from gmr_studio.core.model.motion import Motion
 
 
@@ -44,7 +44,7 @@ def same_pose_runs(data: CheckData, settings: CheckSettings) -> np.ndarray:
         return np.zeros((0, 2), np.int64)
     p, tolerance = data.positions, (settings.same_pose * data.size) ** 2
     leaves = [j for j, kids in enumerate(data.motion.children) if not kids] + list(data.motion.roots)
-    same = largest_steps(p, leaves) <= tolerance  # a first screen: the leaves and roots; NaN: a gap
+    same = steps_within(p, leaves, tolerance)  # a first screen: the leaves and roots; NaN: a gap
     candidates = np.flatnonzero(same)
     if candidates.size:  # then every joint, at the steps that passed the screen
         steps = p[candidates + 1] - p[candidates]

@@ -27,7 +27,7 @@ import numpy as np
 
 from gmr_studio.core.checks.context import CheckData, joint_runs, merge_runs
 from gmr_studio.core.checks.model import CheckSettings, Finding, severity_levels
-from gmr_studio.core.checks.passes import step_angles, step_cosines
+from gmr_studio.core.checks.passes import cosines_below, step_angles
 
 #: a flip and its return at most this far apart (seconds) make one flip
 FLIP_PAIR_SECONDS = 0.5
@@ -55,26 +55,27 @@ def flip(data: CheckData, settings: CheckSettings) -> list[Finding]:
     if data.n_frames < 2 or not rotating.size:
         return []
     rotations = motion.rotations  # (F, J, 3, 3), all joints (a copy of some would cost more)
-    cosines = step_cosines(rotations, rotating)  # (F-1, K)
     limit = max(settings.flip_limits[0], settings.flip_speed * data.frame_time)
     # the angle falls as the cosine rises: only steps with a cosine below the limit's (a
     # margin for rounding) can pass it, and only theirs are worth an arccos
-    near = np.flatnonzero(cosines < np.cos(np.radians(limit)) + COSINE_MARGIN)
-    steps = np.zeros(cosines.shape)  # (F-1, K) degrees where near, else 0 (under the limit)
-    steps.flat[near] = np.degrees(np.arccos(cosines.flat[near]))
-    flagged = steps > limit
+    near, cosines = cosines_below(rotations, rotating, np.cos(np.radians(limit)) + COSINE_MARGIN)
+    angles = np.degrees(np.arccos(cosines))  # of the near steps, flat indices f * K + k
+    passed = angles > limit
+    flagged, angles = near[passed], angles[passed]
+    by_joint = np.argsort(flagged % rotating.size, kind="stable")  # each joint's steps in order
     pair = round(FLIP_PAIR_SECONDS / data.frame_time)
     together: dict[tuple[int, int, int], list[tuple[int, float]]] = {}  # (start, end, parent) -> joints
-    for k in np.flatnonzero(flagged.any(axis=0)):
-        steps_k = np.flatnonzero(flagged[:, k])
+    for k, where in _groups(flagged[by_joint] % rotating.size):
+        steps_k = flagged[by_joint[where]] // rotating.size
+        steps = angles[by_joint[where]]
         i = 0
         while i < len(steps_k):
             a = int(steps_k[i])
             b = int(steps_k[i + 1]) if i + 1 < len(steps_k) else -1
             if b >= 0 and b - a <= pair and _angle(rotations[a, rotating[k]], rotations[b + 1, rotating[k]]) <= limit:
-                start, end, value, i = a + 1, b, max(steps[a, k], steps[b, k]), i + 2
+                start, end, value, i = a + 1, b, max(steps[i], steps[i + 1]), i + 2
             else:
-                start, end, value, i = a, a + 1, steps[a, k], i + 1
+                start, end, value, i = a, a + 1, steps[i], i + 1
             together.setdefault((start, end, int(motion.parents[rotating[k]])), []).append((int(rotating[k]), value))
     findings = []
     for (start, end, _), joints in together.items():  # siblings flipped together: one finding
@@ -82,6 +83,13 @@ def flip(data: CheckData, settings: CheckSettings) -> list[Finding]:
         level = severity_levels(value, settings.flip_limits)
         findings.append(data.finding("flip", [j for j, _ in joints], start, end, level, value, "deg"))
     return findings
+
+
+def _groups(keys: np.ndarray) -> list[tuple[int, slice]]:
+    """(key, slice) of each run of equal values of sorted keys (N,)."""
+    starts = np.flatnonzero(np.diff(keys, prepend=-1))
+    stops = np.append(starts[1:], keys.size)
+    return [(int(keys[a]), slice(int(a), int(b))) for a, b in zip(starts, stops)]
 
 
 def bone_lengths(data: CheckData) -> tuple[np.ndarray, np.ndarray]:

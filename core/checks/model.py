@@ -184,6 +184,9 @@ class CheckSettings:
 
 def severity_levels(quantity: np.ndarray, limits: Limits) -> np.ndarray:
     """0 (not reported), 1, 2 or 3 for each measured quantity: (...) -> (...) int8."""
+    if isinstance(quantity, float | int):  # one number (a finding's): no array
+        q = float(quantity)
+        return np.int8((q >= limits[0]) + (q >= limits[1]) + (q >= limits[2]))
     q = np.asarray(quantity, dtype=np.float64)
     return ((q >= limits[0]).astype(np.int8) + (q >= limits[1]) + (q >= limits[2])).astype(np.int8)
 

@@ -85,11 +85,16 @@ def run_checks(
 def _without_flipped_pops(found: list[Finding], motion: Motion) -> list[Finding]:
     """The findings without the pops a flip explains: pops of joints in the subtree of a
     joint whose rotation flips at that frame (turning a joint moves what hangs from it)."""
-    flipped: dict[int, set[int]] = {}  # frame -> joints moved by a flip
+    popped = {f.start for f in found if f.kind == "pop"}
+    flipped: dict[int, set[int]] = {}  # frame of a pop -> joints moved by a flip
+    subtrees: dict[int, list[int]] = {}
     for finding in found:
-        if finding.kind == "flip":
-            moved = {j for joint in finding.joints for j in motion.subtree(joint)}
-            for frame in range(finding.start, finding.end + 1):
+        frames = popped.intersection(range(finding.start, finding.end + 1)) if finding.kind == "flip" else ()
+        if frames:
+            moved = set()
+            for joint in finding.joints:
+                moved.update(subtrees.setdefault(joint, motion.subtree(joint)))
+            for frame in frames:
                 flipped.setdefault(frame, set()).update(moved)
     if not flipped:
         return found

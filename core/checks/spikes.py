@@ -36,12 +36,22 @@ The finding covers the frames on both sides of the jump, ``f .. f+1``.
 
 from __future__ import annotations
 
+import math
+import struct
 import warnings
 
 import numpy as np
 
 from gmr_studio.core.checks.context import CheckData, joint_runs, merge_runs
 from gmr_studio.core.checks.model import CheckSettings, Finding, severity_levels
+from gmr_studio.core.checks.passes import (
+    block_counts_at_most,
+    deviations_and_block_counts,
+    flat_indices_above,
+    medians_and_deviations,
+    root_jumps,
+    second_differences,
+)
 
 #: 1.4826 * MAD estimates a normal standard deviation
 MAD_SCALE = 1.4826
@@ -57,16 +67,15 @@ MIN_BLOCK = 10
 def robust_level(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Per column median and 1.4826 MAD of (N, J) values: two (J,) arrays (of every k-th
     row when there are more than :data:`ROBUST_SAMPLES`)."""
-    step = -(-values.shape[0] // ROBUST_SAMPLES)
-    columns = np.ascontiguousarray(values[::step].T)
-    if np.isnan(columns).any():  # markers' gaps: NaN, and a column without a value gives NaN
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            median = np.nanmedian(columns, axis=1)
-            spread = np.nanmedian(np.abs(columns - median[:, None]), axis=1)
-        return median, MAD_SCALE * spread
-    median = np.median(columns, axis=1)
-    spread = np.median(np.abs(columns - median[:, None]), axis=1)
+    step = max(1, -(-values.shape[0] // ROBUST_SAMPLES))
+    median, spread = medians_and_deviations(values, step)
+    if np.isnan(median).any() or np.isnan(spread).any():
+        columns = np.ascontiguousarray(values[::step].T)
+        if np.isnan(columns).any():  # markers' gaps: NaN, and a column without a value gives NaN
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                median = np.nanmedian(columns, axis=1)
+                spread = np.nanmedian(np.abs(columns - median[:, None]), axis=1)
     return median, MAD_SCALE * spread
 
 
@@ -74,13 +83,12 @@ def pop(data: CheckData, settings: CheckSettings) -> list[Finding]:
     p = data.positions
     if data.n_frames < 3:
         return []
-    e = data.deviations  # (F-2, J)
+    e = _spikes(data, settings)[0]  # (F-2, J)
     median, spread = robust_level(e)
     threshold = np.maximum(median + settings.pop_mad * spread, settings.pop_limits[0] * data.size)
-    candidate = e > threshold
-    if not candidate.any():
+    frames, joints = np.divmod(flat_indices_above(e, threshold), e.shape[1])  # e > threshold
+    if not frames.size:
         return []
-    frames, joints = np.nonzero(candidate)
     span = np.linalg.norm(p[frames + 2, joints] - p[frames, joints], axis=-1)
     last = e.shape[0] - 1
     before = np.where(frames > 0, e[np.maximum(frames - 1, 0), joints], 0.0)  # 0 beyond the ends
@@ -102,16 +110,86 @@ def pop(data: CheckData, settings: CheckSettings) -> list[Finding]:
     return findings
 
 
+def block_noise(medians: np.ndarray) -> np.ndarray:
+    """The noise of blocks from the medians of their products: ``sqrt(max(0, -1.3349 m))``."""
+    return np.sqrt(np.maximum(0.0, -NOISE_FROM_MEDIAN * medians))
+
+
+def noisiest_product(limit: float) -> float:
+    """The largest product whose :func:`block_noise` reaches ``limit`` (inf when every one
+    does, NaN when none does): as the noise falls while the median rises, a block's noise
+    reaches the limit exactly when its median is at most this, that is when more than half
+    of its products are. Found by bisection over the float64 numbers in their order."""
+
+    def reaches(key: int) -> bool:
+        with np.errstate(over="ignore"):
+            return bool(block_noise(np.float64(_float_of(key))) >= limit)
+
+    low, high = _key_of(-math.inf), _key_of(math.inf)
+    if not reaches(low):
+        return math.nan
+    if reaches(high):
+        return math.inf
+    while high - low > 1:  # reaches(low), not reaches(high)
+        middle = (low + high) // 2
+        low, high = (middle, high) if reaches(middle) else (low, middle)
+    return _float_of(low)
+
+
+def _key_of(value: float) -> int:
+    """An integer that orders float64 numbers as their values (NaN aside; -0 as +0)."""
+    bits = struct.unpack("<q", struct.pack("<d", value))[0]
+    return bits if bits >= 0 else -(bits & 0x7FFF_FFFF_FFFF_FFFF)
+
+
+def _float_of(key: int) -> float:
+    """The float64 number of a :func:`_key_of` key."""
+    bits = key if key >= 0 else -key | -0x8000_0000_0000_0000
+    return struct.unpack("<d", struct.pack("<q", bits))[0]
+
+
+def jittery_blocks(products: np.ndarray, block: int, limit: float, *, backend: str = "auto") -> np.ndarray:
+    """(B, J) bool: the blocks of ``block`` rows of products (N, J) (B = N // block) whose
+    :func:`block_noise` of the median reaches ``limit``. Counted against
+    :func:`noisiest_product` (the median itself found by numpy with ``backend='numpy'``)."""
+    middle = block // 2
+    if backend == "numpy":
+        n_blocks = products.shape[0] // block
+        blocks = products[: n_blocks * block].reshape(n_blocks, block, products.shape[1])
+        return block_noise(np.partition(blocks, middle, axis=1)[:, middle]) >= limit
+    return block_counts_at_most(products, block, noisiest_product(limit), backend=backend) > middle
+
+
+def jitter_block(data: CheckData, settings: CheckSettings) -> int:
+    """The frames of a jitter block: ``jitter_window`` seconds, at least :data:`MIN_BLOCK`."""
+    return max(MIN_BLOCK, round(settings.jitter_window / data.frame_time))
+
+
+def _spikes(data: CheckData, settings: CheckSettings) -> tuple[np.ndarray, np.ndarray | None]:
+    """(deviations (F-2, J), jitter's counts (B, J) of each block's products at most
+    :func:`noisiest_product`, or None when jitter does not run): one pass over the positions,
+    shared by pops and jitter, that counts the products without keeping them."""
+    block = jitter_block(data, settings)
+    if "jitter" not in settings.kinds or (data.n_frames - 3) // block < 1:
+        return data.deviations, None
+    limit = noisiest_product(settings.jitter_limits[0] * data.size)
+    return data.cached(
+        ("deviations and jitter counts", block, limit),
+        lambda: deviations_and_block_counts(data.positions, block, limit),
+    )
+
+
 def jitter(data: CheckData, settings: CheckSettings) -> list[Finding]:
-    block = max(MIN_BLOCK, round(settings.jitter_window / data.frame_time))
+    block = jitter_block(data, settings)
     n_blocks = (data.n_frames - 3) // block
     if n_blocks < 1:
         return []
-    products = data.middle_products[: n_blocks * block]  # row i: frames i..i+3
-    blocks = products.reshape(n_blocks, block, -1)
-    middle = block // 2
-    noise = np.sqrt(np.maximum(0.0, -NOISE_FROM_MEDIAN * np.partition(blocks, middle, axis=1)[:, middle]))  # (B, J)
-    jittery = noise >= settings.jitter_limits[0] * data.size
+    counts = _spikes(data, settings)[1]
+    if counts is None:  # called without jitter among the kinds
+        counts = block_counts_at_most(
+            data.middle_products, block, noisiest_product(settings.jitter_limits[0] * data.size)
+        )
+    jittery = counts > block // 2  # (B, J): more than half at most the noisiest product (jittery_blocks)
     found = joint_runs(jittery)
     runs_of = {int(k): merge_runs(found[found[:, 0] == k, 1:], 1) for k in np.unique(found[:, 0])}
     groups: list[dict] = []  # a jittery joint, the jittery joints below it, their block range
@@ -123,7 +201,8 @@ def jitter(data: CheckData, settings: CheckSettings) -> list[Finding]:
             group = above[0] if above else {"joints": [], "start": start, "stop": stop, "value": 0.0}
             if not above:
                 groups.append(group)
-            inside = blocks[start:stop, :, k][jittery[start:stop, k]]  # the products of its jittery blocks
+            products = second_differences(data.positions[start * block : stop * block + 3])[1]  # of the run's blocks
+            inside = products.reshape(stop - start, block, -1)[:, :, k][jittery[start:stop, k]]  # of its jittery ones
             value = float(np.sqrt(max(0.0, -NOISE_FROM_MEDIAN * np.nanmedian(inside))))
             group["joints"].append(int(k))
             group.update(start=min(group["start"], start), stop=max(group["stop"], stop))
@@ -150,9 +229,7 @@ def teleport(data: CheckData, settings: CheckSettings) -> list[Finding]:
     if data.n_frames < 4:
         return []
     roots = figure_roots(data)
-    v = np.diff(data.positions[:, roots], axis=0)  # (F-1, R, 3): step f -> f+1
-    jump = np.linalg.norm(v[1:-1] - 0.5 * (v[:-2] + v[2:]), axis=-1)  # (F-3, R), step i+1
-    change = np.linalg.norm(v[2:] - v[:-2], axis=-1)
+    jump, change = root_jumps(data.positions, roots)  # (F-3, R), step i+1
     teleporting = (jump >= settings.teleport_limits[0] * data.size) & (jump >= 2.0 * change)
     findings = []
     for k, start, stop in joint_runs(teleporting):
