@@ -35,6 +35,7 @@ def test_every_row_is_printed_beside_its_yardstick_and_goal():
     for name in names:
         assert re.search(re.escape(f"{name}: core") + r".*" + ratio.format(against="copy R", goal="1.5"), out), name
         assert re.search(re.escape(f"{name}: app edit") + r".*" + ratio.format(against="copy R", goal="2.0"), out)
-        assert re.search(re.escape(name) + r" +peak +\d+ MB \( *\d+\.\d+ x R\) of +\d+ MB allowed \((within|over)\); undo/redo", out)
+        peak = r" +peak +\d+ MB \( *\d+\.\d+ x R\) of +\d+ MB allowed \((within|over)\); undo/redo"
+        assert re.search(re.escape(name) + peak, out), name
     assert re.search(r"undo history: keeps \d+ edit\(s\) for this take; after \d+ edits it holds \d+", out)
     assert "load average" in out.splitlines()[-1]
