@@ -148,15 +148,21 @@ def exported_takes(folder: Path, n_frames: int, bpy: Path, keep: Path | None, lo
 
     where = keep or folder
     where.mkdir(parents=True, exist_ok=True)
-    if not bpy.exists():
-        source = read_bvh(shared_data_dir() / BVH)
-        glb = folder / "take.glb"
-        export_gltf(source.frame_slice(np.arange(n_frames) % source.n_frames), glb)
-        return [gltf_take(glb)], f"no Python with Blender's bpy at {bpy} (--bpy): no FBX take to open"
-    log(f"the FBX and glb takes in {where} (Blender's export takes minutes when they are not there) ...")
-    fbx, glb, seconds = made_files(n_frames, where, bpy)
-    log("  reused" if seconds is None else f"  Blender exported the FBX in {seconds:.0f} s")
-    return [gltf_take(glb), fbx_take(fbx)], ""
+    missing = f"no Python with Blender's bpy at {bpy} (--bpy): no FBX take to open"
+    if bpy.exists():
+        log(f"the FBX and glb takes in {where} (Blender's export takes minutes when they are not there) ...")
+        try:
+            fbx, glb, seconds = made_files(n_frames, where, bpy)
+        except subprocess.CalledProcessError as exc:
+            lines = (exc.stderr or b"").decode("utf-8", "replace").strip().splitlines() or ["no message"]
+            missing = f"Blender's export failed ({lines[-1]}): no FBX take to open"
+        else:
+            log("  reused" if seconds is None else f"  Blender exported the FBX in {seconds:.0f} s")
+            return [gltf_take(glb), fbx_take(fbx)], ""
+    source = read_bvh(shared_data_dir() / BVH)
+    glb = folder / "take.glb"
+    export_gltf(source.frame_slice(np.arange(n_frames) % source.n_frames), glb)
+    return [gltf_take(glb)], missing
 
 
 def bench_format(take: Take, rounds: int, window_parts, log: Callable[[str], None] = print) -> None:
