@@ -10,8 +10,9 @@
    that the load of a busy machine falls on both alike; medians and their ratio, for wall time
    and for the main thread's CPU time (``time.thread_time``, less sensitive to other jobs).
 4. A long take (01_01 tiled to 100,000 frames): the FK cache, every edit as the core
-   operation and as the app's undoable edit, memory, ``gmr check`` and opening the file,
-   each beside its yardstick (:mod:`app.tools.take_bench`, also on its own).
+   operation and as the app's undoable edit, memory and ``gmr check``, each beside its
+   yardstick (:mod:`app.tools.take_bench`, also on its own); opening a long
+   take of every format against its reader's floor (:mod:`app.tools.open_bench`).
 """
 
 from __future__ import annotations
@@ -157,10 +158,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 0
     bench_comparison(args.frames)
     bench_launch()
-    from gmr_studio.app.tools import take_bench
+    from gmr_studio.app.tools import open_bench, take_bench
 
     take_bench.bench_take(args.edit_frames, args.rounds)
-    take_bench.bench_open(args.edit_frames, args.rounds)
+    open_bench.bench_open(args.edit_frames, args.rounds)
     return 0
 
 

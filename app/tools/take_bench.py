@@ -6,9 +6,9 @@ the yardsticks, then each row twice in a row), and keeps its best call: the load
 jobs on the machine then falls on both sides alike, and each side's second call gets
 memory freed a moment before, as a copy in a loop does (a virtual machine that hands freed
 memory back to its host makes the first touch of memory freed seconds ago several times
-slower: the first call meets that, the second the program's own cost). Wall time and the process's CPU time (every
-thread, and of it the system's: page faults of new arrays, mostly) are both given; the
-ratio of the best wall times is the one the goals speak of.
+slower: the first call meets that, the second the program's own cost). Wall time and the
+process's CPU time (every thread, and of it the system's: page faults of new arrays,
+mostly) are both given; the ratio of the best wall times is the one the goals speak of.
 
 Yardsticks:
 - ``copy R``: one copy of the motion's rotation array (F, J, 3, 3), allocation included;
@@ -21,21 +21,18 @@ number: no FK can take less).
 Rows: the FK itself; the cache a document holds (``Snapshot.of``); every edit as the core
 operation alone and as the app's undoable edit (with the cache of its result), with the
 undo, and the edit's allocation peak (tracemalloc) beside what the new motion and its cache
-take; ``gmr check``; opening the take's BVH file in a window up to its first drawn frame,
-and its parts; the undo history after more edits than it keeps. Prints figures only.
+take; ``gmr check``; the undo history after more edits than it keeps; then opening the
+take of every format in a window (:mod:`app.tools.open_bench`). Prints figures only.
 """
 
 from __future__ import annotations
 
 import argparse
-import io
 import os
 import resource
 import sys
-import tempfile
 import time
 from collections.abc import Callable, Sequence
-from pathlib import Path
 
 import numpy as np
 
@@ -237,52 +234,6 @@ def _history(state, history_bytes, motion, log) -> None:
     )
 
 
-def bench_open(n_frames: int, rounds: int, log: Callable[[str], None] = print) -> None:
-    """Opening the take's BVH file in a window to its first drawn frame, against numpy's
-    parse of its frame lines, and the parts of the reading path."""
-    from gmr_studio.app.model.loading import load_snapshot
-    from gmr_studio.app.model.state import Snapshot
-    from gmr_studio.app.tools.bench import bench_window, close_bench_window
-    from gmr_studio.core.benchmark.data import tile_bvh
-    from gmr_studio.core.formats import read_motion_with_channels
-    from gmr_studio.core.kinematics.convention import pre_from_post
-
-    text = tile_bvh(shared_data_dir() / BVH, n_frames)
-    block = text.split(b"\nFrame Time:", 1)[1].split(b"\n", 1)[1]  # the frame lines
-    with tempfile.TemporaryDirectory(prefix="gmr-take-") as folder:
-        path = Path(folder) / "take.bvh"
-        path.write_bytes(text)
-        log(f"opening a {len(text) / MB:.0f} MB BVH file of {n_frames} frames, {_load()}")
-        load_snapshot(shared_data_dir() / BVH)  # compiled kernels loaded before timing
-        app, window, scratch = bench_window(1280, 800)
-        post = read_motion_with_channels(path)[0]
-        gmr = pre_from_post(post)
-
-        def open_to_first_frame() -> None:
-            window.files.open_path(str(path), ask=False, wait=True)
-            window.view.scene.render()
-            app.processEvents()
-
-        timed = Rounds()
-        timed.add("parse", lambda: np.loadtxt(io.BytesIO(block), dtype=np.float64, comments=None, ndmin=2))
-        timed.add("read", lambda: read_motion_with_channels(path))
-        timed.add("convert", lambda: pre_from_post(post))
-        timed.add("cache", lambda: Snapshot.of(gmr))
-        timed.add("open", open_to_first_frame)
-        timed.run(rounds, log)
-        close_bench_window(window, scratch)
-    parse = timed.best("parse")[0]
-    print(f"\nopening (best of {rounds} rounds of two calls; x parse: numpy.loadtxt of the frame lines):")
-    print(f"  {'numpy.loadtxt of the frame lines (yardstick)':<58} {timed.line('parse')}")
-    for name, label in (
-        ("read", "read the file (core.formats, BVH as written)"),
-        ("convert", "convert to GMR (pre_from_post)"),
-        ("cache", "FK cache (Snapshot.of)"),
-    ):
-        print(f"  {label:<58} {timed.line(name)}  {timed.best(name)[0] / parse:5.2f} x parse")
-    _row(timed, "open", "open in the window to its first drawn frame", parse, "parse", 2.0)
-
-
 def main(argv: Sequence[str] | None = None) -> int:
     prog = "python -m gmr_studio.app.tools.take_bench"
     parser = argparse.ArgumentParser(prog=prog, description=__doc__.splitlines()[0])
@@ -294,12 +245,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     if not (shared_data_dir() / BVH).exists():
         print(f"the CMU files are not in {shared_data_dir()}: nothing to measure", file=sys.stderr)
         return 2
+    from gmr_studio.app.tools import open_bench
     from gmr_studio.app.tools.bench import application
 
     application()  # the undo stacks and the window need the process's QApplication
     bench_take(args.frames, args.rounds, only=args.only)
     if not args.no_open:
-        bench_open(args.frames, args.rounds)
+        open_bench.bench_open(args.frames, args.rounds)
     print(f"\n{_load()}")
     return 0
 

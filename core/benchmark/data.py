@@ -131,3 +131,16 @@ def build_benchmark_data(folders: list[Path], n_frames: int, workdir: Path) -> B
     path.write_bytes(text)
     post = read_bvh(path)
     return BenchmarkData(path, len(text), block, post, pre_from_post(post), tuple(sources))
+
+
+def tile_amc(path: Path, n_frames: int) -> bytes:
+    """The AMC file at ``path`` with its frames repeated to ``n_frames``, numbered from 1
+    (the lines of every frame as written; the header keywords kept)."""
+    lines = normalise_newlines(path.read_bytes()).split(b"\n")
+    starts = [k for k, line in enumerate(lines) if line.strip().isdigit()]
+    if not starts:
+        raise MotionFileError(path, "the file holds no frames to tile")
+    ends = [*starts[1:], len(lines)]
+    bodies = [b"".join(line.strip() + b"\n" for line in lines[a + 1 : b] if line.strip()) for a, b in zip(starts, ends)]
+    head = b"".join(line + b"\n" for line in lines[: starts[0]])
+    return head + b"".join(b"%d\n%s" % (k + 1, bodies[k % len(bodies)]) for k in range(n_frames))

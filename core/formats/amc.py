@@ -49,6 +49,9 @@ _ALL_BYTES = np.uint64(0xFFFFFFFFFFFFFFFF)
 _ZEROS = np.uint64(0x3030303030303030)
 _DIGIT_CARRY = np.uint64(0x7676767676767676)
 _HIGH_BITS = np.uint64(0x8080808080808080)
+#: frames per matrix product in :func:`conjugate` (OpenBLAS keeps a product of at most
+#: 262,144 multiply-adds on one thread; a frame takes 27)
+CONJUGATE_BLOCK = 8192
 _HASH_MULTIPLIERS = (np.uint64(0x9E3779B97F4A7C15), np.uint64(0xC2B2AE3D27D4EB4F), np.uint64(0x165667B19E3779F9))
 
 
@@ -61,11 +64,18 @@ def _hash_words(words: np.ndarray, multiplier: np.uint64) -> np.ndarray:
 
 
 def conjugate(c: np.ndarray, rotations: np.ndarray) -> np.ndarray:
-    """``C R C^T`` for one (3, 3) ``C`` and (F, 3, 3) ``R``, as two (3F, 3) x (3, 3) matrix
-    products (one BLAS call each, instead of F small ones)."""
-    n = rotations.shape[0]
-    right = (rotations.reshape(-1, 3) @ c.T).reshape(n, 3, 3)  # R C^T
-    return (np.swapaxes(right, 1, 2).reshape(-1, 3) @ c.T).reshape(n, 3, 3).swapaxes(1, 2)  # C X = (X^T C^T)^T
+    """``C R C^T`` for one (3, 3) ``C`` and (F, 3, 3) ``R``, as two (3B, 3) x (3, 3) matrix
+    products per block of B = :data:`CONJUGATE_BLOCK` frames (one BLAS call each, instead of
+    F small ones). A block is small enough for OpenBLAS to multiply on the calling thread:
+    a larger product is split over threads, which on a busy machine wait for each other
+    longer than the product takes. The numbers are those of one product over every frame."""
+    out = np.empty_like(rotations, dtype=np.float64)
+    for start in range(0, rotations.shape[0], CONJUGATE_BLOCK):
+        block = rotations[start : start + CONJUGATE_BLOCK]
+        n = block.shape[0]
+        right = (block.reshape(-1, 3) @ c.T).reshape(n, 3, 3)  # R C^T
+        out[start : start + n] = (np.swapaxes(right, 1, 2).reshape(-1, 3) @ c.T).reshape(n, 3, 3).swapaxes(1, 2)
+    return out  # C X = (X^T C^T)^T above
 
 
 # --------------------------------------------------------------------------- skeleton
@@ -242,10 +252,11 @@ class _Block:
         """
         text = self.buffer.copy()
         text[text < 32] = 32  # white space as the tokens have it (numpy parses only its own)
+        keep = np.ones(text.size, bool)  # the names left out (white space stays around them)
         for j in np.unique(joint[joint >= 0]):
             starts = self.starts[self.line_first_token[joint == j]]
-            text[np.add.outer(starts, np.arange(name_lengths[j])).ravel()] = 32
-        data = text.tobytes()
+            keep[np.add.outer(starts, np.arange(name_lengths[j])).ravel()] = False
+        data = text[keep].tobytes()
         values = None
         if not data.translate(None, _NUMBER_CHARACTERS):
             try:
@@ -371,15 +382,14 @@ def parse_amc_frames(data: bytes, path: str, skeleton: AcclaimSkeleton) -> tuple
             f"frame {int(frame_numbers[frame])} has no line for bone '{names[j]}' "
             f"({' '.join(dofs[j])}): every bone with dofs must appear in every frame",
         )
-    # one pass per joint and dof: the joint's lines, frame by frame
+    # every bone line's numbers in one scatter: the k-th number of a line of bone j in frame f
+    # goes to (f, column_of[j] + k), its place in ``numbers`` shifted by one amount per line
     values = np.empty((n_frames, n_values))
-    rows = frame_of_line[bone_lines]
-    for j in np.flatnonzero(counts):
-        mine = bone_of_line == j
-        first_number = line_start[bone_lines[mine]]
-        frames = rows[mine]
-        for k in range(int(counts[j])):
-            values[frames, column_of[j] + k] = numbers[first_number + k]
+    shift = frame_of_line[bone_lines] * n_values + column_of[bone_of_line] - line_start[bone_lines]
+    is_value = np.ones(numbers.size, bool)
+    is_value[line_start[frame_lines]] = False  # the frame numbers
+    source = np.flatnonzero(is_value)  # the bone lines' numbers, line after line
+    values.ravel()[source + np.repeat(shift, counts[bone_of_line])] = numbers[source]
     return values, int(frame_numbers[0]), flags
 
 
