@@ -236,7 +236,7 @@ def _history(state, history_bytes, motion, log) -> None:
 
 def main(argv: Sequence[str] | None = None) -> int:
     prog = "python -m gmr_studio.app.tools.take_bench"
-    parser = argparse.ArgumentParser(prog=prog, description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog=prog, description=__doc__.split("\n\n")[0].replace("\n", " "))
     parser.add_argument("--frames", type=int, default=100_000, help="frames of the take (100000)")
     parser.add_argument("--rounds", type=int, default=5, help="rounds; each figure keeps its best (5)")
     parser.add_argument("--no-open", action="store_true", help="leave out opening the file in a window")
