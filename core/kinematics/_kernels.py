@@ -7,6 +7,13 @@ Every kernel walks frames in storage order and, inside a frame, the joints in
 topological order. Arithmetic is spelled out ``(a0 b0 + a1 b1) + a2 b2`` so that it
 matches the numpy backend operation for operation (numba compiles without fast-math: no
 fused multiply-add, no reassociation).
+
+:func:`fk_matrices` keeps each joint's world rotation by columns, each column (and the
+position) a vector of 4 lanes (the last unused), and computes a column of ``W_p R_j`` as
+``(c0 r0b + c1 r1b) + c2 r2b`` on whole vectors: the same operations, lane by lane, as
+the scalar sums. numba turns off LLVM's SLP vectoriser, which would otherwise find these
+vector operations; the small intrinsics below spell them out in LLVM IR (plain ``fmul``
+and ``fadd`` without fast-math flags: no contraction into fused multiply-add).
 """
 
 from __future__ import annotations
@@ -15,6 +22,10 @@ import math
 
 import numba
 import numpy as np
+from llvmlite import ir
+from numba import types
+from numba.core import cgutils
+from numba.extending import intrinsic
 
 ROOT, INNER, LEAF = 0, 1, 2
 
@@ -84,24 +95,168 @@ def _stage(rotations, translations, joints, local, offsets):  # pragma: no cover
                 local[j, a, b] = rotations[j, a, b]
 
 
+_LANES = ir.VectorType(ir.DoubleType(), 4)
+_INDEX = ir.IntType(32)
+_QUAD = types.UniTuple(types.float64, 4)
+
+
+def _as_vector(builder, quad):  # pragma: no cover - compile time
+    vector = ir.Constant(_LANES, ir.Undefined)
+    for k in range(4):
+        vector = builder.insert_element(vector, builder.extract_value(quad, k), ir.Constant(_INDEX, k))
+    return vector
+
+
+def _as_quad(context, builder, vector):  # pragma: no cover - compile time
+    quad = ir.Constant(context.get_value_type(_QUAD), ir.Undefined)
+    for k in range(4):
+        quad = builder.insert_value(quad, builder.extract_element(vector, ir.Constant(_INDEX, k)), k)
+    return quad
+
+
+def _splat(builder, value):  # pragma: no cover - compile time
+    vector = builder.insert_element(ir.Constant(_LANES, ir.Undefined), value, ir.Constant(_INDEX, 0))
+    return builder.shuffle_vector(vector, vector, ir.Constant(ir.VectorType(_INDEX, 4), [0, 0, 0, 0]))
+
+
+def _lane_pointer(context, builder, array_type, array, j, c):  # pragma: no cover - compile time
+    """Pointer to array[j, c, 0] of a C-contiguous (J, 4, 4) float64 array, as 4 lanes."""
+    view = context.make_array(array_type)(context, builder, array)
+    zero = context.get_constant(types.intp, 0)
+    pointer = cgutils.get_item_pointer(context, builder, array_type, view, [j, c, zero], wraparound=False)
+    return builder.bitcast(pointer, _LANES.as_pointer())
+
+
+@intrinsic
+def _load(typingctx, lanes, j, c):  # pragma: no cover - compile time
+    """lanes[j, c, :] (lanes: (J, 4, 4)) as one 4-lane vector load."""
+
+    def codegen(context, builder, signature, args):
+        pointer = _lane_pointer(context, builder, signature.args[0], args[0], args[1], args[2])
+        return _as_quad(context, builder, builder.load(pointer, align=8))
+
+    return _QUAD(lanes, j, c), codegen
+
+
+@intrinsic
+def _store(typingctx, lanes, j, c, quad):  # pragma: no cover - compile time
+    """lanes[j, c, :] = quad, one 4-lane vector store."""
+
+    def codegen(context, builder, signature, args):
+        pointer = _lane_pointer(context, builder, signature.args[0], args[0], args[1], args[2])
+        builder.store(_as_vector(builder, args[3]), pointer, align=8)
+        return context.get_dummy_value()
+
+    return types.void(lanes, j, c, quad), codegen
+
+
+@intrinsic
+def _combine(typingctx, c0, c1, c2, x, y, z):  # pragma: no cover - compile time
+    """(c0 x + c1 y) + c2 z lane by lane: c0, c1, c2 4-lane tuples, x, y, z numbers."""
+
+    def codegen(context, builder, signature, args):
+        v0, v1, v2 = (_as_vector(builder, quad) for quad in args[:3])
+        s0, s1, s2 = (_splat(builder, value) for value in args[3:])
+        total = builder.fadd(builder.fadd(builder.fmul(v0, s0), builder.fmul(v1, s1)), builder.fmul(v2, s2))
+        return _as_quad(context, builder, total)
+
+    return _QUAD(_QUAD, _QUAD, _QUAD, types.float64, types.float64, types.float64), codegen
+
+
+@intrinsic
+def _add(typingctx, a, b):  # pragma: no cover - compile time
+    """a + b lane by lane (4-lane tuples)."""
+
+    def codegen(context, builder, signature, args):
+        return _as_quad(context, builder, builder.fadd(_as_vector(builder, args[0]), _as_vector(builder, args[1])))
+
+    return _QUAD(_QUAD, _QUAD), codegen
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _turned(c0, c1, c2, local, j):  # pragma: no cover - compiled
+    """The columns of W @ local[j] (W by columns c0, c1, c2)."""
+    n0 = _combine(c0, c1, c2, local[j, 0, 0], local[j, 1, 0], local[j, 2, 0])
+    n1 = _combine(c0, c1, c2, local[j, 0, 1], local[j, 1, 1], local[j, 2, 1])
+    n2 = _combine(c0, c1, c2, local[j, 0, 2], local[j, 1, 2], local[j, 2, 2])
+    return n0, n1, n2
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _walk(local, offsets, order, parents, kinds, keep_root, pre, pos, columns):  # pragma: no cover - compiled
+    """One frame's positions, as :func:`_frame` without world rotations: local (J, 3, 3),
+    offsets (J, 3) -> pos (J, 3). columns (J, 4, 4): per joint the world rotation's columns
+    and the position, 4 lanes each (the last lane 0), for its children to read."""
+    for step in range(order.shape[0]):
+        j = order[step]
+        p = parents[j]
+        t0 = offsets[j, 0]
+        t1 = offsets[j, 1]
+        t2 = offsets[j, 2]
+        kind = kinds[j]
+        if kind == ROOT:
+            pos[j, 0] = t0
+            pos[j, 1] = t1
+            pos[j, 2] = t2
+            columns[j, 3, 0] = t0
+            columns[j, 3, 1] = t1
+            columns[j, 3, 2] = t2
+            if keep_root[j]:
+                for a in range(3):
+                    for b in range(3):
+                        columns[j, b, a] = local[j, a, b]
+            continue
+        c0 = _load(columns, p, 0)
+        c1 = _load(columns, p, 1)
+        c2 = _load(columns, p, 2)
+        at = _load(columns, p, 3)
+        if pre and kind == LEAF:  # P_p + W_p (R_j t_j): no world rotation needed
+            v0 = (local[j, 0, 0] * t0 + local[j, 0, 1] * t1) + local[j, 0, 2] * t2
+            v1 = (local[j, 1, 0] * t0 + local[j, 1, 1] * t1) + local[j, 1, 2] * t2
+            v2 = (local[j, 2, 0] * t0 + local[j, 2, 1] * t1) + local[j, 2, 2] * t2
+            here = _add(at, _combine(c0, c1, c2, v0, v1, v2))
+        elif pre:
+            n0, n1, n2 = _turned(c0, c1, c2, local, j)
+            here = _add(at, _combine(n0, n1, n2, t0, t1, t2))
+            _store(columns, j, 0, n0)
+            _store(columns, j, 1, n1)
+            _store(columns, j, 2, n2)
+            _store(columns, j, 3, here)
+        else:
+            here = _add(at, _combine(c0, c1, c2, t0, t1, t2))
+            if kind == INNER:
+                n0, n1, n2 = _turned(c0, c1, c2, local, j)
+                _store(columns, j, 0, n0)
+                _store(columns, j, 1, n1)
+                _store(columns, j, 2, n2)
+                _store(columns, j, 3, here)
+        pos[j, 0] = here[0]
+        pos[j, 1] = here[1]
+        pos[j, 2] = here[2]
+
+
 @numba.njit(nogil=True, cache=True, boundscheck=False)
 def fk_matrices(  # pragma: no cover - compiled
     rotations, translations, order, parents, kinds, keep_root, keep_world, pre, staged, positions, world, local, offsets
 ):
     """rotations (F, J, 3, 3), translations (F, J, 3) -> positions (F, J, 3) and world:
-    (F, J, 3, 3) when ``keep_world`` (every frame's world rotations), else (1, J, 3, 3)
-    scratch. When ``staged`` (increasing joint indices) is not empty, the rotations of
-    those joints and all translations of each frame are first copied, in memory order, into
-    the scratch ``local`` (J, 3, 3) and ``offsets`` (J, 3): the walk in tree order then
-    reads from L1 instead of jumping about in memory the prefetchers cannot follow."""
+    (F, J, 3, 3) when ``keep_world`` (every frame's world rotations, by :func:`_frame`),
+    else unused (positions alone, by the 4-lane :func:`_walk`). When ``staged``
+    (increasing joint indices) is not empty, the rotations of those joints and all
+    translations of each frame are first copied, in memory order, into the scratch
+    ``local`` (J, 3, 3) and ``offsets`` (J, 3): the walk in tree order then reads from L1
+    instead of jumping about in memory the prefetchers cannot follow."""
     stage = staged.shape[0] > 0
+    columns = np.zeros((rotations.shape[1], 4, 4))
     for f in range(rotations.shape[0]):
-        w = world[f] if keep_world else world[0]
+        rotation, translation = rotations[f], translations[f]
         if stage:
-            _stage(rotations[f], translations[f], staged, local, offsets)
-            _frame(local, offsets, order, parents, kinds, keep_root, keep_world, pre, positions[f], w)
+            _stage(rotation, translation, staged, local, offsets)
+            rotation, translation = local, offsets
+        if keep_world:
+            _frame(rotation, translation, order, parents, kinds, keep_root, True, pre, positions[f], world[f])
         else:
-            _frame(rotations[f], translations[f], order, parents, kinds, keep_root, keep_world, pre, positions[f], w)
+            _walk(rotation, translation, order, parents, kinds, keep_root, pre, positions[f], columns)
 
 
 @numba.njit(inline="always", boundscheck=False)
