@@ -290,12 +290,12 @@ def fk_euler(  # pragma: no cover - compiled
     angles, codes, needed, translations, order, parents, kinds, keep_root, pre, staged, positions, scratch, offsets
 ):
     """angles (F, J, 3) radians -> positions (F, J, 3); only joints marked ``needed`` get
-    a rotation matrix, computed in memory order. scratch (2, J, 3, 3): local and world
-    rotations of one frame; offsets (J, 3): the frame's translations, copied there in
+    a rotation matrix, computed in memory order. scratch (2, J, 3, 3): the local rotations
+    of one frame (the first half); offsets (J, 3): the frame's translations, copied there in
     memory order first when ``staged`` (the walk is not in memory order)."""
     local = scratch[0]
-    world = scratch[1]
     n_joints = angles.shape[1]
+    columns = np.zeros((n_joints, 4, 4))
     for f in range(angles.shape[0]):
         for j in range(n_joints):
             if needed[j]:
@@ -304,9 +304,9 @@ def fk_euler(  # pragma: no cover - compiled
             for j in range(n_joints):
                 for a in range(3):
                     offsets[j, a] = translations[f, j, a]
-            _frame(local, offsets, order, parents, kinds, keep_root, False, pre, positions[f], world)
+            _walk(local, offsets, order, parents, kinds, keep_root, pre, positions[f], columns)
         else:
-            _frame(local, translations[f], order, parents, kinds, keep_root, False, pre, positions[f], world)
+            _walk(local, translations[f], order, parents, kinds, keep_root, pre, positions[f], columns)
 
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)
