@@ -17,12 +17,14 @@ Choices (``gmr bench`` times them; docs/benchmark.md):
 
 - **A compiled kernel, frame-major.** numpy's batched 3x3 matmul costs about the same per
   joint however it is batched, so a per-joint numpy loop is bound by call overhead. The
-  numba kernel walks each frame's joints with the 3x3 products in registers and the world
-  rotations of one frame in a (J, 3, 3) scratch small enough to stay in L1, reading the
-  rotations once, in the order they are stored (frame-major, the Motion layout). Tried and
-  dropped: joint-major component planes so that LLVM vectorises across frames (the
-  transposes cost more than SIMD saves); several frames interleaved in one joint loop;
-  fused multiply-add (no gain, and it would break the bitwise equality below).
+  numba kernel walks each frame's joints with the world rotations of one frame in a small
+  scratch that stays in L1, reading the rotations once, in the order they are stored
+  (frame-major, the Motion layout). For positions alone it keeps each world rotation by
+  columns, 4-lane vectors, so that a column of ``W_p R_j`` is three vector products and two
+  sums (SIMD within a frame, same operations per lane); with world rotations kept it works
+  on scalars. Tried and dropped: joint-major component planes so that LLVM vectorises
+  across frames (the transposes cost more than SIMD saves); several frames interleaved in
+  one joint loop; fused multiply-add (it would break the bitwise equality below).
 - **Memory order of the walk.** A depth-first walk from a new root (after shift root) jumps
   back and forth in the frame's memory and the hardware prefetchers stop following. The
   kernel walks parents before children and otherwise by increasing index (a min-heap
