@@ -8,8 +8,9 @@ topological order. Arithmetic is spelled out ``(a0 b0 + a1 b1) + a2 b2`` so that
 matches the numpy backend operation for operation (numba compiles without fast-math: no
 fused multiply-add, no reassociation).
 
-:func:`fk_matrices` keeps each joint's world rotation by columns, each column (and the
-position) a vector of 4 lanes (the last unused), and computes a column of ``W_p R_j`` as
+The walk (:func:`_walk`, for :func:`fk_matrices` and :func:`fk_euler`) keeps each joint's
+world rotation by columns, each column (and the position) a vector of 4 lanes (the last
+unused), and computes a column of ``W_p R_j`` as
 ``(c0 r0b + c1 r1b) + c2 r2b`` on whole vectors: the same operations, lane by lane, as
 the scalar sums. numba turns off LLVM's SLP vectoriser, which would otherwise find these
 vector operations; the small intrinsics below spell them out in LLVM IR (plain ``fmul``
@@ -28,57 +29,6 @@ from numba.core import cgutils
 from numba.extending import intrinsic
 
 ROOT, INNER, LEAF = 0, 1, 2
-
-
-@numba.njit(inline="always", boundscheck=False)
-def _product(world, p, local, j):  # pragma: no cover - compiled
-    """world[j] = world[p] @ local[j], summed in the numpy backend's order."""
-    for a in range(3):
-        w0 = world[p, a, 0]
-        w1 = world[p, a, 1]
-        w2 = world[p, a, 2]
-        for b in range(3):
-            world[j, a, b] = (w0 * local[j, 0, b] + w1 * local[j, 1, b]) + w2 * local[j, 2, b]
-
-
-@numba.njit(inline="always", boundscheck=False)
-def _frame(local, offsets, order, parents, kinds, keep_root, keep_world, pre, pos, world):  # pragma: no cover
-    """One frame: local (J, 3, 3), offsets (J, 3) -> pos (J, 3), world (J, 3, 3).
-
-    Leaves get their world rotation only when ``keep_world``; their positions are computed
-    the same way either way (pre-rotation: ``P_p + W_p (R_j t_j)``)."""
-    for step in range(order.shape[0]):
-        j = order[step]
-        p = parents[j]
-        t0 = offsets[j, 0]
-        t1 = offsets[j, 1]
-        t2 = offsets[j, 2]
-        kind = kinds[j]
-        if kind == ROOT:
-            pos[j, 0] = t0
-            pos[j, 1] = t1
-            pos[j, 2] = t2
-            if keep_root[j]:
-                for a in range(3):
-                    for b in range(3):
-                        world[j, a, b] = local[j, a, b]
-        elif pre and kind == LEAF:
-            v0 = (local[j, 0, 0] * t0 + local[j, 0, 1] * t1) + local[j, 0, 2] * t2
-            v1 = (local[j, 1, 0] * t0 + local[j, 1, 1] * t1) + local[j, 1, 2] * t2
-            v2 = (local[j, 2, 0] * t0 + local[j, 2, 1] * t1) + local[j, 2, 2] * t2
-            for a in range(3):
-                pos[j, a] = pos[p, a] + ((world[p, a, 0] * v0 + world[p, a, 1] * v1) + world[p, a, 2] * v2)
-            if keep_world:
-                _product(world, p, local, j)
-        elif pre:
-            _product(world, p, local, j)
-            for a in range(3):
-                pos[j, a] = pos[p, a] + ((world[j, a, 0] * t0 + world[j, a, 1] * t1) + world[j, a, 2] * t2)
-        else:
-            for a in range(3):
-                pos[j, a] = pos[p, a] + ((world[p, a, 0] * t0 + world[p, a, 1] * t1) + world[p, a, 2] * t2)
-            if kind == INNER or keep_world:
-                _product(world, p, local, j)
 
 
 @numba.njit(inline="always", boundscheck=False)
@@ -129,7 +79,9 @@ def _lane_pointer(context, builder, array_type, array, j, c):  # pragma: no cove
 
 @intrinsic
 def _load(typingctx, lanes, j, c):  # pragma: no cover - compile time
-    """lanes[j, c, :] (lanes: (J, 4, 4)) as one 4-lane vector load."""
+    """lanes[j, c, :] (lanes: C-contiguous (J, 4, 4)) as one 4-lane vector load."""
+    if lanes.layout != "C":
+        return None
 
     def codegen(context, builder, signature, args):
         pointer = _lane_pointer(context, builder, signature.args[0], args[0], args[1], args[2])
@@ -141,6 +93,8 @@ def _load(typingctx, lanes, j, c):  # pragma: no cover - compile time
 @intrinsic
 def _store(typingctx, lanes, j, c, quad):  # pragma: no cover - compile time
     """lanes[j, c, :] = quad, one 4-lane vector store."""
+    if lanes.layout != "C":
+        return None
 
     def codegen(context, builder, signature, args):
         pointer = _lane_pointer(context, builder, signature.args[0], args[0], args[1], args[2])
@@ -173,6 +127,37 @@ def _add(typingctx, a, b):  # pragma: no cover - compile time
     return _QUAD(_QUAD, _QUAD), codegen
 
 
+@intrinsic
+def _store_rows(typingctx, world, j, n0, n1, n2):  # pragma: no cover - compile time
+    """world[j] (3, 3) = the matrix of columns n0, n1, n2: its 9 numbers as two 4-lane
+    stores and one scalar (world: C-contiguous (J, 3, 3))."""
+    if world.layout != "C":
+        return None
+
+    def codegen(context, builder, signature, args):
+        array_type = signature.args[0]
+        view = context.make_array(array_type)(context, builder, args[0])
+        zero = context.get_constant(types.intp, 0)
+        one = context.get_constant(types.intp, 1)
+        two = context.get_constant(types.intp, 2)
+        c0, c1, c2 = (_as_vector(builder, quad) for quad in args[2:])
+
+        def pick(a, b, lanes):
+            return builder.shuffle_vector(a, b, ir.Constant(ir.VectorType(_INDEX, 4), lanes))
+
+        first = pick(pick(c0, c1, [0, 4, 1, 5]), c2, [0, 1, 4, 2])  # W00 W01 W02 W10
+        second = pick(pick(c0, c1, [5, 2, 6, 0]), c2, [0, 5, 1, 2])  # W11 W12 W20 W21
+        at = [args[1]]
+        for vector, (a, b) in ((first, (zero, zero)), (second, (one, one))):
+            pointer = cgutils.get_item_pointer(context, builder, array_type, view, [*at, a, b], wraparound=False)
+            builder.store(vector, builder.bitcast(pointer, _LANES.as_pointer()), align=8)
+        pointer = cgutils.get_item_pointer(context, builder, array_type, view, [*at, two, two], wraparound=False)
+        builder.store(builder.extract_element(c2, ir.Constant(_INDEX, 2)), pointer)
+        return context.get_dummy_value()
+
+    return types.void(world, j, _QUAD, _QUAD, _QUAD), codegen
+
+
 @numba.njit(inline="always", boundscheck=False)
 def _turned(c0, c1, c2, local, j):  # pragma: no cover - compiled
     """The columns of W @ local[j] (W by columns c0, c1, c2)."""
@@ -183,10 +168,13 @@ def _turned(c0, c1, c2, local, j):  # pragma: no cover - compiled
 
 
 @numba.njit(inline="always", boundscheck=False)
-def _walk(local, offsets, order, parents, kinds, keep_root, pre, pos, columns):  # pragma: no cover - compiled
-    """One frame's positions, as :func:`_frame` without world rotations: local (J, 3, 3),
-    offsets (J, 3) -> pos (J, 3). columns (J, 4, 4): per joint the world rotation's columns
-    and the position, 4 lanes each (the last lane 0), for its children to read."""
+def _walk(local, offsets, order, parents, kinds, keep_root, keep_world, pre, pos, world, columns):  # pragma: no cover
+    """One frame: local (J, 3, 3), offsets (J, 3) -> pos (J, 3) and, when ``keep_world``,
+    world (J, 3, 3). columns (J, 4, 4): per joint the world rotation's columns and the
+    position, 4 lanes each (the last lane 0), for its children to read.
+
+    Leaves get their world rotation only when ``keep_world``; their positions are computed
+    the same way either way (pre-rotation: ``P_p + W_p (R_j t_j)``)."""
     for step in range(order.shape[0]):
         j = order[step]
         p = parents[j]
@@ -205,6 +193,8 @@ def _walk(local, offsets, order, parents, kinds, keep_root, pre, pos, columns): 
                 for a in range(3):
                     for b in range(3):
                         columns[j, b, a] = local[j, a, b]
+                        if keep_world:
+                            world[j, a, b] = local[j, a, b]
             continue
         c0 = _load(columns, p, 0)
         c1 = _load(columns, p, 1)
@@ -215,6 +205,9 @@ def _walk(local, offsets, order, parents, kinds, keep_root, pre, pos, columns): 
             v1 = (local[j, 1, 0] * t0 + local[j, 1, 1] * t1) + local[j, 1, 2] * t2
             v2 = (local[j, 2, 0] * t0 + local[j, 2, 1] * t1) + local[j, 2, 2] * t2
             here = _add(at, _combine(c0, c1, c2, v0, v1, v2))
+            if keep_world:
+                n0, n1, n2 = _turned(c0, c1, c2, local, j)
+                _store_rows(world, j, n0, n1, n2)
         elif pre:
             n0, n1, n2 = _turned(c0, c1, c2, local, j)
             here = _add(at, _combine(n0, n1, n2, t0, t1, t2))
@@ -222,14 +215,18 @@ def _walk(local, offsets, order, parents, kinds, keep_root, pre, pos, columns): 
             _store(columns, j, 1, n1)
             _store(columns, j, 2, n2)
             _store(columns, j, 3, here)
+            if keep_world:
+                _store_rows(world, j, n0, n1, n2)
         else:
             here = _add(at, _combine(c0, c1, c2, t0, t1, t2))
-            if kind == INNER:
+            if kind == INNER or keep_world:
                 n0, n1, n2 = _turned(c0, c1, c2, local, j)
                 _store(columns, j, 0, n0)
                 _store(columns, j, 1, n1)
                 _store(columns, j, 2, n2)
                 _store(columns, j, 3, here)
+                if keep_world:
+                    _store_rows(world, j, n0, n1, n2)
         pos[j, 0] = here[0]
         pos[j, 1] = here[1]
         pos[j, 2] = here[2]
@@ -240,12 +237,11 @@ def fk_matrices(  # pragma: no cover - compiled
     rotations, translations, order, parents, kinds, keep_root, keep_world, pre, staged, positions, world, local, offsets
 ):
     """rotations (F, J, 3, 3), translations (F, J, 3) -> positions (F, J, 3) and world:
-    (F, J, 3, 3) when ``keep_world`` (every frame's world rotations, by :func:`_frame`),
-    else unused (positions alone, by the 4-lane :func:`_walk`). When ``staged``
-    (increasing joint indices) is not empty, the rotations of those joints and all
-    translations of each frame are first copied, in memory order, into the scratch
-    ``local`` (J, 3, 3) and ``offsets`` (J, 3): the walk in tree order then reads from L1
-    instead of jumping about in memory the prefetchers cannot follow."""
+    (F, J, 3, 3) when ``keep_world`` (every frame's world rotations), else (1, J, 3, 3),
+    unused. When ``staged`` (increasing joint indices) is not empty, the rotations of those
+    joints and all translations of each frame are first copied, in memory order, into the
+    scratch ``local`` (J, 3, 3) and ``offsets`` (J, 3): the walk in tree order then reads
+    from L1 instead of jumping about in memory the prefetchers cannot follow."""
     stage = staged.shape[0] > 0
     columns = np.zeros((rotations.shape[1], 4, 4))
     for f in range(rotations.shape[0]):
@@ -253,10 +249,8 @@ def fk_matrices(  # pragma: no cover - compiled
         if stage:
             _stage(rotation, translation, staged, local, offsets)
             rotation, translation = local, offsets
-        if keep_world:
-            _frame(rotation, translation, order, parents, kinds, keep_root, True, pre, positions[f], world[f])
-        else:
-            _walk(rotation, translation, order, parents, kinds, keep_root, pre, positions[f], columns)
+        w = world[f] if keep_world else world[0]
+        _walk(rotation, translation, order, parents, kinds, keep_root, keep_world, pre, positions[f], w, columns)
 
 
 @numba.njit(inline="always", boundscheck=False)
@@ -304,9 +298,9 @@ def fk_euler(  # pragma: no cover - compiled
             for j in range(n_joints):
                 for a in range(3):
                     offsets[j, a] = translations[f, j, a]
-            _walk(local, offsets, order, parents, kinds, keep_root, pre, positions[f], columns)
+            _walk(local, offsets, order, parents, kinds, keep_root, False, pre, positions[f], local, columns)
         else:
-            _walk(local, translations[f], order, parents, kinds, keep_root, pre, positions[f], columns)
+            _walk(local, translations[f], order, parents, kinds, keep_root, False, pre, positions[f], local, columns)
 
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)
