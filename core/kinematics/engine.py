@@ -19,10 +19,9 @@ Choices (``gmr bench`` times them; docs/benchmark.md):
   joint however it is batched, so a per-joint numpy loop is bound by call overhead. The
   numba kernel walks each frame's joints with the world rotations of one frame in a small
   scratch that stays in L1, reading the rotations once, in the order they are stored
-  (frame-major, the Motion layout). For positions alone it keeps each world rotation by
-  columns, 4-lane vectors, so that a column of ``W_p R_j`` is three vector products and two
-  sums (SIMD within a frame, same operations per lane); with world rotations kept it works
-  on scalars. Tried and dropped: joint-major component planes so that LLVM vectorises
+  (frame-major, the Motion layout). It keeps each world rotation by columns, 4-lane
+  vectors, so that a column of ``W_p R_j`` is three vector products and two sums (SIMD
+  within a frame, the same operations per lane). Tried and dropped: joint-major component planes so that LLVM vectorises
   across frames (the transposes cost more than SIMD saves); several frames interleaved in
   one joint loop; fused multiply-add (it would break the bitwise equality below).
 - **Memory order of the walk.** A depth-first walk from a new root (after shift root) jumps
