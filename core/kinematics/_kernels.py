@@ -168,20 +168,34 @@ def _turned(c0, c1, c2, local, j):  # pragma: no cover - compiled
 
 
 @numba.njit(inline="always", boundscheck=False)
-def _walk(local, offsets, order, parents, kinds, keep_root, keep_world, pre, pos, world, columns):  # pragma: no cover
+def _steps(order, parents, kinds, keep_root):  # pragma: no cover - compiled
+    """(J, 3) int64: the walk, one row per joint in ``order``: the joint, its parent, and
+    its kind plus 4 when ``keep_root`` (one small array the walk reads in order)."""
+    steps = np.empty((order.shape[0], 3), np.int64)
+    for step in range(order.shape[0]):
+        j = order[step]
+        steps[step, 0] = j
+        steps[step, 1] = parents[j]
+        steps[step, 2] = kinds[j] + (4 if keep_root[j] else 0)
+    return steps
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _walk(local, offsets, steps, keep_world, pre, pos, world, columns):  # pragma: no cover - compiled
     """One frame: local (J, 3, 3), offsets (J, 3) -> pos (J, 3) and, when ``keep_world``,
-    world (J, 3, 3). columns (J, 4, 4): per joint the world rotation's columns and the
-    position, 4 lanes each (the last lane 0), for its children to read.
+    world (J, 3, 3). steps: as :func:`_steps` makes them. columns (J, 4, 4): per joint the
+    world rotation's columns and the position, 4 lanes each (the last lane 0), for its
+    children to read.
 
     Leaves get their world rotation only when ``keep_world``; their positions are computed
     the same way either way (pre-rotation: ``P_p + W_p (R_j t_j)``)."""
-    for step in range(order.shape[0]):
-        j = order[step]
-        p = parents[j]
+    for step in range(steps.shape[0]):
+        j = steps[step, 0]
+        p = steps[step, 1]
+        kind = steps[step, 2] & 3
         t0 = offsets[j, 0]
         t1 = offsets[j, 1]
         t2 = offsets[j, 2]
-        kind = kinds[j]
         if kind == ROOT:
             pos[j, 0] = t0
             pos[j, 1] = t1
@@ -189,7 +203,7 @@ def _walk(local, offsets, order, parents, kinds, keep_root, keep_world, pre, pos
             columns[j, 3, 0] = t0
             columns[j, 3, 1] = t1
             columns[j, 3, 2] = t2
-            if keep_root[j]:
+            if steps[step, 2] & 4:  # keep_root
                 for a in range(3):
                     for b in range(3):
                         columns[j, b, a] = local[j, a, b]
@@ -244,13 +258,14 @@ def fk_matrices(  # pragma: no cover - compiled
     from L1 instead of jumping about in memory the prefetchers cannot follow."""
     stage = staged.shape[0] > 0
     columns = np.zeros((rotations.shape[1], 4, 4))
+    steps = _steps(order, parents, kinds, keep_root)
     for f in range(rotations.shape[0]):
         rotation, translation = rotations[f], translations[f]
         if stage:
             _stage(rotation, translation, staged, local, offsets)
             rotation, translation = local, offsets
         w = world[f] if keep_world else world[0]
-        _walk(rotation, translation, order, parents, kinds, keep_root, keep_world, pre, positions[f], w, columns)
+        _walk(rotation, translation, steps, keep_world, pre, positions[f], w, columns)
 
 
 @numba.njit(inline="always", boundscheck=False)
@@ -290,6 +305,7 @@ def fk_euler(  # pragma: no cover - compiled
     local = scratch[0]
     n_joints = angles.shape[1]
     columns = np.zeros((n_joints, 4, 4))
+    steps = _steps(order, parents, kinds, keep_root)
     for f in range(angles.shape[0]):
         for j in range(n_joints):
             if needed[j]:
@@ -298,9 +314,9 @@ def fk_euler(  # pragma: no cover - compiled
             for j in range(n_joints):
                 for a in range(3):
                     offsets[j, a] = translations[f, j, a]
-            _walk(local, offsets, order, parents, kinds, keep_root, False, pre, positions[f], local, columns)
+            _walk(local, offsets, steps, False, pre, positions[f], local, columns)
         else:
-            _walk(local, translations[f], order, parents, kinds, keep_root, False, pre, positions[f], local, columns)
+            _walk(local, translations[f], steps, False, pre, positions[f], local, columns)
 
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)
