@@ -299,9 +299,9 @@ def fk_euler(  # pragma: no cover - compiled
     angles, codes, needed, translations, order, parents, kinds, keep_root, pre, staged, positions, scratch, offsets
 ):
     """angles (F, J, 3) radians -> positions (F, J, 3); only joints marked ``needed`` get
-    a rotation matrix, computed in memory order. scratch (2, J, 3, 3): the local rotations
-    of one frame (the first half); offsets (J, 3): the frame's translations, copied there in
-    memory order first when ``staged`` (the walk is not in memory order)."""
+    a rotation matrix, computed in memory order. scratch (1, J, 3, 3): the local rotations
+    of one frame; offsets (J, 3): the frame's translations, copied there in memory order
+    first when ``staged`` (the walk is not in memory order)."""
     local = scratch[0]
     n_joints = angles.shape[1]
     columns = np.zeros((n_joints, 4, 4))

@@ -405,7 +405,7 @@ def positions_from_euler(
         return positions
     needed = plan.needs_rotation()
     if backend == "numba":
-        scratch = np.empty((2, motion.n_joints, 3, 3))
+        scratch = np.empty((1, motion.n_joints, 3, 3))
         _kernels.fk_euler(
             angles, codes, needed, translations, plan.order, plan.parents, plan.kinds, plan.keep_root, plan.pre,
             plan.staged.shape[0] > 0, positions, scratch, np.empty((motion.n_joints, 3)),
