@@ -20,7 +20,7 @@ SETTINGS = settings(max_examples=40, deadline=None, suppress_health_check=[Healt
 
 
 @st.composite
-def forests(draw, max_joints=40):
+def forests(draw, max_joints=40, frame_counts=None):
     """A random forest (parents in any index order), random rotations, some moving joints."""
     n = draw(st.integers(1, max_joints))
     rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
@@ -36,7 +36,7 @@ def forests(draw, max_joints=40):
     inverse = np.argsort(relabel)
     shuffled = [-1 if parents[inverse[k]] < 0 else int(relabel[parents[inverse[k]]]) for k in range(n)]
     moving = tuple(int(j) for j in rng.choice(n, size=min(n, 2), replace=False))
-    frames = draw(st.integers(1, 5))
+    frames = draw(st.integers(1, 5) if frame_counts is None else frame_counts)
     return random_motion(rng, shuffled, n_frames=frames, convention=convention, translation_joints=moving)
 
 
@@ -68,6 +68,35 @@ def test_backends_are_bitwise_identical(motion):
         np.testing.assert_array_equal(fast[0], plain[0])
         if with_rotations:
             np.testing.assert_array_equal(fast[1], plain[1])
+
+
+@pytest.mark.skipif(not fk_engine.have_numba(), reason="numba is not installed: only one backend")
+@SETTINGS
+@given(motion=forests(frame_counts=st.sampled_from([0, 1, 2, 9, 64])), data=st.data())
+def test_positions_alone_are_the_bits_of_the_numpy_backend_and_of_the_full_fk(motion, data):
+    # the compiled kernel computes positions alone and positions with world rotations by
+    # two different walks: both give the numpy backend's bits, whatever the frame count
+    if motion.convention == "pre":  # a root anywhere: the walk no longer in memory order
+        motion = shift_root(motion, data.draw(st.integers(0, motion.n_joints - 1)))
+    alone = fk_engine.world_positions(motion, backend="numba")
+    np.testing.assert_array_equal(alone, fk_engine.world_positions(motion, backend="numpy"))
+    np.testing.assert_array_equal(alone, fk_engine.forward_kinematics(motion, backend="numba")[0])
+    assert alone.shape == (motion.n_frames, motion.n_joints, 3)
+
+
+@pytest.mark.skipif(not fk_engine.have_numba(), reason="numba is not installed: only one backend")
+@pytest.mark.parametrize("path", shared_files("**/*.bvh"))
+def test_real_files_give_the_numpy_backends_bits(path):
+    post = read_bvh(path).frame_slice(slice(0, 300))
+    gmr = pre_from_post(post)
+    forest = split(shift_root(gmr, int(np.argmax(gmr.depths))), gmr.n_joints // 2)
+    for motion in (post, gmr, forest):
+        for with_rotations in (False, True):
+            fast = fk_engine.forward_kinematics(motion, with_rotations=with_rotations, backend="numba")
+            plain = fk_engine.forward_kinematics(motion, with_rotations=with_rotations, backend="numpy")
+            np.testing.assert_array_equal(fast[0], plain[0])
+            if with_rotations:
+                np.testing.assert_array_equal(fast[1], plain[1])
 
 
 @SETTINGS

@@ -7,6 +7,14 @@ Every kernel walks frames in storage order and, inside a frame, the joints in
 topological order. Arithmetic is spelled out ``(a0 b0 + a1 b1) + a2 b2`` so that it
 matches the numpy backend operation for operation (numba compiles without fast-math: no
 fused multiply-add, no reassociation).
+
+The walk (:func:`_walk`, for :func:`fk_matrices` and :func:`fk_euler`) keeps each joint's
+world rotation by columns, each column (and the position) a vector of 4 lanes (the last
+unused), and computes a column of ``W_p R_j`` as
+``(c0 r0b + c1 r1b) + c2 r2b`` on whole vectors: the same operations, lane by lane, as
+the scalar sums. numba turns off LLVM's SLP vectoriser, which would otherwise find these
+vector operations; the small intrinsics below spell them out in LLVM IR (plain ``fmul``
+and ``fadd`` without fast-math flags: no contraction into fused multiply-add).
 """
 
 from __future__ import annotations
@@ -15,59 +23,12 @@ import math
 
 import numba
 import numpy as np
+from llvmlite import ir
+from numba import types
+from numba.core import cgutils
+from numba.extending import intrinsic
 
 ROOT, INNER, LEAF = 0, 1, 2
-
-
-@numba.njit(inline="always", boundscheck=False)
-def _product(world, p, local, j):  # pragma: no cover - compiled
-    """world[j] = world[p] @ local[j], summed in the numpy backend's order."""
-    for a in range(3):
-        w0 = world[p, a, 0]
-        w1 = world[p, a, 1]
-        w2 = world[p, a, 2]
-        for b in range(3):
-            world[j, a, b] = (w0 * local[j, 0, b] + w1 * local[j, 1, b]) + w2 * local[j, 2, b]
-
-
-@numba.njit(inline="always", boundscheck=False)
-def _frame(local, offsets, order, parents, kinds, keep_root, keep_world, pre, pos, world):  # pragma: no cover
-    """One frame: local (J, 3, 3), offsets (J, 3) -> pos (J, 3), world (J, 3, 3).
-
-    Leaves get their world rotation only when ``keep_world``; their positions are computed
-    the same way either way (pre-rotation: ``P_p + W_p (R_j t_j)``)."""
-    for step in range(order.shape[0]):
-        j = order[step]
-        p = parents[j]
-        t0 = offsets[j, 0]
-        t1 = offsets[j, 1]
-        t2 = offsets[j, 2]
-        kind = kinds[j]
-        if kind == ROOT:
-            pos[j, 0] = t0
-            pos[j, 1] = t1
-            pos[j, 2] = t2
-            if keep_root[j]:
-                for a in range(3):
-                    for b in range(3):
-                        world[j, a, b] = local[j, a, b]
-        elif pre and kind == LEAF:
-            v0 = (local[j, 0, 0] * t0 + local[j, 0, 1] * t1) + local[j, 0, 2] * t2
-            v1 = (local[j, 1, 0] * t0 + local[j, 1, 1] * t1) + local[j, 1, 2] * t2
-            v2 = (local[j, 2, 0] * t0 + local[j, 2, 1] * t1) + local[j, 2, 2] * t2
-            for a in range(3):
-                pos[j, a] = pos[p, a] + ((world[p, a, 0] * v0 + world[p, a, 1] * v1) + world[p, a, 2] * v2)
-            if keep_world:
-                _product(world, p, local, j)
-        elif pre:
-            _product(world, p, local, j)
-            for a in range(3):
-                pos[j, a] = pos[p, a] + ((world[j, a, 0] * t0 + world[j, a, 1] * t1) + world[j, a, 2] * t2)
-        else:
-            for a in range(3):
-                pos[j, a] = pos[p, a] + ((world[p, a, 0] * t0 + world[p, a, 1] * t1) + world[p, a, 2] * t2)
-            if kind == INNER or keep_world:
-                _product(world, p, local, j)
 
 
 @numba.njit(inline="always", boundscheck=False)
@@ -84,24 +45,227 @@ def _stage(rotations, translations, joints, local, offsets):  # pragma: no cover
                 local[j, a, b] = rotations[j, a, b]
 
 
+_LANES = ir.VectorType(ir.DoubleType(), 4)
+_INDEX = ir.IntType(32)
+_QUAD = types.UniTuple(types.float64, 4)
+
+
+def _as_vector(builder, quad):  # pragma: no cover - compile time
+    vector = ir.Constant(_LANES, ir.Undefined)
+    for k in range(4):
+        vector = builder.insert_element(vector, builder.extract_value(quad, k), ir.Constant(_INDEX, k))
+    return vector
+
+
+def _as_quad(context, builder, vector):  # pragma: no cover - compile time
+    quad = ir.Constant(context.get_value_type(_QUAD), ir.Undefined)
+    for k in range(4):
+        quad = builder.insert_value(quad, builder.extract_element(vector, ir.Constant(_INDEX, k)), k)
+    return quad
+
+
+def _splat(builder, value):  # pragma: no cover - compile time
+    vector = builder.insert_element(ir.Constant(_LANES, ir.Undefined), value, ir.Constant(_INDEX, 0))
+    return builder.shuffle_vector(vector, vector, ir.Constant(ir.VectorType(_INDEX, 4), [0, 0, 0, 0]))
+
+
+def _lane_pointer(context, builder, array_type, array, j, c):  # pragma: no cover - compile time
+    """Pointer to array[j, c, 0] of a C-contiguous (J, 4, 4) float64 array, as 4 lanes."""
+    view = context.make_array(array_type)(context, builder, array)
+    zero = context.get_constant(types.intp, 0)
+    pointer = cgutils.get_item_pointer(context, builder, array_type, view, [j, c, zero], wraparound=False)
+    return builder.bitcast(pointer, _LANES.as_pointer())
+
+
+@intrinsic
+def _load(typingctx, lanes, j, c):  # pragma: no cover - compile time
+    """lanes[j, c, :] (lanes: C-contiguous (J, 4, 4)) as one 4-lane vector load."""
+    if lanes.layout != "C":
+        return None
+
+    def codegen(context, builder, signature, args):
+        pointer = _lane_pointer(context, builder, signature.args[0], args[0], args[1], args[2])
+        return _as_quad(context, builder, builder.load(pointer, align=8))
+
+    return _QUAD(lanes, j, c), codegen
+
+
+@intrinsic
+def _store(typingctx, lanes, j, c, quad):  # pragma: no cover - compile time
+    """lanes[j, c, :] = quad, one 4-lane vector store."""
+    if lanes.layout != "C":
+        return None
+
+    def codegen(context, builder, signature, args):
+        pointer = _lane_pointer(context, builder, signature.args[0], args[0], args[1], args[2])
+        builder.store(_as_vector(builder, args[3]), pointer, align=8)
+        return context.get_dummy_value()
+
+    return types.void(lanes, j, c, quad), codegen
+
+
+@intrinsic
+def _combine(typingctx, c0, c1, c2, x, y, z):  # pragma: no cover - compile time
+    """(c0 x + c1 y) + c2 z lane by lane: c0, c1, c2 4-lane tuples, x, y, z numbers."""
+
+    def codegen(context, builder, signature, args):
+        v0, v1, v2 = (_as_vector(builder, quad) for quad in args[:3])
+        s0, s1, s2 = (_splat(builder, value) for value in args[3:])
+        total = builder.fadd(builder.fadd(builder.fmul(v0, s0), builder.fmul(v1, s1)), builder.fmul(v2, s2))
+        return _as_quad(context, builder, total)
+
+    return _QUAD(_QUAD, _QUAD, _QUAD, types.float64, types.float64, types.float64), codegen
+
+
+@intrinsic
+def _add(typingctx, a, b):  # pragma: no cover - compile time
+    """a + b lane by lane (4-lane tuples)."""
+
+    def codegen(context, builder, signature, args):
+        return _as_quad(context, builder, builder.fadd(_as_vector(builder, args[0]), _as_vector(builder, args[1])))
+
+    return _QUAD(_QUAD, _QUAD), codegen
+
+
+@intrinsic
+def _store_rows(typingctx, world, j, n0, n1, n2):  # pragma: no cover - compile time
+    """world[j] (3, 3) = the matrix of columns n0, n1, n2: its 9 numbers as two 4-lane
+    stores and one scalar (world: C-contiguous (J, 3, 3))."""
+    if world.layout != "C":
+        return None
+
+    def codegen(context, builder, signature, args):
+        array_type = signature.args[0]
+        view = context.make_array(array_type)(context, builder, args[0])
+        zero = context.get_constant(types.intp, 0)
+        one = context.get_constant(types.intp, 1)
+        two = context.get_constant(types.intp, 2)
+        c0, c1, c2 = (_as_vector(builder, quad) for quad in args[2:])
+
+        def pick(a, b, lanes):
+            return builder.shuffle_vector(a, b, ir.Constant(ir.VectorType(_INDEX, 4), lanes))
+
+        first = pick(pick(c0, c1, [0, 4, 1, 5]), c2, [0, 1, 4, 2])  # W00 W01 W02 W10
+        second = pick(pick(c0, c1, [5, 2, 6, 0]), c2, [0, 5, 1, 2])  # W11 W12 W20 W21
+        at = [args[1]]
+        for vector, (a, b) in ((first, (zero, zero)), (second, (one, one))):
+            pointer = cgutils.get_item_pointer(context, builder, array_type, view, [*at, a, b], wraparound=False)
+            builder.store(vector, builder.bitcast(pointer, _LANES.as_pointer()), align=8)
+        pointer = cgutils.get_item_pointer(context, builder, array_type, view, [*at, two, two], wraparound=False)
+        builder.store(builder.extract_element(c2, ir.Constant(_INDEX, 2)), pointer)
+        return context.get_dummy_value()
+
+    return types.void(world, j, _QUAD, _QUAD, _QUAD), codegen
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _turned(c0, c1, c2, local, j):  # pragma: no cover - compiled
+    """The columns of W @ local[j] (W by columns c0, c1, c2)."""
+    n0 = _combine(c0, c1, c2, local[j, 0, 0], local[j, 1, 0], local[j, 2, 0])
+    n1 = _combine(c0, c1, c2, local[j, 0, 1], local[j, 1, 1], local[j, 2, 1])
+    n2 = _combine(c0, c1, c2, local[j, 0, 2], local[j, 1, 2], local[j, 2, 2])
+    return n0, n1, n2
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _steps(order, parents, kinds, keep_root):  # pragma: no cover - compiled
+    """(J, 3) int64: the walk, one row per joint in ``order``: the joint, its parent, and
+    its kind plus 4 when ``keep_root`` (one small array the walk reads in order)."""
+    steps = np.empty((order.shape[0], 3), np.int64)
+    for step in range(order.shape[0]):
+        j = order[step]
+        steps[step, 0] = j
+        steps[step, 1] = parents[j]
+        steps[step, 2] = kinds[j] + (4 if keep_root[j] else 0)
+    return steps
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _walk(local, offsets, steps, keep_world, pre, pos, world, columns):  # pragma: no cover - compiled
+    """One frame: local (J, 3, 3), offsets (J, 3) -> pos (J, 3) and, when ``keep_world``,
+    world (J, 3, 3). steps: as :func:`_steps` makes them. columns (J, 4, 4): per joint the
+    world rotation's columns and the position, 4 lanes each (the last lane 0), for its
+    children to read.
+
+    Leaves get their world rotation only when ``keep_world``; their positions are computed
+    the same way either way (pre-rotation: ``P_p + W_p (R_j t_j)``)."""
+    for step in range(steps.shape[0]):
+        j = steps[step, 0]
+        p = steps[step, 1]
+        kind = steps[step, 2] & 3
+        t0 = offsets[j, 0]
+        t1 = offsets[j, 1]
+        t2 = offsets[j, 2]
+        if kind == ROOT:
+            pos[j, 0] = t0
+            pos[j, 1] = t1
+            pos[j, 2] = t2
+            columns[j, 3, 0] = t0
+            columns[j, 3, 1] = t1
+            columns[j, 3, 2] = t2
+            if steps[step, 2] & 4:  # keep_root
+                for a in range(3):
+                    for b in range(3):
+                        columns[j, b, a] = local[j, a, b]
+                        if keep_world:
+                            world[j, a, b] = local[j, a, b]
+            continue
+        c0 = _load(columns, p, 0)
+        c1 = _load(columns, p, 1)
+        c2 = _load(columns, p, 2)
+        at = _load(columns, p, 3)
+        if pre and kind == LEAF:  # P_p + W_p (R_j t_j): no world rotation needed
+            v0 = (local[j, 0, 0] * t0 + local[j, 0, 1] * t1) + local[j, 0, 2] * t2
+            v1 = (local[j, 1, 0] * t0 + local[j, 1, 1] * t1) + local[j, 1, 2] * t2
+            v2 = (local[j, 2, 0] * t0 + local[j, 2, 1] * t1) + local[j, 2, 2] * t2
+            here = _add(at, _combine(c0, c1, c2, v0, v1, v2))
+            if keep_world:
+                n0, n1, n2 = _turned(c0, c1, c2, local, j)
+                _store_rows(world, j, n0, n1, n2)
+        elif pre:
+            n0, n1, n2 = _turned(c0, c1, c2, local, j)
+            here = _add(at, _combine(n0, n1, n2, t0, t1, t2))
+            _store(columns, j, 0, n0)
+            _store(columns, j, 1, n1)
+            _store(columns, j, 2, n2)
+            _store(columns, j, 3, here)
+            if keep_world:
+                _store_rows(world, j, n0, n1, n2)
+        else:
+            here = _add(at, _combine(c0, c1, c2, t0, t1, t2))
+            if kind == INNER or keep_world:
+                n0, n1, n2 = _turned(c0, c1, c2, local, j)
+                _store(columns, j, 0, n0)
+                _store(columns, j, 1, n1)
+                _store(columns, j, 2, n2)
+                _store(columns, j, 3, here)
+                if keep_world:
+                    _store_rows(world, j, n0, n1, n2)
+        pos[j, 0] = here[0]
+        pos[j, 1] = here[1]
+        pos[j, 2] = here[2]
+
+
 @numba.njit(nogil=True, cache=True, boundscheck=False)
 def fk_matrices(  # pragma: no cover - compiled
     rotations, translations, order, parents, kinds, keep_root, keep_world, pre, staged, positions, world, local, offsets
 ):
     """rotations (F, J, 3, 3), translations (F, J, 3) -> positions (F, J, 3) and world:
-    (F, J, 3, 3) when ``keep_world`` (every frame's world rotations), else (1, J, 3, 3)
-    scratch. When ``staged`` (increasing joint indices) is not empty, the rotations of
-    those joints and all translations of each frame are first copied, in memory order, into
-    the scratch ``local`` (J, 3, 3) and ``offsets`` (J, 3): the walk in tree order then
-    reads from L1 instead of jumping about in memory the prefetchers cannot follow."""
+    (F, J, 3, 3) when ``keep_world`` (every frame's world rotations), else (1, J, 3, 3),
+    unused. When ``staged`` (increasing joint indices) is not empty, the rotations of those
+    joints and all translations of each frame are first copied, in memory order, into the
+    scratch ``local`` (J, 3, 3) and ``offsets`` (J, 3): the walk in tree order then reads
+    from L1 instead of jumping about in memory the prefetchers cannot follow."""
     stage = staged.shape[0] > 0
+    columns = np.zeros((rotations.shape[1], 4, 4))
+    steps = _steps(order, parents, kinds, keep_root)
     for f in range(rotations.shape[0]):
-        w = world[f] if keep_world else world[0]
+        rotation, translation = rotations[f], translations[f]
         if stage:
-            _stage(rotations[f], translations[f], staged, local, offsets)
-            _frame(local, offsets, order, parents, kinds, keep_root, keep_world, pre, positions[f], w)
-        else:
-            _frame(rotations[f], translations[f], order, parents, kinds, keep_root, keep_world, pre, positions[f], w)
+            _stage(rotation, translation, staged, local, offsets)
+            rotation, translation = local, offsets
+        w = world[f] if keep_world else world[0]
+        _walk(rotation, translation, steps, keep_world, pre, positions[f], w, columns)
 
 
 @numba.njit(inline="always", boundscheck=False)
@@ -135,12 +299,13 @@ def fk_euler(  # pragma: no cover - compiled
     angles, codes, needed, translations, order, parents, kinds, keep_root, pre, staged, positions, scratch, offsets
 ):
     """angles (F, J, 3) radians -> positions (F, J, 3); only joints marked ``needed`` get
-    a rotation matrix, computed in memory order. scratch (2, J, 3, 3): local and world
-    rotations of one frame; offsets (J, 3): the frame's translations, copied there in
-    memory order first when ``staged`` (the walk is not in memory order)."""
+    a rotation matrix, computed in memory order. scratch (1, J, 3, 3): the local rotations
+    of one frame; offsets (J, 3): the frame's translations, copied there in memory order
+    first when ``staged`` (the walk is not in memory order)."""
     local = scratch[0]
-    world = scratch[1]
     n_joints = angles.shape[1]
+    columns = np.zeros((n_joints, 4, 4))
+    steps = _steps(order, parents, kinds, keep_root)
     for f in range(angles.shape[0]):
         for j in range(n_joints):
             if needed[j]:
@@ -149,9 +314,9 @@ def fk_euler(  # pragma: no cover - compiled
             for j in range(n_joints):
                 for a in range(3):
                     offsets[j, a] = translations[f, j, a]
-            _frame(local, offsets, order, parents, kinds, keep_root, False, pre, positions[f], world)
+            _walk(local, offsets, steps, False, pre, positions[f], local, columns)
         else:
-            _frame(local, translations[f], order, parents, kinds, keep_root, False, pre, positions[f], world)
+            _walk(local, translations[f], steps, False, pre, positions[f], local, columns)
 
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)

@@ -17,12 +17,14 @@ Choices (``gmr bench`` times them; docs/benchmark.md):
 
 - **A compiled kernel, frame-major.** numpy's batched 3x3 matmul costs about the same per
   joint however it is batched, so a per-joint numpy loop is bound by call overhead. The
-  numba kernel walks each frame's joints with the 3x3 products in registers and the world
-  rotations of one frame in a (J, 3, 3) scratch small enough to stay in L1, reading the
-  rotations once, in the order they are stored (frame-major, the Motion layout). Tried and
-  dropped: joint-major component planes so that LLVM vectorises across frames (the
-  transposes cost more than SIMD saves); several frames interleaved in one joint loop;
-  fused multiply-add (no gain, and it would break the bitwise equality below).
+  numba kernel walks each frame's joints with the world rotations of one frame in a small
+  scratch that stays in L1, reading the rotations once, in the order they are stored
+  (frame-major, the Motion layout). It keeps each world rotation by columns, 4-lane
+  vectors, so that a column of ``W_p R_j`` is three vector products and two sums (SIMD
+  within a frame, the same operations per lane). Tried and dropped: joint-major component
+  planes so that LLVM vectorises across frames (the transposes cost more than SIMD saves);
+  several frames interleaved in one joint loop; fused multiply-add (it would break the
+  bitwise equality below).
 - **Memory order of the walk.** A depth-first walk from a new root (after shift root) jumps
   back and forth in the frame's memory and the hardware prefetchers stop following. The
   kernel walks parents before children and otherwise by increasing index (a min-heap
@@ -403,7 +405,7 @@ def positions_from_euler(
         return positions
     needed = plan.needs_rotation()
     if backend == "numba":
-        scratch = np.empty((2, motion.n_joints, 3, 3))
+        scratch = np.empty((1, motion.n_joints, 3, 3))
         _kernels.fk_euler(
             angles, codes, needed, translations, plan.order, plan.parents, plan.kinds, plan.keep_root, plan.pre,
             plan.staged.shape[0] > 0, positions, scratch, np.empty((motion.n_joints, 3)),
