@@ -24,7 +24,7 @@ import dataclasses
 
 import numpy as np
 
-from gmr_studio.core.rotations.quaternions import matrix_from_quaternion
+from gmr_studio.core.rotations.quaternions import compiled_kernels, matrix_from_quaternion
 
 #: frames converted from quaternions to matrices at a time
 CHUNK_FRAMES = 2048
@@ -95,15 +95,20 @@ def node_poses(
 ) -> tuple[dict[int, NodePose], np.ndarray]:
     """The poses of some nodes from their translations (F|1, 3), quaternions (F|1, 4,
     ``x, y, z, w``) and scales (F|1, 3), and their rotation matrices as one block
-    (F|1, N, 3, 3) (each pose's rotation is a view of it): one conversion for all."""
+    (F|1, N, 3, 3) (each pose's rotation is a view of it)."""
     frames = max(len(q) for q in quaternions)
-    block = np.empty((frames, len(nodes), 4))
-    for k, q in enumerate(quaternions):
-        block[:, k] = q
     matrices = np.empty((frames, len(nodes), 3, 3))
-    for start in range(0, frames, CHUNK_FRAMES):  # a few MB at a time: the temporaries stay in cache
-        part = slice(start, start + CHUNK_FRAMES)
-        matrix_from_quaternion(block[part], scalar_last=True, out=matrices[part])
+    if compiled_kernels() is not None:  # one pass per node, straight into its column
+        for k, q in enumerate(quaternions):
+            matrix_from_quaternion(q, scalar_last=True, out=matrices[:, k])
+    else:  # a few MB at a time: the temporaries stay in cache
+        block = np.empty((min(frames, CHUNK_FRAMES), len(nodes), 4))
+        for start in range(0, frames, CHUNK_FRAMES):
+            part = slice(start, start + CHUNK_FRAMES)
+            size = min(frames - start, CHUNK_FRAMES)
+            for k, q in enumerate(quaternions):
+                block[:size, k] = q if len(q) == 1 else q[part]
+            matrix_from_quaternion(block[:size], scalar_last=True, out=matrices[part], backend="numpy")
     poses = {node: NodePose(t, matrices[:, k], s) for k, (node, t, s) in enumerate(zip(nodes, translations, scales))}
     return poses, matrices
 
