@@ -121,21 +121,44 @@ def skeleton_pose(
     first); ``poses`` holds every joint and every node above them, ``block`` the joints'
     rotation matrices (F|1, J, 3, 3) from :func:`node_poses`, which become the rotations
     (the roots' overwritten). Worked :data:`CHUNK_FRAMES` frames at a time, so that what
-    is carried down the skeleton stays in cache."""
+    is carried down the skeleton stays in cache; a translation made of values that do not
+    change over the frames is worked out once and copied to every frame at the end."""
     rotations = block if len(block) == n_frames else np.repeat(block, n_frames, axis=0)
     translations = np.empty((n_frames, len(joints), 3))
     spread, size = np.zeros(len(joints)), np.zeros(len(joints))  # of each translation over the frames
     varying = max(max(len(p.translation), len(p.rotation), len(p.scale)) for p in poses.values()) > 1
+    constant = None  # found on the first chunk, which has more than one frame if the motion has
     for start in range(0, n_frames if varying else min(n_frames, 1), CHUNK_FRAMES):
         part = slice(start, start + CHUNK_FRAMES) if varying else slice(None)
-        _chunk_pose(poses, parents, joints, part, rotations, translations)
-        local = translations[part]  # reduced over the frames first: a reduction along the outer axis is fast
-        spread = np.maximum(spread, np.abs(local - translations[:1]).max(axis=0).max(axis=1))
-        size = np.maximum(size, np.abs(local).max(axis=0).max(axis=1))
+        found = _chunk_pose(poses, parents, joints, part, rotations, translations, constant)
+        constant = found if constant is None else constant
+        changing = np.flatnonzero(~constant)
+        if changing.size:  # reduced over the frames first: a reduction along the outer axis is fast
+            local = translations[part, changing] if changing.size < len(joints) else translations[part]
+            first = translations[:1, changing]
+            spread[changing] = np.maximum(spread[changing], np.abs(local - first).max(axis=0).max(axis=1))
+            size[changing] = np.maximum(size[changing], np.abs(local).max(axis=0).max(axis=1))
+    first = translations[0, constant]  # every frame's value: the same numbers as a pass over them gives
+    spread[constant] = np.maximum(spread[constant], np.abs(first - first).max(axis=1))  # 0, or NaN (a bad file)
+    size[constant] = np.maximum(size[constant], np.abs(first).max(axis=1))
     static = spread <= STATIC_RELATIVE_TOLERANCE * size  # NaN (a bad file) counts as moving, keeping every frame
     moving = ~static if n_frames > 1 else np.zeros(len(joints), bool)
-    translations[:, ~moving] = translations[:1, ~moving]
+    _fill_from_first(translations, ~moving | constant)
     return rotations, translations, moving
+
+
+def _fill_from_first(translations: np.ndarray, same: np.ndarray) -> None:
+    """Every frame of the translations (F, J, 3) of the joints ``same`` (J,) bool set to
+    the first frame's: each chunk of frames overwritten whole (one pass over memory, unlike
+    a masked assignment), the other joints' values put back."""
+    if not same.any():
+        return
+    others, first = np.flatnonzero(~same), translations[0].copy()
+    for start in range(0, len(translations), CHUNK_FRAMES):
+        chunk = translations[start : start + CHUNK_FRAMES]
+        kept = chunk[:, others]
+        chunk[:] = first
+        chunk[:, others] = kept
 
 
 def _chunk_pose(
@@ -145,13 +168,17 @@ def _chunk_pose(
     part: slice,
     rotations: np.ndarray,
     translations: np.ndarray,
-) -> None:
-    """:func:`skeleton_pose` over the frames ``part``: their translations (all of them
-    when nothing changes over the frames) and the roots' rotations written in place."""
+    constant: np.ndarray | None,
+) -> np.ndarray:
+    """:func:`skeleton_pose` over the frames ``part``: their translations and the roots'
+    rotations written in place. Returns which translations (J,) bool came out as one
+    value for all the chunk's frames; of those given as ``constant`` (or, if None, of
+    those returned) only the first frame is written."""
     index = {node: j for j, node in enumerate(joints)}
     parents_of_joints = {int(parents[node]) for node in joints}  # the others carry nothing further
     origin = _World(np.eye(3)[None], np.zeros((1, 3)), np.ones(1))
     worlds: dict[int, _World] = {}
+    found = np.zeros(len(joints), bool)
     for j, node in enumerate(joints):
         pose, parent = _frames_of(poses[node], part), int(parents[node])
         if parent in index:
@@ -166,7 +193,12 @@ def _chunk_pose(
             worlds[node] = _child(world, pose, placed=False)
         if parent not in index:
             rotations[part, j] = world.turn @ pose.rotation  # pose.rotation is this column: used above first
-        translations[part, j] = local
+        found[j] = len(local) == 1
+        if found[j] if constant is None else constant[j]:
+            translations[0, j] = local[0]
+        else:
+            translations[part, j] = local
+    return found
 
 
 def _frames_of(pose: NodePose, part: slice) -> NodePose:
