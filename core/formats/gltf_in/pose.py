@@ -95,7 +95,8 @@ def node_poses(
 ) -> tuple[dict[int, NodePose], np.ndarray]:
     """The poses of some nodes from their translations (F|1, 3), quaternions (F|1, 4,
     ``x, y, z, w``) and scales (F|1, 3), and their rotation matrices as one block
-    (F|1, N, 3, 3) (each pose's rotation is a view of it)."""
+    (F|1, N, 3, 3) (each pose's rotation is a view of it). A translation that is the same
+    on every frame, bit for bit, is kept as one frame (1, 3): worked out once."""
     frames = max(len(q) for q in quaternions)
     matrices = np.empty((frames, len(nodes), 3, 3))
     if compiled_kernels() is not None:  # one pass per node, straight into its column
@@ -109,8 +110,19 @@ def node_poses(
             for k, q in enumerate(quaternions):
                 block[:size, k] = q if len(q) == 1 else q[part]
             matrix_from_quaternion(block[:size], scalar_last=True, out=matrices[part], backend="numpy")
-    poses = {node: NodePose(t, matrices[:, k], s) for k, (node, t, s) in enumerate(zip(nodes, translations, scales))}
+    poses = {
+        node: NodePose(_one_if_constant(t), matrices[:, k], s)
+        for k, (node, t, s) in enumerate(zip(nodes, translations, scales))
+    }
     return poses, matrices
+
+
+def _one_if_constant(values: np.ndarray) -> np.ndarray:
+    """Values (F, C) as their first frame (1, C) when every frame's are those, bit for bit
+    (signs of zeros included; NaN never is), else as they are."""
+    if len(values) > 1 and (values == values[:1]).all() and (np.signbit(values) == np.signbit(values[:1])).all():
+        return values[:1]
+    return values
 
 
 def skeleton_pose(
