@@ -140,9 +140,10 @@ def skeleton_pose(
     spread, size = np.zeros(len(joints)), np.zeros(len(joints))  # of each translation over the frames
     varying = max(max(len(p.translation), len(p.rotation), len(p.scale)) for p in poses.values()) > 1
     constant = None  # found on the first chunk, which has more than one frame if the motion has
+    settled: dict[int, _World] = {}
     for start in range(0, n_frames if varying else min(n_frames, 1), CHUNK_FRAMES):
         part = slice(start, start + CHUNK_FRAMES) if varying else slice(None)
-        found = _chunk_pose(poses, parents, joints, part, rotations, translations, constant)
+        found = _chunk_pose(poses, parents, joints, part, rotations, translations, constant, settled)
         constant = found if constant is None else constant
         changing = np.flatnonzero(~constant)
         if changing.size:  # reduced over the frames first: a reduction along the outer axis is fast
@@ -181,18 +182,27 @@ def _chunk_pose(
     rotations: np.ndarray,
     translations: np.ndarray,
     constant: np.ndarray | None,
+    settled: dict[int, _World],
 ) -> np.ndarray:
     """:func:`skeleton_pose` over the frames ``part``: their translations and the roots'
     rotations written in place. Returns which translations (J,) bool came out as one
     value for all the chunk's frames; of those given as ``constant`` (or, if None, of
-    those returned) only the first frame is written."""
+    those returned) only the first frame is written. ``constant`` None marks the first
+    chunk, which puts the joints' worlds that do not change over the frames in
+    ``settled``; later chunks take them from there and skip the non-root joints that have
+    nothing else to work out."""
+    first = constant is None
     index = {node: j for j, node in enumerate(joints)}
     parents_of_joints = {int(parents[node]) for node in joints}  # the others carry nothing further
     origin = _World(np.eye(3)[None], np.zeros((1, 3)), np.ones(1))
-    worlds: dict[int, _World] = {}
+    worlds: dict[int, _World] = dict(settled)
     found = np.zeros(len(joints), bool)
     for j, node in enumerate(joints):
-        pose, parent = _frames_of(poses[node], part), int(parents[node])
+        parent = int(parents[node])
+        done = node in settled or node not in parents_of_joints  # its world: the first chunk's, or none needed
+        if constant is not None and constant[j] and parent in index and done:
+            continue  # its translation was written on the first chunk
+        pose = _frames_of(poses[node], part)
         if parent in index:
             world = worlds[parent]
             local = world.carry(pose.translation)
@@ -203,6 +213,8 @@ def _chunk_pose(
             local = world.place + _apply(world.turn, world.carry(pose.translation))
         if node in parents_of_joints:
             worlds[node] = _child(world, pose, placed=False)
+            if first and worlds[node].stretch.shape[-1] == 1:
+                settled[node] = worlds[node]
         if parent not in index:
             rotations[part, j] = world.turn @ pose.rotation  # pose.rotation is this column: used above first
         found[j] = len(local) == 1
