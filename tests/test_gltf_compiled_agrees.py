@@ -6,6 +6,8 @@ reference. Both must give identical matrices for any quaternion a file can hold 
 length, int8/int16 normalised keys, a single one filling many frames), and every real glTF
 of the shared data must read to identical motions either way (every skin's default
 animation and every animation): the numpy side is read in a process with numba disabled.
+The kernel is used where numba is loaded already; a process converting a few quaternions
+without it (the FBX reader's child) does not load numba.
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ import pytest
 
 from gmr_studio.core.formats import read_motion
 from gmr_studio.core.formats.gltf_in import gltf_contents
-from gmr_studio.core.rotations.quaternions import compiled_kernels, matrix_from_quaternion
+from gmr_studio.core.rotations.quaternions import compiled_at_hand, compiled_kernels, matrix_from_quaternion
 from tests.conftest import shared_files
 
 pytestmark = pytest.mark.skipif(compiled_kernels() is None, reason="numba is not installed")
@@ -88,6 +90,7 @@ def test_real_files_read_alike_with_and_without_numba(path, tmp_path):
         "import sys, numpy as np; from tests.test_gltf_compiled_agrees import _read_all; "
         "np.savez(sys.argv[2], **_read_all(sys.argv[1]))"
     )
+    assert compiled_at_hand() is not None  # this process reads with the compiled kernel
     env = {**os.environ, "GMR_DISABLE_NUMBA": "1"}
     subprocess.run([sys.executable, "-c", script, str(path), str(saved)], check=True, env=env, cwd=os.getcwd())
     reference = np.load(saved)
@@ -95,3 +98,12 @@ def test_real_files_read_alike_with_and_without_numba(path, tmp_path):
     assert sorted(compiled) == sorted(reference.files), json.dumps(sorted(compiled))
     for name, value in compiled.items():
         assert value.tobytes() == reference[name].tobytes(), name
+
+
+def test_a_few_quaternions_converted_without_loading_numba():
+    script = (
+        "import sys, numpy as np; from gmr_studio.core.rotations.quaternions import matrix_from_quaternion; "
+        "matrix_from_quaternion(np.array([[0.0, 0.0, 0.0, 1.0]]), scalar_last=True); print('numba' in sys.modules)"
+    )
+    result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True)
+    assert result.stdout.strip() == "False"

@@ -6,16 +6,19 @@ project stores rotations as matrices (see :mod:`core.model.motion`); quaternions
 where they are the natural tool: plotting a rotation as four smooth components and
 interpolating between two rotations (slerp).
 
-:func:`matrix_from_quaternion` runs as a compiled kernel when numba is installed
-(:mod:`core.rotations._kernels`, loaded when first needed): the numpy path's very
-operations in the same order, so the same matrices bit for bit; the numpy path is the
-reference and the fallback.
+:func:`matrix_from_quaternion` runs as a compiled kernel when numba is installed and
+the process has loaded it already (the app and the commands that run the FK engine do;
+:func:`compiled_at_hand`), so that a process converting a few quaternions (the FBX
+reader's child process) does not pay for loading it: the numpy path's very operations in
+the same order, so the same matrices bit for bit; the numpy path is the reference and the
+fallback.
 """
 
 from __future__ import annotations
 
 import functools
 import os
+import sys
 from types import ModuleType
 from typing import Literal
 
@@ -92,6 +95,12 @@ def compiled_kernels() -> ModuleType | None:
     return _kernels
 
 
+def compiled_at_hand() -> ModuleType | None:
+    """:func:`compiled_kernels` when numba is loaded in this process already, else None
+    (what the backend 'auto' uses)."""
+    return compiled_kernels() if "numba" in sys.modules else None
+
+
 def matrix_from_quaternion(
     quaternions: np.ndarray,
     *,
@@ -104,13 +113,16 @@ def matrix_from_quaternion(
     ``scalar_last``: the quaternions are (x, y, z, w), as glTF stores them; ``out``: an
     array (..., 3, 3) to write the matrices into (returned); a single quaternion (1, 4)
     with ``out`` (N, 3, 3) fills all N. ``backend``: 'numba' (the compiled kernel, for
-    quaternions (N, 4)), 'numpy', or 'auto' (numba when installed and the shape is (N, 4));
-    both give the same matrices bit for bit.
+    quaternions (N, 4)), 'numpy', or 'auto' (numba when :func:`compiled_at_hand` and the
+    shape is (N, 4)); both give the same matrices bit for bit.
     """
     if backend not in ("auto", "numba", "numpy"):
         raise ValueError(f"unknown backend {backend!r}: expected 'auto', 'numba' or 'numpy'")
     q = np.asarray(quaternions, dtype=np.float64)
-    kernels = compiled_kernels() if backend != "numpy" else None
+    if backend == "numpy":
+        kernels = None
+    else:
+        kernels = compiled_kernels() if backend == "numba" else compiled_at_hand()
     if backend == "numba" and kernels is None:
         raise RuntimeError("the numba backend is not available: install the 'fast' extra (numba)")
     if kernels is not None and q.ndim == 2 and q.shape[-1] == 4 and (out is None or out.ndim == 3):

@@ -24,7 +24,7 @@ import dataclasses
 
 import numpy as np
 
-from gmr_studio.core.rotations.quaternions import compiled_kernels, matrix_from_quaternion
+from gmr_studio.core.rotations.quaternions import compiled_at_hand, matrix_from_quaternion
 
 #: frames converted from quaternions to matrices at a time
 CHUNK_FRAMES = 2048
@@ -99,7 +99,7 @@ def node_poses(
     on every frame, bit for bit, is kept as one frame (1, 3): worked out once."""
     frames = max(len(q) for q in quaternions)
     matrices = np.empty((frames, len(nodes), 3, 3))
-    if compiled_kernels() is not None:  # one pass per node, straight into its column
+    if compiled_at_hand() is not None:  # one pass per node, straight into its column
         for k, q in enumerate(quaternions):
             matrix_from_quaternion(q, scalar_last=True, out=matrices[:, k])
     else:  # a few MB at a time: the temporaries stay in cache
