@@ -49,9 +49,9 @@ def test_importing_all_of_core_loads_no_gui_module():
         for p in CORE.rglob("*.py")
         if p.name not in ("__init__.py", "__main__.py")
     ]
-    # the compiled kernels need the optional numba (the `fast` extra); without it the FK
-    # engine runs its numpy backend and that module is the only one that cannot import
-    optional = {"gmr_studio.core.kinematics._kernels": "numba"}
+    # the compiled kernels need the optional numba (the `fast` extra); without it their
+    # callers run their numpy paths and the kernels' modules are the only ones that cannot import
+    optional = {m: "numba" for m in modules if m.endswith("._kernels")}
     code = (
         "import importlib, importlib.util, sys\n"
         f"optional = {optional!r}\n"

@@ -1,7 +1,8 @@
 """glTF node transforms to a post-rotation skeleton (core.formats.gltf_in.pose): two armature
 nodes above the root (one scaled unevenly), animated and non-uniform scales along the joints,
 every joint position against glTF's own ``parent_world @ T R S`` with 4x4 matrices (scipy's
-quaternions); which translations change; many frames converted in chunks."""
+quaternions); which translations change; many frames converted in chunks (a channel keyed
+still on every frame the same as its one value; a change on the last frame alone kept)."""
 
 from __future__ import annotations
 
@@ -143,3 +144,37 @@ def test_uniform_scales_fold_into_offsets_exactly_and_two_equal_frames_are_stati
     np.testing.assert_array_equal(translations[:, 1], [[0.6, 0, 0]] * 2)
     np.testing.assert_array_equal(translations[:, 2], [[0, 3.0 * 0.7, 0]] * 2)
     assert moving.tolist() == [False, False, False]
+
+
+def long_skeleton(trs, frames: int):
+    """:func:`skeleton` of ``trs`` whose animated values repeat over ``frames`` frames."""
+    long = {
+        node: tuple(v if len(v) == 1 else v[np.arange(frames) % len(v)] for v in values) for node, values in trs.items()
+    }
+    poses, block = node_poses(JOINTS, *(list(c) for c in zip(*(long[n] for n in JOINTS))))
+    poses.update(node_poses(ABOVE, *(list(c) for c in zip(*(long[n] for n in ABOVE))))[0])
+    return skeleton_pose(poses, PARENTS, JOINTS, frames, block)
+
+
+def test_a_channel_keyed_still_on_every_frame_reads_as_one_value_bit_for_bit():
+    """Over several chunks of frames, under animated and uneven scales: a translation keyed
+    with one value on every frame gives the very numbers of that value given once."""
+    frames = 2 * CHUNK_FRAMES + 7
+    keyed = node_trs(uneven_armature=True)
+    once = {**keyed, 6: (keyed[6][0][:1], *keyed[6][1:])}
+    for got, expected in zip(long_skeleton(keyed, frames), long_skeleton(once, frames)):
+        assert got.tobytes() == expected.tobytes()
+
+
+def test_a_joint_moving_on_the_last_frame_alone_moves():
+    """The last chunk of frames may hold one frame: a translation changing there alone is
+    still a moving one, every frame kept."""
+    frames = 2 * CHUNK_FRAMES + 1
+    trs = node_trs()
+    late = np.zeros((frames, 3))
+    late[-1] = [0.0, 0.25, 0.0]
+    trs[7] = (late, trs[7][1][:1], trs[7][2])
+    _, translations, moving = long_skeleton(trs, frames)
+    assert moving[5]
+    np.testing.assert_array_equal(translations[:-1, 5], np.zeros((frames - 1, 3)))
+    assert translations[-1, 5, 1] > 0

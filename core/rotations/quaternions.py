@@ -5,9 +5,22 @@ rotation. Rotation matrices follow :mod:`core.rotations.euler` (column vectors, 
 project stores rotations as matrices (see :mod:`core.model.motion`); quaternions only appear
 where they are the natural tool: plotting a rotation as four smooth components and
 interpolating between two rotations (slerp).
+
+:func:`matrix_from_quaternion` runs as a compiled kernel when numba is installed and
+the process has loaded it already (the app and the commands that run the FK engine do;
+:func:`compiled_at_hand`), so that a process converting a few quaternions (the FBX
+reader's child process) does not pay for loading it: the numpy path's very operations in
+the same order, so the same matrices bit for bit; the numpy path is the reference and the
+fallback.
 """
 
 from __future__ import annotations
+
+import functools
+import os
+import sys
+from types import ModuleType
+from typing import Literal
 
 import numpy as np
 
@@ -68,15 +81,58 @@ def quaternion_from_matrix(matrices: np.ndarray, *, scalar_last: bool = False) -
     return np.roll(q, -1, axis=-1) if scalar_last else q
 
 
+@functools.cache
+def compiled_kernels() -> ModuleType | None:
+    """:mod:`core.rotations._kernels`, or None without numba (optional, as the FK engine's
+    kernels are). Loaded when first needed, so that importing this module (a command's
+    ``--help``) does not load numba."""
+    if os.environ.get("GMR_DISABLE_NUMBA") == "1":
+        return None
+    try:
+        from gmr_studio.core.rotations import _kernels
+    except ImportError:  # pragma: no cover - depends on the environment
+        return None
+    return _kernels
+
+
+def compiled_at_hand() -> ModuleType | None:
+    """:func:`compiled_kernels` when numba is loaded in this process already, else None
+    (what the backend 'auto' uses)."""
+    return compiled_kernels() if "numba" in sys.modules else None
+
+
 def matrix_from_quaternion(
-    quaternions: np.ndarray, *, scalar_last: bool = False, out: np.ndarray | None = None
+    quaternions: np.ndarray,
+    *,
+    scalar_last: bool = False,
+    out: np.ndarray | None = None,
+    backend: Literal["auto", "numba", "numpy"] = "auto",
 ) -> np.ndarray:
     """Rotation matrices of quaternions (w, x, y, z), normalised first: (..., 4) -> (..., 3, 3).
 
     ``scalar_last``: the quaternions are (x, y, z, w), as glTF stores them; ``out``: an
-    array (..., 3, 3) to write the matrices into (returned).
+    array (..., 3, 3) to write the matrices into (returned); a single quaternion (1, 4)
+    with ``out`` (N, 3, 3) fills all N. ``backend``: 'numba' (the compiled kernel, for
+    quaternions (N, 4)), 'numpy', or 'auto' (numba when :func:`compiled_at_hand` and the
+    shape is (N, 4)); both give the same matrices bit for bit.
     """
+    if backend not in ("auto", "numba", "numpy"):
+        raise ValueError(f"unknown backend {backend!r}: expected 'auto', 'numba' or 'numpy'")
     q = np.asarray(quaternions, dtype=np.float64)
+    if backend == "numpy":
+        kernels = None
+    else:
+        kernels = compiled_kernels() if backend == "numba" else compiled_at_hand()
+    if backend == "numba" and kernels is None:
+        raise RuntimeError("the numba backend is not available: install the 'fast' extra (numba)")
+    if kernels is not None and q.ndim == 2 and q.shape[-1] == 4 and (out is None or out.ndim == 3):
+        out = np.empty((len(q), 3, 3)) if out is None else out
+        if out.shape[1:] != (3, 3) or len(q) not in (1, len(out)):
+            raise ValueError(f"quaternions {q.shape} do not fit matrices {out.shape}")
+        kernels.matrices_of_quaternions(q, 3 if scalar_last else 0, out)
+        return out
+    if backend == "numba":
+        raise ValueError(f"the numba backend converts quaternions (N, 4), not {q.shape}")
     if scalar_last:
         x, y, z, w = np.moveaxis(q, -1, 0)
     else:

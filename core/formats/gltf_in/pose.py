@@ -24,7 +24,7 @@ import dataclasses
 
 import numpy as np
 
-from gmr_studio.core.rotations.quaternions import matrix_from_quaternion
+from gmr_studio.core.rotations.quaternions import compiled_at_hand, matrix_from_quaternion
 
 #: frames converted from quaternions to matrices at a time
 CHUNK_FRAMES = 2048
@@ -95,17 +95,34 @@ def node_poses(
 ) -> tuple[dict[int, NodePose], np.ndarray]:
     """The poses of some nodes from their translations (F|1, 3), quaternions (F|1, 4,
     ``x, y, z, w``) and scales (F|1, 3), and their rotation matrices as one block
-    (F|1, N, 3, 3) (each pose's rotation is a view of it): one conversion for all."""
+    (F|1, N, 3, 3) (each pose's rotation is a view of it). A translation that is the same
+    on every frame, bit for bit, is kept as one frame (1, 3): worked out once."""
     frames = max(len(q) for q in quaternions)
-    block = np.empty((frames, len(nodes), 4))
-    for k, q in enumerate(quaternions):
-        block[:, k] = q
     matrices = np.empty((frames, len(nodes), 3, 3))
-    for start in range(0, frames, CHUNK_FRAMES):  # a few MB at a time: the temporaries stay in cache
-        part = slice(start, start + CHUNK_FRAMES)
-        matrix_from_quaternion(block[part], scalar_last=True, out=matrices[part])
-    poses = {node: NodePose(t, matrices[:, k], s) for k, (node, t, s) in enumerate(zip(nodes, translations, scales))}
+    if compiled_at_hand() is not None:  # one pass per node, straight into its column
+        for k, q in enumerate(quaternions):
+            matrix_from_quaternion(q, scalar_last=True, out=matrices[:, k])
+    else:  # a few MB at a time: the temporaries stay in cache
+        block = np.empty((min(frames, CHUNK_FRAMES), len(nodes), 4))
+        for start in range(0, frames, CHUNK_FRAMES):
+            part = slice(start, start + CHUNK_FRAMES)
+            size = min(frames - start, CHUNK_FRAMES)
+            for k, q in enumerate(quaternions):
+                block[:size, k] = q if len(q) == 1 else q[part]
+            matrix_from_quaternion(block[:size], scalar_last=True, out=matrices[part], backend="numpy")
+    poses = {
+        node: NodePose(_one_if_constant(t), matrices[:, k], s)
+        for k, (node, t, s) in enumerate(zip(nodes, translations, scales))
+    }
     return poses, matrices
+
+
+def _one_if_constant(values: np.ndarray) -> np.ndarray:
+    """Values (F, C) as their first frame (1, C) when every frame's are those, bit for bit
+    (signs of zeros included; NaN never is), else as they are."""
+    if len(values) > 1 and (values == values[:1]).all() and (np.signbit(values) == np.signbit(values[:1])).all():
+        return values[:1]
+    return values
 
 
 def skeleton_pose(
@@ -116,21 +133,45 @@ def skeleton_pose(
     first); ``poses`` holds every joint and every node above them, ``block`` the joints'
     rotation matrices (F|1, J, 3, 3) from :func:`node_poses`, which become the rotations
     (the roots' overwritten). Worked :data:`CHUNK_FRAMES` frames at a time, so that what
-    is carried down the skeleton stays in cache."""
+    is carried down the skeleton stays in cache; a translation made of values that do not
+    change over the frames is worked out once and copied to every frame at the end."""
     rotations = block if len(block) == n_frames else np.repeat(block, n_frames, axis=0)
     translations = np.empty((n_frames, len(joints), 3))
     spread, size = np.zeros(len(joints)), np.zeros(len(joints))  # of each translation over the frames
     varying = max(max(len(p.translation), len(p.rotation), len(p.scale)) for p in poses.values()) > 1
+    constant = None  # found on the first chunk, which has more than one frame if the motion has
+    settled: dict[int, _World] = {}
     for start in range(0, n_frames if varying else min(n_frames, 1), CHUNK_FRAMES):
         part = slice(start, start + CHUNK_FRAMES) if varying else slice(None)
-        _chunk_pose(poses, parents, joints, part, rotations, translations)
-        local = translations[part]  # reduced over the frames first: a reduction along the outer axis is fast
-        spread = np.maximum(spread, np.abs(local - translations[:1]).max(axis=0).max(axis=1))
-        size = np.maximum(size, np.abs(local).max(axis=0).max(axis=1))
+        found = _chunk_pose(poses, parents, joints, part, rotations, translations, constant, settled)
+        constant = found if constant is None else constant
+        changing = np.flatnonzero(~constant)
+        if changing.size:  # reduced over the frames first: a reduction along the outer axis is fast
+            local = translations[part, changing] if changing.size < len(joints) else translations[part]
+            first = translations[:1, changing]
+            spread[changing] = np.maximum(spread[changing], np.abs(local - first).max(axis=0).max(axis=1))
+            size[changing] = np.maximum(size[changing], np.abs(local).max(axis=0).max(axis=1))
+    first = translations[0, constant]  # every frame's value: the same numbers as a pass over them gives
+    spread[constant] = np.maximum(spread[constant], np.abs(first - first).max(axis=1))  # 0, or NaN (a bad file)
+    size[constant] = np.maximum(size[constant], np.abs(first).max(axis=1))
     static = spread <= STATIC_RELATIVE_TOLERANCE * size  # NaN (a bad file) counts as moving, keeping every frame
     moving = ~static if n_frames > 1 else np.zeros(len(joints), bool)
-    translations[:, ~moving] = translations[:1, ~moving]
+    _fill_from_first(translations, ~moving | constant)
     return rotations, translations, moving
+
+
+def _fill_from_first(translations: np.ndarray, same: np.ndarray) -> None:
+    """Every frame of the translations (F, J, 3) of the joints ``same`` (J,) bool set to
+    the first frame's: each chunk of frames overwritten whole (one pass over memory, unlike
+    a masked assignment), the other joints' values put back."""
+    if not same.any():
+        return
+    others, first = np.flatnonzero(~same), translations[0].copy()
+    for start in range(0, len(translations), CHUNK_FRAMES):
+        chunk = translations[start : start + CHUNK_FRAMES]
+        kept = chunk[:, others]
+        chunk[:] = first
+        chunk[:, others] = kept
 
 
 def _chunk_pose(
@@ -140,15 +181,28 @@ def _chunk_pose(
     part: slice,
     rotations: np.ndarray,
     translations: np.ndarray,
-) -> None:
-    """:func:`skeleton_pose` over the frames ``part``: their translations (all of them
-    when nothing changes over the frames) and the roots' rotations written in place."""
+    constant: np.ndarray | None,
+    settled: dict[int, _World],
+) -> np.ndarray:
+    """:func:`skeleton_pose` over the frames ``part``: their translations and the roots'
+    rotations written in place. Returns which translations (J,) bool came out as one
+    value for all the chunk's frames; of those given as ``constant`` (or, if None, of
+    those returned) only the first frame is written. ``constant`` None marks the first
+    chunk, which puts the joints' worlds that do not change over the frames in
+    ``settled``; later chunks take them from there and skip the non-root joints that have
+    nothing else to work out."""
+    first = constant is None
     index = {node: j for j, node in enumerate(joints)}
     parents_of_joints = {int(parents[node]) for node in joints}  # the others carry nothing further
     origin = _World(np.eye(3)[None], np.zeros((1, 3)), np.ones(1))
-    worlds: dict[int, _World] = {}
+    worlds: dict[int, _World] = dict(settled)
+    found = np.zeros(len(joints), bool)
     for j, node in enumerate(joints):
-        pose, parent = _frames_of(poses[node], part), int(parents[node])
+        parent = int(parents[node])
+        done = node in settled or node not in parents_of_joints  # its world: the first chunk's, or none needed
+        if constant is not None and constant[j] and parent in index and done:
+            continue  # its translation was written on the first chunk
+        pose = _frames_of(poses[node], part)
         if parent in index:
             world = worlds[parent]
             local = world.carry(pose.translation)
@@ -159,9 +213,16 @@ def _chunk_pose(
             local = world.place + _apply(world.turn, world.carry(pose.translation))
         if node in parents_of_joints:
             worlds[node] = _child(world, pose, placed=False)
+            if first and worlds[node].stretch.shape[-1] == 1:
+                settled[node] = worlds[node]
         if parent not in index:
             rotations[part, j] = world.turn @ pose.rotation  # pose.rotation is this column: used above first
-        translations[part, j] = local
+        found[j] = len(local) == 1
+        if found[j] if constant is None else constant[j]:
+            translations[0, j] = local[0]
+        else:
+            translations[part, j] = local
+    return found
 
 
 def _frames_of(pose: NodePose, part: slice) -> NodePose:

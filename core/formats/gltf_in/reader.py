@@ -149,6 +149,7 @@ def _channels(doc: GltfDocument, index: int, needed: set[int]) -> tuple[dict[tup
         raise doc.error(f"animation {index}: 'channels' and 'samplers' must be arrays")
     out: dict[tuple[int, str], Sampler] = {}
     outside, other_paths = 0, set()
+    ordered: set[int] = set()  # the key times found in order (samplers share them)
     for c, channel in enumerate(channels):
         at = f"animation {index} channel {c}"
         target = channel.get("target") if isinstance(channel, dict) else None
@@ -167,7 +168,7 @@ def _channels(doc: GltfDocument, index: int, needed: set[int]) -> tuple[dict[tup
         s = channel.get("sampler")
         if not isinstance(s, int) or isinstance(s, bool) or not 0 <= s < len(sampler_specs):
             raise doc.error(f"{at}: sampler {s!r} out of range (the animation has {len(sampler_specs)})")
-        out[node, path] = _sampler(doc, sampler_specs[s], PATHS[path], f"{at} sampler {s}")
+        out[node, path] = _sampler(doc, sampler_specs[s], PATHS[path], f"{at} sampler {s}", ordered)
     notes = []
     if outside:
         notes.append(f"{outside} channels of nodes outside the skeleton (meshes, cameras) left out")
@@ -176,7 +177,9 @@ def _channels(doc: GltfDocument, index: int, needed: set[int]) -> tuple[dict[tup
     return out, notes
 
 
-def _sampler(doc: GltfDocument, spec: object, width: int, at: str) -> Sampler:
+def _sampler(doc: GltfDocument, spec: object, width: int, at: str, ordered: set[int]) -> Sampler:
+    """The sampler of ``spec``; ``ordered``: the ids of the key-time arrays (one per
+    accessor: :meth:`GltfDocument.key_times`) already found in order, which it adds to."""
     if not isinstance(spec, dict):
         raise doc.error(f"{at}: must be an object")
     interpolation = spec.get("interpolation", "LINEAR")
@@ -184,8 +187,10 @@ def _sampler(doc: GltfDocument, spec: object, width: int, at: str) -> Sampler:
         raise doc.error(f"{at}: interpolation {interpolation!r} is not one of {', '.join(INTERPOLATIONS)}")
     times = doc.key_times(spec.get("input"), f"{at} input")
     values = doc.accessor(spec.get("output"), f"{at} output")
-    if (np.diff(times) < 0).any():
-        raise doc.error(f"{at}: key times must not decrease (key {int(np.argmax(np.diff(times) < 0)) + 1})")
+    if id(times) not in ordered:
+        if (np.diff(times) < 0).any():
+            raise doc.error(f"{at}: key times must not decrease (key {int(np.argmax(np.diff(times) < 0)) + 1})")
+        ordered.add(id(times))
     expected = times.size * (3 if interpolation == "CUBICSPLINE" else 1)
     if values.shape != (expected, width):
         raise doc.error(
