@@ -9,7 +9,7 @@ import numpy as np
 from gmr_studio.core.checks import feet, frames, joints, spikes
 from gmr_studio.core.checks.context import CheckData
 from gmr_studio.core.checks.model import KINDS, CheckSettings, Finding, Skipped
-from gmr_studio.core.kinematics.fk import world_positions
+from gmr_studio.core.kinematics.fk import forward_kinematics
 from gmr_studio.core.model.motion import Motion
 
 #: kind -> the check that finds it
@@ -31,9 +31,10 @@ def check_data(
     motion: Motion, settings: CheckSettings, positions: np.ndarray | None = None
 ) -> tuple[CheckData, CheckData]:
     """What the checks read: the whole motion (for ``rest-pose``) and the frames between
-    the rest frames at its ends (for every other check)."""
+    the rest frames at its ends (for every other check). Without ``positions`` (F, J, 3)
+    they are computed on every core (the app and the library hand theirs over)."""
     if positions is None:
-        positions = world_positions(motion)
+        positions = forward_kinematics(motion, with_rotations=False, threads=None)[0]
     lead, trail = frames.rest_frames(motion, settings)
     stop = motion.n_frames - trail
     whole = CheckData(motion, positions, motion.size)
