@@ -30,6 +30,7 @@ import numpy as np
 
 from gmr_studio.core.errors import MotionFileError, quoted, read_input
 from gmr_studio.core.formats.acclaim_skeleton import ROOT_NAME, ROTATION_DOFS, AcclaimSkeleton
+from gmr_studio.core.formats.amc_bulk import NUMBER_CHARACTERS, bulk_frames
 from gmr_studio.core.formats.asf import read_asf
 from gmr_studio.core.formats.frames import out_of_range, within_range
 from gmr_studio.core.formats.hierarchy import normalise_newlines
@@ -42,8 +43,6 @@ from gmr_studio.core.space.units import acclaim_unit
 #: frame rate assumed for AMC files, which do not store one (CMU's motions are 120 Hz)
 DEFAULT_FRAME_RATE = 120.0
 _HEADER_KEYWORDS = (":FULLY-SPECIFIED", ":DEGREES", ":RADIANS")
-#: the bytes a block of numbers may hold (numbers and white space)
-_NUMBER_CHARACTERS = b"0123456789+-.eE" + bytes(range(33))
 _PAD = 16
 _ALL_BYTES = np.uint64(0xFFFFFFFFFFFFFFFF)
 _ZEROS = np.uint64(0x3030303030303030)
@@ -258,7 +257,7 @@ class _Block:
             keep[np.add.outer(starts, np.arange(name_lengths[j])).ravel()] = False
         data = text[keep].tobytes()
         values = None
-        if not data.translate(None, _NUMBER_CHARACTERS):
+        if not data.translate(None, NUMBER_CHARACTERS):
             try:
                 values = np.fromstring(data, dtype=np.float64, sep=" ")
             except ValueError:
@@ -275,7 +274,7 @@ class _Block:
                 number = float(text_token)
             except ValueError:
                 number = None
-            if number is None or text_token.encode().translate(None, _NUMBER_CHARACTERS):
+            if number is None or text_token.encode().translate(None, NUMBER_CHARACTERS):
                 raise self.error(token, f"expected a number, found {quoted(text_token)}")
             if not np.isfinite(number):
                 raise self.error(token, f"expected a finite number, found {quoted(text_token)}")
@@ -292,8 +291,12 @@ def _dof_layout(skeleton: AcclaimSkeleton) -> tuple[list[str], list[tuple[str, .
     return names, dofs, np.concatenate(([0], np.cumsum(counts)[:-1]))
 
 
-def parse_amc_frames(data: bytes, path: str, skeleton: AcclaimSkeleton) -> tuple[np.ndarray, int, dict]:
-    """The frame values of an AMC file.
+def parse_amc_frames(
+    data: bytes, path: str, skeleton: AcclaimSkeleton, *, bulk: bool = True
+) -> tuple[np.ndarray, int, dict]:
+    """The frame values of an AMC file. A frame block of the common shape (every frame the
+    same bones in the same order: :mod:`core.formats.amc_bulk`) is read in bulk unless
+    ``bulk`` is False; the values are the same either way.
 
     Returns
     -------
@@ -310,6 +313,10 @@ def parse_amc_frames(data: bytes, path: str, skeleton: AcclaimSkeleton) -> tuple
     names, dofs, column_of = _dof_layout(skeleton)
     counts = np.array([len(d) for d in dofs])
     n_values = int(counts.sum())
+    if bulk:
+        found = bulk_frames(body, names, counts, column_of)
+        if found is not None:
+            return found[0], found[1], flags
     block = _Block(body, first_line, path)
     n_lines = block.line_first_token.size
     if n_lines == 0:
