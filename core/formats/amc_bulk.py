@@ -148,4 +148,4 @@ def bulk_frames(
     for j in bones:
         source[column_of[j] : column_of[j] + counts[j]] = np.arange(file_column, file_column + counts[j])
         file_column += int(counts[j])
-    return np.ascontiguousarray(numbers[:, source]), int(frame_numbers[0])
+    return np.take(numbers, source, axis=1), int(frame_numbers[0])
