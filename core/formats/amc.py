@@ -453,7 +453,7 @@ def read_amc_with_channels(
     n_frames, n_joints = values.shape[0], rest.n_joints
     _, dofs, column_of = _dof_layout(skeleton)
     scale = np.pi / 180.0 if angle_unit == "deg" else 1.0
-    rotations = identity_rotations(n_frames, n_joints)
+    rotations = np.empty((n_frames, n_joints, 3, 3))  # every joint's filled below
     translations = np.empty((n_frames, n_joints, 3))
     translations[:] = rest.offsets
     has_translation = rest.has_translation.copy()
@@ -473,6 +473,8 @@ def read_amc_with_channels(
             order = "".join(d[1].upper() for d in reversed(rotation_dofs))
             angles = values[:, [columns[d] for d in reversed(rotation_dofs)]] * scale
             rotations[:, j] = conjugate(axes[j], matrix_from_euler(angles, order))
+        else:
+            rotations[:, j] = np.eye(3)
         shift = np.zeros((n_frames, 3))
         for k, axis in enumerate("xyz"):
             if f"t{axis}" in columns:
