@@ -13,12 +13,16 @@ identity. Rarely used translation dofs are read too: ``tx ty tz`` move the bone'
 bone's local (axis) frame, ``l`` adds to its length, so ``t'_b = (length_b + l) direction_b
 + C (tx, ty, tz)`` per frame.
 
-Speed: the frame block is tokenised by numpy over the bytes (no Python work per line or
-value): token boundaries from a white-space mask, the first token of each line read as
-8-byte words and matched against the bone names (hash, binary search, exact compare), the
-names blanked out, and every number parsed at once by ``numpy.fromstring``, so no Python runs
-per line or value. Bones may come in any order in a frame; each bone with
-dofs must appear exactly once per frame; frame numbers count up by one.
+Speed: a frame block in which every frame lists the same bones in the same order, one
+space between tokens (what CMU's files and most exporters write), is read in bulk by
+:mod:`core.formats.amc_bulk`: its shape checked from the bytes, the names blanked and every
+number parsed by one ``numpy.loadtxt``, a frame a row. Any other block is tokenised by numpy
+over the bytes (no Python work per line or value): token boundaries from a white-space mask,
+the first token of each line read as 8-byte words and matched against the bone names (hash,
+binary search, exact compare), the names blanked out, and every number parsed at once by
+``numpy.fromstring``. Both give the same values to the bit; errors come from the second.
+Bones may come in any order in a frame; each bone with dofs must appear exactly once per
+frame; frame numbers count up by one.
 """
 
 from __future__ import annotations
