@@ -311,16 +311,16 @@ def parse_amc_frames(
     """
     data = normalise_newlines(data)
     flags, offset, first_line = _split_header(data, path)
-    body = data[offset:]
-    if b"#" in body:  # comments inside the frames: blank them (columns stay right)
-        body = re.sub(rb"#[^\n]*", lambda match: b" " * len(match.group()), body)
     names, dofs, column_of = _dof_layout(skeleton)
     counts = np.array([len(d) for d in dofs])
     n_values = int(counts.sum())
-    if bulk:
-        found = bulk_frames(body, names, counts, column_of)
+    if bulk and data.find(b"#", offset) < 0:
+        found = bulk_frames(data, names, counts, column_of, start=offset)
         if found is not None:
             return found[0], found[1], flags
+    body = data[offset:]
+    if b"#" in body:  # comments inside the frames: blank them (columns stay right)
+        body = re.sub(rb"#[^\n]*", lambda match: b" " * len(match.group()), body)
     block = _Block(body, first_line, path)
     n_lines = block.line_first_token.size
     if n_lines == 0:

@@ -33,18 +33,19 @@ _MAX_FRAME_DIGITS = 16
 _SPACES = np.uint64(0x2020202020202020)
 
 
-def _first_frame_bones(body: bytes, names: list[str], counts: np.ndarray) -> list[int] | None:
-    """Joint index of each bone line of the first frame, in file order, or None when the
-    first frame does not open with a frame number or does not name each bone with dofs once."""
+def _first_frame_bones(data: bytes, start: int, names: list[str], counts: np.ndarray) -> list[int] | None:
+    """Joint index of each bone line of the first frame (from byte ``start`` of ``data``), in
+    file order, or None when the first frame does not open with a frame number or does not
+    name each bone with dofs once."""
     index = {name.encode("utf-8"): j for j, name in enumerate(names)}
-    end = body.find(b"\n")
-    first = body[: end if end >= 0 else len(body)]
+    end = data.find(b"\n", start)
+    first = data[start : end if end >= 0 else len(data)]
     if not (first.isdigit() and len(first) <= _MAX_FRAME_DIGITS):
         return None
     bones: list[int] = []
     while end >= 0 and len(bones) <= len(names):
-        start, end = end + 1, body.find(b"\n", end + 1)
-        line = body[start : end if end >= 0 else len(body)]
+        line_start, end = end + 1, data.find(b"\n", end + 1)
+        line = data[line_start : end if end >= 0 else len(data)]
         if line.isdigit():
             break
         j = index.get(line.split(b" ", 1)[0], -1)
@@ -59,13 +60,14 @@ def _first_frame_bones(body: bytes, names: list[str], counts: np.ndarray) -> lis
 
 
 def bulk_frames(
-    body: bytes, names: list[str], counts: np.ndarray, column_of: np.ndarray
+    data: bytes, names: list[str], counts: np.ndarray, column_of: np.ndarray, start: int = 0
 ) -> tuple[np.ndarray, int] | None:
     """The frame values of an AMC frame block of the common shape (module docstring).
 
     Parameters
     ----------
-    body : the frame block (line breaks ``\\n``, header left out).
+    data : bytes whose frame block (line breaks ``\\n``) starts at byte ``start`` and runs
+        to the end (the header before it, left out).
     names : (J,) joint names, root first; counts : (J,) dofs per joint; column_of : (J,)
         first column of each joint's values.
 
@@ -77,26 +79,26 @@ def bulk_frames(
     """
     if any(name.isdigit() and len(name) <= _MAX_FRAME_DIGITS for name in names):
         return None  # a bone named like a frame number: lines would be ambiguous
-    if not body or body[:1] in b" \n" or body[-1:] == b" ":
+    size = len(data) - start
+    if size <= 0 or data[start : start + 1] in b" \n" or data.endswith(b" "):
         return None
-    bones = _first_frame_bones(body, names, counts)
+    bones = _first_frame_bones(data, start, names, counts)
     if bones is None:
         return None
-    padded = bytearray(body)
-    padded.extend(bytes(_PAD))
-    buffer = np.frombuffer(padded, np.uint8)[: len(body)]
+    padded = np.zeros(size + _PAD, np.uint8)  # the block, then zeros (for 8-byte reads)
+    padded[:size] = np.frombuffer(data, np.uint8, count=size, offset=start)
+    buffer = padded[:size]
     breaks = np.flatnonzero(buffer == 10)
     if np.count_nonzero(buffer < 32) != breaks.size:
         return None  # tabs, carriage returns or other control bytes
     at_space = np.flatnonzero(buffer == 32)
     if np.diff(at_space).min(initial=2) < 2 or np.diff(breaks).min(initial=2) < 2:
         return None  # two spaces in a row, or a blank line
-    around = np.frombuffer(padded, np.uint8)
-    if (around[breaks - 1] == 32).any() or (around[breaks + 1] == 32).any():
+    if (padded[breaks - 1] == 32).any() or (padded[breaks + 1] == 32).any():
         return None  # a space at either end of a line
     starts = np.concatenate(([0], breaks + 1))
-    ends = np.append(breaks, len(body))
-    if body.endswith(b"\n"):
+    ends = np.append(breaks, size)
+    if data.endswith(b"\n"):
         starts, ends = starts[:-1], ends[:-1]
     per_frame = len(bones) + 1
     if starts.size % per_frame:
@@ -110,14 +112,14 @@ def bulk_frames(
     if lengths.min() < 1 or lengths.max() > _MAX_FRAME_DIGITS:
         return None
     reach = np.arange(_MAX_FRAME_DIGITS)
-    digits = buffer[np.minimum(starts[:, :1] + reach, len(body) - 1)]
+    digits = buffer[np.minimum(starts[:, :1] + reach, size - 1)]
     if not ((digits >= 48) & (digits <= 57) | (reach >= lengths[:, None])).all():
         return None
     # bone lines: the first frame's name and a space, then that bone's number of values
     spaces = np.diff(np.append(np.searchsorted(at_space, starts.ravel()), at_space.size)).reshape(starts.shape)
     if not (spaces[:, 1:] == counts[bones]).all():
         return None
-    words = np.ndarray(shape=(len(body),), dtype="<u8", buffer=padded, strides=(1,))
+    words = np.ndarray(shape=(size,), dtype="<u8", buffer=padded, strides=(1,))
     for k, j in enumerate(bones, start=1):
         name = names[j].encode("utf-8") + b" "
         for offset in range(0, len(name), 8):
@@ -130,7 +132,7 @@ def bulk_frames(
             words[at] = (found & ~keep) | (_SPACES & keep)  # the name blanked
     buffer[breaks] = 32
     buffer[ends[:-1, -1]] = 10  # a frame a line
-    text = bytes(buffer)
+    text = buffer.tobytes()
     if text.translate(None, NUMBER_CHARACTERS):
         return None
     row = 1 + int(counts[bones].sum())
