@@ -66,13 +66,14 @@ def _hash_words(words: np.ndarray, multiplier: np.uint64) -> np.ndarray:
     return out * multiplier
 
 
-def conjugate(c: np.ndarray, rotations: np.ndarray) -> np.ndarray:
+def conjugate(c: np.ndarray, rotations: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
     """``C R C^T`` for one (3, 3) ``C`` and (F, 3, 3) ``R``, as two (3B, 3) x (3, 3) matrix
     products per block of B = :data:`CONJUGATE_BLOCK` frames (one BLAS call each, instead of
     F small ones). A block is small enough for OpenBLAS to multiply on the calling thread:
     a larger product is split over threads, which on a busy machine wait for each other
-    longer than the product takes. The numbers are those of one product over every frame."""
-    out = np.empty_like(rotations, dtype=np.float64)
+    longer than the product takes. The numbers are those of one product over every frame.
+    ``out``: an (F, 3, 3) array (or view) to write them to, returned."""
+    out = np.empty_like(rotations, dtype=np.float64) if out is None else out
     for start in range(0, rotations.shape[0], CONJUGATE_BLOCK):
         block = rotations[start : start + CONJUGATE_BLOCK]
         n = block.shape[0]
@@ -476,7 +477,7 @@ def read_amc_with_channels(
             # applied in file order about the local axes: R = R_last ... R_first
             order = "".join(d[1].upper() for d in reversed(rotation_dofs))
             angles = values[:, [columns[d] for d in reversed(rotation_dofs)]] * scale
-            rotations[:, j] = conjugate(axes[j], matrix_from_euler(angles, order))
+            conjugate(axes[j], matrix_from_euler(angles, order), out=rotations[:, j])
         else:
             rotations[:, j] = np.eye(3)
         shift = np.zeros((n_frames, 3))
