@@ -2,10 +2,12 @@
 order, one space between tokens.
 
 When the block has that shape (checked exactly, from its bytes), the bone names are blanked
-where the first frame puts them and every number is parsed by one ``numpy.fromstring``, the
-parser :func:`core.formats.amc.parse_amc_frames` uses, so the values are the same to the
-bit. Anything else (bones missing or reordered, other white space, comments, bad input)
-returns ``None`` and the general reader decides, with its errors.
+where the first frame puts them and every number is parsed by one ``numpy.loadtxt``, a frame
+a row, then each bone's columns put in the joint order. ``loadtxt`` and the general reader's
+``numpy.fromstring`` (:func:`core.formats.amc.parse_amc_frames`) both turn each token into
+the nearest double (Python's string-to-double), so the values are the same to the bit.
+Anything else (bones missing or reordered, other white space, comments, bad input) returns
+``None`` and the general reader decides, with its errors.
 
 The shape checked, for a block of ``F`` frames of ``B`` bone lines:
 
@@ -15,7 +17,7 @@ The shape checked, for a block of ``F`` frames of ``B`` bone lines:
   else), the numbers counting up by one;
 - the k-th bone line of every frame opens with the first frame's k-th bone name and a space
   and holds that bone's number of dofs in values; the first frame names every bone with
-  dofs once, and no bone without.
+  dofs once, and no bone without; every bone line is at least 8 bytes long.
 """
 
 from __future__ import annotations
@@ -105,8 +107,6 @@ def bulk_frames(
         return None
     n_frames = starts.size // per_frame
     starts, ends = starts.reshape(n_frames, per_frame), ends.reshape(n_frames, per_frame)
-    if n_frames > 1 and np.diff(starts[:, 0]).min() < 2 * _PAD:
-        return None  # frames this short: the name words below would overlap
     # frame lines: 1 to 16 digits and nothing else
     lengths = ends[:, 0] - starts[:, 0]
     if lengths.min() < 1 or lengths.max() > _MAX_FRAME_DIGITS:
@@ -119,17 +119,22 @@ def bulk_frames(
     spaces = np.diff(np.append(np.searchsorted(at_space, starts.ravel()), at_space.size)).reshape(starts.shape)
     if not (spaces[:, 1:] == counts[bones]).all():
         return None
+    # each bone line's first bytes as 8-byte words (unaligned), every line at once in file
+    # order: its name checked and blanked; lines of 8 bytes or more keep one pass's words apart
+    lines = starts[:, 1:]
+    if (ends[:, 1:] - lines).min() < 8:
+        return None
     words = np.ndarray(shape=(size,), dtype="<u8", buffer=padded, strides=(1,))
-    for k, j in enumerate(bones, start=1):
-        name = names[j].encode("utf-8") + b" "
-        for offset in range(0, len(name), 8):
-            piece = name[offset : offset + 8]
-            keep = np.uint64((1 << (8 * len(piece))) - 1)
-            at = starts[:, k] + offset
-            found = words[at]
-            if not ((found & keep) == np.frombuffer(piece.ljust(8, b"\0"), "<u8")[0]).all():
-                return None
-            words[at] = (found & ~keep) | (_SPACES & keep)  # the name blanked
+    encoded = [names[j].encode("utf-8") + b" " for j in bones]
+    for offset in range(0, max(len(e) for e in encoded), 8):
+        pieces = [e[offset : offset + 8] for e in encoded]
+        keep = np.array([(1 << (8 * len(p))) - 1 for p in pieces], np.uint64)
+        want = np.array([int.from_bytes(p, "little") for p in pieces], np.uint64)
+        at = lines + offset
+        found = words[at]
+        if ((found & keep) != want).any():
+            return None
+        words[at] = (found & ~keep) | (_SPACES & keep)  # the names blanked
     buffer[breaks] = 32
     buffer[ends[:-1, -1]] = 10  # a frame a line
     text = buffer.tobytes()
