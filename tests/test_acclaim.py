@@ -441,3 +441,22 @@ def test_frames_of_another_layout_are_read_line_by_line_to_the_same_values(chang
         return
     values, _, _ = parse_amc_frames(block, str(amc), skeleton)
     np.testing.assert_array_equal(values, parse_amc_frames(amc.read_bytes(), str(amc), skeleton)[0])
+
+
+@pytest.mark.parametrize("short_lines", [False, True], ids=["long lines", "a bone line under 8 bytes"])
+def test_synthetic_take_in_one_bone_order_reads_the_same_in_bulk_and_line_by_line(tmp_path, rng, short_lines):
+    asf, amc = tmp_path / "test.asf", tmp_path / "test.amc"
+    asf.write_text(SKELETON)
+    text = synthetic_amc(rng, n_frames=5, shuffle=False)
+    if short_lines:  # the last bone of every frame, "head", with one short value
+        text = re.sub(r"(?m)^head .*$", "head 7", text)
+    amc.write_text(text)
+    skeleton = read_asf(asf)
+    names, counts, column_of = dof_layout(skeleton)
+    bulk = bulk_frames(frame_block(amc), names, counts, column_of)
+    assert (bulk is None) == short_lines
+    values, first, flags = parse_amc_frames(amc.read_bytes(), str(amc), skeleton)
+    general, general_first, general_flags = parse_amc_frames(amc.read_bytes(), str(amc), skeleton, bulk=False)
+    assert values.tobytes() == general.tobytes() and (first, flags) == (general_first, general_flags)
+    if bulk is not None:
+        assert bulk[0].tobytes() == values.tobytes()

@@ -127,10 +127,11 @@ def bulk_frames(
     words = np.ndarray(shape=(size,), dtype="<u8", buffer=padded, strides=(1,))
     encoded = [names[j].encode("utf-8") + b" " for j in bones]
     for offset in range(0, max(len(e) for e in encoded), 8):
-        pieces = [e[offset : offset + 8] for e in encoded]
+        columns = [k for k, e in enumerate(encoded) if len(e) > offset]  # names this long
+        pieces = [encoded[k][offset : offset + 8] for k in columns]
         keep = np.array([(1 << (8 * len(p))) - 1 for p in pieces], np.uint64)
         want = np.array([int.from_bytes(p, "little") for p in pieces], np.uint64)
-        at = lines + offset
+        at = lines[:, columns] + offset
         found = words[at]
         if ((found & keep) != want).any():
             return None
