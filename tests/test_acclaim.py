@@ -3,12 +3,16 @@ same trial, and the reader's handling of the format's variants."""
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
+from gmr_studio.core.errors import MotionFileError
 from gmr_studio.core.formats import load_gmr, read_motion
 from gmr_studio.core.formats.acclaim import asf_beside, read_amc, read_asf, skeleton_motion
-from gmr_studio.core.formats.amc import parse_amc_frames
+from gmr_studio.core.formats.amc import parse_amc_frames, read_amc_with_channels
+from gmr_studio.core.formats.amc_bulk import bulk_frames
 from gmr_studio.core.formats.bvh import read_bvh
 from gmr_studio.core.kinematics.fk import world_positions
 from tests.conftest import shared_files, shared_path
@@ -355,3 +359,104 @@ def test_read_motion_finds_the_skeleton_and_load_gmr_keeps_it(tmp_path, syntheti
     other.write_text(SKELETON)
     assert asf_beside(amc) == asf  # two skeletons: the one named like the AMC
     read_motion(amc, asf=other)
+
+
+# ------------------------------------------------- frames in bulk and line by line agree
+def frame_block(amc) -> bytes:
+    """The frame lines of an AMC file (LF line ends), from its first frame number on."""
+    data = amc.read_bytes().replace(b"\r\n", b"\n")
+    return data[re.search(rb"^\d+\n", data, re.MULTILINE).start() :]
+
+
+def dof_layout(skeleton) -> tuple[list[str], np.ndarray, np.ndarray]:
+    """Joint names (root first), dofs per joint, first column of each joint's values."""
+    counts = np.array([len(skeleton.root_order)] + [len(b.dof) for b in skeleton.bones])
+    return ["root", *skeleton.names], counts, np.concatenate(([0], np.cumsum(counts)[:-1]))
+
+
+def swap_first_bones_of_even_frames(block: bytes) -> bytes:
+    """The same motion with the first two bone lines swapped in every other frame."""
+    frames = re.split(rb"(?m)^(?=\d+\n)", block)
+    out = []
+    for k, frame in enumerate(f for f in frames if f):
+        lines = frame.split(b"\n")
+        if k % 2 == 0:
+            lines[1], lines[2] = lines[2], lines[1]
+        out.append(b"\n".join(lines))
+    return b"".join(out)
+
+
+@pytest.mark.parametrize("amc", shared_files("**/*.amc"))
+def test_real_amc_frames_read_in_bulk_are_those_read_line_by_line(amc):
+    skeleton = read_asf(asf_beside(amc))
+    data = amc.read_bytes()
+    names, counts, column_of = dof_layout(skeleton)
+    bulk = bulk_frames(frame_block(amc), names, counts, column_of)
+    assert bulk is not None, "a CMU take lists the same bones in every frame: it is read in bulk"
+    values, first_frame, flags = parse_amc_frames(data, str(amc), skeleton)
+    general, general_first, general_flags = parse_amc_frames(data, str(amc), skeleton, bulk=False)
+    assert values.tobytes() == general.tobytes() == bulk[0].tobytes()
+    assert values.shape == general.shape and first_frame == general_first == bulk[1]
+    assert flags == general_flags
+
+
+@pytest.mark.parametrize("amc", shared_files("**/*.amc"))
+def test_real_amc_with_bones_reordered_reads_the_same_motion_to_the_bit(amc, tmp_path):
+    """Frames whose bones come in differing orders are read line by line; the motion and
+    channels are those of the file as published, read in bulk."""
+    header = amc.read_bytes().replace(b"\r\n", b"\n")
+    header = header[: re.search(rb"^\d+\n", header, re.MULTILINE).start()]
+    reordered = tmp_path / amc.name
+    reordered.write_bytes(header + swap_first_bones_of_even_frames(frame_block(amc)))
+    skeleton = read_asf(asf_beside(amc))
+    names, counts, column_of = dof_layout(skeleton)
+    assert bulk_frames(frame_block(reordered), names, counts, column_of) is None
+    (motion, channels), (same, same_channels) = (read_amc_with_channels(p, skeleton) for p in (amc, reordered))
+    assert motion.rotations.tobytes() == same.rotations.tobytes()
+    assert motion.translations.tobytes() == same.translations.tobytes()
+    assert channels.angles.keys() == same_channels.angles.keys()
+    for name, angles in channels.angles.items():
+        assert angles.tobytes() == same_channels.angles[name].tobytes()
+
+
+@pytest.mark.parametrize(
+    "change",
+    [
+        pytest.param(lambda b: b.replace(b" ", b"\t", 1), id="a tab"),
+        pytest.param(lambda b: b.replace(b" ", b"  ", 1), id="two spaces"),
+        pytest.param(lambda b: b.replace(b"\n", b" \n", 3), id="a trailing space"),
+        pytest.param(lambda b: b.replace(b"\n", b"\n\n", 2), id="a blank line"),
+        pytest.param(lambda b: b.rsplit(b"\n", 3)[0] + b"\n", id="a frame cut short"),
+    ],
+)
+def test_frames_of_another_layout_are_read_line_by_line_to_the_same_values(change, tmp_path):
+    amc = shared_path("cmu/subject02/02_01.amc")
+    skeleton = read_asf(asf_beside(amc))
+    names, counts, column_of = dof_layout(skeleton)
+    block = change(frame_block(amc))
+    assert bulk_frames(block, names, counts, column_of) is None
+    if block.count(b"\n") < frame_block(amc).count(b"\n"):  # the cut frame: the general reader's error
+        with pytest.raises(MotionFileError, match="has no line for bone"):
+            parse_amc_frames(block, str(amc), skeleton)
+        return
+    values, _, _ = parse_amc_frames(block, str(amc), skeleton)
+    np.testing.assert_array_equal(values, parse_amc_frames(amc.read_bytes(), str(amc), skeleton)[0])
+
+
+@pytest.mark.parametrize("short_lines", [False, True], ids=["long lines", "a bone line under 8 bytes"])
+def test_synthetic_take_in_one_bone_order_reads_the_same_in_bulk_and_line_by_line(tmp_path, rng, short_lines):
+    asf, amc = tmp_path / "test.asf", tmp_path / "test.amc"
+    asf.write_text(SKELETON)
+    text = synthetic_amc(rng, n_frames=5, shuffle=False)
+    if short_lines:  # the last bone of every frame, "head", with one short value
+        text = re.sub(r"(?m)^head .*$", "head 7", text)
+    amc.write_text(text)
+    skeleton = read_asf(asf)
+    names, counts, column_of = dof_layout(skeleton)
+    bulk = bulk_frames(frame_block(amc), names, counts, column_of)
+    assert (bulk is None) == short_lines
+    values, first, flags = parse_amc_frames(amc.read_bytes(), str(amc), skeleton)
+    general, general_first, general_flags = parse_amc_frames(amc.read_bytes(), str(amc), skeleton, bulk=False)
+    assert values.tobytes() == general.tobytes() and (first, flags) == (general_first, general_flags)
+    if bulk is not None:
+        assert bulk[0].tobytes() == values.tobytes()

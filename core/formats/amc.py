@@ -13,12 +13,16 @@ identity. Rarely used translation dofs are read too: ``tx ty tz`` move the bone'
 bone's local (axis) frame, ``l`` adds to its length, so ``t'_b = (length_b + l) direction_b
 + C (tx, ty, tz)`` per frame.
 
-Speed: the frame block is tokenised by numpy over the bytes (no Python work per line or
-value): token boundaries from a white-space mask, the first token of each line read as
-8-byte words and matched against the bone names (hash, binary search, exact compare), the
-names blanked out, and every number parsed at once by ``numpy.fromstring``, so no Python runs
-per line or value. Bones may come in any order in a frame; each bone with
-dofs must appear exactly once per frame; frame numbers count up by one.
+Speed: a frame block in which every frame lists the same bones in the same order, one
+space between tokens (what CMU's files and most exporters write), is read in bulk by
+:mod:`core.formats.amc_bulk`: its shape checked from the bytes, the names blanked and every
+number parsed by one ``numpy.loadtxt``, a frame a row. Any other block is tokenised by numpy
+over the bytes (no Python work per line or value): token boundaries from a white-space mask,
+the first token of each line read as 8-byte words and matched against the bone names (hash,
+binary search, exact compare), the names blanked out, and every number parsed at once by
+``numpy.fromstring``. Both give the same values to the bit; errors come from the second.
+Bones may come in any order in a frame; each bone with dofs must appear exactly once per
+frame; frame numbers count up by one.
 """
 
 from __future__ import annotations
@@ -30,6 +34,7 @@ import numpy as np
 
 from gmr_studio.core.errors import MotionFileError, quoted, read_input
 from gmr_studio.core.formats.acclaim_skeleton import ROOT_NAME, ROTATION_DOFS, AcclaimSkeleton
+from gmr_studio.core.formats.amc_bulk import NUMBER_CHARACTERS, bulk_frames
 from gmr_studio.core.formats.asf import read_asf
 from gmr_studio.core.formats.frames import out_of_range, within_range
 from gmr_studio.core.formats.hierarchy import normalise_newlines
@@ -42,8 +47,6 @@ from gmr_studio.core.space.units import acclaim_unit
 #: frame rate assumed for AMC files, which do not store one (CMU's motions are 120 Hz)
 DEFAULT_FRAME_RATE = 120.0
 _HEADER_KEYWORDS = (":FULLY-SPECIFIED", ":DEGREES", ":RADIANS")
-#: the bytes a block of numbers may hold (numbers and white space)
-_NUMBER_CHARACTERS = b"0123456789+-.eE" + bytes(range(33))
 _PAD = 16
 _ALL_BYTES = np.uint64(0xFFFFFFFFFFFFFFFF)
 _ZEROS = np.uint64(0x3030303030303030)
@@ -63,13 +66,14 @@ def _hash_words(words: np.ndarray, multiplier: np.uint64) -> np.ndarray:
     return out * multiplier
 
 
-def conjugate(c: np.ndarray, rotations: np.ndarray) -> np.ndarray:
+def conjugate(c: np.ndarray, rotations: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
     """``C R C^T`` for one (3, 3) ``C`` and (F, 3, 3) ``R``, as two (3B, 3) x (3, 3) matrix
     products per block of B = :data:`CONJUGATE_BLOCK` frames (one BLAS call each, instead of
     F small ones). A block is small enough for OpenBLAS to multiply on the calling thread:
     a larger product is split over threads, which on a busy machine wait for each other
-    longer than the product takes. The numbers are those of one product over every frame."""
-    out = np.empty_like(rotations, dtype=np.float64)
+    longer than the product takes. The numbers are those of one product over every frame.
+    ``out``: an (F, 3, 3) array (or view) to write them to, returned."""
+    out = np.empty_like(rotations, dtype=np.float64) if out is None else out
     for start in range(0, rotations.shape[0], CONJUGATE_BLOCK):
         block = rotations[start : start + CONJUGATE_BLOCK]
         n = block.shape[0]
@@ -258,7 +262,7 @@ class _Block:
             keep[np.add.outer(starts, np.arange(name_lengths[j])).ravel()] = False
         data = text[keep].tobytes()
         values = None
-        if not data.translate(None, _NUMBER_CHARACTERS):
+        if not data.translate(None, NUMBER_CHARACTERS):
             try:
                 values = np.fromstring(data, dtype=np.float64, sep=" ")
             except ValueError:
@@ -275,7 +279,7 @@ class _Block:
                 number = float(text_token)
             except ValueError:
                 number = None
-            if number is None or text_token.encode().translate(None, _NUMBER_CHARACTERS):
+            if number is None or text_token.encode().translate(None, NUMBER_CHARACTERS):
                 raise self.error(token, f"expected a number, found {quoted(text_token)}")
             if not np.isfinite(number):
                 raise self.error(token, f"expected a finite number, found {quoted(text_token)}")
@@ -292,8 +296,12 @@ def _dof_layout(skeleton: AcclaimSkeleton) -> tuple[list[str], list[tuple[str, .
     return names, dofs, np.concatenate(([0], np.cumsum(counts)[:-1]))
 
 
-def parse_amc_frames(data: bytes, path: str, skeleton: AcclaimSkeleton) -> tuple[np.ndarray, int, dict]:
-    """The frame values of an AMC file.
+def parse_amc_frames(
+    data: bytes, path: str, skeleton: AcclaimSkeleton, *, bulk: bool = True
+) -> tuple[np.ndarray, int, dict]:
+    """The frame values of an AMC file. A frame block of the common shape (every frame the
+    same bones in the same order: :mod:`core.formats.amc_bulk`) is read in bulk unless
+    ``bulk`` is False; the values are the same either way.
 
     Returns
     -------
@@ -304,12 +312,16 @@ def parse_amc_frames(data: bytes, path: str, skeleton: AcclaimSkeleton) -> tuple
     """
     data = normalise_newlines(data)
     flags, offset, first_line = _split_header(data, path)
-    body = data[offset:]
-    if b"#" in body:  # comments inside the frames: blank them (columns stay right)
-        body = re.sub(rb"#[^\n]*", lambda match: b" " * len(match.group()), body)
     names, dofs, column_of = _dof_layout(skeleton)
     counts = np.array([len(d) for d in dofs])
     n_values = int(counts.sum())
+    if bulk and data.find(b"#", offset) < 0:
+        found = bulk_frames(data, names, counts, column_of, start=offset)
+        if found is not None:
+            return found[0], found[1], flags
+    body = data[offset:]
+    if b"#" in body:  # comments inside the frames: blank them (columns stay right)
+        body = re.sub(rb"#[^\n]*", lambda match: b" " * len(match.group()), body)
     block = _Block(body, first_line, path)
     n_lines = block.line_first_token.size
     if n_lines == 0:
@@ -446,7 +458,7 @@ def read_amc_with_channels(
     n_frames, n_joints = values.shape[0], rest.n_joints
     _, dofs, column_of = _dof_layout(skeleton)
     scale = np.pi / 180.0 if angle_unit == "deg" else 1.0
-    rotations = identity_rotations(n_frames, n_joints)
+    rotations = np.empty((n_frames, n_joints, 3, 3))  # every joint's filled below
     translations = np.empty((n_frames, n_joints, 3))
     translations[:] = rest.offsets
     has_translation = rest.has_translation.copy()
@@ -465,7 +477,9 @@ def read_amc_with_channels(
             # applied in file order about the local axes: R = R_last ... R_first
             order = "".join(d[1].upper() for d in reversed(rotation_dofs))
             angles = values[:, [columns[d] for d in reversed(rotation_dofs)]] * scale
-            rotations[:, j] = conjugate(axes[j], matrix_from_euler(angles, order))
+            conjugate(axes[j], matrix_from_euler(angles, order), out=rotations[:, j])
+        else:
+            rotations[:, j] = np.eye(3)
         shift = np.zeros((n_frames, 3))
         for k, axis in enumerate("xyz"):
             if f"t{axis}" in columns:
