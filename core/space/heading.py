@@ -21,7 +21,9 @@ def travel_axis(
     across = [a for a in (0, 1, 2) if a != up]
     if figure is not None:
         positions = positions[:, figure]
-    path = positions.mean(axis=1)[:, across]  # the centroid first: no copy of every joint
+    # the centroid first (no copy of every joint): einsum sums over the joints several
+    # times faster than mean's strided reduction, the same sums to rounding
+    path = (np.einsum("fjk->fk", positions) / positions.shape[1])[:, across]
     spread = path - path.mean(axis=0)
     axis = np.zeros(3)
     if len(path) > 1 and np.abs(spread).max() > still_below:
