@@ -188,7 +188,7 @@ def test_many_frames_span_several_numpy_blocks(rng):
 
 def test_bad_arguments(rng):
     motion = random_motion(rng, [-1, 0], n_frames=2)
-    with pytest.raises(ValueError, match="unknown FK backend"):
+    with pytest.raises(ValueError, match="unknown backend"):
         fk_engine.forward_kinematics(motion, backend="fortran")
     with pytest.raises(ValueError, match="angles must have shape"):
         fk_engine.positions_from_euler(motion, np.zeros((2, 3, 3)))

@@ -26,16 +26,11 @@ the two agree to rounding, tested; the selections, medians and counts exactly).
 
 from __future__ import annotations
 
-import os
-
 import numpy as np
 
-try:  # the compiled backend is optional, as for the FK engine
-    if os.environ.get("GMR_DISABLE_NUMBA") == "1":
-        raise ImportError("disabled by GMR_DISABLE_NUMBA=1")
-    from gmr_studio.core.checks import _kernels
-except ImportError:  # pragma: no cover - depends on the environment
-    _kernels = None
+from gmr_studio.core.compiled import chosen_kernels, optional_kernels
+
+_kernels = optional_kernels("gmr_studio.core.checks._kernels")
 
 
 def _first_guess(n: int) -> int:
@@ -45,11 +40,7 @@ def _first_guess(n: int) -> int:
 
 
 def _compiled(backend: str, array: np.ndarray) -> bool:
-    if backend not in ("auto", "numba", "numpy"):
-        raise ValueError(f"unknown backend {backend!r}: expected 'auto', 'numba' or 'numpy'")
-    if backend == "numba" and _kernels is None:
-        raise RuntimeError("the numba backend is not available: install the 'fast' extra (numba)")
-    return backend != "numpy" and _kernels is not None and array.dtype == np.float64
+    return chosen_kernels(backend, _kernels) is not None and array.dtype == np.float64
 
 
 def middles(positions: np.ndarray) -> np.ndarray:

@@ -13,11 +13,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from gmr_studio.core.compiled import Backend
 from gmr_studio.core.edits import frame_programs
 from gmr_studio.core.edits.edited import Edited
 from gmr_studio.core.edits.frame_programs import FrameProgram
 from gmr_studio.core.kinematics.convention import pre_from_post
-from gmr_studio.core.kinematics.engine import Backend
 from gmr_studio.core.model.motion import DEFAULT_RELATIVE_TOLERANCE, Motion
 
 

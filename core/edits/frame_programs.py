@@ -33,19 +33,14 @@ Memory: the new rotations (F, J, 3, 3) and translations (F, J, 3), nothing else 
 from __future__ import annotations
 
 import dataclasses
-import os
 
 import numpy as np
 
+from gmr_studio.core.compiled import chosen_kernels, optional_kernels
 from gmr_studio.core.kinematics.engine import in_blocks
 from gmr_studio.core.model.motion import Motion
 
-try:  # the compiled backend is optional, as for the FK engine
-    if os.environ.get("GMR_DISABLE_NUMBA") == "1":
-        raise ImportError("disabled by GMR_DISABLE_NUMBA=1")
-    from gmr_studio.core.edits import _kernels
-except ImportError:  # pragma: no cover - depends on the environment
-    _kernels = None
+_kernels = optional_kernels("gmr_studio.core.edits._kernels")
 
 #: frames whose join offsets are summed together before the blocks are added up (in a
 #: fixed order, so that the means do not depend on the number of threads)
@@ -60,11 +55,7 @@ def available() -> bool:
 def use_kernel(backend: str) -> bool:
     """Whether an operation asked for ``backend`` ('auto', 'numba' or 'numpy') runs the
     compiled kernel; 'numba' without numba installed is an error."""
-    if backend not in ("auto", "numba", "numpy"):
-        raise ValueError(f"unknown backend {backend!r}: expected 'auto', 'numba' or 'numpy'")
-    if backend == "numba" and _kernels is None:
-        raise RuntimeError("the numba backend is not available: install the 'fast' extra (numba)")
-    return backend != "numpy" and _kernels is not None
+    return chosen_kernels(backend, _kernels) is not None
 
 
 @dataclasses.dataclass

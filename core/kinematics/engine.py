@@ -65,21 +65,14 @@ import dataclasses
 import heapq
 import itertools
 import os
-from typing import Literal
 
 import numpy as np
 
+from gmr_studio.core.compiled import Backend, chosen_kernels, optional_kernels
 from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.rotations.euler import _indices_and_parity, complete_order
 
-try:  # the compiled backend is optional
-    if os.environ.get("GMR_DISABLE_NUMBA") == "1":
-        raise ImportError("disabled by GMR_DISABLE_NUMBA=1")
-    from gmr_studio.core.kinematics import _kernels
-except ImportError:  # pragma: no cover - depends on the environment
-    _kernels = None
-
-Backend = Literal["auto", "numba", "numpy"]
+_kernels = optional_kernels("gmr_studio.core.kinematics._kernels")
 
 #: joint kinds in a :class:`FKPlan`
 ROOT, INNER, LEAF = 0, 1, 2
@@ -93,13 +86,7 @@ def have_numba() -> bool:
 
 
 def _resolve(backend: Backend) -> str:
-    if backend == "auto":
-        return "numba" if _kernels is not None else "numpy"
-    if backend == "numba" and _kernels is None:
-        raise RuntimeError("the numba backend is not available: install the 'fast' extra (numba)")
-    if backend not in ("numba", "numpy"):
-        raise ValueError(f"unknown FK backend {backend!r}: expected 'auto', 'numba' or 'numpy'")
-    return backend
+    return "numpy" if chosen_kernels(backend, _kernels) is None else "numba"
 
 
 @dataclasses.dataclass(frozen=True)

@@ -16,13 +16,12 @@ fallback.
 
 from __future__ import annotations
 
-import functools
-import os
 import sys
 from types import ModuleType
-from typing import Literal
 
 import numpy as np
+
+from gmr_studio.core.compiled import Backend, chosen_kernels, optional_kernels
 
 #: below this angle (radians) between two quaternions, slerp falls back to a normalised lerp
 SLERP_LINEAR_BELOW = 1e-6
@@ -81,18 +80,9 @@ def quaternion_from_matrix(matrices: np.ndarray, *, scalar_last: bool = False) -
     return np.roll(q, -1, axis=-1) if scalar_last else q
 
 
-@functools.cache
 def compiled_kernels() -> ModuleType | None:
-    """:mod:`core.rotations._kernels`, or None without numba (optional, as the FK engine's
-    kernels are). Loaded when first needed, so that importing this module (a command's
-    ``--help``) does not load numba."""
-    if os.environ.get("GMR_DISABLE_NUMBA") == "1":
-        return None
-    try:
-        from gmr_studio.core.rotations import _kernels
-    except ImportError:  # pragma: no cover - depends on the environment
-        return None
-    return _kernels
+    """:mod:`core.rotations._kernels`, or None without numba (:func:`core.compiled.optional_kernels`)."""
+    return optional_kernels("gmr_studio.core.rotations._kernels")
 
 
 def compiled_at_hand() -> ModuleType | None:
@@ -106,7 +96,7 @@ def matrix_from_quaternion(
     *,
     scalar_last: bool = False,
     out: np.ndarray | None = None,
-    backend: Literal["auto", "numba", "numpy"] = "auto",
+    backend: Backend = "auto",
 ) -> np.ndarray:
     """Rotation matrices of quaternions (w, x, y, z), normalised first: (..., 4) -> (..., 3, 3).
 
@@ -116,15 +106,8 @@ def matrix_from_quaternion(
     quaternions (N, 4)), 'numpy', or 'auto' (numba when :func:`compiled_at_hand` and the
     shape is (N, 4)); both give the same matrices bit for bit.
     """
-    if backend not in ("auto", "numba", "numpy"):
-        raise ValueError(f"unknown backend {backend!r}: expected 'auto', 'numba' or 'numpy'")
+    kernels = chosen_kernels(backend, compiled_kernels() if backend == "numba" else compiled_at_hand())
     q = np.asarray(quaternions, dtype=np.float64)
-    if backend == "numpy":
-        kernels = None
-    else:
-        kernels = compiled_kernels() if backend == "numba" else compiled_at_hand()
-    if backend == "numba" and kernels is None:
-        raise RuntimeError("the numba backend is not available: install the 'fast' extra (numba)")
     if kernels is not None and q.ndim == 2 and q.shape[-1] == 4 and (out is None or out.ndim == 3):
         out = np.empty((len(q), 3, 3)) if out is None else out
         if out.shape[1:] != (3, 3) or len(q) not in (1, len(out)):

@@ -25,27 +25,17 @@ comparisons (B on A's frames) and their offset search.
 
 from __future__ import annotations
 
-import functools
-import os
 from types import ModuleType
 
 import numpy as np
 
+from gmr_studio.core.compiled import chosen_kernels, optional_kernels
 from gmr_studio.core.timebase.clock import frames_per_frame, frames_within
 
 
-@functools.cache
 def compiled_kernels() -> ModuleType | None:
-    """:mod:`core.timebase._kernels`, or None without numba (optional, as the FK engine's
-    kernels are). Loaded when first needed, so that what only reads a constant of this
-    module (a command's ``--help``) does not load numba."""
-    if os.environ.get("GMR_DISABLE_NUMBA") == "1":
-        return None
-    try:
-        from gmr_studio.core.timebase import _kernels
-    except ImportError:  # pragma: no cover - depends on the environment
-        return None
-    return _kernels
+    """:mod:`core.timebase._kernels`, or None without numba (:func:`core.compiled.optional_kernels`)."""
+    return optional_kernels("gmr_studio.core.timebase._kernels")
 
 
 #: a fractional frame this close to a whole number is that frame (rounding of ``k / rate``)
@@ -182,12 +172,8 @@ def interpolate_rotations(
     """
     if whole_frames(at):
         return interpolate(rotations, at, columns)
-    if backend not in ("auto", "numba", "numpy"):
-        raise ValueError(f"unknown backend {backend!r}: expected 'auto', 'numba' or 'numpy'")
-    kernels = compiled_kernels()
-    if backend == "numba" and kernels is None:
-        raise RuntimeError("the numba backend is not available: install the 'fast' extra (numba)")
-    if backend != "numpy" and kernels is not None and rotations.shape[0] and rotations.dtype == np.float64:
+    kernels = chosen_kernels(backend, compiled_kernels())
+    if kernels is not None and rotations.shape[0] and rotations.dtype == np.float64:
         return _slerp_compiled(rotations, at, columns)
     n_columns = rotations.shape[1] if columns is None else len(columns)
     out = np.empty((len(at), n_columns, 3, 3))
