@@ -47,6 +47,15 @@ def second_differences(positions, deviations, products, block, limit, counts):  
             previous[j, 2] = m2
 
 
+@numba.njit(inline="always", boundscheck=False)
+def _squared_step(positions, f, j):  # pragma: no cover - compiled
+    """``|P_{f+1} - P_f|^2`` of joint j, summed in the order x, y, z."""
+    d0 = positions[f + 1, j, 0] - positions[f, j, 0]
+    d1 = positions[f + 1, j, 1] - positions[f, j, 1]
+    d2 = positions[f + 1, j, 2] - positions[f, j, 2]
+    return (d0 * d0 + d1 * d1) + d2 * d2
+
+
 @numba.njit(nogil=True, cache=True, boundscheck=False)
 def largest_steps(positions, joints, out):  # pragma: no cover - compiled
     """positions (F, J, 3) -> out (F-1,): the largest squared step ``|P_{f+1} - P_f|^2`` of
@@ -55,10 +64,7 @@ def largest_steps(positions, joints, out):  # pragma: no cover - compiled
         largest = np.nan
         for k in range(joints.shape[0]):
             j = joints[k]
-            d0 = positions[f + 1, j, 0] - positions[f, j, 0]
-            d1 = positions[f + 1, j, 1] - positions[f, j, 1]
-            d2 = positions[f + 1, j, 2] - positions[f, j, 2]
-            value = (d0 * d0 + d1 * d1) + d2 * d2
+            value = _squared_step(positions, f, j)
             if math.isnan(largest) or value > largest:
                 if not math.isnan(value):
                     largest = value
@@ -344,10 +350,7 @@ def steps_within(positions, joints, tolerance, out):  # pragma: no cover - compi
         seen, within = False, True
         for k in range(joints.shape[0]):
             j = joints[k]
-            d0 = positions[f + 1, j, 0] - positions[f, j, 0]
-            d1 = positions[f + 1, j, 1] - positions[f, j, 1]
-            d2 = positions[f + 1, j, 2] - positions[f, j, 2]
-            value = (d0 * d0 + d1 * d1) + d2 * d2
+            value = _squared_step(positions, f, j)
             if not math.isnan(value):
                 seen = True
                 if value > tolerance:

@@ -168,6 +168,18 @@ def _turned(c0, c1, c2, local, j):  # pragma: no cover - compiled
 
 
 @numba.njit(inline="always", boundscheck=False)
+def _keep(columns, world, j, n0, n1, n2, here, keep_world):  # pragma: no cover - compiled
+    """Joint j's world rotation (columns n0, n1, n2) and position ``here`` into ``columns``
+    for its children, and the rotation into ``world`` when ``keep_world``."""
+    _store(columns, j, 0, n0)
+    _store(columns, j, 1, n1)
+    _store(columns, j, 2, n2)
+    _store(columns, j, 3, here)
+    if keep_world:
+        _store_rows(world, j, n0, n1, n2)
+
+
+@numba.njit(inline="always", boundscheck=False)
 def _steps(order, parents, kinds, keep_root):  # pragma: no cover - compiled
     """(J, 3) int64: the walk, one row per joint in ``order``: the joint, its parent, and
     its kind plus 4 when ``keep_root`` (one small array the walk reads in order)."""
@@ -225,22 +237,12 @@ def _walk(local, offsets, steps, keep_world, pre, pos, world, columns):  # pragm
         elif pre:
             n0, n1, n2 = _turned(c0, c1, c2, local, j)
             here = _add(at, _combine(n0, n1, n2, t0, t1, t2))
-            _store(columns, j, 0, n0)
-            _store(columns, j, 1, n1)
-            _store(columns, j, 2, n2)
-            _store(columns, j, 3, here)
-            if keep_world:
-                _store_rows(world, j, n0, n1, n2)
+            _keep(columns, world, j, n0, n1, n2, here, keep_world)
         else:
             here = _add(at, _combine(c0, c1, c2, t0, t1, t2))
             if kind == INNER or keep_world:
                 n0, n1, n2 = _turned(c0, c1, c2, local, j)
-                _store(columns, j, 0, n0)
-                _store(columns, j, 1, n1)
-                _store(columns, j, 2, n2)
-                _store(columns, j, 3, here)
-                if keep_world:
-                    _store_rows(world, j, n0, n1, n2)
+                _keep(columns, world, j, n0, n1, n2, here, keep_world)
         pos[j, 0] = here[0]
         pos[j, 1] = here[1]
         pos[j, 2] = here[2]
