@@ -175,6 +175,14 @@ def test_the_range_is_shaded_yellow_and_the_spans_red_over_their_frames_only(qtb
     plain = plot_pixels(plot)
     plot.set_range(40, 80)
     plot.set_spans(np.array([[120, 160]]))
+
+    def shades_drawn() -> bool:  # the scene lays the new items out when it next paints
+        picture = plot_pixels(plot)
+        return all(
+            (background_columns(plot, plain, picture, a, b) != BACKGROUND).any() for a, b in ((40, 79), (120, 159))
+        )
+
+    qtbot.waitUntil(shades_drawn)
     shaded = plot_pixels(plot)
     in_range = background_columns(plot, plain, shaded, 40, 79)
     in_span = background_columns(plot, plain, shaded, 120, 159)
