@@ -19,10 +19,11 @@ and, beside the FK, one read of what it reads (the largest rotation and translat
 number: no FK can take less).
 
 Rows: the FK itself; the cache a document holds (``Snapshot.of``); every edit as the core
-operation alone and as the app's undoable edit (with the cache of its result), with the
-undo, and the edit's allocation peak (tracemalloc) beside what the new motion and its cache
-take; ``gmr check``; the undo history after more edits than it keeps; then opening the
-take of every format in a window (:mod:`app.tools.open_bench`). Prints figures only.
+operation alone (as a caller of the library gets it: on every core) and as the app's
+undoable edit (with the cache of its result), with the undo, and the edit's allocation peak
+(tracemalloc) beside what the new motion and its cache take; ``gmr check``; the undo
+history after more edits than it keeps; then opening the take of every format in a window
+(:mod:`app.tools.open_bench`). Prints figures only.
 """
 
 from __future__ import annotations
@@ -178,7 +179,10 @@ def bench_take(n_frames: int, rounds: int, log: Callable[[str], None] = print, o
     _row(timed, "FK 1", "single-root FK, 1 thread (gmr bench's)", copy_p, "copy P", 2.0)
     _row(timed, "FK cache", "FK cache of a document (Snapshot.of, every core)", fk, "FK 1", 1.5)
     _row(timed, "gmr check", "gmr check (core.checks.run_checks)", fk, "FK 1", 3.0)
-    print("\nedits (x copy R; goals: core 1.5, app edit with the cache of its result 2.0):")
+    print(
+        "\nedits (x copy R; core: the library's operation with its defaults, on every core; "
+        "goals: core 1.5, app edit with the cache of its result 2.0):"
+    )
     for name, *_ in rows:
         _row(timed, f"{name}: core", f"{name}: core", copy_r, "copy R", 1.5)
         _row(timed, f"{name}: app", f"{name}: app edit + undo", copy_r, "copy R", 2.0)

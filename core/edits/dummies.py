@@ -71,11 +71,11 @@ def remove_dummies_edit(
     *,
     tolerance: float = DEFAULT_RELATIVE_TOLERANCE,
     backend: Backend = "auto",
-    threads: int | None = 1,
+    threads: int | None = None,
 ) -> tuple[Edited, list[str]]:
     """:func:`remove_dummies`; the remaining joints keep their world positions and, in a
     GMR input, their world rotations (``W_p R_d R_c`` is the child's world rotation before).
-    ``threads``: blocks of frames edited at once by the compiled backend (None: one per
+    ``threads``: blocks of frames edited at once by the compiled backend (None, the default: one per
     core; the same result)."""
     converted = pre_from_post(motion)
     carried = converted is motion

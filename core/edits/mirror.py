@@ -169,10 +169,10 @@ def mirror(motion: Motion) -> tuple[Motion, tuple[str, ...]]:
     return edited.motion, unmatched
 
 
-def mirror_edit(motion: Motion, *, threads: int | None = 1) -> tuple[Edited, tuple[str, ...]]:
+def mirror_edit(motion: Motion, *, threads: int | None = None) -> tuple[Edited, tuple[str, ...]]:
     """:func:`mirror`; joint ``j`` of the result is at ``S P_σ(j) + 2 c n`` with the world
     rotation ``S W_σ(j) S``. The frames are swapped and reflected in one compiled pass (on
-    ``threads``, None: one per core; :func:`core.kinematics.engine.turned_joints`)."""
+    ``threads``, None, the default: one per core; :func:`core.kinematics.engine.turned_joints`)."""
     sides = mirror_pairs(motion)
     axis = lateral_axis(motion, sides.pairs)
     sigma = sides.partner

@@ -61,10 +61,12 @@ def shift_root(motion: Motion, joint: int | str, *, backend: Backend = "auto") -
     return shift_root_edit(motion, joint, backend=backend).motion
 
 
-def shift_root_edit(motion: Motion, joint: int | str, *, backend: Backend = "auto", threads: int | None = 1) -> Edited:
+def shift_root_edit(
+    motion: Motion, joint: int | str, *, backend: Backend = "auto", threads: int | None = None
+) -> Edited:
     """:func:`shift_root`; along the path, each joint takes the frame of the joint below
     it, and the new root the old root's. ``threads``: blocks of frames edited at once by
-    the compiled backend (None: one per core; the same result)."""
+    the compiled backend (None, the default: one per core; the same result)."""
     _require_pre(motion, "shift root")
     target = motion.joint_index(joint)
     path = motion.path_from_root(target)
@@ -163,7 +165,7 @@ def split(motion: Motion, joint: int | str, *, backend: Backend = "auto") -> Mot
     return split_edit(motion, joint, backend=backend).motion
 
 
-def split_edit(motion: Motion, joint: int | str, *, backend: Backend = "auto", threads: int | None = 1) -> Edited:
+def split_edit(motion: Motion, joint: int | str, *, backend: Backend = "auto", threads: int | None = None) -> Edited:
     """:func:`split`; every joint keeps its world rotation (``threads``: as for
     :func:`shift_root_edit`)."""
     _require_pre(motion, "split")
@@ -229,7 +231,7 @@ def join_edit(
     *,
     tolerance: float = RIGID_RELATIVE_TOLERANCE,
     backend: Backend = "auto",
-    threads: int | None = 1,
+    threads: int | None = None,
 ) -> Edited:
     """:func:`join`; every joint keeps its world rotation (``threads``: as for
     :func:`shift_root_edit`)."""
@@ -340,12 +342,12 @@ def split_all_edit(
     *,
     kinematics: tuple[np.ndarray, np.ndarray] | None = None,
     backend: Backend = "auto",
-    threads: int | None = 1,
+    threads: int | None = None,
 ) -> Edited:
     """:func:`split_all`; every joint keeps its world rotation. ``kinematics``: the
     motion's world positions (F, J, 3) and rotations (F, J, 3, 3) when the caller has them
     (they become the result's translations and rotations, shared, not copied); else they
-    are computed (on ``threads`` threads, None: one per core)."""
+    are computed (on ``threads`` threads, None, the default: one per core)."""
     _require_pre(motion, "split all")
     if len(motion.roots) == motion.n_joints:
         return Edited.same_joints(motion)
@@ -427,7 +429,7 @@ def join_all_edit(
     *,
     tolerance: float = RIGID_RELATIVE_TOLERANCE,
     backend: Backend = "auto",
-    threads: int | None = 1,
+    threads: int | None = None,
 ) -> Edited:
     """:func:`join_all`; the frames move only where a tree is re-rooted (as in
     :func:`shift_root_edit`).

@@ -66,7 +66,9 @@ def change_up_axis(motion: Motion, target: str, source: str | None = None) -> Mo
     return change_up_axis_edit(motion, target, source).motion
 
 
-def change_up_axis_edit(motion: Motion, target: str, source: str | None = None, *, threads: int | None = 1) -> Edited:
+def change_up_axis_edit(
+    motion: Motion, target: str, source: str | None = None, *, threads: int | None = None
+) -> Edited:
     """:func:`change_up_axis`; every world position ``P`` becomes ``Q P`` and every world
     rotation ``W`` becomes ``Q W Q^T`` (``threads``: as for :func:`turned_world`)."""
     source = check_up_axis(source or up_axis_of(motion))
@@ -85,11 +87,11 @@ def change_up_axis_edit(motion: Motion, target: str, source: str | None = None, 
     return Edited.same_joints(result, turn=turn)
 
 
-def turned_world(motion: Motion, turn: np.ndarray, *, threads: int | None = 1) -> Motion:
+def turned_world(motion: Motion, turn: np.ndarray, *, threads: int | None = None) -> Motion:
     """The motion with its world turned by ``turn`` (3, 3), a rotation or axis permutation:
     every joint's frame conjugated (``R' = Q R Q^T``), every offset and translation turned, so
     every world position is ``Q P``. The stated up axis is left to the caller. An axis
-    permutation is one compiled pass over the frames (on ``threads``, None: one per core;
+    permutation is one compiled pass over the frames (on ``threads``, None, the default: one per core;
     :func:`core.kinematics.engine.turned_joints`)."""
     turn = np.asarray(turn, dtype=np.float64)
     if np.array_equal(turn, np.eye(3)):
