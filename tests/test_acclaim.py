@@ -14,6 +14,7 @@ from gmr_studio.core.formats.acclaim import asf_beside, read_amc, read_asf, skel
 from gmr_studio.core.formats.amc import parse_amc_frames, read_amc_with_channels
 from gmr_studio.core.formats.amc_bulk import bulk_frames
 from gmr_studio.core.formats.bvh import read_bvh
+from gmr_studio.core.kinematics.engine import have_numba
 from gmr_studio.core.kinematics.fk import world_positions
 from tests.conftest import shared_files, shared_path
 
@@ -307,6 +308,20 @@ def test_fast_parser_reads_every_value(amc):
     names = ["root", *skeleton.names]
     expected = np.array([[v for n in names for v in frame.get(n, [])] for frame in frames])
     np.testing.assert_array_equal(values, expected)
+
+
+@pytest.mark.skipif(not have_numba(), reason="numba is not installed: the reader uses numpy")
+@pytest.mark.parametrize("amc", shared_files("**/*.amc"))
+def test_real_amc_reads_the_same_with_the_compiled_kernel_as_with_numpy(amc):
+    """The compiled rotations equal the numpy path's to rounding; the rest to the bit."""
+    skeleton = read_asf(asf_beside(amc))
+    compiled, compiled_channels = read_amc_with_channels(amc, skeleton, backend="numba")
+    reference, channels = read_amc_with_channels(amc, skeleton, backend="numpy")
+    np.testing.assert_allclose(compiled.rotations, reference.rotations, rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(compiled.translations, reference.translations)
+    assert compiled_channels.orders == channels.orders and compiled_channels.angles.keys() == channels.angles.keys()
+    for name, angles in channels.angles.items():
+        np.testing.assert_array_equal(compiled_channels.angles[name], angles)
 
 
 #: BVH joint of CMU 01_01.bvh -> the AMC joint (bone end) at the same place
