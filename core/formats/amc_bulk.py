@@ -115,9 +115,17 @@ def bulk_frames(
     digits = buffer[np.minimum(starts[:, :1] + reach, size - 1)]
     if not ((digits >= 48) & (digits <= 57) | (reach >= lengths[:, None])).all():
         return None
-    # bone lines: the first frame's name and a space, then that bone's number of values
-    spaces = np.diff(np.append(np.searchsorted(at_space, starts.ravel()), at_space.size)).reshape(starts.shape)
-    if not (spaces[:, 1:] == counts[bones]).all():
+    # bone lines: the first frame's name and a space, then that bone's number of values.
+    # Each line holds its spaces when the spaces before every line are as many as the lines
+    # before it should hold, and the file as many as all of them: ``before[n]`` spaces lie
+    # before line n when the last of them comes before its start and the next one does not
+    spaces = np.concatenate(([0], counts[bones]))  # per line of a frame
+    if at_space.size != n_frames * int(spaces.sum()):
+        return None
+    before = (np.cumsum(spaces) - spaces + int(spaces.sum()) * np.arange(n_frames)[:, None]).ravel()
+    fenced = np.concatenate(([-1], at_space, [size]))  # a space before the block and one after
+    flat = starts.ravel()
+    if not ((fenced[before] < flat) & (fenced[before + 1] >= flat)).all():
         return None
     # each bone line's first bytes as 8-byte words (unaligned), every line at once in file
     # order: its name checked and blanked; lines of 8 bytes or more keep one pass's words apart
@@ -131,7 +139,7 @@ def bulk_frames(
         pieces = [encoded[k][offset : offset + 8] for k in columns]
         keep = np.array([(1 << (8 * len(p))) - 1 for p in pieces], np.uint64)
         want = np.array([int.from_bytes(p, "little") for p in pieces], np.uint64)
-        at = lines[:, columns] + offset
+        at = np.take(lines, columns, axis=1) + offset  # in file order (C order: one sweep of the block)
         found = words[at]
         if ((found & keep) != want).any():
             return None
