@@ -454,6 +454,11 @@ def test_real_amc_with_bones_reordered_reads_the_same_motion_to_the_bit(amc, tmp
             "bone 'lowerback' has 3 dof (rx ry rz): expected 3 values, found 2",
             id="a value moved to the next bone's line",
         ),
+        pytest.param(
+            lambda b: re.sub(rb"(?m)^(lowerback \S+) \S+ ", rb"\1  ", b, count=1),
+            "bone 'lowerback' has 3 dof (rx ry rz): expected 3 values, found 2",
+            id="a value left out between two spaces",
+        ),
     ],
 )
 def test_frames_of_another_layout_are_read_line_by_line_to_the_same_values_or_error(change, error, tmp_path):

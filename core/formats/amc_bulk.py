@@ -90,14 +90,16 @@ def bulk_frames(
     padded = np.zeros(size + _PAD, np.uint8)  # the block, then zeros (for 8-byte reads)
     padded[:size] = np.frombuffer(data, np.uint8, count=size, offset=start)
     buffer = padded[:size]
-    breaks = np.flatnonzero(buffer == 10)
-    if np.count_nonzero(buffer < 32) != breaks.size:
+    # every white-space or control byte at once: only spaces and line breaks, never two in
+    # a row (two spaces, a blank line, a space at either end of a line)
+    blank = np.flatnonzero(buffer <= 32)
+    kinds = buffer[blank]
+    if ((kinds != 10) & (kinds != 32)).any():
         return None  # tabs, carriage returns or other control bytes
-    at_space = np.flatnonzero(buffer == 32)
-    if np.diff(at_space).min(initial=2) < 2 or np.diff(breaks).min(initial=2) < 2:
-        return None  # two spaces in a row, or a blank line
-    if (padded[breaks - 1] == 32).any() or (padded[breaks + 1] == 32).any():
-        return None  # a space at either end of a line
+    if np.diff(blank).min(initial=2) < 2:
+        return None  # two spaces in a row, a blank line or a space at either end of a line
+    in_blank = np.flatnonzero(kinds == 10)  # the line breaks among them
+    breaks = blank[in_blank]
     starts = np.concatenate(([0], breaks + 1))
     ends = np.append(breaks, size)
     if data.endswith(b"\n"):
@@ -115,17 +117,10 @@ def bulk_frames(
     digits = buffer[np.minimum(starts[:, :1] + reach, size - 1)]
     if not ((digits >= 48) & (digits <= 57) | (reach >= lengths[:, None])).all():
         return None
-    # bone lines: the first frame's name and a space, then that bone's number of values.
-    # Each line holds its spaces when the spaces before every line are as many as the lines
-    # before it should hold, and the file as many as all of them: ``before[n]`` spaces lie
-    # before line n when the last of them comes before its start and the next one does not
-    spaces = np.concatenate(([0], counts[bones]))  # per line of a frame
-    if at_space.size != n_frames * int(spaces.sum()):
-        return None
-    before = (np.cumsum(spaces) - spaces + int(spaces.sum()) * np.arange(n_frames)[:, None]).ravel()
-    fenced = np.concatenate(([-1], at_space, [size]))  # a space before the block and one after
-    flat = starts.ravel()
-    if not ((fenced[before] < flat) & (fenced[before + 1] >= flat)).all():
+    # bone lines: the first frame's name and a space, then that bone's number of values
+    # (a line's spaces: the white-space bytes between its break and the one before)
+    spaces = (np.diff(np.append(in_blank, blank.size), prepend=-1) - 1)[: starts.size].reshape(starts.shape)
+    if not (spaces[:, 1:] == counts[bones]).all():
         return None
     # each bone line's first bytes as 8-byte words (unaligned), every line at once in file
     # order: its name checked and blanked; lines of 8 bytes or more keep one pass's words apart
