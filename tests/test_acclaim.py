@@ -14,6 +14,7 @@ from gmr_studio.core.formats.acclaim import asf_beside, read_amc, read_asf, skel
 from gmr_studio.core.formats.amc import parse_amc_frames, read_amc_with_channels
 from gmr_studio.core.formats.amc_bulk import bulk_frames
 from gmr_studio.core.formats.bvh import read_bvh
+from gmr_studio.core.kinematics.engine import have_numba
 from gmr_studio.core.kinematics.fk import world_positions
 from tests.conftest import shared_files, shared_path
 
@@ -309,6 +310,20 @@ def test_fast_parser_reads_every_value(amc):
     np.testing.assert_array_equal(values, expected)
 
 
+@pytest.mark.skipif(not have_numba(), reason="numba is not installed: the reader uses numpy")
+@pytest.mark.parametrize("amc", shared_files("**/*.amc"))
+def test_real_amc_reads_the_same_with_the_compiled_kernel_as_with_numpy(amc):
+    """The compiled rotations equal the numpy path's to rounding; the rest to the bit."""
+    skeleton = read_asf(asf_beside(amc))
+    compiled, compiled_channels = read_amc_with_channels(amc, skeleton, backend="numba")
+    reference, channels = read_amc_with_channels(amc, skeleton, backend="numpy")
+    np.testing.assert_allclose(compiled.rotations, reference.rotations, rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(compiled.translations, reference.translations)
+    assert compiled_channels.orders == channels.orders and compiled_channels.angles.keys() == channels.angles.keys()
+    for name, angles in channels.angles.items():
+        np.testing.assert_array_equal(compiled_channels.angles[name], angles)
+
+
 #: BVH joint of CMU 01_01.bvh -> the AMC joint (bone end) at the same place
 CMU_SAME_PLACE = {
     "Hips": "root",
@@ -433,6 +448,16 @@ def test_real_amc_with_bones_reordered_reads_the_same_motion_to_the_bit(amc, tmp
         pytest.param(lambda b: re.sub(rb"(?m)^3$", b"4", b, count=1), "frame number 4: expected 3", id="a skip"),
         pytest.param(
             lambda b: b.replace(b"\nlowerback ", b"\nlowerback 0 ", 1), "bone 'lowerback' has 3 dof", id="a value more"
+        ),
+        pytest.param(
+            lambda b: re.sub(rb"(?m)^(lowerback \S+ \S+) (\S+)\n(\w+) ", rb"\1\n\3 \2 ", b, count=1),
+            "bone 'lowerback' has 3 dof (rx ry rz): expected 3 values, found 2",
+            id="a value moved to the next bone's line",
+        ),
+        pytest.param(
+            lambda b: re.sub(rb"(?m)^(lowerback \S+) \S+ ", rb"\1  ", b, count=1),
+            "bone 'lowerback' has 3 dof (rx ry rz): expected 3 values, found 2",
+            id="a value left out between two spaces",
         ),
     ],
 )

@@ -218,6 +218,36 @@ def test_compiled_degree_conversion_matches_numpy(rng):
     np.testing.assert_array_equal(many, out)  # threads change nothing
 
 
+@pytest.mark.skipif(not fk_engine.have_numba(), reason="numba is not installed: the readers use numpy")
+@pytest.mark.parametrize("scale", [np.pi / 180.0, 1.0], ids=["degrees", "radians"])
+def test_compiled_conversion_about_axes_matches_numpy(rng, scale):
+    """C R C^T of Euler angles (an AMC bone's rotation about its ASF axes), every order and
+    joints of one or two angles: the kernel gives numpy's numbers to rounding."""
+    from gmr_studio.core.formats.amc import conjugate
+    from gmr_studio.core.rotations.euler import EULER_ORDERS, matrix_from_euler
+
+    orders = [*EULER_ORDERS, "XZ", "Y"]
+    frames = 2 * fk_engine.MIN_FRAMES_PER_THREAD + 50  # enough for two threads
+    values = rng.uniform(-400, 400, size=(frames, 3 * len(orders))) * (np.pi / 180.0 / scale)
+    # each joint's angles in its own columns, read last to first (as the AMC reader does)
+    groups = [(order, [j], np.array([3 * j + np.arange(len(order))[::-1]])) for j, order in enumerate(orders)]
+    axes = matrix_from_euler(rng.uniform(-np.pi, np.pi, size=(len(orders) + 2, 3)), "XYZ")
+    out = np.full((frames, len(orders) + 2, 3, 3), 7.0)
+    identity = len(orders)
+    assert fk_engine.conjugated_matrices_compiled(values, groups, axes, out, scale=scale, identities=[identity])
+    for order, (j,), cols in groups:
+        expected = conjugate(axes[j], matrix_from_euler(values[:, cols[0]] * scale, order))
+        np.testing.assert_allclose(out[:, j], expected, rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(out[:, identity], np.broadcast_to(np.eye(3), (frames, 3, 3)))
+    assert (out[:, -1] == 7.0).all()  # only the joints asked for
+    many = np.full_like(out, 7.0)
+    assert fk_engine.conjugated_matrices_compiled(
+        values, groups, axes, many, scale=scale, identities=[identity], threads=2
+    )
+    np.testing.assert_array_equal(many, out)  # threads change nothing
+    assert not fk_engine.conjugated_matrices_compiled(values, groups, axes, many, scale=scale, backend="numpy")
+
+
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_a_forest_of_roots_is_its_data(rng, backend):
     motion = random_motion(rng, [-1, -1, -1, -1], n_frames=6)

@@ -32,12 +32,14 @@ from pathlib import Path
 
 import numpy as np
 
+from gmr_studio.core.compiled import Backend
 from gmr_studio.core.errors import MotionFileError, quoted, read_input
 from gmr_studio.core.formats.acclaim_skeleton import ROOT_NAME, ROTATION_DOFS, AcclaimSkeleton
 from gmr_studio.core.formats.amc_bulk import NUMBER_CHARACTERS, bulk_frames
 from gmr_studio.core.formats.asf import read_asf
 from gmr_studio.core.formats.frames import out_of_range, within_range
 from gmr_studio.core.formats.hierarchy import normalise_newlines
+from gmr_studio.core.kinematics.engine import conjugated_matrices_compiled
 from gmr_studio.core.model.channels import FileChannels
 from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.model.motion import Motion, identity_rotations
@@ -406,6 +408,46 @@ def parse_amc_frames(
 
 
 # ------------------------------------------------------------------------------ motion
+def _columns(values: np.ndarray, columns: list[int]) -> np.ndarray:
+    """``values[:, columns]``: a view when the columns are evenly spaced (a bone's dofs in
+    file order), else a copy."""
+    step = columns[1] - columns[0] if len(columns) > 1 else 1
+    if step > 0 and columns == list(range(columns[0], columns[-1] + 1, step)):
+        return values[:, columns[0] : columns[-1] + 1 : step]
+    return values[:, columns]
+
+
+def _axis_rotations(
+    values: np.ndarray,
+    groups: list[tuple[str, list[int], np.ndarray]],
+    axes: np.ndarray,
+    scale: float,
+    without: list[int],
+    out: np.ndarray,
+    backend: Backend = "auto",
+) -> None:
+    """``out[:, j] = C_j R_j C_j^T`` (F, J, 3, 3) for each (order, [j], columns) group, ``R_j``
+    the rotation of the Euler angles ``values[:, columns] * scale`` in ``order`` and ``C_j =
+    axes[j]``; the identity for the joints ``without`` rotation dofs.
+
+    The compiled kernel when ``backend`` chooses it (:mod:`core.compiled`): one pass on
+    every core, equal to the numpy path to rounding
+    (:func:`core.kinematics.engine.conjugated_matrices_compiled`). The numpy path, the
+    reference: :func:`core.rotations.euler.matrix_from_euler` and :func:`conjugate` per joint
+    and block of :data:`CONJUGATE_BLOCK` frames (no temporary of the take's size).
+    """
+    if conjugated_matrices_compiled(
+        values, groups, axes, out, scale=scale, identities=without, threads=None, backend=backend
+    ):
+        return
+    out[:, without] = np.eye(3)
+    for start in range(0, values.shape[0], CONJUGATE_BLOCK):
+        block = values[start : start + CONJUGATE_BLOCK]
+        for order, (j,), cols in groups:
+            rotations = matrix_from_euler(block[:, cols[0]] * scale, order)
+            conjugate(axes[j], rotations, out=out[start : start + CONJUGATE_BLOCK, j])
+
+
 def read_amc(
     amc_path: str | Path,
     skeleton: AcclaimSkeleton | str | Path,
@@ -424,6 +466,7 @@ def read_amc_with_channels(
     *,
     frame_rate: float = DEFAULT_FRAME_RATE,
     data: bytes | None = None,
+    backend: Backend = "auto",
 ) -> tuple[Motion, FileChannels]:
     """Read an AMC file with its skeleton into a GMR (pre-rotation) motion, and the file's
     rotation dofs as written (:class:`core.model.channels.FileChannels`, kind ``"amc"``: degrees,
@@ -435,6 +478,8 @@ def read_amc_with_channels(
     skeleton : its :class:`AcclaimSkeleton`, or the path of its ASF file.
     frame_rate : frames per second (AMC files do not say; CMU's are 120).
     data : the AMC's bytes, if already in hand.
+    backend : 'auto', 'numba' or 'numpy' (:mod:`core.compiled`): how the rotations are
+        computed; the compiled kernel equals the numpy path to rounding.
 
     Returns
     -------
@@ -462,29 +507,28 @@ def read_amc_with_channels(
     translations = np.empty((n_frames, n_joints, 3))
     translations[:] = rest.offsets
     has_translation = rest.has_translation.copy()
-    axes = [skeleton.root_axis_rotation] + [b.axis_rotation for b in skeleton.bones]
+    axes = np.array([skeleton.root_axis_rotation] + [b.axis_rotation for b in skeleton.bones])
     channels = FileChannels({}, {}, {}, kind="amc", axes={})
+    groups: list[tuple[str, list[int], np.ndarray]] = []  # (order, [joint], its angles' columns)
     for j, dof in enumerate(dofs):
         columns = {d: int(column_of[j]) + k for k, d in enumerate(dof)}
         rotation_dofs = [d for d in dof if d in ROTATION_DOFS]
         if rotation_dofs:
             name = rest.names[j]
-            written = values[:, [columns[d] for d in rotation_dofs]]
+            written = _columns(values, [columns[d] for d in rotation_dofs])
             written = written if angle_unit == "deg" else np.degrees(written)
             written.flags.writeable = False
             channels.orders[name] = "".join(d[1].upper() for d in rotation_dofs)
             channels.angles[name], channels.labels[name], channels.axes[name] = written, tuple(rotation_dofs), axes[j]
             # applied in file order about the local axes: R = R_last ... R_first
             order = "".join(d[1].upper() for d in reversed(rotation_dofs))
-            angles = values[:, [columns[d] for d in reversed(rotation_dofs)]] * scale
-            conjugate(axes[j], matrix_from_euler(angles, order), out=rotations[:, j])
-        else:
-            rotations[:, j] = np.eye(3)
-        shift = np.zeros((n_frames, 3))
-        for k, axis in enumerate("xyz"):
-            if f"t{axis}" in columns:
-                shift[:, k] = values[:, columns[f"t{axis}"]]
+            groups.append((order, [j], np.array([[columns[d] for d in reversed(rotation_dofs)]])))
         moved = any(d in columns for d in ("tx", "ty", "tz", "l"))
+        if j == 0 or moved:
+            shift = np.zeros((n_frames, 3))
+            for k, axis in enumerate("xyz"):
+                if f"t{axis}" in columns:
+                    shift[:, k] = values[:, columns[f"t{axis}"]]
         if j == 0:
             translations[:, 0] = skeleton.root_position + shift
         elif moved:
@@ -494,6 +538,9 @@ def read_amc_with_channels(
                 np.multiply.outer(bone.length + stretch, bone.direction) if "l" in columns else rest.offsets[j]
             ) + shift @ axes[j].T
             has_translation[j] = True
+    rotated = {joints[0] for _, joints, _ in groups}
+    without = [j for j in range(n_joints) if j not in rotated]
+    _axis_rotations(values, groups, axes, scale, without, rotations, backend)
     comments = (
         f"converted from {Path(path_text).name} (AMC frames {first_frame} to {first_frame + n_frames - 1}, "
         f"angles in {'degrees' if angle_unit == 'deg' else 'radians'})",

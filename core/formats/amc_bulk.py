@@ -90,14 +90,16 @@ def bulk_frames(
     padded = np.zeros(size + _PAD, np.uint8)  # the block, then zeros (for 8-byte reads)
     padded[:size] = np.frombuffer(data, np.uint8, count=size, offset=start)
     buffer = padded[:size]
-    breaks = np.flatnonzero(buffer == 10)
-    if np.count_nonzero(buffer < 32) != breaks.size:
+    # every white-space or control byte at once: only spaces and line breaks, never two in
+    # a row (two spaces, a blank line, a space at either end of a line)
+    blank = np.flatnonzero(buffer <= 32)
+    kinds = buffer[blank]
+    if ((kinds != 10) & (kinds != 32)).any():
         return None  # tabs, carriage returns or other control bytes
-    at_space = np.flatnonzero(buffer == 32)
-    if np.diff(at_space).min(initial=2) < 2 or np.diff(breaks).min(initial=2) < 2:
-        return None  # two spaces in a row, or a blank line
-    if (padded[breaks - 1] == 32).any() or (padded[breaks + 1] == 32).any():
-        return None  # a space at either end of a line
+    if np.diff(blank).min(initial=2) < 2:
+        return None  # two spaces in a row, a blank line or a space at either end of a line
+    in_blank = np.flatnonzero(kinds == 10)  # the line breaks among them
+    breaks = blank[in_blank]
     starts = np.concatenate(([0], breaks + 1))
     ends = np.append(breaks, size)
     if data.endswith(b"\n"):
@@ -116,7 +118,8 @@ def bulk_frames(
     if not ((digits >= 48) & (digits <= 57) | (reach >= lengths[:, None])).all():
         return None
     # bone lines: the first frame's name and a space, then that bone's number of values
-    spaces = np.diff(np.append(np.searchsorted(at_space, starts.ravel()), at_space.size)).reshape(starts.shape)
+    # (a line's spaces: the white-space bytes between its break and the one before)
+    spaces = (np.diff(np.append(in_blank, blank.size), prepend=-1) - 1)[: starts.size].reshape(starts.shape)
     if not (spaces[:, 1:] == counts[bones]).all():
         return None
     # each bone line's first bytes as 8-byte words (unaligned), every line at once in file
@@ -131,7 +134,7 @@ def bulk_frames(
         pieces = [encoded[k][offset : offset + 8] for k in columns]
         keep = np.array([(1 << (8 * len(p))) - 1 for p in pieces], np.uint64)
         want = np.array([int.from_bytes(p, "little") for p in pieces], np.uint64)
-        at = lines[:, columns] + offset
+        at = np.take(lines, columns, axis=1) + offset  # in file order (C order: one sweep of the block)
         found = words[at]
         if ((found & keep) != want).any():
             return None

@@ -340,6 +340,42 @@ def matrices_from_degrees(values, joints, columns, codes, identities, start, sto
             _euler_matrix(a, b, c, codes[m], out[f, joints[m]])
 
 
+@numba.njit(inline="always", boundscheck=False)
+def _conjugated(c, m, right, out):  # pragma: no cover - compiled
+    """out = c m c^T for (3, 3) arrays (core.formats.amc.conjugate for one rotation):
+    right = m c^T first, then c right; right is a (3, 3) scratch."""
+    for a in range(3):
+        for b in range(3):
+            right[a, b] = (m[a, 0] * c[b, 0] + m[a, 1] * c[b, 1]) + m[a, 2] * c[b, 2]
+    for a in range(3):
+        for b in range(3):
+            out[a, b] = (c[a, 0] * right[0, b] + c[a, 1] * right[1, b]) + c[a, 2] * right[2, b]
+
+
+@numba.njit(nogil=True, cache=True, boundscheck=False)
+def conjugated_from_angles(  # pragma: no cover - compiled
+    values, scale, joints, columns, codes, axes, identities, start, stop, out
+):
+    """out[f, joints[m]] = axes[m] R axes[m]^T, R the rotation of the Euler angles
+    ``values[f, columns[m]] * scale`` (a column of -1: angle 0), and out[f, identities[n]] =
+    the identity, for frames start..stop-1. codes (M, 4) as in :func:`_euler_matrix`; axes
+    (M, 3, 3). Same operations as core.rotations.matrix_from_euler then
+    core.formats.amc.conjugate, one rotation at a time."""
+    rotation = np.empty((3, 3))
+    right = np.empty((3, 3))
+    for f in range(start, stop):
+        for n in range(identities.shape[0]):
+            for a in range(3):
+                for b in range(3):
+                    out[f, identities[n], a, b] = 1.0 if a == b else 0.0
+        for m in range(joints.shape[0]):
+            a = values[f, columns[m, 0]] * scale if columns[m, 0] >= 0 else 0.0
+            b = values[f, columns[m, 1]] * scale if columns[m, 1] >= 0 else 0.0
+            c = values[f, columns[m, 2]] * scale if columns[m, 2] >= 0 else 0.0
+            _euler_matrix(a, b, c, codes[m], rotation)
+            _conjugated(axes[m], rotation, right, out[f, joints[m]])
+
+
 @numba.njit(nogil=True, cache=True, boundscheck=False)
 def gather_joints(rows, joints, width, start, stop, out):  # pragma: no cover - compiled
     """out[f, n * width + i] = rows[f, joints[n] * width + i] for frames start..stop-1: the
