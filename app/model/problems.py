@@ -251,7 +251,8 @@ class Problems(QObject):
 
     def wait(self) -> None:
         """Block until the checks of the current document are done and published (tests,
-        screenshots): the worker's signals are delivered here."""
+        screenshots): the worker's signals are delivered here. A document whose first frame
+        is not drawn yet is taken as shown (``StudioState.first_frame_drawn``): checked now."""
         from PyQt6.QtCore import QCoreApplication
 
         self.state.first_frame_drawn()  # a document not drawn yet: its checks start now
