@@ -194,10 +194,11 @@ def test_the_dock_exports_what_gmr_curves_writes(walk, tmp_path):
     assert written == (tmp_path / "cli.csv").read_text()
 
 
-def test_contact_bars_show_the_core_contacts_and_seek(walk):
+def test_contact_bars_show_the_core_contacts_and_seek(qtbot, walk):
     walk.contacts_dock.show()
-    QApplication.processEvents()
     bars, state = walk.contact_bars, walk.state
+    qtbot.waitUntil(lambda: bars.strip.contacts is not None)  # computed once the first frame is drawn
+    QApplication.processEvents()
     expected = foot_contacts(state.motion, state.positions)
     assert bars.strip.contacts.names == expected.names
     np.testing.assert_array_equal(bars.strip.contacts.planted, expected.planted)

@@ -33,6 +33,7 @@ def _magenta(image: np.ndarray) -> np.ndarray:
 
 def test_a_frame_change_updates_the_layer_in_place(studio):
     open_file(studio, shared_path(BVH))
+    studio.problems.wait()  # the checks' marks drawn: the actors below are all there
     state, renderer = studio.state, studio.view.scene.plotter.renderer
     own_blending = renderer.GetUseOIT()
     state.set_frame(400)

@@ -173,6 +173,8 @@ def test_a_document_builds_every_drawable_and_shows_what_the_overlays_ask_for():
         assert not scene.is_shown("markers")  # no marker overlay: no part
         np.testing.assert_allclose(scene.parts["joints"].mesh.points, snapshot.positions[0])
         np.testing.assert_allclose(scene.figure_positions(), snapshot.positions[:, 1:])  # the anchor left out
+        figure = snapshot.positions[:, 1:].reshape(-1, 3)
+        np.testing.assert_array_equal(scene.figure_box(), [figure.min(axis=0), figure.max(axis=0)])
 
 
 def test_a_z_up_document_gets_a_z_up_camera():

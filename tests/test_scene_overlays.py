@@ -41,6 +41,11 @@ class StandInScene:
     def figure_positions(self) -> np.ndarray:
         return actor_positions(self.snapshot)
 
+    def figure_box(self) -> np.ndarray:
+        """The box of the figure's joints at every frame."""
+        flat = self.figure_positions().reshape(-1, 3)
+        return np.stack([flat.min(axis=0), flat.max(axis=0)])
+
     def display_positions(self, points: np.ndarray) -> np.ndarray:
         return 100 * np.asarray(points)[:, :2] + np.array([7.0, 9.0])
 

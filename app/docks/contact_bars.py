@@ -2,7 +2,8 @@
 
 The contacts come from :func:`core.analysis.contacts.foot_contacts` on the document's cached world
 positions, recomputed when the motion or the thresholds change (two spin boxes: height and
-speed as percentages of the skeleton's size). The current frame is a vertical line; a click
+speed as percentages of the skeleton's size); a new document's once its first frame is drawn
+(``StudioState.document_shown``), which they must not delay. The current frame is a vertical line; a click
 or drag in the bars sets the frame. The bars are an image made once per contacts and width,
 so playback only redraws the line. Shift+drag selects the state's frame range (shaded), as in
 the curves plot.
@@ -55,11 +56,14 @@ class ContactStrip(QWidget):
                 self.update(QRect(column - 1, 0, 3, self.height()))
         self._cursor_x = x
 
-    def set_contacts(self, contacts: Contacts | None) -> None:
+    def set_contacts(self, contacts: Contacts | None, *, keep_height: bool = False) -> None:
+        """Show ``contacts`` (None: none); ``keep_height``: as tall as before (a new
+        document's bars to come, the docks' layout unmoved meanwhile)."""
         self.contacts = contacts
         self._image = None
-        rows = 0 if contacts is None else len(contacts.names)
-        self.setFixedHeight(max(rows, 1) * ROW_HEIGHT + 2)
+        if not keep_height:
+            rows = 0 if contacts is None else len(contacts.names)
+            self.setFixedHeight(max(rows, 1) * ROW_HEIGHT + 2)
         self.update()
 
     def x_of_frame(self, frame: float) -> float:
@@ -158,9 +162,15 @@ class ContactBars(QWidget):
         layout.addWidget(self.strip)
         self.height_box.valueChanged.connect(lambda _: self.recompute())
         self.speed_box.valueChanged.connect(lambda _: self.recompute())
-        state.document_changed.connect(self.recompute)
+        state.document_changed.connect(self._on_document_changed)
+        state.document_shown.connect(self.recompute)  # a new document's, once its first frame is drawn
         state.motion_changed.connect(self.recompute)
         self.recompute()
+
+    def _on_document_changed(self) -> None:
+        """Another document: its contacts follow once its first frame is drawn."""
+        self.strip.set_contacts(None, keep_height=True)
+        self.summary.setText("")
 
     def recompute(self) -> None:
         snapshot = self.state.snapshot

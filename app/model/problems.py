@@ -13,6 +13,8 @@ out and why (:func:`core.checks.skipped_frames`: the rest pose at the ends), and
 the findings' (F, J) int8 severity levels (:func:`core.checks.joint_flags`: 0 none, 1
 info, 2 warning, 3 error) for the timeline's flags and the joints drawn in a warning colour;
 ``changed`` is emitted when they are replaced (emptied as soon as the motion changes, filled when the checks are done).
+A new document is checked once its first frame is drawn (``StudioState.document_shown``): the
+checks must not delay it.
 ``min_level`` is what the dock lists, the timeline flags and the view colours: every
 finding (1), warnings and errors (2) or errors (3); remembered too (``checks/shown``).
 """
@@ -156,7 +158,8 @@ class Problems(QObject):
         self._wanted = False  # another run is needed when the job in flight is done
         #: snapshot -> (settings, findings, flags, skipped)
         self._cache: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-        state.document_changed.connect(self.refresh)
+        state.document_changed.connect(self._on_document_changed)
+        state.document_shown.connect(self.refresh)  # a new document is checked once it is drawn
         state.motion_changed.connect(self.refresh)
 
     # ------------------------------------------------------------------ settings
@@ -190,6 +193,11 @@ class Problems(QObject):
         self.changed.emit()
 
     # -------------------------------------------------------------------- running
+    def _on_document_changed(self) -> None:
+        """Another document: its findings are to come (the checks start once its first frame
+        is drawn, ``StudioState.document_shown``)."""
+        self._publish([], None, running=self.state.snapshot is not None)
+
     def refresh(self) -> None:
         """Check the document as it is now (at once from the cache, else in the worker)."""
         snapshot = self.state.snapshot
@@ -198,7 +206,8 @@ class Problems(QObject):
             self._wanted = False
             self._publish(*(cached[1:] if cached is not None else ([], None)))
             return
-        self._publish([], None, running=True)
+        if not (self.running and not self.findings):  # emptied already: nothing to replace
+            self._publish([], None, running=True)
         if self._job is not None:
             self._wanted = True  # the job in flight checks an older motion: run again after it
             return
@@ -242,9 +251,11 @@ class Problems(QObject):
 
     def wait(self) -> None:
         """Block until the checks of the current document are done and published (tests,
-        screenshots): the worker's signals are delivered here."""
+        screenshots): the worker's signals are delivered here. A document whose first frame
+        is not drawn yet is taken as shown (``StudioState.first_frame_drawn``): checked now."""
         from PyQt6.QtCore import QCoreApplication
 
+        self.state.first_frame_drawn()  # a document not drawn yet: its checks start now
         while self._job is not None:
             job = self._job
             job.wait()

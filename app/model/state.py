@@ -138,6 +138,7 @@ class StudioState(QObject):
     """Document, cache, current frame, selection, overlays and markers; emits what changes."""
 
     document_changed = pyqtSignal()  # another document: views rebuild and reset the camera
+    document_shown = pyqtSignal()  # its first frame is drawn: work that frame does not need starts
     motion_changed = pyqtSignal()  # the same document was edited (or undone): views rebuild in place
     frame_changed = pyqtSignal(int)
     selection_changed = pyqtSignal(int)  # joint index, -1 for none
@@ -165,6 +166,9 @@ class StudioState(QObject):
         self.selected_marker: int | None = None
         self.pelvis: PelvisOverlay | None = None
         self.frame_range: tuple[int, int] | None = None
+        #: a view draws the document and says when its first frame is drawn (see first_frame_drawn)
+        self.drawn_by_view = False
+        self.shown = True  # the document's first frame is drawn (False from open_document until then)
 
     # ------------------------------------------------------------------ the document
     @property
@@ -186,7 +190,12 @@ class StudioState(QObject):
         return not self.undo_stack.isClean()
 
     def open_document(self, snapshot: Snapshot, path: str | Path | None) -> None:
-        """Show another document: history, selection, markers and pelvis frames start afresh."""
+        """Show another document: history, selection, markers and pelvis frames start afresh.
+
+        ``document_changed`` builds what its first frame needs; ``document_shown`` follows once
+        that frame is drawn (:meth:`first_frame_drawn`; at once when no view draws it), and the
+        analyses the frame does not need (the checks, the foot contacts) start then."""
+        self.shown = False
         self.undo_stack.clear()
         self.undo_stack.setUndoLimit(undo_limit_for(snapshot))
         self.snapshot = snapshot
@@ -205,6 +214,15 @@ class StudioState(QObject):
         self.markers_changed.emit()
         self.pelvis_changed.emit()
         self.modified_changed.emit(False)
+        if not self.drawn_by_view:
+            self.first_frame_drawn()
+
+    def first_frame_drawn(self) -> None:
+        """The document's first frame is drawn (the view says so, or a caller that needs the
+        analyses now, e.g. a screenshot): emit ``document_shown``, once per document."""
+        if not self.shown and self.snapshot is not None:
+            self.shown = True
+            self.document_shown.emit()
 
     def apply_snapshot(self, snapshot: Snapshot) -> None:
         """Replace the document's motion (commands call this from redo and undo).

@@ -29,6 +29,8 @@ def actor_positions(snapshot: Snapshot) -> np.ndarray:
 #: the share of the view's half width or height a fitted box reaches (:meth:`SceneCamera.fit_box`)
 FIT_FILL = 0.9
 FIT_STEPS = 4  # refinements of a fitted box's distance (perspective makes it a fixed point)
+#: frames of the take the camera's travel fit looks at, at most (evenly spread over it)
+TRAVEL_SAMPLES = 2000
 
 
 class SceneCamera:
@@ -73,15 +75,19 @@ class SceneCamera:
             low, high = low - 0.25 * size, high + 0.25 * size  # frame a size around them, not a point
         up_axis = self.up_axis
         up = np.eye(3)[up_axis]
-        # the one travel fit (core.space.heading); moving less than half a size is standing still
-        travel = travel_axis(actor_positions(self.snapshot), up_axis, still_below=0.5 * self.snapshot.motion.size)
+        # the one travel fit (core.space.heading) on frames spread over the take; moving less
+        # than half a size is standing still
+        anchors = self.snapshot.motion.anchors
+        figure = ~anchors if anchors.any() else None
+        travel = travel_axis(self.snapshot.positions, up_axis, figure, still_below=0.5 * size, samples=TRAVEL_SAMPLES)
         side = np.cross(up, travel)
         if side @ np.array([1.0, 1.0, 1.0]) < 0:
             side = -side
         direction = side * 1.0 + travel * 0.3 + up * 0.45
         centre = (low + high) / 2
         self.plotter.camera_position = [tuple(centre + direction), tuple(centre), tuple(up)]
-        self.plotter.reset_camera(bounds=np.column_stack([low, high]).ravel())
+        # the renderer's, not the plotter's: that one also draws the scene, before the frame is set
+        self.plotter.renderer.reset_camera(render=False, bounds=np.column_stack([low, high]).ravel())
         # reset_camera fits a bounding sphere, loose for a long path: zoom until the box's
         # corners fill 90% of the view
         corners = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1]) for z in (low[2], high[2])])

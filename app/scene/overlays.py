@@ -89,7 +89,7 @@ class Ground(Drawing):
         if scene.snapshot is None:
             self.bounds = None
             return
-        coords, self.bounds = ground_lines(scene.figure_positions(), scene.snapshot.motion.size, scene.up_axis)
+        coords, self.bounds = ground_lines(scene.figure_box(), scene.snapshot.motion.size, scene.up_axis)
         grid = parts.segments_part(len(coords), np.arange(len(coords)).reshape(-1, 2), color=GROUND_COLOR, width=1.0)
         grid.set_points(coords)
         self.box = box_of(coords)

@@ -102,6 +102,7 @@ class SkeletonScene(SceneCamera):
         self.up_axis = 1
         self.new_document = True  # the drawables are being built for a new document
         self.request_repaint = None  # a callable that schedules a repaint of the view widget
+        self.after_render = None  # a callable called after every render (the view's: a first frame drawn)
         self._followed: np.ndarray | None = None  # where the followed figure was last drawn
         self.tree_colors = TreeColors()  # shared with the forest dock: the same colour per tree
         self._front = None
@@ -126,6 +127,8 @@ class SkeletonScene(SceneCamera):
         self._document_box: tuple[Snapshot, np.ndarray] | None = None
         before = weakref.WeakMethod(self._before_render)  # the render window must not keep the scene
         plotter.ren_win.AddObserver("StartEvent", lambda *_: (method := before()) is not None and method())
+        after = weakref.WeakMethod(self._after_render)
+        plotter.ren_win.AddObserver("EndEvent", lambda *_: (method := after()) is not None and method())
 
     # ------------------------------------------------------------------ lookups
     @property
@@ -208,6 +211,13 @@ class SkeletonScene(SceneCamera):
     def figure_positions(self) -> np.ndarray:
         """(F, A, 3) the positions that make the figure (:func:`actor_positions`)."""
         return actor_positions(self.snapshot)
+
+    def figure_box(self) -> np.ndarray:
+        """(2, 3) the box holding the figure (:meth:`figure_positions`) at every frame: the
+        document's box (:meth:`document_box`, measured once) when no anchor is left out."""
+        if not self.snapshot.motion.anchors.any():
+            return self.document_box()
+        return box_of(self.figure_positions())
 
     # ------------------------------------------------------------------- building
     def set_snapshot(self, snapshot: Snapshot | None, *, reset_camera: bool) -> None:
@@ -350,6 +360,10 @@ class SkeletonScene(SceneCamera):
         else:
             self._clipping_stale = True
             self.plotter.render()
+
+    def _after_render(self) -> None:
+        if self.after_render is not None:
+            self.after_render()
 
     def _before_render(self) -> None:
         if self._clipping_stale:

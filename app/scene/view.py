@@ -12,7 +12,7 @@ click, anything longer is a drag.
 
 from __future__ import annotations
 
-from PyQt6.QtCore import QEvent, QObject, QPoint, Qt
+from PyQt6.QtCore import QEvent, QObject, QPoint, Qt, QTimer
 from PyQt6.QtGui import QMouseEvent
 from PyQt6.QtWidgets import QMenu, QVBoxLayout, QWidget
 
@@ -42,6 +42,9 @@ class SkeletonView(QWidget):
         # update() coalesces; a framebuffer widget renders when asked
         native = self.kind == render_widget.NATIVE
         self.scene.request_repaint = self.interactor.update if native else self.interactor.render
+        # a new document's first frame drawn: the state starts the work that frame did not need
+        state.drawn_by_view = True
+        self.scene.after_render = self._after_render
         self.context_menu: QMenu | None = None
         self._press: QPoint | None = None
         layout = QVBoxLayout(self)
@@ -63,6 +66,14 @@ class SkeletonView(QWidget):
         self.scene.frame = self.state.frame
         self.scene.selected = self.state.selected
         self.scene.set_snapshot(self.state.snapshot, reset_camera=True)
+        if not self.interactor.isVisible():  # nothing will be drawn until it is shown
+            QTimer.singleShot(0, self.state.first_frame_drawn)
+
+    def _after_render(self) -> None:
+        """After every render: the first of a new document tells the state, once control is
+        back in the event loop (never from inside VTK's render)."""
+        if not self.state.shown and self.scene.snapshot is self.state.snapshot:
+            QTimer.singleShot(0, self.state.first_frame_drawn)
 
     def _on_motion_changed(self) -> None:
         self.scene.frame = self.state.frame

@@ -49,10 +49,14 @@ class Rounds:
 
     def __init__(self) -> None:
         self.calls: dict[str, Callable[[], object]] = {}
+        self.settles: dict[str, Callable[[], object] | None] = {}
         self.times: dict[str, list[tuple[float, float, float]]] = {}
 
-    def add(self, name: str, call: Callable[[], object]) -> None:
+    def add(self, name: str, call: Callable[[], object], settle: Callable[[], object] | None = None) -> None:
+        """Time ``call``; ``settle`` runs after each call, untimed: it waits for what the
+        call left running (so that it is counted in no other call)."""
         self.calls[name] = call
+        self.settles[name] = settle
         self.times[name] = []
 
     def run(self, rounds: int, log: Callable[[str], None], repeats: int = 2) -> None:
@@ -65,6 +69,8 @@ class Rounds:
                     wall, after = time.perf_counter() - start, resource.getrusage(resource.RUSAGE_SELF)
                     system = after.ru_stime - before.ru_stime
                     self.times[name].append((wall, after.ru_utime - before.ru_utime + system, system))
+                    if self.settles[name] is not None:
+                        self.settles[name]()
             log(f"  round {round_ + 1} of {rounds} done ({_load()})")
 
     def best(self, name: str) -> tuple[float, float, float]:

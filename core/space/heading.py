@@ -10,15 +10,24 @@ import numpy as np
 
 
 def travel_axis(
-    positions: np.ndarray, up: int, figure: np.ndarray | None = None, still_below: float = 0.0
+    positions: np.ndarray,
+    up: int,
+    figure: np.ndarray | None = None,
+    still_below: float = 0.0,
+    samples: int | None = None,
 ) -> np.ndarray:
     """(3,) unit horizontal direction of the figure's main travel over ``positions`` (K, J, 3):
     the first principal axis of its centroid's horizontal path, pointing from where it starts
     to where it ends; the first horizontal axis when it stands still (its path spreads no
     more than ``still_below`` from its mean). ``up``: the up axis' column (1 or 2);
     ``figure`` (J,) bool: the joints that make the figure (default all; an anchor pinned at
-    the origin is no part of it)."""
+    the origin is no part of it). ``samples``: fit the path at that many frames at most,
+    evenly spread from the first to the last (a long take's path, seen every few frames,
+    has the same main direction; the view's camera fits a take of any length in the same
+    time); None: every frame."""
     across = [a for a in (0, 1, 2) if a != up]
+    if samples is not None and len(positions) > samples:
+        positions = positions[np.linspace(0, len(positions) - 1, max(int(samples), 2)).round().astype(np.intp)]
     if figure is not None:
         positions = positions[:, figure]
     # the centroid first (no copy of every joint): einsum sums over the joints several
