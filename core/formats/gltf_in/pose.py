@@ -95,8 +95,10 @@ def node_poses(
 ) -> tuple[dict[int, NodePose], np.ndarray]:
     """The poses of some nodes from their translations (F|1, 3), quaternions (F|1, 4,
     ``x, y, z, w``) and scales (F|1, 3), and their rotation matrices as one block
-    (F|1, N, 3, 3) (each pose's rotation is a view of it). A translation that is the same
-    on every frame, bit for bit, is kept as one frame (1, 3): worked out once."""
+    (F|1, N, 3, 3) float64 (each pose's rotation is a view of it). A translation that is
+    the same on every frame, bit for bit, is kept as one frame (1, 3): worked out once.
+    Translations and quaternions may be float32 (a file's keys as stored): they are
+    worked on in float64."""
     frames = max(len(q) for q in quaternions)
     matrices = np.empty((frames, len(nodes), 3, 3))
     if compiled_at_hand() is not None:  # one pass per node, straight into its column
@@ -120,8 +122,10 @@ def node_poses(
 def _one_if_constant(values: np.ndarray) -> np.ndarray:
     """Values (F, C) as their first frame (1, C) when every frame's are those, bit for bit
     (signs of zeros included; NaN never is), else as they are."""
-    if len(values) > 1 and (values == values[:1]).all() and (np.signbit(values) == np.signbit(values[:1])).all():
-        return values[:1]
+    if len(values) > 1 and np.isfinite(values[0]).all():  # then equal bits are equal numbers
+        bits = values.view(f"u{values.itemsize}")  # one comparison a value, in the values' own width
+        if (bits == bits[:1]).all():
+            return values[:1]
     return values
 
 
