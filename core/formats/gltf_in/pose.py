@@ -24,9 +24,9 @@ import dataclasses
 
 import numpy as np
 
-from gmr_studio.core.rotations.quaternions import compiled_at_hand, matrix_from_quaternion
+from gmr_studio.core.rotations.quaternions import matrix_from_quaternion
 
-#: frames converted from quaternions to matrices at a time
+#: frames converted from quaternions to matrices (and carried down the skeleton) at a time
 CHUNK_FRAMES = 2048
 #: a per-frame translation that varies less than this, relative to its size, is static
 STATIC_RELATIVE_TOLERANCE = 1e-12
@@ -98,35 +98,39 @@ def node_poses(
     (F|1, N, 3, 3) float64 (each pose's rotation is a view of it). A translation that is
     the same on every frame, bit for bit, is kept as one frame (1, 3): worked out once.
     Translations and quaternions may be float32 (a file's keys as stored): they are
-    worked on in float64."""
+    worked on in float64.
+
+    Worked :data:`CHUNK_FRAMES` frames at a time: each chunk's quaternions gathered into
+    one block (N, 4) a frame, in cache, converted in one call, so the matrices are written
+    frame after frame; its translations compared with the first frame's on the way."""
     frames = max(len(q) for q in quaternions)
     matrices = np.empty((frames, len(nodes), 3, 3))
-    if compiled_at_hand() is not None:  # one pass per node, straight into its column
-        for k, q in enumerate(quaternions):
-            matrix_from_quaternion(q, scalar_last=True, out=matrices[:, k])
-    else:  # a few MB at a time: the temporaries stay in cache
-        block = np.empty((min(frames, CHUNK_FRAMES), len(nodes), 4))
-        for start in range(0, frames, CHUNK_FRAMES):
-            part = slice(start, start + CHUNK_FRAMES)
-            size = min(frames - start, CHUNK_FRAMES)
+    moving = [k for k, t in enumerate(translations) if len(t) > 1]
+    first = np.array([translations[k][0] for k in moving], dtype=np.float64).reshape(-1, 3)
+    same = np.isfinite(first).all(axis=1)  # NaN is never the same; equal bits are then equal numbers
+    every = max(frames, *(len(t) for t in translations))
+    gathered = np.empty((min(frames, CHUNK_FRAMES), len(nodes), 4))
+    kept = np.empty((min(every, CHUNK_FRAMES), len(moving), 3))
+    for start in range(0, every, CHUNK_FRAMES):
+        part = slice(start, start + CHUNK_FRAMES)
+        size = min(frames - start, CHUNK_FRAMES)
+        if size > 0:
             for k, q in enumerate(quaternions):
-                block[:size, k] = q if len(q) == 1 else q[part]
-            matrix_from_quaternion(block[:size], scalar_last=True, out=matrices[part], backend="numpy")
+                gathered[:size, k] = q if len(q) == 1 else q[part]
+            out = matrices[part].reshape(-1, 3, 3)
+            matrix_from_quaternion(gathered[:size].reshape(-1, 4), scalar_last=True, out=out)
+        size = min(every - start, CHUNK_FRAMES)
+        if same.any():
+            for m, k in enumerate(moving):
+                kept[:size, m] = translations[k][part]
+            equal = kept[:size].view(np.uint64) == first.view(np.uint64)  # signs of zeros included
+            same &= equal.all(axis=0).all(axis=1)
+    constant = {moving[m] for m in np.flatnonzero(same)}
     poses = {
-        node: NodePose(_one_if_constant(t), matrices[:, k], s)
+        node: NodePose(t[:1] if k in constant else t, matrices[:, k], s)
         for k, (node, t, s) in enumerate(zip(nodes, translations, scales))
     }
     return poses, matrices
-
-
-def _one_if_constant(values: np.ndarray) -> np.ndarray:
-    """Values (F, C) as their first frame (1, C) when every frame's are those, bit for bit
-    (signs of zeros included; NaN never is), else as they are."""
-    if len(values) > 1 and np.isfinite(values[0]).all():  # then equal bits are equal numbers
-        bits = values.view(f"u{values.itemsize}")  # one comparison a value, in the values' own width
-        if (bits == bits[:1]).all():
-            return values[:1]
-    return values
 
 
 def skeleton_pose(
@@ -136,7 +140,7 @@ def skeleton_pose(
     translations change over the frames (J,) bool, of the joints (node indices, parents
     first); ``poses`` holds every joint and every node above them, ``block`` the joints'
     rotation matrices (F|1, J, 3, 3) from :func:`node_poses`, which become the rotations
-    (the roots' overwritten). Worked :data:`CHUNK_FRAMES` frames at a time, so that what
+    (those of roots below other nodes overwritten). Worked :data:`CHUNK_FRAMES` frames at a time, so that what
     is carried down the skeleton stays in cache; a translation made of values that do not
     change over the frames is worked out once and copied to every frame at the end."""
     rotations = block if len(block) == n_frames else np.repeat(block, n_frames, axis=0)
@@ -207,19 +211,21 @@ def _chunk_pose(
         if constant is not None and constant[j] and parent in index and done:
             continue  # its translation was written on the first chunk
         pose = _frames_of(poses[node], part)
+        world, placed = origin, False  # placed: a root below an armature that moves it
         if parent in index:
             world = worlds[parent]
-            local = world.carry(pose.translation)
         else:
-            world = origin
             for up in _chain(parents, node, poses):  # the armature above the root
                 world = _child(world, _frames_of(poses[up], part))
-            local = world.place + _apply(world.turn, world.carry(pose.translation))
+            placed = not _is_origin(world)  # else the root keeps its own transform, as it is
+        local = world.carry(pose.translation)
+        if placed:
+            local = world.place + _apply(world.turn, local)
         if node in parents_of_joints:
             worlds[node] = _child(world, pose, placed=False)
             if first and worlds[node].stretch.shape[-1] == 1:
                 settled[node] = worlds[node]
-        if parent not in index:
+        if placed:
             rotations[part, j] = world.turn @ pose.rotation  # pose.rotation is this column: used above first
         found[j] = len(local) == 1
         if found[j] if constant is None else constant[j]:
@@ -227,6 +233,18 @@ def _chunk_pose(
         else:
             translations[part, j] = local
     return found
+
+
+def _is_origin(world: _World) -> bool:
+    """Whether a world is the identity on every frame, exactly (an armature node that
+    neither turns, moves nor scales): what is below it keeps its own transform."""
+    return (
+        world.turn.shape == (1, 3, 3)
+        and (world.turn == np.eye(3)).all()
+        and not world.place.any()
+        and world.stretch.shape == (1,)
+        and world.stretch[0] == 1
+    )
 
 
 def _frames_of(pose: NodePose, part: slice) -> NodePose:
