@@ -106,24 +106,19 @@ def node_poses(
     frames = max(len(q) for q in quaternions)
     matrices = np.empty((frames, len(nodes), 3, 3))
     moving = [k for k, t in enumerate(translations) if len(t) > 1]
-    first = np.array([translations[k][0] for k in moving], dtype=np.float64).reshape(-1, 3)
-    same = np.isfinite(first).all(axis=1)  # NaN is never the same; equal bits are then equal numbers
     every = max(frames, *(len(t) for t in translations))
-    gathered = np.empty((min(frames, CHUNK_FRAMES), len(nodes), 4))
-    kept = np.empty((min(every, CHUNK_FRAMES), len(moving), 3))
+    rotations = _Gathered(quaternions, 4, frames)
+    kept = _Gathered([translations[k] for k in moving], 3, every)
+    first = np.array([translations[k][0] for k in moving], dtype=kept.block.dtype).reshape(-1, 3)
+    same = np.isfinite(first).all(axis=1)  # NaN is never the same; equal bits are then equal numbers
+    bits = f"u{first.itemsize}"
     for start in range(0, every, CHUNK_FRAMES):
         part = slice(start, start + CHUNK_FRAMES)
-        size = min(frames - start, CHUNK_FRAMES)
-        if size > 0:
-            for k, q in enumerate(quaternions):
-                gathered[:size, k] = q if len(q) == 1 else q[part]
+        if start < frames:
             out = matrices[part].reshape(-1, 3, 3)
-            matrix_from_quaternion(gathered[:size].reshape(-1, 4), scalar_last=True, out=out)
-        size = min(every - start, CHUNK_FRAMES)
+            matrix_from_quaternion(rotations.chunk(part).reshape(-1, 4), scalar_last=True, out=out)
         if same.any():
-            for m, k in enumerate(moving):
-                kept[:size, m] = translations[k][part]
-            equal = kept[:size].view(np.uint64) == first.view(np.uint64)  # signs of zeros included
+            equal = kept.chunk(part).view(bits) == first.view(bits)  # signs of zeros included
             same &= equal.all(axis=0).all(axis=1)
     constant = {moving[m] for m in np.flatnonzero(same)}
     poses = {
@@ -233,6 +228,30 @@ def _chunk_pose(
         else:
             translations[part, j] = local
     return found
+
+
+class _Gathered:
+    """Arrays (F|1, C) of some nodes, gathered a chunk of frames at a time into one block
+    (chunk, N, C): in their own type when they all have it (float32 keys as stored), else
+    float64. Rows of that type with their components side by side are copied as single
+    items, one loop a chunk, not one a frame."""
+
+    def __init__(self, arrays: list[np.ndarray], width: int, frames: int) -> None:
+        dtype = np.float32 if arrays and all(a.dtype == np.float32 for a in arrays) else np.float64
+        self.block = np.empty((min(frames, CHUNK_FRAMES), len(arrays), width), dtype)
+        row = np.dtype((np.void, self.block.itemsize * width))
+        self.rows = self.block.view(row)[..., 0]  # (chunk, N): a row each
+        alike = [a.dtype == dtype and a.shape[1] == width and a.strides[1] == a.itemsize for a in arrays]
+        self.sources = [a.view(row)[:, 0] if same else a for a, same in zip(arrays, alike)]
+        self.frames = frames
+
+    def chunk(self, part: slice) -> np.ndarray:
+        """The block of the frames ``part`` (size, N, C); a one-frame array fills them all."""
+        size = min(self.frames - part.start, CHUNK_FRAMES)
+        for k, values in enumerate(self.sources):
+            target = self.rows if values.ndim == 1 else self.block
+            target[:size, k] = values if len(values) == 1 else values[part]
+        return self.block[:size]
 
 
 def _is_origin(world: _World) -> bool:
