@@ -107,18 +107,18 @@ def node_poses(
     matrices = np.empty((frames, len(nodes), 3, 3))
     moving = [k for k, t in enumerate(translations) if len(t) > 1]
     every = max(frames, *(len(t) for t in translations))
-    rotations = _Gathered(quaternions, 4, frames)
-    kept = _Gathered([translations[k] for k in moving], 3, every)
-    first = np.array([translations[k][0] for k in moving], dtype=kept.block.dtype).reshape(-1, 3)
+    keys = _Gathered(quaternions, 4, frames)
+    places = _Gathered([translations[k] for k in moving], 3, every)
+    first = np.array([translations[k][0] for k in moving], dtype=places.block.dtype).reshape(-1, 3)
     same = np.isfinite(first).all(axis=1)  # NaN is never the same; equal bits are then equal numbers
     bits = f"u{first.itemsize}"
     for start in range(0, every, CHUNK_FRAMES):
         part = slice(start, start + CHUNK_FRAMES)
         if start < frames:
             out = matrices[part].reshape(-1, 3, 3)
-            matrix_from_quaternion(rotations.chunk(part).reshape(-1, 4), scalar_last=True, out=out)
+            matrix_from_quaternion(keys.chunk(part).reshape(-1, 4), scalar_last=True, out=out)
         if same.any():
-            equal = kept.chunk(part).view(bits) == first.view(bits)  # signs of zeros included
+            equal = places.chunk(part).view(bits) == first.view(bits)  # signs of zeros included
             same &= equal.all(axis=0).all(axis=1)
     constant = {moving[m] for m in np.flatnonzero(same)}
     poses = {
@@ -135,9 +135,10 @@ def skeleton_pose(
     translations change over the frames (J,) bool, of the joints (node indices, parents
     first); ``poses`` holds every joint and every node above them, ``block`` the joints'
     rotation matrices (F|1, J, 3, 3) from :func:`node_poses`, which become the rotations
-    (those of roots below other nodes overwritten). Worked :data:`CHUNK_FRAMES` frames at a time, so that what
-    is carried down the skeleton stays in cache; a translation made of values that do not
-    change over the frames is worked out once and copied to every frame at the end."""
+    (those of roots below other nodes overwritten). Worked :data:`CHUNK_FRAMES` frames at
+    a time, so that what is carried down the skeleton stays in cache; a translation made
+    of values that do not change over the frames is worked out once and copied to every
+    frame at the end."""
     rotations = block if len(block) == n_frames else np.repeat(block, n_frames, axis=0)
     translations = np.empty((n_frames, len(joints), 3))
     spread, size = np.zeros(len(joints)), np.zeros(len(joints))  # of each translation over the frames
