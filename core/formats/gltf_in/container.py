@@ -58,6 +58,7 @@ class GltfDocument:
         self.binary = binary
         self._buffers: dict[int, bytes] = {}
         self._accessors: dict[object, np.ndarray] = {}
+        self._checked: dict[str, tuple[list, int]] = {}  # the arrays found to hold objects, and their lengths
 
     # ------------------------------------------------------------------ errors, fields
     def error(self, message: str) -> MotionFileError:
@@ -66,8 +67,12 @@ class GltfDocument:
     def items(self, key: str) -> list:
         """A top-level array (``nodes``, ``accessors``...), empty if absent."""
         value = self.json.get(key, [])
+        checked = self._checked.get(key)
+        if checked is not None and checked[0] is value and checked[1] == len(value):
+            return value  # checked once: the reader asks for an item of it many times
         if not isinstance(value, list) or not all(isinstance(item, dict) for item in value):
             raise self.error(f"'{key}' must be an array of objects")
+        self._checked[key] = (value, len(value))
         return value
 
     def item(self, key: str, index: object, where: str) -> dict:
