@@ -53,6 +53,20 @@ def test_compiled_matrices_are_numpys_bit_for_bit(scalar_last):
     assert compiled.tobytes() == reference.tobytes()
 
 
+@pytest.mark.parametrize("backend", ["numba", "numpy"])
+def test_float32_quaternions_give_the_matrices_of_their_float64_values(backend):
+    """A file's float32 keys are converted as they are read: the same matrices as from
+    their float64 copies, either way."""
+    with np.errstate(over="ignore"):  # the huge ones overflow float32: a file holds none (refused)
+        q = quaternions(np.random.default_rng(10), 2000).astype(np.float32)
+    q = q[np.isfinite(q).all(axis=1)]
+    with np.errstate(all="ignore"):
+        stored = matrix_from_quaternion(q, scalar_last=True, backend=backend)
+        reference = matrix_from_quaternion(q.astype(np.float64), scalar_last=True, backend="numpy")
+    assert stored.dtype == np.float64
+    assert stored.tobytes() == reference.tobytes()
+
+
 def test_one_quaternion_fills_every_matrix_alike():
     q = quaternions(np.random.default_rng(8), 1)[3:4]
     compiled = matrix_from_quaternion(q, scalar_last=True, out=np.empty((5, 3, 3)), backend="numba")

@@ -126,6 +126,19 @@ def test_an_accessor_may_end_exactly_at_its_view_and_is_read_only_and_read_once(
     )
 
 
+def test_float32_keys_come_as_stored_and_are_the_accessors_numbers():
+    data = np.array([0.1, -0.0, 3.5, 1e-30, 2.0, 7.25], dtype="<f4").tobytes()
+    d = _accessor_doc(data, count=2, type="VEC3")
+    keys = d.key_values(0, "w")
+    assert keys.dtype == np.float32 and not keys.flags.writeable and d.key_values(0, "w") is keys
+    assert keys.astype(np.float64).tobytes() == d.accessor(0, "w").tobytes()
+    normalised = _accessor_doc(np.array([127, -127], "<i1").tobytes() + b"\0\0", componentType=5120, normalized=True)
+    assert normalised.key_values(0, "w") is normalised.accessor(0, "w")  # other components: float64, once
+    assert refused(_accessor_doc(np.array([np.nan], "<f4").tobytes()).key_values, 0, "w") == (
+        "accessor 0: holds NaN or infinite values"
+    )
+
+
 def test_strided_accessors_read_every_stride():
     data = np.arange(8, dtype="<f4").tobytes()  # 4 elements of 2 floats, read 1 float each 8 bytes
     d = _accessor_doc(data, count=4, byteStride=8)

@@ -11,6 +11,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from gmr_studio.core.formats.gltf_in.pose import CHUNK_FRAMES, node_poses, skeleton_pose
+from gmr_studio.core.rotations.quaternions import matrix_from_quaternion
 from tests.gltf_builder import post_rotation_forward, quaternion
 
 F = 3
@@ -178,3 +179,31 @@ def test_a_joint_moving_on_the_last_frame_alone_moves():
     assert moving[5]
     np.testing.assert_array_equal(translations[:-1, 5], np.zeros((frames - 1, 3)))
     assert translations[-1, 5, 1] > 0
+
+
+def test_float32_keys_read_as_their_float64_values_bit_for_bit():
+    """A file's float32 keys, worked on as stored, give the very numbers of their float64
+    copies over several chunks of frames, under animated and uneven scales, a channel
+    keyed still on every frame among them."""
+    frames = 2 * CHUNK_FRAMES + 7
+    rng = np.random.default_rng(11)
+    trs = node_trs(uneven_armature=True)
+    trs[2] = (rng.normal(size=(frames, 3)), rng.normal(size=(frames, 4)), trs[2][2][:1])
+    stored = {node: tuple(v.astype(np.float32) if len(v) > 1 else v for v in values) for node, values in trs.items()}
+    wide = {node: tuple(v.astype(np.float64) for v in values) for node, values in stored.items()}
+    for got, expected in zip(long_skeleton(stored, frames), long_skeleton(wide, frames)):
+        assert got.tobytes() == expected.tobytes()
+
+
+def test_a_root_below_an_identity_node_keeps_its_own_transform():
+    """A node that neither turns, moves nor scales above the root (an exported World node)
+    leaves the root's rotation and translation as the file gives them, bit for bit."""
+    rng = np.random.default_rng(12)
+    q = rng.normal(size=(5, 4))
+    t = np.array([[0.5, -0.0, 2.0]] * 4 + [[0.25, -0.0, 1.0]])
+    identity = [np.zeros((1, 3)), np.array([[0.0, 0, 0, 1]]), np.ones((1, 3))]
+    poses, block = node_poses([1], [t], [q], [np.ones((1, 3))])
+    poses.update(node_poses([0], *([v] for v in identity))[0])
+    rotations, translations, _ = skeleton_pose(poses, np.array([-1, 0]), [1], 5, block)
+    assert rotations[:, 0].tobytes() == matrix_from_quaternion(q, scalar_last=True).tobytes()
+    assert translations[:, 0].tobytes() == t.tobytes()

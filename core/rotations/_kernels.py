@@ -12,21 +12,22 @@ error), so the matrices are the numpy path's bit for bit.
 from __future__ import annotations
 
 import numba
+import numpy as np
 
 
 @numba.njit(boundscheck=False, cache=True, error_model="numpy")
 def matrices_of_quaternions(quaternions, first, out):  # pragma: no cover - compiled
-    """Rotation matrices of quaternions (N, 4) into ``out`` (N, 3, 3); ``first`` is the
-    index of the scalar component (0 for ``w, x, y, z``, 3 for ``x, y, z, w``). A single
-    quaternion (1, 4) fills every matrix of ``out``."""
+    """Rotation matrices of quaternions (N, 4), float64 or float32, into ``out`` (N, 3, 3)
+    float64; ``first`` is the index of the scalar component (0 for ``w, x, y, z``, 3 for
+    ``x, y, z, w``). A single quaternion (1, 4) fills every matrix of ``out``."""
     one = quaternions.shape[0] == 1
     axis = 1 if first == 0 else 0
     for n in range(out.shape[0]):
         row = 0 if one else n
-        w = quaternions[row, first]
-        x = quaternions[row, axis]
-        y = quaternions[row, axis + 1]
-        z = quaternions[row, axis + 2]
+        w = np.float64(quaternions[row, first])  # float32 quaternions are worked on in float64
+        x = np.float64(quaternions[row, axis])
+        y = np.float64(quaternions[row, axis + 1])
+        z = np.float64(quaternions[row, axis + 2])
         two = 2.0 / (w * w + x * x + y * y + z * z)
         x2 = x * two
         y2 = y * two

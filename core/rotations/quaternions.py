@@ -98,7 +98,8 @@ def matrix_from_quaternion(
     out: np.ndarray | None = None,
     backend: Backend = "auto",
 ) -> np.ndarray:
-    """Rotation matrices of quaternions (w, x, y, z), normalised first: (..., 4) -> (..., 3, 3).
+    """Rotation matrices of quaternions (w, x, y, z), normalised first: (..., 4) -> (..., 3, 3)
+    float64, worked out in float64 (float32 quaternions as well).
 
     ``scalar_last``: the quaternions are (x, y, z, w), as glTF stores them; ``out``: an
     array (..., 3, 3) to write the matrices into (returned); a single quaternion (1, 4)
@@ -107,7 +108,9 @@ def matrix_from_quaternion(
     shape is (N, 4)); both give the same matrices bit for bit.
     """
     kernels = chosen_kernels(backend, compiled_kernels() if backend == "numba" else compiled_at_hand())
-    q = np.asarray(quaternions, dtype=np.float64)
+    q = np.asarray(quaternions)
+    if q.dtype != np.float32:  # float32 (a file's keys) is converted as it is read: the same numbers
+        q = q.astype(np.float64, copy=False)
     if kernels is not None and q.ndim == 2 and q.shape[-1] == 4 and (out is None or out.ndim == 3):
         out = np.empty((len(q), 3, 3)) if out is None else out
         if out.shape[1:] != (3, 3) or len(q) not in (1, len(out)):
@@ -116,6 +119,7 @@ def matrix_from_quaternion(
         return out
     if backend == "numba":
         raise ValueError(f"the numba backend converts quaternions (N, 4), not {q.shape}")
+    q = q.astype(np.float64, copy=False)
     if scalar_last:
         x, y, z, w = np.moveaxis(q, -1, 0)
     else:

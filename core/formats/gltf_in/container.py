@@ -9,6 +9,9 @@ their buffer, buffers shorter than they claim, sparse indices out of range.
 
 Accessor data come out as float64 arrays ``(count, n_components)``; normalised integers
 are mapped to [-1, 1] or [0, 1] as the specification says (``max(c / 127, -1)`` ...).
+Animation keys stored as float32 come out as stored (:meth:`GltfDocument.key_values`):
+every float32 is a float64 exactly, so converting them where they are worked on gives the
+same numbers without a float64 copy of the keys.
 """
 
 from __future__ import annotations
@@ -55,6 +58,7 @@ class GltfDocument:
         self.binary = binary
         self._buffers: dict[int, bytes] = {}
         self._accessors: dict[object, np.ndarray] = {}
+        self._checked: dict[str, tuple[list, int]] = {}  # the arrays found to hold objects, and their lengths
 
     # ------------------------------------------------------------------ errors, fields
     def error(self, message: str) -> MotionFileError:
@@ -63,8 +67,12 @@ class GltfDocument:
     def items(self, key: str) -> list:
         """A top-level array (``nodes``, ``accessors``...), empty if absent."""
         value = self.json.get(key, [])
+        checked = self._checked.get(key)
+        if checked is not None and checked[0] is value and checked[1] == len(value):
+            return value  # checked once: the reader asks for an item of it many times
         if not isinstance(value, list) or not all(isinstance(item, dict) for item in value):
             raise self.error(f"'{key}' must be an array of objects")
+        self._checked[key] = (value, len(value))
         return value
 
     def item(self, key: str, index: object, where: str) -> dict:
@@ -156,6 +164,29 @@ class GltfDocument:
         spec = self.item("accessors", index, where)
         if index in self._accessors:
             return self._accessors[index]
+        values = self._decoded(index, spec, where, stored_floats=False)
+        self._accessors[index] = values  # type: ignore[index]
+        return values
+
+    def key_values(self, index: object, where: str) -> np.ndarray:
+        """Accessor ``index`` as an animation sampler's outputs ``(count, n_components)``,
+        read-only: float32 components as the file stores them (a view of its buffer, no
+        copy; each is a float64 exactly, so whatever works on them in float64 gets what
+        :meth:`accessor` would give), anything else as :meth:`accessor` gives it."""
+        spec = self.item("accessors", index, where)
+        key = ("keys", index)
+        if key not in self._accessors:
+            values = self._decoded(index, spec, where, stored_floats=True)
+            if values.dtype == np.float64:  # what accessor() gives: one array for both
+                self._accessors.setdefault(index, values)  # type: ignore[call-overload]
+            self._accessors[key] = values  # type: ignore[index]
+        return self._accessors[key]  # type: ignore[index]
+
+    def _decoded(self, index: object, spec: dict, where: str, *, stored_floats: bool) -> np.ndarray:
+        """The accessor's values, checked; float64, or with ``stored_floats`` float32
+        components of a dense accessor as stored."""
+        if stored_floats and index in self._accessors:
+            return self._accessors[index]
         at = f"accessor {index}"
         kind = spec.get("type")
         if not isinstance(kind, str) or kind not in TYPE_SIZES:
@@ -174,6 +205,9 @@ class GltfDocument:
             values = np.zeros((count, width), np.dtype(dtype))
         if values.dtype.kind == "f" and not np.isfinite(values).all():  # checked in float32: half the bytes
             raise self.error(f"{at}: holds NaN or infinite values")
+        if stored_floats and values.dtype.kind == "f" and "sparse" not in spec and not spec.get("normalized"):
+            values.flags.writeable = False
+            return values
         values = values.astype(np.float64)
         if "sparse" in spec:
             self._apply_sparse(spec["sparse"], values, width, dtype, at)
@@ -184,7 +218,6 @@ class GltfDocument:
         elif spec.get("normalized") is True:
             raise self.error(f"{at}: only byte and short components can be normalized")
         values.flags.writeable = False
-        self._accessors[index] = values  # type: ignore[index]
         return values
 
     def key_times(self, index: object, where: str) -> np.ndarray:

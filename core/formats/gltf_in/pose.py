@@ -24,9 +24,9 @@ import dataclasses
 
 import numpy as np
 
-from gmr_studio.core.rotations.quaternions import compiled_at_hand, matrix_from_quaternion
+from gmr_studio.core.rotations.quaternions import matrix_from_quaternion
 
-#: frames converted from quaternions to matrices at a time
+#: frames converted from quaternions to matrices (and carried down the skeleton) at a time
 CHUNK_FRAMES = 2048
 #: a per-frame translation that varies less than this, relative to its size, is static
 STATIC_RELATIVE_TOLERANCE = 1e-12
@@ -95,34 +95,37 @@ def node_poses(
 ) -> tuple[dict[int, NodePose], np.ndarray]:
     """The poses of some nodes from their translations (F|1, 3), quaternions (F|1, 4,
     ``x, y, z, w``) and scales (F|1, 3), and their rotation matrices as one block
-    (F|1, N, 3, 3) (each pose's rotation is a view of it). A translation that is the same
-    on every frame, bit for bit, is kept as one frame (1, 3): worked out once."""
+    (F|1, N, 3, 3) float64 (each pose's rotation is a view of it). A translation that is
+    the same on every frame, bit for bit, is kept as one frame (1, 3): worked out once.
+    Translations and quaternions may be float32 (a file's keys as stored): they are
+    worked on in float64.
+
+    Worked :data:`CHUNK_FRAMES` frames at a time: each chunk's quaternions gathered into
+    one block (N, 4) a frame, in cache, converted in one call, so the matrices are written
+    frame after frame; its translations compared with the first frame's on the way."""
     frames = max(len(q) for q in quaternions)
     matrices = np.empty((frames, len(nodes), 3, 3))
-    if compiled_at_hand() is not None:  # one pass per node, straight into its column
-        for k, q in enumerate(quaternions):
-            matrix_from_quaternion(q, scalar_last=True, out=matrices[:, k])
-    else:  # a few MB at a time: the temporaries stay in cache
-        block = np.empty((min(frames, CHUNK_FRAMES), len(nodes), 4))
-        for start in range(0, frames, CHUNK_FRAMES):
-            part = slice(start, start + CHUNK_FRAMES)
-            size = min(frames - start, CHUNK_FRAMES)
-            for k, q in enumerate(quaternions):
-                block[:size, k] = q if len(q) == 1 else q[part]
-            matrix_from_quaternion(block[:size], scalar_last=True, out=matrices[part], backend="numpy")
+    moving = [k for k, t in enumerate(translations) if len(t) > 1]
+    every = max(frames, *(len(t) for t in translations))
+    keys = _Gathered(quaternions, 4, frames)
+    places = _Gathered([translations[k] for k in moving], 3, every)
+    first = np.array([translations[k][0] for k in moving], dtype=places.block.dtype).reshape(-1, 3)
+    same = np.isfinite(first).all(axis=1)  # NaN is never the same; equal bits are then equal numbers
+    bits = f"u{first.itemsize}"
+    for start in range(0, every, CHUNK_FRAMES):
+        part = slice(start, start + CHUNK_FRAMES)
+        if start < frames:
+            out = matrices[part].reshape(-1, 3, 3)
+            matrix_from_quaternion(keys.chunk(part).reshape(-1, 4), scalar_last=True, out=out)
+        if same.any():
+            equal = places.chunk(part).view(bits) == first.view(bits)  # signs of zeros included
+            same &= equal.all(axis=0).all(axis=1)
+    constant = {moving[m] for m in np.flatnonzero(same)}
     poses = {
-        node: NodePose(_one_if_constant(t), matrices[:, k], s)
+        node: NodePose(t[:1] if k in constant else t, matrices[:, k], s)
         for k, (node, t, s) in enumerate(zip(nodes, translations, scales))
     }
     return poses, matrices
-
-
-def _one_if_constant(values: np.ndarray) -> np.ndarray:
-    """Values (F, C) as their first frame (1, C) when every frame's are those, bit for bit
-    (signs of zeros included; NaN never is), else as they are."""
-    if len(values) > 1 and (values == values[:1]).all() and (np.signbit(values) == np.signbit(values[:1])).all():
-        return values[:1]
-    return values
 
 
 def skeleton_pose(
@@ -132,9 +135,10 @@ def skeleton_pose(
     translations change over the frames (J,) bool, of the joints (node indices, parents
     first); ``poses`` holds every joint and every node above them, ``block`` the joints'
     rotation matrices (F|1, J, 3, 3) from :func:`node_poses`, which become the rotations
-    (the roots' overwritten). Worked :data:`CHUNK_FRAMES` frames at a time, so that what
-    is carried down the skeleton stays in cache; a translation made of values that do not
-    change over the frames is worked out once and copied to every frame at the end."""
+    (those of roots below other nodes overwritten). Worked :data:`CHUNK_FRAMES` frames at
+    a time, so that what is carried down the skeleton stays in cache; a translation made
+    of values that do not change over the frames is worked out once and copied to every
+    frame at the end."""
     rotations = block if len(block) == n_frames else np.repeat(block, n_frames, axis=0)
     translations = np.empty((n_frames, len(joints), 3))
     spread, size = np.zeros(len(joints)), np.zeros(len(joints))  # of each translation over the frames
@@ -203,19 +207,21 @@ def _chunk_pose(
         if constant is not None and constant[j] and parent in index and done:
             continue  # its translation was written on the first chunk
         pose = _frames_of(poses[node], part)
+        world, placed = origin, False  # placed: a root below an armature that moves it
         if parent in index:
             world = worlds[parent]
-            local = world.carry(pose.translation)
         else:
-            world = origin
             for up in _chain(parents, node, poses):  # the armature above the root
                 world = _child(world, _frames_of(poses[up], part))
-            local = world.place + _apply(world.turn, world.carry(pose.translation))
+            placed = not _is_origin(world)  # else the root keeps its own transform, as it is
+        local = world.carry(pose.translation)
+        if placed:
+            local = world.place + _apply(world.turn, local)
         if node in parents_of_joints:
             worlds[node] = _child(world, pose, placed=False)
             if first and worlds[node].stretch.shape[-1] == 1:
                 settled[node] = worlds[node]
-        if parent not in index:
+        if placed:
             rotations[part, j] = world.turn @ pose.rotation  # pose.rotation is this column: used above first
         found[j] = len(local) == 1
         if found[j] if constant is None else constant[j]:
@@ -223,6 +229,42 @@ def _chunk_pose(
         else:
             translations[part, j] = local
     return found
+
+
+class _Gathered:
+    """Arrays (F|1, C) of some nodes, gathered a chunk of frames at a time into one block
+    (chunk, N, C): in their own type when they all have it (float32 keys as stored), else
+    float64. Rows of that type with their components side by side are copied as single
+    items, one loop a chunk, not one a frame."""
+
+    def __init__(self, arrays: list[np.ndarray], width: int, frames: int) -> None:
+        dtype = np.float32 if arrays and all(a.dtype == np.float32 for a in arrays) else np.float64
+        self.block = np.empty((min(frames, CHUNK_FRAMES), len(arrays), width), dtype)
+        row = np.dtype((np.void, self.block.itemsize * width))
+        self.rows = self.block.view(row)[..., 0]  # (chunk, N): a row each
+        alike = [a.dtype == dtype and a.shape[1] == width and a.strides[1] == a.itemsize for a in arrays]
+        self.sources = [a.view(row)[:, 0] if same else a for a, same in zip(arrays, alike)]
+        self.frames = frames
+
+    def chunk(self, part: slice) -> np.ndarray:
+        """The block of the frames ``part`` (size, N, C); a one-frame array fills them all."""
+        size = min(self.frames - part.start, CHUNK_FRAMES)
+        for k, values in enumerate(self.sources):
+            target = self.rows if values.ndim == 1 else self.block
+            target[:size, k] = values if len(values) == 1 else values[part]
+        return self.block[:size]
+
+
+def _is_origin(world: _World) -> bool:
+    """Whether a world is the identity on every frame, exactly (an armature node that
+    neither turns, moves nor scales): what is below it keeps its own transform."""
+    return (
+        world.turn.shape == (1, 3, 3)
+        and (world.turn == np.eye(3)).all()
+        and not world.place.any()
+        and world.stretch.shape == (1,)
+        and world.stretch[0] == 1
+    )
 
 
 def _frames_of(pose: NodePose, part: slice) -> NodePose:

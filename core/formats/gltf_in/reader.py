@@ -83,7 +83,7 @@ def _read(doc: GltfDocument, animation, skin, frame_rate) -> Motion:
         raise doc.error(f"{n_frames} frames of {len(joints)} joints is more than this reader holds: use --frame-rate")
     translation, rotation, scale = static_trs(doc)
     static = {node: (translation[node][None], rotation[node][None], scale[node][None]) for node in needed}
-    animated = {
+    animated = {  # keys as stored where frames fall on them (pose.py works on them in float64)
         node: [
             sample(s, clock.times, name == "rotation", located[id(s.times)])
             if (s := samplers.get((node, name)))
@@ -92,6 +92,8 @@ def _read(doc: GltfDocument, animation, skin, frame_rate) -> Motion:
         ]
         for node in needed
     }
+    for trs in animated.values():  # scales also feed the notes, which work in their own type
+        trs[2] = trs[2].astype(np.float64, copy=False)
     rest, rest_block = _poses(joints, above, static)
     poses, block = _poses(joints, above, animated)
     index = {node: j for j, node in enumerate(joints)}
@@ -186,7 +188,7 @@ def _sampler(doc: GltfDocument, spec: object, width: int, at: str, ordered: set[
     if interpolation not in INTERPOLATIONS:
         raise doc.error(f"{at}: interpolation {interpolation!r} is not one of {', '.join(INTERPOLATIONS)}")
     times = doc.key_times(spec.get("input"), f"{at} input")
-    values = doc.accessor(spec.get("output"), f"{at} output")
+    values = doc.key_values(spec.get("output"), f"{at} output")
     if id(times) not in ordered:
         if (np.diff(times) < 0).any():
             raise doc.error(f"{at}: key times must not decrease (key {int(np.argmax(np.diff(times) < 0)) + 1})")
@@ -199,11 +201,27 @@ def _sampler(doc: GltfDocument, spec: object, width: int, at: str, ordered: set[
         )
     if width == 4:  # rotations: every key a quaternion that has a direction
         keys = values.reshape(times.size, 3, 4)[:, 1] if interpolation == "CUBICSPLINE" else values
-        short = np.einsum("kq,kq->k", keys, keys) < MIN_QUATERNION_LENGTH**2
-        if short.any():
-            k = int(np.argmax(short))
+        short = _short_quaternions(keys)
+        if short.size:
+            k = int(short[0])
             raise doc.error(f"{at}: rotation key {k} is not a quaternion (length {np.linalg.norm(keys[k]):.3g})")
     return Sampler(times, values, interpolation)
+
+
+def _short_quaternions(keys: np.ndarray) -> np.ndarray:
+    """Indices (in order) of the quaternions (K, 4) shorter than
+    :data:`MIN_QUATERNION_LENGTH`, their lengths taken in float64. Only a quaternion whose
+    every component is that small can be one, so only those are measured: one cheap
+    comparison a component, in the keys' own type, for the rest."""
+    limit = keys.dtype.type(MIN_QUATERNION_LENGTH)
+    if limit < MIN_QUATERNION_LENGTH:  # rounded down to the keys' type: the next one up, so none is missed
+        limit = np.nextafter(limit, keys.dtype.type(np.inf))
+    small = np.abs(keys[:, 0]) < limit
+    for component in range(1, 4):
+        small &= np.abs(keys[:, component]) < limit
+    candidates = np.flatnonzero(small)
+    near = keys[candidates].astype(np.float64)
+    return candidates[np.einsum("kq,kq->k", near, near) < MIN_QUATERNION_LENGTH**2]
 
 
 def _joint_names(doc: GltfDocument, joints: list[int]) -> tuple[list[str], list[str]]:

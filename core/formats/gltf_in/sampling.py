@@ -129,7 +129,9 @@ def segments(keys: np.ndarray, times: np.ndarray) -> tuple[np.ndarray, np.ndarra
 
 def sample(sampler: Sampler, times: np.ndarray, rotation: bool, located: tuple | None = None) -> np.ndarray:
     """The sampler's value at each time: (F, C); ``rotation``: quaternions ``x, y, z, w``;
-    ``located``: :func:`segments` of the sampler's keys at these times, if in hand."""
+    ``located``: :func:`segments` of the sampler's keys at these times, if in hand. When
+    every frame is on a key the values are the keys' own (float32 keys stay float32, each
+    a float64 exactly); interpolated values are float64."""
     keys = sampler.times
     cubic = sampler.interpolation == "CUBICSPLINE"
     values = sampler.values.reshape(keys.size, 3, -1)[:, 1] if cubic else sampler.values
@@ -138,9 +140,10 @@ def sample(sampler: Sampler, times: np.ndarray, rotation: bool, located: tuple |
         if np.array_equal(before, np.arange(keys.size)):
             return values  # frame k on key k (STEP frames between keys may be as many): no copy
         return values[before]  # (quaternions are normalised when they become matrices)
+    values = values.astype(np.float64, copy=False)  # worked on in float64 from here
     fraction = fraction[:, None]
     if cubic:
-        tangents = sampler.values.reshape(keys.size, 3, -1)
+        tangents = sampler.values.reshape(keys.size, 3, -1).astype(np.float64, copy=False)
         s, s2, s3 = fraction, fraction**2, fraction**3
         d = gap[:, None]
         out = (
