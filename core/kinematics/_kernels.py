@@ -352,12 +352,20 @@ def gather_joints(rows, joints, width, start, stop, out):  # pragma: no cover - 
 
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)
-def signed_gather(rows, first, index, factor, scale, shift, start, stop, out):  # pragma: no cover - compiled
-    """out[f, i] = (factor[i] * rows[first + f, index[i]]) * scale + shift[i] for frames
-    start..stop-1 of ``out`` (F', W'): every output number one input number of its frame's
-    row, signed, scaled and shifted (the axes of each joint's vector or matrix permuted)."""
+def signed_gather(rows, first, index, place, factor, scale, shift, start, stop, out):  # pragma: no cover - compiled
+    """out[f, place[i]] = (factor[i] * rows[first + f, index[i]]) * scale + shift[i] for
+    frames start..stop-1 of ``out`` (F', W'), or out[f, i] when ``place`` is empty: every
+    output number one input number of its frame's row, signed, scaled and shifted (the axes
+    of each joint's vector or matrix permuted). With the entries listed in the order of the
+    input's joints, each frame's row is read in memory order and the writes jump instead:
+    reading joints out of order is what the hardware prefetchers do not follow."""
+    in_order = place.shape[0] == 0
     for f in range(start, stop):
         source = rows[first + f]
         target = out[f]
-        for i in range(index.shape[0]):
-            target[i] = (factor[i] * source[index[i]]) * scale + shift[i]
+        if in_order:
+            for i in range(index.shape[0]):
+                target[i] = (factor[i] * source[index[i]]) * scale + shift[i]
+        else:
+            for i in range(index.shape[0]):
+                target[place[i]] = (factor[i] * source[index[i]]) * scale + shift[i]
