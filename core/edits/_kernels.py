@@ -8,14 +8,18 @@ A program is a list of steps (shift the root one bone, split, join, fold a dummy
 each row ``(kind, a, b, first, count, first2, count2, extra)`` of an int64 table, the
 lists of joints it names held in one int64 array (:class:`core.edits.frame_programs.FrameProgram`).
 
-Each frame is copied to the output as one row of numbers (copying joint by joint, or
+Each frame is copied to the output as rows of numbers (copying joint by joint, or
 through views reshaped frame by frame, was markedly slower than a copy), and every step
 then edits it there while it sits in the L1 cache. Split and join read the input's frame,
 never the edited one: the world transforms they need are the input's (every operation
-keeps them). 3x3 matrices are held as 9-tuples, in registers (through scratch arrays the
-Newton-Schulz steps ran at half the speed). Products are summed ``(a0 b0 + a1 b1) + a2 b2``
-as in the FK kernels (:mod:`core.kinematics._kernels`), and nothing is compiled with fast-math, so
-a split gives the FK engine's world transform of the joint bit for bit.
+keeps them). So a program of splits and joins alone copies only the joints no step
+writes, and every number of the output is written once; a join whose static offset the
+caller expects (the one its split kept) writes that offset and measures the per-frame one.
+
+3x3 matrices are held as 9-tuples, in registers (through scratch arrays the Newton-Schulz
+steps ran at half the speed). Products are summed ``(a0 b0 + a1 b1) + a2 b2`` as in the FK
+kernels (:mod:`core.kinematics._kernels`), and nothing is compiled with fast-math, so a
+split gives the FK engine's world transform of the joint bit for bit.
 
 Tried and dropped: eight frames at a time in vector lanes (structure-of-arrays scratches
 of the touched joints, frames last). LLVM unrolls lane loops of constant length into scalar
@@ -28,9 +32,8 @@ from __future__ import annotations
 
 import numba
 
+from gmr_studio.core.edits.frame_programs import JOIN, SPLIT, SWAP
 from gmr_studio.core.rotations.euler import ORTHONORMAL_TOLERANCE
-
-SWAP, SPLIT, JOIN, FOLD = 0, 1, 2, 3
 
 
 @numba.njit(inline="always", boundscheck=False)
@@ -128,11 +131,12 @@ def _walk(rot, trans, lists, first, count, last_is_leaf):  # pragma: no cover - 
 
 
 @numba.njit(inline="always", boundscheck=False)
-def _run_steps(src_rot, src_trans, rot, trans, steps, lists, offsets):  # pragma: no cover - compiled
+def _run_steps(src_rot, src_trans, rot, trans, steps, lists, offsets, static):  # pragma: no cover - compiled
     """Every step of the program on one frame: ``rot`` (J, 3, 3) and ``trans`` (J, 3)
     edited in place; ``src_*`` the input's frame (read by split and join). A join's
-    per-frame offset ``R_j^T (t_j - t_p)`` (its translation) also goes to ``offsets[k]``
-    (k its ``extra``)."""
+    per-frame offset ``R_j^T (t_j - t_p)`` goes to ``offsets[k]`` (k its ``extra``) and is
+    its translation, unless ``static[k]`` is a number: the offset the caller expects the
+    joint to keep over all frames, written instead (NaN: none)."""
     for s in range(steps.shape[0]):
         kind = steps[s, 0]
         a = steps[s, 1]
@@ -163,7 +167,10 @@ def _run_steps(src_rot, src_trans, rot, trans, steps, lists, offsets):  # pragma
             k = steps[s, 7]
             o0, o1, o2 = _times(own, src_trans[a, 0] - p0, src_trans[a, 1] - p1, src_trans[a, 2] - p2)
             offsets[k, 0], offsets[k, 1], offsets[k, 2] = o0, o1, o2
-            trans[a, 0], trans[a, 1], trans[a, 2] = o0, o1, o2
+            if static[k, 0] == static[k, 0]:  # the static offset the caller expects (not NaN)
+                trans[a, 0], trans[a, 1], trans[a, 2] = static[k, 0], static[k, 1], static[k, 2]
+            else:
+                trans[a, 0], trans[a, 1], trans[a, 2] = o0, o1, o2
             _store(rot[a], _orthonormal(_mul(_transposed(world), _load(src_rot[a]))))
         else:  # FOLD: the dummy a's rotation goes into each of its children
             dummy = _load(rot[a])
@@ -174,8 +181,8 @@ def _run_steps(src_rot, src_trans, rot, trans, steps, lists, offsets):  # pragma
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)
 def run_program(
-    rotations, translations, rows, rows_t, steps, lists, kept, start, stop, block, sums, lows, highs, out_rotations,
-    out_translations, out_rows, out_rows_t, rot, trans, offsets,
+    rotations, translations, rows, rows_t, steps, lists, kept, copied, start, stop, block, sums, lows, highs,
+    out_rotations, out_translations, out_rows, out_rows_t, rot, trans, offsets, static,
 ):  # pragma: no cover - compiled  # fmt: skip
     """Frames start..stop-1 of the edited motion.
 
@@ -183,28 +190,42 @@ def run_program(
     rows (F, J * 9) and (F, J * 3); out_* likewise for the output (J' joints). ``kept``
     (J',): the output's joints, in order, when the program removes some (the frame is then
     edited in the scratch ``rot`` (J, 3, 3) and ``trans`` (J, 3) and its kept joints written
-    out); empty: all of them, the frame copied as one row of numbers and edited in place in
-    the output. Each join's offsets are summed per block of ``block`` frames (counted from
-    frame 0, in frame order) into ``sums`` (n_blocks, n_joins, 3), their minimum and maximum
-    into ``lows`` and ``highs`` (the same shape, starting at +inf and -inf). offsets: scratch
-    (max(n_joins, 1), 3)."""
+    out); empty: all of them, edited in place in the output after the joints of ``copied``
+    (C, 2), ranges [first, stop) of joints, are copied there as rows of numbers: every joint
+    when a step reads the edited frame (swap, fold), else only those no step writes (a
+    split or join writes the whole of its joint), so that each number is written once.
+    Each join's offsets are summed per block of ``block`` frames (counted from frame 0, in
+    frame order) into ``sums`` (n_blocks, n_joins, 3), their minimum and maximum into
+    ``lows`` and ``highs`` (the same shape, starting at +inf and -inf). offsets: scratch
+    (max(n_joins, 1), 3); static: the same shape, each join's expected static offset or
+    NaN (see :func:`_run_steps`)."""
     n_joins = sums.shape[1]
     in_place = kept.shape[0] == 0
+    whole = copied.shape[0] == 1 and copied[0, 0] == 0 and copied[0, 1] * 9 == rows.shape[1]
     row = rot.reshape(rot.size)
     row_t = trans.reshape(trans.size)
     for f in range(start, stop):
-        if in_place:
+        if in_place and whole:  # one loop over the row: the copy runs at its best
             for i in range(rows.shape[1]):
                 out_rows[f, i] = rows[f, i]
             for i in range(rows_t.shape[1]):
                 out_rows_t[f, i] = rows_t[f, i]
-            _run_steps(rotations[f], translations[f], out_rotations[f], out_translations[f], steps, lists, offsets)
+        elif in_place:
+            source, target, source_t, target_t = rows[f], out_rows[f], rows_t[f], out_rows_t[f]
+            for c in range(copied.shape[0]):
+                for i in range(copied[c, 0] * 9, copied[c, 1] * 9):
+                    target[i] = source[i]
+                for i in range(copied[c, 0] * 3, copied[c, 1] * 3):
+                    target_t[i] = source_t[i]
+        if in_place:
+            edited_rot, edited_trans = out_rotations[f], out_translations[f]
+            _run_steps(rotations[f], translations[f], edited_rot, edited_trans, steps, lists, offsets, static)
         else:
             for i in range(rows.shape[1]):
                 row[i] = rows[f, i]
             for i in range(rows_t.shape[1]):
                 row_t[i] = rows_t[f, i]
-            _run_steps(rotations[f], translations[f], rot, trans, steps, lists, offsets)
+            _run_steps(rotations[f], translations[f], rot, trans, steps, lists, offsets, static)
             for n in range(kept.shape[0]):
                 _store(out_rotations[f, n], _load(rot[kept[n]]))
                 for x in range(3):
