@@ -187,6 +187,16 @@ def test_a_split_root_that_moved_rigidly_joins_with_its_new_offset(rng):
         assert_carried(motion, compiled)
 
 
+def test_a_join_of_slightly_skewed_rotations_comes_out_orthonormal_as_in_the_numpy_path(rng):
+    cut = split(random_motion(rng, [-1, 0, 1, 2, 1], n_frames=5), 2)
+    noise = rng.normal(scale=1e-10, size=cut.rotations.shape)
+    skewed = cut.replace(rotations=cut.rotations + noise)  # rotations a file rounded to 10 digits
+    reference, compiled = both(lambda m, b: join_edit(m, 2, backend=b), skewed)
+    assert_same(reference.motion, compiled.motion)
+    rotations = compiled.motion.rotations[:, 2]
+    assert np.abs(np.einsum("fab,fac->fbc", rotations, rotations) - np.eye(3)).max() < 1e-13
+
+
 def test_split_all_then_join_all_of_a_real_file_agree_with_the_numpy_path_and_give_it_back():
     motion = load_gmr(shared_path("cmu/subject01/01_01.bvh")).frame_slice(slice(0, 60))
     everything = split_all_edit(motion).motion

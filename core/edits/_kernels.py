@@ -17,9 +17,11 @@ writes, and every number of the output is written once; a join whose static offs
 caller expects (the one its split kept) writes that offset and measures the per-frame one.
 
 3x3 matrices are held as 9-tuples, in registers (through scratch arrays the Newton-Schulz
-steps ran at half the speed). Products are summed ``(a0 b0 + a1 b1) + a2 b2`` as in the FK
-kernels (:mod:`core.kinematics._kernels`), and nothing is compiled with fast-math, so a
-split gives the FK engine's world transform of the joint bit for bit.
+steps ran at half the speed); a join's products, the bulk of join all, are computed by rows
+of 4 lanes with the FK kernels' vector intrinsics (the same operations lane by lane).
+Products are summed ``(a0 b0 + a1 b1) + a2 b2`` as in the FK kernels
+(:mod:`core.kinematics._kernels`), and nothing is compiled with fast-math, so a split gives
+the FK engine's world transform of the joint bit for bit.
 
 Tried and dropped: eight frames at a time in vector lanes (structure-of-arrays scratches
 of the touched joints, frames last). LLVM unrolls lane loops of constant length into scalar
@@ -33,6 +35,7 @@ from __future__ import annotations
 import numba
 
 from gmr_studio.core.edits.frame_programs import JOIN, SPLIT, SWAP
+from gmr_studio.core.kinematics._kernels import _combine
 from gmr_studio.core.rotations.euler import ORTHONORMAL_TOLERANCE
 
 
@@ -109,6 +112,35 @@ def _orthonormal(a):  # pragma: no cover - compiled
 
 
 @numba.njit(inline="always", boundscheck=False)
+def _rows(m):  # pragma: no cover - compiled
+    """The rows of a (3, 3) array as 4-lane tuples (the last lane 0)."""
+    return (m[0, 0], m[0, 1], m[0, 2], 0.0), (m[1, 0], m[1, 1], m[1, 2], 0.0), (m[2, 0], m[2, 1], m[2, 2], 0.0)
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _store_turned_back(target, world, r0, r1, r2):  # pragma: no cover - compiled
+    """target (3, 3) = ``_orthonormal(_mul(_transposed(world), R))`` for ``world`` a 9-tuple
+    and R given by its rows r0, r1, r2 (:func:`_rows`), computed on 4 lanes: row a of
+    ``W^T R`` is ``(W0a r0 + W1a r1) + W2a r2`` and row a of its Gram matrix ``P^T P`` is
+    ``(P0a p0 + P1a p1) + P2a p2``, lane by lane the scalar sums of :func:`_mul` and
+    :func:`_gram` (products commute exactly), so the same numbers."""
+    p0 = _combine(r0, r1, r2, world[0], world[3], world[6])
+    p1 = _combine(r0, r1, r2, world[1], world[4], world[7])
+    p2 = _combine(r0, r1, r2, world[2], world[5], world[8])
+    g0 = _combine(p0, p1, p2, p0[0], p1[0], p2[0])
+    g1 = _combine(p0, p1, p2, p0[1], p1[1], p2[1])
+    g2 = _combine(p0, p1, p2, p0[2], p1[2], p2[2])
+    diagonal = max(abs(g0[0] - 1.0), abs(g1[1] - 1.0))
+    off = max(diagonal, max(abs(g2[2] - 1.0), max(abs(g0[1]), max(abs(g0[2]), abs(g1[2])))))
+    if off <= ORTHONORMAL_TOLERANCE:
+        target[0, 0], target[0, 1], target[0, 2] = p0[0], p0[1], p0[2]
+        target[1, 0], target[1, 1], target[1, 2] = p1[0], p1[1], p1[2]
+        target[2, 0], target[2, 1], target[2, 2] = p2[0], p2[1], p2[2]
+    else:
+        _store(target, _orthonormal((p0[0], p0[1], p0[2], p1[0], p1[1], p1[2], p2[0], p2[1], p2[2])))
+
+
+@numba.njit(inline="always", boundscheck=False)
 def _walk(rot, trans, lists, first, count, last_is_leaf):  # pragma: no cover - compiled
     """World rotation (a 9-tuple) and position (p0, p1, p2) of the last joint of the root
     path ``lists[first:first + count]`` (pre-rotation), with the FK kernel's operations:
@@ -163,15 +195,15 @@ def _run_steps(src_rot, src_trans, rot, trans, steps, lists, offsets, static):  
             trans[a, 0], trans[a, 1], trans[a, 2] = p0, p1, p2
         elif kind == JOIN:  # the root a goes back under the last joint of its path
             world, p0, p1, p2 = _walk(src_rot, src_trans, lists, steps[s, 3], steps[s, 4], False)
-            own = _transposed(_load(src_rot[a]))
+            r0, r1, r2 = _rows(src_rot[a])
             k = steps[s, 7]
-            o0, o1, o2 = _times(own, src_trans[a, 0] - p0, src_trans[a, 1] - p1, src_trans[a, 2] - p2)
-            offsets[k, 0], offsets[k, 1], offsets[k, 2] = o0, o1, o2
+            o = _combine(r0, r1, r2, src_trans[a, 0] - p0, src_trans[a, 1] - p1, src_trans[a, 2] - p2)  # R_j^T d
+            offsets[k, 0], offsets[k, 1], offsets[k, 2] = o[0], o[1], o[2]
             if static[k, 0] == static[k, 0]:  # the static offset the caller expects (not NaN)
                 trans[a, 0], trans[a, 1], trans[a, 2] = static[k, 0], static[k, 1], static[k, 2]
             else:
-                trans[a, 0], trans[a, 1], trans[a, 2] = o0, o1, o2
-            _store(rot[a], _orthonormal(_mul(_transposed(world), _load(src_rot[a]))))
+                trans[a, 0], trans[a, 1], trans[a, 2] = o[0], o[1], o[2]
+            _store_turned_back(rot[a], world, r0, r1, r2)
         else:  # FOLD: the dummy a's rotation goes into each of its children
             dummy = _load(rot[a])
             for i in range(steps[s, 4]):

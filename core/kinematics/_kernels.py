@@ -1,4 +1,5 @@
-"""Compiled forward-kinematics kernels (numba); imported by :mod:`core.kinematics.engine` only.
+"""Compiled forward-kinematics kernels (numba); imported by :mod:`core.kinematics.engine`, and
+their vector intrinsics by the edits' kernels (:mod:`core.edits._kernels`).
 
 Importing this module raises ImportError when numba is not installed; the engine then
 uses its numpy backend, which performs the same operations in the same order.
