@@ -33,9 +33,12 @@ scalar code in registers.
 from __future__ import annotations
 
 import numba
+import numpy as np
 
 from gmr_studio.core.edits.frame_programs import JOIN, SPLIT, SWAP
-from gmr_studio.core.kinematics._kernels import _combine
+from gmr_studio.core.kinematics._kernels import _add, _combine, _lane_max, _lane_min
+from gmr_studio.core.kinematics._kernels import _load as _load_lanes
+from gmr_studio.core.kinematics._kernels import _store as _store_lanes
 from gmr_studio.core.rotations.euler import ORTHONORMAL_TOLERANCE
 
 
@@ -163,11 +166,28 @@ def _walk(rot, trans, lists, first, count, last_is_leaf):  # pragma: no cover - 
 
 
 @numba.njit(inline="always", boundscheck=False)
-def _run_steps(src_rot, src_trans, rot, trans, steps, lists, offsets, static):  # pragma: no cover - compiled
+def _fold(measures, sums, lows, highs, b):  # pragma: no cover - compiled
+    """Add the join offsets measured over frames of block ``b`` (``measures`` (n_joins, 3, 4):
+    per join the running sum, minimum and maximum on 4 lanes) into ``sums``, ``lows`` and
+    ``highs`` at ``b`` (none when negative), and start ``measures`` afresh."""
+    for k in range(measures.shape[0]):
+        for x in range(3):
+            if b >= 0 and k < sums.shape[1]:
+                sums[b, k, x] += measures[k, 0, x]
+                lows[b, k, x] = min(lows[b, k, x], measures[k, 1, x])
+                highs[b, k, x] = max(highs[b, k, x], measures[k, 2, x])
+        for x in range(4):
+            measures[k, 0, x] = 0.0
+            measures[k, 1, x] = np.inf
+            measures[k, 2, x] = -np.inf
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _run_steps(src_rot, src_trans, rot, trans, steps, lists, measures, static):  # pragma: no cover - compiled
     """Every step of the program on one frame: ``rot`` (J, 3, 3) and ``trans`` (J, 3)
     edited in place; ``src_*`` the input's frame (read by split and join). A join's
-    per-frame offset ``R_j^T (t_j - t_p)`` goes to ``offsets[k]`` (k its ``extra``) and is
-    its translation, unless ``static[k]`` is a number: the offset the caller expects the
+    per-frame offset ``R_j^T (t_j - t_p)`` is added into ``measures[k]`` (k its ``extra``;
+    see :func:`_fold`) and is its translation, unless ``static[k]`` is a number: the offset the caller expects the
     joint to keep over all frames, written instead (NaN: none)."""
     for s in range(steps.shape[0]):
         kind = steps[s, 0]
@@ -198,7 +218,9 @@ def _run_steps(src_rot, src_trans, rot, trans, steps, lists, offsets, static):  
             r0, r1, r2 = _rows(src_rot[a])
             k = steps[s, 7]
             o = _combine(r0, r1, r2, src_trans[a, 0] - p0, src_trans[a, 1] - p1, src_trans[a, 2] - p2)  # R_j^T d
-            offsets[k, 0], offsets[k, 1], offsets[k, 2] = o[0], o[1], o[2]
+            _store_lanes(measures, k, 0, _add(_load_lanes(measures, k, 0), o))
+            _store_lanes(measures, k, 1, _lane_min(_load_lanes(measures, k, 1), o))
+            _store_lanes(measures, k, 2, _lane_max(_load_lanes(measures, k, 2), o))
             if static[k, 0] == static[k, 0]:  # the static offset the caller expects (not NaN)
                 trans[a, 0], trans[a, 1], trans[a, 2] = static[k, 0], static[k, 1], static[k, 2]
             else:
@@ -214,7 +236,7 @@ def _run_steps(src_rot, src_trans, rot, trans, steps, lists, offsets, static):  
 @numba.njit(nogil=True, cache=True, boundscheck=False)
 def run_program(
     rotations, translations, rows, rows_t, steps, lists, kept, copied, start, stop, block, sums, lows, highs,
-    out_rotations, out_translations, out_rows, out_rows_t, rot, trans, offsets, static,
+    out_rotations, out_translations, out_rows, out_rows_t, rot, trans, measures, static,
 ):  # pragma: no cover - compiled  # fmt: skip
     """Frames start..stop-1 of the edited motion.
 
@@ -228,14 +250,16 @@ def run_program(
     split or join writes the whole of its joint), so that each number is written once.
     Each join's offsets are summed per block of ``block`` frames (counted from frame 0, in
     frame order) into ``sums`` (n_blocks, n_joins, 3), their minimum and maximum into
-    ``lows`` and ``highs`` (the same shape, starting at +inf and -inf). offsets: scratch
-    (max(n_joins, 1), 3); static: the same shape, each join's expected static offset or
-    NaN (see :func:`_run_steps`)."""
+    ``lows`` and ``highs`` (the same shape, starting at +inf and -inf), through the scratch
+    ``measures`` (max(n_joins, 1), 3, 4) that keeps them on 4 lanes within a block
+    (:func:`_fold`; the same numbers, summed in the same order). static: (max(n_joins, 1),
+    3) each join's expected static offset or NaN (see :func:`_run_steps`)."""
     n_joins = sums.shape[1]
     in_place = kept.shape[0] == 0
     whole = copied.shape[0] == 1 and copied[0, 0] == 0 and copied[0, 1] * 9 == rows.shape[1]
     row = rot.reshape(rot.size)
     row_t = trans.reshape(trans.size)
+    _fold(measures, sums, lows, highs, -1)
     for f in range(start, stop):
         if in_place and whole:  # one loop over the row: the copy runs at its best
             for i in range(rows.shape[1]):
@@ -251,21 +275,16 @@ def run_program(
                     target_t[i] = source_t[i]
         if in_place:
             edited_rot, edited_trans = out_rotations[f], out_translations[f]
-            _run_steps(rotations[f], translations[f], edited_rot, edited_trans, steps, lists, offsets, static)
+            _run_steps(rotations[f], translations[f], edited_rot, edited_trans, steps, lists, measures, static)
         else:
             for i in range(rows.shape[1]):
                 row[i] = rows[f, i]
             for i in range(rows_t.shape[1]):
                 row_t[i] = rows_t[f, i]
-            _run_steps(rotations[f], translations[f], rot, trans, steps, lists, offsets, static)
+            _run_steps(rotations[f], translations[f], rot, trans, steps, lists, measures, static)
             for n in range(kept.shape[0]):
                 _store(out_rotations[f, n], _load(rot[kept[n]]))
                 for x in range(3):
                     out_translations[f, n, x] = trans[kept[n], x]
-        b = f // block
-        for k in range(n_joins):
-            for x in range(3):
-                value = offsets[k, x]
-                sums[b, k, x] += value
-                lows[b, k, x] = min(lows[b, k, x], value)
-                highs[b, k, x] = max(highs[b, k, x], value)
+        if n_joins and ((f + 1) % block == 0 or f + 1 == stop):
+            _fold(measures, sums, lows, highs, f // block)

@@ -174,7 +174,7 @@ def run(
             rotations, translations, rotations.reshape(n_frames, -1), translations.reshape(n_frames, -1), steps, lists,
             kept, copied, frames.start, frames.stop, MEASURE_BLOCK_FRAMES, sums, lows, highs, out_rotations,
             out_translations, out_rows, out_rows_t, np.empty((n_joints, 3, 3)), np.empty((n_joints, 3)),
-            np.empty((max(program.joins, 1), 3)), expected,
+            np.empty((max(program.joins, 1), 3, 4)), expected,
         )  # fmt: skip
 
     if n_frames:

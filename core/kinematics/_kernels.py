@@ -129,6 +129,31 @@ def _add(typingctx, a, b):  # pragma: no cover - compile time
 
 
 @intrinsic
+def _lane_min(typingctx, a, b):  # pragma: no cover - compile time
+    """The lesser of a and b lane by lane (4-lane tuples): b where b < a, else a (as
+    ``min(a, b)`` of numbers)."""
+
+    def codegen(context, builder, signature, args):
+        first, second = _as_vector(builder, args[0]), _as_vector(builder, args[1])
+        less = builder.fcmp_ordered("<", second, first)
+        return _as_quad(context, builder, builder.select(less, second, first))
+
+    return _QUAD(_QUAD, _QUAD), codegen
+
+
+@intrinsic
+def _lane_max(typingctx, a, b):  # pragma: no cover - compile time
+    """The greater of a and b lane by lane (4-lane tuples): b where b > a, else a."""
+
+    def codegen(context, builder, signature, args):
+        first, second = _as_vector(builder, args[0]), _as_vector(builder, args[1])
+        more = builder.fcmp_ordered(">", second, first)
+        return _as_quad(context, builder, builder.select(more, second, first))
+
+    return _QUAD(_QUAD, _QUAD), codegen
+
+
+@intrinsic
 def _store_rows(typingctx, world, j, n0, n1, n2):  # pragma: no cover - compile time
     """world[j] (3, 3) = the matrix of columns n0, n1, n2: its 9 numbers as two 4-lane
     stores and one scalar (world: C-contiguous (J, 3, 3))."""
