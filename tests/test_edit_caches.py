@@ -20,7 +20,7 @@ from gmr_studio.app.model import commands
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.core.demo import demo_motion
 from gmr_studio.core.edits.clip import resample_edit, trim_edit
-from gmr_studio.core.edits.mirror import mirror_edit
+from gmr_studio.core.edits.mirror import mirror_edit, mirror_pairs
 from gmr_studio.core.edits.world import change_up_axis_edit, scale_lengths_edit
 from gmr_studio.core.formats import load_gmr
 from gmr_studio.core.kinematics import engine
@@ -105,6 +105,20 @@ def test_threads_turn_the_same_bits(rng):
     turn = every_signed_permutation()[11]
     one = engine.turned_joints(matrices, [1, 0], turn=turn, threads=1)
     np.testing.assert_array_equal(engine.turned_joints(matrices, [1, 0], turn=turn, threads=2), one)
+
+
+@pytest.mark.skipif(not engine.have_numba(), reason="numba is not installed")
+def test_the_compiled_turn_of_a_real_files_swapped_sides_gives_the_numpy_references_numbers():
+    motion = load_gmr(shared_path("cmu/subject01/01_01.bvh")).frame_slice(slice(0, 50))
+    partners = mirror_pairs(motion).partner
+    assert not np.array_equal(partners, np.arange(motion.n_joints))
+    reflection = np.diag([-1.0, 1.0, 1.0])
+    shift = np.where((motion.parents < 0)[:, None], [0.7, 0.0, 0.0], 0.0)
+    for array, extra in ((motion.rotations, {}), (motion.translations, {"shift": shift})):
+        for rows in (None, (10, 40)):
+            reference = engine.turned_joints(array, partners, rows=rows, turn=reflection, backend="numpy", **extra)
+            compiled = engine.turned_joints(array, partners, rows=rows, turn=reflection, backend="numba", **extra)
+            np.testing.assert_array_equal(compiled, reference)
 
 
 def edits_of(motion: Motion) -> dict[str, object]:

@@ -25,11 +25,12 @@ from gmr_studio.core.edits.operations import (
     split_all_edit,
     split_edit,
 )
+from gmr_studio.core.formats import load_gmr
 from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.kinematics.engine import MIN_FRAMES_PER_THREAD
 from gmr_studio.core.kinematics.fk import forward_kinematics
 from gmr_studio.core.model.motion import Motion
-from tests.conftest import random_motion
+from tests.conftest import random_motion, shared_path
 
 pytestmark = pytest.mark.skipif(not frame_programs.available(), reason="numba is not installed")
 SETTINGS = settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -150,6 +151,65 @@ def test_remove_dummies_agrees_with_the_numpy_path_in_either_convention(data):
         assert compiled.frames is None  # a BVH motion's world rotations are not GMR's
         with pytest.raises(ValueError, match="forward kinematics"):
             compiled.kinematics(*forward_kinematics(pre_from_post(motion)))
+
+
+def split_and_moved(rng: np.random.Generator, moved: np.ndarray) -> Motion:
+    """A random motion split at joint 2, whose root then moves by ``moved`` (F, 3) in the
+    world, frame by frame, away from where the split left it."""
+    cut = split(random_motion(rng, [-1, 0, 1, 2, 1], n_frames=len(moved)), 2)
+    translations = cut.translations.copy()
+    translations[:, 2] += moved
+    return cut.replace(translations=translations)
+
+
+def joins_of_joint_2(motion: Motion):
+    return (lambda m, b: join_edit(m, 2, backend=b), lambda m, b: join_all_edit(m, backend=b))
+
+
+def test_a_split_root_that_moved_on_its_own_joins_with_its_offset_in_every_frame(rng):
+    motion = split_and_moved(rng, rng.normal(scale=0.3, size=(6, 3)))
+    for operation in joins_of_joint_2(motion):
+        reference, compiled = both(operation, motion)
+        assert_same(reference.motion, compiled.motion)
+        assert compiled.motion.has_translation[2]
+        assert_carried(motion, compiled)
+
+
+def test_a_split_root_that_moved_rigidly_joins_with_its_new_offset(rng):
+    motion = split_and_moved(rng, np.zeros((6, 3)))
+    motion = motion.replace(link_offsets=motion.link_offsets + 0.2)  # the kept offset no longer fits
+    for operation in joins_of_joint_2(motion):
+        reference, compiled = both(operation, motion)
+        assert_same(reference.motion, compiled.motion)
+        assert not compiled.motion.has_translation[2]
+        assert np.abs(compiled.motion.offsets[2] - motion.link_offsets[2]).max() > 0.1
+        np.testing.assert_array_equal(compiled.motion.translations[:, 2], np.tile(compiled.motion.offsets[2], (6, 1)))
+        assert_carried(motion, compiled)
+
+
+def test_a_join_of_slightly_skewed_rotations_comes_out_orthonormal_as_in_the_numpy_path(rng):
+    cut = split(random_motion(rng, [-1, 0, 1, 2, 1], n_frames=5), 2)
+    noise = rng.normal(scale=1e-10, size=cut.rotations.shape)
+    skewed = cut.replace(rotations=cut.rotations + noise)  # rotations a file rounded to 10 digits
+    reference, compiled = both(lambda m, b: join_edit(m, 2, backend=b), skewed)
+    assert_same(reference.motion, compiled.motion)
+    rotations = compiled.motion.rotations[:, 2]
+    assert np.abs(np.einsum("fab,fac->fbc", rotations, rotations) - np.eye(3)).max() < 1e-13
+
+
+def test_split_all_then_join_all_of_a_real_file_agree_with_the_numpy_path_and_give_it_back():
+    motion = load_gmr(shared_path("cmu/subject01/01_01.bvh")).frame_slice(slice(0, 60))
+    everything = split_all_edit(motion).motion
+    reference, compiled = both(lambda m, b: join_all_edit(m, backend=b), everything)
+    assert_same(reference.motion, compiled.motion)
+    assert_carried(everything, compiled)
+    np.testing.assert_array_equal(compiled.motion.offsets, motion.offsets)
+    np.testing.assert_array_equal(compiled.motion.translations, motion.translations)
+    forearm = motion.joint_index("RightForeArm")
+    cut = split_edit(motion, forearm).motion
+    reference, compiled = both(lambda m, b: join_edit(m, forearm, backend=b), cut)
+    assert_same(reference.motion, compiled.motion)
+    np.testing.assert_array_equal(compiled.motion.translations, motion.translations)
 
 
 def test_threads_give_the_same_bits(rng):

@@ -8,14 +8,20 @@ A program is a list of steps (shift the root one bone, split, join, fold a dummy
 each row ``(kind, a, b, first, count, first2, count2, extra)`` of an int64 table, the
 lists of joints it names held in one int64 array (:class:`core.edits.frame_programs.FrameProgram`).
 
-Each frame is copied to the output as one row of numbers (copying joint by joint, or
+Each frame is copied to the output as rows of numbers (copying joint by joint, or
 through views reshaped frame by frame, was markedly slower than a copy), and every step
 then edits it there while it sits in the L1 cache. Split and join read the input's frame,
 never the edited one: the world transforms they need are the input's (every operation
-keeps them). 3x3 matrices are held as 9-tuples, in registers (through scratch arrays the
-Newton-Schulz steps ran at half the speed). Products are summed ``(a0 b0 + a1 b1) + a2 b2``
-as in the FK kernels (:mod:`core.kinematics._kernels`), and nothing is compiled with fast-math, so
-a split gives the FK engine's world transform of the joint bit for bit.
+keeps them). So a program of splits and joins alone copies only the joints no step
+writes, and every number of the output is written once; a join whose static offset the
+caller expects (the one its split kept) writes that offset and measures the per-frame one.
+
+3x3 matrices are held as 9-tuples, in registers (through scratch arrays the Newton-Schulz
+steps ran at half the speed); a join's products, the bulk of join all, are computed by rows
+of 4 lanes with the FK kernels' vector intrinsics (the same operations lane by lane).
+Products are summed ``(a0 b0 + a1 b1) + a2 b2`` as in the FK kernels
+(:mod:`core.kinematics._kernels`), and nothing is compiled with fast-math, so a split gives
+the FK engine's world transform of the joint bit for bit.
 
 Tried and dropped: eight frames at a time in vector lanes (structure-of-arrays scratches
 of the touched joints, frames last). LLVM unrolls lane loops of constant length into scalar
@@ -27,10 +33,13 @@ scalar code in registers.
 from __future__ import annotations
 
 import numba
+import numpy as np
 
+from gmr_studio.core.edits.frame_programs import JOIN, SPLIT, SWAP
+from gmr_studio.core.kinematics._kernels import _add, _combine, _lane_max, _lane_min
+from gmr_studio.core.kinematics._kernels import _load as _load_lanes
+from gmr_studio.core.kinematics._kernels import _store as _store_lanes
 from gmr_studio.core.rotations.euler import ORTHONORMAL_TOLERANCE
-
-SWAP, SPLIT, JOIN, FOLD = 0, 1, 2, 3
 
 
 @numba.njit(inline="always", boundscheck=False)
@@ -106,6 +115,35 @@ def _orthonormal(a):  # pragma: no cover - compiled
 
 
 @numba.njit(inline="always", boundscheck=False)
+def _rows(m):  # pragma: no cover - compiled
+    """The rows of a (3, 3) array as 4-lane tuples (the last lane 0)."""
+    return (m[0, 0], m[0, 1], m[0, 2], 0.0), (m[1, 0], m[1, 1], m[1, 2], 0.0), (m[2, 0], m[2, 1], m[2, 2], 0.0)
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _store_turned_back(target, world, r0, r1, r2):  # pragma: no cover - compiled
+    """target (3, 3) = ``_orthonormal(_mul(_transposed(world), R))`` for ``world`` a 9-tuple
+    and R given by its rows r0, r1, r2 (:func:`_rows`), computed on 4 lanes: row a of
+    ``W^T R`` is ``(W0a r0 + W1a r1) + W2a r2`` and row a of its Gram matrix ``P^T P`` is
+    ``(P0a p0 + P1a p1) + P2a p2``, lane by lane the scalar sums of :func:`_mul` and
+    :func:`_gram` (products commute exactly), so the same numbers."""
+    p0 = _combine(r0, r1, r2, world[0], world[3], world[6])
+    p1 = _combine(r0, r1, r2, world[1], world[4], world[7])
+    p2 = _combine(r0, r1, r2, world[2], world[5], world[8])
+    g0 = _combine(p0, p1, p2, p0[0], p1[0], p2[0])
+    g1 = _combine(p0, p1, p2, p0[1], p1[1], p2[1])
+    g2 = _combine(p0, p1, p2, p0[2], p1[2], p2[2])
+    diagonal = max(abs(g0[0] - 1.0), abs(g1[1] - 1.0))
+    off = max(diagonal, max(abs(g2[2] - 1.0), max(abs(g0[1]), max(abs(g0[2]), abs(g1[2])))))
+    if off <= ORTHONORMAL_TOLERANCE:
+        target[0, 0], target[0, 1], target[0, 2] = p0[0], p0[1], p0[2]
+        target[1, 0], target[1, 1], target[1, 2] = p1[0], p1[1], p1[2]
+        target[2, 0], target[2, 1], target[2, 2] = p2[0], p2[1], p2[2]
+    else:
+        _store(target, _orthonormal((p0[0], p0[1], p0[2], p1[0], p1[1], p1[2], p2[0], p2[1], p2[2])))
+
+
+@numba.njit(inline="always", boundscheck=False)
 def _walk(rot, trans, lists, first, count, last_is_leaf):  # pragma: no cover - compiled
     """World rotation (a 9-tuple) and position (p0, p1, p2) of the last joint of the root
     path ``lists[first:first + count]`` (pre-rotation), with the FK kernel's operations:
@@ -128,11 +166,29 @@ def _walk(rot, trans, lists, first, count, last_is_leaf):  # pragma: no cover - 
 
 
 @numba.njit(inline="always", boundscheck=False)
-def _run_steps(src_rot, src_trans, rot, trans, steps, lists, offsets):  # pragma: no cover - compiled
+def _fold(measures, sums, lows, highs, b):  # pragma: no cover - compiled
+    """Add the join offsets measured over frames of block ``b`` (``measures`` (n_joins, 3, 4):
+    per join the running sum, minimum and maximum on 4 lanes) into ``sums``, ``lows`` and
+    ``highs`` at ``b`` (none when negative), and start ``measures`` afresh."""
+    for k in range(measures.shape[0]):
+        for x in range(3):
+            if b >= 0 and k < sums.shape[1]:
+                sums[b, k, x] += measures[k, 0, x]
+                lows[b, k, x] = min(lows[b, k, x], measures[k, 1, x])
+                highs[b, k, x] = max(highs[b, k, x], measures[k, 2, x])
+        for x in range(4):
+            measures[k, 0, x] = 0.0
+            measures[k, 1, x] = np.inf
+            measures[k, 2, x] = -np.inf
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _run_steps(src_rot, src_trans, rot, trans, steps, lists, measures, static):  # pragma: no cover - compiled
     """Every step of the program on one frame: ``rot`` (J, 3, 3) and ``trans`` (J, 3)
     edited in place; ``src_*`` the input's frame (read by split and join). A join's
-    per-frame offset ``R_j^T (t_j - t_p)`` (its translation) also goes to ``offsets[k]``
-    (k its ``extra``)."""
+    per-frame offset ``R_j^T (t_j - t_p)`` is added into ``measures[k]`` (k its ``extra``;
+    see :func:`_fold`) and is its translation, unless ``static[k]`` is a number: the offset the caller expects the
+    joint to keep over all frames, written instead (NaN: none)."""
     for s in range(steps.shape[0]):
         kind = steps[s, 0]
         a = steps[s, 1]
@@ -159,12 +215,17 @@ def _run_steps(src_rot, src_trans, rot, trans, steps, lists, offsets):  # pragma
             trans[a, 0], trans[a, 1], trans[a, 2] = p0, p1, p2
         elif kind == JOIN:  # the root a goes back under the last joint of its path
             world, p0, p1, p2 = _walk(src_rot, src_trans, lists, steps[s, 3], steps[s, 4], False)
-            own = _transposed(_load(src_rot[a]))
+            r0, r1, r2 = _rows(src_rot[a])
             k = steps[s, 7]
-            o0, o1, o2 = _times(own, src_trans[a, 0] - p0, src_trans[a, 1] - p1, src_trans[a, 2] - p2)
-            offsets[k, 0], offsets[k, 1], offsets[k, 2] = o0, o1, o2
-            trans[a, 0], trans[a, 1], trans[a, 2] = o0, o1, o2
-            _store(rot[a], _orthonormal(_mul(_transposed(world), _load(src_rot[a]))))
+            o = _combine(r0, r1, r2, src_trans[a, 0] - p0, src_trans[a, 1] - p1, src_trans[a, 2] - p2)  # R_j^T d
+            _store_lanes(measures, k, 0, _add(_load_lanes(measures, k, 0), o))
+            _store_lanes(measures, k, 1, _lane_min(_load_lanes(measures, k, 1), o))
+            _store_lanes(measures, k, 2, _lane_max(_load_lanes(measures, k, 2), o))
+            if static[k, 0] == static[k, 0]:  # the static offset the caller expects (not NaN)
+                trans[a, 0], trans[a, 1], trans[a, 2] = static[k, 0], static[k, 1], static[k, 2]
+            else:
+                trans[a, 0], trans[a, 1], trans[a, 2] = o[0], o[1], o[2]
+            _store_turned_back(rot[a], world, r0, r1, r2)
         else:  # FOLD: the dummy a's rotation goes into each of its children
             dummy = _load(rot[a])
             for i in range(steps[s, 4]):
@@ -174,8 +235,8 @@ def _run_steps(src_rot, src_trans, rot, trans, steps, lists, offsets):  # pragma
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)
 def run_program(
-    rotations, translations, rows, rows_t, steps, lists, kept, start, stop, block, sums, lows, highs, out_rotations,
-    out_translations, out_rows, out_rows_t, rot, trans, offsets,
+    rotations, translations, rows, rows_t, steps, lists, kept, copied, start, stop, block, sums, lows, highs,
+    out_rotations, out_translations, out_rows, out_rows_t, rot, trans, measures, static,
 ):  # pragma: no cover - compiled  # fmt: skip
     """Frames start..stop-1 of the edited motion.
 
@@ -183,36 +244,47 @@ def run_program(
     rows (F, J * 9) and (F, J * 3); out_* likewise for the output (J' joints). ``kept``
     (J',): the output's joints, in order, when the program removes some (the frame is then
     edited in the scratch ``rot`` (J, 3, 3) and ``trans`` (J, 3) and its kept joints written
-    out); empty: all of them, the frame copied as one row of numbers and edited in place in
-    the output. Each join's offsets are summed per block of ``block`` frames (counted from
-    frame 0, in frame order) into ``sums`` (n_blocks, n_joins, 3), their minimum and maximum
-    into ``lows`` and ``highs`` (the same shape, starting at +inf and -inf). offsets: scratch
-    (max(n_joins, 1), 3)."""
+    out); empty: all of them, edited in place in the output after the joints of ``copied``
+    (C, 2), ranges [first, stop) of joints, are copied there as rows of numbers: every joint
+    when a step reads the edited frame (swap, fold), else only those no step writes (a
+    split or join writes the whole of its joint), so that each number is written once.
+    Each join's offsets are summed per block of ``block`` frames (counted from frame 0, in
+    frame order) into ``sums`` (n_blocks, n_joins, 3), their minimum and maximum into
+    ``lows`` and ``highs`` (the same shape, starting at +inf and -inf), through the scratch
+    ``measures`` (max(n_joins, 1), 3, 4) that keeps them on 4 lanes within a block
+    (:func:`_fold`; the same numbers, summed in the same order). static: (max(n_joins, 1),
+    3) each join's expected static offset or NaN (see :func:`_run_steps`)."""
     n_joins = sums.shape[1]
     in_place = kept.shape[0] == 0
+    whole = copied.shape[0] == 1 and copied[0, 0] == 0 and copied[0, 1] * 9 == rows.shape[1]
     row = rot.reshape(rot.size)
     row_t = trans.reshape(trans.size)
+    _fold(measures, sums, lows, highs, -1)
     for f in range(start, stop):
-        if in_place:
+        if in_place and whole:  # one loop over the row: the copy runs at its best
             for i in range(rows.shape[1]):
                 out_rows[f, i] = rows[f, i]
             for i in range(rows_t.shape[1]):
                 out_rows_t[f, i] = rows_t[f, i]
-            _run_steps(rotations[f], translations[f], out_rotations[f], out_translations[f], steps, lists, offsets)
+        elif in_place:
+            source, target, source_t, target_t = rows[f], out_rows[f], rows_t[f], out_rows_t[f]
+            for c in range(copied.shape[0]):
+                for i in range(copied[c, 0] * 9, copied[c, 1] * 9):
+                    target[i] = source[i]
+                for i in range(copied[c, 0] * 3, copied[c, 1] * 3):
+                    target_t[i] = source_t[i]
+        if in_place:
+            edited_rot, edited_trans = out_rotations[f], out_translations[f]
+            _run_steps(rotations[f], translations[f], edited_rot, edited_trans, steps, lists, measures, static)
         else:
             for i in range(rows.shape[1]):
                 row[i] = rows[f, i]
             for i in range(rows_t.shape[1]):
                 row_t[i] = rows_t[f, i]
-            _run_steps(rotations[f], translations[f], rot, trans, steps, lists, offsets)
+            _run_steps(rotations[f], translations[f], rot, trans, steps, lists, measures, static)
             for n in range(kept.shape[0]):
                 _store(out_rotations[f, n], _load(rot[kept[n]]))
                 for x in range(3):
                     out_translations[f, n, x] = trans[kept[n], x]
-        b = f // block
-        for k in range(n_joins):
-            for x in range(3):
-                value = offsets[k, x]
-                sums[b, k, x] += value
-                lows[b, k, x] = min(lows[b, k, x], value)
-                highs[b, k, x] = max(highs[b, k, x], value)
+        if n_joins and ((f + 1) % block == 0 or f + 1 == stop):
+            _fold(measures, sums, lows, highs, f // block)

@@ -40,6 +40,10 @@ from gmr_studio.core.compiled import chosen_kernels, optional_kernels
 from gmr_studio.core.kinematics.engine import in_blocks
 from gmr_studio.core.model.motion import Motion
 
+#: the kinds of step (the first number of a row of :meth:`FrameProgram.tables`; the kernels
+#: import them from here)
+SWAP, SPLIT, JOIN, FOLD = 0, 1, 2, 3
+
 _kernels = optional_kernels("gmr_studio.core.edits._kernels")
 
 #: frames whose join offsets are summed together before the blocks are added up (in a
@@ -73,26 +77,38 @@ class FrameProgram:
 
     def swap(self, old_root: int, new_root: int, others, kids) -> None:
         """``others``: the other children of ``old_root``; ``kids``: those of ``new_root``."""
-        self.steps.append((0, old_root, new_root, *self._list(others), *self._list(kids), 0))
+        self.steps.append((SWAP, old_root, new_root, *self._list(others), *self._list(kids), 0))
 
     def split(self, joint: int, path: list[int], leaf: bool) -> None:
         """``path`` from the root down to ``joint`` in the input's forest; ``leaf``: it has
         no children (the FK engine then computes its position as ``P_p + W_p (R_j t_j)``)."""
-        self.steps.append((1, joint, path[-1], *self._list(path), 0, 0, int(leaf)))
+        self.steps.append((SPLIT, joint, path[-1], *self._list(path), 0, 0, int(leaf)))
 
     def join(self, joint: int, path: list[int]) -> int:
         """``path`` from its root down to the new parent, in the input's forest; returns
         the join's index."""
-        self.steps.append((2, joint, path[-1], *self._list(path), 0, 0, self.joins))
+        self.steps.append((JOIN, joint, path[-1], *self._list(path), 0, 0, self.joins))
         self.joins += 1
         return self.joins - 1
 
     def fold(self, dummy: int, children) -> None:
-        self.steps.append((3, dummy, -1, *self._list(children), 0, 0, 0))
+        self.steps.append((FOLD, dummy, -1, *self._list(children), 0, 0, 0))
 
     def tables(self) -> tuple[np.ndarray, np.ndarray]:
         """The steps (S, 8) and the lists of joints as int64 arrays, for the kernel."""
         return np.array(self.steps, dtype=np.int64).reshape(-1, 8), np.array(self.lists, dtype=np.int64)
+
+    def copied(self, n_joints: int) -> np.ndarray:
+        """(C, 2) int64 ranges [first, stop) of the joints the kernel copies into the edited
+        frame before the steps: all of them when a step reads the edited frame (swap, fold),
+        else those no split or join writes (each writes the whole of its joint)."""
+        if any(step[0] not in (SPLIT, JOIN) for step in self.steps):
+            return np.array([[0, n_joints]], dtype=np.int64)
+        kept = np.ones(n_joints + 2, bool)  # a False on either side closes every range
+        kept[[0, -1]] = False
+        kept[[step[1] + 1 for step in self.steps]] = False
+        edges = np.flatnonzero(np.diff(kept.astype(np.int8)))
+        return edges.reshape(-1, 2).astype(np.int64)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -115,17 +131,25 @@ class JoinOffsets:
 
 
 def run(
-    motion: Motion, program: FrameProgram, *, kept: np.ndarray | None = None, threads: int | None = 1
+    motion: Motion,
+    program: FrameProgram,
+    *,
+    kept: np.ndarray | None = None,
+    static: np.ndarray | None = None,
+    threads: int | None = 1,
 ) -> tuple[np.ndarray, np.ndarray, JoinOffsets]:
     """The edited rotations (F, J', 3, 3) and translations (F, J', 3) of every frame, and
     what the program's joins measured.
 
     kept : (J',) the joints written, in that order (None: all).
+    static : (n_joins, 3) the offset each join is expected to keep over all frames, written
+        as its translation in every frame, or a row of NaN (None: all NaN).
     threads : blocks of frames edited at once (None: one per core); the result does not
         depend on it.
 
-    A join's translation is its per-frame offset: where the caller finds the joint rigid,
-    it writes the static offset over it (:func:`set_static`).
+    A join without a static offset gets its per-frame offset as its translation: where the
+    caller finds the joint rigid, it writes the static offset over it (:func:`set_static`);
+    one with a static offset that turns out not rigid needs the pass again without it.
     """
     steps, lists = program.tables()
     rotations = np.ascontiguousarray(motion.rotations)
@@ -133,19 +157,24 @@ def run(
     n_frames, n_joints = motion.n_frames, motion.n_joints
     kept = np.zeros(0, np.int64) if kept is None else np.asarray(kept, dtype=np.int64)
     width = kept.size or n_joints
+    copied = program.copied(n_joints)
+    expected = np.full((max(program.joins, 1), 3), np.nan)
+    if static is not None and program.joins:
+        expected[:] = static
     blocks = max(1, -(-n_frames // MEASURE_BLOCK_FRAMES))
     sums = np.zeros((blocks, program.joins, 3))
     lows = np.full((blocks, program.joins, 3), np.inf)
     highs = np.full((blocks, program.joins, 3), -np.inf)
     out_rotations = np.empty((n_frames, width, 3, 3))
     out_translations = np.empty((n_frames, width, 3))
+    out_rows, out_rows_t = out_rotations.reshape(n_frames, -1), out_translations.reshape(n_frames, -1)
 
     def work(frames: slice) -> None:
         _kernels.run_program(
             rotations, translations, rotations.reshape(n_frames, -1), translations.reshape(n_frames, -1), steps, lists,
-            kept, frames.start, frames.stop, MEASURE_BLOCK_FRAMES, sums, lows, highs, out_rotations, out_translations,
-            out_rotations.reshape(n_frames, -1), out_translations.reshape(n_frames, -1), np.empty((n_joints, 3, 3)),
-            np.empty((n_joints, 3)), np.empty((max(program.joins, 1), 3)),
+            kept, copied, frames.start, frames.stop, MEASURE_BLOCK_FRAMES, sums, lows, highs, out_rotations,
+            out_translations, out_rows, out_rows_t, np.empty((n_joints, 3, 3)), np.empty((n_joints, 3)),
+            np.empty((max(program.joins, 1), 3, 4)), expected,
         )  # fmt: skip
 
     if n_frames:

@@ -239,44 +239,42 @@ def join_edit(
     j = motion.joint_index(joint)
     target = _check_join(motion, j)
     kept = motion.link_offsets[j]
+    soft = motion.soft_parents.copy()
+    soft[j] = -1
     edited = (None, None)
     if motion.n_frames and frame_programs.use_kernel(backend):
         program = FrameProgram()
         program.join(j, motion.path_from_root(target))
-        new_rotations, new_translations, measured = frame_programs.run(motion, program, threads=threads)
+        new_rotations, new_translations, means, rigid = _joined_in_one_pass(motion, program, [j], tolerance, threads)
         edited = (new_rotations, new_translations)
-        rotation, offset_per_frame = new_rotations[:, j], new_translations[:, j]
-        mean, spread = measured.mean[0], measured.spread[0]
-    elif motion.n_frames:
-        parent_rotation, parent_position = joint_world_transform(motion, target)
-        own_rotation = motion.rotations[:, j]
-        own_position = motion.translations[:, j]
-        rotation = orthonormalize(_transposed(parent_rotation) @ own_rotation)
-        offset_per_frame = np.einsum("fba,fb->fa", own_rotation, own_position - parent_position)
-        mean = offset_per_frame.mean(axis=0)
-        spread = np.abs(offset_per_frame - mean).max()
-    if motion.n_frames:
-        if np.abs(mean - kept).max() <= tolerance * motion.size:  # False when kept is NaN
-            mean = kept.copy()
-    elif np.isfinite(kept).all():
-        mean, spread = kept.copy(), 0.0
+        rotation, translation, mean, rigid = new_rotations[:, j], new_translations[:, j], means[0], bool(rigid[0])
     else:
-        rest = rest_world_positions(motion)
-        mean, spread = rest[j] - rest[target], 0.0
-    rigid = spread <= tolerance * motion.size
-    if not motion.n_frames:
-        rotation, offset_per_frame = motion.rotations[:, j], np.zeros((0, 3))
-    elif edited[1] is not None and rigid:
-        frame_programs.set_static(edited[1], [j], mean[None])
-    soft = motion.soft_parents.copy()
-    soft[j] = -1
+        if motion.n_frames:
+            parent_rotation, parent_position = joint_world_transform(motion, target)
+            own_rotation = motion.rotations[:, j]
+            own_position = motion.translations[:, j]
+            rotation = orthonormalize(_transposed(parent_rotation) @ own_rotation)
+            offset_per_frame = np.einsum("fba,fb->fa", own_rotation, own_position - parent_position)
+            mean = offset_per_frame.mean(axis=0)
+            spread = np.abs(offset_per_frame - mean).max()
+            if np.abs(mean - kept).max() <= tolerance * motion.size:  # False when kept is NaN
+                mean = kept.copy()
+        elif np.isfinite(kept).all():
+            rotation, offset_per_frame = motion.rotations[:, j], np.zeros((0, 3))
+            mean, spread = kept.copy(), 0.0
+        else:
+            rest = rest_world_positions(motion)
+            rotation, offset_per_frame = motion.rotations[:, j], np.zeros((0, 3))
+            mean, spread = rest[j] - rest[target], 0.0
+        rigid = spread <= tolerance * motion.size
+        translation = np.broadcast_to(mean, offset_per_frame.shape) if rigid else offset_per_frame
     return Edited.same_joints(
         with_joint_data(
             motion,
             j,
             parent=target,
             rotation=rotation,
-            translation=np.broadcast_to(mean, offset_per_frame.shape) if rigid else offset_per_frame,
+            translation=translation,
             offset=mean,
             has_translation=not rigid,
             soft_parents=soft,
@@ -472,21 +470,15 @@ def _joins_only(motion: Motion) -> list[tuple[int, int]] | None:
 
 
 def _joined_at_once(motion: Motion, joins: list[tuple[int, int]], tolerance: float, threads: int | None) -> Edited:
-    """:func:`join_all` of ``joins`` as one program, one pass over the frames; the rigid
-    joins' static offsets are written over their per-frame ones afterwards."""
+    """:func:`join_all` of ``joins`` as one program, one pass over the frames
+    (:func:`_joined_in_one_pass`)."""
     parents = motion.parents.copy()
     program = FrameProgram()
     for j, target in joins:
         program.join(j, motion.path_from_root(target))  # the input's world transforms: joins keep them
         parents[j] = target
-    rotations, translations, measured = frame_programs.run(motion, program, threads=threads)
-    limit = tolerance * motion.size
     joined = [j for j, _ in joins]
-    means = measured.mean.copy()
-    restored = np.abs(means - motion.link_offsets[joined]).max(axis=1) <= limit  # False where NaN
-    means[restored] = motion.link_offsets[joined][restored]
-    rigid = measured.spread <= limit
-    frame_programs.set_static(translations, np.asarray(joined)[rigid], means[rigid])
+    rotations, translations, means, rigid = _joined_in_one_pass(motion, program, joined, tolerance, threads)
     offsets = motion.offsets.copy()
     offsets[joined] = means
     flags = motion.has_translation.copy()
@@ -502,3 +494,35 @@ def _joined_at_once(motion: Motion, joins: list[tuple[int, int]], tolerance: flo
         translations=translations,
     )
     return Edited.same_joints(result)
+
+
+def _joined_in_one_pass(
+    motion: Motion, program: FrameProgram, joined: list[int], tolerance: float, threads: int | None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The compiled pass of a ``program`` of joins of the joints ``joined`` (K,), in its
+    order: the new rotations (F, J, 3, 3) and translations (F, J, 3), and each joint's
+    offset (K, 3) and whether it is rigid (K,) bool.
+
+    A joint whose offset under its new parent varies by at most ``tolerance`` times the
+    size over the frames is rigid: its translation in every frame is its static offset, the
+    offset its split kept (``link_offsets``) where the mean agrees with it to that
+    tolerance (restored bit for bit), else the mean. A kept offset is written in the pass
+    itself (joining what a split cut restores it); should such a joint prove not rigid, the
+    pass runs again to write its per-frame offsets. Others are written over afterwards
+    (:func:`core.edits.frame_programs.set_static`)."""
+    joined = np.asarray(joined, dtype=np.int64)
+    kept = motion.link_offsets[joined]
+    expected = np.isfinite(kept).all(axis=1)
+    static = np.where(expected[:, None], kept, np.nan)
+    rotations, translations, measured = frame_programs.run(motion, program, static=static, threads=threads)
+    limit = tolerance * motion.size
+    means = measured.mean.copy()
+    restored = np.abs(means - kept).max(axis=1) <= limit  # False where NaN
+    means[restored] = kept[restored]
+    rigid = measured.spread <= limit
+    if np.any(expected & ~rigid):
+        rotations, translations, _ = frame_programs.run(motion, program, threads=threads)
+        expected[:] = False
+    over = rigid & ~(expected & restored)
+    frame_programs.set_static(translations, joined[over], means[over])
+    return rotations, translations, means, rigid

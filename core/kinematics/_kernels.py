@@ -1,4 +1,5 @@
-"""Compiled forward-kinematics kernels (numba); imported by :mod:`core.kinematics.engine` only.
+"""Compiled forward-kinematics kernels (numba); imported by :mod:`core.kinematics.engine`, and
+their vector intrinsics by the edits' kernels (:mod:`core.edits._kernels`).
 
 Importing this module raises ImportError when numba is not installed; the engine then
 uses its numpy backend, which performs the same operations in the same order.
@@ -123,6 +124,31 @@ def _add(typingctx, a, b):  # pragma: no cover - compile time
 
     def codegen(context, builder, signature, args):
         return _as_quad(context, builder, builder.fadd(_as_vector(builder, args[0]), _as_vector(builder, args[1])))
+
+    return _QUAD(_QUAD, _QUAD), codegen
+
+
+@intrinsic
+def _lane_min(typingctx, a, b):  # pragma: no cover - compile time
+    """The lesser of a and b lane by lane (4-lane tuples): b where b < a, else a (as
+    ``min(a, b)`` of numbers)."""
+
+    def codegen(context, builder, signature, args):
+        first, second = _as_vector(builder, args[0]), _as_vector(builder, args[1])
+        less = builder.fcmp_ordered("<", second, first)
+        return _as_quad(context, builder, builder.select(less, second, first))
+
+    return _QUAD(_QUAD, _QUAD), codegen
+
+
+@intrinsic
+def _lane_max(typingctx, a, b):  # pragma: no cover - compile time
+    """The greater of a and b lane by lane (4-lane tuples): b where b > a, else a."""
+
+    def codegen(context, builder, signature, args):
+        first, second = _as_vector(builder, args[0]), _as_vector(builder, args[1])
+        more = builder.fcmp_ordered(">", second, first)
+        return _as_quad(context, builder, builder.select(more, second, first))
 
     return _QUAD(_QUAD, _QUAD), codegen
 
@@ -388,12 +414,20 @@ def gather_joints(rows, joints, width, start, stop, out):  # pragma: no cover - 
 
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)
-def signed_gather(rows, first, index, factor, scale, shift, start, stop, out):  # pragma: no cover - compiled
-    """out[f, i] = (factor[i] * rows[first + f, index[i]]) * scale + shift[i] for frames
-    start..stop-1 of ``out`` (F', W'): every output number one input number of its frame's
-    row, signed, scaled and shifted (the axes of each joint's vector or matrix permuted)."""
+def signed_gather(rows, first, index, place, factor, scale, shift, start, stop, out):  # pragma: no cover - compiled
+    """out[f, place[i]] = (factor[i] * rows[first + f, index[i]]) * scale + shift[i] for
+    frames start..stop-1 of ``out`` (F', W'), or out[f, i] when ``place`` is empty: every
+    output number one input number of its frame's row, signed, scaled and shifted (the axes
+    of each joint's vector or matrix permuted). With the entries listed in the order of the
+    input's joints, each frame's row is read in memory order and the writes jump instead:
+    reading joints out of order is what the hardware prefetchers do not follow."""
+    in_order = place.shape[0] == 0
     for f in range(start, stop):
         source = rows[first + f]
         target = out[f]
-        for i in range(index.shape[0]):
-            target[i] = (factor[i] * source[index[i]]) * scale + shift[i]
+        if in_order:
+            for i in range(index.shape[0]):
+                target[i] = (factor[i] * source[index[i]]) * scale + shift[i]
+        else:
+            for i in range(index.shape[0]):
+                target[place[i]] = (factor[i] * source[index[i]]) * scale + shift[i]

@@ -295,7 +295,8 @@ def turned_joints(
     compiled kernel makes it in one pass over the frames (on ``threads``, None: one per core),
     with exactly the operations and results of the numpy path (``backend``: as for
     :func:`forward_kinematics`): ``turn @`` picks and signs entries, so the only rounding is
-    the scale's product and the shift's sum.
+    the scale's product and the shift's sum. It reads each frame's joints in memory order
+    and writes them where they go (a mirror's swapped sides, a new root's path).
     """
     first, stop = (0, array.shape[0]) if rows is None else (int(rows[0]), int(rows[1]))
     every = np.arange(array.shape[1])
@@ -320,13 +321,29 @@ def turned_joints(
         index = (3 * joints[:, None] + axes).ravel()
         factor = np.tile(signs, joints.size)
         flat_shift = np.ascontiguousarray(shift, dtype=np.float64).ravel()
+    place = _read_order(joints, index.size // joints.size)
+    if place.size:
+        index, factor, flat_shift = index[place], factor[place], flat_shift[place]
     rows, out_rows, scale = source.reshape(source.shape[0], -1), out.reshape(n_frames, -1), float(scale)
 
     def block(frames: slice) -> None:
-        _kernels.signed_gather(rows, first, index, factor, scale, flat_shift, frames.start, frames.stop, out_rows)
+        _kernels.signed_gather(
+            rows, first, index, place, factor, scale, flat_shift, frames.start, frames.stop, out_rows
+        )
 
     in_blocks(block, n_frames, threads)
     return out
+
+
+def _read_order(joints: np.ndarray, width: int) -> np.ndarray:
+    """(len(joints) * width,) int64: the output entries of ``joints`` (J',), ``width``
+    numbers each, listed by increasing input joint (in output order within a joint and
+    among repeats), so that a kernel reads each frame in memory order; empty when that is
+    the output order already."""
+    by_input = np.argsort(joints, kind="stable")
+    if np.array_equal(by_input, np.arange(joints.size)):
+        return np.zeros(0, np.int64)
+    return (width * by_input[:, None] + np.arange(width)).ravel().astype(np.int64)
 
 
 def _turned_numpy(
