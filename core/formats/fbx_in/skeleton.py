@@ -15,8 +15,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from gmr_studio.core.compiled import Backend
 from gmr_studio.core.edits.world import scale_lengths, turned_world
-from gmr_studio.core.formats.fbx_in.poses import node_poses
+from gmr_studio.core.formats.fbx_in.compiled_pose import compiled_skeleton
+from gmr_studio.core.formats.fbx_in.poses import channel_arrays, node_poses
 from gmr_studio.core.formats.fbx_in.worker import EULER_ORDERS
 from gmr_studio.core.formats.gltf_in.pose import NodePose, skeleton_pose
 from gmr_studio.core.formats.gltf_in.reader import bind_note, scale_notes, valid_joint_names
@@ -71,13 +73,19 @@ def file_facts(unit_meters: float, axes: list[int]) -> tuple[float, np.ndarray, 
     return factor, turn, FileFacts(unit=unit, up_axis=up), lines
 
 
-def motion_from_nodes(meta: dict, arrays: dict[str, np.ndarray]) -> Motion:
-    """The motion of the worker's output: ``meta`` (its JSON) and the arrays it names."""
+def motion_from_nodes(meta: dict, arrays: dict[str, np.ndarray], *, backend: Backend = "auto") -> Motion:
+    """The motion of the worker's output: ``meta`` (its JSON) and the arrays it names; the
+    skeleton composed in compiled code or by numpy (``backend``, :mod:`.compiled_pose`)."""
     joints, above = list(meta["joints"]), list(meta["above"])
     parents = np.asarray(meta["parents"], dtype=np.int64)
     n_frames = int(meta["frames"])
-    poses, block = node_poses(meta, arrays)
-    rotations, translations, moving = skeleton_pose(poses, parents, joints, n_frames, block)
+    arrays = channel_arrays(meta, arrays)
+    composed = compiled_skeleton(meta, arrays, parents, backend)
+    if composed is not None:
+        poses, rotations, translations, moving = composed
+    else:
+        poses, block = node_poses(meta, arrays)
+        rotations, translations, moving = skeleton_pose(poses, parents, joints, n_frames, block)
     offsets = translations[0].copy()
     index = {node: j for j, node in enumerate(joints)}
     motion_parents = np.array([index.get(int(parents[node]), -1) for node in joints], dtype=np.int64)
