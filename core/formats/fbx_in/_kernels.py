@@ -10,17 +10,53 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+#: frames whose translations and scales are gathered at a time (into a buffer that stays in cache)
+TILE_FRAMES = 128
+
 
 @numba.njit(inline="always", boundscheck=False)
-def _value(planes, extra, rows, constants, j, k, f):  # pragma: no cover - compiled
-    """Component ``k`` of joint ``j`` at frame ``f``: a row of ``planes`` (rows[j, k] >= 0),
-    a row of ``extra`` (rows[j, k] = -2 - that row) or ``constants[j, k]`` (-1)."""
-    row = rows[j, k]
-    if row >= 0:
-        return planes[row, f]
-    if row == -1:
-        return constants[j, k]
-    return extra[-2 - row, f]
+def _gather(planes, extra, rows, constants, first, stop, values):  # pragma: no cover - compiled
+    """values[f - first, j, k] for frames first..stop-1: component ``k`` of joint ``j``, a
+    row of ``planes`` (rows[j, k] >= 0), a row of ``extra`` (rows[j, k] = -2 - that row)
+    or ``constants[j, k]`` (-1); each row read along the frames."""
+    for j in range(rows.shape[0]):
+        for k in range(rows.shape[1]):
+            row = rows[j, k]
+            if row >= 0:
+                for f in range(first, stop):
+                    values[f - first, j, k] = planes[row, f]
+            elif row == -1:
+                for f in range(first, stop):
+                    values[f - first, j, k] = constants[j, k]
+            else:
+                for f in range(first, stop):
+                    values[f - first, j, k] = extra[-2 - row, f]
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _product(m, r):  # pragma: no cover - compiled
+    """``m @ r`` of two matrices given as 9-tuples by rows, summed ``(a0 b0 + a1 b1) + a2 b2``."""
+    return (
+        (m[0] * r[0] + m[1] * r[3]) + m[2] * r[6],
+        (m[0] * r[1] + m[1] * r[4]) + m[2] * r[7],
+        (m[0] * r[2] + m[1] * r[5]) + m[2] * r[8],
+        (m[3] * r[0] + m[4] * r[3]) + m[5] * r[6],
+        (m[3] * r[1] + m[4] * r[4]) + m[5] * r[7],
+        (m[3] * r[2] + m[4] * r[5]) + m[5] * r[8],
+        (m[6] * r[0] + m[7] * r[3]) + m[8] * r[6],
+        (m[6] * r[1] + m[7] * r[4]) + m[8] * r[7],
+        (m[6] * r[2] + m[7] * r[5]) + m[8] * r[8],
+    )
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _rows(array, j):  # pragma: no cover - compiled
+    """array[j] (3, 3) as a 9-tuple by rows."""
+    return (
+        array[j, 0, 0], array[j, 0, 1], array[j, 0, 2],
+        array[j, 1, 0], array[j, 1, 1], array[j, 1, 2],
+        array[j, 2, 0], array[j, 2, 1], array[j, 2, 2],
+    )  # fmt: skip
 
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)
@@ -51,69 +87,70 @@ def carried_translations(  # pragma: no cover - compiled
 
     rotations (F, J, 3, 3): the joints' local rotations; planes (C, F) and extra (E, F):
     rows of values over the frames; rows (J, 6) int64: where each joint's translation and
-    scale (x y z each) are (:func:`_value`), constants (J, 6); parents (J,) int64, every
+    scale (x y z each) are (:func:`_gather`), constants (J, 6); parents (J,) int64, every
     parent before its children (-1 for roots); inner (J,) bool: the joints with children
     (the others carry no scale on).
     spread and size (J,): the largest distance of each translation from ``first`` (J, 3)
     and its largest component, over these frames (NaN when a translation is NaN)."""
     n_joints = parents.shape[0]
     stretch = np.empty((n_joints, 3, 3))
-    carried = np.empty((3, 3))
-    product = np.empty((3, 3))
     for j in range(n_joints):
         spread[j] = 0.0
         size[j] = 0.0
-    for f in range(start, stop):
-        for j in range(n_joints):
-            t0 = _value(planes, extra, rows, constants, j, 0, f)
-            t1 = _value(planes, extra, rows, constants, j, 1, f)
-            t2 = _value(planes, extra, rows, constants, j, 2, f)
-            p = parents[j]
+    values = np.empty((TILE_FRAMES, n_joints, 6))
+    for tile in range(start, stop, TILE_FRAMES):
+        end = min(tile + TILE_FRAMES, stop)
+        _gather(planes, extra, rows, constants, tile, end, values)
+        for f in range(tile, end):
+            _frame(rotations[f], values[f - tile], parents, inner, turned, base_turn, base_place, base_stretch, stretch,
+                   first, translations[f], spread, size)  # fmt: skip
+
+
+@numba.njit(inline="always", boundscheck=False)
+def _frame(  # pragma: no cover - compiled
+    frame, values, parents, inner, turned, base_turn, base_place, base_stretch, stretch, first, out, spread, size
+):
+    """One frame of :func:`carried_translations`: ``values`` (J, 6) its translations and
+    scales, ``frame`` (J, 3, 3) its rotations (the turned roots' rewritten), ``out`` (J, 3)."""
+    for j in range(parents.shape[0]):
+        t0 = values[j, 0]
+        t1 = values[j, 1]
+        t2 = values[j, 2]
+        p = parents[j]
+        m = _rows(base_stretch, j) if p < 0 else _rows(stretch, p)
+        x0 = (m[0] * t0 + m[1] * t1) + m[2] * t2
+        x1 = (m[3] * t0 + m[4] * t1) + m[5] * t2
+        x2 = (m[6] * t0 + m[7] * t1) + m[8] * t2
+        if p < 0:
+            u = _rows(base_turn, j)
+            y0 = (u[0] * x0 + u[1] * x1) + u[2] * x2
+            y1 = (u[3] * x0 + u[4] * x1) + u[5] * x2
+            y2 = (u[6] * x0 + u[7] * x1) + u[8] * x2
+            x0 = base_place[j, 0] + y0
+            x1 = base_place[j, 1] + y1
+            x2 = base_place[j, 2] + y2
+        r = _rows(frame, j)
+        if inner[j]:  # R^T (M R) S
+            q = _product((r[0], r[3], r[6], r[1], r[4], r[7], r[2], r[5], r[8]), _product(m, r))
+            for b in range(3):
+                scale = values[j, 3 + b]
+                stretch[j, 0, b] = q[b] * scale
+                stretch[j, 1, b] = q[3 + b] * scale
+                stretch[j, 2, b] = q[6 + b] * scale
+        if p < 0 and turned[j]:  # U R
+            turn = _product(_rows(base_turn, j), r)
             for a in range(3):
                 for b in range(3):
-                    carried[a, b] = base_stretch[j, a, b] if p < 0 else stretch[p, a, b]
-            x0 = (carried[0, 0] * t0 + carried[0, 1] * t1) + carried[0, 2] * t2
-            x1 = (carried[1, 0] * t0 + carried[1, 1] * t1) + carried[1, 2] * t2
-            x2 = (carried[2, 0] * t0 + carried[2, 1] * t1) + carried[2, 2] * t2
-            if p < 0:
-                y0 = (base_turn[j, 0, 0] * x0 + base_turn[j, 0, 1] * x1) + base_turn[j, 0, 2] * x2
-                y1 = (base_turn[j, 1, 0] * x0 + base_turn[j, 1, 1] * x1) + base_turn[j, 1, 2] * x2
-                y2 = (base_turn[j, 2, 0] * x0 + base_turn[j, 2, 1] * x1) + base_turn[j, 2, 2] * x2
-                x0 = base_place[j, 0] + y0
-                x1 = base_place[j, 1] + y1
-                x2 = base_place[j, 2] + y2
-            if inner[j]:  # R^T (M R) S
-                for b in range(3):
-                    r0 = rotations[f, j, 0, b]
-                    r1 = rotations[f, j, 1, b]
-                    r2 = rotations[f, j, 2, b]
-                    for a in range(3):
-                        product[a, b] = (carried[a, 0] * r0 + carried[a, 1] * r1) + carried[a, 2] * r2
-                for a in range(3):
-                    r0 = rotations[f, j, 0, a]
-                    r1 = rotations[f, j, 1, a]
-                    r2 = rotations[f, j, 2, a]
-                    for b in range(3):
-                        scale = _value(planes, extra, rows, constants, j, 3 + b, f)
-                        stretch[j, a, b] = ((r0 * product[0, b] + r1 * product[1, b]) + r2 * product[2, b]) * scale
-            if p < 0 and turned[j]:  # U R, by columns
-                for b in range(3):
-                    r0 = rotations[f, j, 0, b]
-                    r1 = rotations[f, j, 1, b]
-                    r2 = rotations[f, j, 2, b]
-                    for a in range(3):
-                        rotations[f, j, a, b] = (base_turn[j, a, 0] * r0 + base_turn[j, a, 1] * r1) + base_turn[
-                            j, a, 2
-                        ] * r2
-            translations[f, j, 0] = x0
-            translations[f, j, 1] = x1
-            translations[f, j, 2] = x2
-            d0 = abs(x0 - first[j, 0])
-            d1 = abs(x1 - first[j, 1])
-            d2 = abs(x2 - first[j, 2])
-            if not (d0 == d0 and d1 == d1 and d2 == d2 and x0 == x0 and x1 == x1 and x2 == x2):
-                spread[j] = np.nan
-                size[j] = np.nan
-            elif spread[j] == spread[j]:
-                spread[j] = max(spread[j], max(d0, max(d1, d2)))
-                size[j] = max(size[j], max(abs(x0), max(abs(x1), abs(x2))))
+                    frame[j, a, b] = turn[3 * a + b]
+        out[j, 0] = x0
+        out[j, 1] = x1
+        out[j, 2] = x2
+        d0 = abs(x0 - first[j, 0])
+        d1 = abs(x1 - first[j, 1])
+        d2 = abs(x2 - first[j, 2])
+        if not (d0 == d0 and d1 == d1 and d2 == d2 and x0 == x0 and x1 == x1 and x2 == x2):
+            spread[j] = np.nan
+            size[j] = np.nan
+        elif spread[j] == spread[j]:
+            spread[j] = max(spread[j], max(d0, max(d1, d2)))
+            size[j] = max(size[j], max(abs(x0), max(abs(x1), abs(x2))))
