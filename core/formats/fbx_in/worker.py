@@ -325,13 +325,19 @@ def curves_of(value) -> list:
 _DOM_DTYPES = {3: "<i4", 4: "<i8", 5: "<f4", 6: "<f8"}
 
 
-def _dom_blob(dom, name: str) -> tuple[bytes, str] | None:
-    """The bytes and dtype of one of a curve's arrays in the file (``KeyTime``...)."""
+def _dom_blob(dom, name: str) -> tuple[bytes | memoryview, str] | None:
+    """The bytes and dtype of one of a curve's arrays in the file (``KeyTime``...): a
+    float64 array as a view of ufbx's own memory where the bindings lend one (kept as
+    long as the scene, :data:`_SCENES`), else a copy."""
     node = dom.find(name)
     if node is None or len(node.values) != 1:
         return None
     value = node.values[0]
     dtype = _DOM_DTYPES.get(int(value.type))
+    if dtype == "<f8" and sys.byteorder == "little":
+        lent = memoryview(node.as_real_list())
+        if lent.format == "d" and lent.nbytes == 8 * node.array_size():
+            return lent, dtype
     return None if dtype is None else (value.value_blob, dtype)
 
 
