@@ -30,6 +30,9 @@ from gmr_studio.core.rotations.quaternions import compiled_at_hand, matrix_from_
 CHUNK_FRAMES = 2048
 #: a per-frame translation that varies less than this, relative to its size, is static
 STATIC_RELATIVE_TOLERANCE = 1e-12
+#: when at most one joint in this many has a static translation, its frames are set joint by
+#: joint (each a strided pass over the frames) rather than chunk by chunk over them all
+FEW_STATIC = 8
 
 
 @dataclasses.dataclass
@@ -182,8 +185,13 @@ def armature_world(poses: dict[int, NodePose], parents: np.ndarray, node: int) -
 def fill_from_first(translations: np.ndarray, same: np.ndarray) -> None:
     """Every frame of the translations (F, J, 3) of the joints ``same`` (J,) bool set to
     the first frame's: each chunk of frames overwritten whole (one pass over memory, unlike
-    a masked assignment), the other joints' values put back."""
+    a masked assignment), the other joints' values put back; or, for a few joints
+    (:data:`FEW_STATIC`), each one's frames set on their own."""
     if not same.any():
+        return
+    if same.sum() * FEW_STATIC <= len(same):
+        for j in np.flatnonzero(same):
+            translations[1:, j] = translations[0, j]
         return
     others, first = np.flatnonzero(~same), translations[0].copy()
     for start in range(0, len(translations), CHUNK_FRAMES):
