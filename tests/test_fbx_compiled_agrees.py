@@ -6,7 +6,8 @@ Every real FBX of the shared data is read with numba and, in a process with numb
 disabled, without it; a made-up worker result covers what those files do not hold: nodes
 sent as channels (a baked take), a nonzero constant angle, pre- and post-rotations,
 pivots and offsets, an armature turned and scaled above the root, scales that are not
-uniform and change over the frames, and nodes evaluated by ufbx beside them.
+uniform and change over the frames, rest orientations of a bind pose, and nodes evaluated
+by ufbx beside them.
 """
 
 from __future__ import annotations
@@ -59,6 +60,12 @@ def test_real_files_read_alike_with_and_without_numba(path, tmp_path):
     subprocess.run([sys.executable, "-c", READ_WITHOUT_NUMBA, str(path), str(saved)], check=True, env=env)
     with np.load(saved) as reference:
         assert_alike(read_fbx(path), dict(reference))
+
+
+def rest(rng: np.random.Generator) -> np.ndarray:
+    """A rest orientation (3, 3), as a bind pose gives one."""
+    q, r = np.linalg.qr(rng.normal(size=(3, 3)))
+    return q * np.sign(np.diag(r)) * np.sign(np.linalg.det(q * np.sign(np.diag(r))))
 
 
 def worker_result(rng: np.random.Generator, frames: int) -> tuple[dict, dict]:
@@ -147,7 +154,7 @@ def worker_result(rng: np.random.Generator, frames: int) -> tuple[dict, dict]:
         "frames": frames,
         "nodes": nodes,
         "channel_rows": row_names,
-        "bind": {},
+        "bind": {"source": "the file's bind pose", "linear": {str(k): rest(rng).tolist() for k in (1, 2, 4)}},
     }
     return meta, arrays
 

@@ -72,6 +72,9 @@ def carried_translations(  # pragma: no cover - compiled
     base_turn,
     base_place,
     base_stretch,
+    bound,
+    left,
+    right,
     first,
     start,
     stop,
@@ -83,7 +86,9 @@ def carried_translations(  # pragma: no cover - compiled
     (:mod:`core.formats.gltf_in.pose`: ``M_p t_j``, ``M_j = R_j^T M_p R_j S_j``), written
     to ``translations`` (F, J, 3); a root's is ``P_a + U_a M_a t`` and, where ``turned``,
     its rotation becomes ``U_a R`` (the armature above it: ``base_turn`` (J, 3, 3),
-    ``base_place`` (J, 3), ``base_stretch`` (J, 3, 3), read for roots only).
+    ``base_place`` (J, 3), ``base_stretch`` (J, 3, 3), read for roots only). When
+    ``bound``, each rotation then becomes ``left[j] R right[j]`` and each translation
+    ``left[j] t`` (the rest orientations taken out, :func:`core.formats.gltf_in.rest.bind_turns`).
 
     rotations (F, J, 3, 3): the joints' local rotations; planes (C, F) and extra (E, F):
     rows of values over the frames; rows (J, 6) int64: where each joint's translation and
@@ -103,15 +108,16 @@ def carried_translations(  # pragma: no cover - compiled
         _gather(planes, extra, rows, constants, tile, end, values)
         for f in range(tile, end):
             _frame(rotations[f], values[f - tile], parents, inner, turned, base_turn, base_place, base_stretch, stretch,
-                   first, translations[f], spread, size)  # fmt: skip
+                   bound, left, right, first, translations[f], spread, size)  # fmt: skip
 
 
 @numba.njit(inline="always", boundscheck=False)
 def _frame(  # pragma: no cover - compiled
-    frame, values, parents, inner, turned, base_turn, base_place, base_stretch, stretch, first, out, spread, size
-):
+    frame, values, parents, inner, turned, base_turn, base_place, base_stretch, stretch, bound, left, right, first,
+    out, spread, size
+):  # fmt: skip
     """One frame of :func:`carried_translations`: ``values`` (J, 6) its translations and
-    scales, ``frame`` (J, 3, 3) its rotations (the turned roots' rewritten), ``out`` (J, 3)."""
+    scales, ``frame`` (J, 3, 3) its rotations (rewritten where turned), ``out`` (J, 3)."""
     for j in range(parents.shape[0]):
         t0 = values[j, 0]
         t1 = values[j, 1]
@@ -138,13 +144,21 @@ def _frame(  # pragma: no cover - compiled
                 stretch[j, 1, b] = q[3 + b] * scale
                 stretch[j, 2, b] = q[6 + b] * scale
         if p < 0 and turned[j]:  # U R
-            turn = _product(_rows(base_turn, j), r)
+            r = _product(_rows(base_turn, j), r)
+        if bound:
+            r = _product(_product(_rows(left, j), r), _rows(right, j))
+            y = _rows(left, j)
+            out[j, 0] = (y[0] * x0 + y[1] * x1) + y[2] * x2
+            out[j, 1] = (y[3] * x0 + y[4] * x1) + y[5] * x2
+            out[j, 2] = (y[6] * x0 + y[7] * x1) + y[8] * x2
+        else:
+            out[j, 0] = x0
+            out[j, 1] = x1
+            out[j, 2] = x2
+        if bound or (p < 0 and turned[j]):
             for a in range(3):
                 for b in range(3):
-                    frame[j, a, b] = turn[3 * a + b]
-        out[j, 0] = x0
-        out[j, 1] = x1
-        out[j, 2] = x2
+                    frame[j, a, b] = r[3 * a + b]
         d0 = abs(x0 - first[j, 0])
         d1 = abs(x1 - first[j, 1])
         d2 = abs(x2 - first[j, 2])

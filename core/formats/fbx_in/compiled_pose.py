@@ -7,7 +7,8 @@ of the block (C, F) where the worker wrote them (:mod:`.worker`: the joints sent
 compiled Euler rule (:func:`core.kinematics.engine.degrees_to_matrices_compiled`; static
 pre- and post-rotations applied after, :func:`.worker.pre_and_post`), then the
 translations carried through the scales down the skeleton by the operations of
-:func:`core.formats.gltf_in.pose.skeleton_pose` (:func:`._kernels.carried_translations`).
+:func:`core.formats.gltf_in.pose.skeleton_pose`, the joints' rest orientations taken out
+on the way (:func:`core.formats.gltf_in.rest.turn_to_bind`; :func:`._kernels.carried_translations`).
 Joints sent otherwise (ufbx's evaluation; pivots and offsets folded into a translation)
 are made as :mod:`.poses` makes them and join the second pass as rows of their own.
 Animated nodes above the joints, a single frame, and any process without numba
@@ -37,6 +38,7 @@ from gmr_studio.core.formats.fbx_in.worker import (
     stack_translation,
 )
 from gmr_studio.core.formats.gltf_in.pose import NodePose, armature_world, fill_from_first, moving_joints
+from gmr_studio.core.formats.gltf_in.rest import bind_turns
 from gmr_studio.core.kinematics.engine import degrees_to_matrices_compiled, in_blocks
 from gmr_studio.core.rotations.quaternions import matrix_from_quaternion
 
@@ -45,13 +47,15 @@ PIVOTS = ("RotationPivot", "RotationOffset", "ScalingPivot", "ScalingOffset")
 
 
 def compiled_skeleton(
-    meta: dict, arrays: dict[str, np.ndarray], parents: np.ndarray, backend: Backend = "auto"
+    meta: dict, arrays: dict[str, np.ndarray], parents: np.ndarray, bind: np.ndarray, backend: Backend = "auto"
 ) -> tuple[dict, np.ndarray, np.ndarray, np.ndarray] | None:
     """(poses of the joints and the nodes above (their scales for the notes), rotations
     (F, J, 3, 3), translations (F, J, 3), moving (J,) bool) as
-    :func:`core.formats.gltf_in.pose.skeleton_pose` gives them from :func:`.poses.node_poses`;
-    None when the numpy path is to make them (module docstring; ``backend`` as
-    :func:`core.compiled.chosen_kernels` takes it). ``parents``: every node's."""
+    :func:`core.formats.gltf_in.pose.skeleton_pose` gives them from :func:`.poses.node_poses`,
+    with the joints' rest orientations ``bind`` (J, 3, 3) taken out as
+    :func:`core.formats.gltf_in.rest.turn_to_bind` takes them out; None when the numpy path
+    is to make them (module docstring; ``backend`` as :func:`core.compiled.chosen_kernels`
+    takes it). ``parents``: every node's."""
     kernels = chosen_kernels(backend, optional_kernels("gmr_studio.core.formats.fbx_in._kernels"))
     joints, frames = list(meta["joints"]), int(meta["frames"])
     if kernels is None or frames < 2:
@@ -70,7 +74,9 @@ def compiled_skeleton(
     index = {node: j for j, node in enumerate(joints)}
     joint_parents = np.array([index.get(int(parents[node]), -1) for node in joints], dtype=np.int64)
     bases = _bases(joints, joint_parents, parents, above)
-    translations, moving = _translations(kernels, planes, sources, joint_parents, bases, rotations)
+    turns = bind_turns(bind, joint_parents)
+    rest = (False, *np.zeros((2, 1, 3, 3))) if turns is None else (True, *turns)
+    translations, moving = _translations(kernels, planes, sources, joint_parents, (*bases, *rest), rotations)
     poses = {node: NodePose(translations[:, j], rotations[:, j], sources[j][1]) for j, node in enumerate(joints)}
     return {**poses, **above}, rotations, translations, moving
 
@@ -141,8 +147,8 @@ def _bases(joints: list[int], joint_parents: np.ndarray, parents: np.ndarray, ab
 def _translations(
     kernels, planes: np.ndarray, sources: list[tuple], joint_parents: np.ndarray, bases: tuple, rotations: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
-    """(translations (F, J, 3), moving (J,) bool), the roots' rotations turned by the
-    armature above them (in place)."""
+    """(translations (F, J, 3), moving (J,) bool); the rotations turned in place (the
+    roots' by the armature above them, every one by the rest orientations: ``bases``)."""
     n_frames, n_joints = rotations.shape[:2]
     rows = np.full((n_joints, 6), -1, dtype=np.int64)
     constants = np.zeros((n_joints, 6))
@@ -161,19 +167,19 @@ def _translations(
     inner[joint_parents[joint_parents >= 0]] = True
     translations = np.empty((n_frames, n_joints, 3))
     fixed = (rotations, planes, extra_rows, rows, constants, joint_parents, inner, *bases)
-    first = np.zeros((n_joints, 3))
-    kernels.carried_translations(*fixed, first, 0, 1, translations, np.empty(n_joints), np.empty(n_joints))
-    first[:] = translations[0]
+    first = np.zeros((1, n_joints, 3))  # the first frame's translations before the rest turn: what moves is judged on
+    unturned = (rotations[:1].copy(), *fixed[1:-3], False, *fixed[-2:])
+    kernels.carried_translations(*unturned, first[0], 0, 1, first, np.empty(n_joints), np.empty(n_joints))
     found = []
 
     def block(frames: slice) -> None:
         spread, size = np.empty(n_joints), np.empty(n_joints)
-        kernels.carried_translations(*fixed, first, 1 + frames.start, 1 + frames.stop, translations, spread, size)
+        kernels.carried_translations(*fixed, first[0], frames.start, frames.stop, translations, spread, size)
         found.append((spread, size))
 
-    in_blocks(block, n_frames - 1, None)
+    in_blocks(block, n_frames, None)
     spread = np.maximum.reduce([spread for spread, _ in found])
-    size = np.maximum.reduce([np.abs(first).max(axis=1), *(size for _, size in found)])
+    size = np.maximum.reduce([size for _, size in found])
     moving = moving_joints(spread, size, n_frames)
     fill_from_first(translations, ~moving)
     return translations, moving

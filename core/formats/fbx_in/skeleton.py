@@ -79,20 +79,21 @@ def motion_from_nodes(meta: dict, arrays: dict[str, np.ndarray], *, backend: Bac
     joints, above = list(meta["joints"]), list(meta["above"])
     parents = np.asarray(meta["parents"], dtype=np.int64)
     n_frames = int(meta["frames"])
-    arrays = channel_arrays(meta, arrays)
-    composed = compiled_skeleton(meta, arrays, parents, backend)
-    if composed is not None:
-        poses, rotations, translations, moving = composed
-    else:
-        poses, block = node_poses(meta, arrays)
-        rotations, translations, moving = skeleton_pose(poses, parents, joints, n_frames, block)
-    offsets = translations[0].copy()
     index = {node: j for j, node in enumerate(joints)}
     motion_parents = np.array([index.get(int(parents[node]), -1) for node in joints], dtype=np.int64)
     bind, from_pose = bind_rotations(meta, joints)
     source = meta.get("bind", {}).get("source", "")
-    turned = turn_to_bind(bind, motion_parents, rotations, translations, offsets, moving, overwrite=True)  # ours
-    rotations, translations, offsets = turned
+    arrays = channel_arrays(meta, arrays)
+    composed = compiled_skeleton(meta, arrays, parents, bind, backend)  # the rest orientations taken out
+    if composed is not None:
+        poses, rotations, translations, moving = composed
+        offsets = translations[0].copy()
+    else:
+        poses, block = node_poses(meta, arrays)
+        rotations, translations, moving = skeleton_pose(poses, parents, joints, n_frames, block)
+        offsets = translations[0].copy()
+        turned = turn_to_bind(bind, motion_parents, rotations, translations, offsets, moving, overwrite=True)  # ours
+        rotations, translations, offsets = turned
     names, renamed = valid_joint_names([meta["names"][node] for node in joints], joints)
     factor, turn, facts, notes = file_facts(meta["unit_meters"], meta["axes"])
     labels = {node: repr(meta["names"][node]) for node in joints + above}
