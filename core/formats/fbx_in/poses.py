@@ -1,4 +1,5 @@
-"""The FBX nodes' local transforms over the frames, from what :mod:`.worker` sent.
+"""The FBX nodes' local transforms over the frames, from what :mod:`.worker` sent: the numpy
+path, the reference of :mod:`.compiled_pose`.
 
 A node sent as ``channels`` (its Lcl values at every frame, as the file stores them) is
 composed here with the worker's own transform stack (:func:`.worker.stack_rotation`,

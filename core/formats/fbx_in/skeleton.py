@@ -2,7 +2,8 @@
 
 :func:`motion_from_nodes` takes what :mod:`.worker` sent, each node's translation, rotation
 matrix and scale per frame (:mod:`.poses`: FBX's whole transform stack composed into one
-``T R S``), and builds the motion exactly as the glTF reader builds one from node ``T R S``
+``T R S``; :mod:`.compiled_pose` does it all in compiled passes where it can), and builds
+the motion exactly as the glTF reader builds one from node ``T R S``
 (:mod:`core.formats.gltf_in.pose`): a joint's rotation is its node's, its translation the
 node's carried through the scales above, the nodes above the skeleton (the armature)
 applied to the roots, uniform scale folded into the lengths and non-uniform scale named in
