@@ -75,7 +75,7 @@ def compiled_skeleton(
     joint_parents = np.array([index.get(int(parents[node]), -1) for node in joints], dtype=np.int64)
     bases = _bases(joints, joint_parents, parents, above)
     turns = bind_turns(bind, joint_parents)
-    rest = (False, *np.zeros((2, 1, 3, 3))) if turns is None else (True, *turns)
+    rest = (False, *np.zeros((2, 1, 3, 3))) if turns is None else (True, *map(np.ascontiguousarray, turns))
     translations, moving = _translations(kernels, planes, sources, joint_parents, (*bases, *rest), rotations)
     poses = {node: NodePose(translations[:, j], rotations[:, j], sources[j][1]) for j, node in enumerate(joints)}
     return {**poses, **above}, rotations, translations, moving
@@ -197,3 +197,17 @@ def _scale(spec: dict, planes: np.ndarray, row: dict) -> np.ndarray:
     for c, channel in enumerate(channels):
         scale[:, c] = planes[row[channel]] if isinstance(channel, str) else channel
     return scale
+
+
+def warm_up() -> None:
+    """Load the compiled kernels the reader calls (numba's cache, else compiling them) on a
+    two-frame take of one joint, so that the first file read does not wait for them: the
+    reader runs this while its child loads the file. Does nothing without numba."""
+    if optional_kernels("gmr_studio.core.formats.fbx_in._kernels") is None:
+        return
+    still = {name: [0.0, 0.0, 0.0] for name in STATIC_STACK}
+    spec = {"kind": "channels", "order": 0, "stack": still, "channels": [f"c0.{c}" for c in range(9)]}
+    meta = {"joints": [0], "above": [], "frames": 2, "nodes": {"0": spec}, "channel_rows": spec["channels"]}
+    block = np.zeros((9, 2))
+    for bind in (np.eye(3)[None], np.array([[[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]])):
+        compiled_skeleton(meta, {CHANNEL_BLOCK: block}, np.array([-1]), bind)
