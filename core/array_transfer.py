@@ -31,20 +31,30 @@ def _aligned(size: int) -> int:
     return -(-size // ALIGN) * ALIGN
 
 
-def write_arrays(path: str | os.PathLike[str], header: dict, arrays: dict[str, np.ndarray]) -> None:
+def write_arrays(path: str | os.PathLike[str], header: dict, arrays: dict[str, np.ndarray | list[np.ndarray]]) -> None:
     """Write ``header`` (JSON-ready) and ``arrays`` (name -> array of any numeric dtype,
-    any shape) to ``path``; each array's bytes are written as they are, once."""
-    table, offset = [], 0
-    for name, array in arrays.items():
-        table.append([name, array.dtype.str, list(array.shape), offset])
-        offset = _aligned(offset + array.nbytes)
+    any shape) to ``path``; each array's bytes are written as they are, once. A list of
+    arrays of one dtype and shape is written as their stack (N, ...), each row from its
+    own array (no stacked copy is made); it reads back as one array."""
+    table, offset, parts = [], 0, []
+    for name, value in arrays.items():
+        stacked = isinstance(value, (list, tuple))
+        rows = list(value) if stacked else [value]
+        shape = ([len(rows), *rows[0].shape] if rows else [0]) if stacked else list(value.shape)
+        dtype = rows[0].dtype if rows else np.dtype(np.float64)
+        if any(row.dtype != dtype or row.shape != rows[0].shape for row in rows):
+            raise ValueError(f"the rows of {name} differ in dtype or shape")
+        table.append([name, dtype.str, shape, offset])
+        offset = _aligned(offset + sum(row.nbytes for row in rows))
+        parts.append(rows)
     text = json.dumps({"header": header, "arrays": table}).encode("utf-8")
     start = _aligned(len(MAGIC) + 8 + len(text))
     with open(path, "wb") as handle:
         handle.write(MAGIC + len(text).to_bytes(8, "little") + text)
-        for (_, _, _, at), array in zip(table, arrays.values()):
+        for (_, _, _, at), rows in zip(table, parts):
             handle.seek(start + at)
-            handle.write(np.ascontiguousarray(array).reshape(-1).view(np.uint8))
+            for row in rows:
+                handle.write(np.ascontiguousarray(row).reshape(-1).view(np.uint8))
 
 
 def read_arrays(path: str | os.PathLike[str]) -> tuple[dict, dict[str, np.ndarray]]:

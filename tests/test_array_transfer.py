@@ -26,6 +26,18 @@ def test_arrays_and_header_come_back_equal(tmp_path, rng):
         np.testing.assert_array_equal(got[name], array)
 
 
+def test_a_list_of_rows_comes_back_as_their_stack(tmp_path, rng):
+    block = rng.normal(size=(3, 1000))
+    rows = [block[0], block[1].copy(), block[2, ::-1][::-1]]  # views and copies alike
+    write_arrays(tmp_path / "result", {}, {"rows": rows, "empty": [], "after": np.arange(4)})
+    _, got = read_arrays(tmp_path / "result")
+    np.testing.assert_array_equal(got["rows"], block)
+    assert got["empty"].shape == (0,)
+    np.testing.assert_array_equal(got["after"], np.arange(4))
+    with pytest.raises(ValueError, match="differ"):
+        write_arrays(tmp_path / "bad", {}, {"rows": [block[0], block[1, :10]]})
+
+
 def test_a_cut_or_foreign_file_is_refused(tmp_path, rng):
     write_arrays(tmp_path / "result", {}, {"values": rng.normal(size=1000)})
     whole = (tmp_path / "result").read_bytes()

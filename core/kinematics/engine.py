@@ -440,7 +440,8 @@ def degrees_to_matrices_compiled(
     channel columns of each (order, joints, (n, len(order)) columns) group of ``values``
     (F, V), and ``out[start:stop, identities]`` with the identity; the file readers'
     conversion, on ``threads`` threads (None: one per core; the same numbers). Returns
-    False (doing nothing) without numba.
+    False (doing nothing) without numba. ``values`` is read in its own memory layout (a
+    block of channels (V, F) transposed is not copied).
 
     The same operations as ``matrix_from_euler(np.radians(...))``; sin and cos come from
     the C library rather than numpy's own, so results may differ in the last bit. One pass
@@ -451,7 +452,7 @@ def degrees_to_matrices_compiled(
         return False
     joints, columns, codes = _euler_columns(groups)
     arguments = (
-        np.ascontiguousarray(values, dtype=np.float64),
+        np.asarray(values, dtype=np.float64),
         joints,
         columns,
         codes,

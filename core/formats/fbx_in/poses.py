@@ -1,4 +1,5 @@
-"""The FBX nodes' local transforms over the frames, from what :mod:`.worker` sent.
+"""The FBX nodes' local transforms over the frames, from what :mod:`.worker` sent: the numpy
+path, the reference of :mod:`.compiled_pose`.
 
 A node sent as ``channels`` (its Lcl values at every frame, as the file stores them) is
 composed here with the worker's own transform stack (:func:`.worker.stack_rotation`,
@@ -14,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from gmr_studio.core.formats.fbx_in.worker import STATIC_STACK, stack_rotation, stack_translation
+from gmr_studio.core.formats.fbx_in.worker import CHANNEL_BLOCK, STATIC_STACK, stack_rotation, stack_translation
 from gmr_studio.core.formats.gltf_in.pose import NodePose
 from gmr_studio.core.rotations.quaternions import matrix_from_quaternion
 
@@ -27,7 +28,7 @@ CHUNK_FRAMES = 2048
 def node_poses(meta: dict, arrays: dict[str, np.ndarray]) -> tuple[dict[int, NodePose], np.ndarray]:
     """The poses of the joints and of the nodes above them (node index -> pose), and the
     joints' rotations (F|1, J, 3, 3) that the joints' poses hold views of."""
-    joints, above, frames = list(meta["joints"]), list(meta["above"]), int(meta["frames"])
+    joints, frames = list(meta["joints"]), int(meta["frames"])
     specs = {int(k): spec for k, spec in meta["nodes"].items()}
     turning = any(_varies(node, specs[node], arrays) for node in joints)
     length = frames if turning else 1
@@ -37,26 +38,44 @@ def node_poses(meta: dict, arrays: dict[str, np.ndarray]) -> tuple[dict[int, Nod
             groups.setdefault(specs[node]["order"], []).append(j)
     if len(groups) == 1 and len(next(iter(groups.values()))) == len(joints):  # one array: the block itself
         order = next(iter(groups))
-        block = _rotations([specs[node] for node in joints], arrays, order, length)
+        block = channel_rotations([specs[node] for node in joints], arrays, order, length)
         if len(block) < length:
             block = np.repeat(block, length, axis=0)
     else:
         block = np.empty((length, len(joints), 3, 3))
         for order, members in groups.items():
-            block[:, members] = _rotations([specs[joints[j]] for j in members], arrays, order, length)
+            block[:, members] = channel_rotations([specs[joints[j]] for j in members], arrays, order, length)
         for j, node in enumerate(joints):
             if specs[node]["kind"] != "channels":
                 block[:, j] = matrix_from_quaternion(arrays[f"q{node}"], scalar_last=True)
-    parts = _translations_and_scales(joints + above, specs, arrays, frames)
+    parts = translations_and_scales(joints, specs, arrays, frames)
     poses = {node: _pose(node, specs[node], arrays, block[:, j], parts) for j, node in enumerate(joints)}
+    poses.update(above_poses(meta, arrays))
+    return poses, block
+
+
+def above_poses(meta: dict, arrays: dict[str, np.ndarray]) -> dict[int, NodePose]:
+    """The poses of the nodes above the joints (node index -> pose)."""
+    above, frames = list(meta["above"]), int(meta["frames"])
+    specs = {node: meta["nodes"][str(node)] for node in above}
+    parts = translations_and_scales(above, specs, arrays, frames)
+    poses = {}
     for node in above:
         spec = specs[node]
         if spec["kind"] == "channels":
-            turn = _rotations([spec], arrays, spec["order"], frames)[:, 0]
+            turn = channel_rotations([spec], arrays, spec["order"], frames)[:, 0]
         else:
             turn = matrix_from_quaternion(arrays[f"q{node}"], scalar_last=True)
         poses[node] = _pose(node, spec, arrays, turn, parts)
-    return poses, block
+    return poses
+
+
+def channel_arrays(meta: dict, arrays: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The worker's arrays with each channel array it names (``channel_rows``) as a view
+    of its row of the block :data:`.worker.CHANNEL_BLOCK`."""
+    block = arrays.get(CHANNEL_BLOCK)
+    named = {name: block[k] for k, name in enumerate(meta.get("channel_rows", []))}
+    return {**arrays, **named}
 
 
 def _varies(node: int, spec: dict, arrays: dict) -> bool:
@@ -85,13 +104,13 @@ def _stack(specs: list[dict], name: str) -> np.ndarray:
     return np.array([spec["stack"][name] for spec in specs], dtype=np.float64).reshape(len(specs), 3)
 
 
-def _rotations(specs: list[dict], arrays: dict, order: int, frames: int) -> np.ndarray:
+def channel_rotations(specs: list[dict], arrays: dict, order: int, frames: int) -> np.ndarray:
     """(F|1, N, 3, 3): the rotations ``Q`` of N nodes sent as channels, of one rotation order."""
     degrees = _gathered(specs, arrays, ROTATION, frames)
     return stack_rotation(degrees, order, _stack(specs, "PreRotation"), _stack(specs, "PostRotation"))
 
 
-def _translations_and_scales(nodes: list[int], specs: dict, arrays: dict, frames: int) -> dict[int, tuple]:
+def translations_and_scales(nodes: list[int], specs: dict, arrays: dict, frames: int) -> dict[int, tuple]:
     """Per node sent as channels, its Lcl translation and scale (F|1, 3), each contiguous
     (what reads them runs along the frames), a leading 1 where they are numbers only."""
     out = {}

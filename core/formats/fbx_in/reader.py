@@ -27,6 +27,7 @@ from pathlib import Path
 
 from gmr_studio.core.array_transfer import read_arrays
 from gmr_studio.core.errors import MotionFileError, input_size, read_input
+from gmr_studio.core.formats.fbx_in.compiled_pose import warm_up
 from gmr_studio.core.formats.fbx_in.skeleton import counted, motion_from_nodes
 from gmr_studio.core.model.motion import Motion
 
@@ -40,7 +41,10 @@ TIMEOUT_SECONDS = 60.0
 def read_fbx(path: str | Path, *, animation: str | int | None = None, data: bytes | None = None) -> Motion:
     """Read an ``.fbx`` file as a post-rotation motion (see the module docstring)."""
     options = {"mode": "motion", "animation": None if animation is None else str(animation)}
+    warming = threading.Thread(target=_warm_up, daemon=True)  # while the child loads the file
+    warming.start()
     with _worker_result(path, data, options) as (header, arrays):
+        warming.join()
         try:
             return motion_from_nodes(header["meta"], arrays)
         except ValueError as exc:  # limits of the motion model
@@ -108,6 +112,15 @@ def _worker_result(path: str | Path, data: bytes | None, options: dict) -> Itera
             if child.poll() is None and not output.exists():
                 child.kill()  # stopped early (an interrupt): nothing is waiting for its result
             child.wait()
+
+
+def _warm_up() -> None:
+    """The compiled kernels loaded (:func:`.compiled_pose.warm_up`); a failure here is left
+    for the reading itself to meet."""
+    try:
+        warm_up()
+    except Exception:  # the read that follows calls the same code and reports what fails
+        pass
 
 
 def _refused_or_crashed(path: str | Path, status: int, stderr: str, timed_out: bool, limit: float) -> None:

@@ -2,7 +2,8 @@
 
 :func:`motion_from_nodes` takes what :mod:`.worker` sent, each node's translation, rotation
 matrix and scale per frame (:mod:`.poses`: FBX's whole transform stack composed into one
-``T R S``), and builds the motion exactly as the glTF reader builds one from node ``T R S``
+``T R S``; :mod:`.compiled_pose` does it all in compiled passes where it can), and builds
+the motion exactly as the glTF reader builds one from node ``T R S``
 (:mod:`core.formats.gltf_in.pose`): a joint's rotation is its node's, its translation the
 node's carried through the scales above, the nodes above the skeleton (the armature)
 applied to the roots, uniform scale folded into the lengths and non-uniform scale named in
@@ -15,8 +16,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from gmr_studio.core.compiled import Backend
 from gmr_studio.core.edits.world import scale_lengths, turned_world
-from gmr_studio.core.formats.fbx_in.poses import node_poses
+from gmr_studio.core.formats.fbx_in.compiled_pose import compiled_skeleton
+from gmr_studio.core.formats.fbx_in.poses import channel_arrays, node_poses
 from gmr_studio.core.formats.fbx_in.worker import EULER_ORDERS
 from gmr_studio.core.formats.gltf_in.pose import NodePose, skeleton_pose
 from gmr_studio.core.formats.gltf_in.reader import bind_note, scale_notes, valid_joint_names
@@ -71,20 +74,27 @@ def file_facts(unit_meters: float, axes: list[int]) -> tuple[float, np.ndarray, 
     return factor, turn, FileFacts(unit=unit, up_axis=up), lines
 
 
-def motion_from_nodes(meta: dict, arrays: dict[str, np.ndarray]) -> Motion:
-    """The motion of the worker's output: ``meta`` (its JSON) and the arrays it names."""
+def motion_from_nodes(meta: dict, arrays: dict[str, np.ndarray], *, backend: Backend = "auto") -> Motion:
+    """The motion of the worker's output: ``meta`` (its JSON) and the arrays it names; the
+    skeleton composed in compiled code or by numpy (``backend``, :mod:`.compiled_pose`)."""
     joints, above = list(meta["joints"]), list(meta["above"])
     parents = np.asarray(meta["parents"], dtype=np.int64)
     n_frames = int(meta["frames"])
-    poses, block = node_poses(meta, arrays)
-    rotations, translations, moving = skeleton_pose(poses, parents, joints, n_frames, block)
-    offsets = translations[0].copy()
     index = {node: j for j, node in enumerate(joints)}
     motion_parents = np.array([index.get(int(parents[node]), -1) for node in joints], dtype=np.int64)
     bind, from_pose = bind_rotations(meta, joints)
     source = meta.get("bind", {}).get("source", "")
-    turned = turn_to_bind(bind, motion_parents, rotations, translations, offsets, moving, overwrite=True)  # ours
-    rotations, translations, offsets = turned
+    arrays = channel_arrays(meta, arrays)
+    composed = compiled_skeleton(meta, arrays, parents, bind, backend)  # the rest orientations taken out
+    if composed is not None:
+        poses, rotations, translations, moving = composed
+        offsets = translations[0].copy()
+    else:
+        poses, block = node_poses(meta, arrays)
+        rotations, translations, moving = skeleton_pose(poses, parents, joints, n_frames, block)
+        offsets = translations[0].copy()
+        turned = turn_to_bind(bind, motion_parents, rotations, translations, offsets, moving, overwrite=True)  # ours
+        rotations, translations, offsets = turned
     names, renamed = valid_joint_names([meta["names"][node] for node in joints], joints)
     factor, turn, facts, notes = file_facts(meta["unit_meters"], meta["axes"])
     labels = {node: repr(meta["names"][node]) for node in joints + above}

@@ -9,8 +9,9 @@ and exits with status :data:`REJECTED`. The result's ``meta`` (JSON) has, per no
 what the parent composes the node's local transform from (``nodes``):
 
 - ``channels``: its nine Lcl channels (translation, rotation in degrees, scale; x y z), each
-  a number or the name of an array (F,) of the file's key values as ufbx holds them, its
-  rotation order and its static pre/post rotations, pivots and offsets;
+  a number or the name of an array (F,) of the file's key values as ufbx holds them (a row
+  of one block, :data:`CHANNEL_BLOCK`, whose rows ``channel_rows`` names), its rotation
+  order and its static pre/post rotations, pivots and offsets;
 - ``evaluated`` or ``static``: ufbx's local transform, arrays ``t<k>`` (F|1, 3), ``q<k>``
   (F|1, 4, x y z w) and ``s<k>`` (F|1, 3), a leading 1 where the value does not change.
 
@@ -73,6 +74,9 @@ STACK_PROPS = (
 )
 #: the static vectors of the stack composed with the Lcl values (degrees for the rotations)
 STATIC_STACK = STACK_PROPS[:6]
+#: the array (C, F) float64 whose rows are the channel arrays, named in ``channel_rows``:
+#: written row by row as the file holds them, handed over as one block
+CHANNEL_BLOCK = "channels"
 
 
 class RefusedError(ValueError):
@@ -264,7 +268,11 @@ def stack_rotation(degrees: np.ndarray, order: int, pre: np.ndarray, post: np.nd
     """``Q = Rpre R Rpost^-1`` (..., 3, 3) of Lcl Rotation angles (..., 3) in degrees turned in
     ``order`` and static pre- and post-rotations (..., 3), degrees in FBX's XYZ order; the
     products with identities are left out."""
-    turn = euler_matrices(degrees, order)
+    return pre_and_post(euler_matrices(degrees, order), pre, post)
+
+
+def pre_and_post(turn: np.ndarray, pre: np.ndarray, post: np.ndarray) -> np.ndarray:
+    """``Rpre R Rpost^-1`` (..., 3, 3) of rotations ``R`` (..., 3, 3) (:func:`stack_rotation`)."""
     if pre.any():
         turn = euler_matrices(pre, 0) @ turn
     if post.any():
@@ -317,13 +325,19 @@ def curves_of(value) -> list:
 _DOM_DTYPES = {3: "<i4", 4: "<i8", 5: "<f4", 6: "<f8"}
 
 
-def _dom_blob(dom, name: str) -> tuple[bytes, str] | None:
-    """The bytes and dtype of one of a curve's arrays in the file (``KeyTime``...)."""
+def _dom_blob(dom, name: str) -> tuple[bytes | memoryview, str] | None:
+    """The bytes and dtype of one of a curve's arrays in the file (``KeyTime``...): a
+    float64 array as a view of ufbx's own memory where the bindings lend one (kept as
+    long as the scene, :data:`_SCENES`), else a copy."""
     node = dom.find(name)
     if node is None or len(node.values) != 1:
         return None
     value = node.values[0]
     dtype = _DOM_DTYPES.get(int(value.type))
+    if dtype == "<f8" and sys.byteorder == "little":
+        lent = memoryview(node.as_real_list())
+        if lent.format == "d" and lent.nbytes == 8 * node.array_size():
+            return lent, dtype
     return None if dtype is None else (value.value_blob, dtype)
 
 
@@ -445,12 +459,16 @@ def agrees(a: tuple, b: tuple) -> bool:
     )
 
 
-def evaluate(scene, stack, nodes: list, wanted: list[int], times: np.ndarray, rate: float) -> tuple[dict, dict]:
+def evaluate(
+    scene, stack, nodes: list, wanted: list[int], times: np.ndarray, rate: float
+) -> tuple[dict, dict, list[str]]:
     """Per wanted node (index into ``nodes``), what the parent needs to pose it (JSON-ready,
-    module docstring), and the arrays named there."""
+    module docstring), the arrays named there, and the names of the channel arrays in the
+    order of the rows of :data:`CHANNEL_BLOCK` (which holds them, as float64)."""
     from gmr_studio.core.rotations.quaternions import matrix_from_quaternion
 
     specs, arrays = {}, {}
+    rows, row_names = [], []
     if stack is None:
         anim = scene.anim
         values, other = {}, set()
@@ -476,8 +494,9 @@ def evaluate(scene, stack, nodes: list, wanted: list[int], times: np.ndarray, ra
             names = []
             for c, channel in enumerate(channels):
                 if isinstance(channel, np.ndarray):
-                    arrays[f"c{k}.{c}"] = channel
+                    rows.append(channel.astype(np.float64, copy=False))
                     names.append(f"c{k}.{c}")
+                    row_names.append(names[-1])
                 else:
                     names.append(channel)
             stack_lists = {name: vector.tolist() for name, vector in stack_props.items()}
@@ -488,7 +507,8 @@ def evaluate(scene, stack, nodes: list, wanted: list[int], times: np.ndarray, ra
         for part, array in zip("tqs", trs):
             arrays[f"{part}{k}"] = _squeeze(array)
         specs[str(k)] = {"kind": "evaluated" if props is not None else "static"}
-    return specs, arrays
+    arrays[CHANNEL_BLOCK] = rows
+    return specs, arrays, row_names
 
 
 def _squeeze(part: np.ndarray) -> np.ndarray:
@@ -513,7 +533,7 @@ def extract(scene, animation=None) -> tuple[dict, dict]:
     wanted = sorted(set(joints) | set(above))
     if times.size * len(wanted) > MAX_SAMPLES:
         raise RefusedError(f"{times.size} frames of {len(wanted)} nodes is more than this reader holds")
-    specs, arrays = evaluate(scene, stack, nodes, wanted, times, facts["frame_rate"])
+    specs, arrays, row_names = evaluate(scene, stack, nodes, wanted, times, facts["frame_rate"])
     bind = bind_pose(scene, nodes, joints)
     meta = {
         **facts,
@@ -524,6 +544,7 @@ def extract(scene, animation=None) -> tuple[dict, dict]:
         "selection": how,
         "frames": int(times.size),
         "nodes": specs,
+        "channel_rows": row_names,
         "bind": bind,
     }
     return meta, arrays

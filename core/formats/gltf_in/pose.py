@@ -30,6 +30,9 @@ from gmr_studio.core.rotations.quaternions import matrix_from_quaternion
 CHUNK_FRAMES = 2048
 #: a per-frame translation that varies less than this, relative to its size, is static
 STATIC_RELATIVE_TOLERANCE = 1e-12
+#: when at most one joint in this many has a static translation, its frames are set joint by
+#: joint (each a strided pass over the frames) rather than chunk by chunk over them all
+FEW_STATIC = 8
 
 
 @dataclasses.dataclass
@@ -158,17 +161,41 @@ def skeleton_pose(
     first = translations[0, constant]  # every frame's value: the same numbers as a pass over them gives
     spread[constant] = np.maximum(spread[constant], np.abs(first - first).max(axis=1))  # 0, or NaN (a bad file)
     size[constant] = np.maximum(size[constant], np.abs(first).max(axis=1))
-    static = spread <= STATIC_RELATIVE_TOLERANCE * size  # NaN (a bad file) counts as moving, keeping every frame
-    moving = ~static if n_frames > 1 else np.zeros(len(joints), bool)
-    _fill_from_first(translations, ~moving | constant)
+    moving = moving_joints(spread, size, n_frames)
+    fill_from_first(translations, ~moving | constant)
     return rotations, translations, moving
 
 
-def _fill_from_first(translations: np.ndarray, same: np.ndarray) -> None:
+def moving_joints(spread: np.ndarray, size: np.ndarray, n_frames: int) -> np.ndarray:
+    """(J,) bool: the joints whose translation changes over the frames, given each one's
+    largest distance from its first frame's ``spread`` (J,) and largest component ``size``
+    (J,) over the frames: more than :data:`STATIC_RELATIVE_TOLERANCE` of its size. NaN (a
+    bad file) counts as moving, keeping every frame; nothing moves in one frame."""
+    static = spread <= STATIC_RELATIVE_TOLERANCE * size
+    return ~static if n_frames > 1 else np.zeros(len(spread), bool)
+
+
+def armature_world(poses: dict[int, NodePose], parents: np.ndarray, node: int) -> tuple[np.ndarray, ...]:
+    """The world of the nodes above ``node`` that are in ``poses`` (the armature above a
+    root), all of one frame: rotation (3, 3), position (3,) and carried scale (3, 3) (see
+    the module docstring), as :func:`skeleton_pose` applies them to the root."""
+    world = _World(np.eye(3)[None], np.zeros((1, 3)), np.ones(1))
+    for up in _chain(parents, node, poses):
+        world = _child(world, poses[up])
+    stretch = world.stretch[0] * np.eye(3) if world.stretch.ndim == 1 else world.stretch[:, :, 0]
+    return world.turn[0], world.place[0], stretch
+
+
+def fill_from_first(translations: np.ndarray, same: np.ndarray) -> None:
     """Every frame of the translations (F, J, 3) of the joints ``same`` (J,) bool set to
     the first frame's: each chunk of frames overwritten whole (one pass over memory, unlike
-    a masked assignment), the other joints' values put back."""
+    a masked assignment), the other joints' values put back; or, for a few joints
+    (:data:`FEW_STATIC`), each one's frames set on their own."""
     if not same.any():
+        return
+    if same.sum() * FEW_STATIC <= len(same):
+        for j in np.flatnonzero(same):
+            translations[1:, j] = translations[0, j]
         return
     others, first = np.flatnonzero(~same), translations[0].copy()
     for start in range(0, len(translations), CHUNK_FRAMES):

@@ -50,6 +50,17 @@ def bind_rotations(doc: GltfDocument, skin: int | None, joints: list[int]) -> tu
     return bind, len(rows)
 
 
+def bind_turns(bind: np.ndarray, parents: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """(``B_p`` (J, 3, 3), the parent's rest orientation or the identity for a root;
+    ``B_j^T`` (J, 3, 3)): what each joint's rotation is turned by on the left and the right
+    (and its translation on the left) to take the rest orientations ``bind`` (J, 3, 3) out;
+    None when they are all the identity (to 1e-12)."""
+    if np.abs(bind - np.eye(3)).max(initial=0.0) <= 1e-12:
+        return None
+    above = np.where((parents >= 0)[:, None, None], bind[np.maximum(parents, 0)], np.eye(3))
+    return above, np.swapaxes(bind, -1, -2)
+
+
 def turn_to_bind(
     bind: np.ndarray,
     parents: np.ndarray,
@@ -65,10 +76,11 @@ def turn_to_bind(
     not ``moving`` (J,) keep their translations equal to their offsets. Unchanged when every
     orientation is the identity (to 1e-12, as this project's exports bind). ``overwrite``:
     the rotations and translations given are the caller's own and may be written over."""
-    if np.abs(bind - np.eye(3)).max(initial=0.0) <= 1e-12:
+    turns = bind_turns(bind, parents)
+    if turns is None:
         return rotations, translations, offsets
-    above = np.where((parents >= 0)[:, None, None], bind[np.maximum(parents, 0)], np.eye(3))
-    turned = sandwiched(above, rotations, np.swapaxes(bind, -1, -2), overwrite=overwrite)
+    above, below = turns
+    turned = sandwiched(above, rotations, below, overwrite=overwrite)
     offsets = (above @ offsets[..., None])[..., 0]
     translations = turned_vectors(above, translations, overwrite=overwrite)
     translations[:, ~moving] = offsets[~moving]
