@@ -41,3 +41,40 @@ def test_the_samples_include_the_last_frame_so_the_direction_points_where_it_end
     there_and_back[-1] += [0.5, 0.0, 0.0]  # ...and ends ahead of where it started
     for samples in (None, 7, 100):
         assert travel_axis(there_and_back, 1, samples=samples)[0] > 0
+
+
+def test_a_short_walk_backwards_points_backwards_as_a_unit_vector_with_z_up_too():
+    walk = wandering_walk(200, 180.0) * 0.1  # half a unit towards -x
+    np.testing.assert_allclose(travel_axis(walk, 1), [-1.0, 0.0, 0.0], atol=0.05)
+    z_up = walk[..., [0, 2, 1]]
+    axis = travel_axis(z_up, 2)
+    np.testing.assert_allclose(axis, [-1.0, 0.0, 0.0], atol=0.05)
+    assert axis[2] == 0.0 and abs(np.linalg.norm(axis) - 1.0) < 1e-15
+
+
+def test_two_frames_are_a_path():
+    two = np.zeros((2, 3, 3))
+    two[1, :, 2] = 1.0  # every joint a unit along z
+    np.testing.assert_allclose(travel_axis(two, 1), [0.0, 0.0, 1.0], atol=1e-15)
+
+
+def test_a_figure_standing_still_faces_the_first_horizontal_axis():
+    still = np.repeat(wandering_walk(1, 0.0), 50, axis=0)
+    for up in (1, 2):
+        np.testing.assert_array_equal(travel_axis(still, up), [1.0, 0.0, 0.0])
+
+
+def test_still_below_is_how_far_the_figures_centroid_may_wander_and_still_stand():
+    sway = np.zeros((100, 4, 3))
+    sway[:, 0, 2] = 1.6 * np.sin(np.linspace(0, 6, 100))  # one of four joints: the centroid within 0.4
+    np.testing.assert_array_equal(travel_axis(sway, 1, still_below=0.5), [1.0, 0.0, 0.0])
+    np.testing.assert_allclose(np.abs(travel_axis(sway, 1, still_below=0.3)), [0.0, 0.0, 1.0], atol=1e-12)
+    small = wandering_walk(300, 90.0) * 0.2  # a step of one unit along z: travel, by default
+    np.testing.assert_allclose(travel_axis(small, 1), [0.0, 0.0, 1.0], atol=0.05)
+
+
+def test_one_sample_still_fits_the_first_and_the_last_frame():
+    still = np.repeat(wandering_walk(1, 0.0), 101, axis=0)
+    still[0] += [0.0, 0.0, 2.0]  # only the first frame is elsewhere: it walks towards -z
+    for samples in (None, 1, 3):
+        np.testing.assert_allclose(travel_axis(still, 1, samples=samples), [0.0, 0.0, -1.0], atol=1e-12)

@@ -8,6 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 
+#: a path spreading no more than this fraction of its distance from the origin stands still
+#: (its mean's rounding: a still figure gets the first axis, not a direction of noise)
+STILL_RELATIVE = 1e-9
+
 
 def travel_axis(
     positions: np.ndarray,
@@ -19,7 +23,8 @@ def travel_axis(
     """(3,) unit horizontal direction of the figure's main travel over ``positions`` (K, J, 3):
     the first principal axis of its centroid's horizontal path, pointing from where it starts
     to where it ends; the first horizontal axis when it stands still (its path spreads no
-    more than ``still_below`` from its mean). ``up``: the up axis' column (1 or 2);
+    more than ``still_below`` from its mean, or than :data:`STILL_RELATIVE` of its distance
+    from the origin). ``up``: the up axis' column (1 or 2);
     ``figure`` (J,) bool: the joints that make the figure (default all; an anchor pinned at
     the origin is no part of it). ``samples``: fit the path at that many frames at most,
     evenly spread from the first to the last (a long take's path, seen every few frames,
@@ -35,7 +40,8 @@ def travel_axis(
     path = (np.einsum("fjk->fk", positions) / positions.shape[1])[:, across]
     spread = path - path.mean(axis=0)
     axis = np.zeros(3)
-    if len(path) > 1 and np.abs(spread).max() > still_below:
+    still = max(still_below, STILL_RELATIVE * np.abs(path).max(initial=0.0))
+    if len(path) > 1 and np.abs(spread).max() > still:
         _, _, vt = np.linalg.svd(spread, full_matrices=False)
         axis[across] = vt[0]
         if axis @ (positions[-1].mean(axis=0) - positions[0].mean(axis=0)) < 0:
