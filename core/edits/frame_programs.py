@@ -100,13 +100,16 @@ class FrameProgram:
 
     def copied(self, n_joints: int) -> np.ndarray:
         """(C, 2) int64 ranges [first, stop) of the joints the kernel copies into the edited
-        frame before the steps: all of them when a step reads the edited frame (swap, fold),
-        else those no split or join writes (each writes the whole of its joint)."""
-        if any(step[0] not in (SPLIT, JOIN) for step in self.steps):
+        frame before the steps: all of them when a step reads the edited frame (swap, fold)
+        or when the steps write fewer than half of the joints (a frame copied as one row runs
+        at a copy's speed, by ranges markedly slower), else those no split or join
+        writes (each writes the whole of its joint): each number of the output written once."""
+        written = {step[1] for step in self.steps}
+        if any(step[0] not in (SPLIT, JOIN) for step in self.steps) or 2 * len(written) < n_joints:
             return np.array([[0, n_joints]], dtype=np.int64)
         kept = np.ones(n_joints + 2, bool)  # a False on either side closes every range
         kept[[0, -1]] = False
-        kept[[step[1] + 1 for step in self.steps]] = False
+        kept[[j + 1 for j in written]] = False
         edges = np.flatnonzero(np.diff(kept.astype(np.int8)))
         return edges.reshape(-1, 2).astype(np.int64)
 
