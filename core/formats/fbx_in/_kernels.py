@@ -10,6 +10,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from gmr_studio.core.edits._kernels import _mul, _transposed
+
 #: frames whose translations and scales are gathered at a time (into a buffer that stays in cache)
 TILE_FRAMES = 128
 
@@ -31,22 +33,6 @@ def _gather(planes, extra, rows, constants, first, stop, values):  # pragma: no 
             else:
                 for f in range(first, stop):
                     values[f - first, j, k] = extra[-2 - row, f]
-
-
-@numba.njit(inline="always", boundscheck=False)
-def _product(m, r):  # pragma: no cover - compiled
-    """``m @ r`` of two matrices given as 9-tuples by rows, summed ``(a0 b0 + a1 b1) + a2 b2``."""
-    return (
-        (m[0] * r[0] + m[1] * r[3]) + m[2] * r[6],
-        (m[0] * r[1] + m[1] * r[4]) + m[2] * r[7],
-        (m[0] * r[2] + m[1] * r[5]) + m[2] * r[8],
-        (m[3] * r[0] + m[4] * r[3]) + m[5] * r[6],
-        (m[3] * r[1] + m[4] * r[4]) + m[5] * r[7],
-        (m[3] * r[2] + m[4] * r[5]) + m[5] * r[8],
-        (m[6] * r[0] + m[7] * r[3]) + m[8] * r[6],
-        (m[6] * r[1] + m[7] * r[4]) + m[8] * r[7],
-        (m[6] * r[2] + m[7] * r[5]) + m[8] * r[8],
-    )
 
 
 @numba.njit(inline="always", boundscheck=False)
@@ -137,16 +123,16 @@ def _frame(  # pragma: no cover - compiled
             x2 = base_place[j, 2] + y2
         r = _rows(frame, j)
         if inner[j]:  # R^T (M R) S
-            q = _product((r[0], r[3], r[6], r[1], r[4], r[7], r[2], r[5], r[8]), _product(m, r))
+            q = _mul(_transposed(r), _mul(m, r))
             for b in range(3):
                 scale = values[j, 3 + b]
                 stretch[j, 0, b] = q[b] * scale
                 stretch[j, 1, b] = q[3 + b] * scale
                 stretch[j, 2, b] = q[6 + b] * scale
         if p < 0 and turned[j]:  # U R
-            r = _product(_rows(base_turn, j), r)
+            r = _mul(_rows(base_turn, j), r)
         if bound:
-            r = _product(_product(_rows(left, j), r), _rows(right, j))
+            r = _mul(_mul(_rows(left, j), r), _rows(right, j))
             y = _rows(left, j)
             out[j, 0] = (y[0] * x0 + y[1] * x1) + y[2] * x2
             out[j, 1] = (y[3] * x0 + y[4] * x1) + y[5] * x2
