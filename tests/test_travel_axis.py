@@ -78,3 +78,20 @@ def test_one_sample_still_fits_the_first_and_the_last_frame():
     still[0] += [0.0, 0.0, 2.0]  # only the first frame is elsewhere: it walks towards -z
     for samples in (None, 1, 3):
         np.testing.assert_allclose(travel_axis(still, 1, samples=samples), [0.0, 0.0, -1.0], atol=1e-12)
+
+
+def test_a_short_walk_points_the_way_it_went_whichever_way_and_played_backwards_the_other_way():
+    for degrees in range(0, 360, 30):
+        walk = wandering_walk(300, degrees) * 0.1  # half a unit
+        expected = [np.cos(np.radians(degrees)), 0.0, np.sin(np.radians(degrees))]
+        np.testing.assert_allclose(travel_axis(walk, 1), expected, atol=0.05)
+        np.testing.assert_allclose(travel_axis(walk[::-1], 1), -travel_axis(walk, 1), atol=1e-12)
+
+
+def test_the_heading_is_the_same_in_any_unit():
+    walk = wandering_walk(400, 60.0)
+    for scale in (1e-6, 1e-3, 1e3):
+        np.testing.assert_allclose(travel_axis(walk * scale, 1), travel_axis(walk, 1), atol=1e-9)
+    still = np.repeat(wandering_walk(1, 0.0), 30, axis=0)
+    for scale in (1e-6, 1e3):
+        np.testing.assert_array_equal(travel_axis(still * scale, 1), [1.0, 0.0, 0.0])
