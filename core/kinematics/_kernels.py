@@ -128,29 +128,25 @@ def _add(typingctx, a, b):  # pragma: no cover - compile time
     return _QUAD(_QUAD, _QUAD), codegen
 
 
-@intrinsic
-def _lane_min(typingctx, a, b):  # pragma: no cover - compile time
-    """The lesser of a and b lane by lane (4-lane tuples): b where b < a, else a (as
-    ``min(a, b)`` of numbers)."""
+def _lane_pick(predicate: str):  # pragma: no cover - compile time
+    """An intrinsic ``(a, b) ->`` b where ``b <predicate> a``, else a, lane by lane
+    (4-lane tuples; ordered comparison: a NaN in b keeps a)."""
 
-    def codegen(context, builder, signature, args):
-        first, second = _as_vector(builder, args[0]), _as_vector(builder, args[1])
-        less = builder.fcmp_ordered("<", second, first)
-        return _as_quad(context, builder, builder.select(less, second, first))
+    @intrinsic
+    def pick(typingctx, a, b):
+        def codegen(context, builder, signature, args):
+            first, second = _as_vector(builder, args[0]), _as_vector(builder, args[1])
+            chosen = builder.fcmp_ordered(predicate, second, first)
+            return _as_quad(context, builder, builder.select(chosen, second, first))
 
-    return _QUAD(_QUAD, _QUAD), codegen
+        return _QUAD(_QUAD, _QUAD), codegen
+
+    return pick
 
 
-@intrinsic
-def _lane_max(typingctx, a, b):  # pragma: no cover - compile time
-    """The greater of a and b lane by lane (4-lane tuples): b where b > a, else a."""
-
-    def codegen(context, builder, signature, args):
-        first, second = _as_vector(builder, args[0]), _as_vector(builder, args[1])
-        more = builder.fcmp_ordered(">", second, first)
-        return _as_quad(context, builder, builder.select(more, second, first))
-
-    return _QUAD(_QUAD, _QUAD), codegen
+#: the lesser of a and b lane by lane (as ``min(a, b)`` of numbers), and the greater
+_lane_min = _lane_pick("<")
+_lane_max = _lane_pick(">")
 
 
 @intrinsic

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from gmr_studio.core.edits._kernels import _mul, _transposed
+from gmr_studio.core.edits._kernels import _load, _mul, _transposed
 
 #: frames whose translations and scales are gathered at a time (into a buffer that stays in cache)
 TILE_FRAMES = 128
@@ -33,16 +33,6 @@ def _gather(planes, extra, rows, constants, first, stop, values):  # pragma: no 
             else:
                 for f in range(first, stop):
                     values[f - first, j, k] = extra[-2 - row, f]
-
-
-@numba.njit(inline="always", boundscheck=False)
-def _rows(array, j):  # pragma: no cover - compiled
-    """array[j] (3, 3) as a 9-tuple by rows."""
-    return (
-        array[j, 0, 0], array[j, 0, 1], array[j, 0, 2],
-        array[j, 1, 0], array[j, 1, 1], array[j, 1, 2],
-        array[j, 2, 0], array[j, 2, 1], array[j, 2, 2],
-    )  # fmt: skip
 
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)
@@ -109,19 +99,19 @@ def _frame(  # pragma: no cover - compiled
         t1 = values[j, 1]
         t2 = values[j, 2]
         p = parents[j]
-        m = _rows(base_stretch, j) if p < 0 else _rows(stretch, p)
+        m = _load(base_stretch[j]) if p < 0 else _load(stretch[p])
         x0 = (m[0] * t0 + m[1] * t1) + m[2] * t2
         x1 = (m[3] * t0 + m[4] * t1) + m[5] * t2
         x2 = (m[6] * t0 + m[7] * t1) + m[8] * t2
         if p < 0:
-            u = _rows(base_turn, j)
+            u = _load(base_turn[j])
             y0 = (u[0] * x0 + u[1] * x1) + u[2] * x2
             y1 = (u[3] * x0 + u[4] * x1) + u[5] * x2
             y2 = (u[6] * x0 + u[7] * x1) + u[8] * x2
             x0 = base_place[j, 0] + y0
             x1 = base_place[j, 1] + y1
             x2 = base_place[j, 2] + y2
-        r = _rows(frame, j)
+        r = _load(frame[j])
         if inner[j]:  # R^T (M R) S
             q = _mul(_transposed(r), _mul(m, r))
             for b in range(3):
@@ -130,10 +120,10 @@ def _frame(  # pragma: no cover - compiled
                 stretch[j, 1, b] = q[3 + b] * scale
                 stretch[j, 2, b] = q[6 + b] * scale
         if p < 0 and turned[j]:  # U R
-            r = _mul(_rows(base_turn, j), r)
+            r = _mul(_load(base_turn[j]), r)
         if bound:
-            r = _mul(_mul(_rows(left, j), r), _rows(right, j))
-            y = _rows(left, j)
+            r = _mul(_mul(_load(left[j]), r), _load(right[j]))
+            y = _load(left[j])
             out[j, 0] = (y[0] * x0 + y[1] * x1) + y[2] * x2
             out[j, 1] = (y[3] * x0 + y[4] * x1) + y[5] * x2
             out[j, 2] = (y[6] * x0 + y[7] * x1) + y[8] * x2
