@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 from gmr_studio.core.edits.operations import shift_root, split
 from gmr_studio.core.formats.bvh import read_bvh
 from gmr_studio.core.kinematics import engine as fk_engine
+from gmr_studio.core.kinematics import euler_matrices
 from gmr_studio.core.kinematics.convention import pre_from_post
 from gmr_studio.core.kinematics.fk import forward_kinematics, reference_forward_kinematics
 from tests.conftest import random_motion, shared_files
@@ -207,14 +208,14 @@ def test_compiled_degree_conversion_matches_numpy(rng):
         ("YXZ", [2], np.array([[9, 10, 11]])),
     ]
     out = np.full((frames, 7, 3, 3), 7.0)
-    assert fk_engine.degrees_to_matrices_compiled(values, groups, out, 10, frames, identities=[6])
+    assert euler_matrices.degrees_to_matrices_compiled(values, groups, out, 10, frames, identities=[6])
     assert (out[:10] == 7.0).all() and (out[:, 5] == 7.0).all()  # only the frames and joints asked for
     for order, joints, cols in groups:
         expected = matrix_from_euler(np.radians(values[10:, cols]), order)
         np.testing.assert_allclose(out[10:, joints], expected, rtol=0, atol=1e-15)
     np.testing.assert_array_equal(out[10:, 6], np.broadcast_to(np.eye(3), (frames - 10, 3, 3)))
     many = np.full_like(out, 7.0)
-    assert fk_engine.degrees_to_matrices_compiled(values, groups, many, 10, frames, identities=[6], threads=2)
+    assert euler_matrices.degrees_to_matrices_compiled(values, groups, many, 10, frames, identities=[6], threads=2)
     np.testing.assert_array_equal(many, out)  # threads change nothing
 
 
@@ -234,18 +235,18 @@ def test_compiled_conversion_about_axes_matches_numpy(rng, scale):
     axes = matrix_from_euler(rng.uniform(-np.pi, np.pi, size=(len(orders) + 2, 3)), "XYZ")
     out = np.full((frames, len(orders) + 2, 3, 3), 7.0)
     identity = len(orders)
-    assert fk_engine.conjugated_matrices_compiled(values, groups, axes, out, scale=scale, identities=[identity])
+    assert euler_matrices.conjugated_matrices_compiled(values, groups, axes, out, scale=scale, identities=[identity])
     for order, (j,), cols in groups:
         expected = conjugate(axes[j], matrix_from_euler(values[:, cols[0]] * scale, order))
         np.testing.assert_allclose(out[:, j], expected, rtol=0, atol=1e-15)
     np.testing.assert_array_equal(out[:, identity], np.broadcast_to(np.eye(3), (frames, 3, 3)))
     assert (out[:, -1] == 7.0).all()  # only the joints asked for
     many = np.full_like(out, 7.0)
-    assert fk_engine.conjugated_matrices_compiled(
+    assert euler_matrices.conjugated_matrices_compiled(
         values, groups, axes, many, scale=scale, identities=[identity], threads=2
     )
     np.testing.assert_array_equal(many, out)  # threads change nothing
-    assert not fk_engine.conjugated_matrices_compiled(values, groups, axes, many, scale=scale, backend="numpy")
+    assert not euler_matrices.conjugated_matrices_compiled(values, groups, axes, many, scale=scale, backend="numpy")
 
 
 @pytest.mark.parametrize("backend", BACKENDS)

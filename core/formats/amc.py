@@ -39,7 +39,7 @@ from gmr_studio.core.formats.amc_bulk import NUMBER_CHARACTERS, bulk_frames
 from gmr_studio.core.formats.asf import read_asf
 from gmr_studio.core.formats.frames import out_of_range, within_range
 from gmr_studio.core.formats.hierarchy import normalise_newlines
-from gmr_studio.core.kinematics.engine import conjugated_matrices_compiled
+from gmr_studio.core.kinematics.euler_matrices import conjugated_matrices_compiled
 from gmr_studio.core.model.channels import FileChannels
 from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.model.motion import Motion, identity_rotations
@@ -432,7 +432,7 @@ def _axis_rotations(
 
     The compiled kernel when ``backend`` chooses it (:mod:`core.compiled`): one pass on
     every core, equal to the numpy path to rounding
-    (:func:`core.kinematics.engine.conjugated_matrices_compiled`). The numpy path, the
+    (:func:`core.kinematics.euler_matrices.conjugated_matrices_compiled`). The numpy path, the
     reference: :func:`core.rotations.euler.matrix_from_euler` and :func:`conjugate` per joint
     and block of :data:`CONJUGATE_BLOCK` frames (no temporary of the take's size).
     """

@@ -21,7 +21,7 @@ from gmr_studio.core.errors import MotionFileError, read_input
 from gmr_studio.core.formats.facts import fact_comments, facts_from_comments
 from gmr_studio.core.formats.frames import format_frames, format_number, parse_frames
 from gmr_studio.core.formats.hierarchy import CHANNEL_NAMES, ParsedHeader, normalise_newlines, parse_header
-from gmr_studio.core.kinematics.engine import degrees_to_matrices_compiled
+from gmr_studio.core.kinematics.euler_matrices import degrees_to_matrices_compiled
 from gmr_studio.core.model.motion import Motion, build_translations
 from gmr_studio.core.rotations.continuity import continuous_euler
 from gmr_studio.core.rotations.euler import complete_order, euler_from_matrix, matrix_from_euler

@@ -4,7 +4,7 @@ When the nodes above the joints do not move (an armature, or none), the motion's
 are made in two compiled passes over the frames, on every core, reading the channel rows
 of the block (C, F) where the worker wrote them (:mod:`.worker`: the joints sent as
 ``channels``, an exported or baked take): the Euler angles to matrices by the one
-compiled Euler rule (:func:`core.kinematics.engine.degrees_to_matrices_compiled`; static
+compiled Euler rule (:func:`core.kinematics.euler_matrices.degrees_to_matrices_compiled`; static
 pre- and post-rotations applied after, :func:`.worker.pre_and_post`), then the
 translations carried through the scales down the skeleton by the operations of
 :func:`core.formats.gltf_in.pose.skeleton_pose`, the joints' rest orientations taken out
@@ -39,7 +39,8 @@ from gmr_studio.core.formats.fbx_in.worker import (
 )
 from gmr_studio.core.formats.gltf_in.pose import NodePose, armature_world, fill_from_first, moving_joints
 from gmr_studio.core.formats.gltf_in.rest import bind_turns
-from gmr_studio.core.kinematics.engine import degrees_to_matrices_compiled, in_blocks
+from gmr_studio.core.kinematics.engine import in_blocks
+from gmr_studio.core.kinematics.euler_matrices import degrees_to_matrices_compiled
 from gmr_studio.core.rotations.quaternions import matrix_from_quaternion
 
 #: the stack's vectors that move a translation (:func:`.worker.stack_translation`)
