@@ -118,7 +118,7 @@ def test_a_joints_table_angles_transforms_and_world_values_at_the_frame(shown):
     # the world position and both world rotations, Euler in the joint's order
     world = text.split("World position")[1]
     assert world.strip().startswith(flat(format_matrix(snapshot.positions[f, j][None], size, lengths=True)))
-    bvh_world = bvh_world_rotation(motion, snapshot.rotations, f, j)
+    bvh_world = bvh_world_rotation(motion, snapshot.rotations[f], f, j)
     first, second = world.split("World rotation")[1:3]
     assert first.startswith(f" (BVH: the frame its children hang in), Euler {full}:")
     assert f"{flat(format_angles(euler_degrees(bvh_world, full)))} deg {flat(format_matrix(bvh_world))}" in first

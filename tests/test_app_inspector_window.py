@@ -241,7 +241,7 @@ def test_a_new_frame_builds_only_the_sections_on_screen_and_the_rest_when_seen(q
     monkeypatch.setattr(inspector_module, "bvh_world_rotation", lambda *a: computed.append(a[2]) or world_rotation(*a))
 
     def first_row(frame: int) -> str:  # the BVH world rotation's first row at ``frame``
-        return format_matrix(world_rotation(state.motion, state.rotations, frame, state.selected)).split("\n")[0]
+        return format_matrix(world_rotation(state.motion, state.rotations[frame], frame, state.selected)).split("\n")[0]
 
     state.set_frame(101)
     assert computed == []  # the BVH world rotation's section is off screen: not computed

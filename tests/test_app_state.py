@@ -119,21 +119,38 @@ def test_the_cache_after_every_edit_is_the_forward_kinematics_of_its_motion(rng,
 
 def test_edits_that_keep_the_world_transforms_share_them_with_the_snapshot_before(state):
     opened = state.snapshot
+    frames = opened.rotations  # a view shows joint frames: the document's world rotations are at hand
     held = history_bytes(state)
     assert commands.split_here(state, 4)
-    assert state.positions is opened.positions and state.rotations is opened.rotations
+    assert state.positions is opened.positions and state.rotations is frames
     motion_bytes = state.motion.rotations.nbytes + state.motion.translations.nbytes
     assert history_bytes(state) == held + motion_bytes  # the new motion, nothing else
     assert commands.shift_root_to(state, 3)  # frames move along the path: new rotations, same positions
-    assert state.positions is opened.positions and state.rotations is not opened.rotations
+    assert state.positions is opened.positions and state.rotations is not frames
     shifted = state.snapshot
+    shifted_frames = shifted.rotations
     assert commands.split_everything(state)  # the world transforms become the motion's data
     held = history_bytes(state)
-    assert np.shares_memory(state.motion.rotations, shifted.rotations)
+    assert np.shares_memory(state.motion.rotations, shifted_frames)
     assert np.shares_memory(state.motion.translations, shifted.positions)
     state.undo_stack.undo()
     state.undo_stack.redo()
     assert history_bytes(state) == held
+
+
+def test_only_the_document_shown_holds_its_world_rotations(state):
+    opened = state.snapshot
+    assert not opened.holds_rotations  # drawing the figure needs the positions only
+    frames = opened.rotations  # a view shows joint frames: every frame's, computed once
+    np.testing.assert_array_equal(frames, forward_kinematics(opened.motion)[1])
+    assert opened.rotations is frames and not frames.flags.writeable
+    with_rotations = history_bytes(state)
+    assert commands.trim_to_range(state, 2, 6)  # new world rotations (a slice), computed when asked
+    assert not opened.holds_rotations and not state.snapshot.holds_rotations  # in the history: let go
+    assert history_bytes(state) == with_rotations - frames.nbytes + state.snapshot.nbytes
+    state.undo_stack.undo()
+    assert state.snapshot is opened
+    np.testing.assert_array_equal(state.rotations, frames)  # asked again: the same numbers
 
 
 def test_join_and_join_all_undo_exactly(state):
@@ -306,8 +323,11 @@ def test_the_undo_history_of_a_long_take_fits_in_its_budget(rng):
             rotations=np.broadcast_to(np.eye(3), (frames, motion.n_joints, 3, 3)),
             translations=np.broadcast_to(motion.offsets, (frames, motion.n_joints, 3)),
         )
-        snapshot = Snapshot(take, take.translations, take.rotations)
-        limit = undo_limit_for(snapshot)
+        shown = Snapshot(take, take.translations, take.rotations)  # with its world rotations
+        limit = undo_limit_for(shown)
         assert limit >= 1
-        # the document and `limit` edits that each hold a whole new snapshot as big
-        assert (limit + 1) * snapshot.nbytes <= UNDO_MEMORY_BUDGET or limit == 1
+        # the document shown and `limit` edits that each hold a new motion and positions as big
+        kept = shown.nbytes - take.rotations.nbytes
+        assert shown.nbytes + limit * kept <= UNDO_MEMORY_BUDGET or limit == 1
+        if frames == 100_000:
+            assert limit >= 3

@@ -175,6 +175,28 @@ def test_overlays_switch_their_actors_on_and_off(qtbot, studio):
     np.testing.assert_allclose(direction.T, studio.state.rotations[300, j], atol=1e-9)
 
 
+def test_joint_frames_are_made_when_first_shown_and_held_by_the_document_shown(qtbot, studio):
+    from gmr_studio.app.model import commands
+
+    open_file(studio, demo_folder() / MOTION_FILE)
+    state = studio.state
+    studio.inspector_dock.show()
+    state.select(state.motion.joint_index("lwrist"))  # the inspector shows this frame's own
+    state.set_frame(40)
+    qtbot.waitUntil(lambda: "lwrist" in studio.inspector.text())
+    assert not state.snapshot.holds_rotations  # the figure is drawn from the positions alone
+    bare = screen_image(studio)
+    studio.actions["overlay_axes"].setChecked(True)
+    qtbot.waitUntil(lambda: np.any(screen_image(studio) != bare, axis=-1).sum() > 200)  # the triads
+    shown = screen_image(studio)
+    opened = state.snapshot
+    assert opened.holds_rotations
+    assert commands.scale_by(state, 2.0)
+    assert not opened.holds_rotations  # the history's snapshot lets them go
+    state.undo_stack.undo()
+    qtbot.waitUntil(lambda: np.any(screen_image(studio) != shown, axis=-1).mean() < 0.001)  # made again
+
+
 def test_markers_skip_gaps_and_label_the_hovered_one(qtbot, studio):
     open_file(studio, demo_folder() / MOTION_FILE, demo_folder() / MARKERS_FILE)
     state, scene = studio.state, studio.view.scene

@@ -21,6 +21,7 @@ from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.core.demo import demo_motion
 from gmr_studio.core.edits.clip import resample_edit, trim_edit
 from gmr_studio.core.edits.mirror import mirror_edit, mirror_pairs
+from gmr_studio.core.edits.operations import shift_root_edit, split_edit
 from gmr_studio.core.edits.world import change_up_axis_edit, scale_lengths_edit
 from gmr_studio.core.formats import load_gmr
 from gmr_studio.core.kinematics import engine
@@ -47,6 +48,7 @@ def assert_follows(before: Motion, edited) -> None:
     fresh_positions, fresh_rotations = forward_kinematics(edited.motion)
     np.testing.assert_allclose(carried_positions, fresh_positions, rtol=0, atol=1e-9 * before.size)
     np.testing.assert_allclose(carried_rotations, fresh_rotations, rtol=0, atol=1e-9)
+    assert edited.keeps_rotations(rotations) == (carried_rotations is rotations)  # handed on at no cost
 
 
 @pytest.mark.parametrize("seed", range(5))
@@ -61,6 +63,8 @@ def test_trim_scale_up_axis_and_mirror_hand_over_the_results_kinematics(seed):
     edited, unmatched = mirror_edit(motion)
     assert unmatched == ()
     assert_follows(motion, edited)
+    assert_follows(motion, split_edit(motion, 2))
+    assert_follows(motion, shift_root_edit(motion, 2))
 
 
 def test_a_mirrored_joint_is_where_its_partner_was_reflected(rng):

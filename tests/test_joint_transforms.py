@@ -132,11 +132,13 @@ def test_bvh_world_rotation_is_the_frame_the_children_hang_in(rng):
     gmr_world, bvh_world = world_rotations(motion), world_rotations(post)  # independent FK of each form
     for frame in range(motion.n_frames):
         for j in (0, 1, 2):  # joints with children: the BVH frame differs from the GMR one
-            shown = bvh_world_rotation(motion, gmr_world, frame, j)
+            shown = bvh_world_rotation(motion, gmr_world[frame], frame, j)
             np.testing.assert_allclose(shown, bvh_world[frame, j], rtol=0, atol=1e-12)
             assert np.abs(shown - gmr_world[frame, j]).max() > 1e-3
         for leaf in (3, 4):  # a leaf hangs nothing: its own GMR world rotation
-            np.testing.assert_array_equal(bvh_world_rotation(motion, gmr_world, frame, leaf), gmr_world[frame, leaf])
+            np.testing.assert_array_equal(
+                bvh_world_rotation(motion, gmr_world[frame], frame, leaf), gmr_world[frame, leaf]
+            )
 
 
 def test_channel_rows_and_notes_say_where_each_rotation_comes_from(rng):

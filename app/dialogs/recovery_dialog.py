@@ -36,7 +36,8 @@ def restore(state: StudioState, autosaver: Autosaver | None, record: recovery.Re
     motion = snapshot.motion
     kept = tuple(c for c in motion.comments if not c.lstrip("# ").startswith(recovery.MARKER.lstrip("# ").strip()))
     if kept != motion.comments:  # the record line is the recovery file's, not the document's
-        snapshot = Snapshot(motion.replace(comments=kept), snapshot.positions, snapshot.rotations)
+        held = snapshot.rotations if snapshot.holds_rotations else None
+        snapshot = Snapshot(motion.replace(comments=kept), snapshot.positions, held)
     state.open_document(snapshot, record.original)
     state.undo_stack.resetClean()  # not the original file's content: saving is offered
     if autosaver is not None:

@@ -159,6 +159,7 @@ class Inspector(QScrollArea):
         size = motion.size
         bvh = functools.cache(lambda: bvh_local(motion, f, j, state.file_channels))
         gmr = functools.cache(lambda: gmr_local(motion, f, j, state.file_channels))
+        world = functools.cache(lambda: state.snapshot.rotations_at(f))  # (J, 3, 3)
         order = complete_order(motion.rotation_orders[j]) if motion.rotation_orders[j] else "ZYX"
         parent = int(motion.parents[j])
         note = " (a root: its translation is its world position)" if parent < 0 else ""
@@ -189,10 +190,10 @@ class Inspector(QScrollArea):
             world_position,
             lambda: [
                 self._world_html(
-                    "BVH: the frame its children hang in", bvh_world_rotation(motion, state.rotations, f, j), order
+                    "BVH: the frame its children hang in", bvh_world_rotation(motion, world(), f, j), order
                 )
             ],
-            lambda: [self._world_html("GMR: the frame of the bone that ends at it", state.rotations[f, j], order)],
+            lambda: [self._world_html("GMR: the frame of the bone that ends at it", world()[j], order)],
         ]
 
     def _angles_html(self, j: int, f: int) -> str:

@@ -201,7 +201,7 @@ class TeachDock(QWidget):
             self.chain_view.setHtml("")
             return
         frame = min(self.state.frame, snapshot.motion.n_frames - 1)
-        world = (snapshot.positions[frame : frame + 1], snapshot.rotations[frame : frame + 1])
+        world = (snapshot.positions[frame : frame + 1], snapshot.rotations_at(frame)[None])
         self.chain = joint_chain(snapshot.motion.frame_slice(slice(frame, frame + 1)), joint, 0, world)
         names = " \u2192 ".join(link.name for link in self.chain.links)
         self.title.setText(f"<b>{html.escape(snapshot.motion.names[joint])}</b> at frame {frame}: {html.escape(names)}")

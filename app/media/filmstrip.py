@@ -79,7 +79,8 @@ def render_filmstrip(
     positions = np.asarray(snapshot.positions[frames])
     if layout == "side":
         positions = side_by_side(positions, up, figure=figure)
-    strip = Snapshot(snapshot.motion.frame_slice(frames), positions, np.asarray(snapshot.rotations[frames]))
+    held = np.asarray(snapshot.rotations[frames]) if snapshot.holds_rotations else None
+    strip = Snapshot(snapshot.motion.frame_slice(frames), positions, held)
     plotter = pv.Plotter(off_screen=True, window_size=size)
     try:
         scene = SkeletonScene(plotter)

@@ -119,7 +119,8 @@ def join_to_parent(state: StudioState, joint: int) -> bool:
 
 def split_everything(state: StudioState) -> bool:
     """Every joint a root: the document's world positions and rotations become the motion's
-    translations and rotations (the same arrays, nothing computed)."""
+    translations and rotations (the same arrays; the rotations computed first when no view
+    has asked for them yet)."""
     snapshot = state.snapshot
     kinematics = None if snapshot is None else (snapshot.positions, snapshot.rotations)
     return run_edit(state, "Split all", lambda m: split_all_edit(m, kinematics=kinematics))

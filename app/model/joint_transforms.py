@@ -136,9 +136,10 @@ def channel_names(motion: Motion, joint: int, has_rotation: bool, order: str) ->
     return " ".join(names) or "none"
 
 
-def bvh_world_rotation(motion: Motion, world_rotations: np.ndarray, frame: int, joint: int) -> np.ndarray:
-    """(3, 3) the joint's world rotation as a BVH defines it (the frame its children hang
-    in), from the GMR world rotations ``(F, J, 3, 3)``: its children's GMR world rotation
-    when they share one, else (a leaf, or independent children under dummies) its own."""
+def bvh_world_rotation(motion: Motion, frame_rotations: np.ndarray, frame: int, joint: int) -> np.ndarray:
+    """(3, 3) the joint's world rotation at ``frame`` as a BVH defines it (the frame its
+    children hang in), from the GMR world rotations at that frame ``(J, 3, 3)``: its
+    children's GMR world rotation when they share one, else (a leaf, or independent
+    children under dummies) its own."""
     rotation, child = bvh_rotation(motion, frame, joint)
-    return world_rotations[frame, child if rotation is not None else joint]
+    return frame_rotations[child if rotation is not None else joint]

@@ -1,7 +1,7 @@
 """Will a motion's caches fit in memory? Decided before they are allocated.
 
-The app keeps, for every frame, every joint's world position (F, J, 3) and rotation
-(F, J, 3, 3) in float64 (:class:`app.state.Snapshot`), next to the motion's own rotations
+The app keeps, for every frame, every joint's world position (F, J, 3) and, once a view
+shows joint frames, rotation (F, J, 3, 3) in float64 (:class:`app.state.Snapshot`), next to the motion's own rotations
 (F, J, 3, 3) and translations (F, J, 3). Opening a motion whose caches do not fit in the
 memory the system has available is refused with a message saying how much it would need
 and how much there is, instead of the process being killed for running out of memory.

@@ -5,20 +5,24 @@ they change it only through its methods, and the document's motion only through 
 stack (:mod:`app.commands`). Widgets never call each other.
 
 The document is a :class:`Snapshot`: an immutable GMR :class:`~core.model.motion.Motion` with
-the world positions (F, J, 3) and rotations (F, J, 3, 3) of every joint for every frame,
-computed once with the vectorised forward kinematics. The views index these arrays; an edit
-swaps in another snapshot, and undo swaps the previous one back (the same objects, so
-undo restores positions and structure exactly and recomputes nothing). An edit whose
-result's world transforms follow from the document's (shift root, split, join, split all,
+the world positions (F, J, 3) of every joint for every frame, computed once with the
+vectorised forward kinematics, and their world rotations (F, J, 3, 3), computed once for
+every frame when a view first shows joint frames (axes, the teaching overlay, the
+inspector). The views index these arrays; an edit swaps in another snapshot, and undo swaps
+the previous one back (the same objects, so undo restores positions and structure exactly
+and recomputes nothing but the world rotations, which only the document shown holds: the
+snapshots the history keeps let theirs go, so that it keeps more steps). An edit whose
+result's world positions follow from the document's (shift root, split, join, split all,
 join all, remove dummy joints, trim, mirror, up axis, scale:
-:class:`core.edits.edited.Edited`) hands the new snapshot the old one's arrays, or makes
-them from those in one pass, instead of running forward kinematics again
+:class:`core.edits.edited.Edited`) hands the new snapshot the old one's array, or makes it
+from that in one pass, instead of running forward kinematics again
 (:meth:`Snapshot.of_edit`).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import functools
 from pathlib import Path
 
 import numpy as np
@@ -63,38 +67,70 @@ class Snapshot:
     ----------
     motion : the GMR (pre-rotation) motion.
     positions : (F, J, 3) float64 world positions, read-only.
-    rotations : (F, J, 3, 3) float64 world rotations, read-only.
+    rotations : (F, J, 3, 3) float64 world rotations, read-only: those given at
+        construction, else computed for every frame on first use (the views that show
+        joint frames ask for them; drawing the figure needs only the positions).
     file_channels : the rotation channel values of the BVH file the motion was read from
         (as written, for the inspector), or None.
     """
 
     motion: Motion
     positions: np.ndarray
-    rotations: np.ndarray
+    known_rotations: dataclasses.InitVar[np.ndarray | None] = None
     file_channels: FileChannels | None = None
+
+    def __post_init__(self, known_rotations: np.ndarray | None) -> None:
+        if known_rotations is not None:
+            self.__dict__["rotations"] = known_rotations  # the cached value of ``rotations``
+
+    @functools.cached_property
+    def rotations(self) -> np.ndarray:
+        """(F, J, 3, 3) world rotations of every joint (see the class docstring)."""
+        return _readonly(forward_kinematics(self.motion, threads=None)[1])  # all cores
+
+    def rotations_at(self, frame: int) -> np.ndarray:
+        """(J, 3, 3) world rotations at one frame: read from ``rotations`` when they are at
+        hand, else computed for that frame alone (what shows one frame, such as the
+        inspector, does not make every frame's)."""
+        if self.holds_rotations:
+            return self.rotations[frame]
+        return forward_kinematics(self.motion.frame_slice(slice(frame, frame + 1)))[1][0]
+
+    @property
+    def holds_rotations(self) -> bool:
+        """The world rotations are at hand (given, or computed since)."""
+        return "rotations" in self.__dict__
+
+    def let_go_of_rotations(self) -> None:
+        """Free the world rotations (computed again on next use): a snapshot the history
+        keeps while another is shown holds only its motion and positions."""
+        self.__dict__.pop("rotations", None)
 
     @classmethod
     def of(cls, motion: Motion, file_channels: FileChannels | None = None) -> Snapshot:
-        positions, rotations = forward_kinematics(motion, threads=None)  # all cores: the cache of every frame
-        return cls(motion, _readonly(positions), _readonly(rotations), file_channels)
+        positions = forward_kinematics(motion, with_rotations=False, threads=None)[0]  # all cores
+        return cls(motion, _readonly(positions), None, file_channels)
 
     @classmethod
     def of_edit(cls, before: Snapshot, edited: Edited) -> Snapshot:
         """The snapshot of an operation's result on ``before``'s motion: its world positions
-        and rotations follow from ``before``'s (the same arrays where every joint keeps its
-        own, else gathered, sliced, turned or scaled in one pass;
-        :meth:`core.edits.edited.Edited.kinematics`), which equal the result's forward
-        kinematics to rounding; computed afresh when the result's frames are not the input's."""
+        follow from ``before``'s (the same array where every joint keeps its own, else
+        gathered, sliced, turned or scaled in one pass;
+        :meth:`core.edits.edited.Edited.world_positions`), which equal the result's forward
+        kinematics to rounding, and so do its world rotations when they are ``before``'s
+        very array; computed afresh when the result's frames are not the input's."""
         if edited.frames is None:
             return cls.of(edited.motion)
-        positions, rotations = edited.kinematics(before.positions, before.rotations, threads=None)
-        return cls(edited.motion, _readonly(positions), _readonly(rotations))
+        positions = _readonly(edited.world_positions(before.positions, threads=None))
+        kept = before.holds_rotations and edited.keeps_rotations(before.rotations)
+        return cls(edited.motion, positions, before.rotations if kept else None)
 
     @property
     def nbytes(self) -> int:
         """Memory held by the arrays this snapshot does not share with others (at most)."""
         m = self.motion
-        return int(m.rotations.nbytes + m.translations.nbytes + self.positions.nbytes + self.rotations.nbytes)
+        held = m.rotations.nbytes + m.translations.nbytes + self.positions.nbytes
+        return int(held + (self.rotations.nbytes if self.holds_rotations else 0))
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -238,6 +274,8 @@ class StudioState(QObject):
         if moved and self.selected is not None:  # views drop the old index before they rebuild
             self.selected = None
             self.selection_changed.emit(-1)
+        if self.snapshot is not None and self.snapshot is not snapshot:
+            self.snapshot.let_go_of_rotations()  # only the document shown holds them
         self.snapshot = snapshot
         self.message.emit("")
         self.motion_changed.emit()
@@ -388,12 +426,15 @@ def pelvis_on_motion(pelvis: PelvisFrames, rate: float, alignment: MarkerAlignme
 
 def undo_limit_for(snapshot: Snapshot) -> int:
     """How many edits the history keeps for a motion this big (at least 1, at most 100):
-    as many as fit in :data:`UNDO_MEMORY_BUDGET` beside the document's own snapshot when
-    every edit holds a whole new snapshot as big (the most an edit holds: trim, resample,
-    mirror; shift root, split, join and the others share arrays with the snapshot before
-    and hold less, :func:`history_bytes`)."""
-    size = max(snapshot.nbytes, 1)
-    return int(min(100, max(1, (UNDO_MEMORY_BUDGET - size) // size)))
+    as many as fit in :data:`UNDO_MEMORY_BUDGET` beside the document shown (its motion,
+    positions and world rotations) when every edit holds a whole new motion and positions
+    as big (the most an edit holds: trim, resample, mirror; shift root, split, join and
+    the others share arrays with the snapshot before and hold less, :func:`history_bytes`).
+    The snapshots the history keeps hold no world rotations (:meth:`Snapshot.let_go_of_rotations`)."""
+    motion = snapshot.motion
+    size = max(motion.rotations.nbytes + motion.translations.nbytes + snapshot.positions.nbytes, 1)
+    shown = size + motion.rotations.nbytes  # world rotations are as big as the local ones
+    return int(min(100, max(1, (UNDO_MEMORY_BUDGET - shown) // size)))
 
 
 def array_buffer(array: np.ndarray) -> np.ndarray:
@@ -413,7 +454,8 @@ def history_bytes(state: StudioState) -> int:
     buffers = {}
     for snapshot in filter(None, snapshots):
         motion = snapshot.motion
-        for array in (motion.rotations, motion.translations, snapshot.positions, snapshot.rotations):
+        held = (snapshot.rotations,) if snapshot.holds_rotations else ()
+        for array in (motion.rotations, motion.translations, snapshot.positions, *held):
             owner = array_buffer(array)
             buffers[id(owner)] = owner.nbytes
     return sum(buffers.values())

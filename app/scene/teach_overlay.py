@@ -39,7 +39,7 @@ class TeachingGeometry:
 def teaching_geometry(snapshot: Snapshot, joint: int, frame: int, amount: float) -> TeachingGeometry:
     """Chain and turned bones of ``joint`` at ``frame`` (see the module docstring)."""
     motion = snapshot.motion
-    positions, rotations = snapshot.positions[frame], snapshot.rotations[frame]
+    positions, rotations = snapshot.positions[frame], snapshot.rotations_at(frame)
     chain = positions[motion.path_from_root(joint)]
     parent = motion.parents[joint]
     if parent >= 0:

@@ -67,15 +67,45 @@ class Edited:
         kinematics to rounding (~1e-15 of the size): the edits keep, turn or scale every
         world position and frame exactly in theory. Raises ValueError when the frames are
         not the input's."""
+        return self.world_positions(positions, threads=threads), self.world_rotations(rotations, threads=threads)
+
+    def world_positions(self, positions: np.ndarray, *, threads: int | None = 1) -> np.ndarray:
+        """The result's world positions (F', J', 3) from the input's (F, J, 3), as
+        :meth:`kinematics` gives them."""
+        self._check_frames()
+        return self._taken(positions, self.joints, self._turn(), self._moved(), threads)
+
+    def world_rotations(self, rotations: np.ndarray, *, threads: int | None = 1) -> np.ndarray:
+        """The result's world rotations (F', J', 3, 3) from the input's (F, J, 3, 3), as
+        :meth:`kinematics` gives them."""
+        self._check_frames()
+        return self._taken(rotations, self.frames, self._turn(), False, threads)
+
+    def keeps_rotations(self, rotations: np.ndarray) -> bool:
+        """Whether the result's world rotations are the input's (F, J, 3, 3) array itself
+        (every joint keeps its frame, every frame stays, nothing turned): handing them on
+        costs nothing."""
+        if self.frames is None or self._turn() is not None:
+            return False
+        every = self.frames.size == rotations.shape[1] and np.array_equal(self.frames, np.arange(self.frames.size))
+        return every and self._kept_rows(rotations.shape[0]) is None
+
+    def _check_frames(self) -> None:
         if self.frames is None:
             raise ValueError("the result's world rotations are not the input's: compute its forward kinematics")
-        turned = self.turn is not None and not np.array_equal(self.turn, np.eye(3))
-        turn = self.turn if turned else None
-        moved = self.scale != 1.0 or (self.shift is not None and np.any(self.shift != 0.0))
-        return (
-            self._taken(positions, self.joints, turn, moved, threads),
-            self._taken(rotations, self.frames, turn, False, threads),
-        )
+
+    def _turn(self) -> np.ndarray | None:
+        """``turn``, or None when it is the identity."""
+        return self.turn if self.turn is not None and not np.array_equal(self.turn, np.eye(3)) else None
+
+    def _moved(self) -> bool:
+        return self.scale != 1.0 or (self.shift is not None and bool(np.any(self.shift != 0.0)))
+
+    def _kept_rows(self, n_frames: int) -> tuple[int, ...] | None:
+        """``rows``, or None when they are every frame of ``n_frames``."""
+        if self.rows is None or tuple(self.rows) in ((0, n_frames), (0, n_frames, 1)):
+            return None
+        return self.rows
 
     def _taken(
         self, array: np.ndarray, joints: np.ndarray, turn: np.ndarray | None, moved: bool, threads: int | None
@@ -83,11 +113,7 @@ class Edited:
         """The result's part of the input's ``array``: ``array`` itself when every joint,
         frame and axis stays, else :func:`core.kinematics.engine.turned_joints`."""
         every = joints.size == array.shape[1] and np.array_equal(joints, np.arange(joints.size))
-        rows = (
-            self.rows
-            if self.rows is not None and tuple(self.rows) not in ((0, array.shape[0]), (0, array.shape[0], 1))
-            else None
-        )
+        rows = self._kept_rows(array.shape[0])
         if rows is not None and len(rows) == 3 and rows[2] != 1:
             array, rows = array[slice(*rows)], None  # every n-th frame: a view, copied below
             if every and turn is None and not moved:
