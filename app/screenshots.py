@@ -141,6 +141,7 @@ def _show_docks(window, args: argparse.Namespace) -> str | None:
         panel.table.selectRow(args.finding)
         panel.choose_row(args.finding)
     window.problems.wait()
+    window.classroom.panel.settle()
     return None
 
 

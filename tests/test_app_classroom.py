@@ -6,6 +6,7 @@ by the slider's amount (worked out from the motion's own rotations and translati
 from __future__ import annotations
 
 import dataclasses
+import itertools
 from types import SimpleNamespace
 
 import numpy as np
@@ -60,6 +61,33 @@ def test_the_chain_of_the_selected_joint_is_shown_both_ways(classroom, qtbot):
     ):
         assert name in text
     assert "LeftForeArm" in panel.title.text() and "619" in panel.title.text()
+
+
+def test_a_screenshot_shows_the_chain_without_waiting_for_the_dock(studio):
+    open_file(studio, shared_path(CMU))
+    studio.state.select(studio.state.motion.names.index("LeftForeArm"))
+    studio.classroom.dock.show()  # its refresh is deferred to a timer
+    studio.classroom.panel.settle()  # what a screenshot calls before it grabs the window
+    assert "LeftForeArm" in studio.classroom.panel.title.text()
+
+
+def test_a_short_dock_scrolls_instead_of_overlapping_its_parts(studio, qtbot):
+    open_file(studio, shared_path(CMU))
+    studio.resize(1280, 480)
+    studio.state.select(studio.state.motion.names.index("LeftForeArm"))
+    studio.classroom.dock.show()  # from the View menu: a tab of the narrow side column
+    studio.classroom.dock.raise_()
+    panel = studio.classroom.panel
+    qtbot.waitUntil(lambda: panel.chain is not None, timeout=3000)
+    parts = [panel.title, panel.chain_view, panel.amount_label, panel.amount]
+    assert studio.classroom.dock.height() < panel.minimumSizeHint().height()  # shorter than the panel
+
+    def apart() -> bool:
+        return all(a.geometry().bottom() < b.geometry().top() for a, b in itertools.pairwise(parts))
+
+    qtbot.waitUntil(apart, timeout=3000)
+    bar = panel.chain_view.horizontalScrollBar()  # a matrix's rows wider than the view scroll sideways
+    assert bar.maximum() > 0 or panel.chain_view.document().idealWidth() <= panel.chain_view.viewport().width()
 
 
 def test_the_rotation_slider_turns_the_drawn_bones(classroom, qtbot):

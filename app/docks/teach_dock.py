@@ -115,9 +115,9 @@ class TeachDock(QWidget):
         self.title.setWordWrap(True)
         self.chain_view = QTextBrowser()
         self.chain_view.setFont(QFontDatabase.systemFont(QFontDatabase.SystemFont.FixedFont))
-        # a matrix and its neighbours readable at once in the side column: no sideways
-        # scrolling, at least MATRIX_LINES lines tall
-        self.chain_view.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        # a matrix and its neighbours readable at once: at least MATRIX_LINES lines tall (the
+        # dock opens wide enough for a matrix's rows; narrower, they scroll sideways)
+        self.chain_view.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAsNeeded)
         self.chain_view.setMinimumHeight(MATRIX_LINES * self.chain_view.fontMetrics().lineSpacing() + 12)
         self.amount = QSlider(Qt.Orientation.Horizontal)
         self.amount.setRange(0, 100)
@@ -133,13 +133,14 @@ class TeachDock(QWidget):
         self.measured_text = QLabel()
         self.measured_text.setWordWrap(True)
         layout = QVBoxLayout(self)
+        layout.setSizeConstraint(QVBoxLayout.SizeConstraint.SetMinimumSize)  # in a scroll area: never squeezed
         layout.addWidget(self.title)
         layout.addWidget(self.chain_view, 1)
         layout.addWidget(self.amount_label)
         layout.addWidget(self.amount)
         for title, widgets in (
             ("Shift root", [self.shift_text]),
-            ("Roots and FK time (paper, Figure 4)", [self.roots, self.roots_label, self.measured_text]),
+            ("Roots and FK time (paper, Fig. 4)", [self.roots, self.roots_label, self.measured_text]),
         ):
             box = QGroupBox(title)
             inner = QVBoxLayout(box)
@@ -166,6 +167,12 @@ class TeachDock(QWidget):
         # hidden (by default a tab behind the inspector) it is refreshed when shown
         if self.isVisible() and not self._refresh_timer.isActive():
             self._refresh_timer.start()
+
+    def settle(self) -> None:
+        """Refresh now if a refresh is pending (a screenshot cannot wait for the timer)."""
+        if self._refresh_timer.isActive():
+            self._refresh_timer.stop()
+            self.refresh()
 
     def showEvent(self, event) -> None:  # noqa: N802 (Qt's name)
         self._refresh_timer.start()

@@ -7,7 +7,7 @@ with the dock's rotation slider.
 from __future__ import annotations
 
 from PyQt6.QtCore import Qt
-from PyQt6.QtWidgets import QDockWidget, QMainWindow
+from PyQt6.QtWidgets import QDockWidget, QFrame, QMainWindow, QScrollArea
 
 from gmr_studio.app.docks.teach_dock import TeachDock
 from gmr_studio.app.model.state import StudioState
@@ -28,7 +28,12 @@ class Classroom:
         scene.add_drawable(self.overlay)
         self.dock = QDockWidget("Teach", window)
         self.dock.setObjectName("teach")
-        self.dock.setWidget(self.panel)
+        scroll = QScrollArea()  # a dock shorter than the panel scrolls instead of overlapping its parts
+        scroll.setWidgetResizable(True)
+        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        scroll.setFrameShape(QFrame.Shape.NoFrame)
+        scroll.setWidget(self.panel)
+        self.dock.setWidget(scroll)
         window.addDockWidget(Qt.DockWidgetArea.RightDockWidgetArea, self.dock)
         if beside is not None:  # a tab beside the inspector: the 3D view keeps its width
             window.tabifyDockWidget(beside, self.dock)
