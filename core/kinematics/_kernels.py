@@ -176,12 +176,40 @@ def _store_rows(typingctx, world, at, n0, n1, n2):  # pragma: no cover - compile
     return types.void(world, types.intp, _QUAD, _QUAD, _QUAD), codegen
 
 
+@intrinsic
+def _at(typingctx, array, index):  # pragma: no cover - compile time
+    """array[index] of a C-contiguous 1-D float64 array, ``index`` taken as is (no
+    negative-index wraparound: the caller's indices are never negative)."""
+    if array.layout != "C" or array.ndim != 1:
+        return None
+
+    def codegen(context, builder, signature, args):
+        view = context.make_array(signature.args[0])(context, builder, args[0])
+        return builder.load(builder.gep(view.data, [args[1]]))
+
+    return types.float64(array, types.intp), codegen
+
+
+@intrinsic
+def _put(typingctx, array, index, value):  # pragma: no cover - compile time
+    """array[index] = value (as :func:`_at`: a C-contiguous 1-D float64 array, no wraparound)."""
+    if array.layout != "C" or array.ndim != 1:
+        return None
+
+    def codegen(context, builder, signature, args):
+        view = context.make_array(signature.args[0])(context, builder, args[0])
+        builder.store(args[2], builder.gep(view.data, [args[1]]))
+        return context.get_dummy_value()
+
+    return types.void(array, types.intp, types.float64), codegen
+
+
 @numba.njit(inline="always", boundscheck=False)
 def _turned(c0, c1, c2, local, r):  # pragma: no cover - compiled
-    """The columns of W @ R (W by columns c0, c1, c2; R the 9 numbers at local[r], row by row)."""
-    n0 = _combine(c0, c1, c2, local[r], local[r + 3], local[r + 6])
-    n1 = _combine(c0, c1, c2, local[r + 1], local[r + 4], local[r + 7])
-    n2 = _combine(c0, c1, c2, local[r + 2], local[r + 5], local[r + 8])
+    """The columns of W @ R (W by columns c0, c1, c2; R the 9 numbers from local[r], row by row)."""
+    n0 = _combine(c0, c1, c2, _at(local, r), _at(local, r + 3), _at(local, r + 6))
+    n1 = _combine(c0, c1, c2, _at(local, r + 1), _at(local, r + 4), _at(local, r + 7))
+    n2 = _combine(c0, c1, c2, _at(local, r + 2), _at(local, r + 5), _at(local, r + 8))
     return n0, n1, n2
 
 
@@ -221,8 +249,8 @@ def _walk(  # pragma: no cover - compiled
     :func:`_steps` makes them. columns (J, 4, 4): per joint the world rotation's columns and
     the position, 4 lanes each (the last lane 0), for its children to read.
 
-    Each index is a multiple of the row plus a constant, so that the compiler checks the
-    sign of one row for negative indices instead of every index.
+    The flat arrays are read and written by :func:`_at` and :func:`_put`: no index is
+    negative, and numba's indexing would check each one for wraparound.
 
     Leaves get their world rotation only when ``keep_world``; their positions are computed
     the same way either way (pre-rotation: ``P_p + W_p (R_j t_j)``)."""
@@ -234,31 +262,31 @@ def _walk(  # pragma: no cover - compiled
         t = 3 * (offset_row + j)
         o = 3 * (out + j)
         w = 9 * (out_world + j)
-        t0 = offsets[t]
-        t1 = offsets[t + 1]
-        t2 = offsets[t + 2]
+        t0 = _at(offsets, t)
+        t1 = _at(offsets, t + 1)
+        t2 = _at(offsets, t + 2)
         if kind == ROOT:
-            pos[o] = t0
-            pos[o + 1] = t1
-            pos[o + 2] = t2
+            _put(pos, o, t0)
+            _put(pos, o + 1, t1)
+            _put(pos, o + 2, t2)
             columns[j, 3, 0] = t0
             columns[j, 3, 1] = t1
             columns[j, 3, 2] = t2
             if steps[step, 2] & 4:  # keep_root
                 for a in range(3):
                     for b in range(3):
-                        columns[j, b, a] = local[r + 3 * a + b]
+                        columns[j, b, a] = _at(local, r + 3 * a + b)
                         if keep_world:
-                            world[w + 3 * a + b] = local[r + 3 * a + b]
+                            _put(world, w + 3 * a + b, _at(local, r + 3 * a + b))
             continue
         c0 = _load(columns, p, 0)
         c1 = _load(columns, p, 1)
         c2 = _load(columns, p, 2)
         at = _load(columns, p, 3)
         if pre and kind == LEAF:  # P_p + W_p (R_j t_j): no world rotation needed
-            v0 = (local[r] * t0 + local[r + 1] * t1) + local[r + 2] * t2
-            v1 = (local[r + 3] * t0 + local[r + 4] * t1) + local[r + 5] * t2
-            v2 = (local[r + 6] * t0 + local[r + 7] * t1) + local[r + 8] * t2
+            v0 = (_at(local, r) * t0 + _at(local, r + 1) * t1) + _at(local, r + 2) * t2
+            v1 = (_at(local, r + 3) * t0 + _at(local, r + 4) * t1) + _at(local, r + 5) * t2
+            v2 = (_at(local, r + 6) * t0 + _at(local, r + 7) * t1) + _at(local, r + 8) * t2
             here = _add(at, _combine(c0, c1, c2, v0, v1, v2))
             if keep_world:
                 n0, n1, n2 = _turned(c0, c1, c2, local, r)
@@ -272,9 +300,9 @@ def _walk(  # pragma: no cover - compiled
             if kind == INNER or keep_world:
                 n0, n1, n2 = _turned(c0, c1, c2, local, r)
                 _keep(columns, world, j, w, n0, n1, n2, here, keep_world)
-        pos[o] = here[0]
-        pos[o + 1] = here[1]
-        pos[o + 2] = here[2]
+        _put(pos, o, here[0])
+        _put(pos, o + 1, here[1])
+        _put(pos, o + 2, here[2])
 
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)
