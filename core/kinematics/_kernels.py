@@ -9,9 +9,11 @@ topological order. Arithmetic is spelled out ``(a0 b0 + a1 b1) + a2 b2`` so that
 matches the numpy backend operation for operation (numba compiles without fast-math: no
 fused multiply-add, no reassociation).
 
-The walk (:func:`_walk`, for :func:`fk_matrices` and :func:`fk_euler`) keeps each joint's
-world rotation by columns, each column (and the position) a vector of 4 lanes (the last
-unused), and computes a column of ``W_p R_j`` as
+The walk (:func:`_walk`, for :func:`fk_matrices` and :func:`fk_euler`) reads and writes
+flat (1-D) views of the frame arrays, joint j of frame f at row ``f J + j``, through
+:func:`_at` and :func:`_put` (no per-frame views, no negative-index checks). It keeps
+each joint's world rotation by columns, each column (and the position) a vector of 4
+lanes (the last unused), and computes a column of ``W_p R_j`` as
 ``(c0 r0b + c1 r1b) + c2 r2b`` on whole vectors: the same operations, lane by lane, as
 the scalar sums. numba turns off LLVM's SLP vectoriser, which would otherwise find these
 vector operations; the small intrinsics below spell them out in LLVM IR (plain ``fmul``
