@@ -390,7 +390,7 @@ def fk_euler(  # pragma: no cover - compiled
         row = n_joints * f
         if staged:
             for i in range(scratch_offsets.shape[0]):
-                scratch_offsets[i] = off[3 * row + i]
+                _put(scratch_offsets, i, _at(off, 3 * row + i))
             _walk(flat, 0, scratch_offsets, 0, steps, False, pre, pos, row, flat, 0, columns)
         else:
             _walk(flat, 0, off, row, steps, False, pre, pos, row, flat, 0, columns)
