@@ -9,9 +9,11 @@ topological order. Arithmetic is spelled out ``(a0 b0 + a1 b1) + a2 b2`` so that
 matches the numpy backend operation for operation (numba compiles without fast-math: no
 fused multiply-add, no reassociation).
 
-The walk (:func:`_walk`, for :func:`fk_matrices` and :func:`fk_euler`) keeps each joint's
-world rotation by columns, each column (and the position) a vector of 4 lanes (the last
-unused), and computes a column of ``W_p R_j`` as
+The walk (:func:`_walk`, for :func:`fk_matrices` and :func:`fk_euler`) reads and writes
+flat (1-D) views of the frame arrays, joint j of frame f at row ``f J + j``, through
+:func:`_at` and :func:`_put` (no per-frame views, no negative-index checks). It keeps
+each joint's world rotation by columns, each column (and the position) a vector of 4
+lanes (the last unused), and computes a column of ``W_p R_j`` as
 ``(c0 r0b + c1 r1b) + c2 r2b`` on whole vectors: the same operations, lane by lane, as
 the scalar sums. numba turns off LLVM's SLP vectoriser, which would otherwise find these
 vector operations; the small intrinsics below spell them out in LLVM IR (plain ``fmul``
@@ -33,17 +35,17 @@ ROOT, INNER, LEAF = 0, 1, 2
 
 
 @numba.njit(inline="always", boundscheck=False)
-def _stage(rotations, translations, joints, local, offsets):  # pragma: no cover - compiled
-    """Copy one frame's (J, 3) translations and the (J, 3, 3) rotations of ``joints``
-    (increasing) in memory order."""
-    for j in range(translations.shape[0]):
-        for a in range(3):
-            offsets[j, a] = translations[j, a]
+def _stage(rotations, translations, row, joints, local, offsets):  # pragma: no cover - compiled
+    """Copy, in memory order, the translations of the frame whose first row (joint 0) is
+    ``row`` and the rotations of its ``joints`` (increasing) into the scratch ``offsets``
+    (J * 3,) and ``local`` (J * 9,). All flat: 9 numbers a rotation row by row, 3 a
+    translation."""
+    for i in range(offsets.shape[0]):
+        offsets[i] = translations[3 * row + i]
     for i in range(joints.shape[0]):
         j = joints[i]
-        for a in range(3):
-            for b in range(3):
-                local[j, a, b] = rotations[j, a, b]
+        for k in range(9):
+            local[9 * j + k] = rotations[9 * (row + j) + k]
 
 
 _LANES = ir.VectorType(ir.DoubleType(), 4)
@@ -150,55 +152,79 @@ _lane_max = _lane_pick(">")
 
 
 @intrinsic
-def _store_rows(typingctx, world, j, n0, n1, n2):  # pragma: no cover - compile time
-    """world[j] (3, 3) = the matrix of columns n0, n1, n2: its 9 numbers as two 4-lane
-    stores and one scalar (world: C-contiguous (J, 3, 3))."""
-    if world.layout != "C":
+def _store_rows(typingctx, world, at, n0, n1, n2):  # pragma: no cover - compile time
+    """world[at : at + 9] = the matrix of columns n0, n1, n2 row by row: two 4-lane stores
+    and one scalar (world: a C-contiguous 1-D float64 array)."""
+    if world.layout != "C" or world.ndim != 1:
         return None
 
     def codegen(context, builder, signature, args):
-        array_type = signature.args[0]
-        view = context.make_array(array_type)(context, builder, args[0])
-        zero = context.get_constant(types.intp, 0)
-        one = context.get_constant(types.intp, 1)
-        two = context.get_constant(types.intp, 2)
+        view = context.make_array(signature.args[0])(context, builder, args[0])
         c0, c1, c2 = (_as_vector(builder, quad) for quad in args[2:])
 
         def pick(a, b, lanes):
             return builder.shuffle_vector(a, b, ir.Constant(ir.VectorType(_INDEX, 4), lanes))
 
+        def pointer(k):
+            return builder.gep(view.data, [builder.add(args[1], context.get_constant(types.intp, k))])
+
         first = pick(pick(c0, c1, [0, 4, 1, 5]), c2, [0, 1, 4, 2])  # W00 W01 W02 W10
         second = pick(pick(c0, c1, [5, 2, 6, 0]), c2, [0, 5, 1, 2])  # W11 W12 W20 W21
-        at = [args[1]]
-        for vector, (a, b) in ((first, (zero, zero)), (second, (one, one))):
-            pointer = cgutils.get_item_pointer(context, builder, array_type, view, [*at, a, b], wraparound=False)
-            builder.store(vector, builder.bitcast(pointer, _LANES.as_pointer()), align=8)
-        pointer = cgutils.get_item_pointer(context, builder, array_type, view, [*at, two, two], wraparound=False)
-        builder.store(builder.extract_element(c2, ir.Constant(_INDEX, 2)), pointer)
+        builder.store(first, builder.bitcast(pointer(0), _LANES.as_pointer()), align=8)
+        builder.store(second, builder.bitcast(pointer(4), _LANES.as_pointer()), align=8)
+        builder.store(builder.extract_element(c2, ir.Constant(_INDEX, 2)), pointer(8))
         return context.get_dummy_value()
 
-    return types.void(world, j, _QUAD, _QUAD, _QUAD), codegen
+    return types.void(world, types.intp, _QUAD, _QUAD, _QUAD), codegen
+
+
+@intrinsic
+def _at(typingctx, array, index):  # pragma: no cover - compile time
+    """array[index] of a C-contiguous 1-D float64 array, ``index`` taken as is (no
+    negative-index wraparound: the caller's indices are never negative)."""
+    if array.layout != "C" or array.ndim != 1:
+        return None
+
+    def codegen(context, builder, signature, args):
+        view = context.make_array(signature.args[0])(context, builder, args[0])
+        return builder.load(builder.gep(view.data, [args[1]]))
+
+    return types.float64(array, types.intp), codegen
+
+
+@intrinsic
+def _put(typingctx, array, index, value):  # pragma: no cover - compile time
+    """array[index] = value (as :func:`_at`: a C-contiguous 1-D float64 array, no wraparound)."""
+    if array.layout != "C" or array.ndim != 1:
+        return None
+
+    def codegen(context, builder, signature, args):
+        view = context.make_array(signature.args[0])(context, builder, args[0])
+        builder.store(args[2], builder.gep(view.data, [args[1]]))
+        return context.get_dummy_value()
+
+    return types.void(array, types.intp, types.float64), codegen
 
 
 @numba.njit(inline="always", boundscheck=False)
-def _turned(c0, c1, c2, local, j):  # pragma: no cover - compiled
-    """The columns of W @ local[j] (W by columns c0, c1, c2)."""
-    n0 = _combine(c0, c1, c2, local[j, 0, 0], local[j, 1, 0], local[j, 2, 0])
-    n1 = _combine(c0, c1, c2, local[j, 0, 1], local[j, 1, 1], local[j, 2, 1])
-    n2 = _combine(c0, c1, c2, local[j, 0, 2], local[j, 1, 2], local[j, 2, 2])
+def _turned(c0, c1, c2, local, r):  # pragma: no cover - compiled
+    """The columns of W @ R (W by columns c0, c1, c2; R the 9 numbers from local[r], row by row)."""
+    n0 = _combine(c0, c1, c2, _at(local, r), _at(local, r + 3), _at(local, r + 6))
+    n1 = _combine(c0, c1, c2, _at(local, r + 1), _at(local, r + 4), _at(local, r + 7))
+    n2 = _combine(c0, c1, c2, _at(local, r + 2), _at(local, r + 5), _at(local, r + 8))
     return n0, n1, n2
 
 
 @numba.njit(inline="always", boundscheck=False)
-def _keep(columns, world, j, n0, n1, n2, here, keep_world):  # pragma: no cover - compiled
+def _keep(columns, world, j, w, n0, n1, n2, here, keep_world):  # pragma: no cover - compiled
     """Joint j's world rotation (columns n0, n1, n2) and position ``here`` into ``columns``
-    for its children, and the rotation into ``world`` when ``keep_world``."""
+    for its children, and the rotation into ``world[w : w + 9]`` when ``keep_world``."""
     _store(columns, j, 0, n0)
     _store(columns, j, 1, n1)
     _store(columns, j, 2, n2)
     _store(columns, j, 3, here)
     if keep_world:
-        _store_rows(world, j, n0, n1, n2)
+        _store_rows(world, w, n0, n1, n2)
 
 
 @numba.njit(inline="always", boundscheck=False)
@@ -215,11 +241,18 @@ def _steps(order, parents, kinds, keep_root):  # pragma: no cover - compiled
 
 
 @numba.njit(inline="always", boundscheck=False)
-def _walk(local, offsets, steps, keep_world, pre, pos, world, columns):  # pragma: no cover - compiled
-    """One frame: local (J, 3, 3), offsets (J, 3) -> pos (J, 3) and, when ``keep_world``,
-    world (J, 3, 3). steps: as :func:`_steps` makes them. columns (J, 4, 4): per joint the
-    world rotation's columns and the position, 4 lanes each (the last lane 0), for its
-    children to read.
+def _walk(  # pragma: no cover - compiled
+    local, row, offsets, offset_row, steps, keep_world, pre, pos, out, world, out_world, columns
+):
+    """One frame, every array flat (1-D) by rows of joints: joint j's rotation is the 9
+    numbers (row by row) from ``local[9 (row + j)]``, its translation the 3 from
+    ``offsets[3 (offset_row + j)]``; its position goes to ``pos[3 (out + j)]`` and, when
+    ``keep_world``, its world rotation to ``world[9 (out_world + j)]``. steps: as
+    :func:`_steps` makes them. columns (J, 4, 4): per joint the world rotation's columns and
+    the position, 4 lanes each (the last lane 0), for its children to read.
+
+    The flat arrays are read and written by :func:`_at` and :func:`_put`: no index is
+    negative, and numba's indexing would check each one for wraparound.
 
     Leaves get their world rotation only when ``keep_world``; their positions are computed
     the same way either way (pre-rotation: ``P_p + W_p (R_j t_j)``)."""
@@ -227,47 +260,51 @@ def _walk(local, offsets, steps, keep_world, pre, pos, world, columns):  # pragm
         j = steps[step, 0]
         p = steps[step, 1]
         kind = steps[step, 2] & 3
-        t0 = offsets[j, 0]
-        t1 = offsets[j, 1]
-        t2 = offsets[j, 2]
+        r = 9 * (row + j)
+        t = 3 * (offset_row + j)
+        o = 3 * (out + j)
+        w = 9 * (out_world + j)
+        t0 = _at(offsets, t)
+        t1 = _at(offsets, t + 1)
+        t2 = _at(offsets, t + 2)
         if kind == ROOT:
-            pos[j, 0] = t0
-            pos[j, 1] = t1
-            pos[j, 2] = t2
+            _put(pos, o, t0)
+            _put(pos, o + 1, t1)
+            _put(pos, o + 2, t2)
             columns[j, 3, 0] = t0
             columns[j, 3, 1] = t1
             columns[j, 3, 2] = t2
             if steps[step, 2] & 4:  # keep_root
                 for a in range(3):
                     for b in range(3):
-                        columns[j, b, a] = local[j, a, b]
+                        columns[j, b, a] = _at(local, r + 3 * a + b)
                         if keep_world:
-                            world[j, a, b] = local[j, a, b]
+                            _put(world, w + 3 * a + b, _at(local, r + 3 * a + b))
             continue
         c0 = _load(columns, p, 0)
         c1 = _load(columns, p, 1)
         c2 = _load(columns, p, 2)
         at = _load(columns, p, 3)
         if pre and kind == LEAF:  # P_p + W_p (R_j t_j): no world rotation needed
-            v0 = (local[j, 0, 0] * t0 + local[j, 0, 1] * t1) + local[j, 0, 2] * t2
-            v1 = (local[j, 1, 0] * t0 + local[j, 1, 1] * t1) + local[j, 1, 2] * t2
-            v2 = (local[j, 2, 0] * t0 + local[j, 2, 1] * t1) + local[j, 2, 2] * t2
+            v0 = (_at(local, r) * t0 + _at(local, r + 1) * t1) + _at(local, r + 2) * t2
+            v1 = (_at(local, r + 3) * t0 + _at(local, r + 4) * t1) + _at(local, r + 5) * t2
+            v2 = (_at(local, r + 6) * t0 + _at(local, r + 7) * t1) + _at(local, r + 8) * t2
             here = _add(at, _combine(c0, c1, c2, v0, v1, v2))
             if keep_world:
-                n0, n1, n2 = _turned(c0, c1, c2, local, j)
-                _store_rows(world, j, n0, n1, n2)
+                n0, n1, n2 = _turned(c0, c1, c2, local, r)
+                _store_rows(world, w, n0, n1, n2)
         elif pre:
-            n0, n1, n2 = _turned(c0, c1, c2, local, j)
+            n0, n1, n2 = _turned(c0, c1, c2, local, r)
             here = _add(at, _combine(n0, n1, n2, t0, t1, t2))
-            _keep(columns, world, j, n0, n1, n2, here, keep_world)
+            _keep(columns, world, j, w, n0, n1, n2, here, keep_world)
         else:
             here = _add(at, _combine(c0, c1, c2, t0, t1, t2))
             if kind == INNER or keep_world:
-                n0, n1, n2 = _turned(c0, c1, c2, local, j)
-                _keep(columns, world, j, n0, n1, n2, here, keep_world)
-        pos[j, 0] = here[0]
-        pos[j, 1] = here[1]
-        pos[j, 2] = here[2]
+                n0, n1, n2 = _turned(c0, c1, c2, local, r)
+                _keep(columns, world, j, w, n0, n1, n2, here, keep_world)
+        _put(pos, o, here[0])
+        _put(pos, o + 1, here[1])
+        _put(pos, o + 2, here[2])
 
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)
@@ -276,20 +313,32 @@ def fk_matrices(  # pragma: no cover - compiled
 ):
     """rotations (F, J, 3, 3), translations (F, J, 3) -> positions (F, J, 3) and world:
     (F, J, 3, 3) when ``keep_world`` (every frame's world rotations), else (1, J, 3, 3),
-    unused. When ``staged`` (increasing joint indices) is not empty, the rotations of those
-    joints and all translations of each frame are first copied, in memory order, into the
-    scratch ``local`` (J, 3, 3) and ``offsets`` (J, 3): the walk in tree order then reads
-    from L1 instead of jumping about in memory the prefetchers cannot follow."""
+    unused; all C-contiguous. When ``staged`` (increasing joint indices) is not empty, the
+    rotations of those joints and all translations of each frame are first copied, in
+    memory order, into the scratch ``local`` (J, 3, 3) and ``offsets`` (J, 3): the walk in
+    tree order then reads from L1 instead of jumping about in memory the prefetchers cannot
+    follow.
+
+    The walk indexes flat views of the arrays by row (frame f, joint j: row f J + j): a
+    view per frame would cost reference counting and stride arithmetic every frame."""
+    n_frames, n_joints = rotations.shape[0], rotations.shape[1]
     stage = staged.shape[0] > 0
-    columns = np.zeros((rotations.shape[1], 4, 4))
+    columns = np.zeros((n_joints, 4, 4))
     steps = _steps(order, parents, kinds, keep_root)
-    for f in range(rotations.shape[0]):
-        rotation, translation = rotations[f], translations[f]
+    rot = rotations.reshape(rotations.size)
+    off = translations.reshape(translations.size)
+    pos = positions.reshape(positions.size)
+    out_world = world.reshape(world.size)
+    scratch = local.reshape(local.size)
+    scratch_offsets = offsets.reshape(offsets.size)
+    for f in range(n_frames):
+        row = n_joints * f
+        world_row = row if keep_world else 0
         if stage:
-            _stage(rotation, translation, staged, local, offsets)
-            rotation, translation = local, offsets
-        w = world[f] if keep_world else world[0]
-        _walk(rotation, translation, steps, keep_world, pre, positions[f], w, columns)
+            _stage(rot, off, row, staged, scratch, scratch_offsets)
+            _walk(scratch, 0, scratch_offsets, 0, steps, keep_world, pre, pos, row, out_world, world_row, columns)
+        else:
+            _walk(rot, row, off, row, steps, keep_world, pre, pos, row, out_world, world_row, columns)
 
 
 @numba.njit(inline="always", boundscheck=False)
@@ -327,20 +376,24 @@ def fk_euler(  # pragma: no cover - compiled
     of one frame; offsets (J, 3): the frame's translations, copied there in memory order
     first when ``staged`` (the walk is not in memory order)."""
     local = scratch[0]
+    flat = scratch.reshape(scratch.size)
     n_joints = angles.shape[1]
     columns = np.zeros((n_joints, 4, 4))
     steps = _steps(order, parents, kinds, keep_root)
+    off = translations.reshape(translations.size)
+    pos = positions.reshape(positions.size)
+    scratch_offsets = offsets.reshape(offsets.size)
     for f in range(angles.shape[0]):
         for j in range(n_joints):
             if needed[j]:
                 _euler_matrix(angles[f, j, 0], angles[f, j, 1], angles[f, j, 2], codes[j], local[j])
+        row = n_joints * f
         if staged:
-            for j in range(n_joints):
-                for a in range(3):
-                    offsets[j, a] = translations[f, j, a]
-            _walk(local, offsets, steps, False, pre, positions[f], local, columns)
+            for i in range(scratch_offsets.shape[0]):
+                _put(scratch_offsets, i, _at(off, 3 * row + i))
+            _walk(flat, 0, scratch_offsets, 0, steps, False, pre, pos, row, flat, 0, columns)
         else:
-            _walk(local, translations[f], steps, False, pre, positions[f], local, columns)
+            _walk(flat, 0, off, row, steps, False, pre, pos, row, flat, 0, columns)
 
 
 @numba.njit(nogil=True, cache=True, boundscheck=False)

@@ -21,10 +21,15 @@ Choices (``gmr bench`` times them; docs/benchmark.md):
   scratch that stays in L1, reading the rotations once, in the order they are stored
   (frame-major, the Motion layout). It keeps each world rotation by columns, 4-lane
   vectors, so that a column of ``W_p R_j`` is three vector products and two sums (SIMD
-  within a frame, the same operations per lane). Tried and dropped: joint-major component
+  within a frame, the same operations per lane). It indexes the frame arrays flat, joint
+  j of frame f at row ``f J + j``: no per-frame array views (each costs reference
+  counting and stride arithmetic), and no check of each index for numba's negative-index
+  wraparound (the indices never are negative). Tried and dropped: joint-major component
   planes so that LLVM vectorises across frames (the transposes cost more than SIMD saves);
-  several frames interleaved in one joint loop; fused multiply-add (it would break the
-  bitwise equality below).
+  several frames interleaved in one joint loop; a breadth-first walk; a copy of the walk
+  per convention and output, the roots handled before the step loop, or per-step offsets
+  precomputed in the step table (none pays for its code); fused multiply-add (it would
+  break the bitwise equality below).
 - **Memory order of the walk.** A depth-first walk from a new root (after shift root) jumps
   back and forth in the frame's memory and the hardware prefetchers stop following. The
   kernel walks parents before children and otherwise by increasing index (a min-heap
