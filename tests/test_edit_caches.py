@@ -20,6 +20,7 @@ from gmr_studio.app.model import commands
 from gmr_studio.app.model.state import Snapshot, StudioState
 from gmr_studio.core.demo import demo_motion
 from gmr_studio.core.edits.clip import resample_edit, trim_edit
+from gmr_studio.core.edits.edited import Edited
 from gmr_studio.core.edits.mirror import mirror_edit, mirror_pairs
 from gmr_studio.core.edits.operations import shift_root_edit, split_edit
 from gmr_studio.core.edits.world import change_up_axis_edit, scale_lengths_edit
@@ -168,3 +169,30 @@ def test_an_edits_cache_is_its_results_forward_kinematics(document, edit):
     assert not after.positions.flags.writeable and not after.rotations.flags.writeable
     document.undo_stack.undo()
     assert document.snapshot is before
+
+
+def test_the_input_arrays_are_handed_on_when_nothing_changes_else_the_results_own(rng):
+    motion = sided_rig(rng, n_frames=9)  # 9 frames of 6 joints
+    positions, rotations = forward_kinematics(motion)
+    n_frames, n_joints = positions.shape[:2]
+    for world in ({}, {"rows": (0, n_frames)}, {"rows": (0, n_frames, 1)}, {"turn": np.eye(3)}, {"shift": np.zeros(3)}):
+        edited = Edited.same_joints(motion, **world)
+        carried = edited.kinematics(positions, rotations)
+        assert carried[0] is positions and carried[1] is rotations and edited.keeps_rotations(rotations), world
+    fewer = np.arange(n_joints - 1)
+    shift = np.array([0.5, 0.0, -2.0])
+    for edited, expected, kept in (
+        (Edited.same_joints(motion, rows=(1, n_frames)), (positions[1:], rotations[1:]), False),
+        (Edited.same_joints(motion, rows=(0, n_frames, 2)), (positions[::2], rotations[::2]), False),
+        (Edited.same_joints(motion, shift=shift), (positions + shift, rotations), True),
+        (Edited.same_joints(motion, scale=2.0), (2.0 * positions, rotations), True),
+        (Edited(motion, fewer, fewer), (positions[:, :-1], rotations[:, :-1]), False),
+    ):
+        carried = edited.kinematics(positions, rotations)
+        for got, want in zip(carried, expected, strict=True):
+            assert got.shape == want.shape
+            np.testing.assert_allclose(got, want, rtol=0, atol=1e-12 * motion.size)
+        assert edited.keeps_rotations(rotations) is kept and (carried[1] is rotations) is kept
+        # the result's own memory, not a view: the document before may be let go
+        assert not np.shares_memory(carried[0], positions)
+        assert kept or not np.shares_memory(carried[1], rotations)
