@@ -88,3 +88,12 @@ def test_every_file_and_rig_gives_a_filled_labelled_filmstrip(case, tmp_path, qa
     if len(frames) > 1:
         order = np.argsort(left)
         assert (left[order][1:] >= (left + w)[order][:-1]).all(), "a label hides another"
+
+
+def test_poses_in_one_place_get_their_labels_side_by_side_in_frame_order(tmp_path):
+    motion = origin_root()
+    still = motion.frame_slice(np.zeros(4, dtype=np.int64))  # a figure standing still
+    drawn: dict = {}
+    render_filmstrip(_snapshot(still), np.arange(4), tmp_path / "strip.png", (640, 320), "path", drawn)
+    left, _bottom, w, _h = drawn["labels"].T
+    assert (left[1:] >= (left + w)[:-1]).all()  # left to right in frame order, none on another

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gmr_studio.app.scene.labels import LabelPart
+from gmr_studio.app.scene.labels import LabelPart, labels_in_a_row
 from tests.tiny_scene import FIGURE_NAMES, figure_motion, picture, props_of, scene_of, snapshot_of
 
 pytestmark = pytest.mark.gui
@@ -200,3 +200,23 @@ def test_shown_joint_labels_never_overlap_and_the_selected_joints_is_shown(sourc
             x0, y0, x1, y1 = boxes[hand].astype(int)
             patch = image[400 - y1 : 400 - y0, x0:x1]
             assert (patch.min(axis=-1) > 200).sum() > 20  # its letters, white on the dark ground
+
+
+def test_labels_in_a_row_keep_their_places_unless_they_would_overlap():
+    widths = np.array([20.0, 30.0, 30.0, 24.0, 16.0])
+    lefts = np.array([100.0, 102.0, 104.0, 400.0, 300.0])  # three poses at one spot, two apart
+    placed = labels_in_a_row(lefts, widths, 8.0, 1000.0)
+    np.testing.assert_array_equal(placed[3:], lefts[3:])  # apart: where they were
+    run = placed[:3]  # side by side, in their points' order, 8 pixels apart ...
+    np.testing.assert_allclose(run[1:] - (run + widths[:3])[:-1], 8.0)
+    # ... the row centred on their labels' centres
+    assert (run[0] + run[2] + widths[2]) / 2 == pytest.approx(np.mean(lefts[:3] + widths[:3] / 2))
+
+
+def test_labels_in_a_row_stay_in_the_picture():
+    widths = np.full(4, 40.0)
+    for lefts in (np.array([-10.0, -5.0, 0.0, 2.0]), np.array([590.0, 592.0, 600.0, 610.0])):
+        placed = labels_in_a_row(lefts, widths, 5.0, 640.0)
+        order = np.argsort(placed)
+        assert placed.min() >= 0.0 and (placed + widths).max() <= 640.0
+        assert (placed[order][1:] >= (placed + widths)[order][:-1] + 5.0 - 1e-9).all()  # none overlaps

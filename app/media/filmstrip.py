@@ -23,6 +23,7 @@ from gmr_studio.core.space.up_axis import axis_index, up_axis_of
 __all__ = ["filmstrip_command", "parse_frame_steps", "pose_colors", "render_filmstrip", "side_by_side", "travel_axis"]
 
 FIRST_HUE, LAST_HUE = 0.58, 1.08  # blue through violet and red to orange: saturated all the way
+LABEL_GAP = 8.0  # pixels between the frame labels of poses that stand close, laid side by side
 
 
 def parse_frame_steps(text: str, n_frames: int) -> np.ndarray:
@@ -69,7 +70,7 @@ def render_filmstrip(
 
     from gmr_studio.app.media.video import save_screenshot
     from gmr_studio.app.scene import vtk_parts as parts
-    from gmr_studio.app.scene.labels import label_part
+    from gmr_studio.app.scene.labels import GAP, label_part, labels_in_a_row
     from gmr_studio.app.scene.scene import SkeletonScene
 
     if layout not in ("path", "side"):
@@ -107,7 +108,9 @@ def render_filmstrip(
         plotter.renderer.AddViewProp(labels.actor)
         plotter.render()
         centres = scene.display_positions(anchors)
-        centres[:, 0] -= labels.widths() / 2 + 6.0  # centred under the pose
+        centres[:, 0] -= labels.widths() / 2 + GAP[0]  # centred under the pose ...
+        width = scene.display_size()[0]  # ... or beside the others where poses stand close
+        centres[:, 0] = labels_in_a_row(centres[:, 0] + GAP[0], labels.widths(), LABEL_GAP, width) - GAP[0]
         labels.place(centres, scene.display_size())
         if drawn is not None:
             drawn["labels"] = np.column_stack([labels.corners[:, 0], labels.widths(), labels.heights()])

@@ -109,6 +109,48 @@ def spread_labels(anchors: np.ndarray, sizes: np.ndarray, order: np.ndarray) -> 
     return corners
 
 
+def labels_in_a_row(lefts: np.ndarray, widths: np.ndarray, gap: float, view_width: float) -> np.ndarray:
+    """(N,) left edges of labels on one line, moved as little as keeps them apart: each run
+    of labels that would overlap is laid side by side, ``gap`` pixels apart, in the order of
+    their points and centred where they were; then the row is kept within ``view_width``.
+
+    lefts, widths : (N,) each label's wanted left edge and its width, in pixels.
+    """
+    lefts = np.asarray(lefts, dtype=np.float64)
+    widths = np.asarray(widths, dtype=np.float64)
+    order = np.argsort(lefts + widths / 2, kind="stable").tolist()
+    runs: list[list[int]] = []  # each run: its labels, left to right
+    for k in order:
+        runs.append([k])
+        while len(runs) > 1 and _run_left(runs[-2], lefts, widths, gap) + _run_width(
+            runs[-2], widths, gap
+        ) + gap > _run_left(runs[-1], lefts, widths, gap):
+            last = runs.pop()
+            runs[-1] += last
+    placed = np.empty_like(lefts)
+    for run in runs:
+        x = _run_left(run, lefts, widths, gap)
+        for k in run:
+            placed[k] = x
+            x += widths[k] + gap
+    row = order  # left to right: pushed right off the left edge, then left off the right one
+    for before, k in zip([None, *row[:-1]], row, strict=True):
+        placed[k] = max(placed[k], 0.0 if before is None else placed[before] + widths[before] + gap)
+    for after, k in zip([None, *row[::-1][:-1]], row[::-1], strict=True):
+        placed[k] = min(placed[k], view_width - widths[k] if after is None else placed[after] - gap - widths[k])
+    return placed
+
+
+def _run_width(run: list[int], widths: np.ndarray, gap: float) -> float:
+    return float(widths[run].sum() + gap * (len(run) - 1))
+
+
+def _run_left(run: list[int], lefts: np.ndarray, widths: np.ndarray, gap: float) -> float:
+    """The left edge of ``run`` laid side by side around the mean of its labels' centres."""
+    centre = float(np.mean(lefts[run] + widths[run] / 2))
+    return centre - _run_width(run, widths, gap) / 2
+
+
 class ScreenQuads(Part):
     """``n`` quads of one texture, placed in display pixels with :meth:`place_corners`. A
     scene draws them after its other actors (:attr:`draw_last`), so that their edges blend
