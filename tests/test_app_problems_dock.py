@@ -46,7 +46,7 @@ class Checks:
     def __init__(self, found: list[Finding]) -> None:
         self.found, self.failure = list(found), ""
 
-    def __call__(self, motion, settings, positions=None) -> list[Finding]:
+    def __call__(self, motion, settings, positions=None, threads=None) -> list[Finding]:
         if self.failure:
             raise RuntimeError(self.failure)
         return list(self.found)

@@ -65,7 +65,7 @@ def checks_find(monkeypatch):
     """Stand in for the checks: after ``checks_find(findings)`` every run finds ``findings``."""
     found: list[Finding] = []
 
-    def run_checks(motion, settings, positions=None) -> list[Finding]:
+    def run_checks(motion, settings, positions=None, threads=None) -> list[Finding]:
         return list(found)
 
     monkeypatch.setattr(problems_module, "run_checks", run_checks)

@@ -498,3 +498,13 @@ def test_the_flips_of_several_joints_explain_the_pops_of_all_their_subtrees():
     ((kind, frame, names),) = found(flipped, ("pop",))
     assert (kind, frame, set(names)) == ("pop", 300, {"LeftForeArm", "RightForeArm"})
     assert found(flipped, ("pop", "flip")) == [("flip", 300, ("LeftArm",)), ("flip", 300, ("RightArm",))]
+
+
+def test_the_checks_find_the_same_on_one_thread_or_several():
+    from gmr_studio.core.demo import demo_motion
+
+    walk = demo_motion()
+    take = walk.frame_slice(np.tile(np.arange(walk.n_frames), 18))  # 8,640 frames: two threads' worth
+    one = run_checks(take, threads=1)
+    assert one and {f.kind for f in one} >= {"teleport"}  # every seam of the tiling is a jump
+    assert run_checks(take, threads=2) == one

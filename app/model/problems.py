@@ -127,7 +127,8 @@ class CheckJob(QThread):
     def run(self) -> None:
         motion = self.snapshot.motion
         try:
-            findings = run_checks(motion, self.settings, positions=self.snapshot.positions)
+            # one thread: a job in the background leaves the other cores to the window
+            findings = run_checks(motion, self.settings, positions=self.snapshot.positions, threads=1)
             self.skipped = skipped_frames(motion, self.settings)
             flags = joint_flags(findings, motion.n_frames, motion.n_joints)
         except Exception as exc:  # a check's bug must not take the window down: say it

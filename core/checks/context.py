@@ -4,6 +4,7 @@ into findings."""
 from __future__ import annotations
 
 import dataclasses
+import threading
 from functools import cached_property
 
 import numpy as np
@@ -41,11 +42,15 @@ class CheckData:
     first: int = 0
     #: results shared by several checks (contacts, same-pose runs), keyed by what they used
     shared: dict = dataclasses.field(default_factory=dict, repr=False)
+    #: a lock per key of ``shared``: checks run side by side compute each result once
+    locks: dict = dataclasses.field(default_factory=dict, repr=False)
 
     def cached(self, key, compute):
-        """``compute()``, once per ``key`` for this data."""
-        if key not in self.shared:
-            self.shared[key] = compute()
+        """``compute()``, once per ``key`` for this data (whichever check asks first; the
+        others wait for it)."""
+        with self.locks.setdefault(key, threading.Lock()):
+            if key not in self.shared:
+                self.shared[key] = compute()
         return self.shared[key]
 
     @property

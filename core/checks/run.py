@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
 from gmr_studio.core.checks import feet, frames, joints, spikes
 from gmr_studio.core.checks.context import CheckData
 from gmr_studio.core.checks.model import KINDS, CheckSettings, Finding, Skipped
+from gmr_studio.core.kinematics.engine import thread_count
 from gmr_studio.core.kinematics.fk import forward_kinematics
 from gmr_studio.core.model.motion import Motion
 
@@ -57,7 +59,11 @@ def skipped_frames(motion: Motion, settings: CheckSettings) -> list[Skipped]:
 
 
 def run_checks(
-    motion: Motion, settings: CheckSettings | None = None, positions: np.ndarray | None = None
+    motion: Motion,
+    settings: CheckSettings | None = None,
+    positions: np.ndarray | None = None,
+    *,
+    threads: int | None = None,
 ) -> list[Finding]:
     """Every check of ``settings.kinds`` on a motion, findings sorted by frame then kind.
 
@@ -66,6 +72,9 @@ def run_checks(
     motion : the motion in its own convention (as read; flips are judged on its rotations).
     settings : which checks and their thresholds (default :class:`CheckSettings`).
     positions : optional (F, J, 3) world positions of the motion already computed.
+    threads : the checks run side by side on this many threads (None: one per core; one for
+        a short motion, :func:`core.kinematics.engine.thread_count`); the findings do not
+        depend on it.
 
     Rest-pose frames at the ends (:func:`core.checks.frames.rest_frames`) are reported as
     ``rest-pose`` only; every other check looks at the frames between them, and
@@ -75,10 +84,17 @@ def run_checks(
     """
     settings = settings or CheckSettings()
     whole, inner = check_data(motion, settings, positions)
-    found: list[Finding] = []
-    for kind in settings.kinds:
-        found.extend(CHECKS[kind](whole if kind == "rest-pose" else inner, settings))
-    found = _without_flipped_pops(found, motion)
+
+    def check(kind: str) -> list[Finding]:
+        return CHECKS[kind](whole if kind == "rest-pose" else inner, settings)
+
+    count = min(thread_count(motion.n_frames, threads), len(settings.kinds))
+    if count > 1:  # their compiled passes release the GIL
+        with ThreadPoolExecutor(max_workers=count) as pool:
+            each = list(pool.map(check, settings.kinds))
+    else:
+        each = [check(kind) for kind in settings.kinds]
+    found = _without_flipped_pops([finding for findings in each for finding in findings], motion)
     order = {kind: k for k, kind in enumerate(KINDS)}
     return sorted(found, key=lambda f: (f.start, order[f.kind], f.end, f.joints))
 

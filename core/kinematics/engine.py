@@ -225,12 +225,18 @@ def world_positions(motion: Motion, *, backend: Backend = "auto", threads: int |
 MIN_FRAMES_PER_THREAD = 4096
 
 
+def thread_count(n_frames: int, threads: int | None, *, align: int = 1) -> int:
+    """How many threads work on ``n_frames`` frames when ``threads`` are asked for (None: one
+    per core): at most one per :data:`MIN_FRAMES_PER_THREAD` frames (or ``align``, if more)."""
+    count = (os.cpu_count() or 1) if threads is None else max(1, int(threads))
+    return min(count, max(1, n_frames // max(MIN_FRAMES_PER_THREAD, align)))
+
+
 def in_blocks(work, n_frames: int, threads: int | None, *, align: int = 1) -> None:
     """``work(frames)`` over consecutive blocks of frames, on up to ``threads`` threads
-    (None: one per core); every block but the last starts and ends on a multiple of
-    ``align`` frames."""
-    count = (os.cpu_count() or 1) if threads is None else max(1, int(threads))
-    count = min(count, max(1, n_frames // max(MIN_FRAMES_PER_THREAD, align)))
+    (None: one per core; :func:`thread_count`); every block but the last starts and ends on
+    a multiple of ``align`` frames."""
+    count = thread_count(n_frames, threads, align=align)
     if count == 1:
         work(slice(0, n_frames))
         return

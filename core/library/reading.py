@@ -250,7 +250,7 @@ def _fill(path: str, record: FileRecord, options: IndexOptions) -> None:
         motion = read_motion(path, **reading)
         positions = world_positions(motion)
         start = record.timed("read", start)
-        findings = run_checks(motion, settings, positions)
+        findings = run_checks(motion, settings, positions, threads=1)  # the files are read side by side
         start = record.timed("checks", start)
         record.frames, record.frame_rate = motion.n_frames, float(motion.frame_rate)
         record.duration = duration_of(motion)
