@@ -30,13 +30,13 @@ CHECKS: dict[str, Callable[[CheckData, CheckSettings], list[Finding]]] = {
 
 
 def check_data(
-    motion: Motion, settings: CheckSettings, positions: np.ndarray | None = None
+    motion: Motion, settings: CheckSettings, positions: np.ndarray | None = None, *, threads: int | None = None
 ) -> tuple[CheckData, CheckData]:
     """What the checks read: the whole motion (for ``rest-pose``) and the frames between
     the rest frames at its ends (for every other check). Without ``positions`` (F, J, 3)
-    they are computed on every core (the app and the library hand theirs over)."""
+    they are computed on ``threads`` (None: every core; the app and the library hand theirs over)."""
     if positions is None:
-        positions = forward_kinematics(motion, with_rotations=False, threads=None)[0]
+        positions = forward_kinematics(motion, with_rotations=False, threads=threads)[0]
     lead, trail = frames.rest_frames(motion, settings)
     stop = motion.n_frames - trail
     whole = CheckData(motion, positions, motion.size)
@@ -83,7 +83,7 @@ def run_checks(
     that hang from a joint flipping at that frame is the flip's doing and is not reported.
     """
     settings = settings or CheckSettings()
-    whole, inner = check_data(motion, settings, positions)
+    whole, inner = check_data(motion, settings, positions, threads=threads)
 
     def check(kind: str) -> list[Finding]:
         return CHECKS[kind](whole if kind == "rest-pose" else inner, settings)
