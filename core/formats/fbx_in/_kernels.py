@@ -10,7 +10,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from gmr_studio.core.edits._kernels import _load, _mul, _transposed
+from gmr_studio.core.edits._kernels import _load, _mul, _times, _transposed
 
 #: frames whose translations and scales are gathered at a time (into a buffer that stays in cache)
 TILE_FRAMES = 128
@@ -100,14 +100,9 @@ def _frame(  # pragma: no cover - compiled
         t2 = values[j, 2]
         p = parents[j]
         m = _load(base_stretch[j]) if p < 0 else _load(stretch[p])
-        x0 = (m[0] * t0 + m[1] * t1) + m[2] * t2
-        x1 = (m[3] * t0 + m[4] * t1) + m[5] * t2
-        x2 = (m[6] * t0 + m[7] * t1) + m[8] * t2
+        x0, x1, x2 = _times(m, t0, t1, t2)
         if p < 0:
-            u = _load(base_turn[j])
-            y0 = (u[0] * x0 + u[1] * x1) + u[2] * x2
-            y1 = (u[3] * x0 + u[4] * x1) + u[5] * x2
-            y2 = (u[6] * x0 + u[7] * x1) + u[8] * x2
+            y0, y1, y2 = _times(_load(base_turn[j]), x0, x1, x2)
             x0 = base_place[j, 0] + y0
             x1 = base_place[j, 1] + y1
             x2 = base_place[j, 2] + y2
@@ -123,10 +118,7 @@ def _frame(  # pragma: no cover - compiled
             r = _mul(_load(base_turn[j]), r)
         if bound:
             r = _mul(_mul(_load(left[j]), r), _load(right[j]))
-            y = _load(left[j])
-            out[j, 0] = (y[0] * x0 + y[1] * x1) + y[2] * x2
-            out[j, 1] = (y[3] * x0 + y[4] * x1) + y[5] * x2
-            out[j, 2] = (y[6] * x0 + y[7] * x1) + y[8] * x2
+            out[j, 0], out[j, 1], out[j, 2] = _times(_load(left[j]), x0, x1, x2)
         else:
             out[j, 0] = x0
             out[j, 1] = x1
