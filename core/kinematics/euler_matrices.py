@@ -13,8 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from gmr_studio.core.compiled import Backend, chosen_kernels, optional_kernels
-from gmr_studio.core.kinematics.engine import in_blocks
-from gmr_studio.core.rotations.euler import _indices_and_parity
+from gmr_studio.core.kinematics.engine import euler_codes, in_blocks
 
 _kernels = optional_kernels("gmr_studio.core.kinematics._kernels")
 
@@ -109,15 +108,14 @@ def conjugated_matrices_compiled(
 def _euler_columns(groups: list[tuple[str, list[int], np.ndarray]]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The kernels' view of (order, joints, columns) groups: joints (M,) int64, their
     angles' columns (M, 3) int64 (-1 for a missing angle), their order codes (M, 4)."""
-    joints, columns, codes = [], [], []
+    joints, columns, orders = [], [], []
     for order, members, cols in groups:
-        code = _indices_and_parity(order)
         for joint, joint_cols in zip(members, np.asarray(cols).reshape(len(members), -1)):
             joints.append(joint)
             columns.append(list(joint_cols) + [-1] * (3 - len(joint_cols)))
-            codes.append(code)
+            orders.append(order)
     return (
         np.asarray(joints, dtype=np.int64).reshape(-1),
         np.asarray(columns, dtype=np.int64).reshape(-1, 3),
-        np.asarray(codes, dtype=np.float64).reshape(-1, 4),
+        euler_codes(tuple(orders)).reshape(-1, 4),
     )
