@@ -5,7 +5,7 @@ are made in two compiled passes over the frames, on every core, reading the chan
 of the block (C, F) where the worker wrote them (:mod:`.worker`: the joints sent as
 ``channels``, an exported or baked take): the Euler angles to matrices by the one
 compiled Euler rule (:func:`core.kinematics.euler_matrices.degrees_to_matrices_compiled`; static
-pre- and post-rotations applied after, :func:`.worker.pre_and_post`), then the
+pre- and post-rotations applied after, :func:`core.kinematics.fbx_stack.pre_and_post`), then the
 translations carried through the scales down the skeleton by the operations of
 :func:`core.formats.gltf_in.pose.skeleton_pose`, the joints' rest orientations taken out
 on the way (:func:`core.formats.gltf_in.rest.turn_to_bind`; :func:`._kernels.carried_translations`).
@@ -30,20 +30,15 @@ from gmr_studio.core.formats.fbx_in.poses import (
     channel_rotations,
     translations_and_scales,
 )
-from gmr_studio.core.formats.fbx_in.worker import (
-    CHANNEL_BLOCK,
-    EULER_ORDERS,
-    STATIC_STACK,
-    pre_and_post,
-    stack_translation,
-)
+from gmr_studio.core.formats.fbx_in.worker import CHANNEL_BLOCK
 from gmr_studio.core.formats.gltf_in.pose import NodePose, armature_world, fill_from_first, moving_joints
 from gmr_studio.core.formats.gltf_in.rest import bind_turns
 from gmr_studio.core.kinematics.engine import in_blocks
 from gmr_studio.core.kinematics.euler_matrices import degrees_to_matrices_compiled
+from gmr_studio.core.kinematics.fbx_stack import EULER_ORDERS, STATIC_STACK, pre_and_post, stack_translation
 from gmr_studio.core.rotations.quaternions import matrix_from_quaternion
 
-#: the stack's vectors that move a translation (:func:`.worker.stack_translation`)
+#: the stack's vectors that move a translation (:func:`core.kinematics.fbx_stack.stack_translation`)
 PIVOTS = ("RotationPivot", "RotationOffset", "ScalingPivot", "ScalingOffset")
 
 

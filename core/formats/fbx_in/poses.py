@@ -2,8 +2,8 @@
 path, the reference of :mod:`.compiled_pose`.
 
 A node sent as ``channels`` (its Lcl values at every frame, as the file stores them) is
-composed here with the worker's own transform stack (:func:`.worker.stack_rotation`,
-:func:`.worker.stack_translation`): the joints' rotations all at once, one array per
+composed here with the transform stack the worker checks with
+(:mod:`core.kinematics.fbx_stack`): the joints' rotations all at once, one array per
 rotation order, kept as the skeleton's rotations. A node ``evaluated`` or ``static`` comes
 as ufbx's translation, quaternion and scale.
 
@@ -15,8 +15,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from gmr_studio.core.formats.fbx_in.worker import CHANNEL_BLOCK, STATIC_STACK, stack_rotation, stack_translation
+from gmr_studio.core.formats.fbx_in.worker import CHANNEL_BLOCK
 from gmr_studio.core.formats.gltf_in.pose import NodePose
+from gmr_studio.core.kinematics.fbx_stack import STATIC_STACK, stack_rotation, stack_translation
 from gmr_studio.core.rotations.quaternions import matrix_from_quaternion
 
 #: a node's nine channels: translation, rotation (degrees), scale, x y z each

@@ -20,10 +20,10 @@ from gmr_studio.core.compiled import Backend
 from gmr_studio.core.edits.world import scale_lengths, turned_world
 from gmr_studio.core.formats.fbx_in.compiled_pose import compiled_skeleton
 from gmr_studio.core.formats.fbx_in.poses import channel_arrays, node_poses
-from gmr_studio.core.formats.fbx_in.worker import EULER_ORDERS
 from gmr_studio.core.formats.gltf_in.pose import NodePose, skeleton_pose
 from gmr_studio.core.formats.gltf_in.reader import bind_note, scale_notes, valid_joint_names
 from gmr_studio.core.formats.gltf_in.rest import turn_to_bind
+from gmr_studio.core.kinematics.fbx_stack import EULER_ORDERS
 from gmr_studio.core.model.facts import FileFacts
 from gmr_studio.core.model.motion import Motion
 from gmr_studio.core.rotations.euler import nearest_rotation

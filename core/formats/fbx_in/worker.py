@@ -2,7 +2,7 @@
 this module works out how each node of its skeleton moves over one take.
 
 ``python .../fbx_in/worker.py FILE OPTIONS_JSON`` (run by its path: it imports only numpy,
-ufbx and three numpy modules of the core, not the package of every format) writes its
+ufbx and four numpy modules of the core, not the package of every format) writes its
 result to the file named by the option ``output`` (:mod:`core.array_transfer`: raw
 arrays, read by the parent in one go) and closes its stderr, or writes its error to stderr
 and exits with status :data:`REJECTED`. The result's ``meta`` (JSON) has, per node index,
@@ -26,8 +26,8 @@ still crashes ufbx takes only the child down, and the reader reports it as a bad
 **The transform stack.** FBX composes a node's local transform as
 ``T Roff Rp Rpre R Rpost^-1 Rp^-1 Soff Sp S Sp^-1``: a translation, the rotation
 ``Q = Rpre R Rpost^-1`` and the scale ``S``, with the pivots and offsets folded into the
-translation ``T + Roff + Rp + Q (Sp + Soff - Rp - S Sp)`` (:func:`stack_rotation`,
-:func:`stack_translation`, numpy over any number of frames and nodes). Where every animated
+translation ``T + Roff + Rp + Q (Sp + Soff - Rp - S Sp)``
+(:mod:`core.kinematics.fbx_stack`). Where every animated
 channel of a node has a key on every frame of the take (as exported takes and baked motion
 capture do), its values are the keys themselves, read in bulk from the file's arrays, and
 the node is sent as ``channels``: composed here at the first, middle and last frames and
@@ -46,6 +46,8 @@ import sys
 
 import numpy as np
 
+from gmr_studio.core.kinematics.fbx_stack import EULER_ORDERS, STATIC_STACK, stack_rotation, stack_translation
+
 #: exit status when the file was refused (the message is on stderr)
 REJECTED = 3
 #: FBX time ticks per second (FBX 7; older files say theirs in the header)
@@ -57,23 +59,9 @@ ON_FRAME = 1e-4
 AGREEMENT = 1e-9
 #: the most frames x nodes a take may be evaluated to (the reader's MAX_SAMPLES)
 MAX_SAMPLES = 20_000_000
-#: ufbx rotation order (``ufbx.RotationOrder``) -> the project's intrinsic order
-#: (core/rotations/euler.py: read left to right). FBX ``XYZ`` turns about X first: ``Rz Ry Rx``.
-EULER_ORDERS = {0: "ZYX", 1: "YZX", 2: "XZY", 3: "ZXY", 4: "YXZ", 5: "XYZ"}
 TRANSFORM_PROPS = ("Lcl Translation", "Lcl Rotation", "Lcl Scaling")
 #: animated properties besides the three above that move a node (pivots, offsets, order)
-STACK_PROPS = (
-    "PreRotation",
-    "PostRotation",
-    "RotationPivot",
-    "RotationOffset",
-    "ScalingPivot",
-    "ScalingOffset",
-    "RotationOrder",
-    "InheritType",
-)
-#: the static vectors of the stack composed with the Lcl values (degrees for the rotations)
-STATIC_STACK = STACK_PROPS[:6]
+STACK_PROPS = (*STATIC_STACK, "RotationOrder", "InheritType")
 #: the array (C, F) float64 whose rows are the channel arrays, named in ``channel_rows``:
 #: written row by row as the file holds them, handed over as one block
 CHANNEL_BLOCK = "channels"
@@ -250,46 +238,6 @@ def skeleton(table: dict, animated: set[int]) -> tuple[list[int], list[int], str
             up = parents[up]
     joints = [k for k in range(len(parents)) if k in members]  # ufbx lists parents first
     return joints, sorted(above), f"{len(bones)} bones"
-
-
-# ------------------------------------------------------------------ the transform stack
-# Pure numpy, over any leading shape: the child composes the probe frames with it, the
-# parent (.poses) every frame of every node.
-def euler_matrices(degrees: np.ndarray, order: int) -> np.ndarray:
-    """Rotation matrices (..., 3, 3) of FBX Euler angles (..., 3) in degrees, x y z."""
-    from gmr_studio.core.rotations.euler import matrix_from_euler
-
-    intrinsic = EULER_ORDERS[order]
-    angles = np.take(np.asarray(degrees, dtype=np.float64), ["XYZ".index(axis) for axis in intrinsic], axis=-1)
-    return matrix_from_euler(np.radians(angles, out=angles), intrinsic)  # the new array turned in place
-
-
-def stack_rotation(degrees: np.ndarray, order: int, pre: np.ndarray, post: np.ndarray) -> np.ndarray:
-    """``Q = Rpre R Rpost^-1`` (..., 3, 3) of Lcl Rotation angles (..., 3) in degrees turned in
-    ``order`` and static pre- and post-rotations (..., 3), degrees in FBX's XYZ order; the
-    products with identities are left out."""
-    return pre_and_post(euler_matrices(degrees, order), pre, post)
-
-
-def pre_and_post(turn: np.ndarray, pre: np.ndarray, post: np.ndarray) -> np.ndarray:
-    """``Rpre R Rpost^-1`` (..., 3, 3) of rotations ``R`` (..., 3, 3) (:func:`stack_rotation`)."""
-    if pre.any():
-        turn = euler_matrices(pre, 0) @ turn
-    if post.any():
-        turn = turn @ np.swapaxes(euler_matrices(post, 0), -1, -2)
-    return turn
-
-
-def stack_translation(translation: np.ndarray, turn: np.ndarray, scale: np.ndarray, stack: dict) -> np.ndarray:
-    """The node's translation (..., 3) with its static pivots and offsets (``stack``: name ->
-    (..., 3)) folded in: ``T + Roff + Rp + Q (Sp + Soff - Rp - S Sp)`` (module docstring);
-    ``translation`` itself when they are all zero."""
-    pivot, offset = stack["RotationPivot"], stack["RotationOffset"]
-    scale_pivot, scale_offset = stack["ScalingPivot"], stack["ScalingOffset"]
-    if not (pivot.any() or offset.any() or scale_pivot.any() or scale_offset.any()):
-        return translation
-    inner = scale_pivot + scale_offset - pivot - scale * scale_pivot
-    return translation + offset + pivot + (turn @ inner[..., None])[..., 0]
 
 
 def static_stack(node) -> dict[str, np.ndarray]:
